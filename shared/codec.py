@@ -1,0 +1,142 @@
+"""Message codec: JSON (default) or MessagePack (bulk types), one cached coder per type."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any, Generic, TypeVar
+
+import msgspec
+import numpy as np
+
+from .errors import DecodeError, EncodeError, TypeMismatchError
+from .message import Message, _TypedArray, lookup_type, to_array
+
+__all__ = [
+    "JSON",
+    "MSGPACK",
+    "Codec",
+    "codec_for",
+    "decode_any",
+    "encoding_of",
+    "from_builtins",
+    "split_encoding",
+    "to_builtins",
+]
+
+M = TypeVar("M", bound=Message)
+
+JSON = "application/json"
+MSGPACK = "application/msgpack"
+
+
+def _enc_json(obj: Any) -> Any:
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    raise NotImplementedError(f"cannot encode {type(obj).__name__}")
+
+
+def _enc_msgpack(obj: Any) -> Any:
+    if isinstance(obj, np.ndarray):
+        return memoryview(np.ascontiguousarray(obj)).cast("B")
+    if isinstance(obj, np.generic):
+        return obj.item()
+    raise NotImplementedError(f"cannot encode {type(obj).__name__}")
+
+
+def _dec(tp: type, obj: Any) -> Any:
+    if isinstance(tp, type) and issubclass(tp, _TypedArray):
+        if not isinstance(obj, (bytes, bytearray, memoryview, list)):
+            raise ValueError(f"expected an array, got {type(obj).__name__}")
+        return to_array(tp, obj)
+    raise NotImplementedError(f"unsupported type {tp!r}")
+
+
+_JSON_ENCODER = msgspec.json.Encoder(enc_hook=_enc_json)
+_MSGPACK_ENCODER = msgspec.msgpack.Encoder(enc_hook=_enc_msgpack)
+
+
+class Codec(Generic[M]):
+    """Encoder and decoder for one message type; build it with `codec_for`."""
+
+    __slots__ = ("type", "type_name", "bulk", "mime", "encoding", "_encode", "_decode")
+
+    def __init__(self, msg_type: type[M]) -> None:
+        self.type = msg_type
+        self.type_name = msg_type.__msgtype__ or msg_type.__qualname__
+        self.bulk = msg_type.__bulk__
+        self.mime = MSGPACK if self.bulk else JSON
+        self.encoding = f"{self.mime};{self.type_name}"
+        if self.bulk:
+            self._encode = _MSGPACK_ENCODER.encode
+            self._decode = msgspec.msgpack.Decoder(msg_type, dec_hook=_dec).decode
+        else:
+            self._encode = _JSON_ENCODER.encode
+            self._decode = msgspec.json.Decoder(msg_type, dec_hook=_dec).decode
+
+    def encode(self, msg: M) -> bytes:
+        """Serialize ``msg``; raises `EncodeError` if it is not of this codec's type."""
+        if type(msg) is not self.type:
+            raise EncodeError(
+                f"expected {self.type_name}, got {type(msg).__name__}: publish the declared type"
+            )
+        try:
+            return self._encode(msg)
+        except (TypeError, ValueError, NotImplementedError) as exc:
+            raise EncodeError(f"cannot encode {self.type_name}: {exc}") from exc
+
+    def decode(self, data: bytes | bytearray | memoryview) -> M:
+        """Parse ``data``; raises `DecodeError` naming the failing path (``$.pose.x``)."""
+        try:
+            msg: M = self._decode(data)
+            return msg
+        except (msgspec.DecodeError, ValueError, TypeError) as exc:
+            raise DecodeError(f"expected {self.type_name}: {exc}") from exc
+
+    def check_encoding(self, encoding: str) -> None:
+        """Raise `TypeMismatchError` when a sample's encoding names another type."""
+        if encoding != self.encoding:
+            mime, schema = split_encoding(encoding)
+            if schema and schema != self.type_name:
+                raise TypeMismatchError(f"type mismatch: expected {self.type_name}, got {schema}")
+            if mime not in (JSON, MSGPACK, ""):
+                raise TypeMismatchError(f"expected {self.mime}, got encoding {mime}")
+
+
+@lru_cache(maxsize=None)
+def codec_for(msg_type: type[M]) -> Codec[M]:
+    """The cached codec of a message type."""
+    return Codec(msg_type)
+
+
+def encoding_of(msg_type: type[Message]) -> str:
+    """The Zenoh encoding string of a type: ``application/json;geometry_msgs/Twist``."""
+    return codec_for(msg_type).encoding
+
+
+def split_encoding(encoding: str) -> tuple[str, str]:
+    """Split ``mime;schema`` into its two halves (schema may be empty)."""
+    mime, _, schema = encoding.partition(";")
+    return mime, schema
+
+
+def decode_any(data: bytes, encoding: str) -> Message:
+    """Decode a payload whose type is named in its encoding's schema (for tools)."""
+    mime, schema = split_encoding(encoding)
+    if not schema:
+        raise DecodeError(f"payload encoding {encoding!r} names no message type")
+    return codec_for(lookup_type(schema)).decode(data)
+
+
+def to_builtins(msg: Message) -> Any:
+    """A message as plain dicts, lists and numbers (numpy arrays become lists)."""
+    return msgspec.to_builtins(msg, enc_hook=_enc_json)
+
+
+def from_builtins(obj: Any, msg_type: type[M]) -> M:
+    """Build a message from plain data (YAML/JSON objects), strictly, with path errors."""
+    try:
+        return msgspec.convert(obj, msg_type, dec_hook=_dec, strict=False)
+    except msgspec.ValidationError as exc:
+        raise DecodeError(f"expected {codec_for(msg_type).type_name}: {exc}") from exc

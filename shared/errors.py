@@ -1,0 +1,129 @@
+"""The zenros exception hierarchy: every error the library raises, and nothing else."""
+
+from __future__ import annotations
+
+
+class ZenrosError(Exception):
+    """Root of every error raised by zenros."""
+
+
+class InvalidNameError(ZenrosError, ValueError):
+    """A node, topic, service or namespace name breaks the ROS naming rules."""
+
+
+class CodecError(ZenrosError, ValueError):
+    """A message could not be encoded or decoded."""
+
+
+class EncodeError(CodecError):
+    """A message could not be encoded."""
+
+
+class DecodeError(CodecError):
+    """A payload could not be decoded into the expected type."""
+
+
+class TypeMismatchError(DecodeError):
+    """A payload carries another message type than the one expected."""
+
+
+class UnknownTypeError(ZenrosError, LookupError):
+    """A message type name is not registered."""
+
+
+class ServiceError(ZenrosError, RuntimeError):
+    """A service handler failed; carries the service name and the remote reason."""
+
+    def __init__(self, service: str, reason: str) -> None:
+        super().__init__(f"service {service} failed: {reason}")
+        self.service = service
+        self.reason = reason
+
+
+class ServiceUnavailableError(ZenrosError, ConnectionError):
+    """No server answered for a service."""
+
+
+class ZenrosTimeout(ZenrosError, TimeoutError):
+    """An operation did not complete within its timeout."""
+
+
+class ParameterError(ZenrosError, ValueError):
+    """A parameter operation failed."""
+
+
+class ParameterNotDeclaredError(ParameterError, LookupError):
+    """A parameter was read or set before it was declared."""
+
+
+class ParameterAlreadyDeclaredError(ParameterError):
+    """A parameter was declared twice."""
+
+
+class InvalidParameterValueError(ParameterError, TypeError):
+    """A parameter value has the wrong type or is out of range."""
+
+
+class GoalRejectedError(ZenrosError, RuntimeError):
+    """An action server rejected a goal."""
+
+
+class StartupError(ZenrosError, RuntimeError):
+    """A node could not start (bad flags, unreachable router, bad parameters)."""
+
+
+class LaunchError(ZenrosError, ValueError):
+    """A launch file is invalid (bad YAML, unknown key, unresolved substitution, bad include)."""
+
+
+# ------------------------------------------------------------------ TF (tf2's names)
+
+
+class TransformException(ZenrosError, RuntimeError):
+    """Base of the tf2 errors (tf2.TransformException)."""
+
+
+class LookupException(TransformException, LookupError):
+    """A frame is not known to the buffer."""
+
+
+class ConnectivityException(TransformException):
+    """Two frames are known but not connected in one tree."""
+
+
+class ExtrapolationException(TransformException):
+    """A lookup asked for a time outside the buffered data (past, future, or a single sample)."""
+
+
+class InvalidArgumentException(TransformException, ValueError):
+    """A transform or request is malformed (NaN, unnormalized quaternion, empty or equal ids)."""
+
+
+class TimeoutException(TransformException, TimeoutError):
+    """A transform did not become available before the timeout."""
+
+
+# ------------------------------------------------------------------ state machines (smach)
+
+
+class SmachError(ZenrosError, RuntimeError):
+    """Base of the state machine errors."""
+
+
+class InvalidStateError(SmachError, ValueError):
+    """A state or container is wired wrongly (unknown state, bad outcome, duplicate label)."""
+
+
+class InvalidTransitionError(SmachError, ValueError):
+    """A transition names a target that does not exist, or an outcome is unconnected."""
+
+
+class InvalidUserCodeError(SmachError):
+    """A state's execute() raised, or returned an undeclared outcome."""
+
+
+class UserDataError(SmachError, KeyError):
+    """A state read an undeclared key, wrote an input-only key, or a key is missing."""
+
+    def __str__(self) -> str:  # KeyError quotes its message; keep it readable
+        return str(self.args[0]) if self.args else ""

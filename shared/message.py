@@ -1,0 +1,183 @@
+"""The `Message` base class, numpy-backed array fields, and the wire type-name registry."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar, TypeVar
+
+import msgspec
+import numpy as np
+
+from .errors import UnknownTypeError
+
+__all__ = [
+    "Message",
+    "ServiceType",
+    "ActionType",
+    "Float32Array",
+    "Float64Array",
+    "Int8Array",
+    "UInt8Array",
+    "array_field",
+    "lookup_type",
+    "lookup_service",
+    "lookup_action",
+    "normalize_type_name",
+    "registered_types",
+    "define_service",
+    "define_action",
+]
+
+_MESSAGES: dict[str, type[Message]] = {}
+_SERVICES: dict[str, ServiceType] = {}
+_ACTIONS: dict[str, ActionType] = {}
+
+M = TypeVar("M", bound="Message")
+
+
+class Message(msgspec.Struct, kw_only=True):
+    """Base of every zenros message: a typed msgspec Struct with a ROS wire type name.
+
+    Subclasses set ``__msgtype__ = "pkg/Name"`` and are registered under that name;
+    ``__bulk__ = True`` sends them as MessagePack instead of JSON. Messages are mutable,
+    as ROS users expect; a message delivered in-process is shared between subscribers,
+    so treat received messages as read-only.
+    """
+
+    __msgtype__: ClassVar[str] = ""
+    __bulk__: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        name = cls.__dict__.get("__msgtype__")
+        if name:
+            _MESSAGES[normalize_type_name(name)] = cls
+
+
+def normalize_type_name(name: str) -> str:
+    """Map ``pkg/msg/Name``, ``pkg/srv/Name`` and ``pkg/action/Name`` to ``pkg/Name``."""
+    parts = name.strip("/").split("/")
+    if len(parts) == 3 and parts[1] in ("msg", "srv", "action"):
+        return f"{parts[0]}/{parts[2]}"
+    return "/".join(parts)
+
+
+def _lookup(table: dict[str, Any], kind: str, name: str) -> Any:
+    try:
+        return table[normalize_type_name(name)]
+    except KeyError:
+        known = ", ".join(sorted(table)) or "none"
+        raise UnknownTypeError(f"unknown {kind} type {name!r}; known: {known}") from None
+
+
+def lookup_type(name: str) -> type[Message]:
+    """Return the message class registered under a ROS type name."""
+    _ensure_builtin_types()
+    cls: type[Message] = _lookup(_MESSAGES, "message", name)
+    return cls
+
+
+def registered_types() -> dict[str, type[Message]]:
+    """All registered message classes, by wire type name."""
+    _ensure_builtin_types()
+    return dict(_MESSAGES)
+
+
+@dataclass(frozen=True)
+class ServiceType:
+    """A service type: a request and a response message under one name."""
+
+    name: str
+    Request: type[Message]
+    Response: type[Message]
+
+
+@dataclass(frozen=True)
+class ActionType:
+    """An action type: goal, result and feedback messages under one name."""
+
+    name: str
+    Goal: type[Message]
+    Result: type[Message]
+    Feedback: type[Message]
+
+
+def define_service(name: str, request: type[Message], response: type[Message]) -> ServiceType:
+    """Register and return a service type."""
+    srv = ServiceType(normalize_type_name(name), request, response)
+    _SERVICES[srv.name] = srv
+    return srv
+
+
+def define_action(
+    name: str, goal: type[Message], result: type[Message], feedback: type[Message]
+) -> ActionType:
+    """Register and return an action type."""
+    act = ActionType(normalize_type_name(name), goal, result, feedback)
+    _ACTIONS[act.name] = act
+    return act
+
+
+def lookup_service(name: str) -> ServiceType:
+    """Return the service type registered under a ROS type name."""
+    _ensure_builtin_types()
+    srv: ServiceType = _lookup(_SERVICES, "service", name)
+    return srv
+
+
+def lookup_action(name: str) -> ActionType:
+    """Return the action type registered under a ROS type name."""
+    _ensure_builtin_types()
+    act: ActionType = _lookup(_ACTIONS, "action", name)
+    return act
+
+
+def _ensure_builtin_types() -> None:
+    from . import msgs  # noqa: F401  (importing registers the standard types)
+
+
+# ---------------------------------------------------------------- numpy array fields
+
+
+class _TypedArray(np.ndarray):  # type: ignore[type-arg]
+    dtype_: ClassVar[Any] = np.float64
+
+
+class Float32Array(_TypedArray):
+    """A float32 array field: numpy on the Python side, a list in JSON, raw bytes in MessagePack."""
+
+    dtype_ = np.float32
+
+
+class Float64Array(_TypedArray):
+    """A float64 array field."""
+
+    dtype_ = np.float64
+
+
+class Int8Array(_TypedArray):
+    """An int8 array field (occupancy grid cells)."""
+
+    dtype_ = np.int8
+
+
+class UInt8Array(_TypedArray):
+    """A uint8 array field (image bytes)."""
+
+    dtype_ = np.uint8
+
+
+def to_array(cls: type[_TypedArray], value: Any) -> Any:
+    """Coerce bytes (zero-copy view), a list or an array into ``cls``."""
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        arr = np.frombuffer(value, dtype=cls.dtype_)
+    else:
+        arr = np.asarray(value, dtype=cls.dtype_)
+        if arr.ndim != 1:
+            arr = arr.reshape(-1)
+    return arr.view(cls)
+
+
+def array_field(cls: type[_TypedArray], values: Any = ()) -> Any:
+    """A struct field default: an array of ``cls`` (empty unless ``values`` given)."""
+    return msgspec.field(default_factory=lambda: to_array(cls, list(values)))
