@@ -127,3 +127,25 @@ class UserDataError(SmachError, KeyError):
 
     def __str__(self) -> str:  # KeyError quotes its message; keep it readable
         return str(self.args[0]) if self.args else ""
+
+
+# ------------------------------------------------------------------ parameter server
+
+
+class ParameterNotFoundError(ParameterError, LookupError):
+    """A parameter (or namespace) is not set on the parameter server."""
+
+
+# ------------------------------------------------------------------ TF: ROS 2's extrapolation kinds
+
+
+class BackwardExtrapolationException(ExtrapolationException):
+    """A lookup asked for a time older than the oldest buffered sample of a link."""
+
+
+class ForwardExtrapolationException(ExtrapolationException):
+    """A lookup asked for a time newer than the newest buffered sample of a link."""
+
+
+class NoDataForExtrapolationException(ExtrapolationException):
+    """A link holds no sample, or a single sample at another time than the one asked for."""

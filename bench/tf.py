@@ -1,0 +1,169 @@
+"""TF buffer benchmark: zenros.tf.Buffer against pytransform3d on the same 10-link chain.
+
+Prints one JSON line. Chain root → f1 → … → f10 with random rigid links. pytransform3d's
+``TransformManager(check=False)`` (its fast mode; the default ``check=True`` is also
+timed) holds one matrix per link; its ``TemporalTransformManager`` and our Buffer hold a
+time series per link (samples 10 ms apart over 1 s). Our lookups ask for a different
+interpolated time on every call (times between samples, never repeated back to back),
+so nothing is answered from a cache of earlier results.
+
+Ratios are ours ÷ theirs for times (lower is better) and ours ÷ theirs for insert rates
+(higher is better). Each figure is the minimum over repeats after a warm-up.
+
+Run: ``python bench/tf.py`` (needs the ``bench`` extra: ``pip install pytransform3d``).
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import sys
+import time
+from collections.abc import Callable
+
+import numpy as np
+from pytransform3d import transformations as pt
+from pytransform3d.transform_manager import (
+    NumpyTimeseriesTransform,
+    TemporalTransformManager,
+    TransformManager,
+)
+
+from zenros.msgs.builtin_interfaces import Time
+from zenros.tf import Buffer, quaternion_normalize, transform_stamped
+
+LINKS = 10
+SAMPLES = 101  # per link, 10 ms apart: t = 1.00 … 2.00 s
+QUERIES = 997  # distinct query times, cycled
+FRAMES = ["root"] + [f"f{i}" for i in range(1, LINKS + 1)]
+NS = 1_000_000_000
+
+
+def best(*fns: Callable[[], object], number: int, repeat: int = 7) -> list[float]:
+    """Seconds per call of each function: the minimum over ``repeat`` runs of ``number``
+    calls, after a warm-up. Runs of the functions alternate, so that load changes on a
+    shared machine hit all of them alike."""
+    for fn in fns:
+        for _ in range(max(number // 10, 1)):
+            fn()
+    out = [float("inf")] * len(fns)
+    for _ in range(repeat):
+        for j, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            for _ in range(number):
+                fn()
+            out[j] = min(out[j], (time.perf_counter() - t0) / number)
+    return out
+
+
+def cycler(fn: Callable[[int], object], n: int) -> Callable[[], object]:
+    """A no-argument call that passes 0, 1, … n-1, 0, … to ``fn``."""
+    state = [0]
+
+    def call() -> object:
+        i = state[0]
+        state[0] = i + 1 if i + 1 < n else 0
+        return fn(i)
+
+    return call
+
+
+def main() -> None:
+    rng = np.random.default_rng(42)
+    stamps = [NS + k * 10_000_000 for k in range(SAMPLES)]
+    pqs = np.empty((LINKS, SAMPLES, 7))  # x y z qw qx qy qz (pytransform3d order)
+    for i in range(LINKS):
+        for k in range(SAMPLES):
+            pqs[i, k, :3] = rng.uniform(-1.0, 1.0, 3)
+            q = quaternion_normalize(tuple(rng.normal(size=4)))  # type: ignore[arg-type]
+            pqs[i, k, 3:] = (q[3], q[0], q[1], q[2])
+
+    ours = Buffer()
+    for i in range(LINKS):
+        for k in range(SAMPLES):
+            x, y, z, qw, qx, qy, qz = pqs[i, k].tolist()
+            msg = transform_stamped(FRAMES[i], FRAMES[i + 1], (x, y, z, qx, qy, qz, qw),
+                                    Time.from_nanoseconds(stamps[k]))  # fmt: skip
+            ours.set_transform(msg, "bench")
+    # query times strictly between samples, spread over the whole second
+    times = [Time.from_nanoseconds(NS + 1 + (q * 1_000_003_001) % (NS - 2)) for q in range(QUERIES)]
+
+    plain = TransformManager(check=False)
+    checked = TransformManager()
+    temporal = TemporalTransformManager(check=False)
+    for i in range(LINKS):
+        a2b = pt.transform_from_pq(pqs[i, 0])
+        plain.add_transform(FRAMES[i + 1], FRAMES[i], a2b)
+        checked.add_transform(FRAMES[i + 1], FRAMES[i], a2b)
+        temporal.add_transform(
+            FRAMES[i + 1], FRAMES[i], NumpyTimeseriesTransform(np.array(stamps) / NS, pqs[i])
+        )
+    fsec = [t.to_sec() for t in times]
+
+    # sanity check before timing: both agree at a sample time (between samples they
+    # differ on purpose: tf2 interpolates linearly + slerp, pytransform3d by ScLERP)
+    at = Time.from_nanoseconds(stamps[37])
+    tr = ours.lookup_transform("root", "f10", at).transform.translation
+    theirs = temporal.get_transform_at_time("f10", "root", at.to_sec())
+    assert np.allclose(theirs[:3, 3], [tr.x, tr.y, tr.z], atol=1e-6), "libraries disagree"
+
+    n = 20_000
+    lookup_z, lookup_latest, lookup_p, can_z = best(
+        cycler(lambda i: ours.lookup_transform("root", "f10", times[i]), QUERIES),
+        lambda: ours.lookup_transform("root", "f10", 0),
+        lambda: plain.get_transform("f10", "root"),
+        cycler(lambda i: ours.can_transform("root", "f10", times[i]), QUERIES),
+        number=n,
+    )
+    (lookup_checked,) = best(lambda: checked.get_transform("f10", "root"), number=50, repeat=3)
+    (temporal_p,) = best(
+        cycler(lambda i: temporal.get_transform_at_time("f10", "root", fsec[i]), QUERIES),
+        number=30, repeat=3,
+    )
+
+    # inserts: ours appends new stamps (steady state: the window prunes one per insert);
+    # theirs overwrites the link's matrix (their manager keeps no history)
+    msgs = []
+    for k in range(40_000):
+        i = k % LINKS
+        msgs.append(transform_stamped(
+            FRAMES[i], FRAMES[i + 1], (0.1, 0.2, 0.3, 0.0, 0.0, 0.0, 1.0),
+            Time.from_nanoseconds(stamps[-1] + 10_000_000 * (k // LINKS + 1)),
+        ))  # fmt: skip
+    fresh = Buffer(cache_time=0.5)
+    for m in msgs[: 2 * LINKS]:  # the links exist before timing
+        fresh.set_transform(m, "bench")
+    seq = iter(msgs[2 * LINKS :])  # 5000 x (1 warm-up + 7 repeats) < 40 000: stamps only grow
+    a2b = pt.transform_from_pq(pqs[0, 0])
+    insert_z, insert_p = best(
+        lambda: fresh.set_transform(next(seq), "bench"),
+        cycler(lambda i: plain.add_transform(FRAMES[i + 1], FRAMES[i], a2b), LINKS),
+        number=5_000,
+    )
+
+    us = 1e6
+    print(json.dumps({
+        "bench": "tf",
+        "lookup_ratio": round(lookup_z / lookup_p, 3),
+        "can_transform_ratio": round(can_z / lookup_p, 3),
+        "temporal_lookup_ratio": round(lookup_z / temporal_p, 5),
+        "insert_ratio": round((1 / insert_z) / (1 / insert_p), 3),
+        "lookup_us_zenros": round(lookup_z * us, 2),
+        "lookup_latest_us_zenros": round(lookup_latest * us, 2),
+        "lookup_us_pytransform3d": round(lookup_p * us, 2),
+        "lookup_checked_us_pytransform3d": round(lookup_checked * us, 1),
+        "can_transform_us_zenros": round(can_z * us, 2),
+        "temporal_lookup_us_pytransform3d": round(temporal_p * us, 1),
+        "insert_us_zenros": round(insert_z * us, 3),
+        "insert_us_pytransform3d": round(insert_p * us, 3),
+        "inserts_per_s_zenros": round(1 / insert_z),
+        "inserts_per_s_pytransform3d": round(1 / insert_p),
+        "links": LINKS,
+        "python": sys.version.split()[0],
+        "numpy": np.__version__,
+        "machine": platform.machine(),
+    }))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,194 @@
+"""The computation graph, without a master: folded from Zenoh liveliness tokens."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import zenoh
+
+from .names import KeySpace, Token
+
+__all__ = ["Graph", "NodeInfo"]
+
+
+@dataclass(frozen=True)
+class NodeInfo:
+    """What the graph knows about one node."""
+
+    name: str
+    zid: str
+    host: str
+    pid: int
+    start_ns: int
+
+
+Listener = Callable[[str, Token], None]
+
+
+class Graph:
+    """A live view of nodes, topics, services and actions; updated from liveliness events.
+
+    A process that dies (kill -9) leaves the graph at once; a frozen one after the lease of
+    its session (1 s by default in zenros), as Zenoh measures it.
+    """
+
+    def __init__(self, session: zenoh.Session, keys: KeySpace, *, snapshot_timeout: float = 2.0):
+        self._keys = keys
+        self._cond = threading.Condition()
+        self._tokens: dict[str, Token] = {}
+        self._deleted: set[str] = set()
+        self._listeners: list[Listener] = []
+        self._sub = session.liveliness().declare_subscriber(
+            keys.alive_all(), self._on_sample, history=True
+        )
+        for reply in session.liveliness().get(keys.alive_all(), timeout=snapshot_timeout):
+            if reply.ok is not None:
+                key = str(reply.ok.key_expr)
+                with self._cond:
+                    if key not in self._deleted and key not in self._tokens:
+                        self._add(key)
+
+    def _add(self, key: str) -> Token | None:
+        tok = self._keys.parse_token(key)
+        if tok is not None:
+            self._tokens[key] = tok
+            self._cond.notify_all()
+        return tok
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        key = str(sample.key_expr)
+        with self._cond:
+            if sample.kind == zenoh.SampleKind.PUT:
+                self._deleted.discard(key)
+                tok = self._add(key)
+                event = "put"
+            else:
+                self._deleted.add(key)
+                tok = self._tokens.pop(key, None)
+                self._cond.notify_all()
+                event = "delete"
+            listeners = list(self._listeners)
+        if tok is not None:
+            for fn in listeners:
+                try:
+                    fn(event, tok)
+                except Exception:  # a listener must not break the graph
+                    pass
+
+    def add_listener(self, fn: Listener) -> None:
+        """Call ``fn(event, token)`` on every change (``event`` is "put" or "delete")."""
+        with self._cond:
+            self._listeners.append(fn)
+
+    def tokens(self, kind: str | None = None) -> list[Token]:
+        with self._cond:
+            return [t for t in self._tokens.values() if kind is None or t.kind == kind]
+
+    # ------------------------------------------------------------------ queries
+
+    def nodes(self) -> list[NodeInfo]:
+        return sorted(
+            (NodeInfo(t.node, t.zid, t.host, t.pid, t.start_ns) for t in self.tokens("node")),
+            key=lambda n: (n.name, n.start_ns),
+        )
+
+    def node_names(self) -> list[str]:
+        return sorted({n.name for n in self.nodes()})
+
+    def _by_name(self, kind: str) -> dict[str, list[str]]:
+        out: dict[str, set[str]] = {}
+        for t in self.tokens(kind):
+            out.setdefault(t.name, set()).add(t.type)
+        return {k: sorted(v) for k, v in sorted(out.items())}
+
+    def topics(self) -> dict[str, list[str]]:
+        """Topic name -> the types its publishers and subscribers declare."""
+        merged: dict[str, set[str]] = {}
+        for kind in ("pub", "sub"):
+            for name, types in self._by_name(kind).items():
+                merged.setdefault(name, set()).update(types)
+        return {k: sorted(v) for k, v in sorted(merged.items())}
+
+    def services(self) -> dict[str, list[str]]:
+        return self._by_name("srv")
+
+    def actions(self) -> dict[str, list[str]]:
+        return self._by_name("act")
+
+    def publishers(self, topic: str) -> list[Token]:
+        return [t for t in self.tokens("pub") if t.name == topic]
+
+    def subscribers(self, topic: str) -> list[Token]:
+        return [t for t in self.tokens("sub") if t.name == topic]
+
+    def servers(self, service: str) -> list[Token]:
+        return [t for t in self.tokens("srv") if t.name == service]
+
+    def action_servers(self, action: str) -> list[Token]:
+        return [t for t in self.tokens("act") if t.name == action]
+
+    def endpoints_of(self, node: str) -> dict[str, list[Token]]:
+        """A node's publishers, subscribers, services and actions (as ``ros2 node info``)."""
+        out: dict[str, list[Token]] = {"pub": [], "sub": [], "srv": [], "act": []}
+        for t in self.tokens():
+            if t.node == node and t.kind in out:
+                out[t.kind].append(t)
+        return out
+
+    def nodes_of_zid(self, zid: str, topic: str | None = None) -> list[str]:
+        """Nodes of one session (optionally: those publishing ``topic``)."""
+        kind = "pub" if topic else "node"
+        return sorted({t.node for t in self.tokens(kind) if t.zid == zid
+                       and (topic is None or t.name == topic)})
+
+    def type_conflicts(self) -> dict[str, list[str]]:
+        """Topics on which endpoints declare more than one type."""
+        return {k: v for k, v in self.topics().items() if len(v) > 1}
+
+    def duplicate_nodes(self) -> dict[str, list[NodeInfo]]:
+        """Node names held by more than one live node."""
+        seen: dict[str, list[NodeInfo]] = {}
+        for n in self.nodes():
+            seen.setdefault(n.name, []).append(n)
+        return {k: v for k, v in seen.items() if len(v) > 1}
+
+    # ------------------------------------------------------------------ waiting
+
+    def wait_for(self, predicate: Callable[[], bool], timeout: float | None = None) -> bool:
+        """Block until ``predicate()`` holds (re-checked on each graph change)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        with self._cond:
+            while True:
+                if predicate():
+                    return True
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    return False
+                self._cond.wait(left)
+
+    def _has(self, kind: str, name: str) -> Callable[[], bool]:
+        return lambda: any(t.kind == kind and t.name == name for t in self._tokens.values())
+
+    def wait_for_publisher(self, topic: str, timeout: float | None = None) -> bool:
+        return self.wait_for(self._has("pub", topic), timeout)
+
+    def wait_for_subscriber(self, topic: str, timeout: float | None = None) -> bool:
+        return self.wait_for(self._has("sub", topic), timeout)
+
+    def wait_for_service(self, service: str, timeout: float | None = None) -> bool:
+        return self.wait_for(self._has("srv", service), timeout)
+
+    def wait_for_action(self, action: str, timeout: float | None = None) -> bool:
+        return self.wait_for(self._has("act", action), timeout)
+
+    def wait_for_node(self, node: str, timeout: float | None = None) -> bool:
+        return self.wait_for(
+            lambda: any(t.kind == "node" and t.node == node for t in self._tokens.values()),
+            timeout,
+        )
+
+    def close(self) -> None:
+        self._sub.undeclare()

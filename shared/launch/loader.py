@@ -1,0 +1,363 @@
+"""Launch files: YAML into a `LaunchDescription` (args, nodes, includes, groups, namespaces)."""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..errors import InvalidNameError, LaunchError
+from ..names import Remapper, join, validate_namespace, validate_node_name
+from .model import ArgDecl, LaunchDescription, Output, ProcessSpec
+from .substitution import Scope, parse_bool, substitute, substitute_value
+
+__all__ = ["declared_args", "load_launch"]
+
+FILE_KEYS = ("args", "env", "nodes", "include", "group")
+GROUP_KEYS = ("namespace", "env", "nodes", "include", "group", "if", "unless")
+INCLUDE_KEYS = ("file", "args", "namespace", "if", "unless")
+NODE_KEYS = (
+    "name", "module", "exec", "cmd", "arguments", "namespace", "remap", "params", "env", "cwd",
+    "respawn", "respawn_delay", "required", "output", "ros_args", "if", "unless",
+)
+_MODULE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*\Z")
+
+
+@dataclass
+class _Ctx:
+    """Where the loader is: file scope, namespace, inherited env, include chain."""
+
+    scope: Scope
+    namespace: str = "/"
+    env: dict[str, str] = field(default_factory=dict)
+    stack: tuple[Path, ...] = ()
+
+    def fail(self, where: str, why: str) -> LaunchError:
+        return self.scope.fail(where, why)
+
+    def text(self, raw: Any, where: str) -> str:
+        """A scalar field as a string, after substitution."""
+        if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
+            raise self.fail(where, f"expected a string, got {type(raw).__name__} {raw!r}")
+        return substitute(str(raw), self.scope, where)
+
+    def words(self, raw: Any, where: str) -> list[str]:
+        """A command line: a list of scalars, or one string split as a shell would."""
+        if isinstance(raw, str):
+            return shlex.split(self.text(raw, where))
+        if isinstance(raw, list):
+            return [self.text(v, f"{where}[{i}]") for i, v in enumerate(raw)]
+        raise self.fail(where, f"expected a list or a string, got {type(raw).__name__}")
+
+    def mapping(self, raw: Any, where: str) -> dict[str, Any]:
+        if raw is None:
+            return {}
+        if not isinstance(raw, dict) or not all(isinstance(k, str) for k in raw):
+            raise self.fail(where, f"expected a mapping with string keys, got {raw!r}")
+        return raw
+
+    def items(self, raw: Any, where: str) -> list[Any]:
+        if raw is None:
+            return []
+        if not isinstance(raw, list):
+            raise self.fail(where, f"expected a list, got {type(raw).__name__}")
+        return raw
+
+    def keys(self, raw: dict[str, Any], valid: tuple[str, ...], where: str) -> None:
+        for key in raw:
+            if key not in valid:
+                at = f"{where}.{key}".lstrip(".")
+                raise self.fail(at, f"unknown key; valid: {', '.join(valid)}")
+
+    def path(self, raw: Any, where: str) -> Path:
+        """A path relative to the current file's directory; must exist."""
+        path = Path(os.path.expanduser(self.text(raw, where)))
+        path = path if path.is_absolute() else self.scope.file.parent / path
+        if not path.exists():
+            raise self.fail(where, f"no such file: {path}")
+        return path
+
+    def namespace_for(self, raw: Any, where: str) -> str:
+        """A relative namespace joins the current one; an absolute one replaces it."""
+        ns = self.text(raw, where)
+        try:
+            if ns.startswith("/"):
+                return validate_namespace(ns)
+            return validate_namespace(join(self.namespace, ns.strip("/"))) if ns else self.namespace
+        except InvalidNameError as exc:
+            raise self.fail(where, str(exc)) from exc
+
+    def environment(self, raw: Any, where: str) -> dict[str, str]:
+        m = self.mapping(raw, where)
+        return {**self.env, **{k: self.text(v, f"{where}.{k}") for k, v in m.items()}}
+
+    def enabled(self, entry: dict[str, Any], where: str) -> bool:
+        """The ``if``/``unless`` conditions of an entry."""
+        if "if" in entry and not parse_bool(entry["if"], self.scope, f"{where}.if"):
+            return False
+        unless = entry.get("unless", False)
+        return not parse_bool(unless, self.scope, f"{where}.unless")
+
+
+def load_launch(
+    path: str | os.PathLike[str],
+    args: Mapping[str, str] | None = None,
+    environ: Mapping[str, str] | None = None,
+) -> LaunchDescription:
+    """Load a launch file and everything it includes.
+
+    Args:
+        path: the launch file.
+        args: values for its declared arguments (the ``name:=value`` of the command line).
+        environ: the environment seen by ``$(env ...)`` (default: ``os.environ``).
+
+    Raises:
+        LaunchError: the message names the file, the key path and what was expected.
+    """
+    out = LaunchDescription()
+    env = dict(os.environ if environ is None else environ)
+    root = Path(path).resolve()
+    if not root.is_file():
+        raise LaunchError(f"launch file not found: {path}")
+    ctx = _load_file(root, dict(args or {}), _Ctx(Scope(root, environ=env)), out, top=True)
+    out.args = dict(ctx.scope.args)
+    seen: dict[str, ProcessSpec] = {}
+    for spec in out.processes:
+        other = seen.setdefault(spec.fqn, spec)
+        if other is not spec:
+            raise LaunchError(
+                f"two processes are named {spec.fqn}: {other.origin} and {spec.origin};"
+                " give one a different name or namespace"
+            )
+    return out
+
+
+def declared_args(path: str | os.PathLike[str]) -> list[ArgDecl]:
+    """The arguments a launch file declares (for ``--show-args``), without loading it."""
+    file = Path(path).resolve()
+    return _declarations(_read(file, _Ctx(Scope(file))), _Ctx(Scope(file)))
+
+
+def _read(file: Path, ctx: _Ctx) -> dict[str, Any]:
+    try:
+        doc = yaml.safe_load(file.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise ctx.fail("", f"cannot read launch file: {exc}") from exc
+    doc = ctx.mapping(doc, "top level")
+    ctx.keys(doc, FILE_KEYS, "")
+    return doc
+
+
+def _declarations(doc: dict[str, Any], ctx: _Ctx) -> list[ArgDecl]:
+    decls = []
+    for name, spec in ctx.mapping(doc.get("args"), "args").items():
+        where = f"args.{name}"
+        if spec is None or isinstance(spec, (str, int, float, bool)):
+            decls.append(ArgDecl(name, _scalar(spec)))
+            continue
+        spec = ctx.mapping(spec, where)
+        ctx.keys(spec, ("default", "description"), where)
+        decls.append(ArgDecl(name, _scalar(spec.get("default")), str(spec.get("description", ""))))
+    return decls
+
+
+def _scalar(raw: Any) -> str | None:
+    """An argument default as text (YAML ``true`` becomes ``true``, not ``True``)."""
+    if raw is None:
+        return None
+    return str(raw).lower() if isinstance(raw, bool) else str(raw)
+
+
+def _load_file(
+    file: Path, given: dict[str, str], parent: _Ctx, out: LaunchDescription, top: bool = False
+) -> _Ctx:
+    if file in parent.stack:
+        chain = " -> ".join(str(p) for p in (*parent.stack, file))
+        raise LaunchError(f"include cycle: {chain}")
+    ctx = replace(parent, scope=Scope(file, {}, parent.scope.environ), stack=(*parent.stack, file))
+    out.files.append(str(file))
+    doc = _read(file, ctx)
+    decls = _declarations(doc, ctx)
+    names = [d.name for d in decls]
+    unknown = [k for k in given if k not in names]
+    if unknown:
+        known = ", ".join(names) or "none"
+        raise ctx.fail("args", f"unknown argument {unknown[0]!r}; declared: {known}")
+    values: dict[str, str] = {}
+    for d in decls:
+        if d.name in given:
+            values[d.name] = given[d.name]
+        elif d.default is not None:
+            scope = Scope(file, values, ctx.scope.environ)
+            values[d.name] = substitute(d.default, scope, f"args.{d.name}")
+        else:
+            why = f"argument {d.name!r} is required; pass {d.name}:=VALUE"
+            raise ctx.fail(f"args.{d.name}", why)
+    ctx.scope = Scope(file, values, ctx.scope.environ)
+    if top:
+        out.declared = decls
+    if "env" in doc:
+        ctx.env = ctx.environment(doc["env"], "env")
+    _body(doc, ctx, out, "")
+    return ctx
+
+
+def _body(doc: dict[str, Any], ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+    """The ``nodes``, ``include`` and ``group`` keys, in the order they appear."""
+    for key, raw in doc.items():
+        prefix = f"{where}{key}"
+        if key == "nodes":
+            for i, node in enumerate(ctx.items(raw, prefix)):
+                spec = _node(node, ctx, f"{prefix}[{i}]")
+                if spec is not None:
+                    out.processes.append(spec)
+        elif key == "include":
+            for i, inc in enumerate(ctx.items(raw, prefix)):
+                _include(inc, ctx, out, f"{prefix}[{i}]")
+        elif key == "group":
+            for i, group in enumerate(ctx.items(raw, prefix)):
+                _group(group, ctx, out, f"{prefix}[{i}]")
+
+
+def _group(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+    entry = ctx.mapping(raw, where)
+    ctx.keys(entry, GROUP_KEYS, where)
+    if not ctx.enabled(entry, where):
+        return
+    inner = replace(ctx)
+    if "namespace" in entry:
+        inner.namespace = ctx.namespace_for(entry["namespace"], f"{where}.namespace")
+    if "env" in entry:
+        inner.env = ctx.environment(entry["env"], f"{where}.env")
+    _body(entry, inner, out, f"{where}.")
+
+
+def _include(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+    entry = {"file": raw} if isinstance(raw, str) else ctx.mapping(raw, where)
+    ctx.keys(entry, INCLUDE_KEYS, where)
+    if "file" not in entry:
+        raise ctx.fail(where, "an include needs 'file'")
+    if not ctx.enabled(entry, where):
+        return
+    file = ctx.path(entry["file"], f"{where}.file").resolve()
+    args = {
+        k: ctx.text(v, f"{where}.args.{k}")
+        for k, v in ctx.mapping(entry.get("args"), f"{where}.args").items()
+    }
+    inner = replace(ctx)
+    if "namespace" in entry:
+        inner.namespace = ctx.namespace_for(entry["namespace"], f"{where}.namespace")
+    try:
+        _load_file(file, args, inner, out)
+    except LaunchError as exc:
+        raise LaunchError(f"{exc}\n  while including it from {ctx.scope.file}: {where}") from exc
+
+
+def _node(raw: Any, ctx: _Ctx, where: str) -> ProcessSpec | None:
+    entry = ctx.mapping(raw, where)
+    ctx.keys(entry, NODE_KEYS, where)
+    if not ctx.enabled(entry, where):
+        return None
+    kinds = [k for k in ("module", "exec", "cmd") if k in entry]
+    if len(kinds) != 1:
+        raise ctx.fail(where, "give exactly one of module, exec or cmd")
+    kind = kinds[0]
+    if kind == "module":
+        module = ctx.text(entry["module"], f"{where}.module")
+        if not _MODULE.match(module):
+            raise ctx.fail(f"{where}.module", f"{module!r} is not a dotted module name")
+        cmd, default_name = [sys.executable, "-m", module], module.rsplit(".", 1)[-1]
+    elif kind == "exec":
+        cmd = [ctx.text(entry["exec"], f"{where}.exec")]
+        default_name = Path(cmd[0]).name
+    else:
+        cmd = ctx.words(entry["cmd"], f"{where}.cmd")
+        if not cmd:
+            raise ctx.fail(f"{where}.cmd", "the command is empty")
+        default_name = Path(cmd[0]).name
+    name = ctx.text(entry["name"], f"{where}.name") if "name" in entry else _as_name(default_name)
+    try:
+        validate_node_name(name)
+    except InvalidNameError as exc:
+        raise ctx.fail(f"{where}.name", str(exc)) from exc
+    ros_args = parse_bool(entry.get("ros_args", kind != "cmd"), ctx.scope, f"{where}.ros_args")
+    remaps = _remaps(entry.get("remap"), ctx, f"{where}.remap")
+    params = _params(entry.get("params"), ctx, f"{where}.params")
+    if not ros_args and (remaps or params):
+        raise ctx.fail(where, "remap and params need ros_args: true (cmd nodes get no ROS flags)")
+    respawn = parse_bool(entry.get("respawn", False), ctx.scope, f"{where}.respawn")
+    required = parse_bool(entry.get("required", False), ctx.scope, f"{where}.required")
+    if respawn and required:
+        raise ctx.fail(where, "a process cannot be both respawn and required")
+    output = ctx.text(entry.get("output", "screen"), f"{where}.output")
+    if output not in ("screen", "log"):
+        raise ctx.fail(f"{where}.output", f"expected screen or log, got {output!r}")
+    out_kind: Output = "screen" if output == "screen" else "log"
+    return ProcessSpec(
+        name=name,
+        cmd=tuple(cmd),
+        namespace=(
+            ctx.namespace_for(entry["namespace"], f"{where}.namespace")
+            if "namespace" in entry else ctx.namespace
+        ),
+        ros_args=ros_args,
+        remaps=remaps,
+        params=params,
+        arguments=tuple(ctx.words(entry.get("arguments", []), f"{where}.arguments")),
+        env=ctx.environment(entry.get("env"), f"{where}.env"),
+        cwd=str(ctx.path(entry["cwd"], f"{where}.cwd")) if "cwd" in entry else None,
+        respawn=respawn,
+        respawn_delay=_delay(entry.get("respawn_delay", 0.0), ctx, f"{where}.respawn_delay"),
+        required=required,
+        output=out_kind,
+        origin=f"{ctx.scope.file}: {where}",
+    )
+
+
+def _as_name(text: str) -> str:
+    name = re.sub(r"[^A-Za-z0-9_]", "_", text.removesuffix(".py"))
+    return f"_{name}" if not name or name[0].isdigit() else name
+
+
+def _remaps(raw: Any, ctx: _Ctx, where: str) -> tuple[tuple[str, str], ...]:
+    if isinstance(raw, dict):
+        rules = [f"{ctx.text(k, where)}:={ctx.text(v, f'{where}.{k}')}" for k, v in raw.items()]
+    else:
+        rules = [ctx.text(r, f"{where}[{i}]") for i, r in enumerate(ctx.items(raw, where))]
+    try:
+        Remapper.parse(rules)
+    except InvalidNameError as exc:
+        raise ctx.fail(where, str(exc)) from exc
+    return tuple((src, dst) for src, _, dst in (r.partition(":=") for r in rules))
+
+
+def _params(raw: Any, ctx: _Ctx, where: str) -> tuple[dict[str, Any] | str, ...]:
+    items = raw if isinstance(raw, list) else [] if raw is None else [raw]
+    out: list[dict[str, Any] | str] = []
+    for i, item in enumerate(items):
+        at = f"{where}[{i}]" if isinstance(raw, list) else where
+        if isinstance(item, dict):
+            out.append(substitute_value(ctx.mapping(item, at), ctx.scope, at))
+        elif isinstance(item, str):
+            out.append(str(ctx.path(item, at)))
+        else:
+            raise ctx.fail(at, f"expected a mapping of parameters or a params file, got {item!r}")
+    return tuple(out)
+
+
+def _delay(raw: Any, ctx: _Ctx, where: str) -> float:
+    text = ctx.text(raw, where)
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value >= 0:
+        raise ctx.fail(where, f"expected a number of seconds >= 0, got {raw!r}")
+    return value

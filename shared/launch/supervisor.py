@@ -1,0 +1,373 @@
+"""The process supervisor behind ``zenros launch``: start, log, respawn, and stop processes.
+
+Each process runs in its own session (process group), so a signal reaches the whole group
+and a terminal's Ctrl-C reaches only the launcher, which then stops everything in order:
+SIGINT to all, SIGTERM after ``sigterm_timeout`` to those still running, SIGKILL after
+``sigkill_timeout``. A further `Supervisor.stop` call skips to the next step at once.
+
+A process *ended cleanly* if its last run exited with code 0, or, after our SIGINT, died of
+SIGINT (return code -2) or exited 130. `Supervisor.run` returns 0 when every process ended
+cleanly, 1 when one did not (a crash, or it needed SIGTERM or SIGKILL), and 3 when a process
+could not be started at all.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import inspect
+import os
+import shlex
+import signal
+import sys
+import time
+from collections.abc import Awaitable, Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO, TypeVar
+
+from .model import ProcessSpec, write_params_files
+from .output import LogFile, pump
+
+__all__ = [
+    "EXIT_CLEAN",
+    "EXIT_FAILED",
+    "EXIT_STARTUP",
+    "Event",
+    "ProcessState",
+    "Supervisor",
+    "SupervisorConfig",
+]
+T = TypeVar("T")
+
+EXIT_CLEAN, EXIT_FAILED, EXIT_STARTUP = 0, 1, 3
+
+BeforeStart = Callable[[ProcessSpec], "ProcessSpec | Awaitable[ProcessSpec]"]
+WaitReady = Callable[[ProcessSpec], "bool | Awaitable[bool]"]
+
+
+@dataclass(frozen=True)
+class Event:
+    """Something the supervisor did or saw: start, exit, ready, not_ready, signal, stop, error."""
+
+    kind: str
+    label: str = ""
+    pid: int | None = None
+    returncode: int | None = None
+    detail: str = ""
+
+
+@dataclass
+class SupervisorConfig:
+    """How to supervise (the processes themselves are `ProcessSpec`s).
+
+    Attributes:
+        log_dir: this run's directory: ``<label>.log`` per process, ``launch.log``, params.
+        sigterm_timeout: seconds after SIGINT before SIGTERM.
+        sigkill_timeout: seconds after SIGTERM before SIGKILL.
+        crash_delay: a process that ran less than this is respawned after at least this long.
+        screen: where prefixed stdout lines go (default ``sys.stdout``).
+        screen_err: where prefixed stderr lines and launcher messages go (``sys.stderr``).
+        before_start: hook run before every (re)start; returns the spec to run (it may add
+            environment or arguments, e.g. the Zenoh endpoints).
+        wait_ready: hook run after every start; True when the process is ready (e.g. its
+            node's liveliness token appeared). A False is reported, not fatal.
+        on_event: called with every `Event` (tests wait on these).
+    """
+
+    log_dir: Path
+    sigterm_timeout: float = 5.0
+    sigkill_timeout: float = 5.0
+    crash_delay: float = 1.0
+    screen: TextIO | None = None
+    screen_err: TextIO | None = None
+    before_start: BeforeStart | None = None
+    wait_ready: WaitReady | None = None
+    on_event: Callable[[Event], None] | None = None
+
+
+@dataclass
+class ProcessState:
+    """One supervised process across its runs."""
+
+    spec: ProcessSpec
+    process: asyncio.subprocess.Process | None = None
+    starts: int = 0
+    returncode: int | None = None
+    stop_signal: int | None = None
+    ready: bool | None = None
+    started_at: float = 0.0
+    tasks: list[asyncio.Task[None]] = field(default_factory=list)
+    ready_task: asyncio.Task[None] | None = None
+
+    @property
+    def alive(self) -> bool:
+        return self.process is not None and self.process.returncode is None
+
+    @property
+    def clean(self) -> bool:
+        """Whether the last run ended cleanly (see the module docstring); True if never run."""
+        if self.starts == 0:
+            return True
+        rc = self.returncode
+        if rc == 0:
+            return True
+        return self.stop_signal == signal.SIGINT and rc in (-signal.SIGINT, 130)
+
+
+class Supervisor:
+    """Runs a set of processes until they end, one required process exits, or `stop`."""
+
+    def __init__(self, specs: Sequence[ProcessSpec], config: SupervisorConfig) -> None:
+        self.config = config
+        self.states = {spec.label: ProcessState(spec) for spec in specs}
+        self._stopping = asyncio.Event()
+        self._escalate = asyncio.Event()
+        self._startup_failed = False
+        self._watchers: list[asyncio.Task[None]] = []
+        self._logs: dict[str, LogFile] = {}
+        self._launch_log: LogFile | None = None
+
+    # ------------------------------------------------------------------ public
+
+    async def run(self) -> int:
+        """Start every process in order, supervise, then stop them all; return the exit code."""
+        self.config.log_dir.mkdir(parents=True, exist_ok=True)
+        self._launch_log = LogFile(self.config.log_dir / "launch.log")
+        try:
+            for state in self.states.values():
+                if self._stopping.is_set() or not await self._spawn(state):
+                    break
+                self._watchers.append(asyncio.create_task(self._supervise(state)))
+            else:
+                await self._until_done()
+        finally:
+            await self._shutdown()
+            code = self.exit_code()
+            self._say(Event("stop", detail=f"launch finished with exit code {code}"))
+            self._launch_log.close()
+        return code
+
+    def stop(self, reason: str = "stop requested") -> None:
+        """Begin the orderly stop; each further call skips to the next signal at once."""
+        if self._stopping.is_set():
+            self._escalate.set()
+            return
+        self._say(Event("stop", detail=reason))
+        self._stopping.set()
+
+    def exit_code(self) -> int:
+        """0 if every process ended cleanly, 3 if one could not start, else 1."""
+        if self._startup_failed:
+            return EXIT_STARTUP
+        return EXIT_CLEAN if all(s.clean for s in self.states.values()) else EXIT_FAILED
+
+    def kill_all(self) -> None:
+        """SIGKILL every live process group now (for emergencies and test teardown)."""
+        for state in self.states.values():
+            self._signal(state, signal.SIGKILL)
+
+    # ------------------------------------------------------------------ running
+
+    async def _spawn(self, state: ProcessState) -> bool:
+        spec = state.spec
+        try:
+            if self.config.before_start is not None:
+                spec = await _maybe(self.config.before_start(spec))
+            params = write_params_files(spec, self.config.log_dir / "params")
+            argv = spec.argv(params)
+            log = LogFile(self.config.log_dir / f"{spec.log_name}.log")
+            log.mark(f"start: {shlex.join(argv)}")
+            try:
+                proc = await asyncio.create_subprocess_exec(
+                    *argv,
+                    stdin=asyncio.subprocess.DEVNULL,
+                    stdout=asyncio.subprocess.PIPE,
+                    stderr=asyncio.subprocess.PIPE,
+                    env={**os.environ, "PYTHONUNBUFFERED": "1", **spec.env},
+                    cwd=spec.cwd,
+                    start_new_session=True,
+                )
+            except BaseException:
+                log.close()
+                raise
+        except Exception as exc:  # noqa: BLE001 -- a hook or exec failure stops the launch cleanly
+            state.process, state.returncode = None, None
+            self._say(Event("error", spec.label, detail=f"cannot start {spec.label}: {exc}"))
+            if state.starts == 0:
+                self._startup_failed = True
+                self._stopping.set()
+            return False
+        state.process, state.returncode, state.stop_signal, state.ready = proc, None, None, None
+        state.starts += 1
+        state.started_at = time.monotonic()
+        on_screen = spec.output == "screen"
+        screen = (self.config.screen or sys.stdout) if on_screen else None
+        screen_err = (self.config.screen_err or sys.stderr) if on_screen else None
+        assert proc.stdout is not None and proc.stderr is not None
+        state.tasks = [
+            asyncio.create_task(pump(proc.stdout, spec.label, log, screen)),
+            asyncio.create_task(pump(proc.stderr, spec.label, log, screen_err)),
+        ]
+        self._logs[spec.label] = log
+        self._say(Event("start", spec.label, proc.pid, detail=shlex.join(argv)))
+        if self.config.wait_ready is not None:
+            state.ready_task = asyncio.create_task(self._readiness(state, spec))
+        return True
+
+    async def _readiness(self, state: ProcessState, spec: ProcessSpec) -> None:
+        assert self.config.wait_ready is not None
+        try:
+            ok = await _maybe(self.config.wait_ready(spec))
+        except Exception as exc:  # noqa: BLE001 -- a failing hook is reported as "not ready"
+            ok, why = False, f": {exc}"
+        else:
+            why = ""
+        state.ready = ok
+        self._say(Event("ready" if ok else "not_ready", spec.label, detail=why))
+
+    async def _supervise(self, state: ProcessState) -> None:
+        spec = state.spec
+        while True:
+            ran = 0.0
+            if state.process is not None:
+                state.returncode = await state.process.wait()
+                if state.ready_task is not None:
+                    state.ready_task.cancel()
+                await self._drain(state)
+                ran = time.monotonic() - state.started_at
+                log = self._logs.pop(spec.label)
+                self._say(Event("exit", spec.label, state.process.pid, state.returncode,
+                                _describe(state.returncode)), log)
+                log.close()
+            if self._stopping.is_set():
+                return
+            if spec.required:
+                self.stop(f"required process {spec.label} ended ({_describe(state.returncode)})")
+                return
+            if not spec.respawn:
+                return
+            delay = spec.respawn_delay
+            if ran < self.config.crash_delay:
+                delay = max(delay, self.config.crash_delay)
+            try:
+                await asyncio.wait_for(self._stopping.wait(), delay)
+                return
+            except TimeoutError:
+                pass
+            await self._spawn(state)
+
+    async def _drain(self, state: ProcessState) -> None:
+        """Let the output pumps reach EOF (a leftover grandchild may hold the pipe: 1 s)."""
+        if not state.tasks:
+            return
+        _, pending = await asyncio.wait(state.tasks, timeout=1.0)
+        for task in pending:
+            task.cancel()
+        await asyncio.gather(*pending, return_exceptions=True)
+
+    async def _until_done(self) -> None:
+        """Until a stop is requested or every watcher has ended."""
+        stop = asyncio.create_task(self._stopping.wait())
+        try:
+            pending = {stop, *self._watchers}
+            while stop in pending and len(pending) > 1:
+                _, pending = await asyncio.wait(pending, return_when=asyncio.FIRST_COMPLETED)
+        finally:
+            stop.cancel()
+
+    # ------------------------------------------------------------------ stopping
+
+    async def _shutdown(self) -> None:
+        self._stopping.set()
+        steps = (
+            (signal.SIGINT, self.config.sigterm_timeout),
+            (signal.SIGTERM, self.config.sigkill_timeout),
+            (signal.SIGKILL, None),
+        )
+        for sig, timeout in steps:
+            alive = [s for s in self.states.values() if s.alive]
+            if not alive:
+                break
+            for state in alive:
+                self._signal(state, sig)
+            self._escalate.clear()
+            await self._wait_watchers(timeout)
+        await asyncio.gather(*self._watchers, return_exceptions=True)
+        for state in self.states.values():
+            tasks = [*state.tasks, *([state.ready_task] if state.ready_task else [])]
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _wait_watchers(self, timeout: float | None) -> None:
+        """Until every watcher ends, ``timeout`` passes, or another `stop` escalates."""
+        pending: set[asyncio.Task[Any]] = {w for w in self._watchers if not w.done()}
+        if not pending:
+            return
+        escalate = asyncio.create_task(self._escalate.wait())
+        deadline = None if timeout is None else time.monotonic() + timeout
+        try:
+            while pending and not escalate.done():
+                left = None if deadline is None else deadline - time.monotonic()
+                if left is not None and left <= 0:
+                    return
+                _, pending = await asyncio.wait(
+                    {*pending, escalate}, timeout=left, return_when=asyncio.FIRST_COMPLETED
+                )
+                pending.discard(escalate)
+        finally:
+            escalate.cancel()
+
+    def _signal(self, state: ProcessState, sig: int) -> None:
+        if not state.alive or state.process is None:
+            return
+        try:
+            os.killpg(state.process.pid, sig)
+        except ProcessLookupError:
+            return
+        state.stop_signal = sig
+        self._say(Event("signal", state.spec.label, state.process.pid,
+                        detail=signal.Signals(sig).name))
+
+    # ------------------------------------------------------------------ reporting
+
+    def _say(self, event: Event, log: LogFile | None = None) -> None:
+        text = _message(event)
+        if log is not None:
+            log.mark(text)
+        if self._launch_log is not None and not self._launch_log.closed:
+            self._launch_log.mark(text)
+        out = self.config.screen_err or sys.stderr
+        out.write(f"[launch] {text}\n")
+        out.flush()
+        if self.config.on_event is not None:
+            self.config.on_event(event)
+
+
+def _message(e: Event) -> str:
+    if e.kind == "start":
+        return f"started {e.label} (pid {e.pid}): {e.detail}"
+    if e.kind == "exit":
+        return f"{e.label} (pid {e.pid}) {e.detail}"
+    if e.kind == "signal":
+        return f"sent {e.detail} to {e.label} (pid {e.pid})"
+    if e.kind == "ready":
+        return f"{e.label} is ready"
+    if e.kind == "not_ready":
+        return f"{e.label} did not become ready{e.detail}"
+    return e.detail
+
+
+def _describe(rc: int | None) -> str:
+    if rc is None:
+        return "did not start"
+    if rc < 0:
+        return f"was killed by {signal.Signals(-rc).name}"
+    return f"exited with code {rc}"
+
+
+async def _maybe(value: T | Awaitable[T]) -> T:
+    """The value of a hook that may be sync or async."""
+    if inspect.isawaitable(value):
+        return await value
+    return value

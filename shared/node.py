@@ -1,0 +1,295 @@
+"""`Node`: a named participant that creates publishers, subscriptions, services, clients,
+timers and parameters on a shared `Context`."""
+
+from __future__ import annotations
+
+import logging
+import os
+import re
+import socket
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+from .clock import Clock, ManualClock, Rate, SystemClock, Time
+from .context import Context
+from .executor import CallbackGroup
+from .graph import Graph
+from .log import RosoutHandler, node_logger
+from .message import Message, ServiceType
+from .msgs.rcl_interfaces import Log
+from .msgs.rosgraph_msgs import Clock as ClockMsg
+from .names import Remapper, join, resolve, validate_namespace, validate_node_name
+from .params import Parameter, Parameters, SetParametersResult, load_params_file
+from .pubsub import Publisher, Subscription
+from .qos import QOS_SENSOR, QoSProfile, as_profile
+from .rpc import Client, Service
+from .timer import Timer
+
+__all__ = ["Node"]
+
+M = TypeVar("M", bound=Message)
+
+
+def _snake(name: str) -> str:
+    name = name.removesuffix("Node") or name
+    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+
+
+class Node:
+    """A ROS-style node. Subclasses override `setup()`, which runs at the end of __init__.
+
+    Args:
+        name: the node's base name (default: ``node_name`` class attribute, or the class name
+            in snake_case).
+        namespace: the node's namespace (default ``/``).
+        context: the `Context` (session) to run on; a new one is opened (and owned) if None.
+        remappings: ``from:=to`` rules (and ``__ns:=``, ``__node:=``) or a `Remapper`.
+        parameter_overrides: values that replace declared defaults (``-p name:=value``).
+        params_files: ROS 2 params files whose sections for this node apply.
+    """
+
+    node_name: str | None = None
+
+    def __init__(
+        self,
+        name: str | None = None,
+        *,
+        namespace: str | None = None,
+        context: Context | None = None,
+        remappings: list[str] | Remapper | None = None,
+        parameter_overrides: dict[str, Any] | None = None,
+        params_files: list[str] | None = None,
+    ) -> None:
+        remap = remappings if isinstance(remappings, Remapper) else Remapper.parse(remappings or [])
+        self._remap = remap
+        base = remap.node_name or name or self.node_name or _snake(type(self).__name__)
+        self.name = validate_node_name(base)
+        self.namespace = validate_namespace(remap.namespace or namespace or "/")
+        self.fqn = join(self.namespace, self.name)
+        self._own_context = context is None
+        self.context = context or Context()
+        self._endpoints: list[Any] = []
+        self._timers: list[Timer] = []
+        self._closed = False
+        self._lock = threading.Lock()
+        self.logger = node_logger(self.fqn)
+        overrides: dict[str, Any] = {}
+        for f in params_files or []:
+            overrides.update(load_params_file(Path(f), self.fqn))
+        overrides.update(parameter_overrides or {})
+        self.parameters = Parameters(self.fqn, overrides)
+        try:
+            self._start()
+            self.setup()
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self) -> None:
+        ctx = self.context
+        self.start_ns = time.time_ns()
+        self._token = ctx.session.liveliness().declare_token(
+            ctx.keys.node_token(self.fqn, ctx.zid, socket.gethostname(), os.getpid(),
+                                self.start_ns)
+        )
+        self._clock: Clock = SystemClock()
+        if self.parameters.declare("use_sim_time", False):
+            self._clock = ManualClock()
+            sim = self._clock
+            self.create_subscription(ClockMsg, "/clock", lambda m: sim.set(m.clock), QOS_SENSOR)
+        self._rosout = self.create_publisher(Log, "/rosout", 100)
+        self._rosout_handler = RosoutHandler(self.fqn, self._rosout.publish, self._clock.now)
+        self.logger.addHandler(self._rosout_handler)
+
+    def setup(self) -> None:
+        """Declare parameters and create endpoints. Override in subclasses."""
+
+    # ------------------------------------------------------------------ names
+
+    def resolve_name(self, name: str, kind: str = "topic") -> str:
+        """Resolve a topic/service name against this node, then apply remappings."""
+        fqn = resolve(name, self.namespace, self.fqn, kind)
+        return self._remap.apply(fqn, self.namespace, self.fqn, kind)
+
+    # ------------------------------------------------------------------ endpoints
+
+    def _track(self, endpoint: Any) -> Any:
+        with self._lock:
+            if self._closed:
+                endpoint.close()
+                raise RuntimeError(f"node {self.fqn} is closed")
+            self._endpoints.append(endpoint)
+        return endpoint
+
+    def create_publisher(self, msg_type: type[M], topic: str,
+                         qos: QoSProfile | int = 10) -> Publisher[M]:
+        """A publisher of ``msg_type`` on ``topic`` (resolved and remapped)."""
+        pub = Publisher(self.context, self.fqn, msg_type, self.resolve_name(topic),
+                        as_profile(qos))
+        self._warn_type_conflict(pub.topic, pub.type_name)
+        p: Publisher[M] = self._track(pub)
+        return p
+
+    def create_subscription(
+        self,
+        msg_type: type[M],
+        topic: str,
+        callback: Callable[[M], Any],
+        qos: QoSProfile | int = 10,
+        *,
+        callback_group: CallbackGroup | None = None,
+    ) -> Subscription[M]:
+        """Call ``callback(msg)`` for each message; sync callbacks run on Zenoh's thread."""
+        sub = Subscription(self.context, self.fqn, msg_type, self.resolve_name(topic), callback,
+                           as_profile(qos), self.logger, callback_group)
+        self._warn_type_conflict(sub.topic, sub._codec.type_name)
+        s: Subscription[M] = self._track(sub)
+        return s
+
+    def create_service(self, srv_type: ServiceType, name: str, handler: Callable[..., Any], *,
+                       callback_group: CallbackGroup | None = None) -> Service:
+        srv = Service(self.context, self.fqn, srv_type, self.resolve_name(name, "service"),
+                      handler, self.logger, callback_group)
+        s: Service = self._track(srv)
+        return s
+
+    def create_client(self, srv_type: ServiceType, name: str) -> Client:
+        c: Client = self._track(Client(self.context, srv_type, self.resolve_name(name, "service")))
+        return c
+
+    def create_timer(self, period: float, callback: Callable[[], Any], *,
+                     callback_group: CallbackGroup | None = None) -> Timer:
+        """Call ``callback()`` every ``period`` seconds of this node's clock."""
+        timer = Timer(period, callback, self._clock, self.context.executor, self.logger,
+                      callback_group)
+        with self._lock:
+            self._timers.append(timer)
+        return timer
+
+    def create_rate(self, hz: float) -> Rate:
+        return Rate(hz, self._clock)
+
+    def destroy(self, endpoint: Any) -> None:
+        """Close one endpoint created by this node."""
+        with self._lock:
+            if endpoint in self._endpoints:
+                self._endpoints.remove(endpoint)
+        endpoint.close()
+
+    def _warn_type_conflict(self, topic: str, type_name: str) -> None:
+        graph = self.context._graph  # only if someone already built it: no cost otherwise
+        if graph is None:
+            return
+        others = {t.type for t in graph.publishers(topic) + graph.subscribers(topic)}
+        others.discard(type_name)
+        if others:
+            self.logger.warning("type conflict on %s: this node uses %s, others use %s",
+                                topic, type_name, ", ".join(sorted(others)))
+
+    # ------------------------------------------------------------------ parameters
+
+    def declare_parameter(self, name: str, default: Any, *, description: str = "",
+                          read_only: bool = False) -> Any:
+        """Declare a parameter; the default fixes its type. Returns the current value."""
+        return self.parameters.declare(name, default, description=description,
+                                       read_only=read_only)
+
+    def get_parameter(self, name: str) -> Any:
+        return self.parameters.get(name)
+
+    def set_parameter(self, name: str, value: Any) -> None:
+        self.parameters.set(name, value)
+
+    def has_parameter(self, name: str) -> bool:
+        return self.parameters.has(name)
+
+    def add_on_set_parameters_callback(
+        self, fn: Callable[[list[Parameter]], SetParametersResult]
+    ) -> None:
+        self.parameters.add_validator(fn)
+
+    def on_parameter_change(self, fn: Callable[[Parameter], None], name: str | None = None) -> None:
+        def guarded(p: Parameter) -> None:
+            try:
+                fn(p)
+            except Exception:
+                self.logger.exception("parameter callback for %s raised", p.name)
+
+        self.parameters.on_change(guarded, name)
+
+    # ------------------------------------------------------------------ time, logs, graph
+
+    def get_clock(self) -> Clock:
+        return self._clock
+
+    def now(self) -> Time:
+        return self._clock.now()
+
+    def get_logger(self) -> logging.Logger:
+        return self.logger
+
+    @property
+    def graph(self) -> Graph:
+        return self.context.graph
+
+    def get_node_names(self) -> list[str]:
+        return self.graph.node_names()
+
+    def get_topic_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return list(self.graph.topics().items())
+
+    def get_service_names_and_types(self) -> list[tuple[str, list[str]]]:
+        return list(self.graph.services().items())
+
+    # ------------------------------------------------------------------ spinning, lifecycle
+
+    def spin(self, timeout: float | None = None) -> None:
+        """Block until the node is closed (or ``timeout``). Callbacks do not need spin to
+        run; it exists for rclpy habits and for `run()`."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while not self._closed:
+            left = None if deadline is None else deadline - time.monotonic()
+            if left is not None and left <= 0:
+                return
+            self.context.executor.wait_for_work(min(left, 0.5) if left is not None else 0.5)
+
+    def spin_once(self, timeout: float | None = None) -> bool:
+        """Wait until the executor has run one timer or async callback; False on timeout."""
+        return self.context.executor.wait_for_work(timeout)
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    def close(self) -> None:
+        """Stop timers, undeclare every endpoint and token; close the context if owned."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            endpoints, self._endpoints = self._endpoints, []
+            timers, self._timers = self._timers, []
+        for t in timers:
+            t.cancel()
+        handler = getattr(self, "_rosout_handler", None)
+        if handler is not None:
+            self.logger.removeHandler(handler)
+        for ep in reversed(endpoints):
+            try:
+                ep.close()
+            except Exception:  # closing must go on whatever one endpoint does
+                self.logger.debug("closing %r failed", ep, exc_info=True)
+        token = getattr(self, "_token", None)
+        if token is not None:
+            token.undeclare()
+        if self._own_context:
+            self.context.close()
+
+    def __enter__(self) -> Node:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,241 @@
+"""Node-side parameters: declared with a default that fixes the type; overrides from
+``-p name:=value``, a ROS 2 params file, code, or (when present) the shared parameter server."""
+
+from __future__ import annotations
+
+import fnmatch
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import yaml
+
+from .errors import (
+    InvalidParameterValueError,
+    ParameterAlreadyDeclaredError,
+    ParameterError,
+    ParameterNotDeclaredError,
+)
+
+__all__ = [
+    "Parameter",
+    "ParameterBackend",
+    "Parameters",
+    "SetParametersResult",
+    "flatten",
+    "load_params_file",
+    "parse_param_arg",
+]
+
+_TYPES = (bool, int, float, str, bytes, list, dict)
+
+
+@dataclass
+class Parameter:
+    """One declared parameter."""
+
+    name: str
+    value: Any
+    type: type
+    description: str = ""
+    read_only: bool = False
+
+
+@dataclass
+class SetParametersResult:
+    """What a validation callback returns (rclpy's name)."""
+
+    successful: bool
+    reason: str = ""
+
+
+class ParameterBackend(Protocol):
+    """A shared store a node's parameters read from and write through (the master)."""
+
+    def fetch(self, name: str) -> tuple[bool, Any]: ...
+
+    def store(self, name: str, value: Any) -> None: ...
+
+
+def _type_name(t: type) -> str:
+    return {bool: "bool", int: "int", float: "float", str: "string", bytes: "bytes",
+            list: "list", dict: "dict"}.get(t, t.__name__)
+
+
+def coerce(name: str, expected: type, value: Any) -> Any:
+    """Return ``value`` as ``expected`` or raise `InvalidParameterValueError`."""
+    if expected is float and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if expected is bool and not isinstance(value, bool):
+        ok = False
+    elif expected is int and isinstance(value, bool):
+        ok = False
+    else:
+        ok = isinstance(value, expected)
+    if not ok:
+        raise InvalidParameterValueError(
+            f"parameter {name!r} is {_type_name(expected)}, got {_type_name(type(value))} "
+            f"{value!r}"
+        )
+    return value
+
+
+def parse_param_arg(arg: str) -> tuple[str, Any]:
+    """Parse ``name:=value`` (value read as YAML, as ros2 does)."""
+    name, sep, text = arg.partition(":=")
+    if not sep or not name:
+        raise ParameterError(f"invalid parameter {arg!r}: expected name:=value")
+    try:
+        value = yaml.safe_load(text) if text != "" else ""
+    except yaml.YAMLError as exc:
+        raise ParameterError(f"invalid value for parameter {name!r}: {exc}") from exc
+    return name, value
+
+
+def flatten(tree: dict[str, Any], prefix: str = "") -> dict[str, Any]:
+    """``{a: {b: 1}}`` -> ``{"a.b": 1}`` (ROS 2 nesting)."""
+    out: dict[str, Any] = {}
+    for k, v in tree.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict) and v:
+            out.update(flatten(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
+    """Parameters for one node from a ROS 2 params file (``node: ros__parameters: ...``).
+
+    Sections match by base name, full name, or a wildcard (``/**``, ``/robot1/*``); later,
+    more specific sections win.
+    """
+    try:
+        doc = yaml.safe_load(Path(path).read_text()) or {}
+    except (OSError, yaml.YAMLError) as exc:
+        raise ParameterError(f"cannot read params file {path}: {exc}") from exc
+    if not isinstance(doc, dict):
+        raise ParameterError(f"params file {path}: expected a mapping of node names")
+    base = node_fqn.rsplit("/", 1)[-1]
+    out: dict[str, Any] = {}
+    for section, body in _sections(doc):
+        pattern = section if section.startswith("/") else None
+        matches = section == base or section == node_fqn.lstrip("/") or (
+            pattern is not None and (pattern == node_fqn or fnmatch.fnmatchcase(node_fqn, pattern.replace("/**", "*")))
+        )
+        if matches:
+            if not isinstance(body, dict):
+                raise ParameterError(f"params file {path}: ros__parameters of {section} is not a mapping")
+            out.update(flatten(body))
+    return out
+
+
+def _sections(doc: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    found = []
+    for key, val in doc.items():
+        if not isinstance(val, dict):
+            continue
+        if "ros__parameters" in val:
+            found.append((prefix + str(key), val["ros__parameters"] or {}))
+        else:  # nested namespace: robot1: {chassis: {ros__parameters: ...}}
+            found.extend(_sections(val, f"{prefix}{key}/" if prefix or str(key).startswith("/")
+                                   else f"/{key}/"))
+    return found
+
+
+Validator = Callable[[list[Parameter]], SetParametersResult]
+OnChange = Callable[[Parameter], None]
+
+
+class Parameters:
+    """The declared parameters of one node."""
+
+    def __init__(self, node_fqn: str, overrides: dict[str, Any] | None = None) -> None:
+        self.node = node_fqn
+        self.overrides = dict(overrides or {})
+        self.backend: ParameterBackend | None = None
+        self._params: dict[str, Parameter] = {}
+        self._validators: list[Validator] = []
+        self._on_change: dict[str | None, list[OnChange]] = {}
+        self._lock = threading.RLock()
+
+    def declare(self, name: str, default: Any, *, description: str = "",
+                read_only: bool = False) -> Any:
+        """Declare ``name`` with ``default`` (which fixes the type) and return its value."""
+        if not name or any(c in name for c in " */$?#"):
+            raise ParameterError(f"invalid parameter name {name!r}")
+        if not isinstance(default, _TYPES):
+            raise InvalidParameterValueError(
+                f"parameter {name!r}: default must be bool, int, float, str, bytes, list or "
+                f"dict, got {type(default).__name__}"
+            )
+        kind = type(default)
+        with self._lock:
+            if name in self._params:
+                raise ParameterAlreadyDeclaredError(f"parameter {name!r} is already declared")
+            value = default
+            if name in self.overrides:
+                value = coerce(name, kind, self.overrides[name])
+            if self.backend is not None:
+                found, remote = self.backend.fetch(name)
+                if found:
+                    value = coerce(name, kind, remote)
+            self._params[name] = Parameter(name, value, kind, description, read_only)
+            return value
+
+    def has(self, name: str) -> bool:
+        return name in self._params
+
+    def get(self, name: str) -> Any:
+        return self._get(name).value
+
+    def _get(self, name: str) -> Parameter:
+        try:
+            return self._params[name]
+        except KeyError:
+            known = ", ".join(sorted(self._params)) or "none"
+            raise ParameterNotDeclaredError(
+                f"parameter {name!r} is not declared on {self.node}; declared: {known}"
+            ) from None
+
+    def describe(self) -> list[Parameter]:
+        return sorted(self._params.values(), key=lambda p: p.name)
+
+    def set(self, name: str, value: Any, *, write_through: bool = True) -> None:
+        """Set a declared parameter (validators may refuse); fires on-change callbacks."""
+        with self._lock:
+            p = self._get(name)
+            if p.read_only:
+                raise ParameterError(f"parameter {name!r} is read-only")
+            new = Parameter(p.name, coerce(name, p.type, value), p.type, p.description)
+            for validate in self._validators:
+                result = validate([new])
+                if not result.successful:
+                    raise InvalidParameterValueError(
+                        f"parameter {name!r} refused: {result.reason or 'rejected by node'}"
+                    )
+            changed = new.value != p.value
+            p.value = new.value
+        if write_through and self.backend is not None:
+            self.backend.store(name, p.value)
+        if changed:
+            self._fire(p)
+
+    def apply_remote(self, name: str, value: Any) -> None:
+        """A change pushed by the parameter server: applied if declared and well typed."""
+        if name in self._params:
+            self.set(name, value, write_through=False)
+
+    def _fire(self, p: Parameter) -> None:
+        for fn in self._on_change.get(p.name, []) + self._on_change.get(None, []):
+            fn(p)
+
+    def add_validator(self, fn: Validator) -> None:
+        """rclpy's add_on_set_parameters_callback: may refuse a change before it happens."""
+        self._validators.append(fn)
+
+    def on_change(self, fn: OnChange, name: str | None = None) -> None:
+        """Call ``fn(parameter)`` after ``name`` (or any parameter) changes."""
+        self._on_change.setdefault(name, []).append(fn)

@@ -1,0 +1,228 @@
+"""`Publisher` and `Subscription`: typed topics over Zenoh, with intra-process delivery."""
+
+from __future__ import annotations
+
+import logging
+from collections import deque
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
+
+import zenoh
+from zenoh import ext as zext
+
+from .callbacks import make_dispatch
+from .codec import codec_for
+from .errors import CodecError, EncodeError
+from .executor import CallbackGroup
+from .log import Throttle
+from .message import Message
+from .qos import QoSProfile, Reliability
+
+if TYPE_CHECKING:
+    from .context import Context
+
+__all__ = ["Publisher", "Subscription"]
+
+M = TypeVar("M", bound=Message)
+
+
+def _congestion(qos: QoSProfile) -> zenoh.CongestionControl:
+    if qos.reliability is Reliability.RELIABLE:
+        return zenoh.CongestionControl.BLOCK
+    return zenoh.CongestionControl.DROP
+
+
+class Publisher(Generic[M]):
+    """Publishes messages of one type on one topic.
+
+    Subscriptions in the same context get the message object itself (no serialization);
+    other sessions get it over Zenoh, encoded once, only when someone remote is listening
+    (latched topics always encode, since their cache serves late joiners).
+    """
+
+    def __init__(
+        self, ctx: Context, node: str, msg_type: type[M], topic: str, qos: QoSProfile
+    ) -> None:
+        self.msg_type = msg_type
+        self.topic = topic
+        self.qos = qos
+        self.key = ctx.keys.topic(topic)
+        self._ctx = ctx
+        codec = codec_for(msg_type)
+        self._encode = codec._encode
+        self.type_name = codec.type_name
+        encoding = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
+        self._latched: deque[M] | None = deque(maxlen=qos.depth) if qos.latched else None
+        self._pub: Any
+        if qos.latched:
+            self._pub = zext.declare_advanced_publisher(
+                ctx.session, self.key, encoding=encoding,
+                congestion_control=_congestion(qos),
+                allowed_destination=zenoh.Locality.REMOTE,
+                cache=zext.CacheConfig(max_samples=qos.depth),
+                sample_miss_detection=zext.MissDetectionConfig(heartbeat=0.5),
+                publisher_detection=True,
+            )
+            self._remote = True
+            self._matching = None
+        else:
+            self._pub = ctx.session.declare_publisher(
+                self.key, encoding=encoding, congestion_control=_congestion(qos),
+                reliability=zenoh.Reliability.RELIABLE
+                if qos.reliability is Reliability.RELIABLE else zenoh.Reliability.BEST_EFFORT,
+                express=qos.reliability is Reliability.BEST_EFFORT,
+                allowed_destination=zenoh.Locality.REMOTE,
+            )
+            self._remote = bool(self._pub.matching_status.matching)
+            self._matching = self._pub.declare_matching_listener(self._on_matching)
+        self._put = self._pub.put
+        self._local = ctx.local_topic(topic)
+        if qos.latched:
+            ctx.add_local(topic, "latched_pubs", self)
+        self._token = ctx.session.liveliness().declare_token(
+            ctx.keys.entity_token("pub", node, topic, self.type_name, qos.tag, ctx.zid,
+                                  ctx.next_eid())
+        )
+        self.closed = False
+
+    def _on_matching(self, status: Any) -> None:
+        self._remote = bool(status.matching)
+
+    def publish(self, msg: M) -> None:
+        """Send ``msg`` to every subscriber; raises `EncodeError` for a message of another type."""
+        if type(msg) is not self.msg_type:
+            raise EncodeError(
+                f"{self.topic} carries {self.type_name}, got {type(msg).__name__}"
+            )
+        if self._latched is not None:
+            self._latched.append(msg)
+        for sub in self._local.subs:
+            sub._deliver_local(msg, self)
+        if self._remote:
+            try:
+                data = self._encode(msg)
+            except (TypeError, ValueError, NotImplementedError) as exc:
+                raise EncodeError(f"cannot encode {self.type_name} on {self.topic}: {exc}") from exc
+            self._put(data)
+
+    @property
+    def subscription_count(self) -> int:
+        """In-process subscriptions plus whether any remote one matches (0 or 1)."""
+        return len(self._local.subs) + int(bool(self._remote))
+
+    def latched_messages(self) -> list[M]:
+        return list(self._latched or ())
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
+        if self._latched is not None:
+            self._ctx.remove_local(self.topic, "latched_pubs", self)
+        if self._matching is not None:
+            self._matching.undeclare()
+        self._token.undeclare()
+        self._pub.undeclare()
+
+
+class Subscription(Generic[M]):
+    """Receives messages of one type from one topic and hands them to a callback.
+
+    A sample that fails to decode, or carries another type, is logged (rate-limited per
+    sender) and counted in ``errors``; the callback never sees it and the node keeps running.
+    """
+
+    def __init__(
+        self,
+        ctx: Context,
+        node: str,
+        msg_type: type[M],
+        topic: str,
+        callback: Callable[[M], Any],
+        qos: QoSProfile,
+        logger: logging.Logger,
+        group: CallbackGroup | None = None,
+    ) -> None:
+        self.msg_type = msg_type
+        self.topic = topic
+        self.qos = qos
+        self.key = ctx.keys.topic(topic)
+        self.errors = 0
+        self._ctx = ctx
+        self._logger = logger
+        self._throttle = Throttle(5.0)
+        self._codec = codec_for(msg_type)
+        self._decode = self._codec._decode
+        self._encoding = zenoh.Encoding(self._codec.mime).with_schema(self._codec.type_name)
+        self._dispatch = make_dispatch(
+            callback, executor=ctx.executor, logger=logger, what=f"subscription {topic}",
+            group=group, depth=qos.depth,
+        )
+        self._sub: Any
+        if qos.latched:
+            self._sub = zext.declare_advanced_subscriber(
+                ctx.session, self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE,
+                history=zext.HistoryConfig(detect_late_publishers=True, max_samples=qos.depth),
+                recovery=zext.RecoveryConfig(heartbeat=True),
+                subscriber_detection=True,
+            )
+        else:
+            self._sub = ctx.session.declare_subscriber(
+                self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE
+            )
+        self._token = ctx.session.liveliness().declare_token(
+            ctx.keys.entity_token("sub", node, topic, self._codec.type_name, qos.tag, ctx.zid,
+                                  ctx.next_eid())
+        )
+        local = ctx.add_local(topic, "subs", self)
+        if qos.latched:
+            for pub in local.latched_pubs:
+                for msg in pub.latched_messages():
+                    self._deliver_local(msg, pub)
+        self.closed = False
+
+    def _deliver_local(self, msg: Any, pub: Publisher[Any]) -> None:
+        if type(msg) is not self.msg_type:
+            self._reject(f"type mismatch: expected {self._codec.type_name}, got {pub.type_name}",
+                         "this process")
+            return
+        self._dispatch(msg)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        if "*" in str(sample.key_expr):  # wildcard puts bypass per-key ACLs: never accept them
+            self._reject("wildcard key expression refused", self._sender(sample), sample)
+            return
+        try:
+            if sample.encoding != self._encoding:
+                self._codec.check_encoding(str(sample.encoding))
+            msg = self._decode(sample.payload.to_bytes())
+        except CodecError as exc:
+            self._reject(str(exc), self._sender(sample), sample)
+            return
+        except Exception as exc:  # msgspec.DecodeError / ValidationError
+            self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample), sample)
+            return
+        self._dispatch(msg)
+
+    def _sender(self, sample: zenoh.Sample) -> str:
+        ts = sample.timestamp
+        if ts is None:
+            return "an unknown sender"
+        zid = str(ts.get_id())
+        nodes = self._ctx.graph.nodes_of_zid(zid, self.topic)
+        return ", ".join(nodes) if nodes else f"session {zid}"
+
+    def _reject(self, why: str, sender: str, sample: zenoh.Sample | None = None) -> None:
+        self.errors += 1
+        if self._throttle.allow(sender):
+            extra = self._throttle.suppressed.pop(sender, 0)
+            more = f" ({extra} more suppressed)" if extra else ""
+            self._logger.error("cannot decode %s from %s: %s%s", self.key, sender, why, more)
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
+        self._ctx.remove_local(self.topic, "subs", self)
+        self._token.undeclare()
+        self._sub.undeclare()

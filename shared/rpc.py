@@ -1,0 +1,244 @@
+"""`Service` (a Zenoh queryable) and `Client` (a Zenoh get), typed by a `ServiceType`."""
+
+from __future__ import annotations
+
+import asyncio
+import inspect
+import json
+import logging
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+import zenoh
+
+from .codec import codec_for
+from .errors import (
+    CodecError,
+    DecodeError,
+    EncodeError,
+    ServiceError,
+    ServiceUnavailableError,
+    ZenrosTimeout,
+)
+from .executor import CallbackGroup
+from .message import Message, ServiceType
+
+if TYPE_CHECKING:
+    from .context import Context
+
+__all__ = ["Client", "Service", "error_payload"]
+
+
+def error_payload(kind: str, message: str) -> bytes:
+    """The JSON body of a ``reply_err``: ``{"error": kind, "message": ...}``."""
+    return json.dumps({"error": kind, "message": message}).encode()
+
+
+def _parse_error(data: bytes) -> str:
+    try:
+        body = json.loads(data)
+        return f"{body['error']}: {body['message']}"
+    except (ValueError, KeyError, TypeError):
+        return data.decode("utf-8", "replace")
+
+
+class Service:
+    """Serves one service: decodes the request, calls the handler, replies.
+
+    The handler is ``handler(request) -> response`` or rclpy's
+    ``handler(request, response) -> response``, sync or ``async def``. A bad request and a
+    handler exception are answered with ``reply_err`` (the caller gets `ServiceError`) and
+    the service keeps serving.
+    """
+
+    def __init__(
+        self,
+        ctx: Context,
+        node: str,
+        srv_type: ServiceType,
+        name: str,
+        handler: Callable[..., Any],
+        logger: logging.Logger,
+        group: CallbackGroup | None = None,
+    ) -> None:
+        self.srv_type = srv_type
+        self.name = name
+        self.key = ctx.keys.service(name)
+        self._ctx = ctx
+        self._logger = logger
+        self._group = group
+        self._req = codec_for(srv_type.Request)
+        self._res = codec_for(srv_type.Response)
+        self._res_encoding = zenoh.Encoding(self._res.mime).with_schema(self._res.type_name)
+        self._handler = handler
+        self._is_async = inspect.iscoroutinefunction(handler)
+        try:
+            self._two_args = len(inspect.signature(handler).parameters) >= 2
+        except (TypeError, ValueError):
+            self._two_args = False
+        self._queryable = ctx.session.declare_queryable(self.key, self._on_query, complete=True)
+        self._token = ctx.session.liveliness().declare_token(
+            ctx.keys.entity_token("srv", node, name, srv_type.name, "", ctx.zid, ctx.next_eid())
+        )
+        self.closed = False
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        try:
+            payload = query.payload
+            req = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
+        except CodecError as exc:
+            self._logger.warning("service %s: bad request: %s", self.name, exc)
+            query.reply_err(error_payload("BadRequest", str(exc)))
+            return
+        if self._is_async:
+            self._ctx.executor.submit(self._serve_async(query, req))
+            return
+        try:
+            if self._group is not None:
+                res = self._group.run(self._call, req)
+            else:
+                res = self._call(req)
+        except Exception as exc:
+            self._fail(query, exc)
+            return
+        self._reply(query, res)
+
+    def _call(self, req: Message) -> Any:
+        if self._two_args:
+            return self._handler(req, self.srv_type.Response())
+        return self._handler(req)
+
+    async def _serve_async(self, query: zenoh.Query, req: Message) -> None:
+        try:
+            if self._two_args:
+                res = await self._handler(req, self.srv_type.Response())
+            else:
+                res = await self._handler(req)
+        except Exception as exc:
+            self._fail(query, exc)
+            return
+        self._reply(query, res)
+        self._ctx.executor.mark_work()
+
+    def _fail(self, query: zenoh.Query, exc: Exception) -> None:
+        self._logger.error("service %s: handler raised %s: %s", self.name,
+                           type(exc).__name__, exc, exc_info=exc)
+        query.reply_err(error_payload(type(exc).__name__, str(exc)))
+
+    def _reply(self, query: zenoh.Query, res: Any) -> None:
+        try:
+            data = self._res.encode(res)
+        except EncodeError as exc:
+            self._logger.error("service %s: handler returned a bad response: %s", self.name, exc)
+            query.reply_err(error_payload("BadResponse", str(exc)))
+            return
+        query.reply(query.key_expr, data, encoding=self._res_encoding)
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
+        self._token.undeclare()
+        self._queryable.undeclare()
+
+
+class Client:
+    """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
+
+    def __init__(self, ctx: Context, srv_type: ServiceType, name: str) -> None:
+        self.srv_type = srv_type
+        self.name = name
+        self.key = ctx.keys.service(name)
+        self._ctx = ctx
+        self._req = codec_for(srv_type.Request)
+        self._res = codec_for(srv_type.Response)
+        self._req_encoding = zenoh.Encoding(self._req.mime).with_schema(self._req.type_name)
+        self.closed = False
+
+    def _encode(self, request: Message) -> bytes:
+        if type(request) is not self.srv_type.Request:
+            raise EncodeError(
+                f"service {self.name} takes {self._req.type_name}, got {type(request).__name__}"
+            )
+        return self._req.encode(request)
+
+    def _result(self, reply: zenoh.Reply) -> Any:
+        ok = reply.ok
+        if ok is not None:
+            try:
+                return self._res.decode(ok.payload.to_bytes())
+            except DecodeError as exc:
+                raise ServiceError(self.name, f"bad response: {exc}") from exc
+        err = reply.err
+        assert err is not None
+        raise ServiceError(self.name, _parse_error(err.payload.to_bytes()))
+
+    def call(self, request: Message, timeout: float = 5.0) -> Any:
+        """Call the service and return its response.
+
+        Raises:
+            ServiceError: the handler failed or rejected the request (carries the reason).
+            ServiceUnavailableError: no server answered.
+            ZenrosTimeout: a server exists but did not answer within ``timeout`` seconds.
+        """
+        data = self._encode(request)
+        start = time.monotonic()
+        replies = self._ctx.session.get(
+            self.key, payload=data, encoding=self._req_encoding, timeout=timeout,
+            target=zenoh.QueryTarget.BEST_MATCHING,
+        )
+        for reply in replies:
+            return self._result(reply)
+        return self._no_reply(timeout, time.monotonic() - start)
+
+    def _no_reply(self, timeout: float, elapsed: float) -> Any:
+        if elapsed < timeout * 0.9:
+            raise ServiceUnavailableError(f"no server for service {self.name}")
+        raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
+
+    async def call_async(self, request: Message, timeout: float = 5.0) -> Any:
+        """Awaitable `call`; the reply is delivered to the awaiting loop."""
+        data = self._encode(request)
+        loop = asyncio.get_running_loop()
+        fut: asyncio.Future[Any] = loop.create_future()
+        start = time.monotonic()
+        got: list[zenoh.Reply] = []
+
+        def on_reply(reply: zenoh.Reply) -> None:
+            if not got:
+                got.append(reply)
+
+        def on_done() -> None:
+            loop.call_soon_threadsafe(_settle)
+
+        def _settle() -> None:
+            if fut.done():
+                return
+            if not got:
+                try:
+                    self._no_reply(timeout, time.monotonic() - start)
+                except Exception as exc:
+                    fut.set_exception(exc)
+                return
+            try:
+                fut.set_result(self._result(got[0]))
+            except Exception as exc:
+                fut.set_exception(exc)
+
+        self._ctx.session.get(
+            self.key, zenoh.handlers.Callback(on_reply, on_done), payload=data,
+            encoding=self._req_encoding, timeout=timeout,
+            target=zenoh.QueryTarget.BEST_MATCHING,
+        )
+        return await fut
+
+    def service_is_ready(self) -> bool:
+        return bool(self._ctx.graph.servers(self.name))
+
+    def wait_for_service(self, timeout: float | None = None) -> bool:
+        """Block until a server for this service is in the graph; False on timeout."""
+        return self._ctx.graph.wait_for_service(self.name, timeout)
+
+    def close(self) -> None:
+        self.closed = True

@@ -1,0 +1,128 @@
+"""`run(NodeClass)`: flags, startup, signal capture and graceful shutdown for one node process."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from types import FrameType
+from typing import Any, NoReturn
+
+from .context import Context
+from .errors import ZenrosError
+from .log import configure_logging
+from .names import Remapper
+from .node import Node
+from .params import parse_param_arg
+from .session import add_session_arguments, options_from_args
+
+__all__ = ["EXIT_STARTUP_FAILED", "add_node_arguments", "capture_signals", "main", "run"]
+
+EXIT_STARTUP_FAILED = 3
+
+
+def add_node_arguments(parser: argparse.ArgumentParser) -> None:
+    """The node flags: name, namespace, remappings, parameters, log level."""
+    g = parser.add_argument_group("node")
+    g.add_argument("--name", help="node name (overrides the default)")
+    g.add_argument("--ns", "--namespace", dest="ns", help="node namespace")
+    g.add_argument("-r", "--remap", action="append", default=[], metavar="FROM:=TO",
+                   help="remap a name (also __ns:=/x, __node:=name); repeatable")
+    g.add_argument("-p", "--param", action="append", default=[], metavar="NAME:=VALUE",
+                   help="set a parameter (value read as YAML); repeatable")
+    g.add_argument("--params-file", action="append", default=[], metavar="FILE",
+                   help="ROS 2 params YAML file; repeatable")
+    g.add_argument("--log-level", choices=["debug", "info", "warn", "error", "fatal"],
+                   help="log level (default $ZENROS_LOG_LEVEL or info)")
+
+
+def node_kwargs(ns: argparse.Namespace) -> dict[str, Any]:
+    """Node constructor arguments from parsed flags."""
+    overrides = {}
+    for arg in ns.param:
+        if ":=" not in arg and "=" in arg:
+            arg = arg.replace("=", ":=", 1)
+        name, value = parse_param_arg(arg)
+        overrides[name] = value
+    return {
+        "name": ns.name,
+        "namespace": ns.ns,
+        "remappings": Remapper.parse(ns.remap),
+        "parameter_overrides": overrides,
+        "params_files": ns.params_file,
+    }
+
+
+@contextmanager
+def capture_signals(on_first: Callable[[], None]) -> Iterator[None]:
+    """SIGINT/SIGTERM: the first calls ``on_first`` (drain), the second forces exit (130).
+
+    Restores the previous handlers on the way out. Only works in the main thread; elsewhere
+    it does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    count = 0
+
+    def handler(signum: int, frame: FrameType | None) -> None:
+        nonlocal count
+        count += 1
+        if count == 1:
+            on_first()
+        else:
+            sys.stderr.write("forced exit\n")
+            os._exit(130)
+
+    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+def main(node_cls: type[Node], argv: Sequence[str] | None = None,
+         prog: str | None = None) -> int:
+    """Parse flags, start the node, serve until SIGINT/SIGTERM; return the exit code.
+
+    0: clean end; 2: usage error; 3: startup failed (one line on stderr).
+    """
+    prog = prog or node_cls.node_name or node_cls.__name__
+    parser = argparse.ArgumentParser(prog=prog, description=(node_cls.__doc__ or "").strip()
+                                     .split("\n")[0] or None)
+    add_session_arguments(parser)
+    add_node_arguments(parser)
+    args = parser.parse_args(argv)
+    configure_logging(args.log_level)
+    stop = threading.Event()
+    with capture_signals(stop.set):
+        ctx: Context | None = None
+        node: Node | None = None
+        try:
+            kwargs = node_kwargs(args)
+            ctx = Context(options_from_args(args), prefix=args.prefix)
+            node = node_cls(context=ctx, **kwargs)
+        except (ZenrosError, ValueError, TypeError, OSError) as exc:
+            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            sys.stderr.write(f"{prog}: startup failed: {msg}\n")
+            if ctx is not None:
+                ctx.close()
+            return EXIT_STARTUP_FAILED
+        try:
+            node.logger.info("started (pid %d, session %s)", os.getpid(), ctx.zid)
+            stop.wait()
+            node.logger.info("shutting down")
+        finally:
+            node.close()
+            ctx.close()
+    return 0
+
+
+def run(node_cls: type[Node], argv: Sequence[str] | None = None) -> NoReturn:
+    """Run ``node_cls`` as a process (``if __name__ == "__main__": run(MyNode)``)."""
+    sys.exit(main(node_cls, argv))

@@ -1,0 +1,134 @@
+"""Zenoh session configuration from flags, environment or file; the shared session flags."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from dataclasses import dataclass, field
+
+import zenoh
+
+from .errors import StartupError
+
+__all__ = [
+    "DEFAULT_ROUTER",
+    "SessionOptions",
+    "add_session_arguments",
+    "build_config",
+    "open_session",
+    "options_from_args",
+]
+
+DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
+DEFAULT_LEASE_MS = 1000
+
+
+@dataclass
+class SessionOptions:
+    """What a process needs to open its Zenoh session.
+
+    The default is a peer that connects to the local router and listens on a loopback port of
+    its own, so peers mesh directly (a peer without a listen endpoint gets nothing through a
+    router) and survive the router's death; multicast scouting is off.
+    """
+
+    mode: str | None = None  # None: peer, unless a config file says otherwise
+    connect: list[str] = field(default_factory=list)
+    listen: list[str] = field(default_factory=list)
+    config_file: str | None = None
+    cfg: list[tuple[str, str]] = field(default_factory=list)
+    multicast_scouting: bool = False
+    lease_ms: int = DEFAULT_LEASE_MS
+    strict_connect: bool = False  # explicit endpoints: fail at startup if none answers
+
+
+def add_session_arguments(parser: argparse.ArgumentParser) -> None:
+    """The session flags shared by every service and CLI (as Zenoh's own z_* tools)."""
+    g = parser.add_argument_group("zenoh session")
+    g.add_argument("-m", "--mode", choices=["peer", "client"], help="session mode (default peer)")
+    g.add_argument("-e", "--connect", action="append", default=[], metavar="ENDPOINT",
+                   help=f"endpoint to connect to (repeatable; default {DEFAULT_ROUTER})")
+    g.add_argument("-l", "--listen", action="append", default=[], metavar="ENDPOINT",
+                   help="endpoint to listen on (repeatable; default tcp/127.0.0.1:0)")
+    g.add_argument("-c", "--config", metavar="FILE", help="a Zenoh JSON5 config file")
+    g.add_argument("--cfg", action="append", default=[], metavar="KEY:VALUE",
+                   help="set a config key to a JSON5 value, e.g. --cfg 'transport/link/tx/lease:2000'")
+    g.add_argument("--multicast-scouting", action="store_true",
+                   help="enable multicast scouting (off by default)")
+    g.add_argument("--no-multicast-scouting", dest="multicast_scouting", action="store_false",
+                   help=argparse.SUPPRESS)
+    g.add_argument("--prefix", help="key-expression prefix (default $ZENROS_PREFIX or 'zenros')")
+
+
+def _parse_cfg(items: list[str]) -> list[tuple[str, str]]:
+    out = []
+    for item in items:
+        key, sep, value = item.partition(":")
+        if not sep or not key:
+            raise StartupError(f"invalid --cfg {item!r}: expected KEY:VALUE")
+        out.append((key, value))
+    return out
+
+
+def options_from_args(ns: argparse.Namespace) -> SessionOptions:
+    """Session options from parsed flags, with ZENROS_CONNECT / ZENROS_MODE as fallbacks."""
+    env_connect = [e for e in os.environ.get("ZENROS_CONNECT", "").split(",") if e]
+    connect = list(ns.connect) or env_connect
+    return SessionOptions(
+        mode=ns.mode or os.environ.get("ZENROS_MODE") or None,
+        connect=connect,
+        listen=list(ns.listen),
+        config_file=ns.config or os.environ.get("ZENROS_CONFIG") or None,
+        cfg=_parse_cfg(ns.cfg),
+        multicast_scouting=bool(ns.multicast_scouting),
+        strict_connect=bool(ns.connect),
+    )
+
+
+def build_config(opts: SessionOptions) -> zenoh.Config:
+    """A `zenoh.Config` from options.
+
+    Order: the config file (if any); then zenros's defaults for what a file leaves unset (no
+    file: everything); then explicit flags; then ``--cfg`` overrides.
+    """
+    try:
+        conf = zenoh.Config.from_file(opts.config_file) if opts.config_file else zenoh.Config()
+    except Exception as exc:  # zenoh raises its own ZError for bad files
+        raise StartupError(f"cannot read Zenoh config {opts.config_file}: {exc}") from exc
+    from_file = opts.config_file is not None
+
+    def put(key: str, value: object) -> None:
+        conf.insert_json5(key, json.dumps(value))
+
+    if opts.mode or not from_file:
+        put("mode", opts.mode or "peer")
+    mode = json.loads(conf.get_json("mode") or "\"peer\"")
+    if opts.connect or not from_file:
+        put("connect/endpoints", opts.connect or [DEFAULT_ROUTER])
+    if opts.listen or not from_file:
+        put("listen/endpoints", opts.listen or (["tcp/127.0.0.1:0"] if mode == "peer" else []))
+    if opts.multicast_scouting or not from_file or conf.get_json("scouting/multicast/enabled") == "null":
+        put("scouting/multicast/enabled", opts.multicast_scouting)
+    put("timestamping/enabled", True)  # latched topics (advanced pub/sub) and sender ids need it
+    if not from_file:
+        put("transport/link/tx/lease", opts.lease_ms)
+        put("transport/link/tx/keep_alive", 4)
+    if opts.strict_connect:
+        put("connect/exit_on_failure", True)
+        put("connect/timeout_ms", 3000)
+    for key, value in opts.cfg:
+        try:
+            conf.insert_json5(key, value)
+        except Exception as exc:
+            raise StartupError(f"invalid --cfg {key}:{value}: {exc}") from exc
+    return conf
+
+
+def open_session(opts: SessionOptions | zenoh.Config) -> zenoh.Session:
+    """Open a session; raises `StartupError` with one clear line when it cannot."""
+    conf = opts if isinstance(opts, zenoh.Config) else build_config(opts)
+    try:
+        return zenoh.open(conf)
+    except Exception as exc:
+        raise StartupError(f"cannot open Zenoh session: {exc}") from exc

@@ -1,0 +1,175 @@
+"""`Chain`: the cached path between two frames, evaluated without walking the tree.
+
+tf2 walks the tree on every lookup. Here the path from ``source`` and from ``target`` up to
+their common ancestor is found once and kept until the tree's shape changes (a new link, a
+re-parenting, a static change, ``clear()``). Runs of static links are composed in advance.
+A lookup then costs one bisect and a few float operations per dynamic link.
+
+A chain is only built when every link on the way is static or holds samples that all share
+one parent; otherwise (re-parenting inside the window, empty caches, no common ancestor)
+the buffer walks the tree as tf2 does (``walk``). When evaluation fails (no data at ``t``),
+the caller re-runs the walk to raise tf2's exact error.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_right
+from collections.abc import Mapping
+from math import sin
+
+from .cache import Cache, Seg, StaticCache, TimeCache
+from .rigid import Tf, compose
+
+# One dynamic link: its stamps and segments (the cache's own lists), the cache, and the
+# static run composed on top of it (or None).
+Step = tuple[list[int], list[Seg | None], TimeCache, Tf | None]
+
+__all__ = ["Chain", "build_chain"]
+
+
+class Chain:
+    """The links between two frames and their common ancestor, ready to evaluate."""
+
+    __slots__ = ("dyn", "src", "src_pre", "tgt", "tgt_pre")
+
+    def __init__(
+        self, src_pre: Tf | None, src: list[Step], tgt_pre: Tf | None, tgt: list[Step]
+    ) -> None:
+        self.src_pre, self.src, self.tgt_pre, self.tgt = src_pre, src, tgt_pre, tgt
+        self.dyn = [s[0] for s in src] + [s[0] for s in tgt]
+
+    def latest_time(self) -> int:
+        """The latest common time: the oldest of the dynamic links' newest stamps (0: static)."""
+        return min([s[-1] for s in self.dyn]) if self.dyn else 0
+
+    def covers(self, t: int) -> bool:
+        """Whether every dynamic link has data at ``t`` (exact stamp or bracketed)."""
+        for s in self.dyn:
+            if not s[0] <= t <= s[-1]:
+                return False
+        return True
+
+    def evaluate(self, t: int) -> Tf | None:
+        """``T_target_source`` at ``t`` (ns, not 0), or None if a link has no data there."""
+        src = _accumulate(self.src_pre, self.src, t)
+        if src is None or not (self.tgt or self.tgt_pre):
+            return src
+        tgt = _accumulate(self.tgt_pre, self.tgt, t)
+        if tgt is None:
+            return None
+        # inverse(tgt) ∘ src: rotate (src.t − tgt.t) by conj(tgt.q); q = conj(tgt.q)·src.q
+        x, y, z = src[0] - tgt[0], src[1] - tgt[1], src[2] - tgt[2]
+        qx, qy, qz, qw = -tgt[3], -tgt[4], -tgt[5], tgt[6]
+        rx, ry, rz, rw = src[3], src[4], src[5], src[6]
+        tx = 2.0 * (qy * z - qz * y)
+        ty = 2.0 * (qz * x - qx * z)
+        tz = 2.0 * (qx * y - qy * x)
+        return (
+            x + qw * tx + qy * tz - qz * ty,
+            y + qw * ty + qz * tx - qx * tz,
+            z + qw * tz + qx * ty - qy * tx,
+            qw * rx + qx * rw + qy * rz - qz * ry,
+            qw * ry - qx * rz + qy * rw + qz * rx,
+            qw * rz + qx * ry - qy * rx + qz * rw,
+            qw * rw - qx * rx - qy * ry - qz * rz,
+        )
+
+
+def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
+    """Compose the links from the bottom up: ``A ← post ∘ T_i(t) ∘ A``."""
+    if pre is None:
+        X = Y = Z = QX = QY = QZ = 0.0
+        QW = 1.0
+    else:
+        X, Y, Z, QX, QY, QZ, QW = pre
+    for stamps, segs, cache, post in steps:
+        i = bisect_right(stamps, t)
+        if i and t < stamps[-1]:
+            seg = segs[i - 1]
+            if seg is None:
+                if cache.parents[i - 1] != cache.parents[i]:
+                    return None
+                seg = cache.segment(i - 1)
+            s0, dt, x, y, z, dx, dy, dz, ax, ay, az, aw, bx, by, bz, bw, th, inv = seg
+            r = (t - s0) / dt
+            x += r * dx
+            y += r * dy
+            z += r * dz
+            if th != 0.0:
+                k0 = sin((1.0 - r) * th) * inv
+                k1 = sin(r * th) * inv
+                qx = k0 * ax + k1 * bx
+                qy = k0 * ay + k1 * by
+                qz = k0 * az + k1 * bz
+                qw = k0 * aw + k1 * bw
+            else:
+                qx, qy, qz, qw = ax, ay, az, aw
+        elif i and t == stamps[-1]:
+            x, y, z, qx, qy, qz, qw = cache.vals[-1]
+        else:
+            return None
+        # A ← T ∘ A: rotate A's translation by q, add T's; Q ← q·Q
+        tx = 2.0 * (qy * Z - qz * Y)
+        ty = 2.0 * (qz * X - qx * Z)
+        tz = 2.0 * (qx * Y - qy * X)
+        X, Y, Z, QX, QY, QZ, QW = (
+            x + X + qw * tx + qy * tz - qz * ty,
+            y + Y + qw * ty + qz * tx - qx * tz,
+            z + Z + qw * tz + qx * ty - qy * tx,
+            qw * QX + qx * QW + qy * QZ - qz * QY,
+            qw * QY - qx * QZ + qy * QW + qz * QX,
+            qw * QZ + qx * QY - qy * QX + qz * QW,
+            qw * QW - qx * QX - qy * QY - qz * QZ,
+        )
+        if post is not None:
+            X, Y, Z, QX, QY, QZ, QW = compose(post, (X, Y, Z, QX, QY, QZ, QW))
+    return (X, Y, Z, QX, QY, QZ, QW)
+
+
+def _steps(links: list[Cache]) -> tuple[Tf | None, list[Step]]:
+    """Turn links (bottom up) into dynamic steps, composing static runs in advance."""
+    pre: Tf | None = None
+    steps: list[Step] = []
+    pending: Tf | None = None
+    for c in links:
+        if isinstance(c, StaticCache):
+            pending = c.value if pending is None else compose(c.value, pending)
+            continue
+        if steps:
+            last = steps[-1]
+            steps[-1] = (last[0], last[1], last[2], pending)
+        else:
+            pre = pending
+        pending = None
+        steps.append((c.stamps, c.segs, c, None))
+    if steps:
+        last = steps[-1]
+        steps[-1] = (last[0], last[1], last[2], pending)
+    else:
+        pre = pending
+    return pre, steps
+
+
+def build_chain(caches: Mapping[str, Cache], target: str, source: str, limit: int) -> Chain | None:
+    """The chain between two known frames, or None if the tf2 walk must handle this pair."""
+    pos = {source: 0}
+    up: list[Cache] = []
+    frame = source
+    while (cache := caches.get(frame)) is not None:
+        parent = cache.parent
+        if parent is None or parent in pos or len(up) >= limit:
+            return None  # mixed parents, empty, or a loop
+        up.append(cache)
+        pos[parent] = len(up)
+        frame = parent
+    down: list[Cache] = []
+    frame = target
+    while frame not in pos:
+        cache = caches.get(frame)
+        if cache is None or cache.parent is None or len(down) >= limit:
+            return None  # another tree, mixed parents or empty
+        down.append(cache)
+        frame = cache.parent
+    src_pre, src = _steps(up[: pos[frame]])
+    tgt_pre, tgt = _steps(down)
+    return Chain(src_pre, src, tgt_pre, tgt)
