@@ -41,19 +41,43 @@ class Graph:
         self._tokens: dict[str, Token] = {}
         self._deleted: set[str] = set()
         self._listeners: list[Listener] = []
+        self._session = session
+        self._changes = 0
         self._sub = session.liveliness().declare_subscriber(
             keys.alive_all(), self._on_sample, history=True
         )
-        for reply in session.liveliness().get(keys.alive_all(), timeout=snapshot_timeout):
+        self._snapshot(snapshot_timeout)
+
+    def _snapshot(self, timeout: float) -> None:
+        for reply in self._session.liveliness().get(self._keys.alive_all(), timeout=timeout):
             if reply.ok is not None:
                 key = str(reply.ok.key_expr)
                 with self._cond:
                     if key not in self._deleted and key not in self._tokens:
                         self._add(key)
 
+    def settle(self, quiet: float = 0.3, timeout: float = 3.0) -> None:
+        """Wait until the view stops changing for ``quiet`` seconds (at most ``timeout``).
+
+        Tools that print one snapshot (``zenros node list``) call this: a fresh session
+        learns the tokens of the network over its first few hundred milliseconds.
+        """
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self._cond:
+                before = self._changes
+            self._snapshot(min(1.0, max(0.05, deadline - time.monotonic())))
+            with self._cond:
+                self._cond.wait_for(lambda: self._changes != before,
+                                    min(quiet, max(0.0, deadline - time.monotonic())))
+                if self._changes == before:
+                    return
+
     def _add(self, key: str) -> Token | None:
         tok = self._keys.parse_token(key)
         if tok is not None:
+            if key not in self._tokens:
+                self._changes += 1
             self._tokens[key] = tok
             self._cond.notify_all()
         return tok
@@ -68,6 +92,7 @@ class Graph:
             else:
                 self._deleted.add(key)
                 tok = self._tokens.pop(key, None)
+                self._changes += 1
                 self._cond.notify_all()
                 event = "delete"
             listeners = list(self._listeners)

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import logging
+import threading
+import time
 from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
@@ -52,6 +54,7 @@ class Publisher(Generic[M]):
         self._encode = codec._encode
         self.type_name = codec.type_name
         encoding = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
+        self._match_cond = threading.Condition()
         self._latched: deque[M] | None = deque(maxlen=qos.depth) if qos.latched else None
         self._pub: Any
         if qos.latched:
@@ -86,7 +89,23 @@ class Publisher(Generic[M]):
         self.closed = False
 
     def _on_matching(self, status: Any) -> None:
-        self._remote = bool(status.matching)
+        with self._match_cond:
+            self._remote = bool(status.matching)
+            self._match_cond.notify_all()
+
+    def wait_for_subscribers(self, n: int = 1, timeout: float | None = None) -> bool:
+        """Block until ``n`` subscriptions (any process) exist and Zenoh routes to the remote
+        ones; False on timeout."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        graph = self._ctx.graph
+        if not graph.wait_for(lambda: len(graph.subscribers(self.topic)) >= n, timeout):
+            return False
+        local = {id(s) for s in self._local.subs}
+        if len(graph.subscribers(self.topic)) <= len(local):
+            return True
+        left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        with self._match_cond:
+            return self._match_cond.wait_for(lambda: self._remote, left)
 
     def publish(self, msg: M) -> None:
         """Send ``msg`` to every subscriber; raises `EncodeError` for a message of another type."""

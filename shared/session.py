@@ -34,7 +34,7 @@ class SessionOptions:
     """
 
     mode: str | None = None  # None: peer, unless a config file says otherwise
-    connect: list[str] = field(default_factory=list)
+    connect: list[str] | None = None  # None: the local router; []: connect to nothing
     listen: list[str] = field(default_factory=list)
     config_file: str | None = None
     cfg: list[tuple[str, str]] = field(default_factory=list)
@@ -77,7 +77,7 @@ def options_from_args(ns: argparse.Namespace) -> SessionOptions:
     connect = list(ns.connect) or env_connect
     return SessionOptions(
         mode=ns.mode or os.environ.get("ZENROS_MODE") or None,
-        connect=connect,
+        connect=connect or None,
         listen=list(ns.listen),
         config_file=ns.config or os.environ.get("ZENROS_CONFIG") or None,
         cfg=_parse_cfg(ns.cfg),
@@ -104,8 +104,8 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     if opts.mode or not from_file:
         put("mode", opts.mode or "peer")
     mode = json.loads(conf.get_json("mode") or "\"peer\"")
-    if opts.connect or not from_file:
-        put("connect/endpoints", opts.connect or [DEFAULT_ROUTER])
+    if opts.connect is not None or not from_file:
+        put("connect/endpoints", [DEFAULT_ROUTER] if opts.connect is None else opts.connect)
     if opts.listen or not from_file:
         put("listen/endpoints", opts.listen or (["tcp/127.0.0.1:0"] if mode == "peer" else []))
     if opts.multicast_scouting or not from_file or conf.get_json("scouting/multicast/enabled") == "null":

@@ -16,8 +16,9 @@ class ConditionState(State):
     """Outcome ``"true"`` once ``cond_cb`` holds ``max_checks`` times in a row, else ``"false"``.
 
     As smach_ros's ConditionState: the first False ends the state with ``"false"``, and so
-    does running out of ``timeout``; between checks it waits ``poll_interval`` seconds and
-    may be preempted (outcome ``"preempted"``). ``max_checks=-1`` checks until the
+    does running out of ``timeout``; after each True check short of ``max_checks`` it may be
+    preempted (outcome ``"preempted"``), else it waits ``poll_interval`` seconds. The
+    condition is always checked once before a preempt is honoured. ``max_checks=-1`` checks until the
     condition fails, the timeout passes or a preempt arrives: a "while true" monitor.
 
     The waiting is injectable so tests never sleep: ``wait(seconds)`` defaults to waiting
@@ -67,9 +68,6 @@ class ConditionState(State):
         start = self._now()
         self.checks = 0
         while True:
-            if self.preempt_requested():
-                self.service_preempt()
-                return "preempted"
             if self._timeout is not None and self._now() - start > self._timeout:
                 return "false"
             if not self._cond(userdata):
@@ -77,4 +75,7 @@ class ConditionState(State):
             self.checks += 1
             if self._max_checks != -1 and self.checks >= self._max_checks:
                 return "true"
+            if self.preempt_requested():
+                self.service_preempt()
+                return "preempted"
             self._wait(self._interval)

@@ -66,6 +66,17 @@ def test_preempt_between_checks() -> None:
     assert not state.preempt_requested()
 
 
+def test_the_condition_is_checked_once_even_when_preempted_before() -> None:
+    s = Script([False])
+    state = ConditionState(s.cond, max_checks=-1, wait=s.wait)
+    state.request_preempt()
+    assert state.execute(UserData()) == "false"
+    s2 = Script([True])
+    state2 = ConditionState(s2.cond, max_checks=-1, wait=s2.wait)
+    state2.request_preempt()
+    assert state2.execute(UserData()) == "preempted" and state2.checks == 1
+
+
 def test_default_wait_returns_at_once_on_preempt() -> None:
     """The default wait is on the preempt flag, so an hour-long interval does not delay it."""
     checked = threading.Event()

@@ -1,0 +1,232 @@
+"""`zenros topic list|info|type|echo|pub|hz|bw`."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import threading
+import time
+from collections import deque
+from typing import Any
+
+import zenoh
+
+from ..codec import from_builtins
+from ..message import lookup_type
+from ..names import resolve
+from ..node import Node
+from .common import CliError, add_common, open_context, parse_yaml_arg, payload_to_data, print_data
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser("topic", help="topics: list, info, type, echo, pub, hz, bw")
+    verbs = p.add_subparsers(dest="verb", required=True)
+    v = verbs.add_parser("list", help="list topics")
+    v.add_argument("-t", "--show-types", action="store_true")
+    v.add_argument("--wait", type=float, default=0.0, help=argparse.SUPPRESS)
+    v = verbs.add_parser("info", help="publishers and subscribers of a topic")
+    v.add_argument("topic")
+    v.add_argument("-v", "--verbose", action="store_true")
+    v = verbs.add_parser("type", help="the type of a topic")
+    v.add_argument("topic")
+    v = verbs.add_parser("echo", help="print messages")
+    v.add_argument("topic")
+    v.add_argument("--once", action="store_true", help="print one message and exit")
+    v.add_argument("-n", "--count", type=int, default=0, help="exit after N messages")
+    v.add_argument("--json", action="store_true", help="one JSON object per line")
+    v.add_argument("--timeout", type=float, default=0.0, help="give up after N seconds")
+    v = verbs.add_parser("pub", help="publish a message")
+    v.add_argument("topic")
+    v.add_argument("type")
+    v.add_argument("values", nargs="?", default="{}")
+    g = v.add_mutually_exclusive_group()
+    g.add_argument("-r", "--rate", type=float, default=1.0, help="publish at HZ (default 1)")
+    g.add_argument("-1", "--once", action="store_true", help="publish once and exit")
+    v.add_argument("-t", "--times", type=int, default=0, help="exit after N messages")
+    v.add_argument("-w", "--wait-matching-subscriptions", type=int, default=1, dest="wait_subs",
+                   help="with --once/-t: wait for N subscribers first (default 1)")
+    v = verbs.add_parser("hz", help="message rate")
+    v.add_argument("topic")
+    v.add_argument("-w", "--window", type=int, default=10000)
+    v.add_argument("--count", type=int, default=0, help="exit after N reports")
+    v = verbs.add_parser("bw", help="bandwidth")
+    v.add_argument("topic")
+    v.add_argument("-w", "--window", type=int, default=100)
+    v.add_argument("--count", type=int, default=0, help="exit after N reports")
+    for verb in verbs.choices.values():
+        add_common(verb)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    ctx = open_context(args, settle=args.verb in ("list", "info", "type"))
+    try:
+        return int(_VERBS[args.verb](ctx, args))
+    finally:
+        ctx.close()
+
+
+def _topic(args: argparse.Namespace) -> str:
+    return resolve(args.topic)
+
+
+def _list(ctx: Any, args: argparse.Namespace) -> int:
+    for name, types in ctx.graph.topics().items():
+        print(f"{name} [{', '.join(types)}]" if args.show_types else name)
+    return 0
+
+
+def _info(ctx: Any, args: argparse.Namespace) -> int:
+    topic = _topic(args)
+    g = ctx.graph
+    types = g.topics().get(topic)
+    if not types:
+        raise CliError(f"unknown topic {topic}; known: {', '.join(g.topics()) or 'none'}")
+    print(f"Type: {', '.join(types)}")
+    for label, toks in (("Publisher", g.publishers(topic)), ("Subscription", g.subscribers(topic))):
+        print(f"{label} count: {len(toks)}")
+        if args.verbose:
+            for t in toks:
+                print(f"  node: {t.node}  type: {t.type}  qos: {t.qos}  session: {t.zid}")
+    return 0
+
+
+def _type(ctx: Any, args: argparse.Namespace) -> int:
+    topic = _topic(args)
+    types = ctx.graph.topics().get(topic)
+    if not types:
+        raise CliError(f"unknown topic {topic}")
+    print("\n".join(types))
+    return 0
+
+
+def _subscribe(ctx: Any, topic: str, fn: Any) -> Any:
+    return ctx.session.declare_subscriber(ctx.keys.topic(topic), fn)
+
+
+def _echo(ctx: Any, args: argparse.Namespace) -> int:
+    topic = _topic(args)
+    limit = 1 if args.once else args.count
+    done = threading.Event()
+    count = 0
+    lock = threading.Lock()
+
+    def on_sample(sample: zenoh.Sample) -> None:
+        nonlocal count
+        with lock:
+            if done.is_set():
+                return
+            data = payload_to_data(sample.payload.to_bytes(), str(sample.encoding))
+            print_data(data, args.json)
+            count += 1
+            if limit and count >= limit:
+                done.set()
+
+    sub = _subscribe(ctx, topic, on_sample)
+    try:
+        got = done.wait(args.timeout or None)
+    except KeyboardInterrupt:
+        got = True
+    finally:
+        sub.undeclare()
+    return 0 if got or not args.timeout else 1
+
+
+def _pub(ctx: Any, args: argparse.Namespace) -> int:
+    msg_type = lookup_type(args.type)
+    msg = from_builtins(parse_yaml_arg(args.values), msg_type)
+    node = Node(f"zenros_topic_pub_{_pid()}", context=ctx)
+    pub = node.create_publisher(msg_type, args.topic)
+    limit = 1 if args.once else args.times
+    if limit and args.wait_subs and not pub.wait_for_subscribers(args.wait_subs, 5.0):
+        print(f"warning: no subscriber on {pub.topic} after 5 s; publishing anyway",
+              file=sys.stderr)
+    sent = 0
+    rate = node.create_rate(args.rate) if not args.once else None
+    try:
+        while True:
+            pub.publish(msg)
+            sent += 1
+            print(f"publishing #{sent}: {msg}")
+            if limit and sent >= limit:
+                break
+            assert rate is not None
+            rate.sleep()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        node.close()
+    return 0
+
+
+def _pid() -> int:
+    import os
+
+    return os.getpid()
+
+
+def _report_loop(ctx: Any, args: argparse.Namespace, report: Any) -> int:
+    topic = _topic(args)
+    stamps: deque[tuple[float, int]] = deque(maxlen=args.window)
+    lock = threading.Lock()
+
+    def on_sample(sample: zenoh.Sample) -> None:
+        with lock:
+            stamps.append((time.monotonic(), len(sample.payload)))
+
+    sub = _subscribe(ctx, topic, on_sample)
+    reports = 0
+    try:
+        while not args.count or reports < args.count:
+            time.sleep(1.0)
+            with lock:
+                snap = list(stamps)
+            if len(snap) < 2:
+                print("no new messages")
+                continue
+            report(snap)
+            reports += 1
+    except KeyboardInterrupt:
+        pass
+    finally:
+        sub.undeclare()
+    return 0
+
+
+def _hz(ctx: Any, args: argparse.Namespace) -> int:
+    def report(snap: list[tuple[float, int]]) -> None:
+        gaps = [b[0] - a[0] for a, b in zip(snap, snap[1:])]
+        mean = statistics.fmean(gaps)
+        std = statistics.pstdev(gaps)
+        rate = 1.0 / mean if mean > 0 else math.inf
+        print(f"average rate: {rate:.3f}\n\tmin: {min(gaps):.3f}s max: {max(gaps):.3f}s "
+              f"std dev: {std:.5f}s window: {len(snap)}", flush=True)
+
+    return _report_loop(ctx, args, report)
+
+
+def _bw(ctx: Any, args: argparse.Namespace) -> int:
+    def report(snap: list[tuple[float, int]]) -> None:
+        span = snap[-1][0] - snap[0][0]
+        total = sum(n for _, n in snap[1:])
+        sizes = [n for _, n in snap]
+        bps = total / span if span > 0 else 0.0
+        print(f"{_human(bps)}/s from {len(snap)} messages\n\tMessage size mean: "
+              f"{_human(statistics.fmean(sizes))} min: {_human(min(sizes))} "
+              f"max: {_human(max(sizes))}", flush=True)
+
+    return _report_loop(ctx, args, report)
+
+
+def _human(n: float) -> str:
+    for unit in ("B", "KB", "MB", "GB"):
+        if n < 1000:
+            return f"{n:.2f} {unit}"
+        n /= 1000
+    return f"{n:.2f} TB"
+
+
+_VERBS = {"list": _list, "info": _info, "type": _type, "echo": _echo, "pub": _pub,
+          "hz": _hz, "bw": _bw}

@@ -1,0 +1,187 @@
+"""Test support: isolated sessions on loopback, `wait_for`, `Collector`, process helpers."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+import uuid
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any, Generic, TypeVar
+
+from .context import Context
+from .session import SessionOptions
+
+__all__ = [
+    "Collector",
+    "Proc",
+    "free_port",
+    "linked_contexts",
+    "loopback_options",
+    "start_process",
+    "unique_prefix",
+    "wait_for",
+    "wait_for_async",
+]
+
+T = TypeVar("T")
+
+
+def free_port() -> int:
+    """A TCP port on 127.0.0.1 that nothing listens on right now."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+        return port
+
+
+def unique_prefix() -> str:
+    """A fresh key prefix, so tests never see each other's traffic."""
+    return "zt" + uuid.uuid4().hex[:10]
+
+
+def loopback_options(port: int | None = None, connect: Sequence[int] = ()) -> SessionOptions:
+    """A peer listening on 127.0.0.1:``port`` and connecting to the given local ports."""
+    return SessionOptions(
+        mode="peer",
+        listen=[f"tcp/127.0.0.1:{port or free_port()}"],
+        connect=[f"tcp/127.0.0.1:{p}" for p in connect],
+    )
+
+
+@contextmanager
+def linked_contexts(n: int = 2, prefix: str | None = None) -> Iterator[list[Context]]:
+    """``n`` contexts (separate Zenoh sessions) meshed on loopback, sharing one prefix."""
+    prefix = prefix or unique_prefix()
+    first = free_port()
+    ctxs: list[Context] = []
+    try:
+        ctxs.append(Context(loopback_options(first), prefix=prefix))
+        for _ in range(n - 1):
+            ctxs.append(Context(loopback_options(connect=[first]), prefix=prefix))
+        yield ctxs
+    finally:
+        for c in reversed(ctxs):
+            c.close()
+
+
+def wait_for(pred: Callable[[], Any], timeout: float = 5.0, interval: float = 0.005) -> bool:
+    """Poll ``pred`` until it is true; False when ``timeout`` runs out."""
+    deadline = time.monotonic() + timeout
+    while True:
+        if pred():
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(interval)
+
+
+async def wait_for_async(pred: Callable[[], Any], timeout: float = 5.0) -> bool:
+    deadline = time.monotonic() + timeout
+    while not pred():
+        if time.monotonic() >= deadline:
+            return False
+        await asyncio.sleep(0.005)
+    return True
+
+
+class Collector(Generic[T]):
+    """A callback that records what it gets; `wait(n)` blocks until n items arrived."""
+
+    def __init__(self) -> None:
+        self.items: list[T] = []
+        self._cond = threading.Condition()
+
+    def __call__(self, item: T) -> None:
+        with self._cond:
+            self.items.append(item)
+            self._cond.notify_all()
+
+    def wait(self, n: int = 1, timeout: float = 5.0) -> bool:
+        with self._cond:
+            return self._cond.wait_for(lambda: len(self.items) >= n, timeout)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+
+class Proc:
+    """A child process whose output is collected line by line (for system tests)."""
+
+    def __init__(self, argv: Sequence[str], env: dict[str, str] | None = None,
+                 cwd: str | None = None) -> None:
+        self.argv = list(argv)
+        full_env = dict(os.environ)
+        full_env.update(env or {})
+        full_env.setdefault("PYTHONUNBUFFERED", "1")
+        self.popen = subprocess.Popen(
+            self.argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            env=full_env, cwd=cwd, start_new_session=True,
+        )
+        self.lines: list[str] = []
+        self._cond = threading.Condition()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.popen.stdout is not None
+        for line in self.popen.stdout:
+            with self._cond:
+                self.lines.append(line.rstrip("\n"))
+                self._cond.notify_all()
+        with self._cond:
+            self._cond.notify_all()
+
+    @property
+    def output(self) -> str:
+        with self._cond:
+            return "\n".join(self.lines)
+
+    def wait_line(self, needle: str, timeout: float = 10.0) -> bool:
+        """Block until a line containing ``needle`` was printed (False on timeout or exit)."""
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                if any(needle in ln for ln in self.lines):
+                    return True
+                left = deadline - time.monotonic()
+                if left <= 0 or (self.popen.poll() is not None and not self._reader.is_alive()):
+                    return False
+                self._cond.wait(min(left, 0.1))
+
+    def signal(self, sig: int) -> None:
+        if self.popen.poll() is None:
+            self.popen.send_signal(sig)
+
+    def wait(self, timeout: float = 10.0) -> int:
+        rc = self.popen.wait(timeout)
+        self._reader.join(2)
+        return rc
+
+    def stop(self, timeout: float = 5.0) -> int:
+        """SIGINT, then SIGKILL (of the whole process group) if it does not end in time."""
+        if self.popen.poll() is None:
+            self.popen.send_signal(signal.SIGINT)
+            try:
+                self.popen.wait(timeout)
+            except subprocess.TimeoutExpired:
+                try:
+                    os.killpg(self.popen.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+                self.popen.wait(5)
+        self._reader.join(2)
+        if self.popen.stdout is not None:
+            self.popen.stdout.close()
+        return self.popen.returncode
+
+
+def start_process(*args: str, env: dict[str, str] | None = None) -> Proc:
+    """Start ``python -m ...``-style children with the current interpreter."""
+    return Proc([sys.executable, *args], env=env)
