@@ -25,11 +25,10 @@ __all__ = ["Context", "LocalTopic"]
 class LocalTopic:
     """In-process endpoints of one topic; publishers read ``subs`` without locking."""
 
-    __slots__ = ("subs", "latched_pubs")
+    __slots__ = ("subs",)
 
     def __init__(self) -> None:
         self.subs: tuple[Any, ...] = ()
-        self.latched_pubs: tuple[Any, ...] = ()
 
 
 class Context:

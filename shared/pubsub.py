@@ -5,7 +5,6 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
@@ -55,7 +54,6 @@ class Publisher(Generic[M]):
         self.type_name = codec.type_name
         encoding = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
         self._match_cond = threading.Condition()
-        self._latched: deque[M] | None = deque(maxlen=qos.depth) if qos.latched else None
         self._pub: Any
         if qos.latched:
             self._pub = zext.declare_advanced_publisher(
@@ -71,8 +69,6 @@ class Publisher(Generic[M]):
         else:
             self._pub = ctx.session.declare_publisher(
                 self.key, encoding=encoding, congestion_control=_congestion(qos),
-                reliability=zenoh.Reliability.RELIABLE
-                if qos.reliability is Reliability.RELIABLE else zenoh.Reliability.BEST_EFFORT,
                 express=qos.reliability is Reliability.BEST_EFFORT,
                 allowed_destination=zenoh.Locality.REMOTE,
             )
@@ -80,8 +76,6 @@ class Publisher(Generic[M]):
             self._matching = self._pub.declare_matching_listener(self._on_matching)
         self._put = self._pub.put
         self._local = ctx.local_topic(topic)
-        if qos.latched:
-            ctx.add_local(topic, "latched_pubs", self)
         self._token = ctx.session.liveliness().declare_token(
             ctx.keys.entity_token("pub", node, topic, self.type_name, qos.tag, ctx.zid,
                                   ctx.next_eid())
@@ -113,8 +107,6 @@ class Publisher(Generic[M]):
             raise EncodeError(
                 f"{self.topic} carries {self.type_name}, got {type(msg).__name__}"
             )
-        if self._latched is not None:
-            self._latched.append(msg)
         for sub in self._local.subs:
             sub._deliver_local(msg, self)
         if self._remote:
@@ -129,15 +121,10 @@ class Publisher(Generic[M]):
         """In-process subscriptions plus whether any remote one matches (0 or 1)."""
         return len(self._local.subs) + int(bool(self._remote))
 
-    def latched_messages(self) -> list[M]:
-        return list(self._latched or ())
-
     def close(self) -> None:
         if self.closed:
             return
         self.closed = True
-        if self._latched is not None:
-            self._ctx.remove_local(self.topic, "latched_pubs", self)
         if self._matching is not None:
             self._matching.undeclare()
         self._token.undeclare()
@@ -193,11 +180,9 @@ class Subscription(Generic[M]):
             ctx.keys.entity_token("sub", node, topic, self._codec.type_name, qos.tag, ctx.zid,
                                   ctx.next_eid())
         )
-        local = ctx.add_local(topic, "subs", self)
-        if qos.latched:
-            for pub in local.latched_pubs:
-                for msg in pub.latched_messages():
-                    self._deliver_local(msg, pub)
+        # Latched history, including that of publishers in this very session, comes from
+        # the advanced subscriber's history query; live in-process samples from the bus.
+        ctx.add_local(topic, "subs", self)
         self.closed = False
 
     def _deliver_local(self, msg: Any, pub: Publisher[Any]) -> None:
@@ -232,11 +217,11 @@ class Subscription(Generic[M]):
         return ", ".join(nodes) if nodes else f"session {zid}"
 
     def _reject(self, why: str, sender: str, sample: zenoh.Sample | None = None) -> None:
-        self.errors += 1
         if self._throttle.allow(sender):
             extra = self._throttle.suppressed.pop(sender, 0)
             more = f" ({extra} more suppressed)" if extra else ""
             self._logger.error("cannot decode %s from %s: %s%s", self.key, sender, why, more)
+        self.errors += 1
 
     def close(self) -> None:
         if self.closed:

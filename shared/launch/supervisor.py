@@ -169,13 +169,13 @@ class Supervisor:
     # ------------------------------------------------------------------ running
 
     async def _spawn(self, state: ProcessState) -> bool:
-        spec = state.spec
+        spec, label = state.spec, state.spec.label
         try:
             if self.config.before_start is not None:
                 spec = await _maybe(self.config.before_start(spec))
             params = write_params_files(spec, self.config.log_dir / "params")
             argv = spec.argv(params)
-            log = LogFile(self.config.log_dir / f"{spec.log_name}.log")
+            log = LogFile(self.config.log_dir / f"{state.spec.log_name}.log")
             log.mark(f"start: {shlex.join(argv)}")
             try:
                 proc = await asyncio.create_subprocess_exec(
@@ -192,7 +192,7 @@ class Supervisor:
                 raise
         except Exception as exc:  # noqa: BLE001 -- a hook or exec failure stops the launch cleanly
             state.process, state.returncode = None, None
-            self._say(Event("error", spec.label, detail=f"cannot start {spec.label}: {exc}"))
+            self._say(Event("error", label, detail=f"cannot start {label}: {exc}"))
             if state.starts == 0:
                 self._startup_failed = True
                 self._stopping.set()
@@ -205,11 +205,11 @@ class Supervisor:
         screen_err = (self.config.screen_err or sys.stderr) if on_screen else None
         assert proc.stdout is not None and proc.stderr is not None
         state.tasks = [
-            asyncio.create_task(pump(proc.stdout, spec.label, log, screen)),
-            asyncio.create_task(pump(proc.stderr, spec.label, log, screen_err)),
+            asyncio.create_task(pump(proc.stdout, label, log, screen)),
+            asyncio.create_task(pump(proc.stderr, label, log, screen_err)),
         ]
-        self._logs[spec.label] = log
-        self._say(Event("start", spec.label, proc.pid, detail=shlex.join(argv)))
+        self._logs[label] = log
+        self._say(Event("start", label, proc.pid, detail=shlex.join(argv)))
         if self.config.wait_ready is not None:
             state.ready_task = asyncio.create_task(self._readiness(state, spec))
         return True
@@ -223,7 +223,7 @@ class Supervisor:
         else:
             why = ""
         state.ready = ok
-        self._say(Event("ready" if ok else "not_ready", spec.label, detail=why))
+        self._say(Event("ready" if ok else "not_ready", state.spec.label, detail=why))
 
     async def _supervise(self, state: ProcessState) -> None:
         spec = state.spec

@@ -14,9 +14,9 @@ from .introspection import (
     Listener,
     StateStructure,
     TransitionInfo,
-    snapshot_userdata,
 )
 from .listeners import ListenerSet
+from .snapshot import status_of, structure_of
 from .state import State, names
 from .userdata import Remapper, UserData, UserDataAccess
 from .wiring import Problem, check_child, key_problems, listing, raise_problems
@@ -166,12 +166,22 @@ class Container(State):
 
         self.check()
         self._claim()
-        return Execution(self, userdata)
+        try:
+            return Execution(self, userdata)
+        except BaseException:  # the thread never started: release the claim, then re-raise
+            with self._lock:
+                self._running = False
+            raise
 
     @property
     def is_running(self) -> bool:
         """True while `execute` runs."""
         return self._running
+
+    @property
+    def last_outcome(self) -> str | None:
+        """The outcome of the last run that ended normally (None before the first)."""
+        return self._last_outcome
 
     def _claim(self) -> None:
         with self._lock:
@@ -311,46 +321,8 @@ class Container(State):
 
     def get_structure(self) -> StateStructure:
         """Outcomes, keys, transitions and children, recursively, as plain data."""
-        children = []
-        for label, child in self._children.items():
-            node = child.get_structure()
-            node.remapping = dict(self._remappings[label])
-            children.append(node)
-        node = super().get_structure()
-        node.is_container = True
-        node.initial_states = self.get_initial_states()
-        node.transitions = self._edges()
-        node.info = self._info()
-        node.children = children
-        return node
+        return structure_of(self)
 
     def get_status(self) -> ContainerStatus:
         """Active states, userdata snapshot and last outcome, for this and nested containers."""
-        with self._lock:
-            running = self._running
-            active = self.get_active_states()
-        plain, skipped = snapshot_userdata(self.userdata.snapshot())
-        return ContainerStatus(
-            path=self.path,
-            type=type(self).__name__,
-            running=running,
-            initial_states=self.get_initial_states(),
-            active_states=active,
-            active_paths=self._active_paths(active),
-            userdata=plain,
-            unserializable=skipped,
-            last_outcome=self._last_outcome,
-            info=self._info(),
-            children=[c.get_status() for c in self._children.values() if isinstance(c, Container)],
-        )
-
-    def _active_paths(self, active: list[str]) -> list[str]:
-        paths: list[str] = []
-        for label in active:
-            child = self._children.get(label)
-            if child is None:
-                continue
-            deeper = child._active_paths(child.get_active_states()) if isinstance(
-                child, Container) else []
-            paths += deeper or [child.path]
-        return paths
+        return status_of(self)

@@ -157,13 +157,14 @@ class Iterator(Container):
         items = self._iterate()
         try:
             for index in itertools.count():
-                item = next(items, _END)
-                if item is _END:
-                    return self._exhausted
                 with self._lock:
                     if self.preempt_requested() and "preempted" in self.outcomes:
                         self.service_preempt()
                         return "preempted"
+                item = next(items, _END)
+                if item is _END:
+                    return self._exhausted
+                with self._lock:
                     self._current, self._index = label, index
                     if self.preempt_requested():
                         self._asked = True

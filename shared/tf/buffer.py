@@ -102,8 +102,17 @@ class Buffer(BufferCore):
             tt = t
             if r is None:
                 r, tt = self._lookup(target_frame, source_frame, t)
-        stamp = time if tt == t and time.__class__ is Time else from_ns(tt)
-        return _msg(r, stamp, target_frame, source_frame)
+        return TransformStamped(  # _msg, inlined: this is the hot path
+            header=Header(
+                stamp=time if tt == t and time.__class__ is Time else from_ns(tt),
+                frame_id=target_frame,
+            ),
+            child_frame_id=source_frame,
+            transform=Transform(
+                translation=Vector3(x=r[0], y=r[1], z=r[2]),
+                rotation=Quaternion(x=r[3], y=r[4], z=r[5], w=r[6]),
+            ),
+        )
 
     def lookup_transform_full(
         self, target_frame: str, target_time: TimeLike, source_frame: str,

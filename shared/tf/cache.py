@@ -7,7 +7,7 @@ id (the parent may change over time). Stamps are integer nanoseconds.
 from __future__ import annotations
 
 from bisect import bisect_left, bisect_right
-from math import acos, sin
+from math import acos, cos, sin
 
 from ..errors import (
     BackwardExtrapolationException,
@@ -17,12 +17,14 @@ from ..errors import (
 from .rigid import Tf
 from .stamps import format_ns
 
-# A segment holds what interpolating between samples i and i+1 needs, precomputed once:
-# (s0, dt, x0, y0, z0, dx, dy, dz, ax, ay, az, aw, bx, by, bz, bw, theta, 1/sin(theta)),
-# with b already negated when dot(a, b) < 0 so that slerp takes the short arc.
+# A segment holds what interpolating between samples i and i+1 needs, computed once:
+# (s0, 1/dt, x0, y0, z0, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, theta).
+# Rotation: slerp(a, b, r) = cos(rθ)·a + sin(rθ)·c, where c is the unit quaternion
+# orthogonal to a in the plane of a and b (b negated first when dot(a, b) < 0, so the short
+# arc is taken) and θ the angle between them; θ = 0 gives c = 0, i.e. a throughout.
 Seg = tuple[
-    int, int, float, float, float, float, float, float,
-    float, float, float, float, float, float, float, float, float, float,
+    int, float, float, float, float, float, float, float,
+    float, float, float, float, float, float, float, float, float,
 ]  # fmt: skip
 
 REJECTED = 0
@@ -37,30 +39,33 @@ __all__ = ["REJECTED", "RESHAPED", "STORED", "Seg", "StaticCache", "TimeCache", 
 
 def make_segment(s0: int, s1: int, a: Tf, b: Tf) -> Seg:
     """Interpolation constants between sample ``a`` at ``s0`` and sample ``b`` at ``s1``."""
-    ax, ay, az, aw = a[3], a[4], a[5], a[6]
-    bx, by, bz, bw = b[3], b[4], b[5], b[6]
+    ax, ay, az, aw = float(a[3]), float(a[4]), float(a[5]), float(a[6])
+    bx, by, bz, bw = float(b[3]), float(b[4]), float(b[5]), float(b[6])
     d = ax * bx + ay * by + az * bz + aw * bw
     if d < 0.0:
         bx, by, bz, bw, d = -bx, -by, -bz, -bw, -d
     theta = acos(min(d, 1.0))
-    inv = 1.0 / sin(theta) if theta != 0.0 else 0.0
+    if theta != 0.0:
+        k = 1.0 / sin(theta)
+        c = ((bx - d * ax) * k, (by - d * ay) * k, (bz - d * az) * k, (bw - d * aw) * k)
+    else:
+        c = (0.0, 0.0, 0.0, 0.0)
+    x, y, z = float(a[0]), float(a[1]), float(a[2])
     return (
-        s0, s1 - s0, a[0], a[1], a[2], b[0] - a[0], b[1] - a[1], b[2] - a[2],
-        ax, ay, az, aw, bx, by, bz, bw, theta, inv,
+        s0, 1.0 / (s1 - s0), x, y, z, float(b[0]) - x, float(b[1]) - y, float(b[2]) - z,
+        ax, ay, az, aw, *c, theta,
     )  # fmt: skip
 
 
 def interpolate_segment(seg: Seg, t: int) -> Tf:
     """The transform at ``t`` within a segment: linear translation, short-arc slerp."""
-    s0, dt, x, y, z, dx, dy, dz, ax, ay, az, aw, bx, by, bz, bw, th, inv = seg
-    r = (t - s0) / dt
-    if th != 0.0:
-        k0 = sin((1.0 - r) * th) * inv
-        k1 = sin(r * th) * inv
-        q = (k0 * ax + k1 * bx, k0 * ay + k1 * by, k0 * az + k1 * bz, k0 * aw + k1 * bw)
-    else:
-        q = (ax, ay, az, aw)
-    return (x + r * dx, y + r * dy, z + r * dz, *q)
+    s0, idt, x, y, z, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, th = seg
+    r = (t - s0) * idt
+    c, s = cos(r * th), sin(r * th)
+    return (
+        x + r * dx, y + r * dy, z + r * dz,
+        c * ax + s * cx, c * ay + s * cy, c * az + s * cz, c * aw + s * cw,
+    )  # fmt: skip
 
 
 class TimeCache:

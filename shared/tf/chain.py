@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from bisect import bisect_right
 from collections.abc import Mapping
-from math import sin
+from math import cos, sin
 
 from .cache import Cache, Seg, StaticCache, TimeCache
-from .rigid import Tf, compose
+from .rigid import IDENTITY, Tf, compose
 
 # One dynamic link: its stamps and segments (the cache's own lists), the cache, and the
 # static run composed on top of it (or None).
@@ -76,39 +76,48 @@ class Chain:
 
 
 def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
-    """Compose the links from the bottom up: ``A ← post ∘ T_i(t) ∘ A``."""
-    if pre is None:
-        X = Y = Z = QX = QY = QZ = 0.0
-        QW = 1.0
+    """Compose the links from the bottom up, ``A ← post ∘ T_i(t) ∘ A``; None if one has no
+    data at ``t``. Hot path: the interpolation is written out twice (first link, loop)."""
+    it = iter(steps)
+    if pre is None:  # the first link is the accumulator: no composition needed
+        for stamps, segs, cache, post in it:
+            i = bisect_right(stamps, t)
+            if i and t < stamps[-1]:
+                seg = segs[i - 1] or cache.segment(i - 1)
+                s0, idt, X, Y, Z, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, th = seg
+                r = (t - s0) * idt
+                X += r * dx
+                Y += r * dy
+                Z += r * dz
+                c, s = cos(r * th), sin(r * th)
+                QX, QY, QZ, QW = c * ax + s * cx, c * ay + s * cy, c * az + s * cz, c * aw + s * cw
+            elif i and t == stamps[-1]:
+                X, Y, Z, QX, QY, QZ, QW = cache.vals[-1]
+            else:
+                return None
+            if post is not None:
+                X, Y, Z, QX, QY, QZ, QW = compose(post, (X, Y, Z, QX, QY, QZ, QW))
+            break
+        else:
+            return IDENTITY
     else:
         X, Y, Z, QX, QY, QZ, QW = pre
-    for stamps, segs, cache, post in steps:
+    for stamps, segs, cache, post in it:
         i = bisect_right(stamps, t)
         if i and t < stamps[-1]:
-            seg = segs[i - 1]
-            if seg is None:
-                if cache.parents[i - 1] != cache.parents[i]:
-                    return None
-                seg = cache.segment(i - 1)
-            s0, dt, x, y, z, dx, dy, dz, ax, ay, az, aw, bx, by, bz, bw, th, inv = seg
-            r = (t - s0) / dt
+            seg = segs[i - 1] or cache.segment(i - 1)
+            s0, idt, x, y, z, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, th = seg
+            r = (t - s0) * idt
             x += r * dx
             y += r * dy
             z += r * dz
-            if th != 0.0:
-                k0 = sin((1.0 - r) * th) * inv
-                k1 = sin(r * th) * inv
-                qx = k0 * ax + k1 * bx
-                qy = k0 * ay + k1 * by
-                qz = k0 * az + k1 * bz
-                qw = k0 * aw + k1 * bw
-            else:
-                qx, qy, qz, qw = ax, ay, az, aw
+            c, s = cos(r * th), sin(r * th)
+            qx, qy, qz, qw = c * ax + s * cx, c * ay + s * cy, c * az + s * cz, c * aw + s * cw
         elif i and t == stamps[-1]:
             x, y, z, qx, qy, qz, qw = cache.vals[-1]
         else:
             return None
-        # A ← T ∘ A: rotate A's translation by q, add T's; Q ← q·Q
+        # A ← T ∘ A: rotate A's translation by q and add T's; Q ← q·Q
         tx = 2.0 * (qy * Z - qz * Y)
         ty = 2.0 * (qz * X - qx * Z)
         tz = 2.0 * (qx * Y - qy * X)

@@ -13,7 +13,7 @@ from typing import Literal
 from ..errors import InvalidArgumentException, TransformException
 from ..msgs.builtin_interfaces import Duration, Time
 from ..msgs.geometry_msgs import TransformStamped
-from .cache import REJECTED, RESHAPED, STORED, Cache, StaticCache, TimeCache
+from .cache import REJECTED, RESHAPED, Cache, StaticCache, TimeCache
 from .chain import Chain, build_chain
 from .report import (
     frame_error,
