@@ -65,7 +65,8 @@ class Node:
     ) -> None:
         remap = remappings if isinstance(remappings, Remapper) else Remapper.parse(remappings or [])
         self._remap = remap
-        base = remap.node_name or name or self.node_name or _snake(type(self).__name__)
+        base = remap.node_name or (name if name is not None else
+                                          self.node_name or _snake(type(self).__name__))
         self.name = validate_node_name(base)
         self.namespace = validate_namespace(remap.namespace or namespace or "/")
         self.fqn = join(self.namespace, self.name)

@@ -84,41 +84,50 @@ class Service:
         self.closed = False
 
     def _on_query(self, query: zenoh.Query) -> None:
-        try:
-            payload = query.payload
-            req = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
-        except CodecError as exc:
-            self._logger.warning("service %s: bad request: %s", self.name, exc)
-            query.reply_err(error_payload("BadRequest", str(exc)))
-            return
         if self._is_async:
-            self._ctx.executor.submit(self._serve_async(query, req))
+            self._ctx.executor.submit(self._serve_async(query))
             return
+        with query:  # finalizes the query when done, whatever references linger
+            req = self._request(query)
+            if req is None:
+                return
+            try:
+                res = self._group.run(self._call, req) if self._group else self._call(req)
+            except Exception as exc:
+                self._fail(query, exc)
+                return
+            self._reply(query, res)
+
+    def _request(self, query: zenoh.Query) -> Message | None:
+        payload = query.payload
         try:
-            if self._group is not None:
-                res = self._group.run(self._call, req)
-            else:
-                res = self._call(req)
-        except Exception as exc:
-            self._fail(query, exc)
-            return
-        self._reply(query, res)
+            msg: Message = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
+            return msg
+        except CodecError as exc:
+            reason = str(exc)
+        self._logger.warning("service %s: bad request: %s", self.name, reason)
+        query.reply_err(error_payload("BadRequest", reason))
+        return None
 
     def _call(self, req: Message) -> Any:
         if self._two_args:
             return self._handler(req, self.srv_type.Response())
         return self._handler(req)
 
-    async def _serve_async(self, query: zenoh.Query, req: Message) -> None:
-        try:
-            if self._two_args:
-                res = await self._handler(req, self.srv_type.Response())
-            else:
-                res = await self._handler(req)
-        except Exception as exc:
-            self._fail(query, exc)
-            return
-        self._reply(query, res)
+    async def _serve_async(self, query: zenoh.Query) -> None:
+        with query:
+            req = self._request(query)
+            if req is None:
+                return
+            try:
+                if self._two_args:
+                    res = await self._handler(req, self.srv_type.Response())
+                else:
+                    res = await self._handler(req)
+            except Exception as exc:
+                self._fail(query, exc)
+                return
+            self._reply(query, res)
         self._ctx.executor.mark_work()
 
     def _fail(self, query: zenoh.Query, exc: Exception) -> None:
@@ -163,7 +172,7 @@ class Client:
             )
         return self._req.encode(request)
 
-    def _result(self, reply: zenoh.Reply) -> Any:
+    def _result(self, reply: zenoh.Reply, timeout: float) -> Any:
         ok = reply.ok
         if ok is not None:
             try:
@@ -172,7 +181,10 @@ class Client:
                 raise ServiceError(self.name, f"bad response: {exc}") from exc
         err = reply.err
         assert err is not None
-        raise ServiceError(self.name, _parse_error(err.payload.to_bytes()))
+        data = err.payload.to_bytes()
+        if data == b"Timeout":  # zenoh's own error reply when the get times out
+            raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
+        raise ServiceError(self.name, _parse_error(data))
 
     def call(self, request: Message, timeout: float = 5.0) -> Any:
         """Call the service and return its response.
@@ -189,7 +201,7 @@ class Client:
             target=zenoh.QueryTarget.BEST_MATCHING,
         )
         for reply in replies:
-            return self._result(reply)
+            return self._result(reply, timeout)
         return self._no_reply(timeout, time.monotonic() - start)
 
     def _no_reply(self, timeout: float, elapsed: float) -> Any:
@@ -222,7 +234,7 @@ class Client:
                     fut.set_exception(exc)
                 return
             try:
-                fut.set_result(self._result(got[0]))
+                fut.set_result(self._result(got[0], timeout))
             except Exception as exc:
                 fut.set_exception(exc)
 

@@ -4,17 +4,17 @@ from __future__ import annotations
 
 import os
 import re
-import shlex
 import sys
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import yaml
 
 from ..errors import InvalidNameError, LaunchError
-from ..names import Remapper, join, validate_namespace, validate_node_name
+from ..names import Remapper, validate_node_name
+from .context import Context
 from .model import ArgDecl, LaunchDescription, Output, ProcessSpec
 from .substitution import Scope, parse_bool, substitute, substitute_value
 
@@ -28,82 +28,6 @@ NODE_KEYS = (
     "respawn", "respawn_delay", "required", "output", "ros_args", "if", "unless",
 )
 _MODULE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*\Z")
-
-
-@dataclass
-class _Ctx:
-    """Where the loader is: file scope, namespace, inherited env, include chain."""
-
-    scope: Scope
-    namespace: str = "/"
-    env: dict[str, str] = field(default_factory=dict)
-    stack: tuple[Path, ...] = ()
-
-    def fail(self, where: str, why: str) -> LaunchError:
-        return self.scope.fail(where, why)
-
-    def text(self, raw: Any, where: str) -> str:
-        """A scalar field as a string, after substitution."""
-        if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
-            raise self.fail(where, f"expected a string, got {type(raw).__name__} {raw!r}")
-        return substitute(str(raw), self.scope, where)
-
-    def words(self, raw: Any, where: str) -> list[str]:
-        """A command line: a list of scalars, or one string split as a shell would."""
-        if isinstance(raw, str):
-            return shlex.split(self.text(raw, where))
-        if isinstance(raw, list):
-            return [self.text(v, f"{where}[{i}]") for i, v in enumerate(raw)]
-        raise self.fail(where, f"expected a list or a string, got {type(raw).__name__}")
-
-    def mapping(self, raw: Any, where: str) -> dict[str, Any]:
-        if raw is None:
-            return {}
-        if not isinstance(raw, dict) or not all(isinstance(k, str) for k in raw):
-            raise self.fail(where, f"expected a mapping with string keys, got {raw!r}")
-        return raw
-
-    def items(self, raw: Any, where: str) -> list[Any]:
-        if raw is None:
-            return []
-        if not isinstance(raw, list):
-            raise self.fail(where, f"expected a list, got {type(raw).__name__}")
-        return raw
-
-    def keys(self, raw: dict[str, Any], valid: tuple[str, ...], where: str) -> None:
-        for key in raw:
-            if key not in valid:
-                at = f"{where}.{key}".lstrip(".")
-                raise self.fail(at, f"unknown key; valid: {', '.join(valid)}")
-
-    def path(self, raw: Any, where: str) -> Path:
-        """A path relative to the current file's directory; must exist."""
-        path = Path(os.path.expanduser(self.text(raw, where)))
-        path = path if path.is_absolute() else self.scope.file.parent / path
-        if not path.exists():
-            raise self.fail(where, f"no such file: {path}")
-        return path
-
-    def namespace_for(self, raw: Any, where: str) -> str:
-        """A relative namespace joins the current one; an absolute one replaces it."""
-        ns = self.text(raw, where)
-        try:
-            if ns.startswith("/"):
-                return validate_namespace(ns)
-            return validate_namespace(join(self.namespace, ns.strip("/"))) if ns else self.namespace
-        except InvalidNameError as exc:
-            raise self.fail(where, str(exc)) from exc
-
-    def environment(self, raw: Any, where: str) -> dict[str, str]:
-        m = self.mapping(raw, where)
-        return {**self.env, **{k: self.text(v, f"{where}.{k}") for k, v in m.items()}}
-
-    def enabled(self, entry: dict[str, Any], where: str) -> bool:
-        """The ``if``/``unless`` conditions of an entry."""
-        if "if" in entry and not parse_bool(entry["if"], self.scope, f"{where}.if"):
-            return False
-        unless = entry.get("unless", False)
-        return not parse_bool(unless, self.scope, f"{where}.unless")
 
 
 def load_launch(
@@ -126,7 +50,7 @@ def load_launch(
     root = Path(path).resolve()
     if not root.is_file():
         raise LaunchError(f"launch file not found: {path}")
-    ctx = _load_file(root, dict(args or {}), _Ctx(Scope(root, environ=env)), out, top=True)
+    ctx = _load_file(root, dict(args or {}), Context(Scope(root, environ=env)), out, top=True)
     out.args = dict(ctx.scope.args)
     seen: dict[str, ProcessSpec] = {}
     for spec in out.processes:
@@ -142,10 +66,10 @@ def load_launch(
 def declared_args(path: str | os.PathLike[str]) -> list[ArgDecl]:
     """The arguments a launch file declares (for ``--show-args``), without loading it."""
     file = Path(path).resolve()
-    return _declarations(_read(file, _Ctx(Scope(file))), _Ctx(Scope(file)))
+    return _declarations(_read(file, Context(Scope(file))), Context(Scope(file)))
 
 
-def _read(file: Path, ctx: _Ctx) -> dict[str, Any]:
+def _read(file: Path, ctx: Context) -> dict[str, Any]:
     try:
         doc = yaml.safe_load(file.read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as exc:
@@ -155,7 +79,7 @@ def _read(file: Path, ctx: _Ctx) -> dict[str, Any]:
     return doc
 
 
-def _declarations(doc: dict[str, Any], ctx: _Ctx) -> list[ArgDecl]:
+def _declarations(doc: dict[str, Any], ctx: Context) -> list[ArgDecl]:
     decls = []
     for name, spec in ctx.mapping(doc.get("args"), "args").items():
         where = f"args.{name}"
@@ -176,8 +100,8 @@ def _scalar(raw: Any) -> str | None:
 
 
 def _load_file(
-    file: Path, given: dict[str, str], parent: _Ctx, out: LaunchDescription, top: bool = False
-) -> _Ctx:
+    file: Path, given: dict[str, str], parent: Context, out: LaunchDescription, top: bool = False
+) -> Context:
     if file in parent.stack:
         chain = " -> ".join(str(p) for p in (*parent.stack, file))
         raise LaunchError(f"include cycle: {chain}")
@@ -209,7 +133,7 @@ def _load_file(
     return ctx
 
 
-def _body(doc: dict[str, Any], ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+def _body(doc: dict[str, Any], ctx: Context, out: LaunchDescription, where: str) -> None:
     """The ``nodes``, ``include`` and ``group`` keys, in the order they appear."""
     for key, raw in doc.items():
         prefix = f"{where}{key}"
@@ -226,7 +150,7 @@ def _body(doc: dict[str, Any], ctx: _Ctx, out: LaunchDescription, where: str) ->
                 _group(group, ctx, out, f"{prefix}[{i}]")
 
 
-def _group(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+def _group(raw: Any, ctx: Context, out: LaunchDescription, where: str) -> None:
     entry = ctx.mapping(raw, where)
     ctx.keys(entry, GROUP_KEYS, where)
     if not ctx.enabled(entry, where):
@@ -239,7 +163,7 @@ def _group(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
     _body(entry, inner, out, f"{where}.")
 
 
-def _include(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
+def _include(raw: Any, ctx: Context, out: LaunchDescription, where: str) -> None:
     entry = {"file": raw} if isinstance(raw, str) else ctx.mapping(raw, where)
     ctx.keys(entry, INCLUDE_KEYS, where)
     if "file" not in entry:
@@ -260,7 +184,7 @@ def _include(raw: Any, ctx: _Ctx, out: LaunchDescription, where: str) -> None:
         raise LaunchError(f"{exc}\n  while including it from {ctx.scope.file}: {where}") from exc
 
 
-def _node(raw: Any, ctx: _Ctx, where: str) -> ProcessSpec | None:
+def _node(raw: Any, ctx: Context, where: str) -> ProcessSpec | None:
     entry = ctx.mapping(raw, where)
     ctx.keys(entry, NODE_KEYS, where)
     if not ctx.enabled(entry, where):
@@ -326,7 +250,7 @@ def _as_name(text: str) -> str:
     return f"_{name}" if not name or name[0].isdigit() else name
 
 
-def _remaps(raw: Any, ctx: _Ctx, where: str) -> tuple[tuple[str, str], ...]:
+def _remaps(raw: Any, ctx: Context, where: str) -> tuple[tuple[str, str], ...]:
     if isinstance(raw, dict):
         rules = [f"{ctx.text(k, where)}:={ctx.text(v, f'{where}.{k}')}" for k, v in raw.items()]
     else:
@@ -338,7 +262,7 @@ def _remaps(raw: Any, ctx: _Ctx, where: str) -> tuple[tuple[str, str], ...]:
     return tuple((src, dst) for src, _, dst in (r.partition(":=") for r in rules))
 
 
-def _params(raw: Any, ctx: _Ctx, where: str) -> tuple[dict[str, Any] | str, ...]:
+def _params(raw: Any, ctx: Context, where: str) -> tuple[dict[str, Any] | str, ...]:
     items = raw if isinstance(raw, list) else [] if raw is None else [raw]
     out: list[dict[str, Any] | str] = []
     for i, item in enumerate(items):
@@ -352,7 +276,7 @@ def _params(raw: Any, ctx: _Ctx, where: str) -> tuple[dict[str, Any] | str, ...]
     return tuple(out)
 
 
-def _delay(raw: Any, ctx: _Ctx, where: str) -> float:
+def _delay(raw: Any, ctx: Context, where: str) -> float:
     text = ctx.text(raw, where)
     try:
         value = float(text)

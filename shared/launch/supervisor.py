@@ -21,12 +21,13 @@ import signal
 import sys
 import time
 from collections.abc import Awaitable, Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO, TypeVar
 
 from .model import ProcessSpec, write_params_files
 from .output import LogFile, pump
+from .process import Event, ProcessState, describe_exit
 
 __all__ = [
     "EXIT_CLEAN",
@@ -43,17 +44,6 @@ EXIT_CLEAN, EXIT_FAILED, EXIT_STARTUP = 0, 1, 3
 
 BeforeStart = Callable[[ProcessSpec], "ProcessSpec | Awaitable[ProcessSpec]"]
 WaitReady = Callable[[ProcessSpec], "bool | Awaitable[bool]"]
-
-
-@dataclass(frozen=True)
-class Event:
-    """Something the supervisor did or saw: start, exit, ready, not_ready, signal, stop, error."""
-
-    kind: str
-    label: str = ""
-    pid: int | None = None
-    returncode: int | None = None
-    detail: str = ""
 
 
 @dataclass
@@ -83,35 +73,6 @@ class SupervisorConfig:
     before_start: BeforeStart | None = None
     wait_ready: WaitReady | None = None
     on_event: Callable[[Event], None] | None = None
-
-
-@dataclass
-class ProcessState:
-    """One supervised process across its runs."""
-
-    spec: ProcessSpec
-    process: asyncio.subprocess.Process | None = None
-    starts: int = 0
-    returncode: int | None = None
-    stop_signal: int | None = None
-    ready: bool | None = None
-    started_at: float = 0.0
-    tasks: list[asyncio.Task[None]] = field(default_factory=list)
-    ready_task: asyncio.Task[None] | None = None
-
-    @property
-    def alive(self) -> bool:
-        return self.process is not None and self.process.returncode is None
-
-    @property
-    def clean(self) -> bool:
-        """Whether the last run ended cleanly (see the module docstring); True if never run."""
-        if self.starts == 0:
-            return True
-        rc = self.returncode
-        if rc == 0:
-            return True
-        return self.stop_signal == signal.SIGINT and rc in (-signal.SIGINT, 130)
 
 
 class Supervisor:
@@ -212,6 +173,8 @@ class Supervisor:
         self._say(Event("start", label, proc.pid, detail=shlex.join(argv)))
         if self.config.wait_ready is not None:
             state.ready_task = asyncio.create_task(self._readiness(state, spec))
+        if self._stopping.is_set():  # the stop began while this (re)start was under way
+            self._signal(state, signal.SIGINT)
         return True
 
     async def _readiness(self, state: ProcessState, spec: ProcessSpec) -> None:
@@ -237,12 +200,12 @@ class Supervisor:
                 ran = time.monotonic() - state.started_at
                 log = self._logs.pop(spec.label)
                 self._say(Event("exit", spec.label, state.process.pid, state.returncode,
-                                _describe(state.returncode)), log)
+                                describe_exit(state.returncode)), log)
                 log.close()
             if self._stopping.is_set():
                 return
             if spec.required:
-                self.stop(f"required process {spec.label} ended ({_describe(state.returncode)})")
+                self.stop(f"required process {spec.label} ended ({describe_exit(state.returncode)})")
                 return
             if not spec.respawn:
                 return
@@ -332,7 +295,7 @@ class Supervisor:
     # ------------------------------------------------------------------ reporting
 
     def _say(self, event: Event, log: LogFile | None = None) -> None:
-        text = _message(event)
+        text = event.text
         if log is not None:
             log.mark(text)
         if self._launch_log is not None and not self._launch_log.closed:
@@ -342,28 +305,6 @@ class Supervisor:
         out.flush()
         if self.config.on_event is not None:
             self.config.on_event(event)
-
-
-def _message(e: Event) -> str:
-    if e.kind == "start":
-        return f"started {e.label} (pid {e.pid}): {e.detail}"
-    if e.kind == "exit":
-        return f"{e.label} (pid {e.pid}) {e.detail}"
-    if e.kind == "signal":
-        return f"sent {e.detail} to {e.label} (pid {e.pid})"
-    if e.kind == "ready":
-        return f"{e.label} is ready"
-    if e.kind == "not_ready":
-        return f"{e.label} did not become ready{e.detail}"
-    return e.detail
-
-
-def _describe(rc: int | None) -> str:
-    if rc is None:
-        return "did not start"
-    if rc < 0:
-        return f"was killed by {signal.Signals(-rc).name}"
-    return f"exited with code {rc}"
 
 
 async def _maybe(value: T | Awaitable[T]) -> T:

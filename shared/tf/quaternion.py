@@ -178,11 +178,12 @@ def euler_from_quaternion(q: Quat) -> Vec3:
     """``(roll, pitch, yaw)`` of the unit quaternion ``q``, inverse of `quaternion_from_euler`.
 
     Pitch is in [-π/2, π/2]. At gimbal lock (|pitch| = π/2) yaw is set to 0 and the whole
-    rotation about Z goes into roll, as tf2's ``Matrix3x3::getRPY`` does.
+    rotation about Z goes into roll, as tf2's ``Matrix3x3::getRPY`` does. "At" means within
+    about 1e-7 rad: closer than that, roll and yaw cannot be told apart in float64.
     """
     x, y, z, w = q
     m20 = 2.0 * (x * z - w * y)
-    if abs(m20) >= 1.0:
+    if abs(m20) >= 1.0 - 1e-14:
         m01 = 2.0 * (x * y - w * z)
         m11 = 1.0 - 2.0 * (x * x + z * z)
         if m20 < 0.0:

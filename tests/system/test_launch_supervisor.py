@@ -16,7 +16,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-
 from zenros.launch.model import ProcessSpec
 from zenros.launch.supervisor import Event, Supervisor, SupervisorConfig
 
@@ -272,7 +271,8 @@ async def test_hooks_before_start_and_wait_ready(harness: Callable[..., Harness]
         return ProcessSpec(spec.name, spec.cmd, env={**spec.env, "ZR_HOOK": "injected"})
 
     def wait_ready(spec: ProcessSpec) -> bool:
-        return spec.name == "good"
+        ready: bool = spec.name == "good"
+        return ready
 
     code = "import os; print(os.environ['ZR_HOOK'], flush=True); import time; time.sleep(300)"
     h = harness([ProcessSpec("good", py(code)), ProcessSpec("slow", py(code))],
@@ -295,7 +295,9 @@ async def test_process_groups_are_stopped_whole(harness: Callable[..., Harness])
     """))])
     h.start()
     await h.until(lambda: "[parent] child " in h.screen.getvalue())
-    pid = int(re.search(r"\[parent\] child (\d+)", h.screen.getvalue()).group(1))  # type: ignore[union-attr]
+    found = re.search(r"\[parent\] child (\d+)", h.screen.getvalue())
+    assert found is not None
+    pid = int(found.group(1))
     h.sup.stop()
     await h.result()
     await asyncio.wait_for(_gone(pid), 5)
@@ -366,7 +368,7 @@ def test_cli_exit_codes_for_bad_input(tmp_path: Path) -> None:
 
     def run(*args: str) -> subprocess.CompletedProcess[str]:
         return subprocess.run([sys.executable, "-m", "zenros.launch", *args],
-                              capture_output=True, text=True, timeout=30)
+                              check=False, capture_output=True, text=True, timeout=30)
 
     r = run(str(bad), "--data-dir", str(tmp_path))
     assert r.returncode == 3 and "respawn: expected true or false" in r.stderr

@@ -14,7 +14,6 @@ from typing import Any
 
 import msgspec
 import pytest
-
 from zenros.errors import (
     InvalidNameError,
     InvalidParameterValueError,
@@ -51,7 +50,7 @@ RICH = {
     "name": "base_link",
     "numeric_str": "1",
     "blob": b"\x00\xff\x10",
-    "mixed": [1, 2.5, "x", True, b"\x01", [1, [2]], {"k": None is None}],
+    "mixed": [1, 2.5, "x", True, b"\x01", [1, [2]], {"k": [True]}],
     "empty_list": [],
     "empty_ns": {},
     "nested": {"a": {"b": {"c": 1}}, "d": [0.1, 0.2]},
@@ -375,6 +374,18 @@ def test_merge_is_commutative_and_idempotent(tmp_path: Path) -> None:
     two.close()
 
 
+@pytest.mark.parametrize(("b_time", "expected"), [(20, {"x": 1, "y": 2}), (5, {"x": 1})])
+def test_subtree_replacement_against_a_concurrent_write(b_time: int, expected: Any) -> None:
+    a, b = ParamTree(), ParamTree()
+    rows_a = a.plan_set("/cfg", {"x": 1}, Stamp(10, "a"))
+    rows_b = b.plan_set("/cfg/y", 2, Stamp(b_time, "b"))
+    for first, second in ((rows_a, rows_b), (rows_b, rows_a)):
+        tree = ParamTree()
+        tree.apply(tree.winners(first))
+        tree.apply(tree.winners(second))
+        assert tree.get("/cfg") == expected
+
+
 def test_equal_stamps_break_ties_by_content() -> None:
     rows = [Entry("/a", 5, "s", False, "x"), Entry("/a", 5, "s", False, "y")]
     t1, t2 = ParamTree(rows), ParamTree(rows[::-1])
@@ -577,9 +588,8 @@ def test_load_errors_name_the_file(store: ParamStore, text: str, match: str) -> 
 
 
 def test_a_second_process_cannot_open_the_same_database(tmp_path: Path) -> None:
-    with ParamStore(tmp_path / "p.db"):
-        with pytest.raises(ParameterError, match="in use by another process"):
-            ParamStore(tmp_path / "p.db")
+    with ParamStore(tmp_path / "p.db"), pytest.raises(ParameterError, match="in use by another"):
+        ParamStore(tmp_path / "p.db")
     with ParamStore(tmp_path / "p.db"):
         pass
 

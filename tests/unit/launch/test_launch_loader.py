@@ -8,7 +8,6 @@ from pathlib import Path
 
 import pytest
 import yaml
-
 from zenros.errors import LaunchError
 from zenros.launch.loader import declared_args, load_launch
 from zenros.launch.model import ProcessSpec, params_yaml, write_params_files
@@ -315,3 +314,22 @@ def test_lookup_by_label() -> None:
     assert d.process("/tf").name == "tf"
     with pytest.raises(KeyError, match="processes: r1/nav, tf"):
         d.process("chassis")
+
+
+def test_cli_print_and_show_args(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from zenros.launch.cli import main
+
+    f = write(tmp_path / "a.yaml", """
+        args:
+          robot: {default: r1, description: robot name}
+          map: {}
+        nodes:
+          - {module: a.nav, namespace: $(arg robot), params: {x: 1}}
+    """)
+    assert main([str(f), "--show-args"]) == 0
+    assert capsys.readouterr().out == "robot (default: 'r1'): robot name\nmap (required)\n"
+    assert main([str(f), "map:=m.yaml", "robot:=r2", "--print"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("r2/nav: ") and "--ns /r2 --params-file '<inline params>'" in out
+    assert main([str(f), "--print"]) == 3
+    assert "argument 'map' is required" in capsys.readouterr().err

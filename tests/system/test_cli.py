@@ -1,0 +1,119 @@
+"""The `zenros` command line against real node processes through a real router."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from collections.abc import Iterator
+
+import pytest
+
+from zenros.testing import Proc
+
+pytestmark = pytest.mark.system
+
+
+def zenros(router: str, prefix: str, *args: str, timeout: float = 30) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "zenros.cli", *args, "-e", router, "--prefix", prefix],
+        capture_output=True, text=True, timeout=timeout,
+    )
+
+
+@pytest.fixture
+def system(router: str, prefix: str) -> Iterator[tuple[str, str]]:
+    procs = [
+        Proc([sys.executable, "-m", mod, "-e", router, "--prefix", prefix, *extra])
+        for mod, extra in [
+            ("zenros.examples.talker", ["-p", "rate:=20.0"]),
+            ("zenros.examples.add_two_ints_server", []),
+        ]
+    ]
+    try:
+        for p in procs:
+            assert p.wait_line("started", 15), p.output
+        yield router, prefix
+    finally:
+        for p in procs:
+            p.stop()
+
+
+def test_topic_list_info_type(system: tuple[str, str]) -> None:
+    r = zenros(*system, "topic", "list", "-t")
+    assert r.returncode == 0, r.stderr
+    assert "/chatter [std_msgs/String]" in r.stdout
+    r = zenros(*system, "topic", "info", "/chatter", "-v")
+    assert r.returncode == 0 and "Publisher count: 1" in r.stdout and "/talker" in r.stdout
+    r = zenros(*system, "topic", "type", "/chatter")
+    assert r.stdout.strip() == "std_msgs/String"
+
+
+def test_topic_echo_once_yaml_and_json(system: tuple[str, str]) -> None:
+    r = zenros(*system, "topic", "echo", "/chatter", "--once", "--timeout", "10")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("data: hello world") and r.stdout.rstrip().endswith("---")
+    r = zenros(*system, "topic", "echo", "/chatter", "-n", "2", "--json", "--timeout", "10")
+    lines = r.stdout.splitlines()
+    assert len(lines) == 2 and json.loads(lines[0])["data"].startswith("hello world")
+
+
+def test_topic_pub_once_reaches_echo(system: tuple[str, str]) -> None:
+    echo = Proc([sys.executable, "-m", "zenros.cli", "topic", "echo", "/cmd_vel", "--once",
+                 "--json", "--timeout", "20", "-e", system[0], "--prefix", system[1]])
+    try:
+        r = zenros(*system, "node", "list")  # settles: by now the echo subscriber is known
+        r = zenros(*system, "topic", "pub", "/cmd_vel", "geometry_msgs/Twist",
+                   "{linear: {x: 0.5}, angular: {z: 0.1}}", "--once")
+        assert r.returncode == 0, r.stderr
+        assert echo.wait(20) == 0
+        body = json.loads(echo.lines[-1])
+        assert body["linear"]["x"] == 0.5 and body["angular"]["z"] == 0.1
+    finally:
+        echo.stop()
+
+
+def test_topic_hz_and_bw(system: tuple[str, str]) -> None:
+    r = zenros(*system, "topic", "hz", "/chatter", "--count", "1")
+    assert r.returncode == 0, r.stderr
+    rate = float(r.stdout.split("average rate:")[1].split()[0])
+    assert 10 < rate < 30
+    assert "std dev" in r.stdout and "min:" in r.stdout
+    r = zenros(*system, "topic", "bw", "/chatter", "--count", "1")
+    assert r.returncode == 0 and "B/s from" in r.stdout
+
+
+def test_service_list_and_call(system: tuple[str, str]) -> None:
+    r = zenros(*system, "service", "list", "-t")
+    assert "/add_two_ints [example_interfaces/AddTwoInts]" in r.stdout
+    r = zenros(*system, "service", "call", "/add_two_ints", "example_interfaces/AddTwoInts",
+               "{a: 1, b: 2}")
+    assert r.returncode == 0, r.stderr
+    assert "sum: 3" in r.stdout
+
+
+def test_node_list_and_info(system: tuple[str, str]) -> None:
+    r = zenros(*system, "node", "list")
+    assert r.stdout.split() == ["/add_two_ints_server", "/talker"]
+    r = zenros(*system, "node", "info", "/talker")
+    assert "/chatter: std_msgs/String" in r.stdout
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (["topic", "pub", "/x", "geometry_msgs/Twst", "{}"], "unknown message type"),
+        (["topic", "pub", "/x", "geometry_msgs/Twist", "{linear: {x: fast}}"], "$.linear.x"),
+        (["topic", "pub", "/x", "geometry_msgs/Twist", "{linear: ["], "invalid YAML"),
+        (["topic", "pub", "/bad name", "std_msgs/String", "{}"], "invalid topic name"),
+        (["service", "call", "/nothing", "std_srvs/Trigger"], "not available"),
+        (["node", "info", "/ghost"], "unknown node /ghost"),
+    ],
+)
+def test_bad_input_gives_one_clear_line_and_exit_1(
+    router: str, prefix: str, args: list[str], needle: str
+) -> None:
+    r = zenros(router, prefix, *args)
+    assert r.returncode == 1, (r.stdout, r.stderr)
+    assert needle in r.stderr
+    assert "Traceback" not in r.stderr

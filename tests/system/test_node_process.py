@@ -1,0 +1,122 @@
+"""Node processes under `run()`: clean shutdown, startup failures, and graph departures."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from zenros.context import Context
+from zenros.session import SessionOptions
+from zenros.testing import Proc, free_port, unique_prefix
+
+pytestmark = pytest.mark.system
+
+
+@pytest.fixture
+def observer(router: str, prefix: str) -> Iterator[Context]:
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    try:
+        yield ctx
+    finally:
+        ctx.close()
+
+
+def _node(module: str, router: str, prefix: str, *extra: str) -> Proc:
+    return Proc([sys.executable, "-m", module, "-e", router, "--prefix", prefix, *extra])
+
+
+@pytest.fixture
+def procs() -> Iterator[list[Proc]]:
+    started: list[Proc] = []
+    yield started
+    for p in started:
+        p.stop()
+
+
+def test_sigint_ends_a_node_cleanly(router: str, prefix: str, observer: Context,
+                                    procs: list[Proc]) -> None:
+    p = _node("zenros.examples.talker", router, prefix)
+    procs.append(p)
+    assert observer.graph.wait_for_node("/talker", 10), p.output
+    p.signal(signal.SIGINT)
+    assert p.wait(10) == 0, p.output
+    assert "shutting down" in p.output
+    g = observer.graph
+    assert g.wait_for(lambda: "/talker" not in g.node_names(), 5)
+
+
+def test_sigterm_ends_a_node_cleanly(router: str, prefix: str, observer: Context,
+                                     procs: list[Proc]) -> None:
+    p = _node("zenros.examples.listener", router, prefix)
+    procs.append(p)
+    assert observer.graph.wait_for_node("/listener", 10), p.output
+    p.signal(signal.SIGTERM)
+    assert p.wait(10) == 0, p.output
+
+
+@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGSTOP])
+def test_killed_or_frozen_node_leaves_the_graph_within_2s(
+    router: str, prefix: str, observer: Context, procs: list[Proc], signum: int
+) -> None:
+    p = _node("zenros.examples.talker", router, prefix, "--name", "victim")
+    procs.append(p)
+    g = observer.graph
+    assert g.wait_for(lambda: "/victim" in g.node_names() and "/chatter" in g.topics(), 10)
+    start = time.monotonic()
+    p.signal(signum)
+    try:
+        assert g.wait_for(lambda: "/victim" not in g.node_names()
+                          and "/chatter" not in g.topics(), 2.0)
+        assert time.monotonic() - start < 2.0
+    finally:
+        if signum == signal.SIGSTOP:
+            p.signal(signal.SIGCONT)
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (["-m", "client", "-e", "tcp/127.0.0.1:{port}"], "cannot open Zenoh session"),
+        (["--name", "1bad"], "invalid node name"),
+        (["-p", "rate:=fast"], "parameter 'rate' is float"),
+        (["-r", "nonsense"], "invalid remapping"),
+        (["--params-file", "/nonexistent/params.yaml"], "cannot read params file"),
+    ],
+)
+def test_startup_failure_exits_3_with_one_line(args: list[str], needle: str) -> None:
+    port = free_port()
+    argv = [a.format(port=port) for a in args]
+    if "-e" not in argv:
+        argv += ["-e", f"tcp/127.0.0.1:{port}", "--cfg", "connect/exit_on_failure:false"]
+    p = Proc([sys.executable, "-m", "zenros.examples.talker", "--prefix", unique_prefix(), *argv])
+    try:
+        assert p.wait(20) == 3, p.output
+    finally:
+        p.stop()
+    lines = [ln for ln in p.lines if ln.strip()]
+    assert len(lines) == 1 and needle in lines[0], p.output
+
+
+def test_usage_error_exits_2() -> None:
+    p = Proc([sys.executable, "-m", "zenros.examples.talker", "--no-such-flag"])
+    try:
+        assert p.wait(20) == 2
+    finally:
+        p.stop()
+
+
+def test_node_process_serves_across_processes(router: str, prefix: str, observer: Context,
+                                              procs: list[Proc]) -> None:
+    from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest
+    from zenros.rpc import Client
+
+    procs.append(_node("zenros.examples.add_two_ints_server", router, prefix))
+    client = Client(observer, AddTwoInts, "/add_two_ints")
+    assert client.wait_for_service(10)
+    assert client.call(AddTwoIntsRequest(a=20, b=22)).sum == 42
+
+

@@ -1,0 +1,310 @@
+"""Timer on a ManualClock: one call per period, drift-free deadlines, skipped ticks after a
+jump, cancel/reset, errors logged. Time moves only when the test moves it; no sleeps."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import threading
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+from zenros.clock import ManualClock, Time
+from zenros.executor import Executor, MutuallyExclusiveCallbackGroup
+from zenros.timer import Timer
+
+WAIT = 5.0
+MS = 1_000_000
+LOG = logging.getLogger("zenros_test.timer")
+
+
+def t_ms(ms: int) -> Time:
+    return Time.from_nanoseconds(ms * MS)
+
+
+class RecordingClock(ManualClock):
+    """A ManualClock that records each deadline a timer sleeps until."""
+
+    def __init__(self, start: Time | None = None) -> None:
+        super().__init__(start)
+        self.requests: list[Time] = []
+        self._req = threading.Condition()
+
+    async def async_sleep_until(self, t: Time) -> None:
+        with self._req:
+            self.requests.append(t)
+            self._req.notify_all()
+        await super().async_sleep_until(t)
+
+    def wait_request(self, n: int) -> Time:
+        """The n-th (1-based) deadline asked for, once the timer has asked for it."""
+        with self._req:
+            assert self._req.wait_for(lambda: len(self.requests) >= n, WAIT), self.requests
+            return self.requests[n - 1]
+
+
+class Calls:
+    """A timer callback that counts its calls; tests wait on the count."""
+
+    def __init__(self, clock: ManualClock, fail_on: set[int] | None = None) -> None:
+        self.clock = clock
+        self.at: list[Time] = []
+        self.threads: set[str] = set()
+        self.fail_on = fail_on or set()
+        self._cond = threading.Condition()
+
+    def __call__(self) -> None:
+        with self._cond:
+            self.at.append(self.clock.now())
+            self.threads.add(threading.current_thread().name)
+            self._cond.notify_all()
+            n = len(self.at)
+        if n in self.fail_on:
+            raise RuntimeError(f"call {n} failed")
+
+    def wait(self, n: int) -> list[Time]:
+        with self._cond:
+            assert self._cond.wait_for(lambda: len(self.at) >= n, WAIT), self.at
+            return list(self.at)
+
+
+@pytest.fixture
+def executor() -> Iterator[Executor]:
+    ex = Executor(name="timer-executor")
+    yield ex
+    ex.stop()
+
+
+@pytest.fixture
+def clock() -> RecordingClock:
+    return RecordingClock(t_ms(10_000))
+
+
+def drain(ex: Executor) -> None:
+    """Let every wake-up already triggered on the loop run to completion."""
+
+    async def nothing() -> None:
+        await asyncio.sleep(0)
+
+    for _ in range(3):
+        ex.submit(nothing()).result(WAIT)
+
+
+def make(clock: ManualClock, ex: Executor, cb: Any, period: float = 0.1, **kw: Any) -> Timer:
+    return Timer(period, cb, clock, ex, LOG, **kw)
+
+
+# ------------------------------------------------------------------ construction
+
+
+@pytest.mark.parametrize("period", [0, -0.1, math.nan])
+def test_non_positive_period_is_rejected(
+    period: float, clock: RecordingClock, executor: Executor
+) -> None:
+    with pytest.raises(ValueError, match="period must be positive"):
+        make(clock, executor, lambda: None, period)
+
+
+def test_without_autostart_nothing_runs_until_reset(
+    clock: RecordingClock, executor: Executor
+) -> None:
+    calls = Calls(clock)
+    timer = make(clock, executor, calls, autostart=False)
+    assert timer.is_canceled()
+    clock.set(t_ms(20_000))
+    drain(executor)
+    assert calls.at == [] and clock.requests == []
+    timer.reset()
+    assert not timer.is_canceled()
+    assert clock.wait_request(1) == t_ms(20_100)
+
+
+# ------------------------------------------------------------------ ticking
+
+
+def test_fires_once_per_period_on_the_executor(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+    timer = make(clock, executor, calls, period=0.1)
+    assert clock.wait_request(1) == t_ms(10_100)
+    clock.set(t_ms(10_050))  # half a period: nothing
+    clock.set(t_ms(10_100))
+    assert clock.wait_request(2) == t_ms(10_200)
+    assert calls.at == [t_ms(10_100)]
+    clock.set(t_ms(10_150))
+    clock.set(t_ms(10_200))
+    assert clock.wait_request(3) == t_ms(10_300)
+    assert calls.wait(2) == [t_ms(10_100), t_ms(10_200)]
+    assert timer.calls == 2
+    assert calls.threads == {"timer-executor"}
+
+
+def test_deadlines_do_not_drift(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+    make(clock, executor, calls, period=0.25)
+    late = [0, 1, 249, 100, 30, 0, 200]  # each wake-up is late by this many ms
+    for k, delay in enumerate(late, start=1):
+        assert clock.wait_request(k) == t_ms(10_000 + 250 * k)
+        clock.set(t_ms(10_000 + 250 * k + delay))
+    assert clock.wait_request(len(late) + 1) == t_ms(10_000 + 250 * (len(late) + 1))
+    assert len(calls.at) == len(late)
+
+
+def test_a_jump_fires_once_and_skips_missed_ticks(
+    clock: RecordingClock, executor: Executor
+) -> None:
+    calls = Calls(clock)
+    make(clock, executor, calls, period=0.1)
+    assert clock.wait_request(1) == t_ms(10_100)
+    clock.set(t_ms(10_550))  # 4.5 periods late: one call, not five
+    assert clock.wait_request(2) == t_ms(10_600)
+    assert len(calls.at) == 1
+    clock.set(t_ms(10_600))
+    assert clock.wait_request(3) == t_ms(10_700)
+    assert len(calls.wait(2)) == 2
+
+
+def test_a_jump_onto_a_tick_continues_the_schedule(
+    clock: RecordingClock, executor: Executor
+) -> None:
+    calls = Calls(clock)
+    make(clock, executor, calls, period=0.1)
+    clock.wait_request(1)
+    clock.set(t_ms(10_500))
+    next_deadline = clock.wait_request(2)
+    assert next_deadline == t_ms(10_600)
+    assert (next_deadline - t_ms(10_000)).nanoseconds % (100 * MS) == 0
+    assert len(calls.at) == 1
+
+
+def test_async_callback(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+
+    async def cb() -> None:
+        await asyncio.sleep(0)
+        calls()
+
+    make(clock, executor, cb, period=0.1)
+    clock.wait_request(1)
+    clock.set(t_ms(10_100))
+    assert calls.wait(1) == [t_ms(10_100)]
+
+
+def test_callback_runs_inside_its_group(clock: RecordingClock, executor: Executor) -> None:
+    group = MutuallyExclusiveCallbackGroup()
+    held = threading.Event()
+    release = threading.Event()
+    calls = Calls(clock)
+
+    def holder() -> None:  # another thread holds the group while the tick is due
+        group.run(lambda: (held.set(), release.wait(WAIT)))
+
+    make(clock, executor, calls, period=0.1, group=group)
+    clock.wait_request(1)
+    th = threading.Thread(target=holder)
+    th.start()
+    assert held.wait(WAIT)
+    clock.set(t_ms(10_100))
+    release.set()
+    th.join(WAIT)
+    assert calls.wait(1) == [t_ms(10_100)]
+
+
+# ------------------------------------------------------------------ errors
+
+
+def test_callback_errors_are_logged_and_the_timer_keeps_running(
+    clock: RecordingClock, executor: Executor, caplog: pytest.LogCaptureFixture
+) -> None:
+    calls = Calls(clock, fail_on={1, 2})
+    with caplog.at_level(logging.ERROR, logger=LOG.name):
+        make(clock, executor, calls, period=0.1)
+        for k in range(1, 4):
+            clock.wait_request(k)
+            clock.set(t_ms(10_000 + 100 * k))
+        calls.wait(3)
+        clock.wait_request(4)
+    errors = [r for r in caplog.records if r.name == LOG.name]
+    assert [r.getMessage() for r in errors] == ["timer callback raised"] * 2
+    assert all(r.exc_info is not None and isinstance(r.exc_info[1], RuntimeError) for r in errors)
+
+
+# ------------------------------------------------------------------ cancel and reset
+
+
+def test_cancel_stops_the_calls(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+    timer = make(clock, executor, calls, period=0.1)
+    clock.wait_request(1)
+    clock.set(t_ms(10_100))
+    clock.wait_request(2)
+    timer.cancel()
+    assert timer.is_canceled()
+    drain(executor)
+    clock.set(t_ms(10_200))
+    clock.set(t_ms(11_000))
+    drain(executor)
+    assert len(calls.at) == 1
+    assert len(clock.requests) == 2
+
+
+def test_cancel_twice_is_harmless(clock: RecordingClock, executor: Executor) -> None:
+    timer = make(clock, executor, lambda: None)
+    timer.cancel()
+    timer.cancel()
+    assert timer.is_canceled()
+
+
+def test_reset_restarts_one_period_from_now(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+    timer = make(clock, executor, calls, period=1.0)
+    assert clock.wait_request(1) == t_ms(11_000)
+    clock.set(t_ms(10_600))
+    timer.reset()
+    assert clock.wait_request(2) == t_ms(11_600)
+    drain(executor)
+    clock.set(t_ms(11_000))  # the old deadline: the old schedule is gone
+    drain(executor)
+    assert calls.at == []
+    clock.set(t_ms(11_600))
+    assert calls.wait(1) == [t_ms(11_600)]
+    assert clock.wait_request(3) == t_ms(12_600)
+    assert len(calls.at) == 1
+
+
+def test_reset_after_cancel(clock: RecordingClock, executor: Executor) -> None:
+    calls = Calls(clock)
+    timer = make(clock, executor, calls, period=0.5)
+    clock.wait_request(1)
+    timer.cancel()
+    clock.set(t_ms(12_000))
+    drain(executor)
+    timer.reset()
+    assert clock.wait_request(2) == t_ms(12_500)
+    clock.set(t_ms(12_500))
+    assert calls.wait(1) == [t_ms(12_500)]
+
+
+# ------------------------------------------------------------------ executor shutdown
+
+
+def test_executor_stop_cancels_the_timer(clock: RecordingClock) -> None:
+    ex = Executor()
+    calls = Calls(clock)
+    make(clock, ex, calls, period=0.1)
+    clock.wait_request(1)
+    ex.stop()
+    assert ex.loop.is_closed()
+    assert calls.at == []
+
+
+def test_clock_can_move_after_the_timers_executor_stopped(clock: RecordingClock) -> None:
+    """A node closed (its executor stopped) while its timer slept must not break the clock
+    for everyone else that shares it (sim time)."""
+    ex = Executor()
+    make(clock, ex, lambda: None, period=0.1)
+    clock.wait_request(1)
+    ex.stop()
+    clock.set(t_ms(10_100))
+    assert clock.now() == t_ms(10_100)
