@@ -28,7 +28,6 @@ from pytransform3d.transform_manager import (
     TemporalTransformManager,
     TransformManager,
 )
-
 from zenros.msgs.builtin_interfaces import Time
 from zenros.tf import Buffer, quaternion_normalize, transform_stamped
 
@@ -75,7 +74,7 @@ def main() -> None:
     for i in range(LINKS):
         for k in range(SAMPLES):
             pqs[i, k, :3] = rng.uniform(-1.0, 1.0, 3)
-            q = quaternion_normalize(tuple(rng.normal(size=4)))  # type: ignore[arg-type]
+            q = quaternion_normalize(tuple(rng.normal(size=4)))
             pqs[i, k, 3:] = (q[3], q[0], q[1], q[2])
 
     ours = Buffer()

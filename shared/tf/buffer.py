@@ -1,58 +1,33 @@
-"""`Buffer`: tf2_ros's Python API over `BufferCore`, with blocking and asyncio waits.
+"""`Buffer`: tf2_ros's Python API: lookups, time travel, waiting, transforming messages.
 
-Waiting is event-driven: a blocked ``lookup_transform(..., timeout=...)`` sleeps on a
-condition that every accepted insert notifies, and ``wait_for_transform`` futures are
-resolved from ``set_transform`` (any thread) through ``loop.call_soon_threadsafe``.
-Do not block with a timeout on the thread that feeds the buffer: nothing would wake you.
+Waiting is event-driven (see `Waiters`): a blocked ``lookup_transform(..., timeout=...)``
+sleeps on a condition that every accepted insert notifies, and ``wait_for_transform``
+futures are resolved from ``set_transform`` (any thread). Do not block with a timeout on
+the thread that feeds the buffer: nothing would wake you.
 """
 
 from __future__ import annotations
 
 import asyncio
-import threading
-import time as _time
 from collections.abc import Callable
-from typing import Literal, NamedTuple, TypeVar, overload
+from typing import Literal, TypeVar, overload
 
-from ..errors import LookupException, TimeoutException, TransformException
+from ..errors import LookupException, TimeoutException
 from ..msgs.builtin_interfaces import Duration, Time
 from ..msgs.geometry_msgs import Quaternion, Transform, TransformStamped, Vector3
 from ..msgs.std_msgs import Header
+from .convert import transform_stamped
 from .core import DEFAULT_CACHE_TIME, BufferCore
 from .report import frame_error
-from .rigid import Tf, compose
+from .rigid import compose
 from .stamped import do_transform, header_of
 from .stamps import NS, TimeLike, format_ns, from_ns, seconds, to_ns
-from .walk import latest_common_time
+from .waiting import Waiters
 
 M = TypeVar("M")
 Timeout = float | Duration
 
 __all__ = ["Buffer"]
-
-
-class _Waiter(NamedTuple):
-    target: str
-    source: str
-    t: int
-    loop: asyncio.AbstractEventLoop
-    future: asyncio.Future[bool]
-
-
-def _resolve(fut: asyncio.Future[bool]) -> None:
-    if not fut.done():
-        fut.set_result(True)
-
-
-def _msg(r: Tf, stamp: Time, target: str, source: str) -> TransformStamped:
-    return TransformStamped(
-        header=Header(stamp=stamp, frame_id=target),
-        child_frame_id=source,
-        transform=Transform(
-            translation=Vector3(x=r[0], y=r[1], z=r[2]),
-            rotation=Quaternion(x=r[3], y=r[4], z=r[5], w=r[6]),
-        ),
-    )
 
 
 class Buffer(BufferCore):
@@ -67,9 +42,10 @@ class Buffer(BufferCore):
 
     def __init__(self, cache_time: float | Duration = DEFAULT_CACHE_TIME) -> None:
         super().__init__(cache_time)
-        self._cond = threading.Condition(self._lock)
-        self._blocked = 0
-        self._async: list[_Waiter] = []
+        self._waiters = Waiters(self._lock, self._set_watchers)
+
+    def _set_watchers(self, n: int) -> None:
+        self._watchers = n
 
     # ------------------------------------------------------------------ lookups
 
@@ -138,7 +114,7 @@ class Buffer(BufferCore):
                 self._check(frame, fn + arg)
             a, _ = self._lookup(fixed_frame, source_frame, ts)
             b, stamp = self._lookup(target_frame, fixed_frame, tt)
-        return _msg(compose(b, a), from_ns(stamp), target_frame, source_frame)
+        return transform_stamped(target_frame, source_frame, compose(b, a), from_ns(stamp))
 
     @overload
     def can_transform(
@@ -243,48 +219,10 @@ class Buffer(BufferCore):
     # ------------------------------------------------------------------ waiting
 
     def _block(self, ready: Callable[[], bool], timeout: Timeout) -> bool:
-        """Wait (condition, no polling) until ``ready()`` holds or ``timeout`` passes."""
-        deadline = _time.monotonic() + seconds(timeout)
-        with self._cond:
-            if ready():
-                return True
-            self._blocked += 1
-            self._watchers += 1
-            try:
-                while True:
-                    remaining = deadline - _time.monotonic()
-                    if remaining <= 0.0:
-                        return False
-                    self._cond.wait(remaining)
-                    if ready():
-                        return True
-            finally:
-                self._blocked -= 1
-                self._watchers -= 1
+        return self._waiters.block(ready, seconds(timeout))
 
     def _wake(self) -> None:
-        if self._blocked:
-            self._cond.notify_all()
-        if self._async:
-            keep = []
-            for w in self._async:
-                if w.future.done():
-                    continue
-                if not self._can(w.target, w.source, w.t):
-                    keep.append(w)
-                    continue
-                try:
-                    w.loop.call_soon_threadsafe(_resolve, w.future)
-                except RuntimeError:  # the loop is closed; nobody is waiting any more
-                    pass
-            self._async = keep
-            self._watchers = self._blocked + len(keep)
-
-    def _forget(self, fut: asyncio.Future[bool]) -> None:
-        with self._lock:
-            keep = [w for w in self._async if w.future is not fut]
-            self._watchers -= len(self._async) - len(keep)
-            self._async = keep
+        self._waiters.wake(self._can)
 
     def wait_for_transform_async(
         self, target_frame: str, source_frame: str, time: TimeLike
@@ -307,18 +245,8 @@ class Buffer(BufferCore):
                     f"{format_ns(t)} is older than the {self.cache_time:g} s the buffer keeps"
                 ))  # fmt: skip
                 return fut
-            self._async.append(_Waiter(target_frame, source_frame, t, loop, fut))
-            self._watchers += 1
-        fut.add_done_callback(self._forget)
+            self._waiters.add(target_frame, source_frame, t, fut)
         return fut
-
-    def _latest_or_zero(self, target: str, source: str) -> int:
-        try:
-            return latest_common_time(
-                self._caches, target, source, len(self._frames), self._dump
-            )
-        except TransformException:
-            return 0
 
     async def wait_for_transform(
         self, target_frame: str, source_frame: str, time: TimeLike,

@@ -56,7 +56,8 @@ def _sample_value(t: mi.Type, n: itertools.count[int]) -> Any:
     if isinstance(t, mi.ListType):
         return [_sample_value(t.item_type, n) for _ in range(2)]
     if isinstance(t, mi.CustomType):
-        dtype = t.cls.dtype_
+        array_cls: Any = t.cls
+        dtype = array_cls.dtype_
         values = [-1, 0, 100] if dtype == np.int8 else [k + 0.5, k + 1.5, -(k + 0.25)]
         return np.array(values, dtype=dtype).view(t.cls)
     raise AssertionError(f"no sample for {t!r}")
@@ -74,7 +75,7 @@ def sample(cls: type[Message]) -> Message:
     return msg
 
 
-def array_fields(msg: Any, path: str = "$") -> list[tuple[str, np.ndarray]]:  # type: ignore[type-arg]
+def array_fields(msg: Any, path: str = "$") -> list[tuple[str, np.ndarray]]:
     out = []
     for name in msg.__struct_fields__:
         value = getattr(msg, name)
@@ -204,7 +205,7 @@ def test_json_nested_lists_for_arrays_are_flattened() -> None:
 # ------------------------------------------------------------------ MessagePack views
 
 
-def _base_chain_end(arr: np.ndarray) -> Any:  # type: ignore[type-arg]
+def _base_chain_end(arr: np.ndarray) -> Any:
     obj: Any = arr
     while isinstance(obj, np.ndarray):
         assert not obj.flags.owndata
@@ -259,7 +260,7 @@ def test_msgpack_non_contiguous_arrays_encode() -> None:
 
 
 def test_msgpack_accepts_plain_lists_in_array_fields() -> None:
-    scan = LaserScan(ranges=[1.0, 2.0])  # type: ignore[arg-type]
+    scan = LaserScan(ranges=[1.0, 2.0])  # type: ignore[arg-type, unused-ignore]
     back = codec_for(LaserScan).decode(codec_for(LaserScan).encode(scan))
     assert isinstance(back.ranges, Float32Array) and back.ranges.tolist() == [1.0, 2.0]
 
@@ -270,7 +271,7 @@ def test_msgpack_accepts_plain_lists_in_array_fields() -> None:
      ("data", OccupancyGrid, np.array([100, -1, 0]))],           # int64 into int8 field
 )
 def test_msgpack_arrays_of_another_dtype_keep_their_values(
-    field: str, cls: type[Message], values: np.ndarray  # type: ignore[type-arg]
+    field: str, cls: type[Message], values: np.ndarray
 ) -> None:
     """A plain ``np.array([...])`` (float64/int64) in a narrower field must not be garbled."""
     msg = cls(**{field: values})
@@ -330,16 +331,16 @@ def test_decode_error_is_a_codec_and_value_error() -> None:
 
 def test_publishing_another_type_raises_encode_error() -> None:
     with pytest.raises(EncodeError, match="expected geometry_msgs/Twist, got String"):
-        codec_for(Twist).encode(String(data="x"))  # type: ignore[arg-type]
+        codec_for(Twist).encode(String(data="x"))  # type: ignore[arg-type, unused-ignore]
 
 
 def test_publishing_a_dict_raises_encode_error() -> None:
     with pytest.raises(EncodeError, match="expected geometry_msgs/Twist, got dict"):
-        codec_for(Twist).encode({"linear": {}})  # type: ignore[arg-type]
+        codec_for(Twist).encode({"linear": {}})  # type: ignore[arg-type, unused-ignore]
 
 
 def test_subclass_instances_are_not_the_declared_type() -> None:
-    class MyTwist(Twist):
+    class MyTwist(Twist):  # type: ignore[misc, unused-ignore]
         pass
 
     with pytest.raises(EncodeError):
@@ -347,13 +348,14 @@ def test_subclass_instances_are_not_the_declared_type() -> None:
 
 
 def test_unencodable_field_value_raises_encode_error() -> None:
-    msg = String(data=object())  # type: ignore[arg-type]
+    msg = String(data=object())  # type: ignore[arg-type, unused-ignore]
     with pytest.raises(EncodeError, match="cannot encode std_msgs/String"):
         codec_for(String).encode(msg)
 
 
 def test_numpy_scalars_encode_as_numbers() -> None:
-    msg = Point(x=np.float32(1.5), y=np.float64(2.0), z=np.int64(3))  # type: ignore[arg-type]
+    x, y, z = np.float32(1.5), np.float64(2.0), np.int64(3)
+    msg = Point(x=x, y=y, z=z)  # type: ignore[arg-type, unused-ignore]
     assert json.loads(codec_for(Point).encode(msg)) == {"x": 1.5, "y": 2.0, "z": 3}
 
 
@@ -369,7 +371,8 @@ def test_check_encoding_accepts_own_and_schemaless_encodings() -> None:
 
 
 def test_check_encoding_rejects_another_schema() -> None:
-    with pytest.raises(TypeMismatchError, match="expected geometry_msgs/Twist, got std_msgs/String"):
+    expected = "expected geometry_msgs/Twist, got std_msgs/String"
+    with pytest.raises(TypeMismatchError, match=expected):
         codec_for(Twist).check_encoding("application/json;std_msgs/String")
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -145,16 +145,16 @@ def test_mutually_exclusive_group_is_reentrant_on_one_thread() -> None:
     assert group.run(lambda: group.run(lambda: 42)) == 42
 
 
-def _overlap_seen(group: CallbackGroup | None) -> bool:
+def _overlap_seen(group: CallbackGroup | None, wait: float) -> bool:
     """Run two callbacks of ``group`` from two threads: did the second start while the first
-    was still inside? (The first waits up to 0.2 s for the second to enter.)"""
+    was still inside? (The first waits up to ``wait`` seconds for the second to enter.)"""
     first_inside = threading.Event()
     second_inside = threading.Event()
     overlap: list[bool] = []
 
     def first(_: Any) -> None:
         first_inside.set()
-        overlap.append(second_inside.wait(0.2))
+        overlap.append(second_inside.wait(wait))
 
     def second(_: Any) -> None:
         second_inside.set()
@@ -177,12 +177,13 @@ def _overlap_seen(group: CallbackGroup | None) -> bool:
 
 
 def test_mutually_exclusive_group_serializes_two_threads() -> None:
-    assert _overlap_seen(MutuallyExclusiveCallbackGroup()) is False
+    # proving that something does not happen needs a bound: 0.2 s
+    assert _overlap_seen(MutuallyExclusiveCallbackGroup(), 0.2) is False
 
 
 def test_reentrant_group_lets_callbacks_overlap() -> None:
-    assert _overlap_seen(ReentrantCallbackGroup()) is True
-    assert _overlap_seen(None) is True
+    assert _overlap_seen(ReentrantCallbackGroup(), WAIT) is True
+    assert _overlap_seen(None, WAIT) is True
 
 
 def test_mutually_exclusive_group_never_runs_two_at_once(executor: Executor) -> None:
@@ -300,7 +301,7 @@ def test_async_dispatch_drops_oldest_beyond_depth(
     executor: Executor, caplog: pytest.LogCaptureFixture
 ) -> None:
     cb = AsyncGate(executor, hold_first=True)
-    dispatch: Callable[[Any], None] = make_dispatch(
+    dispatch: Any = make_dispatch(
         cb.fn, executor=executor, logger=LOG, what="async /scan", depth=3
     )
     with caplog.at_level(logging.WARNING, logger=LOG.name):
@@ -311,7 +312,7 @@ def test_async_dispatch_drops_oldest_beyond_depth(
         barrier(executor)  # all enqueued
         cb.release()
         assert cb.rec.wait_count(4) == [0, 6, 7, 8]
-    assert getattr(dispatch, "dropped") == 5
+    assert dispatch.dropped == 5
     warnings = [r.getMessage() for r in caplog.records if r.name == LOG.name]
     assert warnings and "async /scan: async callback backlog full" in warnings[0]
 

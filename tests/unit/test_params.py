@@ -178,7 +178,7 @@ def test_validator_can_refuse_a_change() -> None:
 
     p.add_validator(validate)
     p.set("speed", 1.5)
-    with pytest.raises(InvalidParameterValueError, match="'speed' refused: speed above 2.0"):
+    with pytest.raises(InvalidParameterValueError, match=r"'speed' refused: speed above 2\.0"):
         p.set("speed", 9.0)
     assert p.get("speed") == 1.5
     assert [q.value for batch in seen for q in batch] == [1.5, 9.0]
@@ -446,5 +446,5 @@ def test_bad_params_files(tmp_path: Path, text: str, match: str) -> None:
 
 
 def test_missing_params_file(tmp_path: Path) -> None:
-    with pytest.raises(ParameterError, match="cannot read params file .*missing.yaml"):
+    with pytest.raises(ParameterError, match=r"cannot read params file .*missing\.yaml"):
         load_params_file(tmp_path / "missing.yaml", "/talker")

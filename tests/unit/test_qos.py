@@ -17,7 +17,7 @@ from zenros.qos import (
 
 
 def test_default_profile_is_reliable_volatile_depth_10() -> None:
-    assert QOS_DEFAULT == QoSProfile()
+    assert QoSProfile() == QOS_DEFAULT
     assert (QOS_DEFAULT.depth, QOS_DEFAULT.reliability, QOS_DEFAULT.durability) == (
         10, Reliability.RELIABLE, Durability.VOLATILE,
     )
@@ -87,7 +87,7 @@ def test_non_integer_depth_is_rejected_by_the_profile(depth: Any) -> None:
 
 def test_profiles_are_frozen_and_hashable() -> None:
     with pytest.raises(AttributeError):
-        QOS_DEFAULT.depth = 3  # type: ignore[misc]
+        QOS_DEFAULT.depth = 3  # type: ignore[misc, unused-ignore]
     assert {QoSProfile(): 1}[QoSProfile()] == 1
 
 

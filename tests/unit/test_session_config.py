@@ -104,8 +104,9 @@ def test_flags_win_over_environment(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_multicast_scouting_flag() -> None:
-    assert get(build_config(parse("--multicast-scouting")), "scouting/multicast/enabled") is True
-    assert get(build_config(parse("--no-multicast-scouting")), "scouting/multicast/enabled") is False
+    key = "scouting/multicast/enabled"
+    assert get(build_config(parse("--multicast-scouting")), key) is True
+    assert get(build_config(parse("--no-multicast-scouting")), key) is False
 
 
 def test_bad_mode_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
@@ -198,7 +199,7 @@ def test_config_file_endpoints_are_kept_without_flags(tmp_path: Path) -> None:
 
 
 def test_missing_config_file_raises_startup_error(tmp_path: Path) -> None:
-    with pytest.raises(StartupError, match="cannot read Zenoh config .*nope.json5"):
+    with pytest.raises(StartupError, match=r"cannot read Zenoh config .*nope\.json5"):
         build_config(SessionOptions(config_file=str(tmp_path / "nope.json5")))
 
 

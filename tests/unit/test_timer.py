@@ -24,7 +24,7 @@ def t_ms(ms: int) -> Time:
     return Time.from_nanoseconds(ms * MS)
 
 
-class RecordingClock(ManualClock):
+class RecordingClock(ManualClock):  # type: ignore[misc, unused-ignore]
     """A ManualClock that records each deadline a timer sleeps until."""
 
     def __init__(self, start: Time | None = None) -> None:
@@ -197,8 +197,12 @@ def test_callback_runs_inside_its_group(clock: RecordingClock, executor: Executo
     release = threading.Event()
     calls = Calls(clock)
 
+    def hold() -> None:
+        held.set()
+        release.wait(WAIT)
+
     def holder() -> None:  # another thread holds the group while the tick is due
-        group.run(lambda: (held.set(), release.wait(WAIT)))
+        group.run(hold)
 
     make(clock, executor, calls, period=0.1, group=group)
     clock.wait_request(1)

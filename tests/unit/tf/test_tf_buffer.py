@@ -6,7 +6,6 @@ import logging
 import math
 
 import pytest
-
 from zenros.errors import (
     BackwardExtrapolationException,
     ConnectivityException,
@@ -23,7 +22,6 @@ from zenros.tf import (
     LATEST,
     Buffer,
     quaternion_from_yaw,
-    transform_from_msg,
     transform_stamped,
     yaw_from_quaternion,
 )
@@ -50,7 +48,7 @@ def xyz(msg: TransformStamped) -> tuple[float, float, float]:
 
 def yaw(msg: TransformStamped) -> float:
     q = msg.transform.rotation
-    return yaw_from_quaternion((q.x, q.y, q.z, q.w))
+    return float(yaw_from_quaternion((q.x, q.y, q.z, q.w)))
 
 
 @pytest.fixture
@@ -256,7 +254,7 @@ def test_slerp_takes_the_short_arc(buf: Buffer) -> None:
     assert abs(yaw(buf.lookup_transform("a", "b", T(1.5)))) == pytest.approx(math.pi)
     q = quaternion_from_yaw(0.5)
     buf.set_transform(link("a", "c", 1.0, q=q), "me")
-    buf.set_transform(link("a", "c", 2.0, q=tuple(-c for c in q)), "me")  # type: ignore[arg-type]
+    buf.set_transform(link("a", "c", 2.0, q=tuple(-c for c in q)), "me")
     assert yaw(buf.lookup_transform("a", "c", T(1.3))) == pytest.approx(0.5)
 
 
@@ -401,14 +399,14 @@ def test_target_side_extrapolation_has_the_suffix(buf: Buffer) -> None:
     ("target", "source", "exc", "text"),
     [
         ("", "b", InvalidArgumentException,
-         "Invalid argument passed to lookupTransform argument target_frame in tf2 frame_ids "
-         "cannot be empty"),
+         ("Invalid argument passed to lookupTransform argument target_frame in tf2 frame_ids "
+          "cannot be empty")),
         ("a", "/b", InvalidArgumentException,
-         "Invalid argument \"/b\" passed to lookupTransform argument source_frame - in tf2 "
-         "frame_ids cannot start with a '/'"),
+         ("Invalid argument \"/b\" passed to lookupTransform argument source_frame - in tf2 "
+          "frame_ids cannot start with a '/'")),
         ("a", "nope", LookupException,
-         '"nope" passed to lookupTransform argument source_frame does not exist. '
-         "Known frames: a, b"),
+         ('"nope" passed to lookupTransform argument source_frame does not exist. '
+          "Known frames: a, b")),
     ],
 )  # fmt: skip
 def test_bad_names_in_lookup(
@@ -448,7 +446,7 @@ def test_time_arguments(buf: Buffer) -> None:
     buf.set_transform(link("a", "b", 1.5, x=1.0), "me")
     assert buf.lookup_transform("a", "b", 1_500_000_000).header.stamp == T(1.5)
     with pytest.raises(InvalidArgumentException, match="expected a Time or integer"):
-        buf.lookup_transform("a", "b", 1.5)  # type: ignore[arg-type]
+        buf.lookup_transform("a", "b", 1.5)
     with pytest.raises(InvalidArgumentException, match="expected a duration >= 0"):
         Buffer(cache_time=-1.0)
 

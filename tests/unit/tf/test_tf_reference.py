@@ -9,10 +9,9 @@ type and message, and ``can_transform`` must say True exactly when the lookup su
 from __future__ import annotations
 
 import random
-from typing import Literal
+from typing import Literal, cast
 
 import pytest
-
 from zenros.errors import TransformException
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import TransformStamped
@@ -22,14 +21,14 @@ from zenros.tf.chain import Chain
 NS = 1_000_000_000
 
 
-class WalkOnly(Buffer):
+class WalkOnly(Buffer):  # type: ignore[misc]
     def _chain(self, target: str, source: str) -> Chain | Literal[False]:
         self._chains[(target, source)] = False
         return False
 
 
 def random_link(rng: random.Random, parent: str, child: str, t: int) -> TransformStamped:
-    q = quaternion_normalize(tuple(rng.gauss(0, 1) for _ in range(4)))  # type: ignore[arg-type]
+    q = quaternion_normalize(tuple(rng.gauss(0, 1) for _ in range(4)))
     xyz = (rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2))
     return transform_stamped(parent, child, (*xyz, *q), Time.from_nanoseconds(t))
 
@@ -49,7 +48,8 @@ def same(a: tuple[str, object], b: tuple[str, object]) -> bool:
         return False
     if a[0] != "ok":
         return a == b
-    (sa, va), (sb, vb) = a[1], b[1]  # type: ignore[misc]
+    sa, va = cast(tuple[Time, tuple[float, ...]], a[1])
+    sb, vb = cast(tuple[Time, tuple[float, ...]], b[1])
     return bool(sa == sb and va == pytest.approx(vb, abs=1e-9))
 
 

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-
 from zenros.errors import InvalidArgumentException, LookupException
 from zenros.message import Float64Array
 from zenros.msgs.builtin_interfaces import Time

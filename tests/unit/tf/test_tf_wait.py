@@ -7,7 +7,6 @@ import threading
 import time
 
 import pytest
-
 from zenros.errors import (
     ExtrapolationException,
     LookupException,
@@ -29,7 +28,7 @@ def link(parent: str, child: str, t: float, x: float = 0.0) -> TransformStamped:
     return transform_stamped(parent, child, (x, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0), T(t))
 
 
-class SpyBuffer(Buffer):
+class SpyBuffer(Buffer):  # type: ignore[misc]
     """Sets ``checked`` when a waiter first tests its condition (under the buffer lock), so
     a feeder that waits for it can only insert once the waiter sleeps on the condition."""
 
@@ -39,7 +38,7 @@ class SpyBuffer(Buffer):
 
     def _can(self, target: str, source: str, t: int) -> bool:
         self.checked.set()
-        return super()._can(target, source, t)
+        return bool(super()._can(target, source, t))
 
 
 def feed_after_check(buf: SpyBuffer, *msgs: TransformStamped) -> threading.Thread:
@@ -65,7 +64,7 @@ def test_blocking_lookup_wakes_on_insert() -> None:
     assert time.monotonic() - t0 < 10.0  # woken by the insert, not by the timeout
     assert out.transform.translation.x == 2.0
     th.join()
-    assert buf._blocked == 0 and buf._watchers == 0
+    assert buf._waiters.blocked == 0 and buf._watchers == 0
 
 
 def test_blocking_lookup_of_a_frame_that_appears_later() -> None:
@@ -165,7 +164,7 @@ async def test_async_wait_woken_from_another_thread() -> None:
     th.start()
     assert await asyncio.wait_for(fut, 30) is True
     th.join()
-    assert buf._watchers == 0 and buf._async == []
+    assert buf._watchers == 0 and buf._waiters.pending == []
 
 
 async def test_async_wait_woken_on_the_loop_thread_and_lookup_async() -> None:
@@ -186,7 +185,7 @@ async def test_async_timeout_and_cancel_clean_up() -> None:
     fut = buf.wait_for_transform_async("a", "b", T(1.0))
     fut.cancel()
     await asyncio.sleep(0)  # done-callbacks run on the next loop turn
-    assert buf._async == [] and buf._watchers == 0
+    assert buf._waiters.pending == [] and buf._watchers == 0
 
 
 async def test_async_wait_fails_fast_for_data_older_than_the_window() -> None:

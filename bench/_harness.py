@@ -1,0 +1,86 @@
+"""Shared bench plumbing: loopback sessions, child processes, JSON output, stats."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from typing import Any
+
+import zenoh
+
+from zenros.testing import free_port, unique_prefix
+
+__all__ = ["Child", "env_info", "emit", "free_port", "percentile", "raw_config", "unique_prefix"]
+
+
+def raw_config(listen: int | None = None, connect: int | None = None) -> zenoh.Config:
+    """A raw zenoh peer config on loopback, multicast off (what zenros uses underneath)."""
+    c = zenoh.Config()
+    c.insert_json5("mode", '"peer"')
+    c.insert_json5("listen/endpoints", json.dumps([f"tcp/127.0.0.1:{listen}"] if listen else []))
+    c.insert_json5("connect/endpoints", json.dumps([f"tcp/127.0.0.1:{connect}"] if connect else []))
+    c.insert_json5("scouting/multicast/enabled", "false")
+    c.insert_json5("timestamping/enabled", "true")
+    return c
+
+
+def percentile(xs: list[float], p: float) -> float:
+    s = sorted(xs)
+    return s[min(len(s) - 1, int(round(p / 100 * (len(s) - 1))))]
+
+
+class Child:
+    """A child process running ``script --role ...``; reads one JSON line as its result."""
+
+    def __init__(self, script: str, *args: str) -> None:
+        self.p = subprocess.Popen(
+            [sys.executable, script, *args], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        )
+        assert self.p.stdout is not None
+        line = self.p.stdout.readline()  # "ready"
+        if not line.startswith("ready"):
+            raise RuntimeError(f"child failed: {line}{self.p.stderr.read() if self.p.stderr else ''}")
+
+    def result(self, timeout: float = 60) -> dict[str, Any]:
+        assert self.p.stdout is not None
+        out, err = self.p.communicate(timeout=timeout)
+        for line in out.splitlines():
+            if line.startswith("{"):
+                r: dict[str, Any] = json.loads(line)
+                return r
+        raise RuntimeError(f"child gave no result: {out}\n{err}")
+
+    def stop(self) -> None:
+        if self.p.poll() is None and self.p.stdin is not None:
+            self.p.stdin.close()  # children block on stdin; EOF tells them to finish
+            try:
+                self.p.wait(10)
+            except subprocess.TimeoutExpired:
+                pass
+        if self.p.poll() is None:
+            self.p.kill()
+            self.p.wait()
+
+
+def env_info() -> dict[str, Any]:
+    return {
+        "python": platform.python_version(),
+        "machine": platform.machine(),
+        "cpus": os.cpu_count(),
+        "time": time.strftime("%Y-%m-%dT%H:%M:%S"),
+    }
+
+
+def emit(bench: str, metrics: dict[str, float], **extra: Any) -> None:
+    """Print one JSON line: bench, then <metric>_zenros, <metric>_raw, <metric>_ratio."""
+    print(json.dumps({"bench": bench, **metrics, **extra, "env": env_info()}), flush=True)
+
+
+def median(xs: list[float]) -> float:
+    return statistics.median(xs)
