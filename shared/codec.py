@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from functools import lru_cache
+from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
 import msgspec
@@ -70,7 +71,7 @@ class Codec(Generic[M]):
         self.encoding = f"{self.mime};{self.type_name}"
         if self.bulk:
             self._encode = _MSGPACK_ENCODER.encode
-            self._decode = msgspec.msgpack.Decoder(msg_type, dec_hook=_dec).decode
+            self._decode = _bulk_decoder(msg_type)
         else:
             self._encode = _JSON_ENCODER.encode
             self._decode = msgspec.json.Decoder(msg_type, dec_hook=_dec).decode
@@ -102,6 +103,44 @@ class Codec(Generic[M]):
                 raise TypeMismatchError(f"type mismatch: expected {self.type_name}, got {schema}")
             if mime not in (JSON, MSGPACK, ""):
                 raise TypeMismatchError(f"expected {self.mime}, got encoding {mime}")
+
+
+def _bulk_decoder(msg_type: type[M]) -> Callable[[Any], M]:
+    """A MessagePack decoder whose top-level array fields are zero-copy views of the payload.
+
+    msgspec decodes ``bin`` into a fresh ``bytes`` (one copy of the whole array) unless the
+    field is typed ``memoryview``; so decode into a twin struct with memoryview fields, then
+    wrap them with ``np.frombuffer``. Nested arrays (rare in bulk types) take the plain path.
+    """
+    fields = msgspec.structs.fields(msg_type)
+    arrays = {f.name: f.type for f in fields
+              if isinstance(f.type, type) and issubclass(f.type, _TypedArray)}
+    plain = msgspec.msgpack.Decoder(msg_type, dec_hook=_dec).decode
+    if not arrays:
+        return plain
+    spec: list[Any] = []
+    for f in fields:
+        if f.name in arrays:
+            spec.append((f.name, memoryview | list[float],
+                         msgspec.field(default_factory=lambda: memoryview(b""))))
+        elif f.default is not msgspec.NODEFAULT:
+            spec.append((f.name, f.type, f.default))
+        elif f.default_factory is not msgspec.NODEFAULT:
+            spec.append((f.name, f.type, msgspec.field(default_factory=f.default_factory)))
+        else:
+            spec.append((f.name, f.type))
+    twin = msgspec.defstruct(f"{msg_type.__name__}Wire", spec, kw_only=True)
+    twin_decode = msgspec.msgpack.Decoder(twin, dec_hook=_dec).decode
+    names = [f.name for f in fields]
+
+    def decode(data: Any) -> M:
+        wire = twin_decode(data)
+        values = {n: getattr(wire, n) for n in names}
+        for name, cls in arrays.items():
+            values[name] = to_array(cls, values[name])
+        return msg_type(**values)
+
+    return decode
 
 
 @lru_cache(maxsize=None)

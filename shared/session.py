@@ -22,6 +22,7 @@ __all__ = [
 
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
 DEFAULT_LEASE_MS = 1000
+SHM_POOL_BYTES = 64 << 20
 
 
 @dataclass
@@ -114,6 +115,10 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     if not from_file:
         put("transport/link/tx/lease", opts.lease_ms)
         put("transport/link/tx/keep_alive", 4)
+        # 4x the largest payload we plan for (8 MiB maps and scans); lazily allocated, so only
+        # processes that put large samples pay for it. Zenoh's 16 MiB default fits one 8 MiB
+        # sample at a time and sends the rest over TCP (specs/zenoh-ops.md, section 4).
+        put("transport/shared_memory/transport_optimization/pool_size", SHM_POOL_BYTES)
     if opts.strict_connect:
         put("connect/exit_on_failure", True)
         put("connect/timeout_ms", 3000)

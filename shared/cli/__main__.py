@@ -21,6 +21,9 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("router", help="run a Zenoh router (default tcp/127.0.0.1:7447)",
                        add_help=False)
     r.set_defaults(func=None, passthrough="router")
+    r = sub.add_parser("launch", help="start and supervise the processes of a launch file",
+                       add_help=False)
+    r.set_defaults(func=None, passthrough="launch")
     return parser
 
 
@@ -30,6 +33,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         from ..router import main as router_main
 
         return router_main(argv[1:])
+    if argv[:1] == ["launch"]:
+        from ..launch.cli import main as launch_main
+        from ..launch.zenoh_hooks import ZenohLaunch
+
+        return launch_main(argv[1:], ZenohLaunch().hooks())
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

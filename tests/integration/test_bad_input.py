@@ -88,15 +88,6 @@ def test_oversized_garbage_payload(setup: Any) -> None:
     _recovers(pub, got)
 
 
-def test_wildcard_put_is_refused(setup: Any) -> None:
-    ctx, sub, got, pub = setup
-    prefix = ctx.keys.prefix
-    _put(ctx, f"{prefix}/topic/*", b'{"linear": {"x": 9.0}}', "application/json;geometry_msgs/Twist")
-    assert wait_for(lambda: sub.errors == 1, 2)
-    assert len(got) == 0
-    _recovers(pub, got)
-
-
 def test_errors_are_rate_limited_per_sender(setup: Any, caplog: pytest.LogCaptureFixture) -> None:
     ctx, sub, got, pub = setup
     with caplog.at_level(logging.ERROR, logger="zenros"):

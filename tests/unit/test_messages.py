@@ -411,6 +411,20 @@ def test_comparisons() -> None:
     assert Time(sec=1) != Duration(sec=1)
 
 
+@pytest.mark.parametrize(
+    ("a", "b"),
+    [(Time(sec=1), Duration(sec=2)), (Duration(sec=1), Time(sec=2)), (Time(sec=1), 2),
+     (Duration(sec=1), 2.0)],
+    ids=["time-duration", "duration-time", "time-int", "duration-float"],
+)
+def test_ordering_against_another_kind_raises_type_error(a: Any, b: Any) -> None:
+    """A Time is not earlier or later than a Duration or a number: Python's TypeError."""
+    with pytest.raises(TypeError):
+        a < b  # noqa: B015
+    with pytest.raises(TypeError):
+        a >= b  # noqa: B015
+
+
 def test_time_and_duration_are_frozen_and_hashable() -> None:
     t = Time(sec=1)
     with pytest.raises(AttributeError):

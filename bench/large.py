@@ -1,0 +1,131 @@
+"""Large payloads: 1 MB and 8 MB numpy arrays, zenros bulk message vs raw zenoh bytes.
+
+Two processes on loopback (shared memory as Zenoh configures it by default, the same for
+both), reliable (BLOCK). The zenros message is a bulk (MessagePack) type whose array field
+travels as raw bytes and arrives as a zero-copy numpy view. Throughput counted at the receiver
+in MB/s. Prints one JSON line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import threading
+import time
+from typing import Any
+
+import numpy as np
+import zenoh
+
+from _harness import Child, emit, free_port, raw_config, unique_prefix
+from zenros import Message, Node
+from zenros.context import Context
+from zenros.message import UInt8Array, array_field
+from zenros.testing import loopback_options
+
+
+class Blob(Message):
+    """A bulk payload: bytes as a numpy uint8 array."""
+
+    __msgtype__ = "zenros_bench/Blob"
+    __bulk__ = True
+    seq: int = 0
+    data: UInt8Array = array_field(UInt8Array)
+
+
+def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
+    done = threading.Event()
+    n = 0
+    nbytes = 0
+    first = last = 0.0
+
+    def on_data(size: int) -> None:
+        nonlocal n, nbytes, first, last
+        if n == 0:
+            first = time.perf_counter()
+        n += 1
+        nbytes += size
+        if n == count:
+            last = time.perf_counter()
+            done.set()
+
+    if impl == "zenros":
+        ctx = Context(loopback_options(connect=[port]), prefix=prefix)
+        node = Node("sink", context=ctx)
+        node.create_subscription(Blob, "blob", lambda m: on_data(int(m.data.nbytes)), 100)
+        closer: Any = lambda: (node.close(), ctx.close())  # noqa: E731
+    else:
+        s = zenoh.open(raw_config(connect=port))
+        sub = s.declare_subscriber(f"{prefix}/blob",
+                                   lambda smp: on_data(len(np.frombuffer(smp.payload.to_bytes(), np.uint8))))
+        closer = lambda: (sub.undeclare(), s.close())  # noqa: E731
+    print("ready", flush=True)
+    done.wait(120)
+    closer()
+    print(json.dumps({"received": n, "bytes": nbytes, "seconds": (last - first) if last else -1}),
+          flush=True)
+
+
+def measure(impl: str, size: int, count: int) -> float:
+    port, prefix = free_port(), unique_prefix()
+    arr = np.random.default_rng(1).integers(0, 255, size, dtype=np.uint8)
+    if impl == "zenros":
+        ctx = Context(loopback_options(port), prefix=prefix)
+        node = Node("src", context=ctx)
+        pub = node.create_publisher(Blob, "blob", 100)
+        child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
+                      prefix, "--count", str(count))
+        assert pub.wait_for_subscribers(1, 10)
+        send = lambda i: pub.publish(Blob(seq=i, data=arr))  # noqa: E731
+        closer: Any = lambda: (node.close(), ctx.close())  # noqa: E731
+    else:
+        s = zenoh.open(raw_config(listen=port))
+        zpub = s.declare_publisher(f"{prefix}/blob", congestion_control=zenoh.CongestionControl.BLOCK)
+        child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
+                      prefix, "--count", str(count))
+        deadline = time.monotonic() + 10
+        while not zpub.matching_status.matching:
+            assert time.monotonic() < deadline
+            time.sleep(0.001)
+        send = lambda i: zpub.put(arr.tobytes())  # noqa: E731
+        closer = lambda: (zpub.undeclare(), s.close())  # noqa: E731
+    try:
+        for i in range(count):
+            send(i)
+        res = child.result(180)
+    finally:
+        child.stop()
+        closer()
+    if res["received"] != count:
+        raise RuntimeError(f"{impl}: received {res['received']}/{count}")
+    return res["bytes"] / res["seconds"] / 1e6
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--role", default="parent")
+    ap.add_argument("--impl", default="zenros")
+    ap.add_argument("--port", type=int, default=0)
+    ap.add_argument("--prefix", default="bench")
+    ap.add_argument("--count", type=int, default=0)
+    ap.add_argument("--repeats", type=int, default=3)
+    a = ap.parse_args()
+    if a.role == "sink":
+        child_sink(a.impl, a.port, a.prefix, a.count)
+        return
+    metrics: dict[str, float] = {}
+    for label, size, count in (("1mb", 1 << 20, 300), ("8mb", 8 << 20, 60)):
+        best = {"raw": 0.0, "zenros": 0.0}
+        for _ in range(a.repeats):
+            for impl in ("raw", "zenros"):
+                best[impl] = max(best[impl], measure(impl, size, count))
+        metrics[f"throughput_{label}_mbps_zenros"] = round(best["zenros"], 1)
+        metrics[f"throughput_{label}_mbps_raw"] = round(best["raw"], 1)
+        metrics[f"throughput_{label}_ratio"] = round(best["zenros"] / best["raw"], 3)
+    emit("large", metrics, repeats=a.repeats, qos="reliable (BLOCK)")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

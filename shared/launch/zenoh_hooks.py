@@ -1,0 +1,100 @@
+"""The Zenoh side of `zenros launch`: a local router when none answers, and node readiness
+from liveliness."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import AsyncIterator
+from dataclasses import replace
+
+from ..context import Context
+from ..errors import StartupError
+from ..router import router_reachable
+from ..session import DEFAULT_ROUTER, SessionOptions
+from .cli import LaunchHooks, LaunchOptions
+from .model import ProcessSpec
+
+__all__ = ["ZenohLaunch", "router_endpoint"]
+
+READY_TIMEOUT = 20.0
+
+
+def router_endpoint() -> str:
+    """The router a launch uses: the first of ``$ZENROS_CONNECT``, else tcp/127.0.0.1:7447."""
+    first = os.environ.get("ZENROS_CONNECT", "").split(",")[0].strip()
+    return first or DEFAULT_ROUTER
+
+
+class ZenohLaunch:
+    """Builds the `LaunchHooks`: router, endpoint injection and liveliness readiness."""
+
+    def __init__(self, endpoint: str | None = None) -> None:
+        self.endpoint = endpoint or router_endpoint()
+        self.ctx: Context | None = None
+
+    def hooks(self) -> LaunchHooks:
+        return LaunchHooks(startup=self.startup, before_start=self.before_start,
+                           wait_ready=self.wait_ready)
+
+    @contextlib.asynccontextmanager
+    async def startup(self, options: LaunchOptions) -> AsyncIterator[None]:
+        router: subprocess.Popen[bytes] | None = None
+        if not options.no_router and not router_reachable(self.endpoint):
+            router = await asyncio.to_thread(self._start_router, options)
+        elif not options.no_router:
+            print(f"[launch] using the router at {self.endpoint}", flush=True)
+        try:
+            self.ctx = await asyncio.to_thread(
+                Context, SessionOptions(connect=[self.endpoint]))
+            yield
+        finally:
+            if self.ctx is not None:
+                await asyncio.to_thread(self.ctx.close)
+            if router is not None:
+                await asyncio.to_thread(_stop, router)
+
+    def _start_router(self, options: LaunchOptions) -> subprocess.Popen[bytes]:
+        options.run_dir.mkdir(parents=True, exist_ok=True)
+        log = open(options.run_dir / "router.log", "ab")  # noqa: SIM115 (lives with the router)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "zenros.router", "-l", self.endpoint],
+            stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+        )
+        log.close()
+        deadline = time.monotonic() + 15
+        while not router_reachable(self.endpoint, 0.2):
+            if proc.poll() is not None or time.monotonic() > deadline:
+                _stop(proc)
+                raise StartupError(f"could not start a Zenoh router on {self.endpoint}; "
+                                   f"see {options.run_dir / 'router.log'}")
+            time.sleep(0.05)
+        print(f"[launch] started a Zenoh router on {self.endpoint} (pid {proc.pid})", flush=True)
+        return proc
+
+    def before_start(self, spec: ProcessSpec) -> ProcessSpec:
+        if "ZENROS_CONNECT" in spec.env or "ZENROS_CONNECT" in os.environ:
+            return spec
+        return replace(spec, env={**spec.env, "ZENROS_CONNECT": self.endpoint})
+
+    async def wait_ready(self, spec: ProcessSpec) -> bool:
+        """A zenros node is up when its liveliness token is seen; other programs at once."""
+        if not spec.ros_args or self.ctx is None:
+            return True
+        graph = self.ctx.graph
+        return await asyncio.to_thread(graph.wait_for_node, spec.fqn, READY_TIMEOUT)
+
+
+def _stop(proc: subprocess.Popen[bytes]) -> None:
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(5)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
