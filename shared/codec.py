@@ -40,7 +40,7 @@ def _enc_json(obj: Any) -> Any:
 
 def _enc_msgpack(obj: Any) -> Any:
     if isinstance(obj, np.ndarray):
-        return memoryview(np.ascontiguousarray(obj)).cast("B")
+        return memoryview(np.ascontiguousarray(obj)).cast("B")  # type: ignore[arg-type]
     if isinstance(obj, np.generic):
         return obj.item()
     raise NotImplementedError(f"cannot encode {type(obj).__name__}")
@@ -165,7 +165,8 @@ def decode_any(data: bytes, encoding: str) -> Message:
     mime, schema = split_encoding(encoding)
     if not schema:
         raise DecodeError(f"payload encoding {encoding!r} names no message type")
-    return codec_for(lookup_type(schema)).decode(data)
+    msg: Message = codec_for(lookup_type(schema)).decode(data)
+    return msg
 
 
 def to_builtins(msg: Message) -> Any:

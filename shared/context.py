@@ -93,7 +93,7 @@ class Context:
             self._graph.close()
         self.executor.stop()
         if self._own_session:
-            self.session.close()
+            self.session.close()  # type: ignore[no-untyped-call]
 
     def __enter__(self) -> Context:
         return self

@@ -216,4 +216,4 @@ class Graph:
         )
 
     def close(self) -> None:
-        self._sub.undeclare()
+        self._sub.undeclare()  # type: ignore[no-untyped-call]

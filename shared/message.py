@@ -139,7 +139,7 @@ def _ensure_builtin_types() -> None:
 # ---------------------------------------------------------------- numpy array fields
 
 
-class _TypedArray(np.ndarray):  # type: ignore[type-arg]
+class _TypedArray(np.ndarray):
     dtype_: ClassVar[Any] = np.float64
 
 

@@ -61,7 +61,8 @@ class Publisher(Generic[M]):
                 congestion_control=_congestion(qos),
                 allowed_destination=zenoh.Locality.REMOTE,
                 cache=zext.CacheConfig(max_samples=qos.depth),
-                sample_miss_detection=zext.MissDetectionConfig(heartbeat=0.5),
+                sample_miss_detection=zext.MissDetectionConfig(heartbeat=0.5,
+                                                                sporadic_heartbeat=None),
                 publisher_detection=True,
             )
             self._remote = True
@@ -127,7 +128,7 @@ class Publisher(Generic[M]):
         self.closed = True
         if self._matching is not None:
             self._matching.undeclare()
-        self._token.undeclare()
+        self._token.undeclare()  # type: ignore[no-untyped-call]
         self._pub.undeclare()
 
 
@@ -169,7 +170,7 @@ class Subscription(Generic[M]):
             self._sub = zext.declare_advanced_subscriber(
                 ctx.session, self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE,
                 history=zext.HistoryConfig(detect_late_publishers=True, max_samples=qos.depth),
-                recovery=zext.RecoveryConfig(heartbeat=True),
+                recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
                 subscriber_detection=True,
             )
         else:
@@ -235,5 +236,5 @@ class Subscription(Generic[M]):
             return
         self.closed = True
         self._ctx.remove_local(self.topic, "subs", self)
-        self._token.undeclare()
+        self._token.undeclare()  # type: ignore[no-untyped-call]
         self._sub.undeclare()

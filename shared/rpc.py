@@ -148,8 +148,8 @@ class Service:
         if self.closed:
             return
         self.closed = True
-        self._token.undeclare()
-        self._queryable.undeclare()
+        self._token.undeclare()  # type: ignore[no-untyped-call]
+        self._queryable.undeclare()  # type: ignore[no-untyped-call]
 
 
 class Client:

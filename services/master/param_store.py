@@ -156,7 +156,9 @@ class ParamStore:
 
     # ------------------------------------------------------------------ writes
 
-    def set(self, name: str, value: Value, stamp: Stamp | None = None) -> Stamp:
+    def set(
+        self, name: str, value: Value, stamp: Stamp | None = None, *, now: int | None = None
+    ) -> Stamp:
         """Set a leaf, or replace the subtree at ``name`` when ``value`` is a dict.
 
         Args:
@@ -164,6 +166,8 @@ class ParamStore:
             value: bool, int, float, str, bytes, list or dict (types are kept exactly).
             stamp: the write's time; by default the store's own hybrid clock, which is later
                 than every stamp the store has seen. An older stamp loses to newer rows.
+            now: without ``stamp``, the physical part of that clock as an NTP64 time (the
+                master passes its Zenoh session's HLC time); default the system clock.
 
         Returns:
             The stamp of the write, once it is committed to disk.
@@ -172,23 +176,28 @@ class ParamStore:
             InvalidNameError, InvalidParameterValueError: bad name, dict key or value.
         """
         with self._lock:
-            stamp = self._stamp(stamp)
+            stamp = self._stamp(stamp, now)
             self._commit(self._tree.plan_set(name, value, stamp))
             return stamp
 
-    def delete(self, name: str, stamp: Stamp | None = None) -> Stamp:
+    def delete(
+        self, name: str, stamp: Stamp | None = None, *, now: int | None = None
+    ) -> Stamp:
         """Delete the leaf or the whole subtree at ``name`` (a tombstone is kept for replicas).
+
+        ``stamp`` and ``now`` are as in `set`.
 
         Raises:
             ParameterNotFoundError: nothing is set at or under ``name``.
         """
         with self._lock:
-            stamp = self._stamp(stamp)
+            stamp = self._stamp(stamp, now)
             self._commit(self._tree.plan_delete(name, stamp))
             return stamp
 
     def load_yaml(
-        self, text: str, namespace: str = "/", source: str = "<string>"
+        self, text: str, namespace: str = "/", source: str = "<string>", *,
+        now: int | None = None,
     ) -> list[str]:
         """Set every parameter of a YAML document (ROS 2 or plain layout) in one commit.
 
@@ -202,7 +211,7 @@ class ParamStore:
         """
         leaves = parse_yaml(text, namespace, source)
         with self._lock:
-            stamp = self._next_stamp()
+            stamp = self._next_stamp(now)
             rows: list[Entry] = []
             for name, value in leaves.items():
                 if value == {} and self._tree.has(name):
@@ -255,14 +264,16 @@ class ParamStore:
 
     # ------------------------------------------------------------------ internals
 
-    def _stamp(self, given: Stamp | None) -> Stamp:
+    def _stamp(self, given: Stamp | None, now: int | None = None) -> Stamp:
         if given is None:
-            return self._next_stamp()
+            return self._next_stamp(now)
         self._last = max(self._last, given.time)
         return Stamp(*given)
 
-    def _next_stamp(self) -> Stamp:
-        self._last = max(ntp64(time.time_ns()), self._last + 1)
+    def _next_stamp(self, now: int | None = None) -> Stamp:
+        """The hybrid clock: the physical time, unless a stamp already seen is later."""
+        physical = ntp64(time.time_ns()) if now is None else now
+        self._last = max(physical, self._last + 1)
         return Stamp(self._last, self.source)
 
     def _commit(self, rows: list[Entry]) -> list[Entry]:

@@ -72,7 +72,7 @@ def payload_to_data(data: bytes, encoding: str) -> Any:
     return data.decode("utf-8", "replace")
 
 
-class _Dumper(yaml.SafeDumper):
+class _Dumper(yaml.SafeDumper):  # type: ignore[misc]
     pass
 
 

@@ -39,10 +39,10 @@ def run(args: argparse.Namespace) -> int:
             return 0
         name = resolve(args.service, kind="service")
         if args.verb == "type":
-            types = ctx.graph.services().get(name)
-            if not types:
+            found = ctx.graph.services().get(name)
+            if not found:
                 raise CliError(f"unknown service {name}")
-            print("\n".join(types))
+            print("\n".join(found))
             return 0
         srv = lookup_service(args.type)
         request = from_builtins(parse_yaml_arg(args.values), srv.Request)

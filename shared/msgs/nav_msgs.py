@@ -37,7 +37,7 @@ class OccupancyGrid(Message):
     info: MapMetaData = msgspec.field(default_factory=MapMetaData)
     data: Int8Array = array_field(Int8Array)
 
-    def grid(self) -> np.ndarray:  # type: ignore[type-arg]
+    def grid(self) -> np.ndarray:
         """The cells as a (height, width) int8 view, without a copy."""
         return np.asarray(self.data).reshape(self.info.height, self.info.width)
 

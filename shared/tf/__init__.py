@@ -28,7 +28,6 @@ from .convert import (
     transform_stamped,
     transform_to_msg,
 )
-from .core import DEFAULT_CACHE_TIME, BufferCore
 from .matrix import (
     euler_from_matrix,
     euler_matrix,
@@ -70,6 +69,7 @@ from .stamped import (
     register_transformable,
 )
 from .stamps import LATEST, from_ns, to_ns
+from .store import DEFAULT_CACHE_TIME
 
 __all__ = [
     "DEFAULT_CACHE_TIME",
@@ -78,7 +78,6 @@ __all__ = [
     "LATEST",
     "BackwardExtrapolationException",
     "Buffer",
-    "BufferCore",
     "ConnectivityException",
     "ExtrapolationException",
     "ForwardExtrapolationException",

@@ -244,23 +244,31 @@ def test_json_infinite_float_does_not_make_the_sample_undecodable(value: float) 
 # ------------------------------------------------------------------ MessagePack views
 
 
-def _base_chain_end(arr: np.ndarray) -> Any:
-    obj: Any = arr
-    while isinstance(obj, np.ndarray):
-        assert not obj.flags.owndata
-        obj = obj.base
-    return obj
+def _payload_view(buf: bytearray) -> np.ndarray:
+    return np.frombuffer(buf, dtype=np.uint8)
 
 
-def test_msgpack_arrays_decode_as_views_not_copies() -> None:
+def test_msgpack_arrays_are_zero_copy_views_of_the_payload() -> None:
     scan = LaserScan(angle_min=-1.0, range_max=10.0)
     scan.ranges = np.linspace(0.5, 5.0, 100, dtype=np.float32).view(Float32Array)
     scan.intensities = np.ones(100, dtype=np.float32).view(Float32Array)
-    back = codec_for(LaserScan).decode(codec_for(LaserScan).encode(scan))
+    payload = bytearray(codec_for(LaserScan).encode(scan))
+    back = codec_for(LaserScan).decode(payload)
     for arr in (back.ranges, back.intensities):
         assert isinstance(arr, Float32Array) and arr.dtype == np.float32
-        assert isinstance(_base_chain_end(arr), bytes)  # a view on the payload bytes
+        assert not arr.flags.owndata
+        assert np.shares_memory(arr, _payload_view(payload))
+    assert not np.shares_memory(back.ranges, back.intensities)
     np.testing.assert_array_equal(back.ranges, scan.ranges)
+    np.testing.assert_array_equal(back.intensities, scan.intensities)
+
+
+def test_msgpack_arrays_decoded_from_bytes_are_read_only_views() -> None:
+    ranges = np.array([1.0, 2.0], dtype=np.float32).view(Float32Array)
+    back = codec_for(LaserScan).decode(codec_for(LaserScan).encode(LaserScan(ranges=ranges)))
+    assert not back.ranges.flags.owndata
+    with pytest.raises(ValueError):  # received messages are shared: read-only
+        back.ranges[0] = 5.0
 
 
 def test_msgpack_occupancy_grid_round_trip_and_grid_view() -> None:
@@ -268,9 +276,11 @@ def test_msgpack_occupancy_grid_round_trip_and_grid_view() -> None:
     cells = np.tile(np.array([-1, 0, 50, 100, 0, 0, -1], dtype=np.int8), height)
     grid = OccupancyGrid(info=MapMetaData(width=width, height=height, resolution=0.05))
     grid.data = cells.view(Int8Array)
-    back = codec_for(OccupancyGrid).decode(codec_for(OccupancyGrid).encode(grid))
+    payload = bytearray(codec_for(OccupancyGrid).encode(grid))
+    back = codec_for(OccupancyGrid).decode(payload)
     assert isinstance(back.data, Int8Array)
-    assert isinstance(_base_chain_end(back.data), bytes)
+    assert np.shares_memory(back.data, _payload_view(payload))
+    assert (back.info.width, back.info.height, back.info.resolution) == (width, height, 0.05)
     view = back.grid()
     assert view.shape == (height, width) and view.dtype == np.int8
     assert np.shares_memory(view, back.data)
@@ -344,6 +354,7 @@ def test_decode_error_for_a_list_element() -> None:
 def test_decode_error_for_array_fields() -> None:
     with pytest.raises(DecodeError, match=r"expected an array, got str .*\$\.pose\.covariance"):
         codec_for(Odometry).decode(b'{"pose": {"covariance": "zeros"}}')
+    # 3 bytes are not a whole float32: the error must say which field
     with pytest.raises(DecodeError, match=r"\$\.ranges"):
         codec_for(LaserScan).decode(msgspec.msgpack.encode({"ranges": b"\x00\x00\x00"}))
 
