@@ -149,3 +149,22 @@ class ForwardExtrapolationException(ExtrapolationException):
 
 class NoDataForExtrapolationException(ExtrapolationException):
     """A link holds no sample, or a single sample at another time than the one asked for."""
+
+
+# ------------------------------------------------------------------ actions
+
+
+class ActionError(ZenrosError, RuntimeError):
+    """An action request failed: a bad goal, a server error, or a client-side failure."""
+
+
+class UnknownGoalError(ActionError, LookupError):
+    """A goal id is not known to the action server (never accepted there, or its result expired)."""
+
+
+class GoalStateError(ActionError):
+    """A goal handle was moved through a transition its state does not allow."""
+
+
+class ActionServerUnavailableError(ActionError, ConnectionError):
+    """No action server answered for an action name."""
