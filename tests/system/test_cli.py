@@ -117,3 +117,13 @@ def test_bad_input_gives_one_clear_line_and_exit_1(
     assert r.returncode == 1, (r.stdout, r.stderr)
     assert needle in r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_graph_as_dot(system: tuple[str, str]) -> None:
+    r = zenros(*system, "graph")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("digraph zenros {")
+    assert '"n:/talker" -> "t:/chatter";' in r.stdout
+    assert "/rosout" not in r.stdout
+    r = zenros(*system, "graph", "--all")
+    assert '"s:/add_two_ints"' in r.stdout
