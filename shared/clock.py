@@ -94,7 +94,12 @@ class ManualClock:
             while self._waiters and self._waiters[0][0] <= t.nanoseconds:
                 due.append(heapq.heappop(self._waiters))
         for _, _, loop, fut in due:
-            loop.call_soon_threadsafe(_resolve, fut)
+            if fut.done() or loop.is_closed():
+                continue  # a cancelled sleeper, or its loop (an executor) is gone
+            try:
+                loop.call_soon_threadsafe(_resolve, fut)
+            except RuntimeError:  # the loop closed just now
+                pass
 
     def advance(self, seconds: float) -> None:
         self.set(self._now + Duration.from_seconds(seconds))
@@ -112,11 +117,19 @@ class ManualClock:
     async def async_sleep_until(self, t: Time) -> None:
         loop = asyncio.get_running_loop()
         fut: asyncio.Future[None] = loop.create_future()
+        entry = (t.nanoseconds, next(self._seq), loop, fut)
         with self._cond:
             if self._now.nanoseconds >= t.nanoseconds:
                 return
-            heapq.heappush(self._waiters, (t.nanoseconds, next(self._seq), loop, fut))
-        await fut
+            heapq.heappush(self._waiters, entry)
+        try:
+            await fut
+        finally:
+            if not fut.done() or fut.cancelled():
+                with self._cond:
+                    if entry in self._waiters:
+                        self._waiters.remove(entry)
+                        heapq.heapify(self._waiters)
 
 
 def _resolve(fut: asyncio.Future[None]) -> None:

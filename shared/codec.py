@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
 import msgspec
+import msgspec.inspect as mi
 import numpy as np
 
 from .errors import DecodeError, EncodeError, TypeMismatchError
-from .message import Message, _TypedArray, lookup_type, to_array
+from .message import Message, _TypedArray, lookup_type, normalize_type_name, to_array
 
 __all__ = [
     "JSON",
@@ -61,7 +63,7 @@ _MSGPACK_ENCODER = msgspec.msgpack.Encoder(enc_hook=_enc_msgpack)
 class Codec(Generic[M]):
     """Encoder and decoder for one message type; build it with `codec_for`."""
 
-    __slots__ = ("type", "type_name", "bulk", "mime", "encoding", "_encode", "_decode")
+    __slots__ = ("type", "type_name", "bulk", "mime", "encoding", "_encode", "_decode", "_arrays")
 
     def __init__(self, msg_type: type[M]) -> None:
         self.type = msg_type
@@ -69,12 +71,13 @@ class Codec(Generic[M]):
         self.bulk = msg_type.__bulk__
         self.mime = MSGPACK if self.bulk else JSON
         self.encoding = f"{self.mime};{self.type_name}"
+        self._arrays = _array_fields(msg_type) if self.bulk else {}
         if self.bulk:
             self._encode = _MSGPACK_ENCODER.encode
             self._decode = _bulk_decoder(msg_type)
         else:
             self._encode = _JSON_ENCODER.encode
-            self._decode = msgspec.json.Decoder(msg_type, dec_hook=_dec).decode
+            self._decode = _json_decoder(msg_type)
 
     def encode(self, msg: M) -> bytes:
         """Serialize ``msg``; raises `EncodeError` if it is not of this codec's type."""
@@ -83,6 +86,10 @@ class Codec(Generic[M]):
                 f"expected {self.type_name}, got {type(msg).__name__}: publish the declared type"
             )
         try:
+            if self._arrays:  # raw bytes carry no dtype: send the declared one
+                msg = msgspec.structs.replace(
+                    msg, **{n: to_array(c, getattr(msg, n)) for n, c in self._arrays.items()}
+                )
             return self._encode(msg)
         except (TypeError, ValueError, NotImplementedError) as exc:
             raise EncodeError(f"cannot encode {self.type_name}: {exc}") from exc
@@ -99,7 +106,7 @@ class Codec(Generic[M]):
         """Raise `TypeMismatchError` when a sample's encoding names another type."""
         if encoding != self.encoding:
             mime, schema = split_encoding(encoding)
-            if schema and schema != self.type_name:
+            if schema and normalize_type_name(schema) != self.type_name:
                 raise TypeMismatchError(f"type mismatch: expected {self.type_name}, got {schema}")
             if mime not in (JSON, MSGPACK, ""):
                 raise TypeMismatchError(f"expected {self.mime}, got encoding {mime}")
@@ -113,8 +120,7 @@ def _bulk_decoder(msg_type: type[M]) -> Callable[[Any], M]:
     wrap them with ``np.frombuffer``. Nested arrays (rare in bulk types) take the plain path.
     """
     fields = msgspec.structs.fields(msg_type)
-    arrays = {f.name: f.type for f in fields
-              if isinstance(f.type, type) and issubclass(f.type, _TypedArray)}
+    arrays = _array_fields(msg_type)
     plain = msgspec.msgpack.Decoder(msg_type, dec_hook=_dec).decode
     if not arrays:
         return plain
@@ -137,10 +143,52 @@ def _bulk_decoder(msg_type: type[M]) -> Callable[[Any], M]:
         wire = twin_decode(data)
         values = {n: getattr(wire, n) for n in names}
         for name, cls in arrays.items():
-            values[name] = to_array(cls, values[name])
+            try:
+                values[name] = to_array(cls, values[name])
+            except (ValueError, TypeError) as exc:
+                raise ValueError(f"{exc} - at `$.{name}`") from exc
         return msg_type(**values)
 
     return decode
+
+
+def _array_fields(msg_type: type[Message]) -> dict[str, type[_TypedArray]]:
+    return {f.name: f.type for f in msgspec.structs.fields(msg_type)
+            if isinstance(f.type, type) and issubclass(f.type, _TypedArray)}
+
+
+def _json_decoder(msg_type: type[M]) -> Callable[[Any], M]:
+    """A JSON decoder that also reads ``null`` in a float field as NaN.
+
+    msgspec (like rosbridge) writes NaN and infinities as ``null``; ROS uses NaN for unknown
+    values (BatteryState). The fast path is unchanged; only a failed decode retries.
+    """
+    fast = msgspec.json.Decoder(msg_type, dec_hook=_dec).decode
+
+    def decode(data: Any) -> M:
+        try:
+            msg: M = fast(data)
+            return msg
+        except msgspec.ValidationError as exc:
+            obj = _null_floats_to_nan(mi.type_info(msg_type), msgspec.json.decode(data))
+            try:
+                again: M = msgspec.convert(obj, msg_type, dec_hook=_dec)
+            except (msgspec.ValidationError, ValueError, TypeError):
+                raise exc from None
+            return again
+
+    return decode
+
+
+def _null_floats_to_nan(t: mi.Type, obj: Any) -> Any:
+    if obj is None and isinstance(t, mi.FloatType):
+        return math.nan
+    if isinstance(t, mi.StructType) and isinstance(obj, dict):
+        fields = {f.encode_name: f.type for f in t.fields}
+        return {k: _null_floats_to_nan(fields[k], v) if k in fields else v for k, v in obj.items()}
+    if isinstance(t, mi.ListType) and isinstance(obj, list):
+        return [_null_floats_to_nan(t.item_type, v) for v in obj]
+    return obj
 
 
 @lru_cache(maxsize=None)

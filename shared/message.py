@@ -53,6 +53,21 @@ class Message(msgspec.Struct, kw_only=True):
         if name:
             _MESSAGES[normalize_type_name(name)] = cls
 
+    def __eq__(self, other: object) -> bool:
+        """Field-wise equality; numpy array fields compare by value (``np.array_equal``)."""
+        if type(other) is not type(self):
+            return NotImplemented
+        return all(
+            _field_eq(getattr(self, f), getattr(other, f)) for f in self.__struct_fields__
+        )
+
+
+def _field_eq(a: Any, b: Any) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return (isinstance(a, np.ndarray) and isinstance(b, np.ndarray)
+                and bool(np.array_equal(a, b)))
+    return bool(a == b)
+
 
 def normalize_type_name(name: str) -> str:
     """Map ``pkg/msg/Name``, ``pkg/srv/Name`` and ``pkg/action/Name`` to ``pkg/Name``."""
@@ -139,7 +154,7 @@ def _ensure_builtin_types() -> None:
 # ---------------------------------------------------------------- numpy array fields
 
 
-class _TypedArray(np.ndarray):
+class _TypedArray(np.ndarray):  # type: ignore[type-arg]
     dtype_: ClassVar[Any] = np.float64
 
 

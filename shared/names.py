@@ -46,8 +46,6 @@ def validate_name(name: str, kind: str = "topic") -> str:
             raise _fail(kind, name, i, f"character {ch!r} is not allowed (use A-Z a-z 0-9 _ /)")
     if "~" in name[1:]:
         raise _fail(kind, name, name.index("~", 1), "'~' may only start a name")
-    if name.startswith("~") and len(name) > 1 and name[1] != "/":
-        raise _fail(kind, name, 1, "a private name is written '~/name'")
     if name.endswith("/") and name not in ("/", "~/"):
         raise _fail(kind, name, len(name) - 1, "a name may not end with '/'")
     if "//" in name:
@@ -80,7 +78,7 @@ def validate_namespace(ns: str) -> str:
         return "/"
     if not ns.startswith("/"):
         ns = "/" + ns
-    validate_name(ns.rstrip("/") or "/", "namespace")
+    validate_name(ns.rstrip("/") or ns, "namespace")
     if "~" in ns:
         raise _fail("namespace", ns, ns.index("~"), "'~' is not allowed in a namespace")
     return ns.rstrip("/")
@@ -246,7 +244,7 @@ class KeySpace:
                     "node", unchunk(parts[1]), zid=parts[2], host=parts[3], pid=int(parts[4]),
                     start_ns=int(parts[5]),
                 )
-            if parts[0] in ENTITY_KINDS and len(parts) == 7:
+            if parts[0] in ENTITY_KINDS and parts[0] != "node" and len(parts) == 7:
                 return Token(
                     parts[0], unchunk(parts[1]), unchunk(parts[2]), unchunk(parts[3]),
                     "" if parts[4] == "_" else parts[4], parts[5], parts[6],

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-import fnmatch
+import re
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -123,13 +123,24 @@ def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
     for section, body in _sections(doc):
         pattern = section if section.startswith("/") else None
         matches = section == base or section == node_fqn.lstrip("/") or (
-            pattern is not None and (pattern == node_fqn or fnmatch.fnmatchcase(node_fqn, pattern.replace("/**", "*")))
+            pattern is not None and _node_pattern(pattern).match(node_fqn) is not None
         )
         if matches:
             if not isinstance(body, dict):
                 raise ParameterError(f"params file {path}: ros__parameters of {section} is not a mapping")
             out.update(flatten(body))
     return out
+
+
+def _node_pattern(pattern: str) -> re.Pattern[str]:
+    """ROS 2 node-name wildcards: ``*`` is one name segment (or part of it), ``**`` any number."""
+    out = []
+    for seg in pattern.strip("/").split("/"):
+        if seg == "**":
+            out.append("(?:/[^/]+)*")
+        else:
+            out.append("/" + re.escape(seg).replace(r"\*", "[^/]*"))
+    return re.compile("".join(out) + r"\Z")
 
 
 def _sections(doc: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:

@@ -28,7 +28,7 @@ M = TypeVar("M", bound=Message)
 
 
 def _congestion(qos: QoSProfile) -> zenoh.CongestionControl:
-    if qos.reliability is Reliability.RELIABLE:
+    if qos.reliability == Reliability.RELIABLE:
         return zenoh.CongestionControl.BLOCK
     return zenoh.CongestionControl.DROP
 
@@ -70,7 +70,7 @@ class Publisher(Generic[M]):
         else:
             self._pub = ctx.session.declare_publisher(
                 self.key, encoding=encoding, congestion_control=_congestion(qos),
-                express=qos.reliability is Reliability.BEST_EFFORT,
+                express=qos.reliability == Reliability.BEST_EFFORT,
                 allowed_destination=zenoh.Locality.REMOTE,
             )
             self._remote = bool(self._pub.matching_status.matching)

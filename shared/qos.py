@@ -42,17 +42,19 @@ class QoSProfile:
     durability: Durability = Durability.VOLATILE
 
     def __post_init__(self) -> None:
+        if isinstance(self.depth, bool) or not isinstance(self.depth, int):
+            raise TypeError(f"QoS depth must be an int, got {type(self.depth).__name__}")
         if self.depth < 1:
             raise ValueError(f"QoS depth must be >= 1, got {self.depth}")
 
     @property
     def latched(self) -> bool:
-        return self.durability is Durability.TRANSIENT_LOCAL
+        return self.durability == Durability.TRANSIENT_LOCAL
 
     @property
     def tag(self) -> str:
         """Short form carried in liveliness tokens: ``rel``/``be`` plus ``+tl`` when latched."""
-        base = "rel" if self.reliability is Reliability.RELIABLE else "be"
+        base = "rel" if self.reliability == Reliability.RELIABLE else "be"
         return base + ("+tl" if self.latched else "") + f"+{self.depth}"
 
 

@@ -90,8 +90,10 @@ def options_from_args(ns: argparse.Namespace) -> SessionOptions:
 def build_config(opts: SessionOptions) -> zenoh.Config:
     """A `zenoh.Config` from options.
 
-    Order: the config file (if any); then zenros's defaults for what a file leaves unset (no
-    file: everything); then explicit flags; then ``--cfg`` overrides.
+    Without a file, zenros's defaults apply (peer, local router, own loopback listen
+    endpoint, 1 s lease, 64 MiB SHM pool). A file is taken as written, except that
+    timestamping is always on and multicast scouting stays off unless the file sets it.
+    Explicit flags then override, and ``--cfg`` last of all.
     """
     try:
         conf = zenoh.Config.from_file(opts.config_file) if opts.config_file else zenoh.Config()

@@ -15,7 +15,7 @@ def _split(ns: int) -> tuple[int, int]:
     return sec, nanosec
 
 
-class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
+class Duration(Message, frozen=True, order=False):
     """A signed span of time: ``sec`` (may be negative) plus ``nanosec`` in [0, 1e9)."""
 
     __msgtype__ = "builtin_interfaces/Duration"
@@ -40,6 +40,9 @@ class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
     def to_sec(self) -> float:
         return self.nanoseconds / _NS
 
+    def __hash__(self) -> int:
+        return hash((Duration, self.sec, self.nanosec))
+
     def __add__(self, other: Any) -> Any:
         if isinstance(other, Duration):
             return Duration.from_nanoseconds(self.nanoseconds + other.nanoseconds)
@@ -58,20 +61,28 @@ class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
     def __mul__(self, k: float) -> Duration:
         return Duration.from_nanoseconds(round(self.nanoseconds * k))
 
-    def __lt__(self, o: Duration) -> bool:
+    def __lt__(self, o: object) -> bool:
+        if not isinstance(o, Duration):
+            return NotImplemented
         return self.nanoseconds < o.nanoseconds
 
-    def __le__(self, o: Duration) -> bool:
+    def __le__(self, o: object) -> bool:
+        if not isinstance(o, Duration):
+            return NotImplemented
         return self.nanoseconds <= o.nanoseconds
 
-    def __gt__(self, o: Duration) -> bool:
+    def __gt__(self, o: object) -> bool:
+        if not isinstance(o, Duration):
+            return NotImplemented
         return self.nanoseconds > o.nanoseconds
 
-    def __ge__(self, o: Duration) -> bool:
+    def __ge__(self, o: object) -> bool:
+        if not isinstance(o, Duration):
+            return NotImplemented
         return self.nanoseconds >= o.nanoseconds
 
 
-class Time(Message, frozen=True, order=False):  # type: ignore[misc]
+class Time(Message, frozen=True, order=False):
     """A point in time since an epoch (wall, steady or simulated): ``sec`` and ``nanosec``."""
 
     __msgtype__ = "builtin_interfaces/Time"
@@ -96,6 +107,9 @@ class Time(Message, frozen=True, order=False):  # type: ignore[misc]
     def to_sec(self) -> float:
         return self.nanoseconds / _NS
 
+    def __hash__(self) -> int:
+        return hash((Time, self.sec, self.nanosec))
+
     def is_zero(self) -> bool:
         return self.sec == 0 and self.nanosec == 0
 
@@ -111,14 +125,22 @@ class Time(Message, frozen=True, order=False):  # type: ignore[misc]
             return Time.from_nanoseconds(self.nanoseconds - other.nanoseconds)
         return NotImplemented
 
-    def __lt__(self, o: Time) -> bool:
+    def __lt__(self, o: object) -> bool:
+        if not isinstance(o, Time):
+            return NotImplemented
         return self.nanoseconds < o.nanoseconds
 
-    def __le__(self, o: Time) -> bool:
+    def __le__(self, o: object) -> bool:
+        if not isinstance(o, Time):
+            return NotImplemented
         return self.nanoseconds <= o.nanoseconds
 
-    def __gt__(self, o: Time) -> bool:
+    def __gt__(self, o: object) -> bool:
+        if not isinstance(o, Time):
+            return NotImplemented
         return self.nanoseconds > o.nanoseconds
 
-    def __ge__(self, o: Time) -> bool:
+    def __ge__(self, o: object) -> bool:
+        if not isinstance(o, Time):
+            return NotImplemented
         return self.nanoseconds >= o.nanoseconds

@@ -16,6 +16,7 @@ from ..errors import LookupException, TimeoutException
 from ..msgs.builtin_interfaces import Duration, Time
 from ..msgs.geometry_msgs import Quaternion, Transform, TransformStamped, Vector3
 from ..msgs.std_msgs import Header
+from .chain import Chain
 from .convert import transform_stamped
 from .core import DEFAULT_CACHE_TIME, BufferCore
 from .report import frame_error
@@ -76,7 +77,7 @@ class Buffer(BufferCore):
         lock.acquire()  # not `with`: acquire/release is ~90 ns cheaper per call on 3.11
         try:
             ch = self._chains.get((target_frame, source_frame))
-            r = ch.evaluate(t) if ch and t else None
+            r = ch.evaluate(t) if type(ch) is Chain and t else None
             tt = t
             if r is None:
                 r, tt = self._lookup(target_frame, source_frame, t)

@@ -24,7 +24,7 @@ from .rigid import IDENTITY, Tf, compose
 # static run composed on top of it (or None).
 Step = tuple[list[int], list[Seg | None], TimeCache, Tf | None]
 
-__all__ = ["Chain", "build_chain"]
+__all__ = ["DISJOINT", "WALK", "Chain", "NoChain", "build_chain"]
 
 
 class Chain:
@@ -159,15 +159,35 @@ def _steps(links: list[Cache]) -> tuple[Tf | None, list[Step]]:
     return pre, steps
 
 
-def build_chain(caches: Mapping[str, Cache], target: str, source: str, limit: int) -> Chain | None:
-    """The chain between two known frames, or None if the tf2 walk must handle this pair."""
+class NoChain:
+    """Why a pair has no chain (falsy): the walk must answer, or the trees are disjoint."""
+
+    __slots__ = ("disjoint",)
+
+    def __init__(self, disjoint: bool) -> None:
+        self.disjoint = disjoint
+
+    def __bool__(self) -> bool:
+        return False
+
+
+WALK = NoChain(False)
+"""Re-parenting inside the window, an empty link or a loop: only the tf2 walk can answer."""
+DISJOINT = NoChain(True)
+"""The frames are in different trees at every time: no transform, whatever the time."""
+
+
+def build_chain(
+    caches: Mapping[str, Cache], target: str, source: str, limit: int
+) -> Chain | NoChain:
+    """The chain between two known frames, or why there is none."""
     pos = {source: 0}
     up: list[Cache] = []
     frame = source
     while (cache := caches.get(frame)) is not None:
         parent = cache.parent
         if parent is None or parent in pos or len(up) >= limit:
-            return None  # mixed parents, empty, or a loop
+            return WALK  # mixed parents, empty, or a loop
         up.append(cache)
         pos[parent] = len(up)
         frame = parent
@@ -175,8 +195,10 @@ def build_chain(caches: Mapping[str, Cache], target: str, source: str, limit: in
     frame = target
     while frame not in pos:
         cache = caches.get(frame)
-        if cache is None or cache.parent is None or len(down) >= limit:
-            return None  # another tree, mixed parents or empty
+        if cache is None:
+            return DISJOINT  # target's root is not among source's ancestors
+        if cache.parent is None or len(down) >= limit:
+            return WALK
         down.append(cache)
         frame = cache.parent
     src_pre, src = _steps(up[: pos[frame]])

@@ -7,10 +7,8 @@ The methods here expect the caller to hold the lock.
 
 from __future__ import annotations
 
-from typing import Literal
-
 from ..errors import TransformException
-from .chain import Chain, build_chain
+from .chain import Chain, NoChain, build_chain
 from .report import frame_error, frame_listing
 from .rigid import IDENTITY, Tf
 from .store import DEFAULT_CACHE_TIME, FrameStore
@@ -24,12 +22,12 @@ __all__ = ["DEFAULT_CACHE_TIME", "BufferCore"]
 class BufferCore(FrameStore):
     """Answers ``lookup`` and ``can`` queries at once (no waiting); see `Buffer`."""
 
-    def _chain(self, target: str, source: str) -> Chain | Literal[False]:
+    def _chain(self, target: str, source: str) -> Chain | NoChain:
         if len(self._chains) >= _MAX_CHAINS:
             self._chains.clear()
         ch = build_chain(self._caches, target, source, len(self._frames))
-        self._chains[(target, source)] = ch if ch is not None else False
-        return ch if ch is not None else False
+        self._chains[(target, source)] = ch
+        return ch
 
     def _lookup(self, target: str, source: str, t: int, fn: str = "lookupTransform") -> tuple[Tf, int]:
         """``(T_target_source, stamp)`` at ``t`` (0: latest common time)."""
@@ -41,7 +39,7 @@ class BufferCore(FrameStore):
             self._check(target, fn + " argument target_frame")
             self._check(source, fn + " argument source_frame")
             ch = self._chain(target, source)
-        if ch:
+        if isinstance(ch, Chain):
             tt = t or ch.latest_time()
             if tt:
                 r = ch.evaluate(tt)
@@ -68,10 +66,12 @@ class BufferCore(FrameStore):
             if target not in self._frames or source not in self._frames:
                 return False
             ch = self._chain(target, source)
-        if ch:
+        if isinstance(ch, Chain):
             tt = t or ch.latest_time()
             if tt or not ch.dyn:
                 return ch.covers(tt) if tt else True
+        elif ch.disjoint:
+            return False
         try:
             self._walk(target, source, t)
         except TransformException:

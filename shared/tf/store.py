@@ -9,13 +9,12 @@ from __future__ import annotations
 import logging
 import threading
 from math import sqrt
-from typing import Literal
 
 from ..errors import InvalidArgumentException
 from ..msgs.builtin_interfaces import Duration, Time
 from ..msgs.geometry_msgs import TransformStamped
 from .cache import REJECTED, RESHAPED, Cache, StaticCache, TimeCache
-from .chain import Chain
+from .chain import Chain, NoChain
 from .report import frame_error, frames_as_string, frames_as_yaml, insert_problems, unknown_frame
 from .rigid import Tf
 from .stamps import NS, TimeLike, format_ns, from_ns, seconds, to_ns
@@ -43,7 +42,7 @@ class FrameStore:
         self._caches: dict[str, Cache] = {}
         self._frames: dict[str, None] = {}  # every known id, in order of appearance
         self._authority: dict[str, str] = {}
-        self._chains: dict[tuple[str, str], Chain | Literal[False]] = {}
+        self._chains: dict[tuple[str, str], Chain | NoChain] = {}
         self._watchers = 0  # blocked threads + pending async waits; set_transform wakes them
 
     # ------------------------------------------------------------------ inserting

@@ -538,3 +538,12 @@ def test_frames_as_string_and_yaml(buf: Buffer) -> None:
     assert data["base"]["parent"] == "odom" and data["base"]["broadcaster"] == "urdf"
     assert buf.get_parent("odom") == "map" and buf.get_parent("map") is None
     assert buf._frameExists("base")
+
+
+def test_disjoint_trees_answer_false_without_walking(buf: Buffer) -> None:
+    buf.set_transform(link("a", "b", 1.0), "me")
+    buf.set_transform(link("c", "d", 1.0), "me")
+    assert not buf.can_transform("b", "d", T(1.0))  # remembered as disjoint
+    assert not buf.can_transform("b", "d", LATEST)
+    buf.set_transform(link("a", "c", 1.0), "me")  # now joined: the memo is dropped
+    assert buf.can_transform("b", "d", T(1.0))

@@ -9,22 +9,22 @@ type and message, and ``can_transform`` must say True exactly when the lookup su
 from __future__ import annotations
 
 import random
-from typing import Literal, cast
+from typing import cast
 
 import pytest
 from zenros.errors import TransformException
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import TransformStamped
 from zenros.tf import Buffer, quaternion_normalize, transform_stamped
-from zenros.tf.chain import Chain
+from zenros.tf.chain import WALK, Chain, NoChain
 
 NS = 1_000_000_000
 
 
 class WalkOnly(Buffer):  # type: ignore[misc]
-    def _chain(self, target: str, source: str) -> Chain | Literal[False]:
-        self._chains[(target, source)] = False
-        return False
+    def _chain(self, target: str, source: str) -> Chain | NoChain:
+        self._chains[(target, source)] = WALK
+        return WALK
 
 
 def random_link(rng: random.Random, parent: str, child: str, t: int) -> TransformStamped:

@@ -1,0 +1,161 @@
+"""`ClientGoalHandle` and `GoalResult`: a sent goal as the client sees it, until it ends."""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import threading
+import uuid
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from ..errors import GoalRejectedError, ZenrosTimeout
+from ..msgs.builtin_interfaces import Time
+from .types import GoalStatus
+
+if TYPE_CHECKING:
+    from .client import ActionClient
+
+__all__ = ["ClientGoalHandle", "GoalResult"]
+
+
+@dataclass(frozen=True)
+class GoalResult:
+    """How a goal ended: its terminal status (SUCCEEDED, CANCELED, ABORTED or, client-side,
+    LOST), the result message (a default one when the server sent none), and why (for LOST)."""
+
+    goal_id: uuid.UUID
+    status: GoalStatus
+    result: Any
+    reason: str = ""
+
+    @property
+    def succeeded(self) -> bool:
+        return self.status is GoalStatus.SUCCEEDED
+
+
+class ClientGoalHandle:
+    """A goal sent with `ActionClient.send_goal_async`.
+
+    ``status`` follows the server (UNKNOWN until the server answers, then ACCEPTED or
+    REJECTED, EXECUTING, CANCELING, and a terminal state); ``result()`` blocks until the goal
+    ended and returns a `GoalResult`; ``cancel()`` asks the server to cancel it.
+    """
+
+    def __init__(self, client: ActionClient, goal_id: uuid.UUID, goal: Any,
+                 on_feedback: Callable[[Any], None] | None) -> None:
+        self.goal_id = goal_id
+        self.goal = goal
+        self.stamp = Time()
+        self.reason = ""
+        self._client = client
+        self._status = GoalStatus.UNKNOWN
+        self._accepted: bool | None = None
+        self._cond = threading.Condition()
+        self._future: concurrent.futures.Future[GoalResult] = concurrent.futures.Future()
+        self._on_feedback = on_feedback
+        # client bookkeeping
+        self._key = goal_id.bytes
+        self._server_zid = ""
+        self._retry_result = False
+
+    @property
+    def status(self) -> GoalStatus:
+        return self._status
+
+    @property
+    def accepted(self) -> bool | None:
+        """True or False once the server answered the goal; None before."""
+        return self._accepted
+
+    @property
+    def done(self) -> bool:
+        """True once the goal ended (or failed to be sent)."""
+        return self._future.done()
+
+    def wait_accepted(self, timeout: float | None = None) -> bool:
+        """Block until the server answered: True if it accepted the goal, False if it rejected
+        it. Raises `ZenrosTimeout` on timeout, and the send error if the goal never arrived."""
+        with self._cond:
+            if not self._cond.wait_for(lambda: self._accepted is not None or self._future.done(),
+                                       timeout):
+                raise ZenrosTimeout(f"goal {self.goal_id} on {self._client.name}: no answer "
+                                    f"within {timeout:g} s")
+        if self._accepted is None:
+            self._future.result()  # raises the send error
+        return bool(self._accepted)
+
+    def result(self, timeout: float | None = None) -> GoalResult:
+        """Block until the goal ends and return how.
+
+        Raises:
+            GoalRejectedError: the server rejected the goal.
+            ActionServerUnavailableError: no server answered the goal.
+            ZenrosTimeout: the goal did not end within ``timeout`` seconds (it keeps running).
+        """
+        try:
+            return self._future.result(timeout)
+        except concurrent.futures.TimeoutError:
+            raise ZenrosTimeout(f"goal {self.goal_id} on {self._client.name} did not end within "
+                                f"{timeout:g} s (status {self._status.name})") from None
+
+    async def result_async(self) -> GoalResult:
+        """Await the goal's end from any event loop (same errors as `result`)."""
+        return await asyncio.wrap_future(self._future)
+
+    def add_done_callback(self, fn: Callable[[ClientGoalHandle], None]) -> None:
+        """Call ``fn(handle)`` once the goal ended (on the thread that learned it)."""
+        self._future.add_done_callback(lambda _f: fn(self))
+
+    def cancel(self, timeout: float = 5.0) -> bool:
+        """Ask the server to cancel this goal; True if it is now canceling (the goal then ends
+        CANCELED, or otherwise if its execute callback decides so)."""
+        return self.goal_id in self._client._cancel(self.goal_id, Time(), timeout)
+
+    # ------------------------------------------------------------------ updates (client side)
+
+    def _advance(self, status: GoalStatus) -> bool:
+        """Move forward only: statuses from the topic may arrive late or repeated."""
+        with self._cond:
+            if self._status.terminal or status <= self._status:
+                return False
+            self._status = status
+            self._cond.notify_all()
+            return True
+
+    def _set_accepted(self, accepted: bool, stamp: Time, reason: str, zid: str) -> None:
+        with self._cond:
+            self._accepted = accepted
+            self.stamp = stamp
+            self._server_zid = zid
+            if not accepted:
+                self.reason = reason
+            self._cond.notify_all()
+        if accepted:
+            self._advance(GoalStatus.ACCEPTED)
+        else:
+            self._fail(GoalStatus.REJECTED, GoalRejectedError(
+                f"action {self._client.name} rejected goal {self.goal_id}: {reason}"))
+
+    def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
+        with self._cond:
+            if self._future.done():
+                return
+            self._status = status
+            self.reason = reason
+            self._future.set_result(GoalResult(self.goal_id, status, result, reason))
+            self._cond.notify_all()
+
+    def _fail(self, status: GoalStatus | None, exc: Exception) -> None:
+        with self._cond:
+            if self._future.done():
+                return
+            if status is not None:
+                self._status = status
+            self.reason = self.reason or str(exc)
+            self._future.set_exception(exc)
+            self._cond.notify_all()
+
+    def __repr__(self) -> str:
+        return f"<ClientGoalHandle {self.goal_id} {self._status.name}>"

@@ -1,0 +1,93 @@
+"""`ServerGoalHandle`: one goal as its execute callback sees it (feedback, end states, cancel)."""
+
+from __future__ import annotations
+
+import threading
+import uuid
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
+
+from ..msgs.builtin_interfaces import Time
+from .states import GoalEvent
+from .types import GoalStatus
+
+if TYPE_CHECKING:
+    import zenoh
+
+    from .server import ActionServer
+
+__all__ = ["ServerGoalHandle"]
+
+G = TypeVar("G")
+
+
+class ServerGoalHandle(Generic[G]):
+    """A goal on the server. The execute callback reads ``request``, calls `publish_feedback`,
+    polls `is_cancel_requested` (or blocks in `wait_for_cancel`), ends the goal with
+    `succeed`, `abort` or `canceled`, and returns the result message.
+
+    Attributes:
+        goal_id: the client-chosen UUID.
+        request: the goal message.
+        stamp: when the server accepted the goal (its node clock).
+    """
+
+    def __init__(self, server: ActionServer, goal_id: uuid.UUID, request: G) -> None:
+        self.goal_id = goal_id
+        self.request = request
+        self.stamp = Time()
+        self._server = server
+        self._status = GoalStatus.UNKNOWN
+        self._cancel = threading.Event()
+        # server bookkeeping, guarded by the server's lock
+        self._key = goal_id.bytes
+        self._result: Any = None
+        self._waiters: list[zenoh.Query] = []
+        self._finished_at = 0.0
+
+    @property
+    def goal(self) -> G:
+        """The goal message (rclpy calls it ``request``; both work)."""
+        return self.request
+
+    @property
+    def status(self) -> GoalStatus:
+        return self._status
+
+    @property
+    def is_active(self) -> bool:
+        """True until the goal reaches a terminal state."""
+        return self._status.active
+
+    @property
+    def is_executing(self) -> bool:
+        return self._status is GoalStatus.EXECUTING
+
+    @property
+    def is_cancel_requested(self) -> bool:
+        """True once a client canceled the goal or a newer goal preempted it."""
+        return self._cancel.is_set()
+
+    def wait_for_cancel(self, timeout: float | None = None) -> bool:
+        """Block until a cancel is requested (True) or ``timeout`` passes (False): an
+        interruptible sleep for blocking execute callbacks."""
+        return self._cancel.wait(timeout)
+
+    def publish_feedback(self, feedback: Any) -> None:
+        """Send feedback for this goal; raises `EncodeError` for another type than the
+        action's Feedback and `GoalStateError` once the goal has ended."""
+        self._server._publish_feedback(self, feedback)
+
+    def succeed(self) -> None:
+        """End the goal as SUCCEEDED (from EXECUTING or CANCELING)."""
+        self._server._end(self, GoalEvent.SUCCEED)
+
+    def abort(self) -> None:
+        """End the goal as ABORTED (from EXECUTING or CANCELING)."""
+        self._server._end(self, GoalEvent.ABORT)
+
+    def canceled(self) -> None:
+        """End the goal as CANCELED (only after a cancel request: from CANCELING)."""
+        self._server._end(self, GoalEvent.CANCELED)
+
+    def __repr__(self) -> str:
+        return f"<ServerGoalHandle {self.goal_id} {self._status.name}>"

@@ -1,0 +1,108 @@
+"""`GoalTable`: an action server's goals, from arrival to the expiry of their results.
+
+Pure bookkeeping (no Zenoh, no threads): the server calls it under its own lock.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterator
+from itertools import islice
+from typing import Any
+
+from .goal_handle import ServerGoalHandle
+from .types import GoalStatus
+
+__all__ = ["GoalTable"]
+
+Handle = ServerGoalHandle[Any]
+
+
+class GoalTable:
+    """Goals by id: pending (goal callback deciding), active (until their result is set) and
+    finished (results kept ``result_timeout`` seconds, oldest first).
+
+    Args:
+        result_timeout: seconds a result stays available after the goal ended.
+        status_history: how many finished goals the status array still lists.
+    """
+
+    def __init__(self, result_timeout: float, status_history: int) -> None:
+        if result_timeout < 0:
+            raise ValueError(f"result_timeout must be >= 0 s, got {result_timeout}")
+        if status_history < 0:
+            raise ValueError(f"status_history must be >= 0, got {status_history}")
+        self.result_timeout = result_timeout
+        self.status_history = status_history
+        self._all: dict[bytes, Handle] = {}
+        self.active: dict[bytes, Handle] = {}
+        self.finished: deque[Handle] = deque()
+
+    def __len__(self) -> int:
+        return len(self._all)
+
+    def lookup(self, key: bytes) -> Handle | None:
+        return self._all.get(key)
+
+    def add_pending(self, handle: Handle) -> bool:
+        """Register a goal the goal callback is deciding on; False if the id is taken."""
+        if handle._key in self._all:
+            return False
+        self._all[handle._key] = handle
+        return True
+
+    def remove(self, handle: Handle) -> None:
+        """Forget a rejected goal."""
+        self._all.pop(handle._key, None)
+        self.active.pop(handle._key, None)
+
+    def activate(self, handle: Handle) -> None:
+        self.active[handle._key] = handle
+
+    def retire(self, handle: Handle, now: float) -> None:
+        """The goal's result is set: keep it until ``now + result_timeout``."""
+        self.active.pop(handle._key, None)
+        handle._finished_at = now
+        self.finished.append(handle)
+
+    def next_expiry(self) -> float | None:
+        """When the oldest kept result expires (monotonic seconds), if any."""
+        return self.finished[0]._finished_at + self.result_timeout if self.finished else None
+
+    def expire(self, now: float) -> list[Handle]:
+        """Drop the results older than ``result_timeout``; return the dropped goals."""
+        dropped = []
+        while self.finished and self.finished[0]._finished_at + self.result_timeout <= now:
+            h = self.finished.popleft()
+            self._all.pop(h._key, None)
+            dropped.append(h)
+        return dropped
+
+    def status_list(self) -> list[Handle]:
+        """What the status array shows: every active goal (in acceptance order), then the
+        ``status_history`` most recently finished ones."""
+        recent = list(islice(reversed(self.finished), self.status_history))
+        recent.reverse()
+        return list(self.active.values()) + recent
+
+    def cancel_targets(self, key: bytes | None, stamp_ns: int) -> Iterator[Handle]:
+        """Active goals a cancel request names: the goal ``key``, and (``stamp_ns`` > 0) every
+        goal accepted at or before the stamp; no key and no stamp: every active goal."""
+        for h in list(self.active.values()):
+            if not h.status.active:
+                continue
+            if key is not None and h._key == key:
+                yield h
+            elif key is None and stamp_ns == 0:
+                yield h
+            elif stamp_ns > 0 and _ns(h) <= stamp_ns:
+                yield h
+
+    def terminal_or_unknown(self, key: bytes) -> GoalStatus:
+        """For a cancel naming a goal that is not cancelable: its state (UNKNOWN if not here)."""
+        h = self._all.get(key)
+        return GoalStatus.UNKNOWN if h is None else h.status
+
+
+def _ns(h: Handle) -> int:
+    return h.stamp.sec * 1_000_000_000 + h.stamp.nanosec

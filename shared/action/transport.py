@@ -1,0 +1,82 @@
+"""Zenoh plumbing shared by action servers and clients: encodings, query decoding, the latched
+status topic and error payloads."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import zenoh
+from zenoh import ext as zext
+
+from ..codec import Codec, codec_for
+from ..errors import CodecError
+from ..message import Message
+from ..rpc import error_payload
+
+__all__ = [
+    "PARTS",
+    "error_payload",
+    "decode_query",
+    "encoding_for",
+    "parse_error",
+    "status_publisher",
+    "status_subscriber",
+]
+
+M = TypeVar("M", bound=Message)
+
+PARTS = ("send_goal", "cancel_goal", "get_result", "feedback", "status")
+
+
+def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:
+    """The Zenoh encoding of a type: its MIME type with the wire type name as schema."""
+    codec = codec_for(msg_type)
+    return zenoh.Encoding(codec.mime).with_schema(codec.type_name)
+
+
+def parse_error(data: bytes) -> tuple[str, str]:
+    """``(kind, message)`` of an error reply; Zenoh's own errors (``Timeout``) have no JSON."""
+    try:
+        body = json.loads(data)
+        return str(body["error"]), str(body["message"])
+    except (ValueError, KeyError, TypeError):
+        text = data.decode("utf-8", "replace")
+        return text, text
+
+
+def decode_query(query: zenoh.Query, codec: Codec[M], what: str) -> M | str:
+    """The request of ``query``, or (a string) why it cannot be decoded; the caller replies."""
+    payload = query.payload
+    if payload is None:
+        return f"{what}: empty request; expected {codec.type_name}"
+    enc = query.encoding
+    try:
+        if enc is not None:
+            codec.check_encoding(str(enc))
+        return codec.decode(payload.to_bytes())
+    except CodecError as exc:
+        return f"{what}: {exc}"
+
+
+def status_publisher(session: zenoh.Session, key: str, msg_type: type[Message]) -> Any:
+    """A latched publisher (last sample cached for late joiners), as QOS_LATCHED topics use."""
+    return zext.declare_advanced_publisher(
+        session, key, encoding=encoding_for(msg_type),
+        congestion_control=zenoh.CongestionControl.BLOCK,
+        cache=zext.CacheConfig(max_samples=1),
+        sample_miss_detection=zext.MissDetectionConfig(heartbeat=0.5),
+        publisher_detection=True,
+    )
+
+
+def status_subscriber(session: zenoh.Session, key: str,
+                      callback: Callable[[zenoh.Sample], None]) -> Any:
+    """A subscriber that also fetches the latched sample of publishers already there."""
+    return zext.declare_advanced_subscriber(
+        session, key, callback,
+        history=zext.HistoryConfig(detect_late_publishers=True, max_samples=1),
+        recovery=zext.RecoveryConfig(heartbeat=True),
+        subscriber_detection=True,
+    )
