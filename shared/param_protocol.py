@@ -164,7 +164,7 @@ _ERRORS: dict[str, type[ParameterError] | type[InvalidNameError]] = {
 }
 
 
-class ParamResponse(Message, kw_only=True):
+class ParamResponse(Message):
     """Fields every parameter response carries: an expected failure travels as data, so
     the master does not log a caller's typo as a server error."""
 
@@ -185,7 +185,7 @@ def raise_remote(service: str, response: ParamResponse) -> None:
     raise cls(response.error or f"{service} failed ({response.error_type})")
 
 
-class SetParamRequest(Message, kw_only=True):
+class SetParamRequest(Message):
     __msgtype__ = "zenros_msgs/SetParamRequest"
     __bulk__ = True  # MessagePack keeps bytes and int/float exactly
     name: str = ""
@@ -193,7 +193,7 @@ class SetParamRequest(Message, kw_only=True):
     caller: str = ""
 
 
-class SetParamResponse(ParamResponse, kw_only=True):
+class SetParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/SetParamResponse"
     __bulk__ = True
     name: str = ""
@@ -201,28 +201,28 @@ class SetParamResponse(ParamResponse, kw_only=True):
     source: str = ""
 
 
-class GetParamRequest(Message, kw_only=True):
+class GetParamRequest(Message):
     __msgtype__ = "zenros_msgs/GetParamRequest"
     __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
-class GetParamResponse(ParamResponse, kw_only=True):
+class GetParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/GetParamResponse"
     __bulk__ = True
     name: str = ""
     value: Any = None
 
 
-class DeleteParamRequest(Message, kw_only=True):
+class DeleteParamRequest(Message):
     __msgtype__ = "zenros_msgs/DeleteParamRequest"
     __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
-class DeleteParamResponse(ParamResponse, kw_only=True):
+class DeleteParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/DeleteParamResponse"
     __bulk__ = True
     name: str = ""
@@ -230,61 +230,61 @@ class DeleteParamResponse(ParamResponse, kw_only=True):
     source: str = ""
 
 
-class HasParamRequest(Message, kw_only=True):
+class HasParamRequest(Message):
     __msgtype__ = "zenros_msgs/HasParamRequest"
     __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
-class HasParamResponse(ParamResponse, kw_only=True):
+class HasParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/HasParamResponse"
     __bulk__ = True
     name: str = ""
     has: bool = False
 
 
-class SearchParamRequest(Message, kw_only=True):
+class SearchParamRequest(Message):
     __msgtype__ = "zenros_msgs/SearchParamRequest"
     __bulk__ = True
     key: str = ""
     caller: str = ""
 
 
-class SearchParamResponse(ParamResponse, kw_only=True):
+class SearchParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/SearchParamResponse"
     __bulk__ = True
     found: bool = False
     name: str = ""
 
 
-class ListParamsRequest(Message, kw_only=True):
+class ListParamsRequest(Message):
     __msgtype__ = "zenros_msgs/ListParamsRequest"
     __bulk__ = True
     prefix: str = "/"
     caller: str = ""
 
 
-class ListParamsResponse(ParamResponse, kw_only=True):
+class ListParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/ListParamsResponse"
     __bulk__ = True
     names: list[str] = msgspec.field(default_factory=list)
 
 
-class DumpParamsRequest(Message, kw_only=True):
+class DumpParamsRequest(Message):
     __msgtype__ = "zenros_msgs/DumpParamsRequest"
     __bulk__ = True
     prefix: str = "/"
     caller: str = ""
 
 
-class DumpParamsResponse(ParamResponse, kw_only=True):
+class DumpParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/DumpParamsResponse"
     __bulk__ = True
     yaml: str = ""
 
 
-class LoadParamsRequest(Message, kw_only=True):
+class LoadParamsRequest(Message):
     __msgtype__ = "zenros_msgs/LoadParamsRequest"
     __bulk__ = True
     yaml: str = ""
@@ -292,7 +292,7 @@ class LoadParamsRequest(Message, kw_only=True):
     source: str = "<string>"
 
 
-class LoadParamsResponse(ParamResponse, kw_only=True):
+class LoadParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/LoadParamsResponse"
     __bulk__ = True
     names: list[str] = msgspec.field(default_factory=list)

@@ -41,7 +41,7 @@ REPLICATION_TOPIC = "/master/replication"
 # ---------------------------------------------------------------- registry
 
 
-class NodeState(Message, kw_only=True):
+class NodeState(Message):
     """One node instance: where it runs and since when."""
 
     __msgtype__ = "zenros_msgs/NodeState"
@@ -52,7 +52,7 @@ class NodeState(Message, kw_only=True):
     start: Time = msgspec.field(default_factory=Time)
 
 
-class TopicState(Message, kw_only=True):
+class TopicState(Message):
     __msgtype__ = "zenros_msgs/TopicState"
     name: str = ""
     types: list[str] = msgspec.field(default_factory=list)
@@ -60,7 +60,7 @@ class TopicState(Message, kw_only=True):
     subscribers: list[str] = msgspec.field(default_factory=list)
 
 
-class EndpointState(Message, kw_only=True):
+class EndpointState(Message):
     """A service or an action: its types and the nodes serving it."""
 
     __msgtype__ = "zenros_msgs/EndpointState"
@@ -69,17 +69,17 @@ class EndpointState(Message, kw_only=True):
     servers: list[str] = msgspec.field(default_factory=list)
 
 
-class TopicType(Message, kw_only=True):
+class TopicType(Message):
     __msgtype__ = "zenros_msgs/TopicType"
     name: str = ""
     types: list[str] = msgspec.field(default_factory=list)
 
 
-class GetSystemStateRequest(Message, kw_only=True):
+class GetSystemStateRequest(Message):
     __msgtype__ = "zenros_msgs/GetSystemStateRequest"
 
 
-class GetSystemStateResponse(Message, kw_only=True):
+class GetSystemStateResponse(Message):
     __msgtype__ = "zenros_msgs/GetSystemStateResponse"
     nodes: list[NodeState] = msgspec.field(default_factory=list)
     topics: list[TopicState] = msgspec.field(default_factory=list)
@@ -89,32 +89,32 @@ class GetSystemStateResponse(Message, kw_only=True):
     duplicate_nodes: list[str] = msgspec.field(default_factory=list)
 
 
-class LookupNodeRequest(Message, kw_only=True):
+class LookupNodeRequest(Message):
     __msgtype__ = "zenros_msgs/LookupNodeRequest"
     name: str = ""
 
 
-class LookupNodeResponse(Message, kw_only=True):
+class LookupNodeResponse(Message):
     __msgtype__ = "zenros_msgs/LookupNodeResponse"
     found: bool = False
     node: NodeState = msgspec.field(default_factory=NodeState)
 
 
-class GetTopicTypesRequest(Message, kw_only=True):
+class GetTopicTypesRequest(Message):
     __msgtype__ = "zenros_msgs/GetTopicTypesRequest"
 
 
-class GetTopicTypesResponse(Message, kw_only=True):
+class GetTopicTypesResponse(Message):
     __msgtype__ = "zenros_msgs/GetTopicTypesResponse"
     topics: list[TopicType] = msgspec.field(default_factory=list)
 
 
-class GetPublishedTopicsRequest(Message, kw_only=True):
+class GetPublishedTopicsRequest(Message):
     __msgtype__ = "zenros_msgs/GetPublishedTopicsRequest"
     subgraph: str = "/"
 
 
-class GetPublishedTopicsResponse(Message, kw_only=True):
+class GetPublishedTopicsResponse(Message):
     __msgtype__ = "zenros_msgs/GetPublishedTopicsResponse"
     topics: list[TopicType] = msgspec.field(default_factory=list)
 
@@ -136,7 +136,7 @@ GetPublishedTopics: ServiceType = define_service(
 # ---------------------------------------------------------------- replicas
 
 
-class ParamRows(Message, kw_only=True):
+class ParamRows(Message):
     """Rows a replica committed, pushed to the others (who merge them)."""
 
     __msgtype__ = "zenros_msgs/ParamRows"
@@ -145,7 +145,7 @@ class ParamRows(Message, kw_only=True):
     entries: list[Entry] = msgspec.field(default_factory=list)
 
 
-class SyncRequest(Message, kw_only=True):
+class SyncRequest(Message):
     """Anti-entropy: the asker's id and digest; replicas that differ send all their rows."""
 
     __msgtype__ = "zenros_msgs/SyncRequest"
@@ -154,7 +154,7 @@ class SyncRequest(Message, kw_only=True):
     digest: str = ""
 
 
-class SyncResponse(Message, kw_only=True):
+class SyncResponse(Message):
     __msgtype__ = "zenros_msgs/SyncResponse"
     __bulk__ = True
     source: str = ""

@@ -59,6 +59,7 @@ class ClientGoalHandle:
         self._key = goal_id.bytes
         self._server_zid = ""
         self._retry_result = False
+        self._ended = False
 
     @property
     def status(self) -> GoalStatus:
@@ -78,7 +79,7 @@ class ClientGoalHandle:
         """Block until the server answered: True if it accepted the goal, False if it rejected
         it. Raises `ZenrosTimeout` on timeout, and the send error if the goal never arrived."""
         with self._cond:
-            if not self._cond.wait_for(lambda: self._accepted is not None or self._future.done(),
+            if not self._cond.wait_for(lambda: self._accepted is not None or self._ended,
                                        timeout):
                 raise ZenrosTimeout(f"goal {self.goal_id} on {self._client.name}: no answer "
                                     f"within {timeout:g} s")
@@ -118,7 +119,7 @@ class ClientGoalHandle:
     def _advance(self, status: GoalStatus) -> bool:
         """Move forward only: statuses from the topic may arrive late or repeated."""
         with self._cond:
-            if self._status.terminal or status <= self._status:
+            if self._ended or self._status.terminal or status <= self._status:
                 return False
             self._status = status
             self._cond.notify_all()
@@ -129,33 +130,31 @@ class ClientGoalHandle:
             self._accepted = accepted
             self.stamp = stamp
             self._server_zid = zid
-            if not accepted:
-                self.reason = reason
             self._cond.notify_all()
         if accepted:
             self._advance(GoalStatus.ACCEPTED)
         else:
             self._fail(GoalStatus.REJECTED, GoalRejectedError(
-                f"action {self._client.name} rejected goal {self.goal_id}: {reason}"))
+                f"action {self._client.name} rejected goal {self.goal_id}: {reason}"), reason)
 
-    def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
+    def _end(self, status: GoalStatus | None, reason: str) -> bool:
         with self._cond:
-            if self._future.done():
-                return
-            self._status = status
-            self.reason = reason
-            self._future.set_result(GoalResult(self.goal_id, status, result, reason))
-            self._cond.notify_all()
-
-    def _fail(self, status: GoalStatus | None, exc: Exception) -> None:
-        with self._cond:
-            if self._future.done():
-                return
+            if self._ended:
+                return False
+            self._ended = True
             if status is not None:
                 self._status = status
-            self.reason = self.reason or str(exc)
-            self._future.set_exception(exc)
+            self.reason = reason
             self._cond.notify_all()
+        return True
+
+    def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
+        if self._end(status, reason):
+            self._future.set_result(GoalResult(self.goal_id, status, result, reason))
+
+    def _fail(self, status: GoalStatus | None, exc: Exception, reason: str = "") -> None:
+        if self._end(status, reason or str(exc)):
+            self._future.set_exception(exc)
 
     def __repr__(self) -> str:
         return f"<ClientGoalHandle {self.goal_id} {self._status.name}>"

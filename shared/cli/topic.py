@@ -12,6 +12,7 @@ from collections import deque
 from typing import Any
 
 import zenoh
+from zenoh import ext as zext
 
 from ..codec import from_builtins
 from ..message import lookup_type
@@ -102,7 +103,15 @@ def _type(ctx: Any, args: argparse.Namespace) -> int:
     return 0
 
 
-def _subscribe(ctx: Any, topic: str, fn: Any) -> Any:
+def _subscribe(ctx: Any, topic: str, fn: Any, history: bool = False) -> Any:
+    """A raw subscriber (any type); with ``history``, one that also gets latched samples."""
+    if history:
+        return zext.declare_advanced_subscriber(
+            ctx.session, ctx.keys.topic(topic), fn,
+            history=zext.HistoryConfig(detect_late_publishers=True, max_samples=100),
+            recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
+            subscriber_detection=True,
+        )
     return ctx.session.declare_subscriber(ctx.keys.topic(topic), fn)
 
 
@@ -124,7 +133,9 @@ def _echo(ctx: Any, args: argparse.Namespace) -> int:
             if limit and count >= limit:
                 done.set()
 
-    sub = _subscribe(ctx, topic, on_sample)
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    latched = any("+tl" in t.qos for t in ctx.graph.publishers(topic))
+    sub = _subscribe(ctx, topic, on_sample, history=latched)
     try:
         got = done.wait(args.timeout or None)
     except KeyboardInterrupt:

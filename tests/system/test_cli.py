@@ -127,3 +127,21 @@ def test_graph_as_dot(system: tuple[str, str]) -> None:
     assert "/rosout" not in r.stdout
     r = zenros(*system, "graph", "--all")
     assert '"s:/add_two_ints"' in r.stdout
+
+
+def test_echo_gets_a_latched_message_published_before_it_started(router: str, prefix: str) -> None:
+    from zenros import QOS_LATCHED, Node
+    from zenros.context import Context
+    from zenros.msgs.std_msgs import String
+    from zenros.session import SessionOptions
+
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("map_server", context=ctx)
+    try:
+        node.create_publisher(String, "map_name", QOS_LATCHED).publish(String(data="floor1"))
+        r = zenros(router, prefix, "topic", "echo", "/map_name", "--once", "--timeout", "10")
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.startswith("data: floor1")
+    finally:
+        node.close()
+        ctx.close()

@@ -1,0 +1,240 @@
+#!/usr/bin/env bash
+# zenros multi-host demo on one machine: a station and two robots, each in a network namespace
+# of its own (its own "host" with its own address), joined by a bridge. Needs root and iproute2;
+# `loss` also needs iptables. docs/demo.md walks through it.
+#
+#   deploy/demo/demo.sh up          create the namespaces and the network
+#   deploy/demo/demo.sh start       station.yaml on the station (with the router), robot.yaml
+#                                   on each robot; waits until the station sees both robots
+#   deploy/demo/demo.sh show        what the station sees: nodes, topics, a service call,
+#                                   the heartbeat counts
+#   deploy/demo/demo.sh link robot1 down|up      pull a robot's cable out / plug it back
+#   deploy/demo/demo.sh flap robot1 [SECONDS]    down, wait (default 5 s), up
+#   deploy/demo/demo.sh loss robot1 PROB|off     random loss on the robot's incoming packets
+#   deploy/demo/demo.sh run HOST CMD...          run a command on a host with the demo's env
+#   deploy/demo/demo.sh report                   the monitor's latest heartbeat counts
+#   deploy/demo/demo.sh status | stop | down     (down = stop + delete the namespaces)
+#
+# Hosts: station 10.99.0.1 (router on tcp/10.99.0.1:7447), robot1 10.99.0.2, robot2 10.99.0.3.
+# Environment: ZR_PREFIX (namespace prefix, default zrdemo, at most 10 characters),
+# ZR_STATE (pids and logs, default /tmp/zenros-demo-$ZR_PREFIX), PYTHON (default python3),
+# ZR_WAIT (seconds `start` waits for the robots, default 60).
+set -euo pipefail
+
+HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+ROOT=$(cd "$HERE/../.." && pwd)
+P=${ZR_PREFIX:-zrdemo}
+STATE=${ZR_STATE:-/tmp/zenros-demo-$P}
+PY=${PYTHON:-python3}
+NET=10.99.0
+ROUTER="tcp/$NET.1:7447"
+HOSTS=(st r1 r2)
+SW="${P}sw"
+
+die() { echo "demo.sh: $*" >&2; exit 1; }
+say() { echo "[demo] $*"; }
+
+# station|robot1|robot2 (or st|r1|r2) -> st|r1|r2
+short() {
+    case "$1" in
+        station|st) echo st ;;
+        robot1|r1) echo r1 ;;
+        robot2|r2) echo r2 ;;
+        *) die "unknown host '$1'; hosts: station, robot1, robot2" ;;
+    esac
+}
+ns() { echo "$P$1"; }
+addr() { case "$1" in st) echo "$NET.1" ;; r1) echo "$NET.2" ;; r2) echo "$NET.3" ;; esac; }
+
+need_root() {
+    [ "$(id -u)" = 0 ] || die "needs root (network namespaces); run it with sudo"
+    command -v ip >/dev/null || die "needs iproute2 (the 'ip' command): apt-get install -y iproute2"
+    [[ "$P" =~ ^[a-z][a-z0-9]{0,9}$ ]] \
+        || die "ZR_PREFIX must be 1-10 lowercase letters or digits, starting with a letter; got '$P'"
+}
+
+# Everything a process on a simulated host needs: the router's address and the session config
+# (peer mode, listens on the host's address, SHM off, 1 s lease); logs under $STATE/<host>.
+host_env() {
+    echo "ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$HERE/zenoh-host.json5" \
+         "ZENROS_HOME=$STATE/home-$1" "PYTHONUNBUFFERED=1"
+}
+
+cmd_up() {
+    need_root
+    ip netns add "$SW" 2>/dev/null \
+        || die "cannot create network namespace $SW (ip netns add failed; already up? try 'down')"
+    ip -n "$SW" link set lo up
+    ip -n "$SW" link add br0 type bridge
+    ip -n "$SW" link set br0 up
+    for h in "${HOSTS[@]}"; do
+        ip netns add "$(ns "$h")"
+        ip -n "$(ns "$h")" link set lo up
+        ip -n "$SW" link add "$P$h" type veth peer name "$P$h-h"
+        ip -n "$SW" link set "$P$h-h" netns "$(ns "$h")"
+        ip -n "$(ns "$h")" link set "$P$h-h" name eth0
+        ip -n "$SW" link set "$P$h" master br0 up
+        ip -n "$(ns "$h")" addr add "$(addr "$h")/24" dev eth0
+        ip -n "$(ns "$h")" link set eth0 up
+    done
+    mkdir -p "$STATE"
+    say "up: station $(ns st) $NET.1, robot1 $(ns r1) $NET.2, robot2 $(ns r2) $NET.3 (bridge in $SW)"
+}
+
+# start_host HOST LAUNCH_FILE ARGS...: `zenros launch` on HOST, in the background.
+start_host() {
+    local h=$1 file=$2; shift 2
+    [ -e "$STATE/$h.pid" ] && kill -0 "$(cat "$STATE/$h.pid")" 2>/dev/null \
+        && die "$h is already running (pid $(cat "$STATE/$h.pid"))"
+    # setsid: its own process group, so a terminal's Ctrl-C does not reach it; `ip netns exec`
+    # and `env` exec, so the pid is the launcher's.
+    # shellcheck disable=SC2046
+    setsid ip netns exec "$(ns "$h")" env $(host_env "$h") \
+        "$PY" -m zenros.cli launch "$ROOT/deploy/launch/$file" "$@" \
+        >"$STATE/$h.log" 2>&1 </dev/null &
+    echo $! >"$STATE/$h.pid"
+    say "started $file on $h (pid $!), log $STATE/$h.log"
+}
+
+# until_ok SECONDS WHAT CMD...: retry CMD every 0.2 s until it succeeds or time runs out.
+until_ok() {
+    local limit=$1 what=$2; shift 2
+    local deadline=$((SECONDS + limit))
+    until "$@" >/dev/null 2>&1; do
+        [ "$SECONDS" -lt "$deadline" ] || die "$what: not ready after ${limit} s (logs in $STATE)"
+        sleep 0.2
+    done
+}
+
+router_up() { ip netns exec "$(ns st)" bash -c "exec 3<>/dev/tcp/$NET.1/7447"; }
+
+robots_seen() {
+    local out
+    out=$(cmd_run station "$PY" -m zenros.cli node list) || return 1
+    grep -q '^/robot1/heartbeat$' <<<"$out" && grep -q '^/robot2/heartbeat$' <<<"$out"
+}
+
+cmd_start() {
+    need_root
+    ip netns list | grep -qw "$(ns st)" || die "the namespaces are not up; run '$0 up' first"
+    mkdir -p "$STATE"
+    start_host st station.yaml
+    until_ok 30 "the station's router on $ROUTER" router_up
+    start_host r1 robot.yaml robot:=robot1 --no-router
+    start_host r2 robot.yaml robot:=robot2 --no-router
+    until_ok "${ZR_WAIT:-60}" "the robots' nodes, seen from the station" robots_seen
+    say "the station sees both robots; try '$0 show'"
+}
+
+cmd_run() {
+    [ $# -ge 2 ] || die "usage: run HOST CMD..."
+    local h; h=$(short "$1"); shift
+    # shellcheck disable=SC2046
+    ip netns exec "$(ns "$h")" env $(host_env "$h") "$@"
+}
+
+cmd_show() {
+    local z=("$PY" -m zenros.cli)
+    say "zenros node list (on the station)"; cmd_run station "${z[@]}" node list
+    say "zenros topic list -t"; cmd_run station "${z[@]}" topic list -t
+    say "zenros service call /robot2/add_two_ints"
+    cmd_run station "${z[@]}" service call /robot2/add_two_ints \
+        example_interfaces/AddTwoInts '{a: 2, b: 3}'
+    say "zenros topic echo /robot1/heartbeat --once"
+    cmd_run station "${z[@]}" topic echo /robot1/heartbeat --once --timeout 5
+    say "heartbeat counts (station's heartbeat_monitor)"; cmd_report
+}
+
+cmd_report() {
+    [ -f "$STATE/st.log" ] || die "no station log in $STATE; run '$0 start' first"
+    # The last report line of each topic.
+    grep -o 'heartbeat_report {.*}' "$STATE/st.log" | tac | awk '!seen[$2 $3]++' | tac || true
+}
+
+cmd_link() {
+    need_root
+    local h; h=$(short "${1:?usage: link HOST up|down}")
+    case "${2:-}" in up|down) ;; *) die "usage: link HOST up|down" ;; esac
+    ip -n "$SW" link set "$P$h" "$2"
+    say "$1 link $2"
+}
+
+cmd_flap() {
+    local secs=${2:-5}
+    cmd_link "$1" down
+    sleep "$secs"
+    cmd_link "$1" up
+}
+
+# Random loss on a host's incoming packets, and on the station's packets from that host:
+# INPUT rules only (an OUTPUT DROP makes sendto() fail, which Zenoh treats as a dead link).
+cmd_loss() {
+    need_root
+    command -v iptables >/dev/null || die "needs iptables: apt-get install -y iptables"
+    local h; h=$(short "${1:?usage: loss HOST PROBABILITY|off}")
+    local p=${2:?usage: loss HOST PROBABILITY|off} tag="zenros-demo-loss-$h" n
+    for n in "$h" st; do
+        ip netns exec "$(ns "$n")" iptables -S INPUT | grep -- "$tag" | sed 's/^-A /-D /' \
+            | while read -r rule; do
+                # shellcheck disable=SC2086
+                ip netns exec "$(ns "$n")" iptables $rule
+            done
+    done
+    [ "$p" = off ] && { say "$1: no loss"; return; }
+    local rule=(-m statistic --mode random --probability "$p" -m comment --comment "$tag" -j DROP)
+    ip netns exec "$(ns "$h")" iptables -A INPUT "${rule[@]}"
+    [ "$h" = st ] || ip netns exec "$(ns st)" iptables -A INPUT -s "$(addr "$h")" "${rule[@]}"
+    say "$1: dropping incoming packets with probability $p"
+}
+
+cmd_status() {
+    local h
+    for h in "${HOSTS[@]}"; do
+        if ! ip netns list | grep -qw "$(ns "$h")"; then echo "$h: no namespace"; continue; fi
+        local pids; pids=$(ip netns pids "$(ns "$h")" | tr '\n' ' ')
+        echo "$h: namespace $(ns "$h") $(addr "$h"), processes: ${pids:-none}"
+    done
+}
+
+# Stop the launches (SIGINT: each stops its processes in order), then kill whatever is left
+# in the namespaces.
+cmd_stop() {
+    need_root
+    local h pid deadline
+    for h in "${HOSTS[@]}"; do
+        [ -f "$STATE/$h.pid" ] && kill -INT "$(cat "$STATE/$h.pid")" 2>/dev/null || true
+    done
+    deadline=$((SECONDS + 20))
+    for h in "${HOSTS[@]}"; do
+        [ -f "$STATE/$h.pid" ] || continue
+        pid=$(cat "$STATE/$h.pid")
+        while kill -0 "$pid" 2>/dev/null && [ "$SECONDS" -lt "$deadline" ]; do sleep 0.1; done
+        kill -KILL "$pid" 2>/dev/null || true
+        rm -f "$STATE/$h.pid"
+    done
+    for h in "${HOSTS[@]}" sw; do
+        ip netns list | grep -qw "$(ns "$h")" || continue
+        for pid in $(ip netns pids "$(ns "$h")"); do kill -KILL "$pid" 2>/dev/null || true; done
+    done
+    say "stopped"
+}
+
+cmd_down() {
+    need_root
+    cmd_stop
+    local h
+    for h in "${HOSTS[@]}" sw; do
+        ip netns list | grep -qw "$(ns "$h")" && ip netns del "$(ns "$h")"
+    done
+    say "down (logs kept in $STATE)"
+}
+
+main() {
+    local cmd=${1:-}; shift || true
+    case "$cmd" in
+        up|start|show|report|link|flap|loss|run|status|stop|down) "cmd_$cmd" "$@" ;;
+        *) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; [ -n "$cmd" ] && exit 2; exit 0 ;;
+    esac
+}
+
+main "$@"

@@ -1,0 +1,106 @@
+"""`zenros param list|get|set|delete|dump|load`: the master's parameters (as ``rosparam``)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from ..param_client import ParameterClient
+from .common import CliError, add_common, open_context, print_data
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser("param", help="parameters on master: list, get, set, delete, dump, load")
+    verbs = p.add_subparsers(dest="verb", required=True)
+    v = verbs.add_parser("list", help="list parameter names")
+    v.add_argument("prefix", nargs="?", default="/", help="a namespace (default /)")
+    v = verbs.add_parser("get", help="print a value, or a namespace as a tree")
+    v.add_argument("name")
+    v.add_argument("--json", action="store_true", help="print JSON instead of YAML")
+    v = verbs.add_parser("set", help="set a value (read as YAML: 0.5, true, '[1, 2]', '{a: 1}')")
+    v.add_argument("name")
+    v.add_argument("value")
+    v = verbs.add_parser("delete", help="delete a parameter or a namespace")
+    v.add_argument("name")
+    v = verbs.add_parser("dump", help="write parameters as a ROS 2 params file")
+    v.add_argument("prefix", nargs="?", default="/", help="a namespace (default /)")
+    v.add_argument("-o", "--output", metavar="FILE", help="write to FILE (default stdout)")
+    v = verbs.add_parser("load", help="set the parameters of a ROS 2 (or rosparam) YAML file")
+    v.add_argument("file")
+    v.add_argument("namespace", nargs="?", default="/", help="where names land (default /)")
+    for verb in verbs.choices.values():
+        add_common(verb)
+        verb.add_argument("--timeout", type=float, default=5.0,
+                          help="seconds to wait for master (default 5)")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    ctx = open_context(args, settle=False)
+    try:
+        client = ParameterClient(ctx, timeout=max(args.timeout, 1.0))
+        if not client.wait_for_master(args.timeout):
+            raise CliError(f"no master reachable within {args.timeout:g} s (prefix "
+                           f"{ctx.keys.prefix!r}); start it with"
+                           " `python -m zenros.services.master`")
+        return int(_VERBS[args.verb](client, args))
+    finally:
+        ctx.close()
+
+
+def _list(client: ParameterClient, args: argparse.Namespace) -> int:
+    for name in client.list(args.prefix):
+        print(name)
+    return 0
+
+
+def _get(client: ParameterClient, args: argparse.Namespace) -> int:
+    value = client.get(args.name)
+    if args.json or not isinstance(value, dict):
+        print_data(value, True)
+    else:
+        print_data(value, False, separator=False)
+    return 0
+
+
+def _set(client: ParameterClient, args: argparse.Namespace) -> int:
+    try:
+        value = yaml.safe_load(args.value)
+    except yaml.YAMLError as exc:
+        raise CliError(f"invalid YAML value {args.value!r}: {exc}") from exc
+    client.set(args.name, value)
+    return 0
+
+
+def _delete(client: ParameterClient, args: argparse.Namespace) -> int:
+    client.delete(args.name)
+    return 0
+
+
+def _dump(client: ParameterClient, args: argparse.Namespace) -> int:
+    text = client.dump(args.prefix)
+    if args.output:
+        Path(args.output).write_text(text)
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def _load(client: ParameterClient, args: argparse.Namespace) -> int:
+    try:
+        text = Path(args.file).read_text()
+    except OSError as exc:
+        raise CliError(f"cannot read {args.file}: {exc}") from exc
+    names = client.load(text, args.namespace, source=args.file)
+    print(f"loaded {len(names)} parameters from {args.file}")
+    return 0
+
+
+_VERBS = {"list": _list, "get": _get, "set": _set, "delete": _delete, "dump": _dump,
+          "load": _load}
+
+__all__ = ["register", "run"]
