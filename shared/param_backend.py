@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -12,7 +13,7 @@ from .param_protocol import SET_PARAM, local_param_name, node_param_name
 
 if TYPE_CHECKING:
     from .node import Node
-    from .param_client import ParamEvent, ParameterClient
+    from .param_client import ParameterClient, ParamEvent
 
 __all__ = ["MasterBackend"]
 
@@ -114,7 +115,7 @@ class MasterBackend:
         for i in range(len(parts) - 1, 0, -1):  # a leaf inside a declared dict parameter
             parent = ".".join(parts[:i])
             if params.has(parent) and isinstance(params.get(parent), dict):
-                self._spawn(lambda: self._refetch(parent))
+                self._spawn(functools.partial(self._refetch, parent))
                 return
 
     def _refetch(self, name: str) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import builtins
 import json
 import logging
 import threading
@@ -20,6 +21,7 @@ from .errors import (
 )
 from .message import Message, ServiceType
 from .names import namespace_of, resolve
+from .param_backend import MasterBackend
 from .param_protocol import (
     DELETE_PARAM,
     DUMP_PARAMS,
@@ -49,7 +51,6 @@ from .param_protocol import (
     param_name,
     raise_remote,
 )
-from .param_backend import MasterBackend
 from .rpc import Client
 
 if TYPE_CHECKING:
@@ -118,13 +119,13 @@ class ParamSubscription:
                 value = decode_value(sample.payload.to_bytes(), str(sample.encoding))
                 event = ParamEvent(name, value, False, *stamp)
             self._callback(event)
-        except Exception:  # a subscriber callback is a boundary: log, keep receiving
+        except Exception:  # noqa: BLE001 a subscriber callback is a boundary: log, go on
             _log.exception("parameter event on %s failed", sample.key_expr)
 
     def close(self) -> None:
         if not self.closed:
             self.closed = True
-            self._sub.undeclare()
+            self._sub.undeclare()  # type: ignore[no-untyped-call]
 
 
 class ParameterClient:
@@ -242,7 +243,9 @@ class ParameterClient:
             name=self.resolve(name), caller=self.node or ""))
         return Written(res.name, res.time, res.source)
 
-    def load(self, text: str, namespace: str = "/", source: str = "<string>") -> list[str]:
+    def load(
+        self, text: str, namespace: str = "/", source: str = "<string>"
+    ) -> builtins.list[str]:
         """Set every parameter of a YAML document (ROS 2 or plain layout); returns the names."""
         res = self._call(LoadParams, LOAD_PARAMS, LoadParamsRequest(
             yaml=text, namespace=self.resolve(namespace), source=source))

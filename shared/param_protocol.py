@@ -11,7 +11,12 @@ from typing import Any
 
 import msgspec
 
-from .errors import InvalidNameError, InvalidParameterValueError, ParameterError, ParameterNotFoundError
+from .errors import (
+    InvalidNameError,
+    InvalidParameterValueError,
+    ParameterError,
+    ParameterNotFoundError,
+)
 from .message import Message, ServiceType, define_service
 from .names import KeySpace, join, validate_name
 
@@ -156,7 +161,7 @@ def decode_stamp(data: bytes | None) -> tuple[int, str]:
 
 # ---------------------------------------------------------------- services
 
-_ERRORS: dict[str, type[ParameterError] | type[InvalidNameError]] = {
+_ERRORS: dict[str, type[ParameterError | InvalidNameError]] = {
     "ParameterNotFoundError": ParameterNotFoundError,
     "InvalidParameterValueError": InvalidParameterValueError,
     "InvalidNameError": InvalidNameError,

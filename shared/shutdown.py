@@ -87,7 +87,7 @@ class ShutdownListener:
         if self.closed:
             return
         self.closed = True
-        self._sub.undeclare()
+        self._sub.undeclare()  # type: ignore[no-untyped-call]
 
 
 def install_shutdown_listener(node: Node, on_shutdown: Callable[[], None]) -> ShutdownListener:

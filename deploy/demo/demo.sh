@@ -18,6 +18,7 @@
 # Hosts: station 10.99.0.1 (router on tcp/10.99.0.1:7447), robot1 10.99.0.2, robot2 10.99.0.3.
 # Environment: ZR_PREFIX (namespace prefix, default zrdemo, at most 10 characters),
 # ZR_STATE (pids and logs, default /tmp/zenros-demo-$ZR_PREFIX), PYTHON (default python3),
+# ZR_CONFIG (the session config of every process, default deploy/demo/zenoh-host.json5),
 # ZR_WAIT (seconds `start` waits for the robots, default 60).
 set -euo pipefail
 
@@ -26,6 +27,7 @@ ROOT=$(cd "$HERE/../.." && pwd)
 P=${ZR_PREFIX:-zrdemo}
 STATE=${ZR_STATE:-/tmp/zenros-demo-$P}
 PY=${PYTHON:-python3}
+CONFIG=${ZR_CONFIG:-$HERE/zenoh-host.json5}
 NET=10.99.0
 ROUTER="tcp/$NET.1:7447"
 HOSTS=(st r1 r2)
@@ -56,7 +58,7 @@ need_root() {
 # Everything a process on a simulated host needs: the router's address and the session config
 # (peer mode, listens on the host's address, SHM off, 1 s lease); logs under $STATE/<host>.
 host_env() {
-    echo "ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$HERE/zenoh-host.json5" \
+    echo "ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$CONFIG" \
          "ZENROS_HOME=$STATE/home-$1" "PYTHONUNBUFFERED=1"
 }
 

@@ -204,4 +204,4 @@ class ParamServer:
     def close(self) -> None:
         """Stop serving gets and events (the node closes the services)."""
         self._remove_listener()
-        self._queryable.undeclare()
+        self._queryable.undeclare()  # type: ignore[no-untyped-call]

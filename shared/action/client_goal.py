@@ -125,17 +125,29 @@ class ClientGoalHandle:
             self._cond.notify_all()
             return True
 
-    def _set_accepted(self, accepted: bool, stamp: Time, reason: str, zid: str) -> None:
+    def _set_accepted(self, accepted: bool, stamp: Time, reason: str, zid: str) -> bool:
+        """Record the server's answer; True if a deferred result request is now due."""
         with self._cond:
             self._accepted = accepted
             self.stamp = stamp
             self._server_zid = zid
+            retry, self._retry_result = self._retry_result, False
             self._cond.notify_all()
         if accepted:
             self._advance(GoalStatus.ACCEPTED)
-        else:
-            self._fail(GoalStatus.REJECTED, GoalRejectedError(
-                f"action {self._client.name} rejected goal {self.goal_id}: {reason}"), reason)
+            return retry
+        self._fail(GoalStatus.REJECTED, GoalRejectedError(
+            f"action {self._client.name} rejected goal {self.goal_id}: {reason}"), reason)
+        return False
+
+    def _defer_result_request(self) -> bool:
+        """If the server has not answered the goal yet, mark the result request to be sent
+        again once it does (True); False if it already answered."""
+        with self._cond:
+            if self._accepted is None:
+                self._retry_result = True
+                return True
+            return False
 
     def _end(self, status: GoalStatus | None, reason: str) -> bool:
         with self._cond:

@@ -17,7 +17,8 @@ def register(sub: Any) -> None:
     p = sub.add_parser("param", help="parameters on master: list, get, set, delete, dump, load")
     verbs = p.add_subparsers(dest="verb", required=True)
     v = verbs.add_parser("list", help="list parameter names")
-    v.add_argument("prefix", nargs="?", default="/", help="a namespace (default /)")
+    v.add_argument("under", nargs="?", default="/", metavar="NAMESPACE",
+                   help="a namespace (default /)")
     v = verbs.add_parser("get", help="print a value, or a namespace as a tree")
     v.add_argument("name")
     v.add_argument("--json", action="store_true", help="print JSON instead of YAML")
@@ -27,7 +28,8 @@ def register(sub: Any) -> None:
     v = verbs.add_parser("delete", help="delete a parameter or a namespace")
     v.add_argument("name")
     v = verbs.add_parser("dump", help="write parameters as a ROS 2 params file")
-    v.add_argument("prefix", nargs="?", default="/", help="a namespace (default /)")
+    v.add_argument("under", nargs="?", default="/", metavar="NAMESPACE",
+                   help="a namespace (default /)")
     v.add_argument("-o", "--output", metavar="FILE", help="write to FILE (default stdout)")
     v = verbs.add_parser("load", help="set the parameters of a ROS 2 (or rosparam) YAML file")
     v.add_argument("file")
@@ -53,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _list(client: ParameterClient, args: argparse.Namespace) -> int:
-    for name in client.list(args.prefix):
+    for name in client.list(args.under):
         print(name)
     return 0
 
@@ -82,7 +84,7 @@ def _delete(client: ParameterClient, args: argparse.Namespace) -> int:
 
 
 def _dump(client: ParameterClient, args: argparse.Namespace) -> int:
-    text = client.dump(args.prefix)
+    text = client.dump(args.under)
     if args.output:
         Path(args.output).write_text(text)
     else:

@@ -148,7 +148,11 @@ class FrameStore:
     ) -> bool:
         """The general insert (lock held): new links, re-parenting, statics, refusals."""
         cache = self._caches.get(child)
-        if (cache is None or cache.parent != parent) and self._closes_loop(child, parent, stamp):
+        if (
+            (cache is None or cache.parent != parent)
+            and child in self._frames  # a new frame is nobody's ancestor yet
+            and self._closes_loop(child, parent, stamp)
+        ):
             return self._refuse([(
                 f'TF_LOOP: Ignoring transform {parent} -> {child} from authority "{authority}" '
                 f"at time {format_ns(stamp)} because {parent} is already a descendant of "
