@@ -12,10 +12,9 @@ import time
 from typing import Any
 
 import zenoh
-
 from zenros.testing import free_port, unique_prefix
 
-__all__ = ["Child", "env_info", "emit", "free_port", "percentile", "raw_config", "unique_prefix"]
+__all__ = ["Child", "emit", "env_info", "free_port", "percentile", "raw_config", "unique_prefix"]
 
 
 def raw_config(listen: int | None = None, connect: int | None = None) -> zenoh.Config:
@@ -31,7 +30,7 @@ def raw_config(listen: int | None = None, connect: int | None = None) -> zenoh.C
 
 def percentile(xs: list[float], p: float) -> float:
     s = sorted(xs)
-    return s[min(len(s) - 1, int(round(p / 100 * (len(s) - 1))))]
+    return s[min(len(s) - 1, round(p / 100 * (len(s) - 1)))]
 
 
 class Child:

@@ -14,7 +14,6 @@ import time
 
 import msgspec
 import zenoh
-
 from _harness import emit, percentile, raw_config, unique_prefix
 from pubsub import latency
 from zenros import Node

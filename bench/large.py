@@ -17,7 +17,6 @@ from typing import Any
 
 import numpy as np
 import zenoh
-
 from _harness import Child, emit, free_port, raw_config, unique_prefix
 from zenros import Message, Node
 from zenros.context import Context
@@ -54,12 +53,12 @@ def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
         ctx = Context(loopback_options(connect=[port]), prefix=prefix)
         node = Node("sink", context=ctx)
         node.create_subscription(Blob, "blob", lambda m: on_data(int(m.data.nbytes)), 100)
-        closer: Any = lambda: (node.close(), ctx.close())  # noqa: E731
+        closer: Any = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(connect=port))
         sub = s.declare_subscriber(f"{prefix}/blob",
                                    lambda smp: on_data(len(np.frombuffer(smp.payload.to_bytes(), np.uint8))))
-        closer = lambda: (sub.undeclare(), s.close())  # noqa: E731
+        closer = lambda: (sub.undeclare(), s.close())
     print("ready", flush=True)
     done.wait(120)
     closer()
@@ -77,8 +76,8 @@ def measure(impl: str, size: int, count: int) -> float:
         child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
                       prefix, "--count", str(count))
         assert pub.wait_for_subscribers(1, 10)
-        send = lambda i: pub.publish(Blob(seq=i, data=arr))  # noqa: E731
-        closer: Any = lambda: (node.close(), ctx.close())  # noqa: E731
+        send = lambda i: pub.publish(Blob(seq=i, data=arr))
+        closer: Any = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(listen=port))
         zpub = s.declare_publisher(f"{prefix}/blob", congestion_control=zenoh.CongestionControl.BLOCK)
@@ -88,8 +87,8 @@ def measure(impl: str, size: int, count: int) -> float:
         while not zpub.matching_status.matching:
             assert time.monotonic() < deadline
             time.sleep(0.001)
-        send = lambda i: zpub.put(arr.tobytes())  # noqa: E731
-        closer = lambda: (zpub.undeclare(), s.close())  # noqa: E731
+        send = lambda i: zpub.put(arr.tobytes())
+        closer = lambda: (zpub.undeclare(), s.close())
     try:
         for i in range(count):
             send(i)

@@ -17,7 +17,6 @@ from typing import Any
 
 import msgspec
 import zenoh
-
 from _harness import Child, emit, free_port, percentile, raw_config, unique_prefix
 from zenros import Node
 from zenros.context import Context
@@ -74,7 +73,7 @@ def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
         ctx = Context(loopback_options(connect=[port]), prefix=prefix)
         node = Node("sink", context=ctx)
         node.create_subscription(Twist, "data", on_msg)
-        closer: Any = lambda: (node.close(), ctx.close())  # noqa: E731
+        closer: Any = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(connect=port))
         if impl == "raw":
@@ -82,7 +81,7 @@ def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
                                        lambda smp: on_msg(DEC.decode(smp.payload.to_bytes())))
         else:
             sub = s.declare_subscriber(f"{prefix}/data", on_msg)
-        closer = lambda: (sub.undeclare(), s.close())  # noqa: E731
+        closer = lambda: (sub.undeclare(), s.close())
     print("ready", flush=True)
     done.wait(60)
     closer()

@@ -12,7 +12,6 @@ import time
 
 import msgspec
 import zenoh
-
 from _harness import Child, emit, free_port, percentile, raw_config, unique_prefix
 from zenros import Node
 from zenros.context import Context
@@ -61,7 +60,7 @@ def measure(impl: str, n: int) -> list[float]:
             assert client.call(req).sum == 3
 
         assert client.wait_for_service(10)
-        closer = lambda: (node.close(), ctx.close())  # noqa: E731
+        closer = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(listen=port))
         child = Child(__file__, "--role", "server", "--impl", impl, "--port", str(port),

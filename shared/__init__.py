@@ -24,6 +24,9 @@ from .runtime import run
 from .session import SessionOptions
 
 __all__ = [
+    "QOS_DEFAULT",
+    "QOS_LATCHED",
+    "QOS_SENSOR",
     "ActionType",
     "Context",
     "DecodeError",
@@ -39,9 +42,6 @@ __all__ = [
     "Node",
     "ParameterError",
     "ParameterNotDeclaredError",
-    "QOS_DEFAULT",
-    "QOS_LATCHED",
-    "QOS_SENSOR",
     "QoSProfile",
     "Rate",
     "ReentrantCallbackGroup",

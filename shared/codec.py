@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 from collections.abc import Callable
+from functools import cache
 from typing import Any, Generic, TypeVar
 
 import msgspec
@@ -51,7 +51,7 @@ def _enc_msgpack(obj: Any) -> Any:
 def _dec(tp: type, obj: Any) -> Any:
     if isinstance(tp, type) and issubclass(tp, _TypedArray):
         if not isinstance(obj, (bytes, bytearray, memoryview, list)):
-            raise ValueError(f"expected an array, got {type(obj).__name__}")
+            raise TypeError(f"expected an array, got {type(obj).__name__}")
         return to_array(tp, obj)
     raise NotImplementedError(f"unsupported type {tp!r}")
 
@@ -63,7 +63,7 @@ _MSGPACK_ENCODER = msgspec.msgpack.Encoder(enc_hook=_enc_msgpack)
 class Codec(Generic[M]):
     """Encoder and decoder for one message type; build it with `codec_for`."""
 
-    __slots__ = ("type", "type_name", "bulk", "mime", "encoding", "_encode", "_decode", "_arrays")
+    __slots__ = ("_arrays", "_decode", "_encode", "bulk", "encoding", "mime", "type", "type_name")
 
     def __init__(self, msg_type: type[M]) -> None:
         self.type = msg_type
@@ -191,7 +191,7 @@ def _null_floats_to_nan(t: mi.Type, obj: Any) -> Any:
     return obj
 
 
-@lru_cache(maxsize=None)
+@cache
 def codec_for(msg_type: type[M]) -> Codec[M]:
     """The cached codec of a message type."""
     return Codec(msg_type)
@@ -210,7 +210,7 @@ def split_encoding(encoding: str) -> tuple[str, str]:
 
 def decode_any(data: bytes, encoding: str) -> Message:
     """Decode a payload whose type is named in its encoding's schema (for tools)."""
-    mime, schema = split_encoding(encoding)
+    _, schema = split_encoding(encoding)
     if not schema:
         raise DecodeError(f"payload encoding {encoding!r} names no message type")
     msg: Message = codec_for(lookup_type(schema)).decode(data)

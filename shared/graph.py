@@ -68,7 +68,7 @@ class Graph:
                 before = self._changes
             self._snapshot(min(1.0, max(0.05, deadline - time.monotonic())))
             with self._cond:
-                self._cond.wait_for(lambda: self._changes != before,
+                self._cond.wait_for(lambda b=before: self._changes != b,  # type: ignore[misc]
                                     min(quiet, max(0.0, deadline - time.monotonic())))
                 if self._changes == before:
                     return
@@ -100,7 +100,7 @@ class Graph:
             for fn in listeners:
                 try:
                     fn(event, tok)
-                except Exception:  # a listener must not break the graph
+                except Exception:  # noqa: BLE001, S110 (a listener must not break the graph)
                     pass
 
     def add_listener(self, fn: Listener) -> None:

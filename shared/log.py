@@ -87,7 +87,7 @@ class RosoutHandler(logging.Handler):
                     line=record.lineno,
                 )
             )
-        except Exception:  # logging must never raise into the caller
+        except Exception:  # noqa: BLE001, S110 (logging must never raise into the caller)
             pass
         finally:
             self._local.busy = False

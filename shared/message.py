@@ -11,21 +11,21 @@ import numpy as np
 from .errors import UnknownTypeError
 
 __all__ = [
-    "Message",
-    "ServiceType",
     "ActionType",
     "Float32Array",
     "Float64Array",
     "Int8Array",
+    "Message",
+    "ServiceType",
     "UInt8Array",
     "array_field",
-    "lookup_type",
-    "lookup_service",
+    "define_action",
+    "define_service",
     "lookup_action",
+    "lookup_service",
+    "lookup_type",
     "normalize_type_name",
     "registered_types",
-    "define_service",
-    "define_action",
 ]
 
 _MESSAGES: dict[str, type[Message]] = {}
@@ -154,7 +154,7 @@ def _ensure_builtin_types() -> None:
 # ---------------------------------------------------------------- numpy array fields
 
 
-class _TypedArray(np.ndarray):  # type: ignore[type-arg]
+class _TypedArray(np.ndarray):
     dtype_: ClassVar[Any] = np.float64
 
 

@@ -13,13 +13,13 @@ __all__ = [
     "KeySpace",
     "Remapper",
     "Token",
+    "basename",
     "chunk",
-    "unchunk",
     "join",
     "namespace_of",
-    "basename",
     "parse_token",
     "resolve",
+    "unchunk",
     "validate_name",
     "validate_namespace",
     "validate_node_name",
@@ -214,7 +214,7 @@ class KeySpace:
     def topic_name(self, key: str) -> str:
         """The topic FQN of a topic key expression."""
         head = f"{self.prefix}/topic"
-        return key[len(head):] if key.startswith(head) else key
+        return key.removeprefix(head)
 
     def alive_all(self) -> str:
         return f"{self.prefix}/alive/**"

@@ -11,7 +11,7 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Self, TypeVar
 
 from .clock import Clock, ManualClock, Rate, SystemClock, Time
 from .context import Context
@@ -289,7 +289,7 @@ class Node:
         if self._own_context:
             self.context.close()
 
-    def __enter__(self) -> Node:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:

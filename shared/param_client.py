@@ -171,13 +171,28 @@ class ParameterClient:
 
     def lookup(self, name: str) -> tuple[bool, Any]:
         """``(True, value)``, or ``(False, None)`` when nothing is set at ``name``."""
-        full = self.resolve(name)
+        found, value, _ = self._read(self.resolve(name))
+        return found, value
+
+    def get(self, name: str) -> Any:
+        """The value at ``name``, or the subtree under a namespace as a dict.
+
+        Raises:
+            ParameterNotFoundError: nothing is set at or under ``name``.
+        """
+        found, value, why = self._read(self.resolve(name))
+        if not found:
+            raise ParameterNotFoundError(why)
+        return value
+
+    def _read(self, full: str) -> tuple[bool, Any, str]:
+        """One get on the parameter's key: (found, value, why not found)."""
         replies = self._ctx.session.get(param_key(self._ctx.keys, full), timeout=self.timeout,
                                         target=zenoh.QueryTarget.BEST_MATCHING)
         for reply in replies:
             ok = reply.ok
             if ok is not None:
-                return True, decode_value(ok.payload.to_bytes(), str(ok.encoding))
+                return True, decode_value(ok.payload.to_bytes(), str(ok.encoding)), ""
             err = reply.err
             assert err is not None
             data = err.payload.to_bytes()
@@ -186,23 +201,12 @@ class ParameterClient:
                                     f"{self.timeout:.3g} s")
             kind, message = _parse_error(data)
             if kind == "ParameterNotFoundError":
-                return False, None
+                return False, None, message
             raise _ERRORS.get(kind, ParameterError)(message)
         raise ServiceUnavailableError(
             f"no parameter server answered for {full} (is master running with prefix "
             f"{self._ctx.keys.prefix!r}?)"
         )
-
-    def get(self, name: str) -> Any:
-        """The value at ``name``, or the subtree under a namespace as a dict.
-
-        Raises:
-            ParameterNotFoundError: nothing is set at or under ``name``.
-        """
-        found, value = self.lookup(name)
-        if not found:
-            raise ParameterNotFoundError(f"parameter {self.resolve(name)} is not set")
-        return value
 
     def has(self, name: str) -> bool:
         res = self._call(HasParam, HAS_PARAM, HasParamRequest(name=self.resolve(name),

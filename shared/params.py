@@ -68,9 +68,7 @@ def coerce(name: str, expected: type, value: Any) -> Any:
     """Return ``value`` as ``expected`` or raise `InvalidParameterValueError`."""
     if expected is float and isinstance(value, int) and not isinstance(value, bool):
         return float(value)
-    if expected is bool and not isinstance(value, bool):
-        ok = False
-    elif expected is int and isinstance(value, bool):
+    if expected is bool and not isinstance(value, bool) or expected is int and isinstance(value, bool):
         ok = False
     else:
         ok = isinstance(value, expected)

@@ -6,12 +6,12 @@ from dataclasses import dataclass
 from enum import Enum
 
 __all__ = [
-    "Durability",
-    "QoSProfile",
-    "Reliability",
     "QOS_DEFAULT",
     "QOS_LATCHED",
     "QOS_SENSOR",
+    "Durability",
+    "QoSProfile",
+    "Reliability",
     "as_profile",
 ]
 

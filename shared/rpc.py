@@ -93,7 +93,7 @@ class Service:
                 return
             try:
                 res = self._group.run(self._call, req) if self._group else self._call(req)
-            except Exception as exc:
+            except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
                 self._fail(query, exc)
                 return
             self._reply(query, res)
@@ -124,7 +124,7 @@ class Service:
                     res = await self._handler(req, self.srv_type.Response())
                 else:
                     res = await self._handler(req)
-            except Exception as exc:
+            except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
                 self._fail(query, exc)
                 return
             self._reply(query, res)
@@ -230,12 +230,12 @@ class Client:
             if not got:
                 try:
                     self._no_reply(timeout, time.monotonic() - start)
-                except Exception as exc:
+                except Exception as exc:  # noqa: BLE001 (delivered to the awaiting caller)
                     fut.set_exception(exc)
                 return
             try:
                 fut.set_result(self._result(got[0], timeout))
-            except Exception as exc:
+            except Exception as exc:  # noqa: BLE001 (delivered to the awaiting caller)
                 fut.set_exception(exc)
 
         self._ctx.session.get(

@@ -7,7 +7,6 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
-
 from zenros.context import Context
 from zenros.node import Node
 from zenros.testing import Proc, free_port, linked_contexts, unique_prefix, wait_for

@@ -34,6 +34,7 @@ class MasterNode(Node):
     """
 
     node_name = "master"
+    uses_parameter_server = False  # the master's own parameters never come from a master
 
     def setup(self) -> None:
         directory = data_dir(self.declare_parameter("data_dir", ""))

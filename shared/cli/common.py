@@ -19,8 +19,8 @@ __all__ = [
     "CliError",
     "add_common",
     "open_context",
-    "payload_to_data",
     "parse_yaml_arg",
+    "payload_to_data",
     "print_data",
 ]
 

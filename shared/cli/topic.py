@@ -9,6 +9,7 @@ import sys
 import threading
 import time
 from collections import deque
+from itertools import pairwise
 from typing import Any
 
 import zenoh
@@ -208,7 +209,7 @@ def _report_loop(ctx: Any, args: argparse.Namespace, report: Any) -> int:
 
 def _hz(ctx: Any, args: argparse.Namespace) -> int:
     def report(snap: list[tuple[float, int]]) -> None:
-        gaps = [b[0] - a[0] for a, b in zip(snap, snap[1:])]
+        gaps = [b[0] - a[0] for a, b in pairwise(snap)]
         mean = statistics.fmean(gaps)
         std = statistics.pstdev(gaps)
         rate = 1.0 / mean if mean > 0 else math.inf

@@ -13,7 +13,7 @@ from zenros import Node, run
 from zenros.msgs.std_msgs import Int64
 from zenros.qos import Durability, QoSProfile
 
-__all__ = ["Heartbeat", "SeqTracker", "PLAIN_TOPIC", "CACHED_TOPIC", "REPORT_TAG"]
+__all__ = ["CACHED_TOPIC", "PLAIN_TOPIC", "REPORT_TAG", "Heartbeat", "SeqTracker"]
 
 PLAIN_TOPIC = "heartbeat"  # reliable, volatile: what is published during an outage may be lost
 CACHED_TOPIC = "heartbeat_cached"  # transient local: the publisher's cache refills the gaps

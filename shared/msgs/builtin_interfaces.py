@@ -15,7 +15,7 @@ def _split(ns: int) -> tuple[int, int]:
     return sec, nanosec
 
 
-class Duration(Message, frozen=True, order=False):
+class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
     """A signed span of time: ``sec`` (may be negative) plus ``nanosec`` in [0, 1e9)."""
 
     __msgtype__ = "builtin_interfaces/Duration"
@@ -82,7 +82,7 @@ class Duration(Message, frozen=True, order=False):
         return self.nanoseconds >= o.nanoseconds
 
 
-class Time(Message, frozen=True, order=False):
+class Time(Message, frozen=True, order=False):  # type: ignore[misc]
     """A point in time since an epoch (wall, steady or simulated): ``sec`` and ``nanosec``."""
 
     __msgtype__ = "builtin_interfaces/Time"

@@ -6,7 +6,6 @@ import logging
 from typing import Any
 
 import pytest
-
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.std_msgs import String
 from zenros.testing import Collector, wait_for
@@ -89,7 +88,7 @@ def test_oversized_garbage_payload(setup: Any) -> None:
 
 
 def test_errors_are_rate_limited_per_sender(setup: Any, caplog: pytest.LogCaptureFixture) -> None:
-    ctx, sub, got, pub = setup
+    ctx, sub, _, _ = setup
     with caplog.at_level(logging.ERROR, logger="zenros"):
         for _ in range(50):
             _put(ctx, sub.key, b"not json", "application/json;geometry_msgs/Twist")

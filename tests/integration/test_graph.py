@@ -6,7 +6,6 @@ import logging
 from typing import Any
 
 import pytest
-
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsResponse
 from zenros.msgs.geometry_msgs import Twist
 from zenros.msgs.std_msgs import String

@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-
 from zenros import InvalidNameError, InvalidParameterValueError, Node, ParameterNotDeclaredError
 from zenros.clock import ManualClock, Time
 from zenros.msgs.rcl_interfaces import Log
@@ -107,7 +106,7 @@ def test_timers_follow_sim_time_from_clock_topic(make_node: Any) -> None:
     for sec in range(1, 11):
         for step in range(1, 11):
             clock_pub.publish(Clock(clock=Time.from_seconds(sec - 1 + step / 10)))
-        assert wait_for(lambda: len(ticks) == sec, 5), ticks
+        assert wait_for(lambda n=sec: len(ticks) == n, 5), ticks
     assert [round(t.to_sec(), 1) for t in ticks] == [float(s) for s in range(1, 11)]
 
 

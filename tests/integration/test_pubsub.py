@@ -10,7 +10,6 @@ from typing import Any
 import numpy as np
 import pytest
 import zenoh
-
 from zenros import QOS_LATCHED, QOS_SENSOR, EncodeError, MutuallyExclusiveCallbackGroup
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.sensor_msgs import LaserScan

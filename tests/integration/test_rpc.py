@@ -8,7 +8,6 @@ import threading
 from typing import Any
 
 import pytest
-
 from zenros import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.errors import EncodeError
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse

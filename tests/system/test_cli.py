@@ -8,7 +8,6 @@ import sys
 from collections.abc import Iterator
 
 import pytest
-
 from zenros.testing import Proc
 
 pytestmark = pytest.mark.system
@@ -17,7 +16,7 @@ pytestmark = pytest.mark.system
 def zenros(router: str, prefix: str, *args: str, timeout: float = 30) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-m", "zenros.cli", *args, "-e", router, "--prefix", prefix],
-        capture_output=True, text=True, timeout=timeout,
+        capture_output=True, text=True, timeout=timeout, check=False,
     )
 
 

@@ -83,6 +83,17 @@ def test_kill_9_loses_no_acknowledged_write(router: str, prefix: str, tmp_path: 
     assert len(stored) in (len(acked), len(acked) + 1)  # plus, maybe, the one in flight
 
 
+def test_a_second_master_on_the_same_data_dir_fails_at_startup(
+    router: str, prefix: str, tmp_path: Path, procs: list[Proc]
+) -> None:
+    procs.append(start_master(router, prefix, tmp_path))
+    second = Proc([sys.executable, "-m", "zenros.services.master", "-e", router, "--prefix",
+                   prefix, "--name", "master_b"], env={"ZENROS_HOME": str(tmp_path)})
+    procs.append(second)
+    assert second.wait(15) == 3, second.output
+    assert "in use by another process" in second.output
+
+
 def run_cli(capsys: pytest.CaptureFixture[str], router: str, prefix: str, *argv: str) -> str:
     parser = argparse.ArgumentParser(prog="zenros")
     param_cli.register(parser.add_subparsers(dest="noun", required=True))
@@ -113,6 +124,7 @@ def test_param_cli_against_a_master_process(router: str, prefix: str, tmp_path: 
     assert "loaded 3 parameters" in cli("load", str(dump), "/copy")
     assert cli("list", "/copy") == (
         "/copy/nav/limits/v\n/copy/nav/limits/w\n/copy/nav/max_speed\n")
+    assert procs[0].stop() == 0, procs[0].output  # SIGINT: a clean exit
 
 
 def test_param_cli_reports_a_missing_master(router: str, prefix: str) -> None:

@@ -8,7 +8,6 @@ import time
 from collections.abc import Iterator
 
 import pytest
-
 from zenros.context import Context
 from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, unique_prefix
