@@ -22,6 +22,7 @@ from .message import Message, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
+from .param_client import attach_parameter_backend
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .pubsub import Publisher, Subscription
 from .qos import QOS_SENSOR, QoSProfile, as_profile
@@ -52,6 +53,7 @@ class Node:
     """
 
     node_name: str | None = None
+    uses_parameter_server: bool = True  # False for the master itself
 
     def __init__(
         self,
@@ -83,6 +85,8 @@ class Node:
         overrides.update(parameter_overrides or {})
         self.parameters = Parameters(self.fqn, overrides)
         try:
+            if self.uses_parameter_server:
+                attach_parameter_backend(self)
             self._start()
             self.setup()
         except BaseException:

@@ -58,6 +58,9 @@ class MasterBackend:
         except _UNREACHABLE as exc:
             self._mark_down(exc)
             return False, None
+        except (ParameterError, InvalidNameError) as exc:
+            self._node.logger.warning("cannot read parameter %s from master: %s", full, exc)
+            return False, None
         self._mark_up()
         return found, value
 
@@ -72,6 +75,10 @@ class MasterBackend:
             with self._lock:
                 self._pending[name] = value
             self._mark_down(exc)
+            return
+        except (ParameterError, InvalidNameError) as exc:  # e.g. a dict key with a '.'
+            self._node.logger.warning("parameter %s keeps its value locally; master refused"
+                                      " it: %s", name, exc)
             return
         with self._lock:
             self._pending.pop(name, None)

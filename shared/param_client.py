@@ -147,16 +147,28 @@ class ParameterClient:
 
     def __init__(self, ctx: Context, *, node: str | None = None, timeout: float = 3.0) -> None:
         self._ctx = ctx
-        self.node = node
+        self._node = node
         self.timeout = timeout
         self._clients: dict[str, Client] = {}
+        self._resolved: dict[str, str] = {}
+
+    @property
+    def node(self) -> str | None:
+        """The caller's node FQN (names resolve against it)."""
+        return self._node
 
     def resolve(self, name: str) -> str:
         """The absolute name of ``name`` as this client's node sees it."""
+        found = self._resolved.get(name)
+        if found is not None:
+            return found
+        given = name
         if name.startswith("~") and len(name) > 1 and name[1] != "/":
             name = "~/" + name[1:]
         ns = namespace_of(self.node) if self.node else "/"
         resolved: str = resolve(name, ns, self.node, "parameter")
+        if len(self._resolved) < 1024:
+            self._resolved[given] = resolved
         return resolved
 
     def _call(self, srv_type: ServiceType, service: str, request: Message) -> Any:

@@ -200,7 +200,6 @@ class SetParamRequest(Message):
 
 class SetParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/SetParamResponse"
-    __bulk__ = True
     name: str = ""
     time: int = 0
     source: str = ""
@@ -208,28 +207,25 @@ class SetParamResponse(ParamResponse):
 
 class GetParamRequest(Message):
     __msgtype__ = "zenros_msgs/GetParamRequest"
-    __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
 class GetParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/GetParamResponse"
-    __bulk__ = True
+    __bulk__ = True  # as SetParamRequest
     name: str = ""
     value: Any = None
 
 
 class DeleteParamRequest(Message):
     __msgtype__ = "zenros_msgs/DeleteParamRequest"
-    __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
 class DeleteParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/DeleteParamResponse"
-    __bulk__ = True
     name: str = ""
     time: int = 0
     source: str = ""
@@ -237,61 +233,52 @@ class DeleteParamResponse(ParamResponse):
 
 class HasParamRequest(Message):
     __msgtype__ = "zenros_msgs/HasParamRequest"
-    __bulk__ = True
     name: str = ""
     caller: str = ""
 
 
 class HasParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/HasParamResponse"
-    __bulk__ = True
     name: str = ""
     has: bool = False
 
 
 class SearchParamRequest(Message):
     __msgtype__ = "zenros_msgs/SearchParamRequest"
-    __bulk__ = True
     key: str = ""
     caller: str = ""
 
 
 class SearchParamResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/SearchParamResponse"
-    __bulk__ = True
     found: bool = False
     name: str = ""
 
 
 class ListParamsRequest(Message):
     __msgtype__ = "zenros_msgs/ListParamsRequest"
-    __bulk__ = True
     prefix: str = "/"
     caller: str = ""
 
 
 class ListParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/ListParamsResponse"
-    __bulk__ = True
     names: list[str] = msgspec.field(default_factory=list)
 
 
 class DumpParamsRequest(Message):
     __msgtype__ = "zenros_msgs/DumpParamsRequest"
-    __bulk__ = True
     prefix: str = "/"
     caller: str = ""
 
 
 class DumpParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/DumpParamsResponse"
-    __bulk__ = True
     yaml: str = ""
 
 
 class LoadParamsRequest(Message):
     __msgtype__ = "zenros_msgs/LoadParamsRequest"
-    __bulk__ = True
     yaml: str = ""
     namespace: str = "/"
     source: str = "<string>"
@@ -299,7 +286,6 @@ class LoadParamsRequest(Message):
 
 class LoadParamsResponse(ParamResponse):
     __msgtype__ = "zenros_msgs/LoadParamsResponse"
-    __bulk__ = True
     names: list[str] = msgspec.field(default_factory=list)
 
 

@@ -19,6 +19,7 @@ from .names import Remapper
 from .node import Node
 from .params import parse_param_arg
 from .session import add_session_arguments, options_from_args
+from .shutdown import install_shutdown_listener
 
 __all__ = ["EXIT_STARTUP_FAILED", "add_node_arguments", "capture_signals", "main", "run"]
 
@@ -107,6 +108,7 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
             kwargs = node_kwargs(args)
             ctx = Context(options_from_args(args), prefix=args.prefix)
             node = node_cls(context=ctx, **kwargs)
+            install_shutdown_listener(node, stop.set)
         except (ZenrosError, ValueError, TypeError, OSError) as exc:
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             sys.stderr.write(f"{prog}: startup failed: {msg}\n")

@@ -56,10 +56,17 @@ need_root() {
 }
 
 # Everything a process on a simulated host needs: the router's address and the session config
-# (peer mode, listens on the host's address, SHM off, 1 s lease); logs under $STATE/<host>.
+# (peer mode, listens on the host's address, SHM off, 1 s lease); logs under $STATE/home-<host>.
+#
+# ZENOH_RUNTIME: Zenoh 1.10 closes a TCP link with SO_LINGER 10 s, and the close(2) runs on a
+# worker of its "rx" runtime, which has 2 threads by default. When a robot's link is cut and
+# the lease drops its sessions, every process that had 2 or more links to that robot blocks
+# both rx threads in close(2) until the link returns (or 10 s pass): all its traffic, to every
+# host, stalls (measured: robot2 stalled 4.1-4.3 s during robot1's 5 s outage, 10 s during a
+# 12 s one). More rx threads than processes per host keep the other links flowing.
 host_env() {
-    echo "ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$CONFIG" \
-         "ZENROS_HOME=$STATE/home-$1" "PYTHONUNBUFFERED=1"
+    HOST_ENV=("ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$CONFIG" "ZENROS_HOME=$STATE/home-$1"
+              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 8))}")
 }
 
 cmd_up() {
@@ -90,8 +97,8 @@ start_host() {
         && die "$h is already running (pid $(cat "$STATE/$h.pid"))"
     # setsid: its own process group, so a terminal's Ctrl-C does not reach it; `ip netns exec`
     # and `env` exec, so the pid is the launcher's.
-    # shellcheck disable=SC2046
-    setsid ip netns exec "$(ns "$h")" env $(host_env "$h") \
+    host_env "$h"
+    setsid ip netns exec "$(ns "$h")" env "${HOST_ENV[@]}" \
         "$PY" -m zenros.cli launch "$ROOT/deploy/launch/$file" "$@" \
         >"$STATE/$h.log" 2>&1 </dev/null &
     echo $! >"$STATE/$h.pid"
@@ -131,8 +138,8 @@ cmd_start() {
 cmd_run() {
     [ $# -ge 2 ] || die "usage: run HOST CMD..."
     local h; h=$(short "$1"); shift
-    # shellcheck disable=SC2046
-    ip netns exec "$(ns "$h")" env $(host_env "$h") "$@"
+    host_env "$h"
+    ip netns exec "$(ns "$h")" env "${HOST_ENV[@]}" "$@"
 }
 
 cmd_show() {
@@ -149,8 +156,20 @@ cmd_show() {
 
 cmd_report() {
     [ -f "$STATE/st.log" ] || die "no station log in $STATE; run '$0 start' first"
-    # The last report line of each topic.
-    grep -o 'heartbeat_report {.*}' "$STATE/st.log" | tac | awk '!seen[$2 $3]++' | tac || true
+    # The last heartbeat_report line of each topic, as a table.
+    grep -o 'heartbeat_report {.*}' "$STATE/st.log" | "$PY" -c '
+import json, sys
+last = {}
+for line in sys.stdin:
+    try:
+        report = json.loads(line.split(" ", 1)[1])
+    except ValueError:
+        continue
+    last[report["topic"]] = report
+print("%-26s %8s %8s %5s %8s" % ("topic", "received", "last seq", "lost", "max gap"))
+for topic, r in sorted(last.items()):
+    print("%-26s %8d %8d %5d %7.2fs" % (topic, r["received"], r["last"], r["lost"], r["max_gap"]))
+'
 }
 
 cmd_link() {
@@ -176,7 +195,7 @@ cmd_loss() {
     local h; h=$(short "${1:?usage: loss HOST PROBABILITY|off}")
     local p=${2:?usage: loss HOST PROBABILITY|off} tag="zenros-demo-loss-$h" n
     for n in "$h" st; do
-        ip netns exec "$(ns "$n")" iptables -S INPUT | grep -- "$tag" | sed 's/^-A /-D /' \
+        ip netns exec "$(ns "$n")" iptables -S INPUT | { grep -- "$tag" || true; } | sed 's/^-A /-D /' \
             | while read -r rule; do
                 # shellcheck disable=SC2086
                 ip netns exec "$(ns "$n")" iptables $rule
@@ -235,7 +254,8 @@ main() {
     local cmd=${1:-}; shift || true
     case "$cmd" in
         up|start|show|report|link|flap|loss|run|status|stop|down) "cmd_$cmd" "$@" ;;
-        *) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; [ -n "$cmd" ] && exit 2; exit 0 ;;
+        *) awk 'NR > 1 && /^set -euo/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"
+           [ -n "$cmd" ] && exit 2; exit 0 ;;
     esac
 }
 

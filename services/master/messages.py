@@ -149,7 +149,6 @@ class SyncRequest(Message):
     """Anti-entropy: the asker's id and digest; replicas that differ send all their rows."""
 
     __msgtype__ = "zenros_msgs/SyncRequest"
-    __bulk__ = True
     source: str = ""
     digest: str = ""
 

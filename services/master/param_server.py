@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -23,8 +24,10 @@ from zenros.param_protocol import (
     DUMP_PARAMS,
     GET_PARAM,
     HAS_PARAM,
+    JSON_ENCODING,
     LIST_PARAMS,
     LOAD_PARAMS,
+    MSGPACK_ENCODING,
     SEARCH_PARAM,
     SET_PARAM,
     DeleteParam,
@@ -67,6 +70,14 @@ from .param_value import resolve_param_name
 __all__ = ["ParamServer", "hlc_time"]
 
 _FAILURES = (ParameterError, InvalidNameError)
+_CACHE_SIZE = 4096
+_ENCODINGS = {JSON_ENCODING: zenoh.Encoding(JSON_ENCODING),
+              MSGPACK_ENCODING: zenoh.Encoding(MSGPACK_ENCODING)}
+
+
+def _encoded(value: Any) -> tuple[bytes, zenoh.Encoding]:
+    data, mime = encode_value(value)
+    return data, _ENCODINGS[mime]
 
 
 def hlc_time(ts: zenoh.Timestamp) -> int:
@@ -104,6 +115,12 @@ class ParamServer:
         ctx = node.context
         self._session = ctx.session
         self._keys = ctx.keys
+        # Encoded answers of plain gets by key; cleared on every change. A reader caches
+        # only if no change happened since it began (the generation), so a stale answer
+        # can never be stored.
+        self._cache: dict[str, tuple[bytes, zenoh.Encoding]] = {}
+        self._cache_lock = threading.Lock()
+        self._generation = 0
         self._queryable = self._session.declare_queryable(
             param_key(ctx.keys, "/**"), self._on_get, complete=True
         )
@@ -126,17 +143,22 @@ class ParamServer:
     def _on_get(self, query: zenoh.Query) -> None:
         with query:
             key = str(query.key_expr)
-            if any(c in key for c in "*$"):
-                self._reply_leaves(query)
-                return
-            try:
-                name = param_name(self._keys, key)
-                value = self._store.get(name)
-            except _FAILURES as exc:
-                query.reply_err(error_payload(type(exc).__name__, str(exc)))
-                return
-            data, encoding = encode_value(value)
-            query.reply(query.key_expr, data, encoding=encoding)
+            hit = self._cache.get(key)
+            if hit is None:
+                if any(c in key for c in "*$"):
+                    self._reply_leaves(query)
+                    return
+                generation = self._generation
+                try:
+                    value = self._store.get(param_name(self._keys, key))
+                except _FAILURES as exc:
+                    query.reply_err(error_payload(type(exc).__name__, str(exc)))
+                    return
+                hit = _encoded(value)
+                with self._cache_lock:
+                    if generation == self._generation and len(self._cache) < _CACHE_SIZE:
+                        self._cache[key] = hit
+            query.reply(query.key_expr, hit[0], encoding=hit[1])
 
     def _reply_leaves(self, query: zenoh.Query) -> None:
         wanted = query.key_expr
@@ -148,18 +170,21 @@ class ParamServer:
                 value = self._store.get(name)
             except ParameterNotFoundError:  # deleted meanwhile
                 continue
-            data, encoding = encode_value(value)
+            data, encoding = _encoded(value)
             query.reply(key, data, encoding=encoding)
 
     # ------------------------------------------------------------------ events
 
     def _on_change(self, change: Change) -> None:
+        with self._cache_lock:  # a cached subtree may hold this leaf: forget them all
+            self._generation += 1
+            self._cache.clear()
         key = param_key(self._keys, change.name)
         stamp = encode_stamp(*change.stamp)
         if change.deleted:
             self._session.delete(key, attachment=stamp)
             return
-        data, encoding = encode_value(change.value)
+        data, encoding = _encoded(change.value)
         self._session.put(key, data, encoding=encoding, attachment=stamp)
 
     # ------------------------------------------------------------------ services

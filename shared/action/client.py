@@ -83,6 +83,8 @@ class ActionClient:
         self._lock = threading.Lock()
         self._handles: dict[bytes, ClientGoalHandle] = {}
         self._throttle = Throttle(5.0)
+        self._status_lock = threading.Lock()
+        self._status_raw: bytes | None = None
         self.closed = False
         s = ctx.session
         self._fb_sub = s.declare_subscriber(self._keys["feedback"], self._on_feedback)
@@ -134,7 +136,7 @@ class ActionClient:
             self._handles[handle._key] = handle
         handle.add_done_callback(self._forget)
         self._get("send_goal", data, self.send_timeout,
-                  lambda replies: self._on_send_reply(handle, replies))
+                  lambda reply: self._on_send_reply(handle, reply))
         self._request_result(handle)  # pipelined: the server holds it until the goal ends
         return handle
 
@@ -143,11 +145,24 @@ class ActionClient:
             self._handles.pop(handle._key, None)
 
     def _get(self, part: str, payload: bytes, timeout: float,
-             done: Callable[[list[zenoh.Reply]], None]) -> None:
-        """A non-blocking query; ``done(replies)`` runs once it is complete."""
-        replies: list[zenoh.Reply] = []
+             done: Callable[[zenoh.Reply | None], None]) -> None:
+        """A non-blocking query: ``done(reply)`` runs once, on the first reply, or with None
+        when the query ends without one (no server)."""
+        lock = threading.Lock()
+        called = False
+
+        def once(reply: zenoh.Reply | None) -> None:
+            nonlocal called
+            with lock:
+                if called:
+                    return
+                called = True
+            done(reply)
+
+        # indirect=False: run on Zenoh's own thread; the default starts a thread per query
+        handler = zenoh.handlers.Callback(once, lambda: once(None), indirect=False)
         self._ctx.session.get(
-            self._keys[part], zenoh.handlers.Callback(replies.append, lambda: done(replies)),
+            self._keys[part], handler,
             payload=payload, encoding=self._enc[self._req_type(part)], target=_BEST,
             timeout=timeout)
 
@@ -155,12 +170,11 @@ class ActionClient:
         return {"send_goal": self._wire.SendGoalRequest, "get_result": self._wire.GetResultRequest,
                 "cancel_goal": CancelGoalRequest}[part]
 
-    def _on_send_reply(self, h: ClientGoalHandle, replies: list[zenoh.Reply]) -> None:
-        if not replies:
+    def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None) -> None:
+        if reply is None:
             h._fail(None, ActionServerUnavailableError(
                 f"no action server answered goal {h.goal_id} on {self.name}"))
             return
-        reply = replies[0]
         if reply.ok is None:
             assert reply.err is not None
             kind, message = parse_error(reply.err.payload.to_bytes())
@@ -186,13 +200,14 @@ class ActionClient:
         if h.done or self.closed:
             return
         data = self._gr_req.encode(self._wire.GetResultRequest(goal_id=uuid_msg(h.goal_id)))
+        early = h.accepted is None
         self._get("get_result", data, self.result_timeout,
-                  lambda replies: self._on_result_reply(h, replies))
+                  lambda reply: self._on_result_reply(h, reply, early))
 
-    def _on_result_reply(self, h: ClientGoalHandle, replies: list[zenoh.Reply]) -> None:
+    def _on_result_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
+                         early: bool) -> None:
         if h.done:
             return
-        reply = replies[0] if replies else None
         if reply is not None and reply.ok is not None:
             try:
                 res = self._gr_res.decode(reply.ok.payload.to_bytes())
@@ -207,8 +222,10 @@ class ActionClient:
         if kind == "GoalRejected":
             h._fail(GoalStatus.REJECTED, GoalRejectedError(
                 f"action {self.name} rejected goal {h.goal_id}: {message}"), message)
-        elif h._defer_result_request():
-            pass  # asked before the server saw the goal: asked again once it is accepted
+        elif early and kind in ("UnknownGoal", ""):
+            # The pipelined request overtook the goal: ask again once the goal is accepted.
+            if not h._defer_result_request():
+                self._request_result(h)
         elif kind == "UnknownGoal":
             h._finish(GoalStatus.LOST, self.action_type.Result(), message)
         elif kind == "Timeout":
@@ -260,15 +277,25 @@ class ActionClient:
             h._on_feedback(msg)
 
     def _on_status(self, sample: zenoh.Sample) -> None:
-        try:
-            arr = self._status.decode(sample.payload.to_bytes())
-        except CodecError as exc:
-            self._bad_sample("status", exc)
-            return
-        for st in arr.status_list:
-            h = self._handles.get(bytes(st.goal_info.goal_id.uuid))
-            if h is not None:
-                h._advance(GoalStatus(st.status))
+        # Decoded when a handle's status is read (`refresh_status`), not here: results and
+        # acceptance come by query, so this keeps status arrays off the goal's critical path.
+        self._status_raw = sample.payload.to_bytes()
+
+    def refresh_status(self) -> None:
+        """Apply the latest status array to this client's goal handles."""
+        with self._status_lock:
+            raw, self._status_raw = self._status_raw, None
+            if raw is None:
+                return
+            try:
+                arr = self._status.decode(raw)
+            except CodecError as exc:
+                self._bad_sample("status", exc)
+                return
+            for st in arr.status_list:
+                h = self._handles.get(bytes(st.goal_info.goal_id.uuid))
+                if h is not None:
+                    h._advance(GoalStatus(st.status))
 
     def _bad_sample(self, part: str, exc: Exception) -> None:
         if self._throttle.allow(part):
@@ -287,14 +314,13 @@ class ActionClient:
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
         req = CancelGoalRequest(goal_info=GoalInfo(goal_id=uuid_msg(goal_id), stamp=stamp))
         done = threading.Event()
-        replies: list[list[zenoh.Reply]] = []
+        replies: list[zenoh.Reply | None] = []
         self._get("cancel_goal", self._cg_req.encode(req), timeout,
                   lambda r: (replies.append(r), done.set()))
         done.wait(timeout + 1.0)
-        got = replies[0] if replies else []
-        if not got:
+        reply = replies[0] if replies else None
+        if reply is None:
             raise ActionServerUnavailableError(f"no action server answered cancel on {self.name}")
-        reply = got[0]
         if reply.ok is None:
             assert reply.err is not None
             kind, message = parse_error(reply.err.payload.to_bytes())

@@ -63,6 +63,9 @@ class ClientGoalHandle:
 
     @property
     def status(self) -> GoalStatus:
+        """The goal's state as last reported by the server (or REJECTED/LOST, client-side)."""
+        if not self._ended:
+            self._client.refresh_status()
         return self._status
 
     @property

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from ..msgs.builtin_interfaces import Time
 from .states import GoalEvent
-from .types import GoalStatus
+from .types import GoalInfo, GoalStatus, uuid_msg
 
 if TYPE_CHECKING:
     import zenoh
@@ -40,6 +40,7 @@ class ServerGoalHandle(Generic[G]):
         self._cancel = threading.Event()
         # server bookkeeping, guarded by the server's lock
         self._key = goal_id.bytes
+        self._info = GoalInfo(goal_id=uuid_msg(goal_id))  # stamp set on acceptance
         self._result: Any = None
         self._waiters: list[zenoh.Query] = []
         self._finished_at = 0.0

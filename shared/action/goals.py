@@ -91,11 +91,7 @@ class GoalTable:
         for h in list(self.active.values()):
             if not h.status.active:
                 continue
-            if key is not None and h._key == key:
-                yield h
-            elif key is None and stamp_ns == 0:
-                yield h
-            elif stamp_ns > 0 and _ns(h) <= stamp_ns:
+            if key is not None and h._key == key or key is None and stamp_ns == 0 or stamp_ns > 0 and _ns(h) <= stamp_ns:
                 yield h
 
     def terminal_or_unknown(self, key: bytes) -> GoalStatus:

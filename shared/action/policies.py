@@ -11,7 +11,7 @@ from collections.abc import Hashable
 from dataclasses import dataclass
 from typing import Generic, TypeVar
 
-__all__ = ["GoalPolicy", "Plan", "Scheduler", "POLICY_KINDS"]
+__all__ = ["POLICY_KINDS", "GoalPolicy", "Plan", "Scheduler"]
 
 K = TypeVar("K", bound=Hashable)
 

@@ -26,13 +26,11 @@ from .types import (
     CancelGoalRequest,
     CancelGoalResponse,
     CancelResponse,
-    GoalInfo,
     GoalResponse,
     GoalStatus,
     GoalStatusArray,
     GoalStatusMsg,
     uuid_from_msg,
-    uuid_msg,
 )
 from .wire import wire_types
 from .workers import WorkerPool
@@ -116,17 +114,20 @@ class ActionServer:
         self._workers = WorkerPool(f"action{self.name}", self.logger)
         self._timer: asyncio.TimerHandle | None = None
         self._purge_armed = False
+        self._status_dirty = self._flush_pending = False
         self._closing = False
         self.closed = False
         s, key = ctx.session, self._key
         self._fb_pub = s.declare_publisher(key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
                                            congestion_control=zenoh.CongestionControl.BLOCK)
         self._status_pub = status_publisher(s, key("status"), GoalStatusArray)
-        self._queryables = [
-            s.declare_queryable(key(part), fn, complete=True)
-            for part, fn in (("send_goal", self._on_send_goal), ("cancel_goal", self._on_cancel),
-                             ("get_result", self._on_get_result))
-        ]
+        # One queryable for the three request keys (send_goal, cancel_goal, get_result): its
+        # callbacks run on one thread in arrival order, so a client may send get_result right
+        # behind send_goal. (A plain callback: Zenoh calls it on a thread of its own, keeping
+        # Python work and the GIL off Zenoh's network threads.)
+        self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
+                          "get_result": self._on_get_result}
+        self._queryable = s.declare_queryable(key("*"), self._on_query, complete=True)
         with self._lock:
             self._publish_status()
         self._token = s.liveliness().declare_token(ctx.keys.entity_token(
@@ -135,6 +136,16 @@ class ActionServer:
 
     def _key(self, part: str) -> str:
         return self._ctx.keys.action(self.name, part)
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        part = str(query.key_expr).rsplit("/", 1)[-1]
+        handler = self._handlers.get(part)
+        if handler is not None:
+            handler(query)
+            return
+        with query:
+            self._reply_err(query, "BadRequest", (
+                f"action {self.name}: no request {part!r}; valid: {', '.join(self._handlers)}"))
 
     # ------------------------------------------------------------------ send_goal
 
@@ -165,16 +176,16 @@ class ActionServer:
                     self._table.remove(handle)
                     for w in handle._waiters:
                         self._reply_err(w, "GoalRejected", reason)
-                        w.drop()
                     handle._waiters.clear()
-                else:
-                    handle.stamp = self._node.now()
-                    handle._status = GoalStatus.ACCEPTED
-                    self._table.activate(handle)
-                    launch = self._apply(plan)
-                    self._publish_status()
-            self._respond(query, not reason, reason, handle)
-        self._launch(launch)
+                    self._respond(query, False, reason)
+                    return
+                handle.stamp = handle._info.stamp = self._node.now()
+                handle._status = GoalStatus.ACCEPTED
+                self._table.activate(handle)
+                launch = self._apply(plan)
+                self._respond(query, True, "", handle)  # answer first, then run the goal
+                self._launch(launch)
+                self._publish_status()
 
     def _ask_goal_callback(self, goal: Any) -> str:
         """'' to accept, else the rejection reason."""
@@ -196,8 +207,7 @@ class ActionServer:
         res = self._wire.SendGoalResponse(accepted=accepted, reason=reason)
         if accepted and handle is not None:
             res.stamp = handle.stamp
-        query.reply(query.key_expr, self._sg_res.encode(res),
-                    encoding=self._enc[self._wire.SendGoalResponse])
+        _answer(query, self._sg_res.encode(res), self._enc[self._wire.SendGoalResponse])
 
     # ------------------------------------------------------------------ scheduling, execution
 
@@ -279,8 +289,7 @@ class ActionServer:
         if h._waiters:
             data = self._result_payload(h)
             for w in h._waiters:
-                w.reply(w.key_expr, data, encoding=self._enc[self._wire.GetResultResponse])
-                w.drop()
+                _answer(w, data, self._enc[self._wire.GetResultResponse])
             h._waiters.clear()
         self._arm_expiry()
 
@@ -305,7 +314,7 @@ class ActionServer:
                                  f"{h._status.name}")
         if self.closed:
             return
-        msg = self._wire.FeedbackMessage(goal_id=uuid_msg(h.goal_id), feedback=feedback)
+        msg = self._wire.FeedbackMessage(goal_id=h._info.goal_id, feedback=feedback)
         self._fb_pub.put(self._fb.encode(msg))
 
     def _request_cancel(self, h: Handle) -> None:
@@ -355,10 +364,9 @@ class ActionServer:
         return answer is CancelResponse.ACCEPT or answer is True
 
     def _reply_cancel(self, query: zenoh.Query, code: CancelCode, goals: list[Handle]) -> None:
-        res = CancelGoalResponse(return_code=int(code), goals_canceling=[
-            GoalInfo(goal_id=uuid_msg(h.goal_id), stamp=h.stamp) for h in goals])
-        query.reply(query.key_expr, self._cg_res.encode(res),
-                    encoding=self._enc[CancelGoalResponse])
+        res = CancelGoalResponse(return_code=int(code),
+                                 goals_canceling=[h._info for h in goals])
+        _answer(query, self._cg_res.encode(res), self._enc[CancelGoalResponse])
 
     # ------------------------------------------------------------------ get_result
 
@@ -377,7 +385,7 @@ class ActionServer:
             data = None if h is None else self._result_payload(h)
         with query:
             if data is not None:
-                query.reply(query.key_expr, data, encoding=self._enc[self._wire.GetResultResponse])
+                _answer(query, data, self._enc[self._wire.GetResultResponse])
                 return
             self._reply_err(query, "UnknownGoal", (
                 f"action {self.name}: unknown goal id {gid}: it was never accepted by this server, "
@@ -386,14 +394,25 @@ class ActionServer:
     # ------------------------------------------------------------------ status, expiry
 
     def _publish_status(self) -> None:
-        """Publish the full status array (under the lock, so arrays go out in order)."""
-        if self.closed:
-            return
-        arr = GoalStatusArray(status_list=[
-            GoalStatusMsg(goal_info=GoalInfo(goal_id=uuid_msg(h.goal_id), stamp=h.stamp),
-                          status=int(h._status))
-            for h in self._table.status_list()])
-        self._status_pub.put(self._status_codec.encode(arr))
+        """Note a state change (under the lock); the executor publishes the status array soon
+        after. Changes made meanwhile coalesce into that one array, which keeps publishing off
+        the threads that answer queries and run goals."""
+        self._status_dirty = True
+        if not self._flush_pending and not self.closed:
+            self._flush_pending = True
+            self._ctx.executor.call_soon(self._flush_status)
+
+    def _flush_status(self) -> None:
+        """Publish the full status array if it changed since the last one."""
+        with self._lock:
+            self._flush_pending = False
+            if not self._status_dirty or self.closed:
+                return
+            self._status_dirty = False
+            arr = GoalStatusArray(status_list=[
+                GoalStatusMsg(goal_info=h._info, status=int(h._status))
+                for h in self._table.status_list()])
+            self._status_pub.put(self._status_codec.encode(arr))
 
     def _arm_expiry(self) -> None:
         if not self._purge_armed and not self.closed:
@@ -419,6 +438,7 @@ class ActionServer:
         if kind == "BadRequest":
             self.logger.warning("%s", message)
         query.reply_err(error_payload(kind, message))
+        query.drop()
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -429,7 +449,6 @@ class ActionServer:
             if self._closing:
                 return
             self._closing = True
-        self._queryables[0].undeclare()  # send_goal: no new goals
         with self._lock:
             for key in list(self._sched.waiting):
                 self._sched.withdraw(key)
@@ -438,7 +457,8 @@ class ActionServer:
                 self._retire(h, self.action_type.Result())
             for h in list(self._table.active.values()):
                 self._request_cancel(h)
-            self._publish_status()
+            self._status_dirty = True
+            self._flush_status()
             self._idle.wait_for(lambda: not self._table.active, self.shutdown_timeout)
             for h in list(self._table.active.values()):
                 if h._status.active:
@@ -446,16 +466,22 @@ class ActionServer:
                 self.logger.warning("action %s: goal %s still running at shutdown; aborted",
                                     self.name, h.goal_id)
                 self._retire(h, self.action_type.Result())
-            self._publish_status()
+            self._status_dirty = True
+            self._flush_status()
             self.closed = True
             if self._timer is not None:
                 self._ctx.executor.call_soon(self._timer.cancel)
         self._token.undeclare()
-        for q in self._queryables[1:]:
-            q.undeclare()
+        self._queryable.undeclare()
         self._fb_pub.undeclare()
         self._status_pub.undeclare()
         self._workers.close()
 
     def __repr__(self) -> str:
         return f"<ActionServer {self.name} [{self.action_type.name}] policy={self.policy}>"
+
+
+def _answer(query: zenoh.Query, data: bytes, encoding: zenoh.Encoding) -> None:
+    """Reply and finalize at once: Zenoh sends a reply only when its query is dropped."""
+    query.reply(query.key_expr, data, encoding=encoding)
+    query.drop()

@@ -17,9 +17,9 @@ from ..rpc import error_payload
 
 __all__ = [
     "PARTS",
-    "error_payload",
     "decode_query",
     "encoding_for",
+    "error_payload",
     "parse_error",
     "status_publisher",
     "status_subscriber",

@@ -13,17 +13,17 @@ from ..msgs.builtin_interfaces import Time
 
 __all__ = [
     "UUID",
+    "ZERO_UUID",
     "CancelCode",
+    "CancelGoal",
     "CancelGoalRequest",
     "CancelGoalResponse",
-    "CancelGoal",
     "CancelResponse",
     "GoalInfo",
     "GoalResponse",
     "GoalStatus",
     "GoalStatusArray",
     "GoalStatusMsg",
-    "ZERO_UUID",
     "uuid_from_msg",
     "uuid_msg",
 ]

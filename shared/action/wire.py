@@ -9,7 +9,7 @@ names so tools can decode them by the schema in the sample encoding.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 import msgspec
@@ -86,7 +86,7 @@ def _derive(base: type[Message], type_name: str, field: str | None = None,
                              namespace={"__msgtype__": type_name, "__module__": __name__})
 
 
-@lru_cache(maxsize=None)
+@cache
 def wire_types(action: ActionType) -> ActionWire:
     """The wire messages of ``action``, built and registered on first use."""
     n = action.name

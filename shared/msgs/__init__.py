@@ -11,6 +11,7 @@ from . import (
     std_msgs,
     std_srvs,
     tf2_msgs,
+    tf_srvs,
 )
 
 __all__ = [
@@ -24,4 +25,5 @@ __all__ = [
     "std_msgs",
     "std_srvs",
     "tf2_msgs",
+    "tf_srvs",
 ]

@@ -10,7 +10,6 @@ from typing import Any
 
 import msgspec
 import pytest
-
 from zenros.context import Context
 from zenros.errors import (
     InvalidNameError,
@@ -20,7 +19,7 @@ from zenros.errors import (
 )
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.param_client import ParamEvent, ParameterClient, attach_parameter_backend
+from zenros.param_client import ParameterClient, ParamEvent, attach_parameter_backend
 from zenros.services.master.node import MasterNode
 from zenros.services.master.param_store import ParamStore
 from zenros.testing import Collector, wait_for
@@ -117,6 +116,18 @@ def test_a_plain_zenoh_get_reads_json(ctx_pair: list[Context], client: Parameter
     assert leaves == {keys.param("/nav/max_speed"): b"0.5", keys.param("/nav/name"): b'"robot"'}
 
 
+def test_reads_after_a_write_see_it(client: ParameterClient) -> None:
+    """The master caches encoded answers; every change must invalidate them."""
+    client.set("/c/x", 1)
+    for i in range(2, 6):
+        assert client.get("/c") == {"x": i - 1} and client.get("/c/x") == i - 1
+        client.set("/c/x", i)
+    client.delete("/c")
+    assert client.lookup("/c") == (False, None)
+    client.set("/c", "leaf")
+    assert client.get("/c") == "leaf"
+
+
 def test_subscribers_get_change_events(client: ParameterClient) -> None:
     events: Collector[ParamEvent] = Collector()
     sub = client.subscribe("/nav", events)
@@ -199,8 +210,11 @@ class Planner(Node):
 def test_attach_after_declaring_fetches_the_declared_parameters(
     ctx_pair: list[Context], client: ParameterClient
 ) -> None:
+    class Unattached(Planner):
+        uses_parameter_server = False  # a node built before the backend is attached
+
     client.set("/planner/speed", 2.5)
-    node = Planner("planner", context=ctx_pair[1])
+    node = Unattached("planner", context=ctx_pair[1])
     try:
         assert node.get_parameter("speed") == 1.0
         attach_parameter_backend(node)

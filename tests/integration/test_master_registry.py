@@ -11,7 +11,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-
 from zenros.context import Context
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsResponse
 from zenros.msgs.geometry_msgs import Twist

@@ -16,7 +16,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-
 from zenros.context import Context
 from zenros.errors import ParameterNotFoundError
 from zenros.param_client import ParameterClient
@@ -48,7 +47,11 @@ class Proxy:
             if not self.open:
                 client.close()
                 continue
-            upstream = socket.create_connection(("127.0.0.1", self.target))
+            try:
+                upstream = socket.create_connection(("127.0.0.1", self.target))
+            except OSError:  # the target is gone (teardown)
+                client.close()
+                continue
             with self._lock:
                 self._conns += [client, upstream]
             for a, b in ((client, upstream), (upstream, client)):

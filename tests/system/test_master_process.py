@@ -11,10 +11,10 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-
 from zenros.cli import param as param_cli
 from zenros.context import Context
 from zenros.errors import ZenrosError
+from zenros.node import Node
 from zenros.param_client import ParameterClient
 from zenros.session import SessionOptions
 from zenros.testing import Proc
@@ -92,6 +92,47 @@ def test_a_second_master_on_the_same_data_dir_fails_at_startup(
     procs.append(second)
     assert second.wait(15) == 3, second.output
     assert "in use by another process" in second.output
+
+
+TWIN = """
+import sys, threading
+from zenros.context import Context
+from zenros.log import configure_logging
+from zenros.node import Node
+from zenros.session import SessionOptions
+from zenros.shutdown import install_shutdown_listener
+
+configure_logging(None)
+ctx = Context(SessionOptions(connect=[sys.argv[1]]), prefix=sys.argv[2])
+node = Node("twin", context=ctx)
+stop = threading.Event()
+install_shutdown_listener(node, stop.set)  # what the runtime does with its stop event
+print("ready", flush=True)
+stop.wait(30)
+node.close()
+ctx.close()
+sys.exit(0 if stop.is_set() else 1)
+"""
+
+
+def test_an_older_node_process_exits_when_a_newer_one_takes_its_name(
+    router: str, prefix: str, tmp_path: Path, ctx: Context, procs: list[Proc]
+) -> None:
+    procs.append(start_master(router, prefix, tmp_path))
+    older = Proc([sys.executable, "-c", TWIN, router, prefix])
+    procs.append(older)
+    assert older.wait_line("ready", 15), older.output
+    assert ctx.graph.wait_for_node("/twin", 10)
+    newer = Node("twin", context=ctx)
+    try:
+        assert older.wait(15) == 0, older.output
+        assert "shutting down: a newer node took the name /twin" in older.output
+        assert procs[0].wait_line("duplicate node name /twin", 5), procs[0].output
+        graph = ctx.graph
+        assert graph.wait_for(lambda: [n.zid for n in graph.nodes() if n.name == "/twin"]
+                              == [ctx.zid], 5)
+    finally:
+        newer.close()
 
 
 def run_cli(capsys: pytest.CaptureFixture[str], router: str, prefix: str, *argv: str) -> str:

@@ -36,7 +36,11 @@ from zenros.msgs.sensor_msgs import BatteryState, JointState, LaserScan
 from zenros.msgs.std_msgs import Float64, Header, String
 from zenros.msgs.tf2_msgs import TFMessage
 
-BULK = {"nav_msgs/OccupancyGrid", "sensor_msgs/LaserScan"}
+BULK = {
+    "nav_msgs/OccupancyGrid", "sensor_msgs/LaserScan",
+    "zenros_msgs/SetParamRequest", "zenros_msgs/GetParamResponse", "zenros_msgs/ParamRows",
+    "zenros_msgs/SyncResponse",
+}
 
 
 # ------------------------------------------------------------------ sample messages

@@ -647,3 +647,13 @@ def test_acknowledged_writes_survive_kill_9(tmp_path: Path) -> None:
     # every acknowledged write is there; at most the one in flight was committed as well
     candidates = [replay(acked), replay([*acked, len(acked)])]
     assert got in [typed(t.get("/")) for t in candidates]
+
+
+def test_a_write_given_an_older_clock_reading_is_still_the_newest(store: ParamStore) -> None:
+    """The master passes its session's HLC time as ``now``; a replica's row stamped later
+    (a clock ahead) must not make the next local write lose."""
+    future = store.set("/x", 1, Stamp(2**62, "other"))
+    stamp = store.set("/x", 2, now=1000)
+    assert stamp > future and store.get("/x") == 2
+    assert store.delete("/x", now=1000) > stamp
+    assert store.load_yaml("x: 3", now=1000) == ["/x"] and store.get("/x") == 3
