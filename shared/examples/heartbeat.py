@@ -1,5 +1,4 @@
-"""Heartbeat: sequence numbers on a plain and on a cached topic, and a monitor that counts
-which ones arrive (the traffic of the multi-host demo in deploy/demo)."""
+"""Heartbeats on a plain and a cached topic, and a monitor that counts which ones arrive."""
 
 from __future__ import annotations
 

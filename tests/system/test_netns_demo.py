@@ -1,5 +1,4 @@
-"""The multi-host demo (deploy/demo/demo.sh) in network namespaces: a station and two robots,
-a robot's link pulled for 5 s, random packet loss; what each QoS loses and how it recovers."""
+"""The multi-host demo in network namespaces: a link outage and packet loss, per QoS."""
 
 from __future__ import annotations
 
@@ -10,7 +9,7 @@ import shutil
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,6 +24,8 @@ DEMO = ROOT / "deploy" / "demo" / "demo.sh"
 RATE = 50.0  # robot.yaml's heartbeat_rate
 OUTAGE = 5.0  # seconds robot1's link stays down: the scenario itself, not a wait for a result
 REPORT_TAG = "heartbeat_report "
+
+Reports = dict[str, dict[str, Any]]  # topic -> the monitor's latest report for it
 
 
 def _netns_unavailable() -> str | None:
@@ -58,9 +59,9 @@ class Demo:
         assert done.returncode == 0, f"demo.sh {' '.join(args)} exited {done.returncode}:\n{out}"
         return out
 
-    def reports(self) -> dict[str, dict[str, Any]]:
+    def reports(self) -> Reports:
         """The station monitor's latest heartbeat_report per topic."""
-        latest: dict[str, dict[str, Any]] = {}
+        latest: Reports = {}
         log = self.state / "st.log"
         if not log.exists():
             return latest
@@ -74,9 +75,10 @@ class Demo:
                 latest[report["topic"]] = report
         return latest
 
-    def wait_reports(self, pred: Any, timeout: float, what: str) -> dict[str, dict[str, Any]]:
+    def wait_reports(self, pred: Callable[[Reports], bool], timeout: float,
+                     what: str) -> Reports:
         """Poll the reports (one a second per topic) until ``pred(reports)`` holds."""
-        got: dict[str, dict[str, Any]] = {}
+        got: Reports = {}
 
         def check() -> bool:
             nonlocal got
@@ -132,7 +134,7 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
         assert prefix not in listed, f"namespaces left behind: {listed}"
 
 
-def _flowing(reports: dict[str, dict[str, Any]], topics: list[str], after: float) -> bool:
+def _flowing(reports: Reports, topics: list[str], after: float) -> bool:
     return all(t in reports and (reports[t]["last_rx"] or 0) > after for t in topics)
 
 
@@ -158,7 +160,7 @@ def test_link_outage_plain_resumes_cached_recovers_everything(demo: Demo) -> Non
     t_up = time.monotonic()  # taken before the link is up: resume times are upper bounds
     demo.sh("link", "robot1", "up")
 
-    def recovered(r: dict[str, dict[str, Any]]) -> bool:
+    def recovered(r: Reports) -> bool:
         if not _flowing(r, [r1, r1c, r2, r2c], t_up + 1.0):
             return False
         # Both robot1 streams have been back for a while and the cached one caught up.
@@ -212,7 +214,7 @@ def test_random_loss_cached_topic_loses_nothing(demo: Demo) -> None:
         demo.sh("loss", "robot2", "off")
     t_off = time.monotonic()
 
-    def caught_up(r: dict[str, dict[str, Any]]) -> bool:
+    def caught_up(r: Reports) -> bool:
         return bool(_flowing(r, [r2, r2c], t_off) and r[r2c]["lost"] == 0
                     and r[r2c]["last"] >= r[r2]["last"] - RATE)
 
