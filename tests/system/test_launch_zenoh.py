@@ -1,0 +1,80 @@
+"""`zenros launch` with Zenoh: its own router, readiness from liveliness, respawn into the
+graph, and a clean Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from zenros.context import Context
+from zenros.session import SessionOptions
+from zenros.testing import Proc, free_port, unique_prefix
+
+pytestmark = pytest.mark.system
+
+LAUNCH = """
+nodes:
+  - module: zenros.examples.talker
+    name: chatty
+    respawn: true
+    params: [{rate: 20.0}]
+  - module: zenros.examples.listener
+"""
+
+
+@pytest.fixture
+def launched(tmp_path: Path) -> Iterator[tuple[Proc, Context]]:
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    prefix = unique_prefix()
+    (tmp_path / "demo.yaml").write_text(LAUNCH)
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "demo.yaml"),
+                 "--data-dir", str(tmp_path / "home")],
+                env={"ZENROS_CONNECT": endpoint, "ZENROS_PREFIX": prefix})
+    ctx: Context | None = None
+    try:
+        assert proc.wait_line("started a Zenoh router", 20), proc.output
+        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        yield proc, ctx
+    finally:
+        if ctx is not None:
+            ctx.close()
+        proc.stop(timeout=20)
+
+
+def test_launch_starts_router_and_nodes_and_reports_ready(launched: tuple[Proc, Context]) -> None:
+    proc, ctx = launched
+    assert proc.wait_line("chatty is ready", 20), proc.output
+    assert proc.wait_line("listener is ready", 20), proc.output
+    assert ctx.graph.wait_for(lambda: {"/chatty", "/listener"} <= set(ctx.graph.node_names()), 10)
+    assert proc.wait_line("[listener]", 10)  # prefixed output of the node
+
+
+def test_killed_respawnable_node_is_back_in_the_graph_within_3s(
+    launched: tuple[Proc, Context]
+) -> None:
+    proc, ctx = launched
+    g = ctx.graph
+    assert g.wait_for(lambda: any(n.name == "/chatty" for n in g.nodes()), 20)
+    old = next(n for n in g.nodes() if n.name == "/chatty")
+    os.kill(old.pid, signal.SIGKILL)
+    start = time.monotonic()
+    assert g.wait_for(
+        lambda: any(n.name == "/chatty" and n.pid != old.pid for n in g.nodes()), 3.0
+    ), proc.output
+    assert time.monotonic() - start < 3.0
+
+
+def test_ctrl_c_stops_everything_cleanly(launched: tuple[Proc, Context]) -> None:
+    proc, ctx = launched
+    assert proc.wait_line("listener is ready", 20), proc.output
+    proc.signal(signal.SIGINT)
+    assert proc.wait(30) == 0, proc.output
+    assert "launch finished with exit code 0" in proc.output
+    g = ctx.graph
+    assert g.wait_for(lambda: not ({"/chatty", "/listener"} & set(g.node_names())), 5)
