@@ -121,3 +121,28 @@ def test_node_process_serves_across_processes(router: str, prefix: str, observer
     assert client.call(AddTwoIntsRequest(a=20, b=22)).sum == 42
 
 
+
+
+STUCK_NODE = """
+import threading
+from zenros import Node, run
+
+class Stuck(Node):
+    def close(self):
+        threading.Event().wait()   # a shutdown that never finishes
+
+run(Stuck)
+"""
+
+
+def test_second_signal_forces_exit(router: str, prefix: str, observer: Context) -> None:
+    p = Proc([sys.executable, "-c", STUCK_NODE, "-e", router, "--prefix", prefix])
+    try:
+        assert observer.graph.wait_for_node("/stuck", 10), p.output
+        p.signal(signal.SIGINT)
+        assert p.wait_line("shutting down", 10), p.output
+        p.signal(signal.SIGINT)
+        assert p.wait(10) == 130, p.output
+        assert "forced exit" in p.output
+    finally:
+        p.stop()
