@@ -21,6 +21,7 @@ from types import FrameType
 import zenoh
 
 from .errors import StartupError
+from .session import apply_runtime_defaults
 
 __all__ = [
     "DEFAULT_KEEP_ALIVE",
@@ -188,6 +189,7 @@ def serve_router(
     endpoints = ", ".join(listen_endpoints(config)) or "(no endpoint)"
     with _stop_on_signals(stop):
         try:
+            apply_runtime_defaults()
             session = zenoh.open(config)
         except zenoh.ZError as exc:
             print(f"zenros router: cannot listen on {endpoints}: {_clean(exc)}", file=sys.stderr)

@@ -132,8 +132,24 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     return conf
 
 
+RX_RUNTIME = "(rx: (worker_threads: 8))"
+
+
+def apply_runtime_defaults() -> None:
+    """Zenoh runtime settings, read once when the first session of the process opens.
+
+    Zenoh closes a link whose lease expired on one of its "rx" threads, and that close can
+    block for the 10 s SO_LINGER while the peer is unreachable; with the default 2 rx threads,
+    a process with several links to a lost host stops receiving from everyone (measured in
+    the multi-host demo, docs/demo.md). 8 rx threads keep the other links flowing. An explicit
+    ``$ZENOH_RUNTIME`` wins.
+    """
+    os.environ.setdefault("ZENOH_RUNTIME", RX_RUNTIME)
+
+
 def open_session(opts: SessionOptions | zenoh.Config) -> zenoh.Session:
     """Open a session; raises `StartupError` with one clear line when it cannot."""
+    apply_runtime_defaults()
     conf = opts if isinstance(opts, zenoh.Config) else build_config(opts)
     try:
         return zenoh.open(conf)
