@@ -51,6 +51,7 @@ class Container(State):
         self._running = False
         self._listeners = ListenerSet()
         self._last_outcome: str | None = None
+        self._pending_userdata: dict[str, Any] = {}
 
     # ------------------------------------------------------------------ children
 
@@ -194,6 +195,9 @@ class Container(State):
     def _run_claimed(self, parent_ud: UserDataAccess | None) -> str:
         try:
             self.check()
+            with self._lock:
+                pending, self._pending_userdata = self._pending_userdata, {}
+            self.userdata.update(pending)
             self._copy_inputs(parent_ud)
             self._emit("start", self.get_initial_states())
             try:
@@ -309,6 +313,31 @@ class Container(State):
             self._set_initial(chosen)
             if userdata is not None:
                 self.userdata.update(userdata)
+
+    def schedule_initial_state(
+        self, labels: Sequence[str], userdata: Mapping[str, Any] | UserData | None = None
+    ) -> bool:
+        """`set_initial_state`, also accepted while the container runs (smach_ros's remote init).
+
+        Idle, it is `set_initial_state`. Running, the labels are checked now and take effect
+        at the next run (the current one has started already), and the userdata is set when
+        that run starts, before its input keys are copied in.
+
+        Returns:
+            True if applied at once, False if deferred to the next run.
+
+        Raises:
+            InvalidStateError: A label is unknown or not valid for this container type.
+        """
+        chosen = names(labels, "initial states")
+        values = userdata.snapshot() if isinstance(userdata, UserData) else dict(userdata or {})
+        with self._lock:
+            self._set_initial(chosen)  # checks; a run reads its initial state when it starts
+            if not self._running:
+                self.userdata.update(values)
+                return True
+            self._pending_userdata.update(values)
+            return False
 
     def _set_initial(self, labels: tuple[str, ...]) -> None:
         raise NotImplementedError

@@ -10,13 +10,16 @@ from typing import Any, Literal
 
 import msgspec
 
-from ..message import Message
+from ..message import Message, define_service
 
 __all__ = [
     "ContainerEvent",
     "ContainerStatus",
     "EventKind",
     "Listener",
+    "SetInitialState",
+    "SetInitialStateRequest",
+    "SetInitialStateResponse",
     "StateStructure",
     "TransitionInfo",
     "snapshot_userdata",
@@ -103,6 +106,35 @@ class ContainerEvent(Message, kw_only=True):
     target: str | None = None
     error: str | None = None
 
+
+class SetInitialStateRequest(Message, kw_only=True):
+    """Where the container at ``path`` starts its next run, and userdata keys to set in it.
+
+    Empty ``initial_states`` keeps the current choice. ``userdata`` holds plain data (what
+    JSON or YAML can say).
+    """
+
+    __msgtype__ = "zenros_smach/SetInitialStateRequest"
+
+    path: str = "/"
+    initial_states: list[str] = msgspec.field(default_factory=list)
+    userdata: dict[str, Any] = msgspec.field(default_factory=dict)
+
+
+class SetInitialStateResponse(Message, kw_only=True):
+    """``success`` False says why in ``message``; ``applied`` False: deferred to the next run."""
+
+    __msgtype__ = "zenros_smach/SetInitialStateResponse"
+
+    success: bool = False
+    applied: bool = False
+    message: str = ""
+
+
+SetInitialState = define_service(
+    "zenros_smach/SetInitialState", SetInitialStateRequest, SetInitialStateResponse
+)
+"""The introspection server's ``<name>/set_initial_state`` service."""
 
 Listener = Callable[[ContainerEvent], None]
 """A callback on container events; called on the executing thread, so keep it short."""

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from .introspection import ContainerStatus, StateStructure, snapshot_userdata
-from .state import State
+from .introspection import ContainerEvent, ContainerStatus, StateStructure, snapshot_userdata
+from .state import State, join_path
 
 if TYPE_CHECKING:
     from .container import Container
 
-__all__ = ["active_paths", "status_of", "structure_of"]
+__all__ = ["active_paths", "status_at_event", "status_of", "structure_of"]
 
 
 def structure_of(container: Container) -> StateStructure:
@@ -67,3 +67,34 @@ def active_paths(container: Container, active: list[str]) -> list[str]:
             deeper = active_paths(child, child.get_active_states())
         paths += deeper or [child.path]
     return paths
+
+
+def status_at_event(root: Container, event: ContainerEvent) -> ContainerStatus:
+    """The status of ``root`` as a listener should report it when ``event`` fires.
+
+    A container emits ``start`` before its first children begin and ``termination`` just
+    before it clears its running flag, so the live status lags one step at those two
+    events; here the emitting container shows the event's active states (and, at
+    ``termination``, that it stopped). Every other event leaves the live status as it is.
+    """
+    status = status_of(root)
+    if event.kind != "transition":
+        _apply(status, event)
+    return status
+
+
+def _apply(status: ContainerStatus, event: ContainerEvent) -> bool:
+    if status.path == event.path:
+        status.active_states = list(event.active_states)
+        if event.kind == "termination":
+            status.running = False
+    elif not any(_apply(child, event) for child in status.children):
+        return False
+    by_path = {child.path: child for child in status.children}
+    paths: list[str] = []
+    for label in status.active_states:
+        path = join_path(status.path, label)
+        child = by_path.get(path)
+        paths += (child.active_paths if child is not None else []) or [path]
+    status.active_paths = paths
+    return True

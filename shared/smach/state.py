@@ -14,7 +14,7 @@ from .userdata import UserDataAccess
 if TYPE_CHECKING:
     from .container import Container
 
-__all__ = ["CBState", "State", "cb_interface", "names"]
+__all__ = ["CBState", "State", "cb_interface", "interface_of", "names"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -219,6 +219,15 @@ def cb_interface(
     return decorate
 
 
+def interface_of(cb: Callable[..., Any]) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """The ``(outcomes, input_keys, output_keys)`` that `cb_interface` declared on ``cb``.
+
+    All three are empty for a callback without a declaration.
+    """
+    spec = getattr(cb, _INTERFACE_ATTR, _Interface((), (), ()))
+    return spec.outcomes, spec.input_keys, spec.output_keys
+
+
 class CBState(State):
     """A state that calls one function: ``cb(userdata, *args, **kwargs) -> outcome``.
 
@@ -247,11 +256,11 @@ class CBState(State):
     ) -> None:
         if not callable(cb):
             raise InvalidStateError(f"CBState needs a callable, got {type(cb).__name__}")
-        spec = getattr(cb, _INTERFACE_ATTR, _Interface((), (), ()))
+        cb_outcomes, cb_inputs, cb_outputs = interface_of(cb)
         super().__init__(
-            (*names(outcomes, "outcomes"), *spec.outcomes),
-            (*names(input_keys, "input_keys"), *spec.input_keys),
-            (*names(output_keys, "output_keys"), *spec.output_keys),
+            (*names(outcomes, "outcomes"), *cb_outcomes),
+            (*names(input_keys, "input_keys"), *cb_inputs),
+            (*names(output_keys, "output_keys"), *cb_outputs),
             io_keys,
         )
         self._cb = cb

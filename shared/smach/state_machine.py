@@ -132,7 +132,8 @@ class StateMachine(Container):
                 with self._lock:
                     if done:
                         self._settle_preempt()
-                        self._current = None
+                    # set before the event, so a listener reading the status sees the target
+                    self._current = None if done else target
                 self._emit("transition", [] if done else [target],
                            label=label, outcome=outcome, target=target)
                 if done:
