@@ -18,7 +18,6 @@ from typing import Any
 
 import msgspec
 import zenoh
-
 from _harness import Child, emit, free_port, percentile, raw_config, unique_prefix
 from zenros import Node
 from zenros.action import ActionClient, ActionServer

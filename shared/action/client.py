@@ -87,8 +87,8 @@ class ActionClient:
         self._status_raw: bytes | None = None
         self.closed = False
         s = ctx.session
-        self._fb_sub = s.declare_subscriber(self._keys["feedback"], self._on_feedback)
-        self._status_sub = status_subscriber(s, self._keys["status"], self._on_status)
+        self._fb_sub: Any = s.declare_subscriber(self._keys["feedback"], self._on_feedback)
+        self._status_sub: Any = status_subscriber(s, self._keys["status"], self._on_status)
         self._graph = ctx.graph
         ref = weakref.ref(self)
         self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
@@ -315,8 +315,12 @@ class ActionClient:
         req = CancelGoalRequest(goal_info=GoalInfo(goal_id=uuid_msg(goal_id), stamp=stamp))
         done = threading.Event()
         replies: list[zenoh.Reply | None] = []
-        self._get("cancel_goal", self._cg_req.encode(req), timeout,
-                  lambda r: (replies.append(r), done.set()))
+
+        def on_reply(reply: zenoh.Reply | None) -> None:
+            replies.append(reply)
+            done.set()
+
+        self._get("cancel_goal", self._cg_req.encode(req), timeout, on_reply)
         done.wait(timeout + 1.0)
         reply = replies[0] if replies else None
         if reply is None:

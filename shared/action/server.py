@@ -19,7 +19,7 @@ from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .policies import GoalPolicy, Plan, Scheduler
 from .states import GoalEvent, transition
-from .transport import decode_query, encoding_for, error_payload, status_publisher
+from .transport import answer, answer_err, decode_query, encoding_for, status_publisher
 from .types import (
     ZERO_UUID,
     CancelCode,
@@ -42,6 +42,7 @@ __all__ = ["ActionServer"]
 
 Handle = ServerGoalHandle[Any]
 _FAILED = object()
+STATUS_DELAY = 0.002  # seconds: state changes within this window share one status array
 
 
 class ActionServer:
@@ -118,19 +119,19 @@ class ActionServer:
         self._closing = False
         self.closed = False
         s, key = ctx.session, self._key
-        self._fb_pub = s.declare_publisher(key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
+        self._fb_pub: Any = s.declare_publisher(key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
                                            congestion_control=zenoh.CongestionControl.BLOCK)
-        self._status_pub = status_publisher(s, key("status"), GoalStatusArray)
+        self._status_pub: Any = status_publisher(s, key("status"), GoalStatusArray)
         # One queryable for the three request keys (send_goal, cancel_goal, get_result): its
         # callbacks run on one thread in arrival order, so a client may send get_result right
         # behind send_goal. (A plain callback: Zenoh calls it on a thread of its own, keeping
         # Python work and the GIL off Zenoh's network threads.)
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
-        self._queryable = s.declare_queryable(key("*"), self._on_query, complete=True)
+        self._queryable: Any = s.declare_queryable(key("*"), self._on_query, complete=True)
         with self._lock:
             self._publish_status()
-        self._token = s.liveliness().declare_token(ctx.keys.entity_token(
+        self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
         node._track(self)
 
@@ -207,7 +208,7 @@ class ActionServer:
         res = self._wire.SendGoalResponse(accepted=accepted, reason=reason)
         if accepted and handle is not None:
             res.stamp = handle.stamp
-        _answer(query, self._sg_res.encode(res), self._enc[self._wire.SendGoalResponse])
+        answer(query, self._sg_res.encode(res), self._enc[self._wire.SendGoalResponse])
 
     # ------------------------------------------------------------------ scheduling, execution
 
@@ -289,7 +290,7 @@ class ActionServer:
         if h._waiters:
             data = self._result_payload(h)
             for w in h._waiters:
-                _answer(w, data, self._enc[self._wire.GetResultResponse])
+                answer(w, data, self._enc[self._wire.GetResultResponse])
             h._waiters.clear()
         self._arm_expiry()
 
@@ -366,7 +367,7 @@ class ActionServer:
     def _reply_cancel(self, query: zenoh.Query, code: CancelCode, goals: list[Handle]) -> None:
         res = CancelGoalResponse(return_code=int(code),
                                  goals_canceling=[h._info for h in goals])
-        _answer(query, self._cg_res.encode(res), self._enc[CancelGoalResponse])
+        answer(query, self._cg_res.encode(res), self._enc[CancelGoalResponse])
 
     # ------------------------------------------------------------------ get_result
 
@@ -385,7 +386,7 @@ class ActionServer:
             data = None if h is None else self._result_payload(h)
         with query:
             if data is not None:
-                _answer(query, data, self._enc[self._wire.GetResultResponse])
+                answer(query, data, self._enc[self._wire.GetResultResponse])
                 return
             self._reply_err(query, "UnknownGoal", (
                 f"action {self.name}: unknown goal id {gid}: it was never accepted by this server, "
@@ -400,7 +401,8 @@ class ActionServer:
         self._status_dirty = True
         if not self._flush_pending and not self.closed:
             self._flush_pending = True
-            self._ctx.executor.call_soon(self._flush_status)
+            self._ctx.executor.call_soon(self._ctx.executor.loop.call_later, STATUS_DELAY,
+                                         self._flush_status)
 
     def _flush_status(self) -> None:
         """Publish the full status array if it changed since the last one."""
@@ -437,8 +439,7 @@ class ActionServer:
     def _reply_err(self, query: zenoh.Query, kind: str, message: str) -> None:
         if kind == "BadRequest":
             self.logger.warning("%s", message)
-        query.reply_err(error_payload(kind, message))
-        query.drop()
+        answer_err(query, kind, message)
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -479,9 +480,3 @@ class ActionServer:
 
     def __repr__(self) -> str:
         return f"<ActionServer {self.name} [{self.action_type.name}] policy={self.policy}>"
-
-
-def _answer(query: zenoh.Query, data: bytes, encoding: zenoh.Encoding) -> None:
-    """Reply and finalize at once: Zenoh sends a reply only when its query is dropped."""
-    query.reply(query.key_expr, data, encoding=encoding)
-    query.drop()

@@ -17,6 +17,8 @@ from ..rpc import error_payload
 
 __all__ = [
     "PARTS",
+    "answer",
+    "answer_err",
     "decode_query",
     "encoding_for",
     "error_payload",
@@ -34,6 +36,19 @@ def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:
     """The Zenoh encoding of a type: its MIME type with the wire type name as schema."""
     codec = codec_for(msg_type)
     return zenoh.Encoding(codec.mime).with_schema(codec.type_name)
+
+
+def answer(query: zenoh.Query, data: bytes, encoding: zenoh.Encoding) -> None:
+    """Reply and finalize at once: Zenoh sends a query's replies only when it is dropped, so
+    a reply followed by more work in the same callback would wait for that work."""
+    query.reply(query.key_expr, data, encoding=encoding)
+    query.drop()  # type: ignore[no-untyped-call]
+
+
+def answer_err(query: zenoh.Query, kind: str, message: str) -> None:
+    """An error reply (``{"error": kind, "message": ...}``), finalized at once."""
+    query.reply_err(error_payload(kind, message))
+    query.drop()  # type: ignore[no-untyped-call]
 
 
 def parse_error(data: bytes) -> tuple[str, str]:
@@ -66,7 +81,7 @@ def status_publisher(session: zenoh.Session, key: str, msg_type: type[Message]) 
         session, key, encoding=encoding_for(msg_type),
         congestion_control=zenoh.CongestionControl.BLOCK,
         cache=zext.CacheConfig(max_samples=1),
-        sample_miss_detection=zext.MissDetectionConfig(heartbeat=0.5),
+        sample_miss_detection=zext.MissDetectionConfig(heartbeat=None, sporadic_heartbeat=0.5),
         publisher_detection=True,
     )
 
@@ -77,6 +92,6 @@ def status_subscriber(session: zenoh.Session, key: str,
     return zext.declare_advanced_subscriber(
         session, key, callback,
         history=zext.HistoryConfig(detect_late_publishers=True, max_samples=1),
-        recovery=zext.RecoveryConfig(heartbeat=True),
+        recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
         subscriber_detection=True,
     )

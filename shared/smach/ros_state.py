@@ -66,14 +66,20 @@ class RosState(State):
         super().request_preempt()
         self.notify()
 
-    def wait_until(self, done: Callable[[], bool], timeout: float | None = None) -> bool:
-        """Block until ``done()`` or a preempt request, at most ``timeout`` seconds.
+    def wait_until(self, done: Callable[[], bool], timeout: float | None = None, *,
+                   preemptible: bool = True) -> bool:
+        """Block until ``done()`` or (if ``preemptible``) a preempt request, at most ``timeout`` s.
 
         Returns:
             ``done()`` at the end (False on a timeout or a preempt before it held).
         """
+        if preemptible:
+            def ready() -> bool:
+                return done() or self.preempt_requested()
+        else:
+            ready = done
         with self._cond:
-            self._cond.wait_for(lambda: done() or self.preempt_requested(), timeout)
+            self._cond.wait_for(ready, timeout)
             return done()
 
     def take_preempt(self) -> bool:

@@ -150,8 +150,8 @@ class ServiceState(RosState):
     def _build(self, userdata: UserDataAccess) -> Message:
         base = self._request if self._request is not None else self.srv_type.Request()
         request = fill_slots(self, base, userdata, self._request_slots, self._request_key)
-        if request is self._request:  # never hand the template to a callback that may mutate it
-            request = msgspec.structs.replace(request)
+        if self._request is not None and request is self._request:  # a callback may mutate it: copy
+            request = msgspec.structs.replace(self._request)
         if self._request_cb is not None:
             made = self._request_cb(userdata, request)
             request = made if made is not None else request

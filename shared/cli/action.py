@@ -1,0 +1,141 @@
+"""`zenros action list|info|send_goal`."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Any
+
+from ..action import ActionClient, ClientGoalHandle, GoalStatus
+from ..codec import from_builtins, to_builtins
+from ..context import Context
+from ..errors import ZenrosError
+from ..message import lookup_action
+from ..names import resolve
+from ..node import Node
+from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser("action", help="actions: list, info, send_goal")
+    verbs = p.add_subparsers(dest="verb", required=True)
+    v = verbs.add_parser("list", help="list actions")
+    v.add_argument("-t", "--show-types", action="store_true")
+    v = verbs.add_parser("info", help="the type and servers of an action")
+    v.add_argument("action")
+    v.add_argument("-t", "--show-types", action="store_true")
+    v = verbs.add_parser("send_goal", help="send a goal and wait for its result")
+    v.add_argument("action", help="action name, e.g. /fibonacci")
+    v.add_argument("type", help="action type, e.g. example_interfaces/action/Fibonacci")
+    v.add_argument("goal", nargs="?", default="{}", help="the goal in YAML, e.g. '{order: 5}'")
+    v.add_argument("-f", "--feedback", action="store_true", help="print feedback")
+    v.add_argument("--server-timeout", type=float, default=10.0,
+                   help="seconds to wait for the action server (default 10)")
+    v.add_argument("--json", action="store_true", help="print messages as JSON lines")
+    for verb in verbs.choices.values():
+        add_common(verb)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    ctx = open_context(args, settle=args.verb in ("list", "info"))
+    try:
+        if args.verb == "list":
+            return _list(ctx, args)
+        if args.verb == "info":
+            return _info(ctx, args)
+        return _send_goal(ctx, args)
+    finally:
+        ctx.close()
+
+
+def _list(ctx: Context, args: argparse.Namespace) -> int:
+    for name, types in ctx.graph.actions().items():
+        print(f"{name} [{', '.join(types)}]" if args.show_types else name)
+    return 0
+
+
+def _info(ctx: Context, args: argparse.Namespace) -> int:
+    name = resolve(args.action, kind="action")
+    actions = ctx.graph.actions()
+    if name not in actions:
+        raise CliError(f"unknown action {name}; known: {', '.join(actions) or 'none'}")
+    servers = ctx.graph.action_servers(name)
+    print(f"Action: {name}")
+    print(f"Type: {', '.join(actions[name])}")
+    print(f"Action servers: {len(servers)}")
+    for t in servers:
+        print(f"    {t.node}" + (f" [{t.type}]" if args.show_types else ""))
+    return 0
+
+
+def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
+    action = lookup_action(args.type)
+    goal = from_builtins(parse_yaml_arg(args.goal), action.Goal)
+    node = Node(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
+    try:
+        client = ActionClient(node, action, resolve(args.action, kind="action"))
+        print("Waiting for an action server to become available...")
+        if not client.wait_for_server(args.server_timeout):
+            raise CliError(f"action server {client.name} is not available "
+                           f"(waited {args.server_timeout:g} s)")
+        print("Sending goal:")
+        _show(to_builtins(goal), args.json)
+
+        def on_feedback(msg: Any) -> None:
+            print("Feedback:")
+            _show(to_builtins(msg.feedback), args.json)
+
+        handle = client.send_goal_async(goal, on_feedback if args.feedback else None)
+        return _follow(handle, args.json)
+    finally:
+        node.close()
+
+
+def _follow(handle: ClientGoalHandle, as_json: bool) -> int:
+    try:
+        if not handle.wait_accepted():
+            print(f"Goal was rejected: {handle.reason}")
+            return 1
+        print(f"Goal accepted with ID: {handle.goal_id.hex}\n")
+        outcome = handle.result()
+    except KeyboardInterrupt:
+        print("Canceling goal...")
+        handle.cancel()
+        outcome = handle.result(10.0)
+    if outcome.status is GoalStatus.LOST:
+        print(f"Goal lost: {outcome.reason}")
+    else:
+        print("Result:")
+        _show(to_builtins(outcome.result), as_json)
+    print(f"Goal finished with status: {outcome.status.name}")
+    return 0 if outcome.status is GoalStatus.SUCCEEDED else 1
+
+
+def _show(data: Any, as_json: bool) -> None:
+    print_data(data, as_json, separator=False)
+    if not as_json:
+        sys.stdout.write("\n")
+        sys.stdout.flush()
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m zenros.cli.action ...``: this noun alone (until `zenros action` is wired)."""
+    from .__main__ import EXIT_ERROR
+
+    parser = argparse.ArgumentParser(prog="zenros action")
+    sub = parser.add_subparsers(dest="noun", required=True)
+    register(sub)
+    args = parser.parse_args(["action", *(sys.argv[1:] if argv is None else argv)])
+    try:
+        return int(args.func(args))
+    except (ZenrosError, ValueError) as exc:
+        sys.stderr.write(f"zenros action: {exc}\n")
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

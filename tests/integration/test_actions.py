@@ -1,0 +1,468 @@
+"""Actions over real Zenoh (two sessions): goals, feedback, policies, cancel, results, bad input."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import threading
+import uuid
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+import zenoh
+
+from zenros import EncodeError, GoalRejectedError, Node
+from zenros.action import (
+    ActionClient,
+    ActionServer,
+    CancelResponse,
+    GoalResponse,
+    GoalStatus,
+    ServerGoalHandle,
+    wire_types,
+)
+from zenros.action.transport import status_subscriber
+from zenros.action.types import GoalStatusArray, uuid_msg
+from zenros.codec import codec_for
+from zenros.msgs.builtin_interfaces import Time
+from zenros.msgs.example_interfaces import (
+    Fibonacci,
+    FibonacciFeedback,
+    FibonacciGoal,
+    FibonacciResult,
+)
+from zenros.msgs.geometry_msgs import Twist
+from zenros.testing import Collector, wait_for
+
+Handle = ServerGoalHandle[FibonacciGoal]
+
+
+def fibonacci(h: Handle) -> FibonacciResult:
+    seq = [0, 1]
+    for i in range(1, h.request.order):
+        seq.append(seq[i] + seq[i - 1])
+        h.publish_feedback(FibonacciFeedback(sequence=list(seq)))
+    h.succeed()
+    return FibonacciResult(sequence=seq)
+
+
+def until_canceled(h: Handle) -> FibonacciResult:
+    """Runs until a cancel (or a preemption) arrives, then ends CANCELED."""
+    assert h.wait_for_cancel(20)
+    h.canceled()
+    return FibonacciResult(sequence=[-1])
+
+
+class Recorder:
+    """An execute callback that records starts and holds each goal until released."""
+
+    def __init__(self) -> None:
+        self.started: list[int] = []
+        self.gates: dict[int, threading.Event] = {}
+        self.lock = threading.Lock()
+
+    def __call__(self, h: Handle) -> FibonacciResult:
+        order = h.request.order
+        with self.lock:
+            self.started.append(order)
+            gate = self.gates.setdefault(order, threading.Event())
+        while not gate.wait(0.05):
+            if h.is_cancel_requested:
+                h.canceled()
+                return FibonacciResult(sequence=[order, -1])
+        h.succeed()
+        return FibonacciResult(sequence=[order])
+
+    def release(self, order: int) -> None:
+        with self.lock:
+            self.gates.setdefault(order, threading.Event()).set()
+
+
+@pytest.fixture
+def pair(make_node: Callable[..., Node]) -> Callable[..., tuple[ActionServer, ActionClient]]:
+    """``pair(execute, **server_kw)``: a server on one session, a ready client on the other."""
+
+    def make(execute: Callable[..., Any], **kw: Any) -> tuple[ActionServer, ActionClient]:
+        server = ActionServer(make_node("server", 1), Fibonacci, "fibonacci", execute, **kw)
+        client = ActionClient(make_node("client", 0), Fibonacci, "fibonacci")
+        assert client.wait_for_server(10)
+        return server, client
+
+    return make
+
+
+def goal(order: int) -> FibonacciGoal:
+    return FibonacciGoal(order=order)
+
+
+# ------------------------------------------------------------------ basics
+
+
+def test_goal_succeeds_with_feedback_in_order(pair: Any) -> None:
+    _, client = pair(fibonacci)
+    fb: Collector[Any] = Collector()
+    out = client.send_goal(goal(10), fb, timeout=10)
+    assert out.status is GoalStatus.SUCCEEDED and out.succeeded
+    assert out.result.sequence == [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]
+    assert fb.wait(9)
+    assert [len(m.feedback.sequence) for m in fb.items] == list(range(3, 12))
+    assert all(m.goal_id == uuid_msg(out.goal_id) for m in fb.items)
+
+
+def test_async_execute_and_async_feedback_callback(pair: Any) -> None:
+    async def execute(h: Handle) -> FibonacciResult:
+        for i in range(3):
+            await asyncio.sleep(0)
+            h.publish_feedback(FibonacciFeedback(sequence=[i]))
+        h.succeed()
+        return FibonacciResult(sequence=[h.request.order])
+
+    got: list[int] = []
+
+    async def on_feedback(msg: Any) -> None:
+        got.append(msg.feedback.sequence[0])
+
+    _, client = pair(execute)
+    handle = client.send_goal_async(goal(7), on_feedback)
+    assert handle.result(10).result.sequence == [7]
+    assert wait_for(lambda: got == [0, 1, 2], 5)
+
+    async def await_it() -> Any:
+        return await client.send_goal_async(goal(8)).result_async()
+
+    assert asyncio.run(await_it()).result.sequence == [8]
+
+
+def test_handle_follows_the_goal_through_its_states(pair: Any) -> None:
+    _, client = pair(until_canceled)
+    h = client.send_goal_async(goal(1))
+    assert h.wait_accepted(10) is True and h.accepted
+    assert h.stamp != Time()
+    assert wait_for(lambda: h.status is GoalStatus.EXECUTING, 5)
+    assert h.cancel()
+    out = h.result(10)
+    assert out.status is GoalStatus.CANCELED and h.status is GoalStatus.CANCELED
+    assert out.result.sequence == [-1] and h.done
+
+
+def test_the_graph_lists_the_action(pair: Any) -> None:
+    server, client = pair(fibonacci)
+    g = client._graph
+    assert g.actions() == {"/fibonacci": ["example_interfaces/Fibonacci"]}
+    assert [t.node for t in g.action_servers("/fibonacci")] == ["/server"]
+    assert client.server_is_ready()
+
+
+# ------------------------------------------------------------------ policies
+
+
+def test_simple_policy_new_goal_preempts_the_running_one(pair: Any) -> None:
+    _, client = pair(until_canceled, policy="simple")
+    first = client.send_goal_async(goal(1))
+    assert wait_for(lambda: first.status is GoalStatus.EXECUTING, 10)
+    second = client.send_goal_async(goal(2))
+    assert first.result(10).status is GoalStatus.CANCELED
+    assert wait_for(lambda: second.status is GoalStatus.EXECUTING, 10)
+    second.cancel()
+    assert second.result(10).status is GoalStatus.CANCELED
+
+
+def test_simple_policy_a_newer_goal_replaces_a_waiting_one(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, policy="simple")
+    a = client.send_goal_async(goal(1))
+    assert wait_for(lambda: rec.started == [1], 10)
+    b = client.send_goal_async(goal(2))
+    assert wait_for(lambda: a.status is GoalStatus.CANCELING, 10)
+    c = client.send_goal_async(goal(3))
+    assert b.result(10).status is GoalStatus.CANCELED  # replaced before it ever ran
+    assert a.result(10).status is GoalStatus.CANCELED
+    rec.release(3)
+    assert c.result(10).status is GoalStatus.SUCCEEDED
+    assert rec.started == [1, 3]
+
+
+def test_queue_policy_runs_goals_in_order(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, policy="queue")
+    handles = [client.send_goal_async(goal(n)) for n in (1, 2, 3)]
+    assert all(h.wait_accepted(10) for h in handles)
+    assert wait_for(lambda: rec.started == [1], 10)
+    assert handles[1].status is GoalStatus.ACCEPTED
+    for n in (1, 2, 3):
+        rec.release(n)
+    assert [h.result(10).result.sequence for h in handles] == [[1], [2], [3]]
+    assert rec.started == [1, 2, 3]
+
+
+def test_reject_if_busy_policy(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, policy="reject_if_busy")
+    a = client.send_goal_async(goal(1))
+    assert a.wait_accepted(10)
+    with pytest.raises(GoalRejectedError, match="server busy"):
+        client.send_goal(goal(2), timeout=10)
+    rec.release(1)
+    assert a.result(10).succeeded
+    rec.release(3)
+    assert client.send_goal(goal(3), timeout=10).succeeded
+
+
+def test_parallel_policy_runs_n_at_once(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, policy="parallel:2")
+    hs = [client.send_goal_async(goal(n)) for n in (1, 2, 3)]
+    assert wait_for(lambda: sorted(rec.started) == [1, 2], 10)
+    assert hs[2].wait_accepted(10) and hs[2].status is GoalStatus.ACCEPTED
+    rec.release(2)
+    assert wait_for(lambda: len(rec.started) == 3, 10)
+    rec.release(1)
+    rec.release(3)
+    assert all(h.result(10).succeeded for h in hs)
+
+
+# ------------------------------------------------------------------ cancel
+
+
+def test_cancel_callback_can_refuse(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, cancel_callback=lambda h: CancelResponse.REJECT)
+    h = client.send_goal_async(goal(1))
+    assert wait_for(lambda: rec.started == [1], 10)
+    assert h.cancel() is False
+    rec.release(1)
+    assert h.result(10).status is GoalStatus.SUCCEEDED
+
+
+def test_cancel_a_waiting_goal_ends_it_without_running(pair: Any) -> None:
+    rec = Recorder()
+    _, client = pair(rec, policy="queue")
+    a, b = client.send_goal_async(goal(1)), client.send_goal_async(goal(2))
+    assert b.wait_accepted(10)
+    assert b.cancel()
+    assert b.result(10).status is GoalStatus.CANCELED
+    rec.release(1)
+    assert a.result(10).succeeded and rec.started == [1]
+
+
+def test_cancel_all_and_cancel_before_a_stamp(pair: Any) -> None:
+    _, client = pair(until_canceled, policy="parallel")
+    hs = [client.send_goal_async(goal(n)) for n in range(4)]
+    assert all(h.wait_accepted(10) for h in hs)
+    stamps = sorted(hs, key=lambda h: (h.stamp.sec, h.stamp.nanosec))
+    older = client.cancel_goals_before(stamps[1].stamp)
+    assert set(older) == {stamps[0].goal_id, stamps[1].goal_id}
+    assert stamps[0].result(10).status is GoalStatus.CANCELED
+    assert not stamps[2].done
+    rest = client.cancel_all_goals()
+    assert {stamps[2].goal_id, stamps[3].goal_id} <= set(rest)
+    assert all(h.result(10).status is GoalStatus.CANCELED for h in hs)
+
+
+def test_cancel_of_an_ended_goal_returns_false(pair: Any) -> None:
+    _, client = pair(fibonacci)
+    h = client.send_goal_async(goal(3))
+    assert h.result(10).succeeded
+    assert h.cancel() is False
+
+
+# ------------------------------------------------------------------ execute outcomes
+
+
+def test_execute_that_raises_aborts_the_goal(pair: Any) -> None:
+    def execute(h: Handle) -> FibonacciResult:
+        raise RuntimeError("motor on fire")
+
+    _, client = pair(execute)
+    out = client.send_goal(goal(1), timeout=10)
+    assert out.status is GoalStatus.ABORTED and out.result == FibonacciResult()
+
+
+def test_execute_without_an_end_state_aborts_with_a_warning(
+        pair: Any, caplog: pytest.LogCaptureFixture) -> None:
+    _, client = pair(lambda h: FibonacciResult(sequence=[9]))
+    with caplog.at_level(logging.WARNING):
+        out = client.send_goal(goal(1), timeout=10)
+    assert out.status is GoalStatus.ABORTED and out.result.sequence == [9]
+    assert "without succeed(), abort() or canceled()" in caplog.text
+
+
+def test_abort_with_a_result(pair: Any) -> None:
+    def execute(h: Handle) -> FibonacciResult:
+        h.abort()
+        return FibonacciResult(sequence=[4, 2])
+
+    _, client = pair(execute)
+    out = client.send_goal(goal(1), timeout=10)
+    assert out.status is GoalStatus.ABORTED and out.result.sequence == [4, 2]
+
+
+def test_feedback_of_the_wrong_type_raises(pair: Any) -> None:
+    errors: list[Exception] = []
+
+    def execute(h: Handle) -> FibonacciResult:
+        try:
+            h.publish_feedback(FibonacciResult())
+        except EncodeError as exc:
+            errors.append(exc)
+        h.succeed()
+        return FibonacciResult()
+
+    _, client = pair(execute)
+    assert client.send_goal(goal(1), timeout=10).succeeded
+    assert "feedback is example_interfaces/FibonacciFeedback, got FibonacciResult" in str(errors[0])
+
+
+# ------------------------------------------------------------------ rejection and bad input
+
+
+def test_goal_callback_rejects_with_a_reason(pair: Any) -> None:
+    def on_goal(g: FibonacciGoal) -> GoalResponse:
+        if g.order < 0:
+            raise GoalRejectedError(f"order must be >= 0, got {g.order}")
+        return GoalResponse.ACCEPT
+
+    _, client = pair(fibonacci, goal_callback=on_goal)
+    with pytest.raises(GoalRejectedError, match="order must be >= 0, got -3"):
+        client.send_goal(goal(-3), timeout=10)
+    h = client.send_goal_async(goal(-1))
+    assert h.wait_accepted(10) is False and h.status is GoalStatus.REJECTED
+    assert h.reason == "order must be >= 0, got -1"
+    assert client.send_goal(goal(2), timeout=10).succeeded
+
+
+def test_client_refuses_a_goal_of_the_wrong_type(pair: Any) -> None:
+    _, client = pair(fibonacci)
+    with pytest.raises(EncodeError, match="takes example_interfaces/FibonacciGoal goals, got Twist"):
+        client.send_goal_async(Twist())
+
+
+def raw_get(client: ActionClient, part: str, payload: bytes,
+            encoding: str | None = None) -> tuple[str, Any]:
+    """One query sent as any tool could: ("ok", bytes) or ("err", {"error":..,"message":..})."""
+    session = client._ctx.session
+    key = client._ctx.keys.action(client.name, part)
+    kw: dict[str, Any] = {"payload": payload, "timeout": 5}
+    if encoding:
+        kw["encoding"] = zenoh.Encoding(encoding)
+    for reply in session.get(key, **kw):
+        if reply.ok is not None:
+            return "ok", reply.ok.payload.to_bytes()
+        assert reply.err is not None
+        return "err", json.loads(reply.err.payload.to_bytes())
+    raise AssertionError("no reply")
+
+
+@pytest.mark.parametrize(
+    ("payload", "encoding", "needle"),
+    [
+        (b"{not json", None, "expected example_interfaces/Fibonacci_SendGoal_Request: JSON is "
+                             "malformed"),
+        (b'{"linear":{"x":1}}', "application/json;geometry_msgs/Twist",
+         "type mismatch: expected example_interfaces/Fibonacci_SendGoal_Request, "
+         "got geometry_msgs/Twist"),
+        (b'{"goal_id":{"uuid":[' + b"1," * 15 + b'1]},"goal":{"order":"ten"}}', None,
+         "at `$.goal.order`"),
+        (b'{"goal_id":{"uuid":[' + b"0," * 15 + b'0]}}', None, "goal_id must be a non-zero UUID"),
+    ],
+)
+def test_bad_goals_sent_raw_get_a_clear_rejection(pair: Any, payload: bytes,
+                                                  encoding: str | None, needle: str) -> None:
+    _, client = pair(fibonacci)
+    kind, body = raw_get(client, "send_goal", payload, encoding)
+    assert kind == "err" and body["error"] == "BadRequest"
+    assert needle in body["message"]
+    assert body["message"].startswith("action /fibonacci send_goal: ")
+    assert client.send_goal(goal(2), timeout=10).succeeded  # and the server keeps serving
+
+
+def test_duplicate_goal_id_is_rejected(pair: Any) -> None:
+    _, client = pair(until_canceled, policy="parallel")
+    h = client.send_goal_async(goal(1))
+    assert h.wait_accepted(10)
+    req = wire_types(Fibonacci).SendGoalRequest(goal_id=uuid_msg(h.goal_id), goal=goal(1))
+    kind, data = raw_get(client, "send_goal", codec_for(type(req)).encode(req))
+    res = codec_for(wire_types(Fibonacci).SendGoalResponse).decode(data)
+    assert kind == "ok" and not res.accepted
+    assert res.reason == f"duplicate goal id {h.goal_id}"
+    client.cancel_all_goals()
+
+
+# ------------------------------------------------------------------ results and status
+
+
+def get_result(client: ActionClient, gid: uuid.UUID) -> tuple[str, Any]:
+    req = wire_types(Fibonacci).GetResultRequest(goal_id=uuid_msg(gid))
+    return raw_get(client, "get_result", codec_for(type(req)).encode(req))
+
+
+def test_results_are_kept_for_result_timeout_then_dropped(pair: Any) -> None:
+    _, client = pair(fibonacci, result_timeout=0.5)
+    out = client.send_goal(goal(4), timeout=10)
+    kind, data = get_result(client, out.goal_id)
+    assert kind == "ok"
+    res = codec_for(wire_types(Fibonacci).GetResultResponse).decode(data)
+    assert res.status == GoalStatus.SUCCEEDED and res.result.sequence == [0, 1, 1, 2, 3]
+    assert wait_for(lambda: get_result(client, out.goal_id)[0] == "err", 10)
+    body = get_result(client, out.goal_id)[1]
+    assert body["error"] == "UnknownGoal"
+    assert body["message"] == (
+        f"action /fibonacci: unknown goal id {out.goal_id}: it was never accepted by this server,"
+        " or its result expired (results are kept 0.5 s)")
+
+
+def test_result_of_an_unknown_goal_is_a_clear_error(pair: Any) -> None:
+    _, client = pair(fibonacci)
+    kind, body = get_result(client, uuid.uuid4())
+    assert kind == "err" and body["error"] == "UnknownGoal"
+
+
+def test_status_is_latched_for_late_subscribers(pair: Any) -> None:
+    _, client = pair(fibonacci)
+    out = client.send_goal(goal(2), timeout=10)
+    arrays: Collector[Any] = Collector()
+    codec = codec_for(GoalStatusArray)
+    session = client._ctx.session
+    key = client._ctx.keys.action(client.name, "status")
+
+    def on_sample(sample: zenoh.Sample) -> None:
+        arrays(codec.decode(sample.payload.to_bytes()))
+
+    sub = status_subscriber(session, key, on_sample)
+    try:
+        want = (uuid_msg(out.goal_id), GoalStatus.SUCCEEDED)
+        assert wait_for(lambda: any((s.goal_info.goal_id, s.status) == want
+                                    for a in arrays.items for s in a.status_list), 10)
+    finally:
+        sub.undeclare()
+
+
+def test_closing_the_server_aborts_running_goals(make_node: Callable[..., Node]) -> None:
+    server_node = make_node("server", 1)
+
+    def stubborn(h: Handle) -> FibonacciResult:
+        h.wait_for_cancel(20)
+        gate.wait(20)
+        return FibonacciResult()
+
+    gate = threading.Event()
+    ActionServer(server_node, Fibonacci, "fibonacci", stubborn, shutdown_timeout=0.2)
+    client = ActionClient(make_node("client", 0), Fibonacci, "fibonacci")
+    assert client.wait_for_server(10)
+    h = client.send_goal_async(goal(1))
+    assert wait_for(lambda: h.status is GoalStatus.EXECUTING, 10)
+    server_node.close()
+    gate.set()
+    out = h.result(10)
+    assert out.status is GoalStatus.ABORTED
+
+
+def test_send_without_a_server_fails_clearly(make_node: Callable[..., Node]) -> None:
+    from zenros.errors import ActionServerUnavailableError
+
+    client = ActionClient(make_node("client", 0), Fibonacci, "nobody")
+    assert not client.wait_for_server(0.1)
+    with pytest.raises(ActionServerUnavailableError, match="no action server answered goal"):
+        client.send_goal(goal(1), timeout=10)
