@@ -6,6 +6,7 @@ import asyncio
 import inspect
 import json
 import logging
+import threading
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -28,6 +29,8 @@ if TYPE_CHECKING:
     from .context import Context
 
 __all__ = ["Client", "Service", "error_payload"]
+
+QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
 
 
 def error_payload(kind: str, message: str) -> bytes:
@@ -77,11 +80,25 @@ class Service:
             self._two_args = len(inspect.signature(handler).parameters) >= 2
         except (TypeError, ValueError):
             self._two_args = False
-        self._queryable = ctx.session.declare_queryable(self.key, self._on_query, complete=True)
+        # As for subscriptions: Zenoh queues queries in a channel, one thread serves them.
+        self._queryable = ctx.session.declare_queryable(
+            self.key, zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True
+        )
+        self._serve_thread = threading.Thread(
+            target=self._serve_queue, name=f"zenros-srv:{name}", daemon=True
+        )
+        self._serve_thread.start()
         self._token = ctx.session.liveliness().declare_token(
             ctx.keys.entity_token("srv", node, name, srv_type.name, "", ctx.zid, ctx.next_eid())
         )
         self.closed = False
+
+    def _serve_queue(self) -> None:
+        try:
+            for query in self._queryable.handler:  # ends when the queryable is undeclared
+                self._on_query(query)
+        except zenoh.ZError:  # the channel closed under us at shutdown
+            return
 
     def _on_query(self, query: zenoh.Query) -> None:
         if self._is_async:
@@ -150,6 +167,8 @@ class Service:
         self.closed = True
         self._token.undeclare()  # type: ignore[no-untyped-call]
         self._queryable.undeclare()  # type: ignore[no-untyped-call]
+        if self._serve_thread is not threading.current_thread():
+            self._serve_thread.join(2.0)
 
 
 class Client:

@@ -10,7 +10,7 @@ from typing import Any, TypeVar
 import zenoh
 from zenoh import ext as zext
 
-from ..codec import Codec, codec_for
+from ..codec import Codec, codec_for, split_encoding
 from ..errors import CodecError
 from ..message import Message
 from ..rpc import error_payload
@@ -67,9 +67,12 @@ def decode_query(query: zenoh.Query, codec: Codec[M], what: str) -> M | str:
     if payload is None:
         return f"{what}: empty request; expected {codec.type_name}"
     enc = query.encoding
+    # The schema must match when one is given; a bare MIME type (z_get sends zenoh/bytes)
+    # is accepted and the payload decides.
+    schema = split_encoding(str(enc))[1] if enc is not None else ""
+    if schema and schema != codec.type_name:
+        return f"{what}: type mismatch: expected {codec.type_name}, got {schema}"
     try:
-        if enc is not None:
-            codec.check_encoding(str(enc))
         return codec.decode(payload.to_bytes())
     except CodecError as exc:
         return f"{what}: {exc}"

@@ -1,0 +1,86 @@
+"""Actions across real processes: a server killed mid-goal, and the `zenros action` CLI."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from zenros import Node
+from zenros.action import ActionClient, GoalStatus
+from zenros.context import Context
+from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal
+from zenros.session import SessionOptions
+from zenros.testing import Collector, Proc
+
+pytestmark = pytest.mark.system
+
+
+@pytest.fixture
+def client_node(router: str, prefix: str) -> Iterator[Node]:
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("action_test_client", context=ctx)
+    try:
+        yield node
+    finally:
+        node.close()
+        ctx.close()
+
+
+@pytest.fixture
+def fib_server(router: str, prefix: str) -> Iterator[Proc]:
+    p = Proc([sys.executable, "-m", "zenros.examples.fibonacci_server", "-e", router,
+              "--prefix", prefix, "-p", "period:=0.05"])
+    try:
+        yield p
+    finally:
+        p.stop()
+
+
+def test_server_killed_mid_goal_is_noticed_within_2s(client_node: Node,
+                                                     fib_server: Proc) -> None:
+    client = ActionClient(client_node, Fibonacci, "/fibonacci")
+    assert client.wait_for_server(15), fib_server.output
+    feedback: Collector[object] = Collector()
+    handle = client.send_goal_async(FibonacciGoal(order=5000), feedback)
+    assert feedback.wait(3, 10), fib_server.output  # executing, feedback flowing
+    start = time.monotonic()
+    fib_server.signal(signal.SIGKILL)
+    out = handle.result(5)
+    assert time.monotonic() - start < 2.0
+    assert out.status is GoalStatus.LOST and handle.status is GoalStatus.LOST
+    assert "went away while goal" in out.reason
+    assert not client.server_is_ready()
+
+
+def run_cli(router: str, prefix: str, *args: str, timeout: float = 30) -> tuple[int, str]:
+    p = Proc([sys.executable, "-m", "zenros.cli.action", *args, "-e", router,
+              "--prefix", prefix])
+    try:
+        return p.wait(timeout), p.output
+    finally:
+        p.stop()
+
+
+def test_cli_list_info_and_send_goal(router: str, prefix: str, client_node: Node,
+                                     fib_server: Proc) -> None:
+    assert client_node.graph.wait_for_action("/fibonacci", 15), fib_server.output
+    rc, out = run_cli(router, prefix, "list", "-t")
+    assert rc == 0 and out.strip() == "/fibonacci [example_interfaces/Fibonacci]", out
+    rc, out = run_cli(router, prefix, "info", "fibonacci")
+    assert rc == 0, out
+    assert "Action: /fibonacci\nType: example_interfaces/Fibonacci\nAction servers: 1\n" \
+           "    /fibonacci_server" in out
+    rc, out = run_cli(router, prefix, "send_goal", "/fibonacci",
+                      "example_interfaces/action/Fibonacci", "{order: 4}", "--feedback")
+    assert rc == 0, out
+    assert "Goal accepted with ID: " in out
+    assert out.count("Feedback:") == 3
+    assert "Result:\nsequence:\n- 0\n- 1\n- 1\n- 2\n- 3\n" in out
+    assert out.rstrip().endswith("Goal finished with status: SUCCEEDED")
+    rc, out = run_cli(router, prefix, "send_goal", "/fibonacci", "example_interfaces/Fibonacci",
+                      "{order: -1}")
+    assert rc == 1 and "Goal was rejected: order must be in [0, 10000], got -1" in out, out
