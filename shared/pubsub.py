@@ -27,7 +27,7 @@ __all__ = ["Publisher", "Subscription"]
 
 M = TypeVar("M", bound=Message)
 
-FIFO_CAPACITY = 1024  # samples a reliable subscription buffers before Zenoh pushes back
+FIFO_CAPACITY = 64  # samples a reliable subscription buffers before Zenoh pushes back
 
 
 def _congestion(qos: QoSProfile) -> zenoh.CongestionControl:
@@ -53,7 +53,8 @@ class Publisher(Generic[M]):
         self.key = ctx.keys.topic(topic)
         self._ctx = ctx
         codec = codec_for(msg_type)
-        self._encode = codec._encode
+        # Bulk types go through Codec.encode, which gives arrays their declared dtype.
+        self._encode = codec.encode if codec.bulk else codec._encode
         self.type_name = codec.type_name
         encoding = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
         self._match_cond = threading.Condition()
@@ -185,7 +186,7 @@ class Subscription(Generic[M]):
             # faster than zenoh-python's per-sample callback hand-off). Reliable: a bounded
             # FIFO that pushes back (nothing dropped); best effort: keep the last `depth`.
             handler: Any = (
-                zenoh.handlers.FifoChannel(max(qos.depth, FIFO_CAPACITY))
+                zenoh.handlers.FifoChannel(FIFO_CAPACITY)
                 if qos.reliability == Reliability.RELIABLE
                 else zenoh.handlers.RingChannel(qos.depth)
             )
