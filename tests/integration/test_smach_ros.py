@@ -108,6 +108,7 @@ def test_monitor_state_preempt_timeout_and_a_failing_condition(
     def broken(ud: UserDataAccess, msg: Int32) -> bool:
         raise ValueError("bad reading")
 
+    assert node.graph.wait_for(lambda: not node.graph.subscribers("/numbers"), 10)
     run = machine(MonitorState(node, "/numbers", Int32, broken)).execute_in_thread()
     assert pub.wait_for_subscribers(1, 10)
     pub.publish(Int32(data=1))
