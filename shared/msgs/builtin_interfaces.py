@@ -3,34 +3,32 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Self
 
 from ..message import Message
 
 _NS = 1_000_000_000
 
 
-def _split(ns: int) -> tuple[int, int]:
-    sec, nanosec = divmod(ns, _NS)
-    return sec, nanosec
+class _SecNsec(Message, frozen=True, order=False):  # type: ignore[misc]
+    """``sec`` plus ``nanosec`` in [0, 1e9): construction, conversion, ordering, hashing.
 
+    Ordering compares only values of the same class (a `Time` is not less than a
+    `Duration`); the arithmetic that mixes them lives in the subclasses.
+    """
 
-class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
-    """A signed span of time: ``sec`` (may be negative) plus ``nanosec`` in [0, 1e9)."""
-
-    __msgtype__ = "builtin_interfaces/Duration"
     sec: int = 0
     nanosec: int = 0
 
     @classmethod
-    def from_nanoseconds(cls, ns: int) -> Duration:
-        sec, nanosec = _split(int(ns))
+    def from_nanoseconds(cls, ns: int) -> Self:
+        sec, nanosec = divmod(int(ns), _NS)
         return cls(sec=sec, nanosec=nanosec)
 
     @classmethod
-    def from_seconds(cls, seconds: float) -> Duration:
+    def from_seconds(cls, seconds: float) -> Self:
         if not math.isfinite(seconds):
-            raise ValueError(f"duration must be finite, got {seconds}")
+            raise ValueError(f"{cls.__name__.lower()} must be finite, got {seconds}")
         return cls.from_nanoseconds(round(seconds * _NS))
 
     @property
@@ -41,7 +39,32 @@ class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
         return self.nanoseconds / _NS
 
     def __hash__(self) -> int:
-        return hash((Duration, self.sec, self.nanosec))
+        return hash((type(self), self.sec, self.nanosec))
+
+    def _key(self, o: object) -> int | None:
+        return o.nanoseconds if type(o) is type(self) else None  # type: ignore[attr-defined]
+
+    def __lt__(self, o: object) -> bool:
+        k = self._key(o)
+        return NotImplemented if k is None else self.nanoseconds < k
+
+    def __le__(self, o: object) -> bool:
+        k = self._key(o)
+        return NotImplemented if k is None else self.nanoseconds <= k
+
+    def __gt__(self, o: object) -> bool:
+        k = self._key(o)
+        return NotImplemented if k is None else self.nanoseconds > k
+
+    def __ge__(self, o: object) -> bool:
+        k = self._key(o)
+        return NotImplemented if k is None else self.nanoseconds >= k
+
+
+class Duration(_SecNsec, frozen=True, order=False):  # type: ignore[misc]
+    """A signed span of time: ``sec`` (may be negative) plus ``nanosec`` in [0, 1e9)."""
+
+    __msgtype__ = "builtin_interfaces/Duration"
 
     def __add__(self, other: Any) -> Any:
         if isinstance(other, Duration):
@@ -61,54 +84,11 @@ class Duration(Message, frozen=True, order=False):  # type: ignore[misc]
     def __mul__(self, k: float) -> Duration:
         return Duration.from_nanoseconds(round(self.nanoseconds * k))
 
-    def __lt__(self, o: object) -> bool:
-        if not isinstance(o, Duration):
-            return NotImplemented
-        return self.nanoseconds < o.nanoseconds
 
-    def __le__(self, o: object) -> bool:
-        if not isinstance(o, Duration):
-            return NotImplemented
-        return self.nanoseconds <= o.nanoseconds
-
-    def __gt__(self, o: object) -> bool:
-        if not isinstance(o, Duration):
-            return NotImplemented
-        return self.nanoseconds > o.nanoseconds
-
-    def __ge__(self, o: object) -> bool:
-        if not isinstance(o, Duration):
-            return NotImplemented
-        return self.nanoseconds >= o.nanoseconds
-
-
-class Time(Message, frozen=True, order=False):  # type: ignore[misc]
+class Time(_SecNsec, frozen=True, order=False):  # type: ignore[misc]
     """A point in time since an epoch (wall, steady or simulated): ``sec`` and ``nanosec``."""
 
     __msgtype__ = "builtin_interfaces/Time"
-    sec: int = 0
-    nanosec: int = 0
-
-    @classmethod
-    def from_nanoseconds(cls, ns: int) -> Time:
-        sec, nanosec = _split(int(ns))
-        return cls(sec=sec, nanosec=nanosec)
-
-    @classmethod
-    def from_seconds(cls, seconds: float) -> Time:
-        if not math.isfinite(seconds):
-            raise ValueError(f"time must be finite, got {seconds}")
-        return cls.from_nanoseconds(round(seconds * _NS))
-
-    @property
-    def nanoseconds(self) -> int:
-        return self.sec * _NS + self.nanosec
-
-    def to_sec(self) -> float:
-        return self.nanoseconds / _NS
-
-    def __hash__(self) -> int:
-        return hash((Time, self.sec, self.nanosec))
 
     def is_zero(self) -> bool:
         return self.sec == 0 and self.nanosec == 0
@@ -124,23 +104,3 @@ class Time(Message, frozen=True, order=False):  # type: ignore[misc]
         if isinstance(other, Duration):
             return Time.from_nanoseconds(self.nanoseconds - other.nanoseconds)
         return NotImplemented
-
-    def __lt__(self, o: object) -> bool:
-        if not isinstance(o, Time):
-            return NotImplemented
-        return self.nanoseconds < o.nanoseconds
-
-    def __le__(self, o: object) -> bool:
-        if not isinstance(o, Time):
-            return NotImplemented
-        return self.nanoseconds <= o.nanoseconds
-
-    def __gt__(self, o: object) -> bool:
-        if not isinstance(o, Time):
-            return NotImplemented
-        return self.nanoseconds > o.nanoseconds
-
-    def __ge__(self, o: object) -> bool:
-        if not isinstance(o, Time):
-            return NotImplemented
-        return self.nanoseconds >= o.nanoseconds
