@@ -53,7 +53,11 @@ def _sample_value(t: mi.Type, n: itertools.count[int], depth: int) -> Any:
     if isinstance(t, mi.BoolType):
         return k % 2 == 0
     if isinstance(t, mi.IntType):
-        return k
+        lo = t.ge if t.ge is not None else (t.gt + 1 if t.gt is not None else None)
+        hi = t.le if t.le is not None else (t.lt - 1 if t.lt is not None else None)
+        if lo is not None and hi is not None:
+            return lo + k % (hi - lo + 1)
+        return k if lo is None else max(k, lo)
     if isinstance(t, mi.FloatType):
         return k + 0.5  # exact in float32 too
     if isinstance(t, (mi.StrType, mi.AnyType)):
@@ -69,6 +73,8 @@ def _sample_value(t: mi.Type, n: itertools.count[int], depth: int) -> Any:
         return _sample_value(options[0], n, depth) if options else None
     if isinstance(t, mi.ListType):
         size = 2 if depth < 3 else 0  # recursive types (trees) stay finite
+        if t.min_length is not None:  # constrained lists (UUID: exactly 16 bytes)
+            size = max(size, t.min_length)
         return [_sample_value(t.item_type, n, depth) for _ in range(size)]
     if isinstance(t, mi.DictType):
         return {str(_sample_value(t.key_type, n, depth)): _sample_value(t.value_type, n, depth)}
