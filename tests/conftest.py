@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 from zenros.context import Context
 from zenros.node import Node
+from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, linked_contexts, unique_prefix, wait_for
 
 
@@ -50,6 +51,25 @@ def router() -> Iterator[str]:
         yield endpoint
     finally:
         proc.stop()
+
+
+@pytest.fixture
+def observer(router: str, prefix: str) -> Iterator[Context]:
+    """A session of the test's own on the ``router``, to watch the graph and make calls."""
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    try:
+        yield ctx
+    finally:
+        ctx.close()
+
+
+@pytest.fixture
+def procs() -> Iterator[list[Proc]]:
+    """Child processes a test starts; each is stopped (SIGINT, then SIGKILL) at teardown."""
+    started: list[Proc] = []
+    yield started
+    for p in started:
+        p.stop()
 
 
 __all__ = ["wait_for"]

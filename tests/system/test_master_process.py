@@ -7,7 +7,6 @@ import argparse
 import signal
 import sys
 import threading
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -16,7 +15,6 @@ from zenros.context import Context
 from zenros.errors import ZenrosError
 from zenros.node import Node
 from zenros.param_client import ParameterClient
-from zenros.session import SessionOptions
 from zenros.testing import Proc
 
 pytestmark = pytest.mark.system
@@ -30,20 +28,8 @@ def start_master(router: str, prefix: str, home: Path) -> Proc:
 
 
 @pytest.fixture
-def procs() -> Iterator[list[Proc]]:
-    started: list[Proc] = []
-    yield started
-    for p in started:
-        p.stop()
-
-
-@pytest.fixture
-def ctx(router: str, prefix: str) -> Iterator[Context]:
-    c = Context(SessionOptions(connect=[router]), prefix=prefix)
-    try:
-        yield c
-    finally:
-        c.close()
+def ctx(observer: Context) -> Context:
+    return observer
 
 
 def test_kill_9_loses_no_acknowledged_write(router: str, prefix: str, tmp_path: Path,

@@ -5,35 +5,16 @@ from __future__ import annotations
 import signal
 import sys
 import time
-from collections.abc import Iterator
 
 import pytest
 from zenros.context import Context
-from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, unique_prefix
 
 pytestmark = pytest.mark.system
 
 
-@pytest.fixture
-def observer(router: str, prefix: str) -> Iterator[Context]:
-    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
-    try:
-        yield ctx
-    finally:
-        ctx.close()
-
-
 def _node(module: str, router: str, prefix: str, *extra: str) -> Proc:
     return Proc([sys.executable, "-m", module, "-e", router, "--prefix", prefix, *extra])
-
-
-@pytest.fixture
-def procs() -> Iterator[list[Proc]]:
-    started: list[Proc] = []
-    yield started
-    for p in started:
-        p.stop()
 
 
 def test_sigint_ends_a_node_cleanly(router: str, prefix: str, observer: Context,
