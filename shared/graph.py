@@ -103,10 +103,21 @@ class Graph:
                 except Exception:  # noqa: BLE001, S110 (a listener must not break the graph)
                     pass
 
-    def add_listener(self, fn: Listener) -> None:
-        """Call ``fn(event, token)`` on every change (``event`` is "put" or "delete")."""
+    def add_listener(self, fn: Listener) -> Callable[[], None]:
+        """Call ``fn(event, token)`` on every change (``event`` is "put" or "delete").
+
+        Returns:
+            A function that removes the listener again.
+        """
         with self._cond:
             self._listeners.append(fn)
+        return lambda: self.remove_listener(fn)
+
+    def remove_listener(self, fn: Listener) -> None:
+        """Stop calling ``fn`` (no error if it was not registered)."""
+        with self._cond:
+            if fn in self._listeners:
+                self._listeners.remove(fn)
 
     def tokens(self, kind: str | None = None) -> list[Token]:
         with self._cond:

@@ -25,16 +25,14 @@ from ..log import Throttle
 from ..message import ActionType
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
+from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
-from .transport import encoding_for, parse_error, status_subscriber
+from .inbox import Inbox
+from .transport import encoding_for, parse_error, query_once, status_subscriber
 from .types import (
     ZERO_UUID,
-    CancelGoalRequest,
-    CancelGoalResponse,
-    GoalInfo,
     GoalStatus,
     GoalStatusArray,
-    uuid_from_msg,
     uuid_msg,
 )
 from .wire import wire_types
@@ -44,7 +42,7 @@ if TYPE_CHECKING:
 
 __all__ = ["ActionClient"]
 
-_BEST = zenoh.QueryTarget.BEST_MATCHING
+LOST_GRACE = 0.25  # seconds between a server token's departure and declaring its goals lost
 
 
 class ActionClient:
@@ -74,10 +72,8 @@ class ActionClient:
         self._gr_res = codec_for(wire.GetResultResponse)
         self._fb = codec_for(wire.FeedbackMessage)
         self._status = codec_for(GoalStatusArray)
-        self._cg_req = codec_for(CancelGoalRequest)
-        self._cg_res = codec_for(CancelGoalResponse)
-        self._enc = {t: encoding_for(t) for t in (wire.SendGoalRequest, wire.GetResultRequest,
-                                                  CancelGoalRequest)}
+        self._enc = {"send_goal": encoding_for(wire.SendGoalRequest),
+                     "get_result": encoding_for(wire.GetResultRequest)}
         self._keys = {p: ctx.keys.action(self.name, p)
                       for p in ("send_goal", "cancel_goal", "get_result", "feedback", "status")}
         self._lock = threading.Lock()
@@ -87,7 +83,9 @@ class ActionClient:
         self._status_raw: bytes | None = None
         self.closed = False
         s = ctx.session
-        self._fb_sub: Any = s.declare_subscriber(self._keys["feedback"], self._on_feedback)
+        self._inbox = Inbox(f"action-client{self.name}", self.logger)
+        self._fb_sub: Any = s.declare_subscriber(
+            self._keys["feedback"], zenoh.handlers.Callback(self._on_feedback, indirect=False))
         self._status_sub: Any = status_subscriber(s, self._keys["status"], self._on_status)
         self._graph = ctx.graph
         ref = weakref.ref(self)
@@ -115,8 +113,8 @@ class ActionClient:
         """Send ``goal`` and return its handle at once.
 
         ``feedback_callback(msg)`` gets each ``<Name>_FeedbackMessage`` (``msg.feedback``,
-        ``msg.goal_id``) in order; a plain function runs on Zenoh's thread, an ``async def`` one
-        on the node's event loop.
+        ``msg.goal_id``) in order, and before the goal's end is reported; a plain function runs
+        on the client's feedback thread, an ``async def`` one on the node's event loop.
 
         Raises:
             EncodeError: ``goal`` is not the action's Goal type.
@@ -134,7 +132,7 @@ class ActionClient:
         handle = ClientGoalHandle(self, gid, goal, dispatch)
         with self._lock:
             self._handles[handle._key] = handle
-        handle.add_done_callback(self._forget)
+        handle._future.add_done_callback(lambda _f: self._forget(handle))
         self._get("send_goal", data, self.send_timeout,
                   lambda reply: self._on_send_reply(handle, reply))
         self._request_result(handle)  # pipelined: the server holds it until the goal ends
@@ -146,29 +144,7 @@ class ActionClient:
 
     def _get(self, part: str, payload: bytes, timeout: float,
              done: Callable[[zenoh.Reply | None], None]) -> None:
-        """A non-blocking query: ``done(reply)`` runs once, on the first reply, or with None
-        when the query ends without one (no server)."""
-        lock = threading.Lock()
-        called = False
-
-        def once(reply: zenoh.Reply | None) -> None:
-            nonlocal called
-            with lock:
-                if called:
-                    return
-                called = True
-            done(reply)
-
-        # indirect=False: run on Zenoh's own thread; the default starts a thread per query
-        handler = zenoh.handlers.Callback(once, lambda: once(None), indirect=False)
-        self._ctx.session.get(
-            self._keys[part], handler,
-            payload=payload, encoding=self._enc[self._req_type(part)], target=_BEST,
-            timeout=timeout)
-
-    def _req_type(self, part: str) -> Any:
-        return {"send_goal": self._wire.SendGoalRequest, "get_result": self._wire.GetResultRequest,
-                "cancel_goal": CancelGoalRequest}[part]
+        query_once(self._ctx.session, self._keys[part], payload, self._enc[part], timeout, done)
 
     def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None) -> None:
         if reply is None:
@@ -192,7 +168,7 @@ class ActionClient:
             return
         rid = reply.replier_id
         if h._set_accepted(res.accepted, res.stamp, res.reason, str(rid.zid) if rid else ""):
-            self._request_result(h)
+            self._request_result_soon(h)
 
     # ------------------------------------------------------------------ results
 
@@ -203,6 +179,15 @@ class ActionClient:
         early = h.accepted is None
         self._get("get_result", data, self.result_timeout,
                   lambda reply: self._on_result_reply(h, reply, early))
+
+    def _request_result_soon(self, h: ClientGoalHandle, delay: float = 0.0) -> None:
+        """`_request_result` from the executor: reply callbacks run on Zenoh's own threads,
+        where a new query could deadlock (found with a router between the peers)."""
+        ex = self._ctx.executor
+        if delay <= 0:
+            ex.call_soon(self._request_result, h)
+        else:
+            ex.call_soon(ex.loop.call_later, delay, self._request_result, h)
 
     def _on_result_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
                          early: bool) -> None:
@@ -225,7 +210,7 @@ class ActionClient:
         elif early and kind in ("UnknownGoal", ""):
             # The pipelined request overtook the goal: ask again once the goal is accepted.
             if not h._defer_result_request():
-                self._request_result(h)
+                self._request_result_soon(h)
         elif kind == "UnknownGoal":
             h._finish(GoalStatus.LOST, self.action_type.Result(), message)
         elif kind == "Timeout":
@@ -241,10 +226,8 @@ class ActionClient:
         server that took the goal is gone."""
         if not self._server_alive(h):
             self._lose(h)
-        elif delay <= 0:
-            self._request_result(h)
         else:
-            threading.Timer(delay, self._request_result, (h,)).start()
+            self._request_result_soon(h, delay)
 
     def _server_alive(self, h: ClientGoalHandle) -> bool:
         servers = self._graph.action_servers(self.name)
@@ -256,10 +239,17 @@ class ActionClient:
                   f"{h.status.name}")
 
     def _on_graph(self, event: str, tok: Token) -> None:
+        """A server token went away: its goals are lost, unless their results (sent before
+        the token went) arrive within `LOST_GRACE`. A killed server is usually noticed
+        sooner, by the result request it leaves unanswered."""
         if event != "delete" or tok.kind != "act" or tok.name != self.name:
             return
+        ex = self._ctx.executor
+        ex.call_soon(ex.loop.call_later, LOST_GRACE, self._check_lost)
+
+    def _check_lost(self) -> None:
         with self._lock:
-            handles = [h for h in self._handles.values() if h.accepted]
+            handles = [h for h in self._handles.values() if h.accepted and not h.done]
         for h in handles:
             if not self._server_alive(h):
                 self._lose(h)
@@ -273,8 +263,8 @@ class ActionClient:
             self._bad_sample("feedback", exc)
             return
         h = self._handles.get(bytes(msg.goal_id.uuid))
-        if h is not None and h._on_feedback is not None and not h.done:
-            h._on_feedback(msg)
+        if h is not None and h._on_feedback is not None:
+            self._inbox.put(lambda: h._feedback(msg))
 
     def _on_status(self, sample: zenoh.Sample) -> None:
         # Decoded when a handle's status is read (`refresh_status`), not here: results and
@@ -312,27 +302,8 @@ class ActionClient:
         return self._cancel(ZERO_UUID, stamp, timeout)
 
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
-        req = CancelGoalRequest(goal_info=GoalInfo(goal_id=uuid_msg(goal_id), stamp=stamp))
-        done = threading.Event()
-        replies: list[zenoh.Reply | None] = []
-
-        def on_reply(reply: zenoh.Reply | None) -> None:
-            replies.append(reply)
-            done.set()
-
-        self._get("cancel_goal", self._cg_req.encode(req), timeout, on_reply)
-        done.wait(timeout + 1.0)
-        reply = replies[0] if replies else None
-        if reply is None:
-            raise ActionServerUnavailableError(f"no action server answered cancel on {self.name}")
-        if reply.ok is None:
-            assert reply.err is not None
-            kind, message = parse_error(reply.err.payload.to_bytes())
-            if kind == "Timeout":
-                raise ZenrosTimeout(f"action {self.name} did not answer cancel in {timeout:g} s")
-            raise ActionError(f"action {self.name}: cancel failed: {message}")
-        res = self._cg_res.decode(reply.ok.payload.to_bytes())
-        return [uuid_from_msg(g.goal_id) for g in res.goals_canceling]
+        return request_cancel(self._ctx.session, self._keys["cancel_goal"], self.name, goal_id,
+                              stamp, timeout)
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -348,6 +319,7 @@ class ActionClient:
         for h in handles:
             h._fail(None, ActionError(f"action client {self.name} closed before goal "
                                       f"{h.goal_id} ended"))
+        self._inbox.close()
 
     def __repr__(self) -> str:
         return f"<ActionClient {self.name} [{self.action_type.name}]>"

@@ -109,8 +109,9 @@ class ClientGoalHandle:
         return await asyncio.wrap_future(self._future)
 
     def add_done_callback(self, fn: Callable[[ClientGoalHandle], None]) -> None:
-        """Call ``fn(handle)`` once the goal ended (on the thread that learned it)."""
-        self._future.add_done_callback(lambda _f: fn(self))
+        """Call ``fn(handle)`` once the goal ended, on the node's event loop thread."""
+        executor = self._client._ctx.executor
+        self._future.add_done_callback(lambda _f: executor.call_soon(fn, self))
 
     def cancel(self, timeout: float = 5.0) -> bool:
         """Ask the server to cancel this goal; True if it is now canceling (the goal then ends
@@ -164,12 +165,30 @@ class ClientGoalHandle:
         return True
 
     def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
-        if self._end(status, reason):
-            self._future.set_result(GoalResult(self.goal_id, status, result, reason))
+        def finish() -> None:
+            if self._end(status, reason):
+                self._future.set_result(GoalResult(self.goal_id, status, result, reason))
+
+        self._in_order(finish)
 
     def _fail(self, status: GoalStatus | None, exc: Exception, reason: str = "") -> None:
-        if self._end(status, reason or str(exc)):
-            self._future.set_exception(exc)
+        def fail() -> None:
+            if self._end(status, reason or str(exc)):
+                self._future.set_exception(exc)
+
+        self._in_order(fail)
+
+    def _in_order(self, fn: Callable[[], None]) -> None:
+        """End the goal now, or (with a feedback callback) after the feedback received so far."""
+        if self._on_feedback is None:
+            fn()
+        else:
+            self._client._inbox.put(fn)
+
+    def _feedback(self, msg: Any) -> None:
+        """Hand one feedback message to the callback (on the client's inbox thread)."""
+        if not self._ended and self._on_feedback is not None:
+            self._on_feedback(msg)
 
     def __repr__(self) -> str:
         return f"<ClientGoalHandle {self.goal_id} {self._status.name}>"

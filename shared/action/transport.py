@@ -4,6 +4,7 @@ status topic and error payloads."""
 from __future__ import annotations
 
 import json
+import threading
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -23,6 +24,7 @@ __all__ = [
     "encoding_for",
     "error_payload",
     "parse_error",
+    "query_once",
     "status_publisher",
     "status_subscriber",
 ]
@@ -98,3 +100,28 @@ def status_subscriber(session: zenoh.Session, key: str,
         recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
         subscriber_detection=True,
     )
+
+
+def query_once(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh.Encoding,
+               timeout: float, done: Callable[[zenoh.Reply | None], None]) -> None:
+    """A non-blocking query to the best-matching queryable: ``done(reply)`` runs once, with
+    the first reply, or with None when the query ends without one (no server).
+
+    ``done`` runs on a Zenoh network thread (``indirect=False``: the default would start a
+    thread per query). It must be quick and must not call Zenoh: a new query from there can
+    deadlock. Hand further work to another thread.
+    """
+    lock = threading.Lock()
+    called = False
+
+    def once(reply: zenoh.Reply | None) -> None:
+        nonlocal called
+        with lock:
+            if called:
+                return
+            called = True
+        done(reply)
+
+    session.get(key, zenoh.handlers.Callback(once, lambda: once(None), indirect=False),
+                payload=payload, encoding=encoding, target=zenoh.QueryTarget.BEST_MATCHING,
+                timeout=timeout)

@@ -133,7 +133,7 @@ class SimpleActionState(RosState):
         if self.take_preempt():
             return "preempted"
         goal = self._build(userdata)
-        if not self.wait_until(self.client.server_is_ready, self._server_wait):
+        if not self.wait_for_graph(self.client.server_is_ready, self._server_wait):
             if self.take_preempt():
                 return "preempted"
             self.node.logger.warning("%s: no server for action %s within %g s",

@@ -23,8 +23,9 @@ class RosState(State):
     """A state bound to a node, whose waits end on a condition, a preempt or a graph change.
 
     Subclasses block in `wait_until` instead of sleeping: it wakes when `notify` is called
-    (by a callback that changed what the predicate reads), when a preempt is requested, and
-    when the computation graph changes (so "is the server there yet?" needs no polling).
+    (by a callback that changed what the predicate reads) and when a preempt is requested;
+    `wait_for_graph` also wakes on every change of the computation graph (so "is the server
+    there yet?" needs no polling).
 
     Args:
         node: The node whose endpoints the state uses.
@@ -53,8 +54,7 @@ class RosState(State):
         super().__init__(outs, ins, writes)
         self.node = node
         self._cond = threading.Condition()
-        ref = weakref.ref(self)
-        node.graph.add_listener(lambda _event, _tok: _wake(ref))
+        self._watching_graph = False
 
     def notify(self) -> None:
         """Wake `wait_until` to re-check its predicate (thread-safe)."""
@@ -81,6 +81,21 @@ class RosState(State):
         with self._cond:
             self._cond.wait_for(ready, timeout)
             return done()
+
+    def wait_for_graph(self, ready: Callable[[], bool], timeout: float | None) -> bool:
+        """`wait_until` for a graph condition ("a server is there"): also woken by graph changes.
+
+        The first wait that has to block registers a listener on the node's graph for the
+        life of the state (a weak reference: it does not keep the state alive).
+        """
+        if ready():
+            return True
+        with self._cond:
+            register, self._watching_graph = not self._watching_graph, True
+        if register:
+            ref = weakref.ref(self)
+            self.node.graph.add_listener(lambda _event, _token: _wake(ref))
+        return self.wait_until(ready, timeout)
 
     def take_preempt(self) -> bool:
         """If a preempt is requested, service it and return True (then return "preempted")."""

@@ -122,7 +122,7 @@ class ServiceState(RosState):
         if self.take_preempt():
             return "preempted"
         request = self._build(userdata)
-        if not self.wait_until(self.client.service_is_ready, self._server_wait):
+        if not self.wait_for_graph(self.client.service_is_ready, self._server_wait):
             if self.take_preempt():
                 return "preempted"
             self.node.logger.warning("%s: no server for service %s within %g s",

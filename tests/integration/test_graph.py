@@ -70,3 +70,16 @@ def test_graph_listener_sees_puts_and_deletes(ctx_pair: Any) -> None:
     assert g.wait_for(lambda: ("put", "/watched") in events, 5)
     n.close()
     assert g.wait_for(lambda: ("delete", "/watched") in events, 5)
+
+
+def test_removed_listener_is_not_called(ctx_pair: Any) -> None:
+    seen: list[str] = []
+    g = ctx_pair[0].graph
+    remove = g.add_listener(lambda ev, tok: seen.append(tok.node))
+    remove()
+    n = Node("quiet", context=ctx_pair[1])
+    try:
+        assert g.wait_for_node("/quiet", 5)
+        assert seen == []
+    finally:
+        n.close()

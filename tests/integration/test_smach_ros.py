@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import threading
+import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -39,7 +40,7 @@ from zenros.smach import (
     cb_interface,
 )
 from zenros.smach.doubles import SucceedState, WaitForPreempt
-from zenros.testing import Collector, wait_for
+from zenros.testing import Collector
 
 Nodes = Callable[..., Node]
 
@@ -211,8 +212,11 @@ class Fib:
     def execute(self, gh: ServerGoalHandle[FibonacciGoal]) -> FibonacciResult:
         self.started.set()
         order = gh.request.order
-        if order == -1:  # wait for a cancel (or for the test to let go)
-            if gh.wait_for_cancel(30):
+        if order == -1:  # stream feedback until a cancel comes (or for 30 s)
+            deadline = time.monotonic() + 30
+            while not gh.wait_for_cancel(0.01) and time.monotonic() < deadline:
+                gh.publish_feedback(FibonacciFeedback(sequence=[-1]))
+            if gh.is_cancel_requested:
                 self.cancels += 1
                 gh.canceled()
                 return FibonacciResult(sequence=[-1])
@@ -261,19 +265,22 @@ def test_simple_action_state_succeeds_with_slots_feedback_and_result_cb(
     assert sm.userdata.sequence == [0, 1, 1, 2, 3, 5]
     assert sm.userdata.result == FibonacciResult(sequence=[0, 1, 1, 2, 3, 5])
     assert ends == ["SUCCEEDED"]
-    # the first feedback may go out before Zenoh routes it to the new client; the last arrives
-    assert wait_for(lambda: bool(feedback) and feedback[-1] == [0, 1, 1, 2, 3, 5])
+    # feedback sent before Zenoh routes it to the new client, or after the result, is not
+    # seen; what arrives is in order
+    full = [0, 1, 1, 2, 3, 5]
+    assert all(fb == full[: len(fb)] for fb in feedback)
     sm.userdata.order = -2
     assert sm.execute() == "aborted" and sm.userdata.sequence == [-2]
 
 
 def test_simple_action_state_preempt_cancels_the_goal(make_node: Nodes, fib: Fib) -> None:
     node = make_node("sm", 0)
+    feedback: Collector[Any] = Collector()
     state = SimpleActionState(node, Fibonacci, "/fibonacci", FibonacciGoal(order=-1),
-                              result_slots=["sequence"])
+                              result_slots=["sequence"], feedback_cb=lambda ud, fb: feedback(fb))
     sm = machine(state)
     run = sm.execute_in_thread()
-    assert fib.started.wait(10)
+    assert feedback.wait(1, 10)  # the goal runs, and its feedback reaches the callback
     run.request_preempt()
     assert run.result(10) == "preempted"
     assert fib.cancels == 1 and sm.userdata.sequence == [-1]
@@ -347,10 +354,12 @@ def test_introspection_server_publishes_structure_status_and_events(make_node: N
     assert [c.label for c in structure.children] == ["FIRST", "INNER"]
     assert structure.children[1].initial_states == ["WAIT"]
     assert watch.until(lambda s: not s.running and s.userdata == {"laps": 0})
+    assert server._events.wait_for_subscribers(1, 10)  # events are not latched: be routed first
 
     run = root.execute_in_thread()
     assert wait.entered.wait(10)
     assert watch.until(lambda s: s.running and s.active_paths == ["/INNER/WAIT"])
+    assert watch.events.wait(3, 10)  # events travel on their own topic: no order with status
     kinds = [(e.kind, e.path) for e in watch.events.items]
     assert kinds[:3] == [("start", "/"), ("transition", "/"), ("start", "/INNER")]
     # heartbeats keep coming while nothing happens

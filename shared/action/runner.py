@@ -1,0 +1,210 @@
+"""`GoalRunner`: an action server's accepted goals, from scheduling and execution to the expiry
+of their results."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+from ..executor import Executor
+from ..message import ActionType
+from .goal_handle import ServerGoalHandle
+from .goals import GoalTable
+from .policies import GoalPolicy, Plan, Scheduler
+from .states import GoalEvent, transition
+from .status import StatusPublisher
+from .types import GoalStatus
+from .workers import WorkerPool
+
+__all__ = ["GoalRunner"]
+
+Handle = ServerGoalHandle[Any]
+_FAILED = object()
+
+
+class GoalRunner:
+    """Runs goals under a `GoalPolicy`: plain execute callbacks on worker threads, ``async
+    def`` ones on the executor; settles states and results; keeps results ``result_timeout``
+    seconds. Every method marked "locked" expects the caller to hold ``lock``.
+
+    Args:
+        deliver: answers the result requests waiting on a goal once its result is set.
+    """
+
+    def __init__(self, name: str, action_type: ActionType, execute: Callable[[Handle], Any],
+                 is_async: bool, policy: GoalPolicy, table: GoalTable, status: StatusPublisher,
+                 lock: threading.RLock, executor: Executor, logger: logging.Logger,
+                 deliver: Callable[[Handle], None]) -> None:
+        self.name = name
+        self.lock = lock
+        self.table = table
+        self.sched: Scheduler[bytes] = Scheduler(policy)
+        self._result_type = action_type.Result
+        self._execute = execute
+        self._is_async = is_async
+        self._status = status
+        self._executor = executor
+        self._logger = logger
+        self._deliver = deliver
+        self._idle = threading.Condition(lock)
+        self._workers = WorkerPool(f"action{name}", logger)
+        self._timer: asyncio.TimerHandle | None = None
+        self._purge_armed = False
+        self.closed = False
+
+    # ------------------------------------------------------------------ admission (locked)
+
+    def accept(self, h: Handle, plan: Plan[bytes]) -> list[Handle]:
+        """Locked: make an offered goal ACCEPTED and carry out the plan; return the goals to
+        `launch` (after the client got its answer)."""
+        h._status = GoalStatus.ACCEPTED
+        self.table.activate(h)
+        self._status.mark()
+        return self._apply(plan)
+
+    def _apply(self, plan: Plan[bytes]) -> list[Handle]:
+        active = self.table.active
+        for key in plan.preempt:
+            self.request_cancel(active[key])
+        for key in plan.drop:
+            h = active[key]
+            h._status = transition(transition(h._status, GoalEvent.CANCEL_GOAL),
+                                   GoalEvent.CANCELED)
+            self._retire(h, self._result_type())
+        launch = []
+        for key in plan.start:
+            h = active[key]
+            h._status = transition(h._status, GoalEvent.EXECUTE, str(h.goal_id))
+            launch.append(h)
+        if plan.preempt or plan.drop or plan.start:
+            self._status.mark()
+        return launch
+
+    def request_cancel(self, h: Handle) -> None:
+        """Locked: ask a goal to cancel (a client's request, a preemption or shutdown); a goal
+        that was only waiting ends CANCELED at once."""
+        if h._status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
+            h._status = transition(h._status, GoalEvent.CANCEL_GOAL)
+            h._cancel.set()
+            self._status.mark()
+        if self.sched.withdraw(h._key):
+            h._status = transition(h._status, GoalEvent.CANCELED)
+            self._retire(h, self._result_type())
+
+    # ------------------------------------------------------------------ execution
+
+    def launch(self, handles: list[Handle]) -> None:
+        for h in handles:
+            if self._is_async:
+                self._executor.submit(self._run_async(h))
+            else:
+                self._workers.submit(lambda h=h: self._complete(h, self._run_sync(h)))  # type: ignore[misc]
+
+    def _run_sync(self, h: Handle) -> Any:
+        try:
+            return self._execute(h)
+        except Exception:
+            self._logger.exception("action %s: execute callback raised for goal %s", self.name,
+                                   h.goal_id)
+            return _FAILED
+
+    async def _run_async(self, h: Handle) -> None:
+        try:
+            result = await self._execute(h)
+        except asyncio.CancelledError:
+            self._complete(h, _FAILED)
+            raise
+        except Exception:
+            self._logger.exception("action %s: execute callback raised for goal %s", self.name,
+                                   h.goal_id)
+            result = _FAILED
+        self._complete(h, result)
+
+    def end(self, h: Handle, event: GoalEvent) -> None:
+        """succeed(), abort() or canceled() from the execute callback."""
+        with self.lock:
+            h._status = transition(h._status, event, str(h.goal_id))
+            self._status.mark()
+
+    def _complete(self, h: Handle, result: Any) -> None:
+        """The execute callback returned (or raised): settle state and result, start the next."""
+        with self.lock:
+            if h._result is not None:  # already ended by shutdown
+                return
+            if h._status.active:
+                event = GoalEvent.CANCELED if h._status is GoalStatus.CANCELING else GoalEvent.ABORT
+                if result is not _FAILED:
+                    self._logger.warning(
+                        "action %s: execute returned without succeed(), abort() or canceled() "
+                        "for goal %s; marking it %s", self.name, h.goal_id, event.value.upper())
+                h._status = transition(h._status, event)
+                self._status.mark()
+            if result is None or result is _FAILED:
+                result = self._result_type()
+            elif type(result) is not self._result_type:
+                self._logger.error("action %s: execute returned %s, expected %s; sending a "
+                                   "default result", self.name, type(result).__name__,
+                                   self._result_type.__name__)
+                result = self._result_type()
+            self._retire(h, result)
+            launch = self._apply(self.sched.finish(h._key))
+            self._idle.notify_all()
+        self.launch(launch)
+
+    def _retire(self, h: Handle, result: Any) -> None:
+        """Locked: record the result, answer waiting result requests, start expiry."""
+        h._result = result
+        self.table.retire(h, time.monotonic())
+        if h._waiters:
+            self._deliver(h)
+            h._waiters.clear()
+        if not self._purge_armed and not self.closed:
+            self._purge_armed = True
+            self._executor.call_soon(self._schedule_purge)
+
+    # ------------------------------------------------------------------ expiry
+
+    def _schedule_purge(self) -> None:
+        with self.lock:
+            due = self.table.next_expiry()
+            if due is None or self.closed:
+                self._timer, self._purge_armed = None, False
+                return
+            loop = self._executor.loop
+            self._timer = loop.call_later(max(0.0, due - time.monotonic()), self._purge)
+
+    def _purge(self) -> None:
+        with self.lock:
+            if self.table.expire(time.monotonic()):
+                self._status.mark()
+        self._schedule_purge()
+
+    # ------------------------------------------------------------------ shutdown
+
+    def shutdown(self, timeout: float) -> None:
+        """Abort waiting goals, cancel running ones, wait ``timeout`` s for them, abort the rest."""
+        with self.lock:
+            for key in list(self.sched.waiting):
+                self.sched.withdraw(key)
+                h = self.table.active[key]
+                h._status = transition(h._status, GoalEvent.ABORT)
+                self._retire(h, self._result_type())
+            for h in list(self.table.active.values()):
+                self.request_cancel(h)
+            self._status.flush(force=True)
+            self._idle.wait_for(lambda: not self.table.active, timeout)
+            for h in list(self.table.active.values()):
+                if h._status.active:
+                    h._status = transition(h._status, GoalEvent.ABORT)
+                self._logger.warning("action %s: goal %s still running at shutdown; aborted",
+                                     self.name, h.goal_id)
+                self._retire(h, self._result_type())
+            self._status.flush(force=True)
+            self.closed = True
+            if self._timer is not None:
+                self._executor.call_soon(self._timer.cancel)
+        self._workers.close()
