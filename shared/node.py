@@ -18,7 +18,7 @@ from .context import Context
 from .executor import CallbackGroup
 from .graph import Graph
 from .log import RosoutHandler, node_logger
-from .message import Message, ServiceType
+from .message import ActionType, Message, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
@@ -164,6 +164,19 @@ class Node:
     def create_client(self, srv_type: ServiceType, name: str) -> Client:
         c: Client = self._track(Client(self.context, srv_type, self.resolve_name(name, "service")))
         return c
+
+    def create_action_server(self, action_type: ActionType, name: str,
+                             execute_callback: Callable[..., Any], **kwargs: Any) -> Any:
+        """An `ActionServer` (zenros.action) owned by this node; see docs/actions.md."""
+        from .action import ActionServer
+
+        return ActionServer(self, action_type, name, execute_callback, **kwargs)
+
+    def create_action_client(self, action_type: ActionType, name: str, **kwargs: Any) -> Any:
+        """An `ActionClient` (zenros.action) owned by this node."""
+        from .action import ActionClient
+
+        return ActionClient(self, action_type, name, **kwargs)
 
     def create_timer(self, period: float, callback: Callable[[], Any], *,
                      callback_group: CallbackGroup | None = None) -> Timer:

@@ -89,7 +89,7 @@ class ActionClient:
         self._status_sub: Any = status_subscriber(s, self._keys["status"], self._on_status)
         self._graph = ctx.graph
         ref = weakref.ref(self)
-        self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
+        self._unlisten = self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
         node._track(self)
 
     # ------------------------------------------------------------------ server presence
@@ -312,6 +312,7 @@ class ActionClient:
         if self.closed:
             return
         self.closed = True
+        self._unlisten()
         self._fb_sub.undeclare()
         self._status_sub.undeclare()
         with self._lock:

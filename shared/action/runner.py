@@ -8,7 +8,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Protocol
 
 from ..executor import Executor
 from ..message import ActionType
@@ -16,7 +16,6 @@ from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .policies import GoalPolicy, Plan, Scheduler
 from .states import GoalEvent, transition
-from .status import StatusPublisher
 from .types import GoalStatus
 from .workers import WorkerPool
 
@@ -24,6 +23,14 @@ __all__ = ["GoalRunner"]
 
 Handle = ServerGoalHandle[Any]
 _FAILED = object()
+
+
+class StatusSink(Protocol):
+    """Where state changes are reported (the server's `StatusPublisher`)."""
+
+    def mark(self) -> None: ...
+
+    def flush(self, force: bool = False) -> None: ...
 
 
 class GoalRunner:
@@ -36,7 +43,7 @@ class GoalRunner:
     """
 
     def __init__(self, name: str, action_type: ActionType, execute: Callable[[Handle], Any],
-                 is_async: bool, policy: GoalPolicy, table: GoalTable, status: StatusPublisher,
+                 is_async: bool, policy: GoalPolicy, table: GoalTable, status: StatusSink,
                  lock: threading.RLock, executor: Executor, logger: logging.Logger,
                  deliver: Callable[[Handle], None]) -> None:
         self.name = name

@@ -39,6 +39,7 @@ if TYPE_CHECKING:
 __all__ = ["ActionServer"]
 
 Handle = ServerGoalHandle[Any]
+QUERY_QUEUE = 256  # requests buffered before Zenoh pushes back
 
 
 class ActionServer:
@@ -116,12 +117,16 @@ class ActionServer:
         self._fb_pub: Any = s.declare_publisher(
             key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
             congestion_control=zenoh.CongestionControl.BLOCK)
-        # One queryable for the three request keys: its callbacks run on one thread in arrival
-        # order, so a client may send get_result right behind send_goal. It is a plain callback,
-        # which Zenoh runs on a thread of its own, away from its network threads.
+        # One queryable for the three request keys, served from a channel by one thread: the
+        # requests are handled in arrival order (a client may send get_result right behind
+        # send_goal), and Zenoh queues them without taking the GIL (as services do).
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
-        self._queryable: Any = s.declare_queryable(key("*"), self._on_query, complete=True)
+        self._queryable: Any = s.declare_queryable(
+            key("*"), zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True)
+        self._serve_thread = threading.Thread(target=self._serve, daemon=True,
+                                              name=f"zenros-action:{self.name}")
+        self._serve_thread.start()
         self._status.flush(force=True)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
@@ -129,6 +134,16 @@ class ActionServer:
 
     def _key(self, part: str) -> str:
         return self._ctx.keys.action(self.name, part)
+
+    def _serve(self) -> None:
+        try:
+            for query in self._queryable.handler:  # ends when the queryable is undeclared
+                try:
+                    self._on_query(query)
+                except Exception:  # a bad request must not stop the server
+                    self.logger.exception("action %s: request failed", self.name)
+        except zenoh.ZError:  # the channel closed under us at shutdown
+            return
 
     def _on_query(self, query: zenoh.Query) -> None:
         part = str(query.key_expr).rsplit("/", 1)[-1]
@@ -247,7 +262,8 @@ class ActionServer:
             return self._reply_err(query, "BadRequest", req)
         gid = uuid_from_msg(req.goal_id)
         with self._lock:
-            self._table.expire(time.monotonic())
+            if self._table.expire(time.monotonic()):
+                self._status.mark()
             h = self._table.lookup(gid.bytes)
             if h is not None and h._result is None:
                 h._waiters.append(query)  # answered when the goal's result is set
@@ -303,6 +319,8 @@ class ActionServer:
             self.closed = True
         self._token.undeclare()
         self._queryable.undeclare()
+        if self._serve_thread is not threading.current_thread():
+            self._serve_thread.join(2.0)
         self._fb_pub.undeclare()
         self._status.close()
 

@@ -17,7 +17,6 @@ from ..message import Message
 from ..rpc import error_payload
 
 __all__ = [
-    "PARTS",
     "answer",
     "answer_err",
     "decode_query",
@@ -30,8 +29,6 @@ __all__ = [
 ]
 
 M = TypeVar("M", bound=Message)
-
-PARTS = ("send_goal", "cancel_goal", "get_result", "feedback", "status")
 
 
 def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import threading
 from typing import Any
 
 from ..action import ActionClient, ClientGoalHandle, GoalStatus
@@ -80,44 +81,60 @@ def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
         if not client.wait_for_server(args.server_timeout):
             raise CliError(f"action server {client.name} is not available "
                            f"(waited {args.server_timeout:g} s)")
-        print("Sending goal:")
-        _show(to_builtins(goal), args.json)
+        _show("Sending goal:", to_builtins(goal), args.json)
+
+        announced = threading.Event()
 
         def on_feedback(msg: Any) -> None:
-            print("Feedback:")
-            _show(to_builtins(msg.feedback), args.json)
+            announced.wait(5.0)  # print "Goal accepted" first
+            _show("Feedback:", to_builtins(msg.feedback), args.json)
 
         handle = client.send_goal_async(goal, on_feedback if args.feedback else None)
-        return _follow(handle, args.json)
+        return _follow(handle, args.json, announced)
     finally:
         node.close()
 
 
-def _follow(handle: ClientGoalHandle, as_json: bool) -> int:
+def _follow(handle: ClientGoalHandle, as_json: bool, announced: threading.Event) -> int:
     try:
         if not handle.wait_accepted():
             print(f"Goal was rejected: {handle.reason}")
             return 1
-        print(f"Goal accepted with ID: {handle.goal_id.hex}\n")
+        print(f"Goal accepted with ID: {handle.goal_id.hex}\n", flush=True)
+        announced.set()
         outcome = handle.result()
     except KeyboardInterrupt:
-        print("Canceling goal...")
+        with _OUT:
+            print("Canceling goal...", flush=True)
         handle.cancel()
         outcome = handle.result(10.0)
-    if outcome.status is GoalStatus.LOST:
-        print(f"Goal lost: {outcome.reason}")
+        interrupted = True
     else:
-        print("Result:")
-        _show(to_builtins(outcome.result), as_json)
-    print(f"Goal finished with status: {outcome.status.name}")
-    return 0 if outcome.status is GoalStatus.SUCCEEDED else 1
+        interrupted = False
+    with _OUT:
+        if outcome.status is GoalStatus.LOST:
+            print(f"Goal lost: {outcome.reason}")
+        else:
+            print("Result:")
+            _print(to_builtins(outcome.result), as_json)
+        print(f"Goal finished with status: {outcome.status.name}", flush=True)
+    return 0 if interrupted or outcome.status is GoalStatus.SUCCEEDED else 1
 
 
-def _show(data: Any, as_json: bool) -> None:
+_OUT = threading.Lock()  # feedback prints from another thread: keep each block whole
+
+
+def _show(header: str, data: Any, as_json: bool) -> None:
+    with _OUT:
+        print(header)
+        _print(data, as_json)
+
+
+def _print(data: Any, as_json: bool) -> None:
     print_data(data, as_json, separator=False)
     if not as_json:
         sys.stdout.write("\n")
-        sys.stdout.flush()
+    sys.stdout.flush()
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -42,7 +42,7 @@ class _SecNsec(Message, frozen=True, order=False):  # type: ignore[misc]
         return hash((type(self), self.sec, self.nanosec))
 
     def _key(self, o: object) -> int | None:
-        return o.nanoseconds if type(o) is type(self) else None  # type: ignore[attr-defined]
+        return o.nanoseconds if type(o) is type(self) else None
 
     def __lt__(self, o: object) -> bool:
         k = self._key(o)

@@ -8,11 +8,10 @@ import logging
 import threading
 import uuid
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeAlias
 
 import pytest
 import zenoh
-
 from zenros import EncodeError, GoalRejectedError, Node
 from zenros.action import (
     ActionClient,
@@ -36,7 +35,7 @@ from zenros.msgs.example_interfaces import (
 from zenros.msgs.geometry_msgs import Twist
 from zenros.testing import Collector, wait_for
 
-Handle = ServerGoalHandle[FibonacciGoal]
+Handle: TypeAlias = ServerGoalHandle[FibonacciGoal]
 
 
 def fibonacci(h: Handle) -> FibonacciResult:
@@ -106,7 +105,7 @@ def test_goal_succeeds_with_feedback_in_order(pair: Any) -> None:
     out = client.send_goal(goal(10), fb, timeout=10)
     assert out.status is GoalStatus.SUCCEEDED and out.succeeded
     assert out.result.sequence == [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]
-    assert fb.wait(9)
+    # all feedback, in order, and delivered before the result was reported
     assert [len(m.feedback.sequence) for m in fb.items] == list(range(3, 12))
     assert all(m.goal_id == uuid_msg(out.goal_id) for m in fb.items)
 
@@ -148,7 +147,7 @@ def test_handle_follows_the_goal_through_its_states(pair: Any) -> None:
 
 
 def test_the_graph_lists_the_action(pair: Any) -> None:
-    server, client = pair(fibonacci)
+    _, client = pair(fibonacci)
     g = client._graph
     assert g.actions() == {"/fibonacci": ["example_interfaces/Fibonacci"]}
     assert [t.node for t in g.action_servers("/fibonacci")] == ["/server"]
@@ -358,11 +357,11 @@ def raw_get(client: ActionClient, part: str, payload: bytes,
 @pytest.mark.parametrize(
     ("payload", "encoding", "needle"),
     [
-        (b"{not json", None, "expected example_interfaces/Fibonacci_SendGoal_Request: JSON is "
-                             "malformed"),
+        (b"{not json", None,
+         "expected example_interfaces/Fibonacci_SendGoal_Request: JSON is malformed"),
         (b'{"linear":{"x":1}}', "application/json;geometry_msgs/Twist",
-         "type mismatch: expected example_interfaces/Fibonacci_SendGoal_Request, "
-         "got geometry_msgs/Twist"),
+         ("type mismatch: expected example_interfaces/Fibonacci_SendGoal_Request, "
+          "got geometry_msgs/Twist")),
         (b'{"goal_id":{"uuid":[' + b"1," * 15 + b'1]},"goal":{"order":"ten"}}', None,
          "at `$.goal.order`"),
         (b'{"goal_id":{"uuid":[' + b"0," * 15 + b'0]}}', None, "goal_id must be a non-zero UUID"),
@@ -466,3 +465,29 @@ def test_send_without_a_server_fails_clearly(make_node: Callable[..., Node]) -> 
     assert not client.wait_for_server(0.1)
     with pytest.raises(ActionServerUnavailableError, match="no action server answered goal"):
         client.send_goal(goal(1), timeout=10)
+
+
+def test_client_and_server_in_one_session(make_node: Callable[..., Node]) -> None:
+    node = make_node("both", 0)
+    ActionServer(node, Fibonacci, "fibonacci", fibonacci)
+    client = ActionClient(node, Fibonacci, "fibonacci")
+    assert client.wait_for_server(10)
+    fb: Collector[Any] = Collector()
+    out = client.send_goal(goal(5), fb, timeout=10)
+    assert out.result.sequence == [0, 1, 1, 2, 3, 5]
+    assert [len(m.feedback.sequence) for m in fb.items] == [3, 4, 5, 6]
+
+
+def test_node_factory_methods_make_action_endpoints(make_node: Any) -> None:
+    from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal, FibonacciResult
+
+    server_node, client_node = make_node("fib_server", 1), make_node("fib_client", 0)
+
+    def execute(handle: Any) -> Any:
+        handle.succeed()
+        return FibonacciResult(sequence=[0, 1][: handle.request.order])
+
+    server_node.create_action_server(Fibonacci, "fib", execute)
+    client = client_node.create_action_client(Fibonacci, "fib")
+    assert client.wait_for_server(5)
+    assert client.send_goal(FibonacciGoal(order=2)).result.sequence == [0, 1]

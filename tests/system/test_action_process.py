@@ -8,7 +8,6 @@ import time
 from collections.abc import Iterator
 
 import pytest
-
 from zenros import Node
 from zenros.action import ActionClient, GoalStatus
 from zenros.context import Context

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pytest
-
 from zenros.action.policies import GoalPolicy, Plan, Scheduler
 from zenros.action.states import GoalEvent, transition
 from zenros.action.types import GoalStatus

@@ -6,7 +6,6 @@ import uuid
 from typing import Any
 
 import pytest
-
 from zenros.action.goal_handle import ServerGoalHandle
 from zenros.action.goals import GoalTable
 from zenros.action.types import (
@@ -88,7 +87,7 @@ def test_zero_uuid_is_the_default() -> None:
 
 
 def goal(n: int, status: GoalStatus = GoalStatus.EXECUTING, sec: int = 0) -> Any:
-    h: ServerGoalHandle[Any] = ServerGoalHandle(None, uuid.UUID(int=n), None)  # type: ignore[arg-type]
+    h: ServerGoalHandle[Any] = ServerGoalHandle(None, uuid.UUID(int=n), None)
     h._status = status
     h.stamp = Time(sec=sec)
     return h
