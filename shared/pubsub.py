@@ -226,7 +226,7 @@ class Subscription(Generic[M]):
                     continue
                 try:
                     direct(msg)
-                except Exception:  # noqa: BLE001 a callback bug must not stop the subscription
+                except Exception:
                     logger.exception("subscription %s callback raised", what)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return

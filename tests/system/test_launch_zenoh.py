@@ -11,7 +11,6 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-
 from zenros.context import Context
 from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, unique_prefix
