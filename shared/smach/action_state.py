@@ -133,12 +133,10 @@ class SimpleActionState(RosState):
         if self.take_preempt():
             return "preempted"
         goal = self._build(userdata)
-        if not self.wait_for_graph(self.client.server_is_ready, self._server_wait):
-            if self.take_preempt():
-                return "preempted"
-            self.node.logger.warning("%s: no server for action %s within %g s",
-                                     self.describe(), self.name, self._server_wait)
-            return "aborted"
+        missing = self.await_server(self.client.server_is_ready, f"action {self.name}",
+                                    self._server_wait)
+        if missing is not None:
+            return missing
         feedback = None
         if self._feedback_cb is not None:
             cb = self._feedback_cb

@@ -97,6 +97,18 @@ class RosState(State):
             self.node.graph.add_listener(lambda _event, _token: _wake(ref))
         return self.wait_until(ready, timeout)
 
+    def await_server(self, ready: Callable[[], bool], what: str,
+                     timeout: float | None) -> str | None:
+        """Wait for a server (``what``: "service /x", "action /y"): None when it is there,
+        else the outcome to return ("preempted", or "aborted" with a warning)."""
+        if self.wait_for_graph(ready, timeout):
+            return None
+        if self.take_preempt():
+            return "preempted"
+        self.node.logger.warning("%s: no server for %s within %g s", self.describe(), what,
+                                 timeout)
+        return "aborted"
+
     def take_preempt(self) -> bool:
         """If a preempt is requested, service it and return True (then return "preempted")."""
         if self.preempt_requested():

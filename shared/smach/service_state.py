@@ -122,12 +122,10 @@ class ServiceState(RosState):
         if self.take_preempt():
             return "preempted"
         request = self._build(userdata)
-        if not self.wait_for_graph(self.client.service_is_ready, self._server_wait):
-            if self.take_preempt():
-                return "preempted"
-            self.node.logger.warning("%s: no server for service %s within %g s",
-                                     self.describe(), self.name, self._server_wait)
-            return "aborted"
+        missing = self.await_server(self.client.service_is_ready, f"service {self.name}",
+                                    self._server_wait)
+        if missing is not None:
+            return missing
         future = self.node.context.executor.submit(
             self.client.call_async(request, self._call_timeout))
         future.add_done_callback(lambda _f: self.notify())
