@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import platform
@@ -9,6 +10,7 @@ import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import zenoh
@@ -83,3 +85,33 @@ def emit(bench: str, metrics: dict[str, float], **extra: Any) -> None:
 
 def median(xs: list[float]) -> float:
     return statistics.median(xs)
+
+
+def bench_parser(description: str | None, roles: Sequence[str], repeats: int) -> argparse.ArgumentParser:
+    """The flags every two-process bench shares: the child's role, implementation, port and
+    prefix, and how many back-to-back repeats the parent runs."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--role", choices=["parent", *roles], default="parent")
+    ap.add_argument("--impl", default="zenros")
+    ap.add_argument("--port", type=int, default=0)
+    ap.add_argument("--prefix", default="bench")
+    ap.add_argument("--repeats", type=int, default=repeats)
+    return ap
+
+
+def serve_node(port: int, prefix: str, name: str, setup: Callable[[Any], Any]) -> None:
+    """A child's zenros side: a node connected to the parent, set up, serving until the
+    parent closes our stdin (`Child.stop`)."""
+    from zenros.context import Context
+    from zenros.node import Node
+    from zenros.testing import loopback_options
+
+    ctx = Context(loopback_options(connect=[port]), prefix=prefix)
+    node = Node(name, context=ctx)
+    try:
+        setup(node)
+        print("ready", flush=True)
+        sys.stdin.readline()
+    finally:
+        node.close()
+        ctx.close()

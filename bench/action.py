@@ -11,14 +11,22 @@ Prints one JSON line.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from typing import Any
 
 import msgspec
 import zenoh
-from _harness import Child, emit, free_port, median, percentile, raw_config, unique_prefix
+from _harness import (
+    Child,
+    bench_parser,
+    emit,
+    free_port,
+    median,
+    percentile,
+    raw_config,
+    unique_prefix,
+)
 from zenros import Node
 from zenros.action import ActionClient, ActionServer
 from zenros.context import Context
@@ -117,13 +125,8 @@ def roundtrips(impl: str, n: int) -> list[float]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--role", choices=["parent", "server"], default="parent")
-    ap.add_argument("--impl", default="zenros")
-    ap.add_argument("--port", type=int, default=0)
-    ap.add_argument("--prefix", default="bench")
+    ap = bench_parser(__doc__, ["server"], repeats=5)
     ap.add_argument("--goals", type=int, default=1000)
-    ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.role == "server":
         child_server(a.impl, a.port, a.prefix)

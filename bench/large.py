@@ -8,7 +8,6 @@ in MB/s. Prints one JSON line.
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import sys
@@ -18,7 +17,7 @@ from typing import Any
 
 import numpy as np
 import zenoh
-from _harness import Child, emit, free_port, raw_config, unique_prefix
+from _harness import Child, bench_parser, emit, free_port, raw_config, unique_prefix
 from zenros import Message, Node
 from zenros.context import Context
 from zenros.message import UInt8Array, array_field
@@ -103,13 +102,8 @@ def measure(impl: str, size: int, count: int) -> float:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--role", default="parent")
-    ap.add_argument("--impl", default="zenros")
-    ap.add_argument("--port", type=int, default=0)
-    ap.add_argument("--prefix", default="bench")
+    ap = bench_parser(__doc__, ["sink"], repeats=5)
     ap.add_argument("--count", type=int, default=0)
-    ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.role == "sink":
         child_sink(a.impl, a.port, a.prefix, a.count)

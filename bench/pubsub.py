@@ -9,7 +9,6 @@ Prints one JSON line.
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import threading
@@ -18,7 +17,16 @@ from typing import Any
 
 import msgspec
 import zenoh
-from _harness import Child, emit, free_port, percentile, raw_config, unique_prefix
+from _harness import (
+    Child,
+    bench_parser,
+    emit,
+    free_port,
+    percentile,
+    raw_config,
+    serve_node,
+    unique_prefix,
+)
 from zenros import Node
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import Twist, Vector3
@@ -34,14 +42,11 @@ DEC = msgspec.json.Decoder(Twist)
 
 def child_echo(impl: str, port: int, prefix: str) -> None:
     if impl == "zenros":
-        ctx = Context(loopback_options(connect=[port]), prefix=prefix)
-        node = Node("echo", context=ctx)
-        pong = node.create_publisher(Twist, "pong")
-        node.create_subscription(Twist, "ping", pong.publish)
-        print("ready", flush=True)
-        sys.stdin.readline()
-        node.close()
-        ctx.close()
+        def setup(node: Node) -> None:
+            pong = node.create_publisher(Twist, "pong")
+            node.create_subscription(Twist, "ping", pong.publish)
+
+        serve_node(port, prefix, "echo", setup)
         return
     s = zenoh.open(raw_config(connect=port))
     pub = s.declare_publisher(f"{prefix}/pong", congestion_control=zenoh.CongestionControl.BLOCK)
@@ -201,14 +206,9 @@ def throughput(impl: str, count: int) -> tuple[float, int]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--role", choices=["parent", "echo", "sink"], default="parent")
-    ap.add_argument("--impl", default="zenros")
-    ap.add_argument("--port", type=int, default=0)
-    ap.add_argument("--prefix", default="bench")
+    ap = bench_parser(__doc__, ["echo", "sink"], repeats=5)
     ap.add_argument("--count", type=int, default=50_000)
     ap.add_argument("--pings", type=int, default=2000)
-    ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.role == "echo":
         child_echo(a.impl, a.port, a.prefix)

@@ -6,14 +6,22 @@ response with msgspec, as an application must. Prints one JSON line.
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import time
 
 import msgspec
 import zenoh
-from _harness import Child, emit, free_port, percentile, raw_config, unique_prefix
+from _harness import (
+    Child,
+    bench_parser,
+    emit,
+    free_port,
+    percentile,
+    raw_config,
+    serve_node,
+    unique_prefix,
+)
 from zenros import Node
 from zenros.context import Context
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse
@@ -26,13 +34,8 @@ ENC = msgspec.json.Encoder()
 
 def child_server(impl: str, port: int, prefix: str) -> None:
     if impl == "zenros":
-        ctx = Context(loopback_options(connect=[port]), prefix=prefix)
-        node = Node("server", context=ctx)
-        node.create_service(AddTwoInts, "add", lambda r: AddTwoIntsResponse(sum=r.a + r.b))
-        print("ready", flush=True)
-        sys.stdin.readline()
-        node.close()
-        ctx.close()
+        serve_node(port, prefix, "server", lambda node: node.create_service(
+            AddTwoInts, "add", lambda r: AddTwoIntsResponse(sum=r.a + r.b)))
         return
     s = zenoh.open(raw_config(connect=port))
 
@@ -98,13 +101,8 @@ def measure(impl: str, n: int) -> list[float]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--role", default="parent")
-    ap.add_argument("--impl", default="zenros")
-    ap.add_argument("--port", type=int, default=0)
-    ap.add_argument("--prefix", default="bench")
+    ap = bench_parser(__doc__, ["server"], repeats=5)
     ap.add_argument("--calls", type=int, default=2000)
-    ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     if a.role == "server":
         child_server(a.impl, a.port, a.prefix)
