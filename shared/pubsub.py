@@ -180,6 +180,13 @@ class Subscription(Generic[M]):
                 recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
                 subscriber_detection=True,
             )
+        elif self._codec.bulk:
+            # Large samples (maps, scans) sit in Zenoh's shared-memory pool until handled: the
+            # per-sample callback releases each one at once, where a queue would hold the pool
+            # (measured: 1 MiB 0.94-1.05x raw this way, 0.79-1.0x through a channel).
+            self._sub = ctx.session.declare_subscriber(
+                self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE
+            )
         else:
             # Zenoh queues samples in a channel without taking the GIL, and one thread per
             # subscription drains it: the Rust receive path never waits for Python (measured
