@@ -14,8 +14,14 @@ from ..context import Context
 from ..errors import ZenrosError
 from ..message import lookup_action
 from ..names import resolve
-from ..node import Node
-from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
+from .common import (
+    CliError,
+    ToolNode,
+    add_common,
+    open_context,
+    parse_yaml_arg,
+    print_data,
+)
 
 
 def register(sub: Any) -> None:
@@ -74,7 +80,7 @@ def _info(ctx: Context, args: argparse.Namespace) -> int:
 def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
     action = lookup_action(args.type)
     goal = from_builtins(parse_yaml_arg(args.goal), action.Goal)
-    node = Node(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
+    node = ToolNode(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
     try:
         client = ActionClient(node, action, resolve(args.action, kind="action"))
         print("Waiting for an action server to become available...")

@@ -13,16 +13,25 @@ import yaml
 from ..codec import JSON, MSGPACK, decode_any, split_encoding, to_builtins
 from ..context import Context
 from ..errors import ZenrosError
+from ..node import Node
 from ..session import add_session_arguments, options_from_args
 
 __all__ = [
     "CliError",
+    "ToolNode",
     "add_common",
     "open_context",
     "parse_yaml_arg",
     "payload_to_data",
     "print_data",
 ]
+
+
+class ToolNode(Node):
+    """The short-lived node a verb joins the graph with; it declares no stored parameters,
+    so it never asks master for any (nor warns when master is down)."""
+
+    uses_parameter_server = False
 
 
 class CliError(ZenrosError):

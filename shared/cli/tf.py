@@ -19,7 +19,6 @@ from ..errors import TransformException
 from ..msgs.builtin_interfaces import Time
 from ..msgs.geometry_msgs import TransformStamped
 from ..msgs.tf_srvs import FrameInfo, Frames, FramesRequest
-from ..node import Node
 from ..rpc import Client
 from ..tf import (
     LATEST,
@@ -35,7 +34,7 @@ from ..tf import (
 )
 from ..tf.client import DEFAULT_SERVER
 from ..tf.spec import FORMS
-from .common import CliError, add_common, open_context
+from .common import CliError, ToolNode, add_common, open_context
 
 
 def register(sub: Any) -> None:
@@ -93,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
 def _echo(ctx: Context, args: argparse.Namespace) -> int:
     if not args.rate > 0:
         raise CliError(f"--rate must be > 0, got {args.rate}")
-    node = Node(f"zenros_tf_echo_{os.getpid()}", context=ctx)
+    node = ToolNode(f"zenros_tf_echo_{os.getpid()}", context=ctx)
     try:
         buf = Buffer()
         TransformListener(buf, node)
@@ -190,7 +189,7 @@ def _frames(ctx: Context, args: argparse.Namespace) -> int:
 
 def _listen(ctx: Context, seconds: float) -> tuple[list[FrameInfo], Time]:
     """What a listener gathers in ``seconds`` (authorities are tf2's "default_authority")."""
-    node = Node(f"zenros_tf_frames_{os.getpid()}", context=ctx)
+    node = ToolNode(f"zenros_tf_frames_{os.getpid()}", context=ctx)
     try:
         buf = Buffer()
         TransformListener(buf, node)
@@ -206,7 +205,7 @@ def _listen(ctx: Context, seconds: float) -> tuple[list[FrameInfo], Time]:
 
 def _static(ctx: Context, args: argparse.Namespace, link: TransformStamped) -> int:
     name = args.node_name or f"static_transform_publisher_{os.getpid()}"
-    node = Node(name, context=ctx)
+    node = ToolNode(name, context=ctx)
     try:
         link.header.stamp = node.now()
         StaticTransformBroadcaster(node).send_transform(link)

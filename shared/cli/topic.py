@@ -18,8 +18,15 @@ from zenoh import ext as zext
 from ..codec import from_builtins
 from ..message import lookup_type
 from ..names import resolve
-from ..node import Node
-from .common import CliError, add_common, open_context, parse_yaml_arg, payload_to_data, print_data
+from .common import (
+    CliError,
+    ToolNode,
+    add_common,
+    open_context,
+    parse_yaml_arg,
+    payload_to_data,
+    print_data,
+)
 
 
 def register(sub: Any) -> None:
@@ -149,7 +156,7 @@ def _echo(ctx: Any, args: argparse.Namespace) -> int:
 def _pub(ctx: Any, args: argparse.Namespace) -> int:
     msg_type = lookup_type(args.type)
     msg = from_builtins(parse_yaml_arg(args.values), msg_type)
-    node = Node(f"zenros_topic_pub_{_pid()}", context=ctx)
+    node = ToolNode(f"zenros_topic_pub_{_pid()}", context=ctx)
     pub = node.create_publisher(msg_type, args.topic)
     limit = 1 if args.once else args.times
     if limit and args.wait_subs and not pub.wait_for_subscribers(args.wait_subs, 5.0):

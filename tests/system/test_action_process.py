@@ -12,21 +12,18 @@ from zenros import Node
 from zenros.action import ActionClient, GoalStatus
 from zenros.context import Context
 from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal
-from zenros.session import SessionOptions
 from zenros.testing import Collector, Proc
 
 pytestmark = pytest.mark.system
 
 
 @pytest.fixture
-def client_node(router: str, prefix: str) -> Iterator[Node]:
-    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
-    node = Node("action_test_client", context=ctx)
+def client_node(observer: Context) -> Iterator[Node]:
+    node = Node("action_test_client", context=observer)
     try:
         yield node
     finally:
         node.close()
-        ctx.close()
 
 
 @pytest.fixture

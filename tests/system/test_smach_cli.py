@@ -14,7 +14,6 @@ from zenros.context import Context
 from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
-from zenros.session import SessionOptions
 from zenros.smach import ContainerStatus, SimpleActionState, StateMachine
 from zenros.testing import Collector, Proc
 
@@ -24,14 +23,12 @@ SERVER = "/smach_patrol/smach"
 
 
 @pytest.fixture
-def tester(router: str, prefix: str) -> Iterator[Node]:
-    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
-    node = Node("smach_tester", context=ctx)
+def tester(observer: Context) -> Iterator[Node]:
+    node = Node("smach_tester", context=observer)
     try:
         yield node
     finally:
         node.close()
-        ctx.close()
 
 
 @pytest.fixture
