@@ -3,6 +3,7 @@ readable and ROS-shaped, numpy fields decode as views, and errors name path and 
 
 from __future__ import annotations
 
+import importlib
 import itertools
 import json
 import math
@@ -119,7 +120,15 @@ def array_fields(msg: Any, path: str = "$") -> list[tuple[str, np.ndarray]]:
     return out
 
 
-ALL_TYPES = sorted(registered_types().items())
+# Import every module that registers wire types, so the parametrization is the same whatever
+# else pytest collected first.
+for _mod in ("zenros.action", "zenros.smach.introspection", "zenros.param_protocol",
+             "zenros.services.master.messages", "zenros.msgs.tf_srvs", "zenros.shutdown"):
+    importlib.import_module(_mod)
+ALL_TYPES = sorted(
+    (name, cls) for name, cls in registered_types().items()
+    if not name.startswith("zenros_test")  # types other test modules define for themselves
+)
 
 
 # ------------------------------------------------------------------ round trips
