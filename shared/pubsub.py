@@ -88,9 +88,16 @@ class Publisher(Generic[M]):
         self.closed = False
 
     def _on_matching(self, status: Any) -> None:
+        # Read the current status rather than trust the event's: events arrive late, and a
+        # stale "no longer matching" (an old subscriber leaving) must not switch off puts to
+        # a subscriber that has joined since.
+        self._refresh_remote()
+
+    def _refresh_remote(self) -> bool:
         with self._match_cond:
-            self._remote = bool(status.matching)
+            self._remote = bool(self._pub.matching_status.matching)
             self._match_cond.notify_all()
+            return self._remote
 
     def wait_for_subscribers(self, n: int = 1, timeout: float | None = None) -> bool:
         """Block until ``n`` subscriptions (any process) exist and Zenoh routes to the remote
@@ -102,9 +109,13 @@ class Publisher(Generic[M]):
         local = {id(s) for s in self._local.subs}
         if len(graph.subscribers(self.topic)) <= len(local):
             return True
-        left = None if deadline is None else max(0.0, deadline - time.monotonic())
-        with self._match_cond:
-            return self._match_cond.wait_for(lambda: self._remote, left)
+        while not self._refresh_remote():  # the current status, not a possibly stale event
+            left = None if deadline is None else deadline - time.monotonic()
+            if left is not None and left <= 0:
+                return False
+            with self._match_cond:
+                self._match_cond.wait(0.01 if left is None else min(left, 0.01))
+        return True
 
     def publish(self, msg: M) -> None:
         """Send ``msg`` to every subscriber; raises `EncodeError` for a message of another type."""
@@ -204,13 +215,15 @@ class Subscription(Generic[M]):
                 target=self._pump, name=f"zenros-sub:{topic}", daemon=True
             )
             self._pump_thread.start()
+        # Latched history, including that of publishers in this very session, comes from
+        # the advanced subscriber's history query; live in-process samples from the bus.
+        # Joined before the token is declared: once the graph shows this subscription, an
+        # in-process publisher reaches it.
+        ctx.add_local(topic, "subs", self)
         self._token = ctx.session.liveliness().declare_token(
             ctx.keys.entity_token("sub", node, topic, self._codec.type_name, qos.tag, ctx.zid,
                                   ctx.next_eid())
         )
-        # Latched history, including that of publishers in this very session, comes from
-        # the advanced subscriber's history query; live in-process samples from the bus.
-        ctx.add_local(topic, "subs", self)
         self.closed = False
 
     def _pump(self) -> None:
@@ -241,7 +254,7 @@ class Subscription(Generic[M]):
     def _deliver_local(self, msg: Any, pub: Publisher[Any]) -> None:
         if type(msg) is not self.msg_type:
             self._reject(f"type mismatch: expected {self._codec.type_name}, got {pub.type_name}",
-                         "this process")
+                         ("this process", "local"))
             return
         self._dispatch(msg)
 
@@ -267,19 +280,21 @@ class Subscription(Generic[M]):
             return
         self._dispatch(msg)
 
-    def _sender(self, sample: zenoh.Sample) -> str:
+    def _sender(self, sample: zenoh.Sample) -> tuple[str, str]:
+        """(who, throttle key): node names behind the sample's session, and the session id."""
         ts = sample.timestamp
         if ts is None:
-            return "an unknown sender"
+            return "an unknown sender", ""
         zid = str(ts.get_id())
         nodes = self._ctx.graph.nodes_of_zid(zid, self.topic)
-        return ", ".join(nodes) if nodes else f"session {zid}"
+        return (", ".join(nodes) if nodes else f"session {zid}"), zid
 
-    def _reject(self, why: str, sender: str) -> None:
-        if self._throttle.allow(sender):
-            extra = self._throttle.suppressed.pop(sender, 0)
+    def _reject(self, why: str, sender: tuple[str, str]) -> None:
+        who, key = sender
+        if self._throttle.allow(key):
+            extra = self._throttle.suppressed.pop(key, 0)
             more = f" ({extra} more suppressed)" if extra else ""
-            self._logger.error("cannot decode %s from %s: %s%s", self.key, sender, why, more)
+            self._logger.error("cannot decode %s from %s: %s%s", self.key, who, why, more)
         self.errors += 1
 
     def close(self) -> None:
