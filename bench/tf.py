@@ -10,6 +10,10 @@ so nothing is answered from a cache of earlier results.
 Ratios are ours ÷ theirs for times (lower is better) and ours ÷ theirs for insert rates
 (higher is better). Each figure is the minimum over repeats after a warm-up.
 
+Ours is the buffer as installed: with the compiled hot paths (``zenros.tf._speedups``,
+built by ``pip install`` where a C compiler is) if they are there. The same lookup and
+insert in pure Python (``ZENROS_TF_PURE=1``) are timed too and reported as ``*_pure``.
+
 Run: ``python bench/tf.py`` (needs the ``bench`` extra: ``pip install pytransform3d``).
 """
 
@@ -31,7 +35,9 @@ from pytransform3d.transform_manager import (
     TransformManager,
 )
 from zenros.msgs.builtin_interfaces import Time
-from zenros.tf import Buffer, quaternion_normalize, transform_stamped
+from zenros.msgs.geometry_msgs import TransformStamped
+from zenros.tf import Buffer, chain, quaternion_normalize, store, transform_stamped
+from zenros.tf.accel import speedups
 
 LINKS = 10
 SAMPLES = 101  # per link, 10 ms apart: t = 1.00 … 2.00 s
@@ -95,6 +101,54 @@ def fill(buf: Buffer, pqs: np.ndarray, stamps: list[int], static: set[int]) -> N
                 buf.set_transform(msg, "bench")
 
 
+class Pure:
+    """Within the block, new buffers and every chain evaluation use pure Python."""
+
+    def __enter__(self) -> None:
+        self.saved = store.speedups, chain._c_evaluate
+        store.speedups, chain._c_evaluate = None, None
+
+    def __exit__(self, *exc: object) -> None:
+        store.speedups, chain._c_evaluate = self.saved
+
+
+def insert_messages(stamps: list[int]) -> list[TransformStamped]:
+    """60 000 links cycling over the chain, stamps only growing, 10 ms apart per link."""
+    msgs = []
+    for k in range(60_000):
+        i = k % LINKS
+        msgs.append(transform_stamped(
+            FRAMES[i], FRAMES[i + 1], (0.1, 0.2, 0.3, 0.0, 0.0, 0.6, 0.8),
+            Time.from_nanoseconds(stamps[-1] + 10_000_000 * (k // LINKS + 1)),
+        ))  # fmt: skip
+    return msgs
+
+
+def inserter(msgs: list[TransformStamped]) -> Callable[[], object]:
+    """Inserts the next message into a fresh buffer (0.5 s window: each insert prunes one
+    sample); the links exist before timing."""
+    fresh = Buffer(cache_time=0.5)
+    for m in msgs[: 2 * LINKS]:
+        fresh.set_transform(m, "bench")
+    seq = iter(msgs[2 * LINKS :])  # 1000 warm-up + 500 x 100 < 60 000: stamps only grow
+    return lambda: fresh.set_transform(next(seq), "bench")
+
+
+def pure_figures(
+    pqs: np.ndarray, stamps: list[int], times: list[Time], msgs: list[TransformStamped]
+) -> tuple[float, float]:
+    """(interpolated lookup, insert) seconds with the compiled paths switched off."""
+    with Pure():
+        buf = Buffer()
+        fill(buf, pqs, stamps, static=set())
+        insert = inserter(msgs)
+        lookup, ins = best(
+            cycler(lambda i: buf.lookup_transform("root", "f10", times[i]), QUERIES),
+            insert, number=500, repeat=30, warmup=QUERIES,
+        )  # fmt: skip
+    return lookup, ins
+
+
 def main() -> None:
     pqs = chain_data(np.random.default_rng(42))
     stamps = [NS + k * 10_000_000 for k in range(SAMPLES)]
@@ -145,17 +199,7 @@ def main() -> None:
     # inserts: ours appends a new stamp from a TransformStamped (validated; the 0.5 s
     # window prunes one sample per insert); theirs overwrites the link's ready 4x4 matrix
     # (no history, no checks), or first builds it from the same message (from_msg)
-    msgs = []
-    for k in range(60_000):
-        i = k % LINKS
-        msgs.append(transform_stamped(
-            FRAMES[i], FRAMES[i + 1], (0.1, 0.2, 0.3, 0.0, 0.0, 0.6, 0.8),
-            Time.from_nanoseconds(stamps[-1] + 10_000_000 * (k // LINKS + 1)),
-        ))  # fmt: skip
-    fresh = Buffer(cache_time=0.5)
-    for m in msgs[: 2 * LINKS]:  # the links exist before timing
-        fresh.set_transform(m, "bench")
-    seq = iter(msgs[2 * LINKS :])  # 1000 warm-up + 500 x 100 < 60 000: stamps only grow
+    msgs = insert_messages(stamps)
     a2b = pt.transform_from_pq(pqs[0, 0])
 
     def from_msg(i: int) -> object:
@@ -165,11 +209,12 @@ def main() -> None:
         return plain.add_transform(m.child_frame_id, m.header.frame_id, a2b)
 
     insert_z, insert_p = best(
-        lambda: fresh.set_transform(next(seq), "bench"),
+        inserter(msgs),
         cycler(lambda i: plain.add_transform(FRAMES[i + 1], FRAMES[i], a2b), LINKS),
         number=500, repeat=100, warmup=1_000,
     )
     (insert_msg_p,) = best(cycler(from_msg, LINKS), number=500, repeat=5)
+    lookup_pure, insert_pure = pure_figures(pqs, stamps, times, msgs)
 
     us = 1e6
     print(json.dumps({
@@ -190,6 +235,11 @@ def main() -> None:
         "insert_us_zenros": round(insert_z * us, 3),
         "insert_us_pytransform3d": round(insert_p * us, 3),
         "insert_from_msg_us_pytransform3d": round(insert_msg_p * us, 2),
+        "speedups": speedups is not None,
+        "lookup_ratio_pure": round(lookup_pure / lookup_p, 3),
+        "insert_ratio_pure": round(insert_p / insert_pure, 3),
+        "lookup_us_zenros_pure": round(lookup_pure * us, 2),
+        "insert_us_zenros_pure": round(insert_pure * us, 3),
         "links": LINKS,
         "samples_per_link": SAMPLES,
         "pytransform3d": pytransform3d.__version__,

@@ -45,9 +45,6 @@ class Buffer(BufferCore):
         super().__init__(cache_time)
         self._waiters = Waiters(self._lock, self._set_watchers)
 
-    def _set_watchers(self, n: int) -> None:
-        self._watchers = n
-
     # ------------------------------------------------------------------ lookups
 
     def lookup_transform(

@@ -14,9 +14,10 @@ the caller re-runs the walk to raise tf2's exact error.
 from __future__ import annotations
 
 from bisect import bisect_right
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from math import cos, sin
 
+from .accel import speedups
 from .cache import Cache, Seg, StaticCache, TimeCache
 from .rigid import IDENTITY, Tf, compose
 
@@ -25,6 +26,9 @@ from .rigid import IDENTITY, Tf, compose
 Step = tuple[list[int], list[Seg | None], TimeCache, Tf | None]
 
 __all__ = ["DISJOINT", "WALK", "Chain", "NoChain", "build_chain"]
+
+_c_evaluate: Callable[[Tf | None, list[Step], Tf | None, list[Step], int], Tf | None] | None
+_c_evaluate = speedups.evaluate if speedups is not None else None
 
 
 class Chain:
@@ -51,6 +55,12 @@ class Chain:
 
     def evaluate(self, t: int) -> Tf | None:
         """``T_target_source`` at ``t`` (ns, not 0), or None if a link has no data there."""
+        if _c_evaluate is not None:
+            return _c_evaluate(self.src_pre, self.src, self.tgt_pre, self.tgt, t)
+        return self.evaluate_py(t)
+
+    def evaluate_py(self, t: int) -> Tf | None:
+        """`evaluate` in Python: the reference for the compiled version."""
         src = _accumulate(self.src_pre, self.src, t)
         if src is None or not (self.tgt or self.tgt_pre):
             return src

@@ -9,10 +9,12 @@ from __future__ import annotations
 import logging
 import threading
 from math import sqrt
+from types import MethodType
 
 from ..errors import InvalidArgumentException
 from ..msgs.builtin_interfaces import Duration, Time
 from ..msgs.geometry_msgs import TransformStamped
+from .accel import speedups
 from .cache import REJECTED, RESHAPED, Cache, StaticCache, TimeCache
 from .chain import Chain, NoChain
 from .report import frame_error, frames_as_string, frames_as_yaml, insert_problems, unknown_frame
@@ -44,6 +46,20 @@ class FrameStore:
         self._authority: dict[str, str] = {}
         self._chains: dict[tuple[str, str], Chain | NoChain] = {}
         self._watchers = 0  # blocked threads + pending async waits; set_transform wakes them
+        self._inserter = None
+        if speedups is not None:
+            # The compiled hot path shadows the method below and hands it every other case.
+            self._inserter = speedups.Inserter(
+                self._caches, self._authority, self._lock, self._cache_ns,
+                MethodType(FrameStore.set_transform, self),
+            )  # fmt: skip
+            self.__dict__["set_transform"] = self._inserter
+
+    def _set_watchers(self, n: int) -> None:
+        """How many threads or futures wait on inserts (they take the Python path then)."""
+        self._watchers = n
+        if self._inserter is not None:
+            self._inserter.watchers = n
 
     # ------------------------------------------------------------------ inserting
 
