@@ -19,6 +19,10 @@ typedef struct {
     double x, y, z, qx, qy, qz, qw;
 } Tf7;
 
+/* TimeCache deletes its pruned prefix once it is this long and no shorter than the rest
+   (cache.COMPACT_AT; accel.py uses this module only if the two agree). */
+#define COMPACT_AT 32
+
 static PyObject *str_segment;
 static PyObject *str_vals;
 
@@ -108,6 +112,52 @@ bisect(PyObject *lst, long long t, Py_ssize_t lo, int right)
     return lo;
 }
 
+/* ------------------------------------------------------------------ bound types */
+
+/* A field of an exact type, read at its member offset (borrowed; NULL if unset). */
+typedef struct {
+    PyTypeObject *type;
+    Py_ssize_t off;
+} Field;
+
+#define GET(obj, f) (Py_TYPE(obj) == (f).type ? *(PyObject **)((char *)(obj) + (f).off) : NULL)
+
+static Field ts_header, ts_child, ts_transform;  /* TransformStamped */
+static Field h_stamp, h_frame;                     /* Header */
+static Field tm_sec, tm_nanosec;                   /* Time */
+static Field tr_translation, tr_rotation;          /* Transform */
+static Field v_x, v_y, v_z;                        /* Vector3 */
+static Field q_x, q_y, q_z, q_w;                   /* Quaternion */
+static Field c_stamps, c_vals, c_parents, c_segs, c_parent, c_lo;  /* TimeCache */
+static int bound = 0;
+
+static PyObject *str_lo;
+
+/* A cache's ``lo`` (its oldest live sample's index); -1 on error. */
+static Py_ssize_t
+cache_lo(PyObject *cache)
+{
+    PyObject *v = bound ? GET(cache, c_lo) : NULL;
+    long long lo;
+    if (v != NULL) {
+        if (as_ll(v, &lo) < 0)
+            return -1;
+    } else {
+        v = PyObject_GetAttr(cache, str_lo);
+        if (v == NULL)
+            return -1;
+        int rc = as_ll(v, &lo);
+        Py_DECREF(v);
+        if (rc < 0)
+            return -1;
+    }
+    if (lo < 0) {
+        PyErr_SetString(PyExc_ValueError, "negative cache index");
+        return -1;
+    }
+    return (Py_ssize_t)lo;
+}
+
 /* ------------------------------------------------------------------ evaluate */
 
 /* The link of one dynamic step at t: 1 found, 0 no data at t, -1 error. */
@@ -128,13 +178,20 @@ link_at(PyObject *step, long long t, Tf7 *o)
     Py_ssize_t n = PyList_GET_SIZE(stamps);
     if (n == 0)
         return 0;
+    Py_ssize_t lo = cache_lo(cache);
+    if (lo < 0)
+        return -1;
+    if (lo >= n) {
+        PyErr_SetString(PyExc_ValueError, "cache index out of range");
+        return -1;
+    }
     long long last;
     if (as_ll(PyList_GET_ITEM(stamps, n - 1), &last) < 0)
         return -1;
-    Py_ssize_t i = bisect(stamps, t, 0, 1);
+    Py_ssize_t i = bisect(stamps, t, lo, 1);
     if (i < 0)
         return -1;
-    if (i && t < last) {
+    if (i > lo && t < last) {
         PyObject *seg = i - 1 < PyList_GET_SIZE(segs) ? PyList_GET_ITEM(segs, i - 1) : Py_None;
         Py_INCREF(seg);
         if (seg == Py_None) {
@@ -179,7 +236,7 @@ link_at(PyObject *step, long long t, Tf7 *o)
         o->qw = c * v[10] + s * v[14];
         return 1;
     }
-    if (i && t == last) {
+    if (i > lo && t == last) {
         PyObject *vals = PyObject_GetAttr(cache, str_vals);
         if (vals == NULL)
             return -1;
@@ -286,22 +343,6 @@ evaluate(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 
 /* ------------------------------------------------------------------ bound types */
 
-/* A field of an exact type, read at its member offset (borrowed; NULL if unset). */
-typedef struct {
-    PyTypeObject *type;
-    Py_ssize_t off;
-} Field;
-
-#define GET(obj, f) (Py_TYPE(obj) == (f).type ? *(PyObject **)((char *)(obj) + (f).off) : NULL)
-
-static Field ts_header, ts_child, ts_transform;  /* TransformStamped */
-static Field h_stamp, h_frame;                     /* Header */
-static Field tm_sec, tm_nanosec;                   /* Time */
-static Field tr_translation, tr_rotation;          /* Transform */
-static Field v_x, v_y, v_z;                        /* Vector3 */
-static Field q_x, q_y, q_z, q_w;                   /* Quaternion */
-static Field c_stamps, c_vals, c_parents, c_segs, c_parent;  /* TimeCache */
-static int bound = 0;
 
 static int
 bind_field(Field *f, PyObject *type, const char *name)
@@ -354,7 +395,7 @@ bind(PyObject *self, PyObject *const *a, Py_ssize_t nargs)
         || bind_field(&q_z, a[5], "z") || bind_field(&q_w, a[5], "w")
         || bind_field(&c_stamps, a[6], "stamps") || bind_field(&c_vals, a[6], "vals")
         || bind_field(&c_parents, a[6], "parents") || bind_field(&c_segs, a[6], "segs")
-        || bind_field(&c_parent, a[6], "parent"))
+        || bind_field(&c_parent, a[6], "parent") || bind_field(&c_lo, a[6], "lo"))
         return NULL;
     /* keep the types alive for as long as the module: offsets refer to them */
     for (int k = 0; k < 7; k++)
@@ -380,13 +421,25 @@ static PyObject *str_default_authority;
 static PyObject *str_strict;
 static PyObject *str_authority;
 
+/* A float or int field as a double; 0 for anything else (the Python path decides). */
 static inline int
 get_double(PyObject *o, double *out)
 {
-    if (o == NULL || !PyFloat_CheckExact(o))
+    if (o == NULL)
         return 0;
-    *out = PyFloat_AS_DOUBLE(o);
-    return 1;
+    if (PyFloat_CheckExact(o)) {
+        *out = PyFloat_AS_DOUBLE(o);
+        return 1;
+    }
+    if (PyLong_CheckExact(o)) {
+        *out = PyLong_AsDouble(o);
+        if (*out == -1.0 && PyErr_Occurred()) {
+            PyErr_Clear();
+            return 0;
+        }
+        return 1;
+    }
+    return 0;
 }
 
 static inline int
@@ -467,6 +520,12 @@ fast_insert(Inserter *self, PyObject *msg, PyObject *auth)
     }
     if (stamp <= last)
         return 0;
+    PyObject *plo = GET(cache, c_lo);
+    long long lo;
+    if (plo == NULL || !PyLong_CheckExact(plo) || as_ll(plo, &lo) < 0 || lo < 0 || lo >= len) {
+        PyErr_Clear();
+        return 0;
+    }
     int normalize = !(-1e-12 < n - 1.0 && n - 1.0 < 1e-12);
     if (normalize) {
         double k = 1.0 / sqrt(n);
@@ -491,15 +550,22 @@ fast_insert(Inserter *self, PyObject *msg, PyObject *auth)
     Tf7 val = {x, y, z, qx, qy, qz, qw};
     PyObject *pstamp = NULL, *pval = NULL;
     pstamp = PyLong_FromLongLong(stamp);
-    if (normalize) {
-        pval = tuple7(&val);
-    } else { /* the message's own floats, as the Python path keeps them */
-        pval = PyTuple_New(7);
-        if (pval != NULL)
-            for (int k = 0; k < 7; k++) {
-                Py_INCREF(f[k]);
-                PyTuple_SET_ITEM(pval, k, f[k]);
-            }
+    /* the message's own objects, as the Python path keeps them; new floats where the
+       quaternion was normalised */
+    pval = PyTuple_New(7);
+    if (pval == NULL)
+        goto done;
+    double qv[4] = {val.qx, val.qy, val.qz, val.qw};
+    for (int k = 0; k < 7; k++) {
+        PyObject *item = f[k];
+        if (k >= 3 && normalize) {
+            item = PyFloat_FromDouble(qv[k - 3]);
+            if (item == NULL)
+                goto done;
+        } else {
+            Py_INCREF(item);
+        }
+        PyTuple_SET_ITEM(pval, k, item);
     }
     if (pstamp == NULL || pval == NULL)
         goto done;
@@ -515,23 +581,34 @@ fast_insert(Inserter *self, PyObject *msg, PyObject *auth)
         PyList_SetSlice(parents, len, PyList_GET_SIZE(parents), NULL);
         goto done;
     }
-    /* prune (TimeCache.prune with one parent throughout) */
+    /* prune (TimeCache.prune with one parent throughout: no breaks to count) */
     long long first, cutoff = stamp - self->cache_ns;
-    if (as_ll(PyList_GET_ITEM(stamps, 0), &first) < 0)
+    if (as_ll(PyList_GET_ITEM(stamps, lo), &first) < 0)
         goto done;
     if (first < cutoff) {
         long long second;
-        Py_ssize_t k = 1;
-        if (as_ll(PyList_GET_ITEM(stamps, 1), &second) < 0)
+        Py_ssize_t k = lo + 1;
+        if (as_ll(PyList_GET_ITEM(stamps, lo + 1), &second) < 0)
             goto done;
         if (second < cutoff) {
-            k = bisect(stamps, cutoff, 0, 0);
+            k = bisect(stamps, cutoff, lo, 0);
             if (k < 0)
                 goto done;
         }
-        if (PyList_SetSlice(stamps, 0, k, NULL) < 0 || PyList_SetSlice(vals, 0, k, NULL) < 0
-            || PyList_SetSlice(parents, 0, k, NULL) < 0 || PyList_SetSlice(segs, 0, k, NULL) < 0)
+        if (k >= COMPACT_AT && 2 * k >= PyList_GET_SIZE(stamps)) {
+            if (PyList_SetSlice(stamps, 0, k, NULL) < 0 || PyList_SetSlice(vals, 0, k, NULL) < 0
+                || PyList_SetSlice(parents, 0, k, NULL) < 0
+                || PyList_SetSlice(segs, 0, k, NULL) < 0)
+                goto done;
+            k = 0;
+        }
+        PyObject *nlo = PyLong_FromSsize_t(k);
+        if (nlo == NULL)
             goto done;
+        PyObject **slot = (PyObject **)((char *)cache + c_lo.off);
+        PyObject *old = *slot;
+        *slot = nlo;
+        Py_XDECREF(old);
     }
     if (PyDict_SetItem(self->authority, child, auth) < 0)
         goto done;
@@ -696,16 +773,21 @@ PyInit__speedups(void)
 {
     str_segment = PyUnicode_InternFromString("segment");
     str_vals = PyUnicode_InternFromString("vals");
+    str_lo = PyUnicode_InternFromString("lo");
     str_default_authority = PyUnicode_InternFromString("default_authority");
     str_strict = PyUnicode_InternFromString("strict");
     str_authority = PyUnicode_InternFromString("authority");
-    if (!str_segment || !str_vals || !str_default_authority || !str_strict || !str_authority)
+    if (!str_segment || !str_vals || !str_lo || !str_default_authority || !str_strict || !str_authority)
         return NULL;
     if (PyType_Ready(&InserterType) < 0)
         return NULL;
     PyObject *m = PyModule_Create(&module);
     if (m == NULL)
         return NULL;
+    if (PyModule_AddIntConstant(m, "COMPACT_AT", COMPACT_AT) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
     Py_INCREF(&InserterType);
     if (PyModule_AddObject(m, "Inserter", (PyObject *)&InserterType) < 0) {
         Py_DECREF(&InserterType);

@@ -7,6 +7,8 @@ from .rigid import Tf
 def evaluate(
     src_pre: Tf | None, src: list[Step], tgt_pre: Tf | None, tgt: list[Step], t: int, /
 ) -> Tf | None: ...
+COMPACT_AT: int
+
 def bind(*types: type) -> None: ...
 
 class Inserter:

@@ -13,7 +13,7 @@ from types import ModuleType
 from ..msgs.builtin_interfaces import Time
 from ..msgs.geometry_msgs import Quaternion, Transform, TransformStamped, Vector3
 from ..msgs.std_msgs import Header
-from .cache import TimeCache
+from .cache import COMPACT_AT, TimeCache
 
 __all__ = ["speedups"]
 
@@ -24,6 +24,8 @@ def _load() -> ModuleType | None:
     try:
         from . import _speedups
     except ImportError:
+        return None
+    if _speedups.COMPACT_AT != COMPACT_AT:  # a stale build next to newer Python code
         return None
     _speedups.bind(TransformStamped, Header, Time, Transform, Vector3, Quaternion, TimeCache)
     return _speedups

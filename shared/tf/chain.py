@@ -34,13 +34,14 @@ _c_evaluate = speedups.evaluate if speedups is not None else None
 class Chain:
     """The links between two frames and their common ancestor, ready to evaluate."""
 
-    __slots__ = ("dyn", "src", "src_pre", "tgt", "tgt_pre")
+    __slots__ = ("caches", "dyn", "src", "src_pre", "tgt", "tgt_pre")
 
     def __init__(
         self, src_pre: Tf | None, src: list[Step], tgt_pre: Tf | None, tgt: list[Step]
     ) -> None:
         self.src_pre, self.src, self.tgt_pre, self.tgt = src_pre, src, tgt_pre, tgt
         self.dyn = [s[0] for s in src] + [s[0] for s in tgt]
+        self.caches = [s[2] for s in src] + [s[2] for s in tgt]
 
     def latest_time(self) -> int:
         """The latest common time: the oldest of the dynamic links' newest stamps (0: static)."""
@@ -48,8 +49,9 @@ class Chain:
 
     def covers(self, t: int) -> bool:
         """Whether every dynamic link has data at ``t`` (exact stamp or bracketed)."""
-        for s in self.dyn:
-            if not s[0] <= t <= s[-1]:
+        for c in self.caches:
+            s = c.stamps
+            if not s[c.lo] <= t <= s[-1]:
                 return False
         return True
 
@@ -91,8 +93,9 @@ def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
     it = iter(steps)
     if pre is None:  # the first link is the accumulator: no composition needed
         for stamps, segs, cache, post in it:
-            i = bisect_right(stamps, t)
-            if i and t < stamps[-1]:
+            lo = cache.lo
+            i = bisect_right(stamps, t, lo)
+            if i > lo and t < stamps[-1]:
                 seg = segs[i - 1] or cache.segment(i - 1)
                 s0, idt, X, Y, Z, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, th = seg
                 r = (t - s0) * idt
@@ -101,7 +104,7 @@ def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
                 Z += r * dz
                 c, s = cos(r * th), sin(r * th)
                 QX, QY, QZ, QW = c * ax + s * cx, c * ay + s * cy, c * az + s * cz, c * aw + s * cw
-            elif i and t == stamps[-1]:
+            elif i > lo and t == stamps[-1]:
                 X, Y, Z, QX, QY, QZ, QW = cache.vals[-1]
             else:
                 return None
@@ -113,8 +116,9 @@ def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
     else:
         X, Y, Z, QX, QY, QZ, QW = pre
     for stamps, segs, cache, post in it:
-        i = bisect_right(stamps, t)
-        if i and t < stamps[-1]:
+        lo = cache.lo
+        i = bisect_right(stamps, t, lo)
+        if i > lo and t < stamps[-1]:
             seg = segs[i - 1] or cache.segment(i - 1)
             s0, idt, x, y, z, dx, dy, dz, ax, ay, az, aw, cx, cy, cz, cw, th = seg
             r = (t - s0) * idt
@@ -123,7 +127,7 @@ def _accumulate(pre: Tf | None, steps: list[Step], t: int) -> Tf | None:
             z += r * dz
             c, s = cos(r * th), sin(r * th)
             qx, qy, qz, qw = c * ax + s * cx, c * ay + s * cy, c * az + s * cz, c * aw + s * cw
-        elif i and t == stamps[-1]:
+        elif i > lo and t == stamps[-1]:
             x, y, z, qx, qy, qz, qw = cache.vals[-1]
         else:
             return None

@@ -120,7 +120,7 @@ class FrameStore:
                     cache.vals.append(val)
                     cache.segs.append(None)
                     cache.parents.append(parent)
-                    if stamps[0] < stamp - self._cache_ns:
+                    if stamps[cache.lo] < stamp - self._cache_ns:
                         cache.prune()
                     self._authority[child] = authority
                     if self._watchers:

@@ -58,7 +58,7 @@ def state(buf: Buffer) -> dict[str, object]:
     out: dict[str, object] = {"authority": dict(buf._authority), "frames": list(buf._frames)}
     for child, c in buf._caches.items():
         if isinstance(c, TimeCache):
-            out[child] = (list(c.stamps), list(c.parents), list(c.vals), c.parent)
+            out[child] = (list(c.stamps), list(c.parents), list(c.vals), c.parent, c.lo)
         else:
             out[child] = ("static", c.parent, c.value)
     return out
@@ -182,6 +182,12 @@ def test_inserter_stores_the_hot_case_itself(c_only: Any) -> None:
     assert caches["base"].vals[-1] == (1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 1.0)
     assert authority == {"base": "you"}
     assert ins(sample(4 * NS)) is True and authority["base"] == "default_authority"
+    # ints are numbers too (as in the Python path, the objects themselves are kept)
+    assert ins(sample(5 * NS, xyz=(1, 2, 3), q=(0, 0, 0, 1))) is True
+    assert caches["base"].vals[-1] == (1, 2, 3, 0, 0, 0, 1)
+    assert ins(sample(6 * NS, q=(0, 0, 0, 1.004))) is True  # normalised
+    assert caches["base"].vals[-1] == (1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 1.0)
+    assert calls == []
 
 
 @pytest.mark.parametrize(
@@ -193,7 +199,8 @@ def test_inserter_stores_the_hot_case_itself(c_only: Any) -> None:
         sample(child="new"),  # a new link
         sample(t=NS),  # not newer
         sample(t=NS // 2),  # older
-        sample(xyz=(1, 2, 3)),  # ints
+        sample(xyz=(1 << 2000, 2, 3)),  # an int no float can hold
+        sample(xyz=("1", 2.0, 3.0)),
         sample(xyz=(math.inf, 0.0, 0.0)),
         sample(q=(0.0, 0.0, 0.0, 1.5)),
         sample(q=(math.nan, 0.0, 0.0, 1.0)),
@@ -278,10 +285,17 @@ def test_evaluate_refuses_malformed_chains(c_only: Any) -> None:
         c_only.evaluate(None, [("a", "b")], None, [], 5)
     with pytest.raises(TypeError):
         c_only.evaluate((1.0, 2.0), [], None, [], 5)
+    cache = TimeCache(10 * NS)
     with pytest.raises(TypeError):
-        c_only.evaluate(None, [([1, 3], [("short",)], None, None)], None, [], 2)
+        c_only.evaluate(None, [([1, 3], [("short",)], cache, None)], None, [], 2)
+    with pytest.raises(AttributeError):
+        c_only.evaluate(None, [([1, 3], [None, None], "no cache", None)], None, [], 2)
+    cache.lo = 5
+    with pytest.raises(ValueError):
+        c_only.evaluate(None, [([1, 3], [None, None], cache, None)], None, [], 2)
+    cache.lo = 0
     with pytest.raises(TypeError):
         c_only.evaluate(ok, [], None, [], "t")
     assert c_only.evaluate(ok, [], None, [], 5) == ok
     assert c_only.evaluate(None, [], None, [], 5) == ok
-    assert c_only.evaluate(None, [([1, 3], [None, None], None, None)], None, [], 9) is None
+    assert c_only.evaluate(None, [([1, 3], [None, None], cache, None)], None, [], 9) is None
