@@ -107,11 +107,11 @@ class Pure:
     """Within the block, new buffers and every chain evaluation use pure Python."""
 
     def __enter__(self) -> None:
-        self.saved = store.speedups, chain._c_evaluate
-        store.speedups, chain._c_evaluate = None, None
+        self.saved = store.speedups, chain._c_evaluate, chain._c_latest
+        store.speedups, chain._c_evaluate, chain._c_latest = None, None, None
 
     def __exit__(self, *exc: object) -> None:
-        store.speedups, chain._c_evaluate = self.saved
+        store.speedups, chain._c_evaluate, chain._c_latest = self.saved
 
 
 def insert_messages(stamps: list[int]) -> list[TransformStamped]:

@@ -112,6 +112,41 @@ bisect(PyObject *lst, long long t, Py_ssize_t lo, int right)
     return lo;
 }
 
+PyDoc_STRVAR(latest_doc,
+"latest(dyn) -> int\n\n"
+"The smallest last stamp of the non-empty stamp lists in dyn (0 if dyn is empty).");
+
+static PyObject *
+latest(PyObject *self, PyObject *dyn)
+{
+    if (!PyList_CheckExact(dyn)) {
+        PyErr_SetString(PyExc_TypeError, "latest takes a list of stamp lists");
+        return NULL;
+    }
+    Py_ssize_t n = PyList_GET_SIZE(dyn);
+    if (n == 0)
+        return PyLong_FromLong(0);
+    PyObject *best = NULL;
+    long long bv = 0;
+    for (Py_ssize_t k = 0; k < n; k++) {
+        PyObject *s = PyList_GET_ITEM(dyn, k);
+        if (!PyList_CheckExact(s) || PyList_GET_SIZE(s) == 0) {
+            PyErr_SetString(PyExc_ValueError, "latest needs non-empty stamp lists");
+            return NULL;
+        }
+        PyObject *last = PyList_GET_ITEM(s, PyList_GET_SIZE(s) - 1);
+        long long v;
+        if (as_ll(last, &v) < 0)
+            return NULL;
+        if (best == NULL || v < bv) {
+            best = last;
+            bv = v;
+        }
+    }
+    Py_INCREF(best);
+    return best;
+}
+
 /* ------------------------------------------------------------------ bound types */
 
 /* A field of an exact type, read at its member offset (borrowed; NULL if unset). */
@@ -160,6 +195,43 @@ cache_lo(PyObject *cache)
 
 /* ------------------------------------------------------------------ evaluate */
 
+/* bisect_right(stamps, t, lo) for stamps[lo] = first <= t < last = stamps[n - 1]: starts
+   where t would be if the samples were evenly spaced (a steady broadcaster), steps a few
+   samples from there, and bisects only if that does not find it. -1 on error. */
+static Py_ssize_t
+locate(PyObject *stamps, long long t, Py_ssize_t lo, Py_ssize_t n, long long first,
+       long long last)
+{
+    Py_ssize_t g = lo + (Py_ssize_t)((double)(t - first) / (double)(last - first) * (n - 1 - lo));
+    if (g < lo)
+        g = lo;
+    if (g > n - 2)
+        g = n - 2;
+    long long v;
+    if (as_ll(PyList_GET_ITEM(stamps, g), &v) < 0)
+        return -1;
+    if (v <= t) { /* forward: the first index after g with a stamp > t */
+        for (int step = 0; step < 4; step++) {
+            if (as_ll(PyList_GET_ITEM(stamps, g + 1), &v) < 0)
+                return -1;
+            if (v > t)
+                return g + 1;
+            g++; /* g + 1 <= n - 1, and stamps[n - 1] = last > t */
+        }
+        return bisect(stamps, t, g + 1, 1);
+    }
+    for (int step = 0; step < 4; step++) { /* backward: stamps[g] > t */
+        if (g - 1 < lo)
+            return lo; /* unreachable: stamps[lo] = first <= t */
+        if (as_ll(PyList_GET_ITEM(stamps, g - 1), &v) < 0)
+            return -1;
+        if (v <= t)
+            return g;
+        g--;
+    }
+    return bisect(stamps, t, lo, 1);
+}
+
 /* The link of one dynamic step at t: 1 found, 0 no data at t, -1 error. */
 static int
 link_at(PyObject *step, long long t, Tf7 *o)
@@ -185,11 +257,17 @@ link_at(PyObject *step, long long t, Tf7 *o)
         PyErr_SetString(PyExc_ValueError, "cache index out of range");
         return -1;
     }
-    long long last;
-    if (as_ll(PyList_GET_ITEM(stamps, n - 1), &last) < 0)
+    long long last, first;
+    if (as_ll(PyList_GET_ITEM(stamps, n - 1), &last) < 0
+        || as_ll(PyList_GET_ITEM(stamps, lo), &first) < 0)
         return -1;
-    Py_ssize_t i = bisect(stamps, t, lo, 1);
-    if (i < 0)
+    /* i = bisect_right(stamps, t, lo), found cheaply where it matters */
+    Py_ssize_t i;
+    if (t < first)
+        i = lo;
+    else if (t >= last)
+        i = n;
+    else if ((i = locate(stamps, t, lo, n, first, last)) < 0)
         return -1;
     if (i > lo && t < last) {
         PyObject *seg = i - 1 < PyList_GET_SIZE(segs) ? PyList_GET_ITEM(segs, i - 1) : Py_None;
@@ -237,8 +315,10 @@ link_at(PyObject *step, long long t, Tf7 *o)
         return 1;
     }
     if (i > lo && t == last) {
-        PyObject *vals = PyObject_GetAttr(cache, str_vals);
-        if (vals == NULL)
+        PyObject *vals = bound ? GET(cache, c_vals) : NULL;
+        if (vals != NULL)
+            Py_INCREF(vals);
+        else if ((vals = PyObject_GetAttr(cache, str_vals)) == NULL)
             return -1;
         int rc = -1;
         if (PyList_Check(vals) && PyList_GET_SIZE(vals) > 0)
@@ -760,6 +840,7 @@ static PyTypeObject InserterType = {
 static PyMethodDef methods[] = {
     {"evaluate", (PyCFunction)(void (*)(void))evaluate, METH_FASTCALL, evaluate_doc},
     {"bind", (PyCFunction)(void (*)(void))bind, METH_FASTCALL, bind_doc},
+    {"latest", (PyCFunction)latest, METH_O, latest_doc},
     {NULL, NULL, 0, NULL},
 };
 

@@ -29,6 +29,8 @@ __all__ = ["DISJOINT", "WALK", "Chain", "NoChain", "build_chain"]
 
 _c_evaluate: Callable[[Tf | None, list[Step], Tf | None, list[Step], int], Tf | None] | None
 _c_evaluate = speedups.evaluate if speedups is not None else None
+_c_latest: Callable[[list[list[int]]], int] | None
+_c_latest = speedups.latest if speedups is not None else None
 
 
 class Chain:
@@ -45,6 +47,8 @@ class Chain:
 
     def latest_time(self) -> int:
         """The latest common time: the oldest of the dynamic links' newest stamps (0: static)."""
+        if _c_latest is not None:
+            return _c_latest(self.dyn)
         return min([s[-1] for s in self.dyn]) if self.dyn else 0
 
     def covers(self, t: int) -> bool:

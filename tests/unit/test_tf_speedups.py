@@ -121,11 +121,13 @@ def test_chain_evaluation_agrees_with_python(c_only: Any) -> None:
     for i in range(1, 8):
         parent = frames[rng.randrange(0, i)]
         static = rng.random() < 0.3
-        for k in range(1 if static else 30):
+        stamp = NS + i
+        for _ in range(1 if static else 40):
             q = quaternion_normalize(tuple(rng.gauss(0, 1) for _ in range(4)))
             xyz = (rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1))
-            msg = transform_stamped(parent, frames[i], (*xyz, *q),
-                                    Time.from_nanoseconds(NS + k * 100_000_000 + i))  # fmt: skip
+            msg = transform_stamped(parent, frames[i], (*xyz, *q), Time.from_nanoseconds(stamp))
+            # steady, jittered, or bursts and gaps (the C lookup guesses from even spacing)
+            stamp += rng.choice([100_000_000, rng.randrange(1, 200_000_000), 1, 900_000_000])
             if static:
                 buf.set_transform_static(msg, "t")
             else:
@@ -137,13 +139,14 @@ def test_chain_evaluation_agrees_with_python(c_only: Any) -> None:
             ch = buf._chains.get((a, b))
             if not isinstance(ch, Chain):
                 continue
-            for t in [0, NS, NS + 7, 2 * NS + 123_456_789, NS + 29 * 100_000_000 + 7, 9 * NS]:
+            times = [0, NS, NS + 7, 2 * NS + 123_456_789, 9 * NS, 40 * NS]
+            for t in times + [rng.randrange(NS, 30 * NS) for _ in range(40)]:
                 want, got = ch.evaluate_py(t), ch.evaluate(t)
                 assert (want is None) == (got is None), (a, b, t)
                 if want is not None and got is not None:
                     assert got == pytest.approx(want, abs=1e-12), (a, b, t)
                     checked += 1
-    assert checked > 100
+    assert checked > 300
 
 
 def spy() -> tuple[list[tuple[Any, ...]], Callable[..., bool]]:
@@ -299,3 +302,14 @@ def test_evaluate_refuses_malformed_chains(c_only: Any) -> None:
     assert c_only.evaluate(ok, [], None, [], 5) == ok
     assert c_only.evaluate(None, [], None, [], 5) == ok
     assert c_only.evaluate(None, [([1, 3], [None, None], cache, None)], None, [], 9) is None
+
+
+def test_latest_common_stamp(c_only: Any) -> None:
+    assert c_only.latest([]) == 0
+    assert c_only.latest([[1, 5], [2, 3], [9]]) == 3
+    with pytest.raises(ValueError):
+        c_only.latest([[1], []])
+    with pytest.raises(TypeError):
+        c_only.latest(([1],))
+    with pytest.raises(TypeError):
+        c_only.latest([[1, "x"]])

@@ -18,4 +18,5 @@ def tf_impl(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> 
     else:
         monkeypatch.setattr(store, "speedups", None)
         monkeypatch.setattr(chain, "_c_evaluate", None)
+        monkeypatch.setattr(chain, "_c_latest", None)
     yield request.param
