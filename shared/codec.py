@@ -223,8 +223,39 @@ def to_builtins(msg: Message) -> Any:
 
 
 def from_builtins(obj: Any, msg_type: type[M]) -> M:
-    """Build a message from plain data (YAML/JSON objects), strictly, with path errors."""
+    """Build a message from plain data (YAML/JSON objects), strictly, with path errors.
+
+    Unlike the wire decoders (which skip fields they do not know, so that newer senders can
+    talk to older receivers), a field name that the type does not have is an error here:
+    a typo on a command line must not silently send zeros.
+    """
+    unknown = _unknown_fields(mi.type_info(msg_type), obj, "$")
+    if unknown:
+        raise DecodeError(f"expected {codec_for(msg_type).type_name}: " + "; ".join(unknown))
     try:
         return msgspec.convert(obj, msg_type, dec_hook=_dec, strict=False)
     except msgspec.ValidationError as exc:
         raise DecodeError(f"expected {codec_for(msg_type).type_name}: {exc}") from exc
+
+
+def _unknown_fields(t: mi.Type, obj: Any, path: str) -> list[str]:
+    """Keys of ``obj`` (at ``path``) that name no field of the struct type ``t``, recursively."""
+    if isinstance(t, mi.StructType) and isinstance(obj, dict):
+        fields = {f.encode_name: f.type for f in t.fields}
+        out: list[str] = []
+        for k, v in obj.items():
+            if k in fields:
+                out += _unknown_fields(fields[k], v, f"{path}.{k}")
+            else:
+                name = getattr(t.cls, "__msgtype__", t.cls.__name__)
+                out.append(f"unknown field {k!r} at {path} ({name} has: {', '.join(fields)})")
+        return out
+    if isinstance(t, (mi.ListType, mi.VarTupleType, mi.FrozenSetType, mi.SetType)) and isinstance(
+        obj, list
+    ):
+        return [e for i, v in enumerate(obj) for e in _unknown_fields(t.item_type, v, f"{path}[{i}]")]
+    if isinstance(t, mi.UnionType):
+        structs = [u for u in t.types if isinstance(u, mi.StructType)]
+        if len(structs) == 1:
+            return _unknown_fields(structs[0], obj, path)
+    return []

@@ -166,9 +166,17 @@ class Graph:
     def action_servers(self, action: str) -> list[Token]:
         return [t for t in self.tokens("act") if t.name == action]
 
+    def clients(self, service: str) -> list[Token]:
+        """The clients of a service that nodes created (tools' one-off calls are not listed)."""
+        return [t for t in self.tokens("cli") if t.name == service]
+
+    def action_clients(self, action: str) -> list[Token]:
+        return [t for t in self.tokens("actc") if t.name == action]
+
     def endpoints_of(self, node: str) -> dict[str, list[Token]]:
-        """A node's publishers, subscribers, services and actions (as ``ros2 node info``)."""
-        out: dict[str, list[Token]] = {"pub": [], "sub": [], "srv": [], "act": []}
+        """A node's publishers, subscribers, services and actions, servers and clients (as
+        ``ros2 node info``)."""
+        out: dict[str, list[Token]] = {k: [] for k in ("pub", "sub", "srv", "cli", "act", "actc")}
         for t in self.tokens():
             if t.node == node and t.kind in out:
                 out[t.kind].append(t)

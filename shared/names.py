@@ -26,7 +26,9 @@ __all__ = [
 ]
 
 DEFAULT_PREFIX = "zenros"
-ENTITY_KINDS = ("node", "pub", "sub", "srv", "act")
+ENTITY_KINDS = ("node", "pub", "sub", "srv", "cli", "act", "actc")
+"""Liveliness token kinds: nodes, publishers, subscribers, service servers and clients,
+action servers and clients."""
 
 _NAME_CHARS = re.compile(r"[A-Za-z0-9_/~]")
 _NODE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")

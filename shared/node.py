@@ -162,7 +162,9 @@ class Node:
         return s
 
     def create_client(self, srv_type: ServiceType, name: str) -> Client:
-        c: Client = self._track(Client(self.context, srv_type, self.resolve_name(name, "service")))
+        c: Client = self._track(
+            Client(self.context, srv_type, self.resolve_name(name, "service"), node=self.fqn)
+        )
         return c
 
     def create_action_server(self, action_type: ActionType, name: str,

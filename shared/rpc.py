@@ -174,7 +174,7 @@ class Service:
 class Client:
     """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
 
-    def __init__(self, ctx: Context, srv_type: ServiceType, name: str) -> None:
+    def __init__(self, ctx: Context, srv_type: ServiceType, name: str, node: str = "") -> None:
         self.srv_type = srv_type
         self.name = name
         self.key = ctx.keys.service(name)
@@ -182,6 +182,12 @@ class Client:
         self._req = codec_for(srv_type.Request)
         self._res = codec_for(srv_type.Response)
         self._req_encoding = zenoh.Encoding(self._req.mime).with_schema(self._req.type_name)
+        self._token: Any = None
+        if node:  # a node's client is in the graph (as `ros2 node info` lists them)
+            self._token = ctx.session.liveliness().declare_token(
+                ctx.keys.entity_token("cli", node, name, srv_type.name, "", ctx.zid,
+                                      ctx.next_eid())
+            )  # fmt: skip
         self.closed = False
 
     def _encode(self, request: Message) -> bytes:
@@ -272,4 +278,8 @@ class Client:
         return self._ctx.graph.wait_for_service(self.name, timeout)
 
     def close(self) -> None:
+        if self.closed:
+            return
         self.closed = True
+        if self._token is not None:
+            self._token.undeclare()

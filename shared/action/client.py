@@ -90,6 +90,8 @@ class ActionClient:
         self._graph = ctx.graph
         ref = weakref.ref(self)
         self._unlisten = self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
+        self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
+            "actc", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
         node._track(self)
 
     # ------------------------------------------------------------------ server presence
@@ -313,6 +315,7 @@ class ActionClient:
             return
         self.closed = True
         self._unlisten()
+        self._token.undeclare()
         self._fb_sub.undeclare()
         self._status_sub.undeclare()
         with self._lock:

@@ -66,14 +66,17 @@ def _list(ctx: Context, args: argparse.Namespace) -> int:
 def _info(ctx: Context, args: argparse.Namespace) -> int:
     name = resolve(args.action, kind="action")
     actions = ctx.graph.actions()
-    if name not in actions:
-        raise CliError(f"unknown action {name}; known: {', '.join(actions) or 'none'}")
     servers = ctx.graph.action_servers(name)
+    clients = ctx.graph.action_clients(name)
+    types = actions.get(name) or sorted({t.type for t in clients})
+    if not types:
+        raise CliError(f"unknown action {name}; known: {', '.join(actions) or 'none'}")
     print(f"Action: {name}")
-    print(f"Type: {', '.join(actions[name])}")
-    print(f"Action servers: {len(servers)}")
-    for t in servers:
-        print(f"    {t.node}" + (f" [{t.type}]" if args.show_types else ""))
+    print(f"Type: {', '.join(types)}")
+    for label, toks in (("Action clients", clients), ("Action servers", servers)):
+        print(f"{label}: {len(toks)}")
+        for t in sorted(toks, key=lambda t: t.node):
+            print(f"    {t.node}" + (f" [{t.type}]" if args.show_types else ""))
     return 0
 
 

@@ -39,7 +39,8 @@ def run(args: argparse.Namespace) -> int:
         eps = g.endpoints_of(name)
         print(name)
         for label, kind in (("Subscribers", "sub"), ("Publishers", "pub"),
-                            ("Service Servers", "srv"), ("Action Servers", "act")):
+                            ("Service Servers", "srv"), ("Service Clients", "cli"),
+                            ("Action Servers", "act"), ("Action Clients", "actc")):
             print(f"  {label}:")
             for t in sorted(eps[kind], key=lambda t: t.name):
                 print(f"    {t.name}: {t.type}")

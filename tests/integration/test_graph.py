@@ -6,7 +6,7 @@ import logging
 from typing import Any
 
 import pytest
-from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsResponse
+from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsResponse, Fibonacci
 from zenros.msgs.geometry_msgs import Twist
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
@@ -30,6 +30,24 @@ def test_graph_lists_nodes_topics_and_services(make_node: Any, ctx_pair: Any) ->
     assert [t.name for t in info["srv"]] == ["/robot1/add"]
     node = next(n for n in g.nodes() if n.name == "/robot1/chassis")
     assert node.pid > 0 and node.host and node.zid == ctx_pair[1].zid
+
+
+def test_service_and_action_clients_are_in_the_graph(make_node: Any, ctx_pair: Any) -> None:
+    a = make_node("teleop", 0, namespace="robot1")
+    client = a.create_client(AddTwoInts, "add")
+    actions = a.create_action_client(Fibonacci, "/fibonacci")
+    g = ctx_pair[1].graph
+    assert g.wait_for(lambda: bool(g.clients("/robot1/add") and g.action_clients("/fibonacci")), 5)
+    assert [(t.node, t.type) for t in g.clients("/robot1/add")] == [
+        ("/robot1/teleop", "example_interfaces/AddTwoInts")]
+    assert [t.node for t in g.action_clients("/fibonacci")] == ["/robot1/teleop"]
+    info = g.endpoints_of("/robot1/teleop")
+    assert [t.name for t in info["cli"]] == ["/robot1/add"]
+    assert [t.name for t in info["actc"]] == ["/fibonacci"]
+    assert "/robot1/add" not in g.services() and "/fibonacci" not in g.actions()  # servers only
+    client.close()
+    actions.close()
+    assert g.wait_for(lambda: not g.clients("/robot1/add") and not g.action_clients("/fibonacci"), 5)
 
 
 def test_closed_node_leaves_the_graph(make_node: Any, ctx_pair: Any) -> None:

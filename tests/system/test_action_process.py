@@ -68,8 +68,9 @@ def test_cli_list_info_and_send_goal(router: str, prefix: str, client_node: Node
     assert rc == 0 and out.strip() == "/fibonacci [example_interfaces/Fibonacci]", out
     rc, out = run_cli(router, prefix, "info", "fibonacci")
     assert rc == 0, out
-    assert "Action: /fibonacci\nType: example_interfaces/Fibonacci\nAction servers: 1\n" \
-           "    /fibonacci_server" in out
+    assert out.startswith("Action: /fibonacci\nType: example_interfaces/Fibonacci\n"
+                          "Action clients: "), out
+    assert "Action servers: 1\n    /fibonacci_server" in out
     rc, out = run_cli(router, prefix, "send_goal", "/fibonacci",
                       "example_interfaces/action/Fibonacci", "{order: 4}", "--feedback")
     assert rc == 0, out

@@ -103,6 +103,8 @@ def test_node_list_and_info(system: tuple[str, str]) -> None:
     [
         (["topic", "pub", "/x", "geometry_msgs/Twst", "{}"], "unknown message type"),
         (["topic", "pub", "/x", "geometry_msgs/Twist", "{linear: {x: fast}}"], "$.linear.x"),
+        (["topic", "pub", "/x", "geometry_msgs/Twist", "{linar: {x: 1}}"],
+         "unknown field 'linar' at $ (geometry_msgs/Twist has: linear, angular)"),
         (["topic", "pub", "/x", "geometry_msgs/Twist", "{linear: ["], "invalid YAML"),
         (["topic", "pub", "/bad name", "std_msgs/String", "{}"], "invalid topic name"),
         (["service", "call", "/nothing", "std_srvs/Trigger"], "not available"),

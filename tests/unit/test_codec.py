@@ -513,3 +513,16 @@ def test_from_builtins_errors_name_path_and_type() -> None:
         from_builtins([1, 2], Twist)
     with pytest.raises(DecodeError, match=r"\$\.ranges"):
         from_builtins({"ranges": "abc"}, LaserScan)
+
+
+def test_from_builtins_refuses_unknown_fields_with_their_path() -> None:
+    with pytest.raises(DecodeError, match=r"unknown field 'linar' at \$ \(geometry_msgs/Twist has: linear, angular\)"):
+        from_builtins({"linar": {"x": 1}}, Twist)
+    with pytest.raises(DecodeError, match=r"unknown field 'X' at \$\.linear \(geometry_msgs/Vector3 has: x, y, z\)"):
+        from_builtins({"linear": {"X": 1}}, Twist)
+    with pytest.raises(DecodeError, match=r"unknown field 'stmp' at \$\.header"):
+        from_builtins({"header": {"stmp": {"sec": 1}}}, LaserScan)
+    with pytest.raises(DecodeError, match=r"unknown field 'child' at \$\.transforms\[1\]"):
+        from_builtins({"transforms": [{"child_frame_id": "a"}, {"child": "b"}]}, TFMessage)
+    # the wire stays lenient: a newer sender's extra field is skipped there
+    assert codec_for(Twist).decode(b'{"linear": {"x": 1.0}, "extra": 1}').linear.x == 1.0

@@ -334,7 +334,7 @@ def test_node_token_host_is_made_key_safe() -> None:
     assert str(zenoh.KeyExpr(key)) == key
 
 
-@pytest.mark.parametrize("kind", ["pub", "sub", "srv", "act"])
+@pytest.mark.parametrize("kind", ["pub", "sub", "srv", "cli", "act", "actc"])
 @pytest.mark.parametrize(
     ("node", "name"),
     [("/talker", "/chatter"), ("/robot1/chassis", "/robot1/odom"),
