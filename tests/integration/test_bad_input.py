@@ -19,6 +19,8 @@ def setup(make_node: Any, ctx_pair: Any) -> Any:
     sender = make_node("teleop", 0)
     pub = sender.create_publisher(Twist, "cmd_vel")
     assert pub.wait_for_subscribers(1, 5)
+    # the receiving side names senders from its own graph view: let it see the publisher
+    assert chassis.context.graph.wait_for_publisher("/cmd_vel", 5)
     return ctx_pair[0], sub, got, pub
 
 
