@@ -47,8 +47,9 @@ class FrameStore:
         self._chains: dict[tuple[str, str], Chain | NoChain] = {}
         self._watchers = 0  # blocked threads + pending async waits; set_transform wakes them
         self._inserter = None
-        if speedups is not None:
-            # The compiled hot path shadows the method below and hands it every other case.
+        if speedups is not None and type(self).set_transform is FrameStore.set_transform:
+            # The compiled hot path shadows the method below and hands it every other case
+            # (not where a subclass overrides set_transform: its override is what runs).
             self._inserter = speedups.Inserter(
                 self._caches, self._authority, self._lock, self._cache_ns,
                 MethodType(FrameStore.set_transform, self),

@@ -313,3 +313,20 @@ def test_latest_common_stamp(c_only: Any) -> None:
         c_only.latest(([1],))
     with pytest.raises(TypeError):
         c_only.latest([[1, "x"]])
+
+
+def test_a_subclass_override_of_set_transform_runs(c_only: Any) -> None:
+    seen: list[str] = []
+
+    class Logged(Buffer):  # type: ignore[misc]
+        def set_transform(self, transform: TransformStamped, authority: str = "x",
+                          *, strict: bool = False) -> bool:
+            seen.append(transform.child_frame_id)
+            return bool(super().set_transform(transform, authority, strict=strict))
+
+    buf = Logged()
+    assert "set_transform" not in buf.__dict__
+    for k in range(3):
+        assert buf.set_transform(sample(t=(k + 1) * NS))
+    assert seen == ["base"] * 3
+    assert buf.can_transform("odom", "base", Time(sec=2))
