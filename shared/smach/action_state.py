@@ -5,18 +5,15 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
-import msgspec
-
 from ..action import ActionClient, ClientGoalHandle, GoalResult, GoalStatus
 from ..errors import (
     ActionError,
     GoalRejectedError,
     InvalidStateError,
-    InvalidUserCodeError,
     ZenrosTimeout,
 )
 from ..message import ActionType, Message
-from .ros_state import RosState, check_slots, fill_slots, read_slots, slot_keys
+from .ros_state import RosState, build_message, check_slots, read_slots, slot_keys
 from .userdata import UserDataAccess
 
 if TYPE_CHECKING:
@@ -196,16 +193,7 @@ class SimpleActionState(RosState):
         return outcome
 
     def _build(self, userdata: UserDataAccess) -> Message:
-        base = self._goal if self._goal is not None else self.action_type.Goal()
-        goal = fill_slots(self, base, userdata, self._goal_slots, self._goal_key)
-        if self._goal is not None and goal is self._goal:  # a callback may mutate it: copy
-            goal = msgspec.structs.replace(self._goal)
-        if self._goal_cb is not None:
-            made = self._goal_cb(userdata, goal)
-            goal = made if made is not None else goal
-        if type(goal) is not self.action_type.Goal:
-            raise InvalidUserCodeError(
-                f"{self.describe()} built a {type(goal).__name__} goal; action {self.name}"
-                f" takes {self.action_type.Goal.__name__}")
-        built: Message = goal
-        return built
+        goal: Message = build_message(
+            self, self._goal, self.action_type.Goal, userdata, self._goal_slots,
+            self._goal_key, self._goal_cb, "goal", f"action {self.name}")
+        return goal

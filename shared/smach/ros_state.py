@@ -16,7 +16,7 @@ from .userdata import UserDataAccess
 if TYPE_CHECKING:
     from ..node import Node
 
-__all__ = ["RosState", "check_slots", "fill_slots", "read_slots", "slot_keys"]
+__all__ = ["RosState", "build_message", "check_slots", "fill_slots", "read_slots", "slot_keys"]
 
 
 class RosState(State):
@@ -138,6 +138,28 @@ def fill_slots(state: State, message: Any, userdata: UserDataAccess, slots: Sequ
             f"{state.describe()} cannot set slots {list(slots)} on {type(message).__name__}:"
             f" {exc}; its fields: {', '.join(getattr(message, '__struct_fields__', ()))}"
         ) from exc
+
+
+def build_message(
+    state: State, template: Any, msg_type: type[Any], userdata: UserDataAccess,
+    slots: Sequence[str], key: str | None, cb: Callable[..., Any] | None, noun: str, target: str,
+) -> Any:
+    """The message a state sends (a goal, a request): a copy of ``template`` (else a default
+    ``msg_type``) or ``userdata[key]``, its slots filled from userdata, then ``cb(userdata,
+    msg)`` may edit it or return a replacement. Raises `InvalidUserCodeError` naming the
+    ``noun`` and ``target`` ("request", "service /x") if the result has the wrong type."""
+    base = template if template is not None else msg_type()
+    msg = fill_slots(state, base, userdata, slots, key)
+    if template is not None and msg is template:  # a callback may mutate it: copy
+        msg = msgspec.structs.replace(template)
+    if cb is not None:
+        made = cb(userdata, msg)
+        msg = made if made is not None else msg
+    if type(msg) is not msg_type:
+        raise InvalidUserCodeError(
+            f"{state.describe()} built a {type(msg).__name__} {noun}; {target}"
+            f" takes {msg_type.__name__}")
+    return msg
 
 
 def read_slots(message: Any, userdata: UserDataAccess, slots: Sequence[str],

@@ -5,17 +5,14 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
-import msgspec
-
 from ..errors import (
     InvalidStateError,
-    InvalidUserCodeError,
     ServiceError,
     ServiceUnavailableError,
     ZenrosTimeout,
 )
 from ..message import Message, ServiceType
-from .ros_state import RosState, check_slots, fill_slots, read_slots, slot_keys
+from .ros_state import RosState, build_message, check_slots, read_slots, slot_keys
 from .userdata import UserDataAccess
 
 if TYPE_CHECKING:
@@ -146,16 +143,7 @@ class ServiceState(RosState):
         return "succeeded"
 
     def _build(self, userdata: UserDataAccess) -> Message:
-        base = self._request if self._request is not None else self.srv_type.Request()
-        request = fill_slots(self, base, userdata, self._request_slots, self._request_key)
-        if self._request is not None and request is self._request:  # a callback may mutate it: copy
-            request = msgspec.structs.replace(self._request)
-        if self._request_cb is not None:
-            made = self._request_cb(userdata, request)
-            request = made if made is not None else request
-        if type(request) is not self.srv_type.Request:
-            raise InvalidUserCodeError(
-                f"{self.describe()} built a {type(request).__name__} request; service"
-                f" {self.name} takes {self.srv_type.Request.__name__}")
-        built: Message = request
-        return built
+        request: Message = build_message(
+            self, self._request, self.srv_type.Request, userdata, self._request_slots,
+            self._request_key, self._request_cb, "request", f"service {self.name}")
+        return request
