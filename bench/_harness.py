@@ -87,6 +87,27 @@ def median(xs: list[float]) -> float:
     return statistics.median(xs)
 
 
+def paired_ratio(metric: dict[str, list[float]]) -> float:
+    """The median of the per-repeat ``zenros / raw`` ratios: each repeat measures both back
+    to back, so load that comes and goes on a shared machine hits both sides of a ratio."""
+    return statistics.median(z / r for z, r in zip(metric["zenros"], metric["raw"], strict=True))
+
+
+def latency_repeats(
+    measure: Callable[[str], list[float]], repeats: int
+) -> tuple[dict[str, list[float]], dict[str, list[float]]]:
+    """p50 and p99 in microseconds of ``measure(impl)`` (seconds per call) for "raw" and
+    "zenros", measured back to back in each of ``repeats`` repeats."""
+    p50: dict[str, list[float]] = {"raw": [], "zenros": []}
+    p99: dict[str, list[float]] = {"raw": [], "zenros": []}
+    for _ in range(repeats):
+        for impl in ("raw", "zenros"):
+            xs = measure(impl)
+            p50[impl].append(percentile(xs, 50) * 1e6)
+            p99[impl].append(percentile(xs, 99) * 1e6)
+    return p50, p99
+
+
 def bench_parser(description: str | None, roles: Sequence[str], repeats: int) -> argparse.ArgumentParser:
     """The flags every two-process bench shares: the child's role, implementation, port and
     prefix, and how many back-to-back repeats the parent runs."""

@@ -22,8 +22,9 @@ from _harness import (
     bench_parser,
     emit,
     free_port,
+    latency_repeats,
     median,
-    percentile,
+    paired_ratio,
     raw_config,
     unique_prefix,
 )
@@ -131,21 +132,13 @@ def main() -> None:
     if a.role == "server":
         child_server(a.impl, a.port, a.prefix)
         return
-    p50: dict[str, list[float]] = {"raw": [], "zenros": []}
-    p99: dict[str, list[float]] = {"raw": [], "zenros": []}
-    ratios: list[float] = []
-    for _ in range(a.repeats):  # both sides back to back, so drift on a noisy machine hits both
-        for impl in ("raw", "zenros"):
-            rtts = roundtrips(impl, a.goals)
-            p50[impl].append(percentile(rtts, 50) * 1e6)
-            p99[impl].append(percentile(rtts, 99) * 1e6)
-        ratios.append(p50["zenros"][-1] / p50["raw"][-1])
+    p50, p99 = latency_repeats(lambda impl: roundtrips(impl, a.goals), a.repeats)
     emit(
         "action",
         {
             "goal_roundtrip_p50_us_zenros": round(median(p50["zenros"]), 1),
             "goal_roundtrip_p50_us_raw": round(median(p50["raw"]), 1),
-            "goal_roundtrip_p50_ratio": round(median(ratios), 3),
+            "goal_roundtrip_p50_ratio": round(paired_ratio(p50), 3),
             "goal_roundtrip_p99_us_zenros": round(median(p99["zenros"]), 1),
             "goal_roundtrip_p99_us_raw": round(median(p99["raw"]), 1),
         },

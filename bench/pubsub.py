@@ -22,6 +22,7 @@ from _harness import (
     bench_parser,
     emit,
     free_port,
+    paired_ratio,
     percentile,
     raw_config,
     serve_node,
@@ -229,11 +230,6 @@ def main() -> None:
             rate, missing = throughput(impl, a.count)
             thr[impl].append(rate)
             lost[impl] += missing
-    # Each repeat measures raw and zenros back to back; a ratio is the median of the
-    # per-repeat ratios, so load that comes and goes hits both sides of each ratio alike.
-    def ratio(metric: dict[str, list[float]]) -> float:
-        return statistics.median(z / r for z, r in zip(metric["zenros"], metric["raw"], strict=True))
-
     med = {i: (statistics.median(p50[i]), statistics.median(p99[i]), statistics.median(thr[i]))
            for i in impls}
     z, r, rb = med["zenros"], med["raw"], med["raw_bytes"]
@@ -242,11 +238,11 @@ def main() -> None:
         "pubsub",
         {
             "latency_p50_us_zenros": round(z[0], 1), "latency_p50_us_raw": round(r[0], 1),
-            "latency_p50_ratio": round(ratio(p50), 3),
+            "latency_p50_ratio": round(paired_ratio(p50), 3),
             "latency_p99_us_zenros": round(z[1], 1), "latency_p99_us_raw": round(r[1], 1),
-            "latency_p99_ratio": round(ratio(p99), 3),
+            "latency_p99_ratio": round(paired_ratio(p99), 3),
             "throughput_msgs_zenros": round(z[2]), "throughput_msgs_raw": round(r[2]),
-            "throughput_ratio": round(ratio(thr), 3),
+            "throughput_ratio": round(paired_ratio(thr), 3),
             "lost_zenros": lost["zenros"], "lost_raw": lost["raw"],
             "lost_raw_default_drop": drop_lost,
             "latency_p50_us_raw_bytes": round(rb[0], 1),

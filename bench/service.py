@@ -17,7 +17,8 @@ from _harness import (
     bench_parser,
     emit,
     free_port,
-    percentile,
+    latency_repeats,
+    paired_ratio,
     raw_config,
     serve_node,
     unique_prefix,
@@ -107,24 +108,15 @@ def main() -> None:
     if a.role == "server":
         child_server(a.impl, a.port, a.prefix)
         return
-    p50: dict[str, list[float]] = {"raw": [], "zenros": []}
-    p99: dict[str, list[float]] = {"raw": [], "zenros": []}
-    for _ in range(a.repeats):
-        for impl in ("raw", "zenros"):
-            lat = measure(impl, a.calls)
-            p50[impl].append(percentile(lat, 50) * 1e6)
-            p99[impl].append(percentile(lat, 99) * 1e6)
-    def ratio(m: dict[str, list[float]]) -> float:  # median of back-to-back pairs
-        return statistics.median(z / r for z, r in zip(m["zenros"], m["raw"], strict=True))
-
+    p50, p99 = latency_repeats(lambda impl: measure(impl, a.calls), a.repeats)
     med = {k: {i: statistics.median(v[i]) for i in v} for k, v in (("p50", p50), ("p99", p99))}
     emit("service", {
         "call_p50_us_zenros": round(med["p50"]["zenros"], 1),
         "call_p50_us_raw": round(med["p50"]["raw"], 1),
-        "call_p50_ratio": round(ratio(p50), 3),
+        "call_p50_ratio": round(paired_ratio(p50), 3),
         "call_p99_us_zenros": round(med["p99"]["zenros"], 1),
         "call_p99_us_raw": round(med["p99"]["raw"], 1),
-        "call_p99_ratio": round(ratio(p99), 3),
+        "call_p99_ratio": round(paired_ratio(p99), 3),
     }, service="example_interfaces/AddTwoInts", calls=a.calls, repeats=a.repeats,
         stat="medians; ratios are medians of per-repeat ratios")
 
