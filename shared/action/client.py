@@ -66,11 +66,7 @@ class ActionClient:
         self.logger = node.logger
         self._ctx = ctx = node.context
         self._wire = wire = wire_types(action_type)
-        self._sg_req = codec_for(wire.SendGoalRequest)
-        self._sg_res = codec_for(wire.SendGoalResponse)
-        self._gr_req = codec_for(wire.GetResultRequest)
-        self._gr_res = codec_for(wire.GetResultResponse)
-        self._fb = codec_for(wire.FeedbackMessage)
+        self._sg_req, self._sg_res, self._gr_req, self._gr_res, self._fb = wire.codecs()
         self._status = codec_for(GoalStatusArray)
         self._enc = {"send_goal": encoding_for(wire.SendGoalRequest),
                      "get_result": encoding_for(wire.GetResultRequest)}

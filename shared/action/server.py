@@ -94,11 +94,7 @@ class ActionServer:
         self._goal_cb = goal_callback
         self._cancel_cb = cancel_callback
         self._wire = wire = wire_types(action_type)
-        self._sg_req = codec_for(wire.SendGoalRequest)
-        self._sg_res = codec_for(wire.SendGoalResponse)
-        self._gr_req = codec_for(wire.GetResultRequest)
-        self._gr_res = codec_for(wire.GetResultResponse)
-        self._fb = codec_for(wire.FeedbackMessage)
+        self._sg_req, self._sg_res, self._gr_req, self._gr_res, self._fb = wire.codecs()
         self._cg_req = codec_for(CancelGoalRequest)
         self._cg_res = codec_for(CancelGoalResponse)
         self._enc = {t: encoding_for(t) for t in (wire.SendGoalResponse, wire.GetResultResponse,

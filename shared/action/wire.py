@@ -14,6 +14,7 @@ from typing import Any
 
 import msgspec
 
+from ..codec import Codec, codec_for
 from ..message import ActionType, Message
 from ..msgs.builtin_interfaces import Time
 from .types import UUID
@@ -74,6 +75,12 @@ class ActionWire:
     GetResultRequest: type[GetResultRequest]
     GetResultResponse: type[GetResultResponse]
     FeedbackMessage: type[FeedbackMessage]
+
+    def codecs(self) -> tuple[Codec[Any], Codec[Any], Codec[Any], Codec[Any], Codec[Any]]:
+        """The codecs of the five classes, in field order (cached per class)."""
+        return (codec_for(self.SendGoalRequest), codec_for(self.SendGoalResponse),
+                codec_for(self.GetResultRequest), codec_for(self.GetResultResponse),
+                codec_for(self.FeedbackMessage))  # fmt: skip
 
 
 def _derive(base: type[Message], type_name: str, field: str | None = None,
