@@ -15,12 +15,14 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any, Generic, TypeVar
 
+from .clock import ManualClock, Time
 from .context import Context
 from .session import SessionOptions
 
 __all__ = [
     "Collector",
     "Proc",
+    "RecordingClock",
     "free_port",
     "linked_contexts",
     "loopback_options",
@@ -89,6 +91,40 @@ async def wait_for_async(pred: Callable[[], Any], timeout: float = 5.0) -> bool:
             return False
         await asyncio.sleep(0.005)
     return True
+
+
+class RecordingClock(ManualClock):  # type: ignore[misc, unused-ignore]
+    """A `ManualClock` that records every deadline a sleeper asks for (sync or async), so a
+    test can wait until a timer or a `Rate` has gone to sleep before advancing time."""
+
+    def __init__(self, start: Time | None = None) -> None:
+        super().__init__(start)
+        self.requests: list[Time] = []
+        self._req = threading.Condition()
+
+    def _record(self, t: Time) -> None:
+        with self._req:
+            self.requests.append(t)
+            self._req.notify_all()
+
+    def sleep_until(self, t: Time, timeout: float | None = None) -> bool:
+        self._record(t)
+        woke: bool = super().sleep_until(t, timeout)
+        return woke
+
+    async def async_sleep_until(self, t: Time) -> None:
+        self._record(t)
+        await super().async_sleep_until(t)
+
+    def wait_requests(self, n: int, timeout: float = 5.0) -> list[Time]:
+        """The deadlines asked for so far, once there are at least ``n``.
+
+        Raises:
+            AssertionError: fewer than ``n`` within ``timeout`` seconds.
+        """
+        with self._req:
+            assert self._req.wait_for(lambda: len(self.requests) >= n, timeout), self.requests
+            return list(self.requests)
 
 
 class Collector(Generic[T]):

@@ -10,6 +10,7 @@ from collections.abc import Callable, Iterator
 
 import pytest
 from zenros.clock import Clock, Duration, ManualClock, Rate, SteadyClock, SystemClock, Time
+from zenros.testing import RecordingClock
 
 WAIT = 5.0  # seconds: a bound for conditions that should hold at once
 MS = 1_000_000
@@ -17,34 +18,6 @@ MS = 1_000_000
 
 def t_ms(ms: int) -> Time:
     return Time.from_nanoseconds(ms * MS)
-
-
-class RecordingClock(ManualClock):  # type: ignore[misc, unused-ignore]
-    """A ManualClock that records every deadline a sleeper asks for."""
-
-    def __init__(self, start: Time | None = None) -> None:
-        super().__init__(start)
-        self.requests: list[Time] = []
-        self._req = threading.Condition()
-
-    def _record(self, t: Time) -> None:
-        with self._req:
-            self.requests.append(t)
-            self._req.notify_all()
-
-    def sleep_until(self, t: Time, timeout: float | None = None) -> bool:
-        self._record(t)
-        woke: bool = super().sleep_until(t, timeout)
-        return woke
-
-    async def async_sleep_until(self, t: Time) -> None:
-        self._record(t)
-        await super().async_sleep_until(t)
-
-    def wait_requests(self, n: int) -> list[Time]:
-        with self._req:
-            assert self._req.wait_for(lambda: len(self.requests) >= n, WAIT), self.requests
-            return list(self.requests)
 
 
 class Worker:

@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 from zenros.clock import ManualClock, Time
 from zenros.executor import Executor, MutuallyExclusiveCallbackGroup
+from zenros.testing import RecordingClock
 from zenros.timer import Timer
 
 WAIT = 5.0
@@ -22,27 +23,6 @@ LOG = logging.getLogger("zenros_test.timer")
 
 def t_ms(ms: int) -> Time:
     return Time.from_nanoseconds(ms * MS)
-
-
-class RecordingClock(ManualClock):  # type: ignore[misc, unused-ignore]
-    """A ManualClock that records each deadline a timer sleeps until."""
-
-    def __init__(self, start: Time | None = None) -> None:
-        super().__init__(start)
-        self.requests: list[Time] = []
-        self._req = threading.Condition()
-
-    async def async_sleep_until(self, t: Time) -> None:
-        with self._req:
-            self.requests.append(t)
-            self._req.notify_all()
-        await super().async_sleep_until(t)
-
-    def wait_request(self, n: int) -> Time:
-        """The n-th (1-based) deadline asked for, once the timer has asked for it."""
-        with self._req:
-            assert self._req.wait_for(lambda: len(self.requests) >= n, WAIT), self.requests
-            return self.requests[n - 1]
 
 
 class Calls:
@@ -118,7 +98,7 @@ def test_without_autostart_nothing_runs_until_reset(
     assert calls.at == [] and clock.requests == []
     timer.reset()
     assert not timer.is_canceled()
-    assert clock.wait_request(1) == t_ms(20_100)
+    assert clock.wait_requests(1)[0] == t_ms(20_100)
 
 
 # ------------------------------------------------------------------ ticking
@@ -127,14 +107,14 @@ def test_without_autostart_nothing_runs_until_reset(
 def test_fires_once_per_period_on_the_executor(clock: RecordingClock, executor: Executor) -> None:
     calls = Calls(clock)
     timer = make(clock, executor, calls, period=0.1)
-    assert clock.wait_request(1) == t_ms(10_100)
+    assert clock.wait_requests(1)[0] == t_ms(10_100)
     clock.set(t_ms(10_050))  # half a period: nothing
     clock.set(t_ms(10_100))
-    assert clock.wait_request(2) == t_ms(10_200)
+    assert clock.wait_requests(2)[1] == t_ms(10_200)
     assert calls.at == [t_ms(10_100)]
     clock.set(t_ms(10_150))
     clock.set(t_ms(10_200))
-    assert clock.wait_request(3) == t_ms(10_300)
+    assert clock.wait_requests(3)[2] == t_ms(10_300)
     assert calls.wait(2) == [t_ms(10_100), t_ms(10_200)]
     assert timer.calls == 2
     assert calls.threads == {"timer-executor"}
@@ -145,9 +125,9 @@ def test_deadlines_do_not_drift(clock: RecordingClock, executor: Executor) -> No
     make(clock, executor, calls, period=0.25)
     late = [0, 1, 249, 100, 30, 0, 200]  # each wake-up is late by this many ms
     for k, delay in enumerate(late, start=1):
-        assert clock.wait_request(k) == t_ms(10_000 + 250 * k)
+        assert clock.wait_requests(k)[k - 1] == t_ms(10_000 + 250 * k)
         clock.set(t_ms(10_000 + 250 * k + delay))
-    assert clock.wait_request(len(late) + 1) == t_ms(10_000 + 250 * (len(late) + 1))
+    assert clock.wait_requests(len(late) + 1)[len(late)] == t_ms(10_000 + 250 * (len(late) + 1))
     assert len(calls.at) == len(late)
 
 
@@ -156,12 +136,12 @@ def test_a_jump_fires_once_and_skips_missed_ticks(
 ) -> None:
     calls = Calls(clock)
     make(clock, executor, calls, period=0.1)
-    assert clock.wait_request(1) == t_ms(10_100)
+    assert clock.wait_requests(1)[0] == t_ms(10_100)
     clock.set(t_ms(10_550))  # 4.5 periods late: one call, not five
-    assert clock.wait_request(2) == t_ms(10_600)
+    assert clock.wait_requests(2)[1] == t_ms(10_600)
     assert len(calls.at) == 1
     clock.set(t_ms(10_600))
-    assert clock.wait_request(3) == t_ms(10_700)
+    assert clock.wait_requests(3)[2] == t_ms(10_700)
     assert len(calls.wait(2)) == 2
 
 
@@ -170,9 +150,9 @@ def test_a_jump_onto_a_tick_continues_the_schedule(
 ) -> None:
     calls = Calls(clock)
     make(clock, executor, calls, period=0.1)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     clock.set(t_ms(10_500))
-    next_deadline = clock.wait_request(2)
+    next_deadline = clock.wait_requests(2)[1]
     assert next_deadline == t_ms(10_600)
     assert (next_deadline - t_ms(10_000)).nanoseconds % (100 * MS) == 0
     assert len(calls.at) == 1
@@ -186,7 +166,7 @@ def test_async_callback(clock: RecordingClock, executor: Executor) -> None:
         calls()
 
     make(clock, executor, cb, period=0.1)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     clock.set(t_ms(10_100))
     assert calls.wait(1) == [t_ms(10_100)]
 
@@ -205,7 +185,7 @@ def test_callback_runs_inside_its_group(clock: RecordingClock, executor: Executo
         group.run(hold)
 
     make(clock, executor, calls, period=0.1, group=group)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     th = threading.Thread(target=holder)
     th.start()
     assert held.wait(WAIT)
@@ -225,10 +205,10 @@ def test_callback_errors_are_logged_and_the_timer_keeps_running(
     with caplog.at_level(logging.ERROR, logger=LOG.name):
         make(clock, executor, calls, period=0.1)
         for k in range(1, 4):
-            clock.wait_request(k)
+            clock.wait_requests(k)
             clock.set(t_ms(10_000 + 100 * k))
         calls.wait(3)
-        clock.wait_request(4)
+        clock.wait_requests(4)
     errors = [r for r in caplog.records if r.name == LOG.name]
     assert [r.getMessage() for r in errors] == ["timer callback raised"] * 2
     assert all(r.exc_info is not None and isinstance(r.exc_info[1], RuntimeError) for r in errors)
@@ -240,9 +220,9 @@ def test_callback_errors_are_logged_and_the_timer_keeps_running(
 def test_cancel_stops_the_calls(clock: RecordingClock, executor: Executor) -> None:
     calls = Calls(clock)
     timer = make(clock, executor, calls, period=0.1)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     clock.set(t_ms(10_100))
-    clock.wait_request(2)
+    clock.wait_requests(2)
     timer.cancel()
     assert timer.is_canceled()
     drain(executor)
@@ -263,29 +243,29 @@ def test_cancel_twice_is_harmless(clock: RecordingClock, executor: Executor) -> 
 def test_reset_restarts_one_period_from_now(clock: RecordingClock, executor: Executor) -> None:
     calls = Calls(clock)
     timer = make(clock, executor, calls, period=1.0)
-    assert clock.wait_request(1) == t_ms(11_000)
+    assert clock.wait_requests(1)[0] == t_ms(11_000)
     clock.set(t_ms(10_600))
     timer.reset()
-    assert clock.wait_request(2) == t_ms(11_600)
+    assert clock.wait_requests(2)[1] == t_ms(11_600)
     drain(executor)
     clock.set(t_ms(11_000))  # the old deadline: the old schedule is gone
     drain(executor)
     assert calls.at == []
     clock.set(t_ms(11_600))
     assert calls.wait(1) == [t_ms(11_600)]
-    assert clock.wait_request(3) == t_ms(12_600)
+    assert clock.wait_requests(3)[2] == t_ms(12_600)
     assert len(calls.at) == 1
 
 
 def test_reset_after_cancel(clock: RecordingClock, executor: Executor) -> None:
     calls = Calls(clock)
     timer = make(clock, executor, calls, period=0.5)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     timer.cancel()
     clock.set(t_ms(12_000))
     drain(executor)
     timer.reset()
-    assert clock.wait_request(2) == t_ms(12_500)
+    assert clock.wait_requests(2)[1] == t_ms(12_500)
     clock.set(t_ms(12_500))
     assert calls.wait(1) == [t_ms(12_500)]
 
@@ -297,7 +277,7 @@ def test_executor_stop_cancels_the_timer(clock: RecordingClock) -> None:
     ex = Executor()
     calls = Calls(clock)
     make(clock, ex, calls, period=0.1)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     ex.stop()
     assert ex.loop.is_closed()
     assert calls.at == []
@@ -308,7 +288,7 @@ def test_clock_can_move_after_the_timers_executor_stopped(clock: RecordingClock)
     for everyone else that shares it (sim time)."""
     ex = Executor()
     make(clock, ex, lambda: None, period=0.1)
-    clock.wait_request(1)
+    clock.wait_requests(1)
     ex.stop()
     clock.set(t_ms(10_100))
     assert clock.now() == t_ms(10_100)
