@@ -146,21 +146,20 @@ def _as_points(points: npt.ArrayLike) -> Array:
     return a
 
 
+def _as_matrix(tf: Tf | Sequence[float] | Array) -> Array:
+    """A transform given as a 7-tuple or a 4x4 matrix, as a 4x4 matrix."""
+    m = np.asarray(tf, dtype=np.float64)
+    return m if m.shape == (4, 4) else transform_matrix(tuple(m.tolist()))
+
+
 def transform_points(tf: Tf | Sequence[float] | Array, points: npt.ArrayLike) -> Array:
     """Apply a transform (7-tuple or 4x4 matrix) to points of shape (..., 3)."""
-    p = _as_points(points)
-    m = np.asarray(tf, dtype=np.float64)
-    if m.shape != (4, 4):
-        m = transform_matrix(tuple(m.tolist()))
+    p, m = _as_points(points), _as_matrix(tf)
     out: Array = p @ m[:3, :3].T + m[:3, 3]
     return out
 
 
 def transform_vectors(tf: Tf | Sequence[float] | Array, vectors: npt.ArrayLike) -> Array:
     """Rotate free vectors of shape (..., 3) by a transform's rotation (no translation)."""
-    v = _as_points(vectors)
-    m = np.asarray(tf, dtype=np.float64)
-    if m.shape != (4, 4):
-        m = transform_matrix(tuple(m.tolist()))
-    out: Array = v @ m[:3, :3].T
+    out: Array = _as_points(vectors) @ _as_matrix(tf)[:3, :3].T
     return out
