@@ -10,18 +10,18 @@ import argparse
 import json
 import logging
 import re
-import signal
 import socket
 import sys
 import threading
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from types import FrameType
 
 import zenoh
 
 from .errors import StartupError
 from .session import apply_runtime_defaults
+from .signals import handling_signals
 
 __all__ = [
     "DEFAULT_KEEP_ALIVE",
@@ -147,24 +147,15 @@ def listen_endpoints(config: zenoh.Config) -> list[str]:
     return [str(e) for e in value] if isinstance(value, list) else []
 
 
-@contextmanager
-def _stop_on_signals(stop: threading.Event) -> Iterator[None]:
+def _stop_on_signals(stop: threading.Event) -> AbstractContextManager[None]:
     """Set ``stop`` on SIGINT/SIGTERM (a second signal forces); restore the old handlers."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
 
     def handle(signum: int, frame: FrameType | None) -> None:
         if stop.is_set():
             raise KeyboardInterrupt
         stop.set()
 
-    previous = {sig: signal.signal(sig, handle) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for sig, old in previous.items():
-            signal.signal(sig, old)
+    return handling_signals(handle)
 
 
 def serve_router(

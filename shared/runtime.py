@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import threading
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from types import FrameType
 from typing import Any, NoReturn
 
@@ -20,6 +19,7 @@ from .node import Node
 from .params import parse_param_arg
 from .session import add_session_arguments, options_from_args
 from .shutdown import install_shutdown_listener
+from .signals import handling_signals
 
 __all__ = ["EXIT_STARTUP_FAILED", "add_node_arguments", "capture_signals", "main", "run"]
 
@@ -58,16 +58,12 @@ def node_kwargs(ns: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-@contextmanager
-def capture_signals(on_first: Callable[[], None]) -> Iterator[None]:
+def capture_signals(on_first: Callable[[], None]) -> AbstractContextManager[None]:
     """SIGINT/SIGTERM: the first calls ``on_first`` (drain), the second forces exit (130).
 
     Restores the previous handlers on the way out. Only works in the main thread; elsewhere
     it does nothing.
     """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
     count = 0
 
     def handler(signum: int, frame: FrameType | None) -> None:
@@ -79,12 +75,7 @@ def capture_signals(on_first: Callable[[], None]) -> Iterator[None]:
             sys.stderr.write("forced exit\n")
             os._exit(130)
 
-    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
+    return handling_signals(handler)
 
 
 def main(node_cls: type[Node], argv: Sequence[str] | None = None,
