@@ -28,6 +28,7 @@ from .param_protocol import (
     HAS_PARAM,
     LIST_PARAMS,
     LOAD_PARAMS,
+    PARAM_SERVICES,
     SEARCH_PARAM,
     SET_PARAM,
     DeleteParam,
@@ -282,8 +283,11 @@ class ParameterClient:
         return bool(self._ctx.graph.servers(SET_PARAM))
 
     def wait_for_master(self, timeout: float | None = None) -> bool:
-        """Block until a master is in the graph; False on timeout."""
-        return self._ctx.graph.wait_for_service(SET_PARAM, timeout)
+        """Block until a master is in the graph with every one of its parameter services (a
+        master declares them one after the other); False on timeout."""
+        services = self._ctx.graph.services
+        return self._ctx.graph.wait_for(
+            lambda: all(name in services() for name in PARAM_SERVICES), timeout)
 
 
 def _parse_error(data: bytes) -> tuple[str, str]:

@@ -29,6 +29,7 @@ __all__ = [
     "LIST_PARAMS",
     "LOAD_PARAMS",
     "MSGPACK_ENCODING",
+    "PARAM_SERVICES",
     "SEARCH_PARAM",
     "SET_PARAM",
     "DeleteParam",
@@ -63,6 +64,9 @@ SEARCH_PARAM = "/master/search_param"
 LIST_PARAMS = "/master/list_params"
 DUMP_PARAMS = "/master/dump_params"
 LOAD_PARAMS = "/master/load_params"
+PARAM_SERVICES = (SET_PARAM, GET_PARAM, DELETE_PARAM, HAS_PARAM, SEARCH_PARAM, LIST_PARAMS,
+                  DUMP_PARAMS, LOAD_PARAMS)
+"""Every service of the parameter server: a master is ready once all are in the graph."""
 
 
 # ---------------------------------------------------------------- keys and names
