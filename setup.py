@@ -1,12 +1,25 @@
-"""The one build step pyproject.toml does not state: the TF buffer's optional C module.
+"""The build steps pyproject.toml does not state: package discovery and the TF C module.
+
+Packages are found under shared/ and services/ (pyproject maps them to zenros and
+zenros.services), so a new subpackage is installed without editing a list.
 
 ``optional=True``: without a C compiler the install still succeeds and zenros.tf runs the
 same code in Python (see docs/tf.md, "The compiled hot paths").
 """
 
-from setuptools import Extension, setup
+from setuptools import Extension, find_packages, setup
+
+
+def _packages() -> list[str]:
+    """Every package under shared/ (as zenros.*) and services/ (as zenros.services.*)."""
+    found = ["zenros", "zenros.services"]
+    found += [f"zenros.{p}" for p in find_packages("shared")]
+    found += [f"zenros.services.{p}" for p in find_packages("services")]
+    return found
+
 
 setup(
+    packages=_packages(),
     ext_modules=[
         Extension(
             "zenros.tf._speedups",
