@@ -3,7 +3,9 @@
 from . import (
     builtin_interfaces,
     example_interfaces,
+    galileo_msgs,
     geometry_msgs,
+    nav2_msgs,
     nav_msgs,
     rcl_interfaces,
     rosgraph_msgs,
@@ -12,12 +14,15 @@ from . import (
     std_srvs,
     tf2_msgs,
     tf_srvs,
+    zenros_msgs,
 )
 
 __all__ = [
     "builtin_interfaces",
     "example_interfaces",
+    "galileo_msgs",
     "geometry_msgs",
+    "nav2_msgs",
     "nav_msgs",
     "rcl_interfaces",
     "rosgraph_msgs",
@@ -26,4 +31,5 @@ __all__ = [
     "std_srvs",
     "tf2_msgs",
     "tf_srvs",
+    "zenros_msgs",
 ]

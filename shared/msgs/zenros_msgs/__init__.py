@@ -1,0 +1,13 @@
+"""zenros_msgs: the robot's own types (chassis state and sim services, tasks, nav points).
+
+One module per service that owns them; importing this package registers them all.
+"""
+
+from .chassis import *  # noqa: F403
+from .chassis import __all__ as _chassis_all
+from .nav import *  # noqa: F403
+from .nav import __all__ as _nav_all
+from .tasks import *  # noqa: F403
+from .tasks import __all__ as _tasks_all
+
+__all__ = [*_chassis_all, *_nav_all, *_tasks_all]
