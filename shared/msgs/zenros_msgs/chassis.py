@@ -1,5 +1,115 @@
-"""zenros_msgs for the chassis service (see DESIGN.md, "Robot interfaces")."""
+"""zenros_msgs for the chassis service (see DESIGN.md, "Robot interfaces").
+
+- ``zenros_msgs/ChassisState`` on ``chassis/state``: e-stop, bumper, dock and charge flags,
+  the dead-man state, and the simulator's requested and achieved real-time factor.
+- ``zenros_msgs/Teleport`` (``sim/teleport``): set the robot's true pose in ``map``.
+- ``zenros_msgs/SetObstacles`` (``sim/set_obstacles``): add, move, remove or replace the
+  movable circles and boxes of the simulated world.
+- ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
+"""
 
 from __future__ import annotations
 
-__all__: list[str] = []
+from typing import Literal
+
+import msgspec
+
+from ...message import Message, define_service
+from ..geometry_msgs import Pose2D
+from ..std_msgs import Header
+
+__all__ = [
+    "ChassisState",
+    "Obstacle",
+    "SetObstacles",
+    "SetObstaclesRequest",
+    "SetObstaclesResponse",
+    "Teleport",
+    "TeleportRequest",
+    "TeleportResponse",
+]
+
+
+class ChassisState(Message):
+    """The base's safety and power flags, published on ``chassis/state`` (stamped in sim time).
+
+    ``cmd_timeout`` is true while the dead-man stop holds (no valid ``cmd_vel`` for 0.5 s).
+    ``speed`` is the requested real-time factor (1.0 follows the wall clock) and
+    ``real_time_factor`` the one achieved over the last second; it is lower than ``speed``
+    when the machine cannot keep up (the sim slows down rather than skip physics steps).
+    """
+
+    __msgtype__ = "zenros_msgs/ChassisState"
+    header: Header = msgspec.field(default_factory=Header)
+    estop: bool = False
+    bumper: bool = False
+    docked: bool = False
+    charging: bool = False
+    cmd_timeout: bool = True
+    speed: float = 1.0
+    real_time_factor: float = 0.0
+    battery_percentage: float = 0.0
+
+
+class Obstacle(Message):
+    """A movable obstacle in the ``map`` frame: a circle (``radius``) or a box.
+
+    A box is ``size_x`` by ``size_y`` metres centred on (x, y), turned by ``theta``
+    (radians, counter-clockwise). ``id`` names it for later moves and removal.
+    """
+
+    __msgtype__ = "zenros_msgs/Obstacle"
+    id: str = ""
+    shape: Literal["circle", "box"] = "circle"
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+    radius: float = 0.0
+    size_x: float = 0.0
+    size_y: float = 0.0
+
+
+class SetObstaclesRequest(Message):
+    """Change the movable obstacles.
+
+    ``op``:
+      - ``set`` (default): add each obstacle, or move/reshape the one with the same id;
+      - ``remove``: remove the obstacles named in ``ids`` (and those in ``obstacles``);
+      - ``replace``: the obstacles become exactly ``obstacles``;
+      - ``clear``: remove them all.
+    """
+
+    __msgtype__ = "zenros_msgs/SetObstaclesRequest"
+    op: Literal["set", "remove", "replace", "clear"] = "set"
+    obstacles: list[Obstacle] = msgspec.field(default_factory=list)
+    ids: list[str] = msgspec.field(default_factory=list)
+
+
+class SetObstaclesResponse(Message):
+    """Whether the change was applied, and the obstacles now in the world."""
+
+    __msgtype__ = "zenros_msgs/SetObstaclesResponse"
+    success: bool = False
+    message: str = ""
+    obstacles: list[Obstacle] = msgspec.field(default_factory=list)
+
+
+class TeleportRequest(Message):
+    """Put the robot at ``pose`` (x, y, theta in ``map``); it stops there."""
+
+    __msgtype__ = "zenros_msgs/TeleportRequest"
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+
+
+class TeleportResponse(Message):
+    """``success`` false (with the reason) when the pose is outside the map or blocked."""
+
+    __msgtype__ = "zenros_msgs/TeleportResponse"
+    success: bool = False
+    message: str = ""
+
+
+Teleport = define_service("zenros_msgs/Teleport", TeleportRequest, TeleportResponse)
+SetObstacles = define_service(
+    "zenros_msgs/SetObstacles", SetObstaclesRequest, SetObstaclesResponse
+)
