@@ -168,3 +168,10 @@ class GoalStateError(ActionError):
 
 class ActionServerUnavailableError(ActionError, ConnectionError):
     """No action server answered for an action name."""
+
+
+# ------------------------------------------------------------------ maps
+
+
+class MapError(ZenrosError, ValueError):
+    """A map file (map_server YAML, its image or a side file) is missing or malformed."""
