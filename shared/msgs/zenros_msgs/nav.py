@@ -1,5 +1,529 @@
-"""zenros_msgs for the nav service (see DESIGN.md, "Robot interfaces")."""
+"""zenros_msgs for the nav service (see DESIGN.md, "Robot interfaces"; docs/nav.md).
+
+Maps live under ``$ZENROS_HOME/maps/<name>/``; every per-map service takes ``map_name``,
+and an empty ``map_name`` means the current map. Unknown maps or paths are refused with an
+error naming the known ones (the caller's client raises ``ServiceError``).
+
+- ``map_server/list_maps`` (ListMaps), ``map_server/current_map`` (GetCurrentMap),
+  ``map_server/import_map`` (ImportMap),
+  ``switch_map`` (SwitchMap).
+- ``list_paths`` (ListPaths), ``get_path`` / ``set_path`` / ``delete_path`` (a path's
+  recorded ``x y z`` points), ``get_nav_points`` / ``set_nav_points`` / ``delete_nav_points``
+  (the indexed named poses of a path).
+- ``get_virtual_walls`` / ``set_virtual_walls``, ``get_forbidden_areas`` /
+  ``set_forbidden_areas`` (lethal keep-out in both costmaps), ``get_charge_pose`` /
+  ``set_charge_pose``.
+- ``patrol`` (action Patrol): loop over a path's nav points.
+- ``nav/status`` (NavStatus, latched): what navigation is doing, for the gateway.
+"""
 
 from __future__ import annotations
 
-__all__: list[str] = []
+from typing import Literal
+
+import msgspec
+
+from ...message import Message, define_action, define_service
+from ..builtin_interfaces import Duration
+from ..geometry_msgs import Point, Pose2D, PoseStamped
+from ..std_msgs import Header
+
+__all__ = [
+    "DeleteNavPoints",
+    "DeleteNavPointsRequest",
+    "DeleteNavPointsResponse",
+    "DeletePath",
+    "DeletePathRequest",
+    "DeletePathResponse",
+    "ForbiddenArea",
+    "GetChargePose",
+    "GetChargePoseRequest",
+    "GetChargePoseResponse",
+    "GetCurrentMap",
+    "GetCurrentMapRequest",
+    "GetCurrentMapResponse",
+    "GetForbiddenAreas",
+    "GetForbiddenAreasRequest",
+    "GetForbiddenAreasResponse",
+    "GetNavPoints",
+    "GetNavPointsRequest",
+    "GetNavPointsResponse",
+    "GetPath",
+    "GetPathRequest",
+    "GetPathResponse",
+    "GetVirtualWalls",
+    "GetVirtualWallsRequest",
+    "GetVirtualWallsResponse",
+    "ImportMap",
+    "ImportMapRequest",
+    "ImportMapResponse",
+    "ListMaps",
+    "ListMapsRequest",
+    "ListMapsResponse",
+    "ListPaths",
+    "ListPathsRequest",
+    "ListPathsResponse",
+    "MapInfo",
+    "NavPoint",
+    "NavStatus",
+    "PathRef",
+    "Patrol",
+    "PatrolFeedback",
+    "PatrolGoal",
+    "PatrolResult",
+    "SetChargePose",
+    "SetChargePoseRequest",
+    "SetChargePoseResponse",
+    "SetForbiddenAreas",
+    "SetForbiddenAreasRequest",
+    "SetForbiddenAreasResponse",
+    "SetNavPoints",
+    "SetNavPointsRequest",
+    "SetNavPointsResponse",
+    "SetPath",
+    "SetPathRequest",
+    "SetPathResponse",
+    "SwitchMap",
+    "SwitchMapRequest",
+    "SwitchMapResponse",
+    "VirtualWall",
+]
+
+
+# ------------------------------------------------------------------ data
+
+
+class MapInfo(Message):
+    """A stored map's metadata (the fields of the robot API's ``saved_maps`` entries).
+
+    ``yaml_path`` and ``image_path`` are the map_server files in the maps folder (absolute),
+    for callers on the robot that serve the image as it is.
+    """
+
+    __msgtype__ = "zenros_msgs/MapInfo"
+    name: str = ""
+    resolution: float = 0.0
+    origin: list[float] = msgspec.field(default_factory=lambda: [0.0, 0.0, 0.0])
+    width: int = 0
+    height: int = 0
+    occupied_thresh: float = 0.65
+    free_thresh: float = 0.196
+    negate: int = 0
+    mode: str = "trinary"
+    md5sum: str = ""
+    type: str = "floor"
+    levels: list[int] = msgspec.field(default_factory=list)
+    slam_type: str = "lidar"
+    yaml_path: str = ""
+    image_path: str = ""
+
+
+class NavPoint(Message):
+    """A named pose of a path (robot API §6.6 columns: x y z theta errorX errorY direction name)."""
+
+    __msgtype__ = "zenros_msgs/NavPoint"
+    name: str = ""
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    theta: float = 0.0
+    error_x: float = 0.1
+    error_y: float = 0.1
+    direction: int = 0
+
+
+class PathRef(Message):
+    """A path's name and the map it belongs to."""
+
+    __msgtype__ = "zenros_msgs/PathRef"
+    map_name: str = ""
+    path_name: str = ""
+
+
+class VirtualWall(Message):
+    """A polyline in ``map`` the robot must never cross (lethal, not inflated)."""
+
+    __msgtype__ = "zenros_msgs/VirtualWall"
+    name: str = ""
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+class ForbiddenArea(Message):
+    """A polygon in ``map`` the robot must never enter (lethal, not inflated)."""
+
+    __msgtype__ = "zenros_msgs/ForbiddenArea"
+    name: str = ""
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+class NavStatus(Message):
+    """What navigation is doing, latched on ``nav/status`` at every change and at 2 Hz.
+
+    ``state``: ``idle``, ``navigating``, ``recovering``, ``docking``, ``undocking``,
+    ``charging`` or ``patrolling``. ``goal_status``: 0 none / 1 working / 2 succeeded /
+    3 failed / 4 canceled (for the robot API's targetStatus). ``target_distance`` is the
+    path length left, -1 without a goal.
+    """
+
+    __msgtype__ = "zenros_msgs/NavStatus"
+    header: Header = msgspec.field(default_factory=Header)
+    map_name: str = ""
+    localized: bool = False
+    state: str = "idle"
+    goal_status: int = 0
+    goal: Pose2D = msgspec.field(default_factory=Pose2D)
+    target_distance: float = -1.0
+    error_code: int = 0
+    error_msg: str = ""
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+
+
+# ------------------------------------------------------------------ maps
+
+
+class ListMapsRequest(Message):
+    """``name`` non-empty: only that map."""
+
+    __msgtype__ = "zenros_msgs/ListMapsRequest"
+    name: str = ""
+
+
+class ListMapsResponse(Message):
+    __msgtype__ = "zenros_msgs/ListMapsResponse"
+    maps: list[MapInfo] = msgspec.field(default_factory=list)
+    current: str = ""
+
+
+ListMaps = define_service("zenros_msgs/ListMaps", ListMapsRequest, ListMapsResponse)
+
+
+class GetCurrentMapRequest(Message):
+    __msgtype__ = "zenros_msgs/GetCurrentMapRequest"
+
+
+class GetCurrentMapResponse(Message):
+    __msgtype__ = "zenros_msgs/GetCurrentMapResponse"
+    name: str = ""
+    md5sum: str = ""
+    info: MapInfo = msgspec.field(default_factory=MapInfo)
+
+
+GetCurrentMap = define_service(
+    "zenros_msgs/GetCurrentMap", GetCurrentMapRequest, GetCurrentMapResponse
+)
+
+
+class ImportMapRequest(Message):
+    """Copy a map_server YAML and its image into the maps folder as ``name``.
+
+    An empty ``name`` takes the YAML file's stem. ``overwrite`` false refuses an existing
+    name. Nav points and walls of an existing map are kept when it is overwritten.
+    """
+
+    __msgtype__ = "zenros_msgs/ImportMapRequest"
+    name: str = ""
+    yaml_path: str = ""
+    overwrite: bool = False
+
+
+class ImportMapResponse(Message):
+    __msgtype__ = "zenros_msgs/ImportMapResponse"
+    info: MapInfo = msgspec.field(default_factory=MapInfo)
+
+
+ImportMap = define_service("zenros_msgs/ImportMap", ImportMapRequest, ImportMapResponse)
+
+
+class SwitchMapRequest(Message):
+    __msgtype__ = "zenros_msgs/SwitchMapRequest"
+    map_name: str = ""
+
+
+class SwitchMapResponse(Message):
+    """``success`` false (with ``message``) leaves the current map loaded."""
+
+    __msgtype__ = "zenros_msgs/SwitchMapResponse"
+    success: bool = False
+    message: str = ""
+    info: MapInfo = msgspec.field(default_factory=MapInfo)
+
+
+SwitchMap = define_service("zenros_msgs/SwitchMap", SwitchMapRequest, SwitchMapResponse)
+
+
+# ------------------------------------------------------------------ paths and nav points
+
+
+class ListPathsRequest(Message):
+    """``map_name`` empty: the paths of every map."""
+
+    __msgtype__ = "zenros_msgs/ListPathsRequest"
+    map_name: str = ""
+
+
+class ListPathsResponse(Message):
+    __msgtype__ = "zenros_msgs/ListPathsResponse"
+    paths: list[PathRef] = msgspec.field(default_factory=list)
+
+
+ListPaths = define_service("zenros_msgs/ListPaths", ListPathsRequest, ListPathsResponse)
+
+
+class GetPathRequest(Message):
+    __msgtype__ = "zenros_msgs/GetPathRequest"
+    map_name: str = ""
+    path_name: str = ""
+
+
+class GetPathResponse(Message):
+    """A path's recorded points (robot API ``path_data`` lines ``x y z``)."""
+
+    __msgtype__ = "zenros_msgs/GetPathResponse"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+GetPath = define_service("zenros_msgs/GetPath", GetPathRequest, GetPathResponse)
+
+
+class SetPathRequest(Message):
+    """Create or replace a path's recorded points (its nav points are kept)."""
+
+    __msgtype__ = "zenros_msgs/SetPathRequest"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+class SetPathResponse(Message):
+    __msgtype__ = "zenros_msgs/SetPathResponse"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+SetPath = define_service("zenros_msgs/SetPath", SetPathRequest, SetPathResponse)
+
+
+class DeletePathRequest(Message):
+    """Delete a path and its nav points."""
+
+    __msgtype__ = "zenros_msgs/DeletePathRequest"
+    map_name: str = ""
+    path_name: str = ""
+
+
+class DeletePathResponse(Message):
+    __msgtype__ = "zenros_msgs/DeletePathResponse"
+
+
+DeletePath = define_service("zenros_msgs/DeletePath", DeletePathRequest, DeletePathResponse)
+
+
+class GetNavPointsRequest(Message):
+    __msgtype__ = "zenros_msgs/GetNavPointsRequest"
+    map_name: str = ""
+    path_name: str = ""
+
+
+class GetNavPointsResponse(Message):
+    """The nav points in index order."""
+
+    __msgtype__ = "zenros_msgs/GetNavPointsResponse"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[NavPoint] = msgspec.field(default_factory=list)
+
+
+GetNavPoints = define_service("zenros_msgs/GetNavPoints", GetNavPointsRequest, GetNavPointsResponse)
+
+
+class SetNavPointsRequest(Message):
+    """Create or replace a path's nav points (names, when given, unique within the path)."""
+
+    __msgtype__ = "zenros_msgs/SetNavPointsRequest"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[NavPoint] = msgspec.field(default_factory=list)
+
+
+class SetNavPointsResponse(Message):
+    __msgtype__ = "zenros_msgs/SetNavPointsResponse"
+    map_name: str = ""
+    path_name: str = ""
+    points: list[NavPoint] = msgspec.field(default_factory=list)
+
+
+SetNavPoints = define_service("zenros_msgs/SetNavPoints", SetNavPointsRequest, SetNavPointsResponse)
+
+
+class DeleteNavPointsRequest(Message):
+    __msgtype__ = "zenros_msgs/DeleteNavPointsRequest"
+    map_name: str = ""
+    path_name: str = ""
+
+
+class DeleteNavPointsResponse(Message):
+    __msgtype__ = "zenros_msgs/DeleteNavPointsResponse"
+
+
+DeleteNavPoints = define_service(
+    "zenros_msgs/DeleteNavPoints", DeleteNavPointsRequest, DeleteNavPointsResponse
+)
+
+
+# ------------------------------------------------------------------ keep-out and charge pose
+
+
+class GetVirtualWallsRequest(Message):
+    __msgtype__ = "zenros_msgs/GetVirtualWallsRequest"
+    map_name: str = ""
+
+
+class GetVirtualWallsResponse(Message):
+    __msgtype__ = "zenros_msgs/GetVirtualWallsResponse"
+    map_name: str = ""
+    walls: list[VirtualWall] = msgspec.field(default_factory=list)
+
+
+GetVirtualWalls = define_service(
+    "zenros_msgs/GetVirtualWalls", GetVirtualWallsRequest, GetVirtualWallsResponse
+)
+
+
+class SetVirtualWallsRequest(Message):
+    """Replace a map's virtual walls (an empty list deletes them)."""
+
+    __msgtype__ = "zenros_msgs/SetVirtualWallsRequest"
+    map_name: str = ""
+    walls: list[VirtualWall] = msgspec.field(default_factory=list)
+
+
+class SetVirtualWallsResponse(Message):
+    __msgtype__ = "zenros_msgs/SetVirtualWallsResponse"
+    map_name: str = ""
+    walls: list[VirtualWall] = msgspec.field(default_factory=list)
+
+
+SetVirtualWalls = define_service(
+    "zenros_msgs/SetVirtualWalls", SetVirtualWallsRequest, SetVirtualWallsResponse
+)
+
+
+class GetForbiddenAreasRequest(Message):
+    __msgtype__ = "zenros_msgs/GetForbiddenAreasRequest"
+    map_name: str = ""
+
+
+class GetForbiddenAreasResponse(Message):
+    __msgtype__ = "zenros_msgs/GetForbiddenAreasResponse"
+    map_name: str = ""
+    areas: list[ForbiddenArea] = msgspec.field(default_factory=list)
+
+
+GetForbiddenAreas = define_service(
+    "zenros_msgs/GetForbiddenAreas", GetForbiddenAreasRequest, GetForbiddenAreasResponse
+)
+
+
+class SetForbiddenAreasRequest(Message):
+    """Replace a map's forbidden areas (an empty list deletes them)."""
+
+    __msgtype__ = "zenros_msgs/SetForbiddenAreasRequest"
+    map_name: str = ""
+    areas: list[ForbiddenArea] = msgspec.field(default_factory=list)
+
+
+class SetForbiddenAreasResponse(Message):
+    __msgtype__ = "zenros_msgs/SetForbiddenAreasResponse"
+    map_name: str = ""
+    areas: list[ForbiddenArea] = msgspec.field(default_factory=list)
+
+
+SetForbiddenAreas = define_service(
+    "zenros_msgs/SetForbiddenAreas", SetForbiddenAreasRequest, SetForbiddenAreasResponse
+)
+
+
+class GetChargePoseRequest(Message):
+    __msgtype__ = "zenros_msgs/GetChargePoseRequest"
+    map_name: str = ""
+
+
+class GetChargePoseResponse(Message):
+    """``is_set`` false when the map has no charge pose yet."""
+
+    __msgtype__ = "zenros_msgs/GetChargePoseResponse"
+    map_name: str = ""
+    is_set: bool = False
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+
+
+GetChargePose = define_service(
+    "zenros_msgs/GetChargePose", GetChargePoseRequest, GetChargePoseResponse
+)
+
+
+class SetChargePoseRequest(Message):
+    """Store ``pose`` (or, with ``use_current_pose``, the robot's pose now) as the charger."""
+
+    __msgtype__ = "zenros_msgs/SetChargePoseRequest"
+    map_name: str = ""
+    use_current_pose: bool = False
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+
+
+class SetChargePoseResponse(Message):
+    __msgtype__ = "zenros_msgs/SetChargePoseResponse"
+    map_name: str = ""
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+
+
+SetChargePose = define_service(
+    "zenros_msgs/SetChargePose", SetChargePoseRequest, SetChargePoseResponse
+)
+
+
+# ------------------------------------------------------------------ patrol
+
+
+class PatrolGoal(Message):
+    """Visit a path's nav points in order, ``loops`` times (0 = until canceled).
+
+    ``wait_time`` seconds are spent at each point; ``start_index`` is the first point.
+    """
+
+    __msgtype__ = "zenros_msgs/PatrolGoal"
+    map_name: str = ""
+    path_name: str = ""
+    loops: int = 0
+    wait_time: float = 0.0
+    start_index: int = 0
+
+
+class PatrolResult(Message):
+    """Error codes: NONE 0, UNKNOWN_PATH 1, NO_NAV_POINTS 2, NAVIGATION_FAILED 3."""
+
+    __msgtype__ = "zenros_msgs/PatrolResult"
+    NONE = 0
+    UNKNOWN_PATH = 1
+    NO_NAV_POINTS = 2
+    NAVIGATION_FAILED = 3
+    error_code: int = 0
+    error_msg: str = ""
+    loops_completed: int = 0
+    points_visited: int = 0
+
+
+class PatrolFeedback(Message):
+    __msgtype__ = "zenros_msgs/PatrolFeedback"
+    current_index: int = 0
+    loop: int = 0
+    current_pose: PoseStamped = msgspec.field(default_factory=PoseStamped)
+    distance_remaining: float = 0.0
+    waiting: bool = False
+    navigation_time: Duration = msgspec.field(default_factory=Duration)
+
+
+Patrol = define_action("zenros_msgs/Patrol", PatrolGoal, PatrolResult, PatrolFeedback)
