@@ -8,6 +8,7 @@ from collections.abc import Sequence
 
 from ..errors import StartupError, ZenrosError
 from . import action, graph, node, param, service, smach, tf, topic
+from .common import stdout_closed
 
 EXIT_ERROR = 1
 EXIT_STARTUP = 3
@@ -49,6 +50,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write(f"zenros {args.noun}: {exc}\n")
         return EXIT_ERROR
     except KeyboardInterrupt:
+        return 0
+    except BrokenPipeError:  # `zenros topic echo /chatter | head -4`: the reader has enough
+        stdout_closed()
         return 0
 
 

@@ -8,19 +8,21 @@ import sys
 import threading
 from typing import Any
 
-from ..action import ActionClient, ClientGoalHandle, GoalStatus
+from ..action import ActionClient, ClientGoalHandle, GoalResult, GoalStatus
 from ..codec import from_builtins, to_builtins
 from ..context import Context
-from ..errors import ZenrosError
+from ..errors import ZenrosError, ZenrosTimeout
 from ..message import lookup_action
 from ..names import resolve
 from .common import (
+    STDOUT_CLOSED,
     CliError,
     ToolNode,
     add_common,
     open_context,
     parse_yaml_arg,
     print_data,
+    stdout_closed,
 )
 
 
@@ -96,7 +98,10 @@ def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
 
         def on_feedback(msg: Any) -> None:
             announced.wait(5.0)  # print "Goal accepted" first
-            _show("Feedback:", to_builtins(msg.feedback), args.json)
+            try:
+                _show("Feedback:", to_builtins(msg.feedback), args.json)
+            except BrokenPipeError:
+                stdout_closed()
 
         handle = client.send_goal_async(goal, on_feedback if args.feedback else None)
         return _follow(handle, args.json, announced)
@@ -111,7 +116,7 @@ def _follow(handle: ClientGoalHandle, as_json: bool, announced: threading.Event)
             return 1
         print(f"Goal accepted with ID: {handle.goal_id.hex}\n", flush=True)
         announced.set()
-        outcome = handle.result()
+        outcome = _result(handle)
     except KeyboardInterrupt:
         with _OUT:
             print("Canceling goal...", flush=True)
@@ -128,6 +133,16 @@ def _follow(handle: ClientGoalHandle, as_json: bool, announced: threading.Event)
             _print(to_builtins(outcome.result), as_json)
         print(f"Goal finished with status: {outcome.status.name}", flush=True)
     return 0 if interrupted or outcome.status is GoalStatus.SUCCEEDED else 1
+
+
+def _result(handle: ClientGoalHandle) -> GoalResult:
+    """The goal's end; a closed stdout (``| head``) stops the wait as Ctrl-C does."""
+    while not STDOUT_CLOSED.is_set():
+        try:
+            return handle.result(0.2)
+        except ZenrosTimeout:
+            continue
+    raise KeyboardInterrupt
 
 
 _OUT = threading.Lock()  # feedback prints from another thread: keep each block whole

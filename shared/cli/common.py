@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import threading
 from typing import Any
 
 import msgspec
@@ -17,6 +19,7 @@ from ..node import Node
 from ..session import add_session_arguments, options_from_args
 
 __all__ = [
+    "STDOUT_CLOSED",
     "CliError",
     "ToolNode",
     "add_common",
@@ -24,7 +27,25 @@ __all__ = [
     "parse_yaml_arg",
     "payload_to_data",
     "print_data",
+    "stdout_closed",
 ]
+
+STDOUT_CLOSED = threading.Event()
+"""Set once stdout's reader has gone (``zenros topic echo /chatter | head -4``)."""
+
+
+def stdout_closed() -> None:
+    """Note that stdout's reader went away: later writes (and the flush at exit) go to
+    /dev/null, and streaming verbs stop quietly as they do on Ctrl-C."""
+    if not STDOUT_CLOSED.is_set():
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        finally:
+            os.close(devnull)
+        STDOUT_CLOSED.set()
 
 
 class ToolNode(Node):

@@ -26,6 +26,7 @@ from .common import (
     parse_yaml_arg,
     payload_to_data,
     print_data,
+    stdout_closed,
 )
 
 
@@ -136,7 +137,12 @@ def _echo(ctx: Any, args: argparse.Namespace) -> int:
             if done.is_set():
                 return
             data = payload_to_data(sample.payload.to_bytes(), str(sample.encoding))
-            print_data(data, args.json)
+            try:
+                print_data(data, args.json)
+            except BrokenPipeError:
+                stdout_closed()
+                done.set()
+                return
             count += 1
             if limit and count >= limit:
                 done.set()

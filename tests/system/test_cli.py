@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shlex
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -146,3 +147,33 @@ def test_echo_gets_a_latched_message_published_before_it_started(router: str, pr
     finally:
         node.close()
         ctx.close()
+
+
+@pytest.mark.parametrize(
+    "verb, lines",
+    [
+        (["topic", "echo", "/chatter"], 4),
+        (["topic", "echo", "/chatter", "--json"], 2),
+        (["topic", "hz", "/chatter"], 1),
+        (["topic", "bw", "/chatter"], 1),
+        (["tf", "echo", "world", "pipe_frame", "-r", "20"], 3),
+    ],
+)
+def test_streaming_verb_piped_into_head_exits_quietly(
+    system: tuple[str, str], verb: list[str], lines: int
+) -> None:
+    """`zenros topic echo /chatter | head -4`: no BrokenPipeError, and the verb ends."""
+    router, prefix = system
+    static = Proc([sys.executable, "-m", "zenros.cli", "tf", "static", "1", "0", "0", "0", "0",
+                   "0", "world", "pipe_frame", "-e", router, "--prefix", prefix])
+    try:
+        assert static.wait_line("publishing static transform", 15), static.output
+        cmd = " ".join([shlex.quote(sys.executable), "-m", "zenros.cli",
+                        *map(shlex.quote, verb), "-e", router, "--prefix", prefix])
+        r = subprocess.run(["bash", "-c", f"set -o pipefail; {cmd} | head -{lines}"],
+                           capture_output=True, text=True, timeout=30, check=False)
+        assert r.returncode == 0, (r.stdout, r.stderr)
+        assert len(r.stdout.splitlines()) == lines
+        assert "Traceback" not in r.stderr and "Broken pipe" not in r.stderr, r.stderr
+    finally:
+        static.stop()
