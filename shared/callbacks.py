@@ -11,6 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .executor import CallbackGroup, Executor, ReentrantCallbackGroup
+from .log import ErrorLog
 
 __all__ = ["make_dispatch"]
 
@@ -23,22 +24,30 @@ def make_dispatch(
     what: str,
     group: CallbackGroup | None = None,
     depth: int = 10,
+    errors: ErrorLog | None = None,
 ) -> Callable[[Any], None]:
     """Return ``dispatch(arg)``, safe to call from any thread, that runs ``fn(arg)``.
 
     A sync ``fn`` runs right away on the calling thread (inside ``group``'s lock if any).
     An ``async def fn`` is queued (at most ``depth`` pending, the oldest dropped) and run one
-    at a time, in arrival order, on the executor's loop.
+    at a time, in arrival order, on the executor's loop. Exceptions ``fn`` raises are
+    counted in ``errors`` and logged with their traceback, rate-limited per exception type.
     """
+    errs = errors if errors is not None else ErrorLog(logger)
+
+    def report(exc: Exception) -> None:
+        errs.report(type(exc).__name__, logging.ERROR, "%s callback raised %s: %s", what,
+                    type(exc).__name__, exc, exc_info=exc)
+
     if inspect.iscoroutinefunction(fn):
-        return _AsyncDispatch(fn, executor, logger, what, group, depth)
+        return _AsyncDispatch(fn, executor, logger, what, group, depth, report)
     if group is None or type(group) is ReentrantCallbackGroup:
 
         def dispatch(arg: Any) -> None:
             try:
                 fn(arg)
-            except Exception:
-                logger.exception("%s callback raised", what)
+            except Exception as exc:  # noqa: BLE001 user code never raises into Zenoh
+                report(exc)
 
         return dispatch
 
@@ -47,8 +56,8 @@ def make_dispatch(
     def dispatch_grouped(arg: Any) -> None:
         try:
             run(fn, arg)
-        except Exception:
-            logger.exception("%s callback raised", what)
+        except Exception as exc:  # noqa: BLE001 user code never raises into Zenoh
+            report(exc)
 
     return dispatch_grouped
 
@@ -62,8 +71,10 @@ class _AsyncDispatch:
         what: str,
         group: CallbackGroup | None,
         depth: int,
+        report: Callable[[Exception], None],
     ) -> None:
         self.fn = fn
+        self.report = report
         self.executor = executor
         self.logger = logger
         self.what = what
@@ -93,8 +104,8 @@ class _AsyncDispatch:
                 arg = self.pending.popleft()
                 try:
                     await self.fn(arg)
-                except Exception:
-                    self.logger.exception("%s callback raised", self.what)
+                except Exception as exc:  # noqa: BLE001 user code never stops the queue
+                    self.report(exc)
                 self.executor.mark_work()
         finally:
             self.running = False

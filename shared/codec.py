@@ -101,6 +101,10 @@ class Codec(Generic[M]):
             return msg
         except (msgspec.DecodeError, ValueError, TypeError) as exc:
             raise DecodeError(f"expected {self.type_name}: {exc}") from exc
+        except RecursionError:  # deep nesting ([[[[...): hostile or broken, never a message
+            raise DecodeError(f"expected {self.type_name}: nested too deeply") from None
+        except Exception as exc:  # noqa: BLE001 whatever the payload does, callers get one error
+            raise DecodeError(f"expected {self.type_name}: {type(exc).__name__}: {exc}") from exc
 
     def check_encoding(self, encoding: str) -> None:
         """Raise `TypeMismatchError` when a sample's encoding names another type."""

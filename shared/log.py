@@ -10,7 +10,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["RosoutHandler", "Throttle", "configure_logging", "level_from_name", "node_logger"]
+__all__ = ["ErrorLog", "RosoutHandler", "Throttle", "configure_logging", "level_from_name",
+           "node_logger"]
 
 _LEVELS = {
     "debug": logging.DEBUG,
@@ -109,3 +110,29 @@ class Throttle:
             return True
         self.suppressed[key] = self.suppressed.get(key, 0) + 1
         return False
+
+
+class ErrorLog:
+    """Counts the errors of one endpoint and logs them, at most once per key per ``period``.
+
+    A hostile or broken peer can send thousands of bad requests a second: each one is
+    counted (``count``), but only the first per key (usually the sender or the error kind)
+    in each period is logged, with how many were suppressed since.
+    """
+
+    def __init__(self, logger: logging.Logger, period: float = 5.0) -> None:
+        self.count = 0
+        self._logger = logger
+        self._throttle = Throttle(period)
+        self._lock = threading.Lock()
+
+    def report(self, key: Any, level: int, msg: str, *args: Any,
+               exc_info: BaseException | None = None) -> None:
+        with self._lock:
+            self.count += 1
+            if not self._throttle.allow(key):
+                return
+            extra = self._throttle.suppressed.pop(key, 0)
+        if extra:
+            msg += f" ({extra} more suppressed)"
+        self._logger.log(level, msg, *args, exc_info=exc_info)

@@ -16,7 +16,7 @@ from .callbacks import make_dispatch
 from .codec import codec_for
 from .errors import CodecError, EncodeError
 from .executor import CallbackGroup
-from .log import Throttle
+from .log import ErrorLog, Throttle
 from .message import Message
 from .qos import QoSProfile, Reliability
 
@@ -179,9 +179,10 @@ class Subscription(Generic[M]):
         # A plain sync callback with no group is called straight from the receive loop.
         self._direct = (callback if group is None and not inspect.iscoroutinefunction(callback)
                         else None)
+        self._callback_errors = ErrorLog(logger)
         self._dispatch = make_dispatch(
             callback, executor=ctx.executor, logger=logger, what=f"subscription {topic}",
-            group=group, depth=qos.depth,
+            group=group, depth=qos.depth, errors=self._callback_errors,
         )
         self._sub: Any
         if qos.latched:
@@ -229,27 +230,40 @@ class Subscription(Generic[M]):
     def _pump(self) -> None:
         """Drain the channel: `_on_sample` written out, with locals, for the hot path."""
         encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
-        direct, logger, what = self._direct, self._logger, self.topic
+        direct = self._direct
         try:
             for sample in self._sub.handler:  # ends when the subscriber is undeclared
-                if sample.encoding != encoding:
-                    self._check(sample)
-                    continue
                 try:
-                    msg = decode(sample.payload.to_bytes())
-                except Exception as exc:  # noqa: BLE001 msgspec's DecodeError / ValidationError
-                    self._reject(f"expected {self._codec.type_name}: {exc}",
-                                 self._sender(sample))
-                    continue
-                if direct is None:
-                    dispatch(msg)
-                    continue
-                try:
-                    direct(msg)
-                except Exception:
-                    logger.exception("subscription %s callback raised", what)
+                    if sample.encoding != encoding:
+                        self._check(sample)
+                        continue
+                    try:
+                        msg = decode(sample.payload.to_bytes())
+                    except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
+                        self._reject(f"expected {self._codec.type_name}: {exc}",
+                                     self._sender(sample))
+                        continue
+                    if direct is None:
+                        dispatch(msg)
+                        continue
+                    try:
+                        direct(msg)
+                    except Exception as exc:  # noqa: BLE001 user code never stops the pump
+                        self._callback_raised(exc)
+                except Exception as exc:  # noqa: BLE001 no sample stops the pump
+                    self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
+
+    @property
+    def callback_errors(self) -> int:
+        """Messages whose callback raised (logged with the traceback, rate-limited)."""
+        return self._callback_errors.count
+
+    def _callback_raised(self, exc: Exception) -> None:
+        self._callback_errors.report(type(exc).__name__, logging.ERROR,
+                                     "subscription %s callback raised %s: %s", self.topic,
+                                     type(exc).__name__, exc, exc_info=exc)
 
     def _deliver_local(self, msg: Any, pub: Publisher[Any]) -> None:
         if type(msg) is not self.msg_type:
@@ -261,15 +275,18 @@ class Subscription(Generic[M]):
     def _on_sample(self, sample: zenoh.Sample) -> None:
         # The hot path: one encoding comparison, one decode, one call. Anything unusual
         # (another type, a bad payload) takes the slow path in _check.
-        if sample.encoding != self._encoding:
-            self._check(sample)
-            return
         try:
-            msg = self._decode(sample.payload.to_bytes())
-        except Exception as exc:  # noqa: BLE001 msgspec's DecodeError / ValidationError
-            self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
-            return
-        self._dispatch(msg)
+            if sample.encoding != self._encoding:
+                self._check(sample)
+                return
+            try:
+                msg = self._decode(sample.payload.to_bytes())
+            except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
+                self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
+                return
+            self._dispatch(msg)
+        except Exception as exc:  # noqa: BLE001 nothing raises into Zenoh's thread
+            self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
 
     def _check(self, sample: zenoh.Sample) -> None:
         try:

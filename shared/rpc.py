@@ -23,6 +23,7 @@ from .errors import (
     ZenrosTimeout,
 )
 from .executor import CallbackGroup
+from .log import ErrorLog
 from .message import Message, ServiceType
 
 if TYPE_CHECKING:
@@ -36,6 +37,14 @@ QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
 def error_payload(kind: str, message: str) -> bytes:
     """The JSON body of a ``reply_err``: ``{"error": kind, "message": ...}``."""
     return json.dumps({"error": kind, "message": message}).encode()
+
+
+def _reply_err(query: zenoh.Query, kind: str, message: str) -> None:
+    """Answer ``query`` with an error; a query already answered or finalized is left alone."""
+    try:
+        query.reply_err(error_payload(kind, message))
+    except zenoh.ZError:
+        pass
 
 
 def _parse_error(data: bytes) -> str:
@@ -75,6 +84,7 @@ class Service:
         self._res = codec_for(srv_type.Response)
         self._res_encoding = zenoh.Encoding(self._res.mime).with_schema(self._res.type_name)
         self._handler = handler
+        self._errors = ErrorLog(logger)
         self._is_async = inspect.iscoroutinefunction(handler)
         try:
             self._two_args = len(inspect.signature(handler).parameters) >= 2
@@ -96,7 +106,10 @@ class Service:
     def _serve_queue(self) -> None:
         try:
             for query in self._queryable.handler:  # ends when the queryable is undeclared
-                self._on_query(query)
+                try:
+                    self._on_query(query)
+                except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
+                    self._internal_error(query, exc)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
 
@@ -115,6 +128,11 @@ class Service:
                 return
             self._reply(query, res)
 
+    @property
+    def errors(self) -> int:
+        """Requests answered with an error: bad requests, handler exceptions, bad responses."""
+        return self._errors.count
+
     def _request(self, query: zenoh.Query) -> Message | None:
         payload = query.payload
         try:
@@ -122,8 +140,9 @@ class Service:
             return msg
         except CodecError as exc:
             reason = str(exc)
-        self._logger.warning("service %s: bad request: %s", self.name, reason)
-        query.reply_err(error_payload("BadRequest", reason))
+        self._errors.report("BadRequest", logging.WARNING, "service %s: bad request: %s",
+                            self.name, reason)
+        _reply_err(query, "BadRequest", reason)
         return None
 
     def _call(self, req: Message) -> Any:
@@ -132,32 +151,44 @@ class Service:
         return self._handler(req)
 
     async def _serve_async(self, query: zenoh.Query) -> None:
-        with query:
-            req = self._request(query)
-            if req is None:
-                return
-            try:
-                if self._two_args:
-                    res = await self._handler(req, self.srv_type.Response())
-                else:
-                    res = await self._handler(req)
-            except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
-                self._fail(query, exc)
-                return
-            self._reply(query, res)
-        self._ctx.executor.mark_work()
+        try:
+            with query:
+                req = self._request(query)
+                if req is None:
+                    return
+                try:
+                    if self._two_args:
+                        res = await self._handler(req, self.srv_type.Response())
+                    else:
+                        res = await self._handler(req)
+                except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
+                    self._fail(query, exc)
+                    return
+                self._reply(query, res)
+        except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
+            self._internal_error(query, exc)
+        finally:
+            self._ctx.executor.mark_work()
 
     def _fail(self, query: zenoh.Query, exc: Exception) -> None:
-        self._logger.error("service %s: handler raised %s: %s", self.name,
-                           type(exc).__name__, exc, exc_info=exc)
-        query.reply_err(error_payload(type(exc).__name__, str(exc)))
+        self._errors.report(type(exc).__name__, logging.ERROR, "service %s: handler raised %s: %s",
+                            self.name, type(exc).__name__, exc, exc_info=exc)
+        _reply_err(query, type(exc).__name__, str(exc))
+
+    def _internal_error(self, query: zenoh.Query, exc: Exception) -> None:
+        """Something other than the handler failed on a request (a bug, or a reply Zenoh
+        refused): answer if the query is still open, count, log, and go on serving."""
+        self._errors.report("InternalError", logging.ERROR, "service %s: request failed: %s: %s",
+                            self.name, type(exc).__name__, exc, exc_info=exc)
+        _reply_err(query, "InternalError", f"{type(exc).__name__}: {exc}")
 
     def _reply(self, query: zenoh.Query, res: Any) -> None:
         try:
             data = self._res.encode(res)
         except EncodeError as exc:
-            self._logger.error("service %s: handler returned a bad response: %s", self.name, exc)
-            query.reply_err(error_payload("BadResponse", str(exc)))
+            self._errors.report("BadResponse", logging.ERROR,
+                                "service %s: handler returned a bad response: %s", self.name, exc)
+            _reply_err(query, "BadResponse", str(exc))
             return
         query.reply(query.key_expr, data, encoding=self._res_encoding)
 

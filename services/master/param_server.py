@@ -12,12 +12,14 @@
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections.abc import Callable
 from typing import Any
 
 import zenoh
 from zenros.errors import InvalidNameError, ParameterError, ParameterNotFoundError
+from zenros.log import ErrorLog
 from zenros.node import Node
 from zenros.param_protocol import (
     DELETE_PARAM,
@@ -121,6 +123,7 @@ class ParamServer:
         self._cache: dict[str, tuple[bytes, zenoh.Encoding]] = {}
         self._cache_lock = threading.Lock()
         self._generation = 0
+        self._errors = ErrorLog(node.logger)
         self._queryable = self._session.declare_queryable(
             param_key(ctx.keys, "/**"), self._on_get, complete=True
         )
@@ -142,23 +145,35 @@ class ParamServer:
 
     def _on_get(self, query: zenoh.Query) -> None:
         with query:
-            key = str(query.key_expr)
-            hit = self._cache.get(key)
-            if hit is None:
-                if any(c in key for c in "*$"):
-                    self._reply_leaves(query)
-                    return
-                generation = self._generation
+            try:
+                self._answer_get(query)
+            except Exception as exc:  # noqa: BLE001 nothing a read does stops the server
+                self._errors.report(type(exc).__name__, logging.ERROR,
+                                    "parameter read failed: %s: %s", type(exc).__name__, exc,
+                                    exc_info=exc)
                 try:
-                    value = self._store.get(param_name(self._keys, key))
-                except _FAILURES as exc:
-                    query.reply_err(error_payload(type(exc).__name__, str(exc)))
-                    return
-                hit = _encoded(value)
-                with self._cache_lock:
-                    if generation == self._generation and len(self._cache) < _CACHE_SIZE:
-                        self._cache[key] = hit
-            query.reply(query.key_expr, hit[0], encoding=hit[1])
+                    query.reply_err(error_payload("InternalError", f"{type(exc).__name__}: {exc}"))
+                except zenoh.ZError:
+                    pass
+
+    def _answer_get(self, query: zenoh.Query) -> None:
+        key = str(query.key_expr)
+        hit = self._cache.get(key)
+        if hit is None:
+            if any(c in key for c in "*$"):
+                self._reply_leaves(query)
+                return
+            generation = self._generation
+            try:
+                value = self._store.get(param_name(self._keys, key))
+            except _FAILURES as exc:
+                query.reply_err(error_payload(type(exc).__name__, str(exc)))
+                return
+            hit = _encoded(value)
+            with self._cache_lock:
+                if generation == self._generation and len(self._cache) < _CACHE_SIZE:
+                    self._cache[key] = hit
+        query.reply(query.key_expr, hit[0], encoding=hit[1])
 
     def _reply_leaves(self, query: zenoh.Query) -> None:
         wanted = query.key_expr

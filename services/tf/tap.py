@@ -107,14 +107,16 @@ class _Endpoint:
             self._handle(msg, self._authorities.of(self._ctx.zid, self.topic))
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
-        ts = sample.timestamp
-        sender = self._authorities.of(str(ts.get_id()), self.topic) if ts else "unknown"
+        sender = "unknown"
         try:
+            ts = sample.timestamp
+            sender = self._authorities.of(str(ts.get_id()), self.topic) if ts else "unknown"
             if sample.encoding != self._encoding:
                 self._codec.check_encoding(str(sample.encoding))
             msg = self._codec.decode(sample.payload.to_bytes())
-        except CodecError as exc:
-            self._reject(str(exc), sender)
+        except Exception as exc:  # noqa: BLE001 nothing raises into Zenoh's thread
+            self._reject(str(exc) if isinstance(exc, CodecError)
+                         else f"{type(exc).__name__}: {exc}", sender)
             return
         self._handle(msg, sender)
 

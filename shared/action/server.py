@@ -4,6 +4,7 @@ the feedback and status topics; a `GoalRunner` runs the goals."""
 from __future__ import annotations
 
 import inspect
+import logging
 import threading
 import time
 from collections.abc import Callable
@@ -13,6 +14,7 @@ import zenoh
 
 from ..codec import codec_for
 from ..errors import EncodeError, GoalRejectedError, GoalStateError
+from ..log import ErrorLog
 from ..message import ActionType
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
@@ -100,6 +102,7 @@ class ActionServer:
         self._enc = {t: encoding_for(t) for t in (wire.SendGoalResponse, wire.GetResultResponse,
                                                   CancelGoalResponse)}
         self._lock = threading.RLock()
+        self._errors = ErrorLog(self.logger)
         self._table = GoalTable(result_timeout, status_history)
         s, key = ctx.session, self._key
         self._status = StatusPublisher(s, key("status"), ctx.executor, self._table.status_list,
@@ -134,59 +137,76 @@ class ActionServer:
     def _serve(self) -> None:
         try:
             for query in self._queryable.handler:  # ends when the queryable is undeclared
-                try:
-                    self._on_query(query)
-                except Exception:  # a bad request must not stop the server
-                    self.logger.exception("action %s: request failed", self.name)
+                self._on_query(query)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
 
+    @property
+    def errors(self) -> int:
+        """Requests answered with an error (bad requests, internal failures)."""
+        return self._errors.count
+
     def _on_query(self, query: zenoh.Query) -> None:
-        part = str(query.key_expr).rsplit("/", 1)[-1]
-        handler = self._handlers.get(part)
-        if handler is not None:
-            handler(query)
-        else:
-            self._reply_err(query, "BadRequest", f"action {self.name}: no request {part!r}; "
-                                                 f"valid: {', '.join(self._handlers)}")
+        """Route one request; whatever it does, it is answered and the server keeps serving.
+        A send_goal or cancel_goal query is finalized here; a get_result one may wait for
+        its goal's end (then `_deliver` answers it)."""
+        part = ""
+        try:
+            part = str(query.key_expr).rsplit("/", 1)[-1]
+            handler = self._handlers.get(part)
+            if handler is not None:
+                handler(query)
+            else:
+                self._reply_err(query, "BadRequest", f"action {self.name}: no request "
+                                f"{part!r}; valid: {', '.join(self._handlers)}")
+        except Exception as exc:  # noqa: BLE001 nothing a request does stops the server
+            self._errors.report("InternalError", logging.ERROR,
+                                "action %s: %s request failed: %s: %s", self.name, part or "a",
+                                type(exc).__name__, exc, exc_info=exc)
+            try:
+                answer_err(query, "InternalError", f"{type(exc).__name__}: {exc}")
+            except zenoh.ZError:  # already answered or finalized
+                pass
+        finally:
+            if part != "get_result":
+                query.drop()  # type: ignore[no-untyped-call]
 
     def _reply_err(self, query: zenoh.Query, kind: str, message: str) -> None:
         if kind == "BadRequest":
-            self.logger.warning("%s", message)
+            self._errors.report(kind, logging.WARNING, "%s", message)
         answer_err(query, kind, message)
 
     # ------------------------------------------------------------------ send_goal
 
     def _on_send_goal(self, query: zenoh.Query) -> None:
-        with query:
-            req = decode_query(query, self._sg_req, f"action {self.name} send_goal")
-            if isinstance(req, str):
-                return self._reply_err(query, "BadRequest", req)
-            gid = uuid_from_msg(req.goal_id)
-            if gid == ZERO_UUID:
-                return self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
-                                       "goal_id must be a non-zero UUID")
-            handle: Handle = ServerGoalHandle(self, gid, req.goal)
-            with self._lock:  # registered at once: a get_result right behind it will wait
-                fresh = not self._closing and self._table.add_pending(handle)
-            if not fresh:
-                why = "server is shutting down" if self._closing else f"duplicate goal id {gid}"
-                return self._respond(query, False, why)
-            reason = self._ask_goal_callback(req.goal)
-            with self._lock:
-                if not reason and self._closing:
-                    reason = "server is shutting down"
-                plan = None if reason else self._runner.sched.offer(handle._key)
-                if plan is None or plan.reject:
-                    reason = reason or (plan.reject if plan else "")
-                    self._table.remove(handle)
-                    for w in handle._waiters:
-                        self._reply_err(w, "GoalRejected", reason)
-                    return self._respond(query, False, reason)
-                handle.stamp = handle._info.stamp = self._node.now()
-                launch = self._runner.accept(handle, plan)
-                self._respond(query, True, "", handle)  # answer first, then run the goal
-                self._runner.launch(launch)
+        req = decode_query(query, self._sg_req, f"action {self.name} send_goal")
+        if isinstance(req, str):
+            return self._reply_err(query, "BadRequest", req)
+        gid = uuid_from_msg(req.goal_id)
+        if gid == ZERO_UUID:
+            return self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
+                                   "goal_id must be a non-zero UUID")
+        handle: Handle = ServerGoalHandle(self, gid, req.goal)
+        with self._lock:  # registered at once: a get_result right behind it will wait
+            fresh = not self._closing and self._table.add_pending(handle)
+        if not fresh:
+            why = "server is shutting down" if self._closing else f"duplicate goal id {gid}"
+            return self._respond(query, False, why)
+        reason = self._ask_goal_callback(req.goal)
+        with self._lock:
+            if not reason and self._closing:
+                reason = "server is shutting down"
+            plan = None if reason else self._runner.sched.offer(handle._key)
+            if plan is None or plan.reject:
+                reason = reason or (plan.reject if plan else "")
+                self._table.remove(handle)
+                for w in handle._waiters:
+                    self._reply_err(w, "GoalRejected", reason)
+                return self._respond(query, False, reason)
+            handle.stamp = handle._info.stamp = self._node.now()
+            launch = self._runner.accept(handle, plan)
+            self._respond(query, True, "", handle)  # answer first, then run the goal
+            self._runner.launch(launch)
 
     def _ask_goal_callback(self, goal: Any) -> str:
         """'' to accept, else the rejection reason."""
@@ -213,28 +233,27 @@ class ActionServer:
     # ------------------------------------------------------------------ cancel_goal
 
     def _on_cancel(self, query: zenoh.Query) -> None:
-        with query:
-            req = decode_query(query, self._cg_req, f"action {self.name} cancel_goal")
-            if isinstance(req, str):
-                return self._reply_err(query, "BadRequest", req)
-            gid = uuid_from_msg(req.goal_info.goal_id)
-            key = None if gid == ZERO_UUID else gid.bytes
-            stamp = req.goal_info.stamp
-            stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-            with self._lock:
-                targets = list(self._table.cancel_targets(key, stamp_ns))
-                state = self._table.terminal_or_unknown(key) if key else GoalStatus.UNKNOWN
-            if key is not None and stamp_ns == 0 and not targets:
-                code = (CancelCode.ERROR_UNKNOWN_GOAL_ID if state is GoalStatus.UNKNOWN
-                        else CancelCode.ERROR_GOAL_TERMINATED)
-                return self._reply_cancel(query, code, [])
-            accepted = [h for h in targets
-                        if h._status is GoalStatus.CANCELING or self._ask_cancel_callback(h)]
-            with self._lock:
-                for h in accepted:
-                    self._runner.request_cancel(h)
-            code = CancelCode.ERROR_REJECTED if targets and not accepted else CancelCode.ERROR_NONE
-            self._reply_cancel(query, code, accepted)
+        req = decode_query(query, self._cg_req, f"action {self.name} cancel_goal")
+        if isinstance(req, str):
+            return self._reply_err(query, "BadRequest", req)
+        gid = uuid_from_msg(req.goal_info.goal_id)
+        key = None if gid == ZERO_UUID else gid.bytes
+        stamp = req.goal_info.stamp
+        stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        with self._lock:
+            targets = list(self._table.cancel_targets(key, stamp_ns))
+            state = self._table.terminal_or_unknown(key) if key else GoalStatus.UNKNOWN
+        if key is not None and stamp_ns == 0 and not targets:
+            code = (CancelCode.ERROR_UNKNOWN_GOAL_ID if state is GoalStatus.UNKNOWN
+                    else CancelCode.ERROR_GOAL_TERMINATED)
+            return self._reply_cancel(query, code, [])
+        accepted = [h for h in targets
+                    if h._status is GoalStatus.CANCELING or self._ask_cancel_callback(h)]
+        with self._lock:
+            for h in accepted:
+                self._runner.request_cancel(h)
+        code = CancelCode.ERROR_REJECTED if targets and not accepted else CancelCode.ERROR_NONE
+        self._reply_cancel(query, code, accepted)
 
     def _ask_cancel_callback(self, h: Handle) -> bool:
         if self._cancel_cb is None:

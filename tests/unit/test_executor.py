@@ -17,6 +17,7 @@ from zenros.executor import (
     MutuallyExclusiveCallbackGroup,
     ReentrantCallbackGroup,
 )
+from zenros.log import ErrorLog
 
 WAIT = 5.0
 LOG = logging.getLogger("zenros_test.executor")
@@ -245,7 +246,7 @@ def test_sync_dispatch_errors_are_logged_not_raised(
         dispatch(2)
     assert seen == [1, 2]
     [record] = [r for r in caplog.records if r.name == LOG.name]
-    assert record.getMessage() == "subscription /odom callback raised"
+    assert record.getMessage() == "subscription /odom callback raised ValueError: bad sample"
     assert record.exc_info is not None and isinstance(record.exc_info[1], ValueError)
 
 
@@ -327,15 +328,16 @@ def test_async_dispatch_errors_are_logged_and_draining_goes_on(
             raise ValueError(f"odd {n}")
         rec.add(n)
 
-    dispatch = make_dispatch(cb, executor=executor, logger=LOG, what="async cb")
+    errs = ErrorLog(LOG)
+    dispatch = make_dispatch(cb, executor=executor, logger=LOG, what="async cb", errors=errs)
     with caplog.at_level(logging.ERROR, logger=LOG.name):
         for i in range(6):
             dispatch(i)
         assert rec.wait_count(3) == [0, 2, 4]
         barrier(executor)
+    assert errs.count == 3  # every one counted, one logged per type and period
     errors = [r for r in caplog.records if r.name == LOG.name and r.levelno == logging.ERROR]
-    assert len(errors) == 3
-    assert all(r.getMessage() == "async cb callback raised" for r in errors)
+    assert [r.getMessage() for r in errors] == ["async cb callback raised ValueError: odd 1"]
 
 
 def test_async_dispatch_marks_work(executor: Executor) -> None:
