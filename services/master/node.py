@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
+from zenros.home import data_dir
 from zenros.node import Node
 
 from .param_server import ParamServer
@@ -15,11 +13,6 @@ from .replica import Replicator
 __all__ = ["DB_NAME", "MasterNode", "data_dir"]
 
 DB_NAME = "params.db"
-
-
-def data_dir(configured: str = "") -> Path:
-    """The data dir: ``configured``, else ``$ZENROS_HOME``, else ``~/.zenros``."""
-    return Path(configured or os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
 
 
 class MasterNode(Node):
