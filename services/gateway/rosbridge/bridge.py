@@ -1,0 +1,208 @@
+"""`Bridge`: the zenros endpoints every rosbridge client shares (one per topic, service,
+action), created on demand through a zenros `Node` and released when the last client goes."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Protocol
+
+from zenros.errors import InvalidNameError, UnknownTypeError
+from zenros.message import ActionType, Message, ServiceType, lookup_type, normalize_type_name
+from zenros.node import Node
+from zenros.param_client import ParameterClient
+from zenros.qos import Durability, QoSProfile, Reliability
+
+from .convert import encode_message, long_type, publish_frame
+from .rosapi import Rosapi
+
+if TYPE_CHECKING:
+    from zenros.pubsub import Publisher, Subscription
+    from zenros.rpc import Client
+
+__all__ = ["Bridge", "BridgeError", "Sink"]
+
+
+class BridgeError(ValueError):
+    """A request the bridge refuses (unknown type, type conflict, no such topic)."""
+
+
+class Sink(Protocol):
+    """A client that receives topic frames."""
+
+    def deliver(self, topic: str, frame: bytes) -> None: ...
+
+
+def _qos_like(tags: list[str]) -> QoSProfile:
+    """A subscription profile that hears every publisher: latched if any is, best effort
+    only if all are."""
+    latched = any("+tl" in t for t in tags)
+    best_effort = bool(tags) and all(t.startswith("be") for t in tags)
+    return QoSProfile(
+        depth=10,
+        reliability=Reliability.BEST_EFFORT if best_effort else Reliability.RELIABLE,
+        durability=Durability.TRANSIENT_LOCAL if latched else Durability.VOLATILE,
+    )
+
+
+class TopicFeed:
+    """One subscription shared by every client on a topic; encodes each message once."""
+
+    def __init__(self, bridge: Bridge, topic: str, msg_type: type[Message]) -> None:
+        self.topic = topic
+        self.msg_type = msg_type
+        self.type_name = normalize_type_name(msg_type.__msgtype__)
+        self.sinks: set[Sink] = set()
+        self._loop = bridge.loop
+        tags = [t.qos for t in bridge.node.graph.publishers(topic)]
+        self.sub: Subscription[Any] = bridge.node.create_subscription(
+            msg_type, topic, self._on_message, _qos_like(tags))
+
+    def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
+        frame = publish_frame(self.topic, encode_message(msg))
+        try:
+            self._loop.call_soon_threadsafe(self._fan_out, frame)
+        except RuntimeError:  # the loop closed under a late sample at shutdown
+            pass
+
+    def _fan_out(self, frame: bytes) -> None:
+        for sink in tuple(self.sinks):
+            sink.deliver(self.topic, frame)
+
+
+class Bridge:
+    """Shared endpoints and the rosapi, for the clients of one rosbridge server.
+
+    Every method runs on the server's event loop (``loop``).
+    """
+
+    def __init__(self, node: Node, loop: asyncio.AbstractEventLoop) -> None:
+        self.node = node
+        self.loop = loop
+        self.feeds: dict[str, TopicFeed] = {}
+        self.publishers: dict[str, tuple[Publisher[Any], set[object]]] = {}
+        self._clients: dict[tuple[str, str], Client] = {}
+        self._action_clients: dict[tuple[str, str], Any] = {}
+        self.params = ParameterClient(node.context, timeout=2.5)
+        self.rosapi = Rosapi(node.graph, self.params, node.now)
+
+    # ------------------------------------------------------------------ types
+
+    def topic_type(self, topic: str, requested: str | None) -> type[Message]:
+        """The message class for a subscription: the requested type, else the graph's.
+
+        Raises:
+            BridgeError: unknown type, or no type given for a topic nobody advertises.
+        """
+        if requested:
+            try:
+                return lookup_type(requested)
+            except UnknownTypeError as exc:
+                raise BridgeError(str(exc)) from None
+        known = self.node.graph.topics().get(topic, [])
+        if not known:
+            raise BridgeError(f"Cannot infer topic type for topic {topic} as it is not yet "
+                              "advertised")
+        try:
+            return lookup_type(known[0])
+        except UnknownTypeError as exc:
+            raise BridgeError(str(exc)) from None
+
+    # ------------------------------------------------------------------ topics
+
+    def attach(self, topic: str, msg_type: type[Message], sink: Sink) -> None:
+        """Start feeding ``sink`` with ``topic``.
+
+        Raises:
+            BridgeError: the topic is already bridged with another type.
+            InvalidNameError: the topic name is not valid.
+        """
+        feed = self.feeds.get(topic)
+        if feed is None:
+            feed = self.feeds[topic] = TopicFeed(self, topic, msg_type)
+        elif feed.msg_type is not msg_type:
+            raise BridgeError(f"{topic} already established with type "
+                              f"{long_type(feed.type_name)}, not {long_type(msg_type.__msgtype__)}")
+        feed.sinks.add(sink)
+
+    def detach(self, topic: str, sink: Sink) -> None:
+        feed = self.feeds.get(topic)
+        if feed is None:
+            return
+        feed.sinks.discard(sink)
+        if not feed.sinks:
+            del self.feeds[topic]
+            self.node.destroy(feed.sub)
+
+    def advertise(self, topic: str, msg_type: type[Message], owner: object, latch: bool,
+                  queue_size: int) -> Publisher[Any]:
+        """A publisher of ``topic`` shared by its advertisers (``owner`` is one of them).
+
+        Raises:
+            BridgeError: the topic is published here with another type.
+        """
+        entry = self.publishers.get(topic)
+        if entry is None:
+            qos = QoSProfile(depth=max(1, min(queue_size or 10, 1000)),
+                             durability=Durability.TRANSIENT_LOCAL if latch else Durability.VOLATILE)
+            entry = self.publishers[topic] = (
+                self.node.create_publisher(msg_type, topic, qos), set())
+        elif entry[0].msg_type is not msg_type:
+            raise BridgeError(f"{topic} already advertised with type "
+                              f"{long_type(entry[0].type_name)}, not "
+                              f"{long_type(msg_type.__msgtype__)}")
+        entry[1].add(owner)
+        return entry[0]
+
+    def unadvertise(self, topic: str, owner: object) -> None:
+        entry = self.publishers.get(topic)
+        if entry is None:
+            return
+        entry[1].discard(owner)
+        if not entry[1]:
+            del self.publishers[topic]
+            self.node.destroy(entry[0])
+
+    # ------------------------------------------------------------------ services, actions
+
+    def service_type_of(self, service: str) -> str | None:
+        types = self.node.graph.services().get(service)
+        return types[0] if types else None
+
+    def client(self, srv_type: ServiceType, name: str) -> Client:
+        key = (name, srv_type.name)
+        c = self._clients.get(key)
+        if c is None:
+            c = self._clients[key] = self.node.create_client(srv_type, name)
+        return c
+
+    def action_client(self, action_type: ActionType, name: str) -> Any:
+        key = (name, action_type.name)
+        c = self._action_clients.get(key)
+        if c is None:
+            c = self._action_clients[key] = self.node.create_action_client(action_type, name)
+        return c
+
+    def serve(self, srv_type: ServiceType, name: str, handler: Callable[..., Any]) -> Any:
+        """A zenros service whose requests ``handler`` answers (a browser's service)."""
+        try:
+            return self.node.create_service(srv_type, name, handler)
+        except InvalidNameError as exc:
+            raise BridgeError(str(exc)) from None
+
+    def release(self, endpoint: Any) -> None:
+        self.node.destroy(endpoint)
+
+    def close(self) -> None:
+        for topic in list(self.feeds):
+            feed = self.feeds.pop(topic)
+            self.node.destroy(feed.sub)
+        for pub, _ in self.publishers.values():
+            self.node.destroy(pub)
+        self.publishers.clear()
+        for c in self._clients.values():
+            self.node.destroy(c)
+        self._clients.clear()
+        for ac in self._action_clients.values():
+            ac.close()
+        self._action_clients.clear()

@@ -1,0 +1,84 @@
+"""rosbridge JSON ↔ messages, type names and fragments."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from zenros.errors import DecodeError
+from zenros.msgs.builtin_interfaces import Time
+from zenros.msgs.example_interfaces import AddTwoIntsRequest
+from zenros.msgs.geometry_msgs import PoseStamped, Twist
+from zenros.services.gateway.rosbridge.convert import (
+    encode_message,
+    long_type,
+    message_from_json,
+    publish_frame,
+    request_args,
+)
+from zenros.services.gateway.rosbridge.fragments import Defragmenter, FragmentError, fragment
+
+
+def test_long_type_names() -> None:
+    assert long_type("std_msgs/String") == "std_msgs/msg/String"
+    assert long_type("std_msgs/msg/String") == "std_msgs/msg/String"
+    assert long_type("example_interfaces/AddTwoInts", "srv") == "example_interfaces/srv/AddTwoInts"
+
+
+def test_missing_fields_take_defaults_and_unknown_fields_fail() -> None:
+    msg = message_from_json({"linear": {"x": 1}}, Twist)
+    assert isinstance(msg, Twist) and msg.linear.x == 1.0 and msg.angular.z == 0.0
+    with pytest.raises(DecodeError, match="unknown field 'speed'"):
+        message_from_json({"speed": 1}, Twist)
+    with pytest.raises(DecodeError, match=r"\$\.linear\.x"):
+        message_from_json({"linear": {"x": "fast"}}, Twist)
+    with pytest.raises(TypeError, match="JSON object"):
+        message_from_json([1], Twist)
+
+
+def test_missing_header_stamp_is_now() -> None:
+    now = Time(sec=5, nanosec=6)
+    msg = message_from_json({"header": {"frame_id": "map"}}, PoseStamped, now)
+    assert isinstance(msg, PoseStamped)
+    assert msg.header.stamp == now and msg.header.frame_id == "map"
+    given = message_from_json({"header": {"stamp": {"sec": 1, "nanosec": 2}}}, PoseStamped, now)
+    assert isinstance(given, PoseStamped) and given.header.stamp == Time(sec=1, nanosec=2)
+
+
+def test_positional_service_args() -> None:
+    assert request_args([1, 2], AddTwoIntsRequest) == {"a": 1, "b": 2}
+    with pytest.raises(TypeError, match="takes 2 fields"):
+        request_args([1, 2, 3], AddTwoIntsRequest)
+
+
+def test_publish_frame_is_json() -> None:
+    frame = publish_frame("/cmd_vel", encode_message(Twist()))
+    assert json.loads(frame)["msg"]["linear"] == {"x": 0.0, "y": 0.0, "z": 0.0}
+
+
+def test_fragment_round_trip() -> None:
+    frame = json.dumps({"op": "publish", "topic": "/t", "msg": {"data": "é" * 100}}).encode()
+    parts = [json.loads(p) for p in fragment(frame, 30, "m")]
+    assert len(parts) > 1 and all(len(p["data"]) <= 30 for p in parts)
+    d = Defragmenter(lambda: 0.0)
+    joined = [d.add(p) for p in reversed(parts)]
+    assert joined[:-1] == [None] * (len(parts) - 1)
+    assert joined[-1] is not None and json.loads(joined[-1]) == json.loads(frame)
+    assert fragment(frame, 10_000) == [frame]
+
+
+def test_bad_fragments() -> None:
+    d = Defragmenter(lambda: 0.0)
+    with pytest.raises(FragmentError):
+        d.add({"id": "x", "data": "a", "num": 3, "total": 2})
+    with pytest.raises(FragmentError):
+        d.add({"data": "a", "num": 0, "total": 2})
+
+
+def test_incomplete_fragments_expire() -> None:
+    now = [0.0]
+    d = Defragmenter(lambda: now[0], timeout=10)
+    d.add({"id": "x", "data": "a", "num": 0, "total": 2})
+    now[0] = 11
+    d.add({"id": "y", "data": "a", "num": 0, "total": 2})
+    assert len(d) == 1
