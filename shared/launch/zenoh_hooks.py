@@ -23,6 +23,7 @@ from .model import ProcessSpec
 __all__ = ["ZenohLaunch", "router_endpoint"]
 
 READY_TIMEOUT = 20.0
+READY_SLICE = 0.25
 
 
 def router_endpoint() -> str:
@@ -87,7 +88,15 @@ class ZenohLaunch:
         if not spec.ros_args or self.ctx is None:
             return True
         graph = self.ctx.graph
-        return await asyncio.to_thread(graph.wait_for_node, spec.fqn, READY_TIMEOUT)
+        deadline = time.monotonic() + READY_TIMEOUT
+        # Short waits in a worker thread, so that cancelling this (the process ended, the
+        # launch stops) ends the wait within one slice instead of holding the exit 20 s.
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return False
+            if await asyncio.to_thread(graph.wait_for_node, spec.fqn, min(left, READY_SLICE)):
+                return True
 
 
 def _stop(proc: subprocess.Popen[bytes]) -> None:

@@ -77,3 +77,21 @@ def test_ctrl_c_stops_everything_cleanly(launched: tuple[Proc, Context]) -> None
     assert "launch finished with exit code 0" in proc.output
     g = ctx.graph
     assert g.wait_for(lambda: not ({"/chatty", "/listener"} & set(g.node_names())), 5)
+
+
+def test_a_node_that_fails_at_once_ends_the_launch_without_waiting_for_readiness(
+    tmp_path: Path,
+) -> None:
+    """The readiness wait (20 s at most) is cancelled when the process has ended."""
+    (tmp_path / "fail.yaml").write_text("nodes:\n  - module: zenros.examples.no_such_node\n")
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "fail.yaml"),
+                 "--data-dir", str(tmp_path / "home")],
+                env={"ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}",
+                     "ZENROS_PREFIX": unique_prefix()})
+    try:
+        assert proc.wait_line("launch finished with exit code 1", 20), proc.output
+        finished = time.monotonic()
+        assert proc.wait(10) == 1, proc.output
+        assert time.monotonic() - finished < 5, proc.output  # it was ~19 s
+    finally:
+        proc.stop()
