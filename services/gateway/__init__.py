@@ -1,0 +1,1 @@
+"""The protocol gateway: the robot API over REST, WebSocket, Modbus TCP, serial and UDP."""

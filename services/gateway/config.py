@@ -1,0 +1,49 @@
+"""`GatewayConfig`: the §1.4 server configuration file (``galileo_api/config.json``)."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import msgspec
+
+__all__ = ["GatewayConfig", "default_config_path", "load_config"]
+
+
+class GatewayConfig(msgspec.Struct, forbid_unknown_fields=False):
+    """The keys of §1.4. Token checking is ON unless ``no_token_check`` is true."""
+
+    username: str = "admin"
+    password: str = "admin"
+    allow_update: bool = False
+    no_token_check: bool = False
+    auto_charge: bool = False
+
+
+def default_config_path() -> Path:
+    """``$ZENROS_HOME/galileo_api/config.json`` (``~/.zenros`` by default)."""
+    home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
+    return home / "galileo_api" / "config.json"
+
+
+def load_config(path: Path | None, overrides: dict[str, Any] | None = None) -> GatewayConfig:
+    """Read the file (missing file: defaults) and apply ``overrides`` on top.
+
+    Raises:
+        ValueError: the file is not JSON or a key has the wrong type (names the key).
+    """
+    data: dict[str, Any] = {}
+    if path is not None and path.exists():
+        try:
+            data = json.loads(path.read_text())
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{path}: not JSON: {exc}") from exc
+        if not isinstance(data, dict):
+            raise ValueError(f"{path}: expected a JSON object, got {type(data).__name__}")
+    data.update(overrides or {})
+    try:
+        return msgspec.convert(data, GatewayConfig)
+    except msgspec.ValidationError as exc:
+        raise ValueError(f"{path or 'gateway config'}: {exc}") from exc

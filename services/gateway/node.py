@@ -1,0 +1,94 @@
+"""`GatewayNode`: wires the robot API's front ends (REST, WebSocket, Modbus, serial, UDP) to zenros."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import uvicorn
+from starlette.types import ASGIApp
+
+from zenros.node import Node
+
+from .app import HttpApp, build_api
+from .config import default_config_path, load_config
+from .core import Core, make_identity
+from .link import RobotLink
+from .runner import AsyncRunner, bind_tcp, start_uvicorn
+from .settings import Settings
+
+__all__ = ["GatewayNode"]
+
+
+class GatewayNode(Node):
+    """The protocol gateway of one robot (its namespace): specs/robot-api.md over the network.
+
+    Parameters:
+        host: address every server binds (default 127.0.0.1).
+        rest_port, ws_port, modbus_port: TCP ports (3546, 3547, 3551; 0 picks a free one).
+        config_file: the §1.4 JSON file (default $ZENROS_HOME/galileo_api/config.json).
+        no_token_check: accept requests without a token (default false: tokens required).
+        max_body: largest accepted request body in bytes (default 65536).
+        api_version: the API version reported in /system/info and discovery.
+        status_rate: GalileoStatus rate in Hz (default 30).
+        deadman_timeout: seconds a speed command holds (default 0.5).
+        data_dir: where settings live (default $ZENROS_HOME/galileo_api/<robot>).
+    """
+
+    node_name = "gateway"
+
+    def setup(self) -> None:
+        host = self.declare_parameter("host", "127.0.0.1")
+        rest_port = self.declare_parameter("rest_port", 3546)
+        config_file = self.declare_parameter("config_file", "")
+        no_check = self.declare_parameter("no_token_check", False)
+        max_body = self.declare_parameter("max_body", 65536)
+        version = self.declare_parameter("api_version", "6.6.8")
+        rate = self.declare_parameter("status_rate", 30.0)
+        deadman = self.declare_parameter("deadman_timeout", 0.5)
+        self.data_dir = Path(self.declare_parameter("data_dir", "") or self._default_dir())
+        self.host = host
+        config = load_config(Path(config_file) if config_file else default_config_path(),
+                             {"no_token_check": True} if no_check else None)
+        self.core = Core(config, Settings(self.data_dir / "settings.json"),
+                         make_identity(self.namespace, version, rest_port), deadman)
+        self.link = RobotLink(self, self.core, rate)
+        self.runner = AsyncRunner()
+        self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
+        self.api = build_api(self.core, max_body, self.logger)
+        self.http = HttpApp(self.api)
+        self.rest_port = self.serve_asgi(self.http, host, rest_port)
+        self.core.identity = replace(self.core.identity, port=self.rest_port)
+        self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
+                         self.rest_port, "on" if self.core.tokens.checking else "off")
+
+    def _default_dir(self) -> Path:
+        home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
+        robot = self.namespace.strip("/").replace("/", "_") or "robot"
+        return home / "galileo_api" / robot
+
+    def serve_asgi(self, app: ASGIApp, host: str, port: int, **kw: Any) -> int:
+        """Serve an ASGI app with uvicorn on the gateway's loop; returns the bound port."""
+        sock = bind_tcp(host, port)
+        server, task = self.runner.call(start_uvicorn(app, sock, **kw))
+        self._servers.append((server, task))
+        bound: int = sock.getsockname()[1]
+        return bound
+
+    def close(self) -> None:
+        runner = getattr(self, "runner", None)
+        if runner is not None:
+            async def stop_servers() -> None:
+                for server, _ in self._servers:
+                    server.should_exit = True
+                await asyncio.gather(*(t for _, t in self._servers), return_exceptions=True)
+
+            try:
+                runner.call(stop_servers(), 8.0)
+            except Exception:  # shutting down whatever happens
+                self.logger.debug("stopping servers failed", exc_info=True)
+            runner.stop()
+        super().close()
