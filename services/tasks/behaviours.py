@@ -1,0 +1,151 @@
+"""What each action type does, given a `Robot`, as a function returning an `Outcome`.
+
+Every behaviour polls ``cancelled`` while it waits, so a pause or stop takes effect at
+once; none holds a lock while it waits.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import urllib.error
+import urllib.request
+from collections.abc import Callable
+from typing import Any, Final
+
+from .robot import Feedback, Outcome, Robot
+
+__all__ = ["BEHAVIOURS", "Context"]
+
+POLL: Final = 0.01  # wall seconds between checks while waiting
+
+
+class Context:
+    """What a running behaviour may touch: the robot, its item, progress and release."""
+
+    def __init__(self, robot: Robot, item: dict[str, Any], cancelled: Callable[[], bool],
+                 changed: Callable[[], None], wait_release: threading.Event) -> None:
+        self.robot = robot
+        self.item = item
+        self.cancelled = cancelled
+        self.changed = changed
+        self.wait_release = wait_release
+
+    def progress(self, value: float) -> None:
+        self.item["progress"] = round(max(0.0, min(1.0, value)), 4)
+        self.changed()
+
+    def wait(self, seconds: float) -> bool:
+        """Wait ``seconds`` of the robot's clock; False when cancelled first."""
+        if seconds <= 0:
+            return not self.cancelled()
+        done = float(self.item.get("progress", 0.0))  # a resumed wait keeps what it waited
+        start = self.robot.now() - done * seconds
+        end = start + seconds
+        event = threading.Event()
+        while True:
+            if self.cancelled():
+                return False
+            now = self.robot.now()
+            if now >= end:
+                return True
+            self.item["progress"] = round((now - start) / seconds, 4)
+            event.wait(min(POLL, end - now))
+
+
+def _nav(ctx: Context, p: dict[str, Any]) -> Outcome:
+    if "index" in p:
+        try:
+            x, y, theta = ctx.robot.nav_point(int(p["index"]))
+        except LookupError as exc:
+            return Outcome("error", str(exc))
+    else:
+        x, y, theta = float(p["x"]), float(p["y"]), float(p.get("theta", 0.0))
+    first: list[float] = []
+
+    def feedback(fb: Feedback) -> None:
+        ctx.item["current_location"] = {"x": fb.x, "y": fb.y, "theta": fb.theta}
+        ctx.item["current_distance"] = fb.distance
+        if not first and fb.distance > 0:
+            first.append(fb.distance)
+        if first:
+            ctx.item["progress"] = round(max(0.0, min(1.0, 1 - fb.distance / first[0])), 4)
+        ctx.changed()
+
+    return ctx.robot.navigate(x, y, theta, float(p.get("timeout", 0.0)), feedback,
+                              ctx.cancelled)
+
+
+def _sleep(ctx: Context, p: dict[str, Any]) -> Outcome:
+    if ctx.wait(float(p["wait_time"])):
+        return Outcome("complete", "slept")
+    return Outcome("preempted")
+
+
+def _charge(ctx: Context, p: dict[str, Any]) -> Outcome:
+    pose = None
+    if p.get("x") is not None and p.get("y") is not None:
+        pose = (float(p["x"]), float(p["y"]), float(p.get("theta", 0.0)))
+    return ctx.robot.charge(pose, float(p.get("level", 0.0)), float(p.get("timeout", 0.0)),
+                            ctx.cancelled)
+
+
+def _callback(ctx: Context, p: dict[str, Any]) -> Outcome:
+    method = str(p.get("method", "GET")).upper()
+    data = p.get("data")
+    body = None if data is None or method in ("GET", "HEAD") else json.dumps(data).encode()
+    req = urllib.request.Request(p["url"], data=body, method=method,
+                                 headers={"Content-Type": "application/json"} if body else {})
+    box: list[Outcome] = []
+    done = threading.Event()
+
+    def call() -> None:
+        try:
+            with urllib.request.urlopen(req, timeout=float(p.get("timeout", 10.0))) as resp:
+                box.append(Outcome("complete", f"HTTP {resp.status}"))
+        except urllib.error.HTTPError as exc:
+            box.append(Outcome("error", f"{method} {p['url']}: HTTP {exc.code} {exc.reason}"))
+        except (urllib.error.URLError, OSError, ValueError) as exc:
+            reason = getattr(exc, "reason", exc)
+            box.append(Outcome("error", f"{method} {p['url']}: {reason}"))
+        finally:
+            done.set()
+
+    threading.Thread(target=call, name="callback_action", daemon=True).start()
+    while not done.wait(POLL):
+        if ctx.cancelled():
+            return Outcome("preempted")
+    return box[0]
+
+
+def _wait_req(ctx: Context, p: dict[str, Any]) -> Outcome:
+    timeout = float(p.get("timeout", 0.0))
+    end = ctx.robot.now() + timeout if timeout > 0 else None
+    while not ctx.wait_release.wait(POLL):
+        if ctx.cancelled():
+            return Outcome("preempted")
+        if end is not None and ctx.robot.now() >= end:
+            return Outcome("error", f"no update_wait_req within {timeout:g} s")
+    ctx.wait_release.clear()
+    return Outcome("complete", "released")
+
+
+def _tts(ctx: Context, p: dict[str, Any]) -> Outcome:
+    ctx.robot.say(str(p["text"]))
+    return Outcome("complete", "said")
+
+
+def _switch_map(ctx: Context, p: dict[str, Any]) -> Outcome:
+    return ctx.robot.switch_map(str(p["map"]), str(p.get("path", "")),
+                                int(p.get("start_index", -1)))
+
+
+BEHAVIOURS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
+    "nav_action": _nav,
+    "sleep_action": _sleep,
+    "charge_action": _charge,
+    "callback_action": _callback,
+    "wait_req_action": _wait_req,
+    "tts_action": _tts,
+    "switch_map_action": _switch_map,
+}

@@ -1,0 +1,147 @@
+"""`RobotLink`: the `Robot` the tasks service drives, over zenros (nav actions and services).
+
+``navigate_to_pose`` and ``dock_robot`` (nav2_msgs actions), nav points and map switching
+(zenros_msgs services of nav), ``battery_state`` for charge levels, ``tts`` for speech.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from typing import Any, Final
+
+from zenros.action import ActionClient, GoalStatus
+from zenros.errors import ZenrosError
+from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
+from zenros.msgs.nav2_msgs import DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.sensor_msgs import BatteryState
+from zenros.msgs.std_msgs import Header, String
+from zenros.msgs.zenros_msgs.nav import GetNavPoints, GetNavPointsRequest, SwitchMap, SwitchMapRequest
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
+
+from .robot import Feedback, Outcome
+
+__all__ = ["RobotLink"]
+
+POLL: Final = 0.02
+SERVER_WAIT: Final = 5.0
+
+
+class RobotLink:
+    """Implements `Robot` for a tasks node; every call is bounded in time and cancellable."""
+
+    def __init__(self, node: Node) -> None:
+        self.node = node
+        self.nav = ActionClient(node, NavigateToPose, "navigate_to_pose")
+        self.dock = ActionClient(node, DockRobot, "dock_robot")
+        self.nav_points = node.create_client(GetNavPoints, "get_nav_points")
+        self.switch = node.create_client(SwitchMap, "switch_map")
+        self.tts = node.create_publisher(String, "tts", QOS_LATCHED)
+        self.battery: float | None = None
+        self.charging = False
+        node.create_subscription(BatteryState, "battery_state", self._on_battery)
+
+    def _on_battery(self, msg: BatteryState) -> None:
+        self.battery = float(msg.percentage)
+        self.charging = msg.power_supply_status in (BatteryState.POWER_SUPPLY_STATUS_CHARGING,
+                                                    BatteryState.POWER_SUPPLY_STATUS_FULL)
+
+    def now(self) -> float:
+        return self.node.now().to_sec()
+
+    def nav_point(self, index: int) -> tuple[float, float, float]:
+        try:
+            points = self.nav_points.call(GetNavPointsRequest(), timeout=SERVER_WAIT).points
+        except ZenrosError as exc:
+            raise LookupError(f"cannot read nav points: {exc}") from exc
+        if not 0 <= index < len(points):
+            raise LookupError(f"no nav point {index}: the current path has {len(points)}"
+                              + (f" (0..{len(points) - 1})" if points else ""))
+        p = points[index]
+        return p.x, p.y, p.theta
+
+    def navigate(self, x: float, y: float, theta: float, timeout: float,
+                 feedback: Callable[[Feedback], None],
+                 cancelled: Callable[[], bool]) -> Outcome:
+        if not self.nav.wait_for_server(SERVER_WAIT):
+            return Outcome("error", "navigation is not available (no navigate_to_pose server)")
+
+        def on_feedback(msg: Any) -> None:
+            fb = msg.feedback
+            p = fb.current_pose.pose
+            q = p.orientation
+            feedback(Feedback(p.position.x, p.position.y,
+                              yaw_from_quaternion((q.x, q.y, q.z, q.w)), fb.distance_remaining))
+
+        goal = NavigateToPoseGoal(pose=_pose(x, y, theta))
+        return self._run(self.nav, goal, on_feedback, timeout, cancelled,
+                         f"navigate to ({x:.2f}, {y:.2f}, {theta:.2f})")
+
+    def charge(self, pose: tuple[float, float, float] | None, level: float, timeout: float,
+               cancelled: Callable[[], bool]) -> Outcome:
+        if not self.dock.wait_for_server(SERVER_WAIT):
+            return Outcome("error", "docking is not available (no dock_robot server)")
+        goal = DockRobotGoal(use_dock_id=pose is None, navigate_to_staging_pose=True)
+        if pose is not None:
+            goal.dock_pose = _pose(*pose)
+        start = self.now()
+        out = self._run(self.dock, goal, None, timeout, cancelled, "dock")
+        if out.name != "complete" or level <= 0:
+            return out
+        while self.battery is None or self.battery < level:
+            if cancelled():
+                return Outcome("preempted")
+            if timeout > 0 and self.now() - start > timeout:
+                return Outcome("error", f"battery at {self.battery or 0:.0%}, not {level:.0%},"
+                                        f" after {timeout:g} s")
+            threading.Event().wait(POLL)
+        return Outcome("complete", f"charged to {self.battery:.0%}")
+
+    def _run(self, client: ActionClient, goal: Any, on_feedback: Any, timeout: float,
+             cancelled: Callable[[], bool], what: str) -> Outcome:
+        handle = client.send_goal_async(goal, on_feedback)
+        start = self.now()
+        while not handle.done:
+            if cancelled() or (timeout > 0 and self.now() - start > timeout):
+                try:
+                    handle.cancel()
+                    handle.result(SERVER_WAIT)
+                except ZenrosError:
+                    pass
+                if cancelled():
+                    return Outcome("preempted")
+                return Outcome("error", f"{what}: not done within {timeout:g} s")
+            threading.Event().wait(POLL)
+        try:
+            res = handle.result(0)
+        except ZenrosError as exc:
+            return Outcome("error", f"{what}: {exc}")
+        if res.status is GoalStatus.SUCCEEDED:
+            return Outcome("complete", f"{what}: done")
+        msg = getattr(res.result, "error_msg", "") or res.reason
+        code = getattr(res.result, "error_code", 0)
+        return Outcome("error", f"{what}: {res.status.name.lower()}"
+                                + (f" (error {code}: {msg})" if code or msg else ""))
+
+    def switch_map(self, name: str, path: str, start_index: int) -> Outcome:
+        try:
+            res = self.switch.call(SwitchMapRequest(map_name=name), timeout=SERVER_WAIT)
+        except ZenrosError as exc:
+            return Outcome("error", f"switch to map {name!r}: {exc}")
+        if not res.success:
+            return Outcome("error", f"switch to map {name!r}: {res.message}")
+        return Outcome("complete", f"map {name}")
+
+    def say(self, text: str) -> None:
+        self.tts.publish(String(data=text))
+
+
+def _pose(x: float, y: float, theta: float) -> PoseStamped:
+    qx, qy, qz, qw = quaternion_from_yaw(theta)
+    return PoseStamped(header=Header(frame_id="map"),
+                       pose=Pose(position=Point(x=x, y=y),
+                                 orientation=Quaternion(x=qx, y=qy, z=qz, w=qw)))
+
+

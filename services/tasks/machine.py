@@ -1,0 +1,228 @@
+"""Compile a task document into a zenros.smach state machine: actions are its states.
+
+Every state has the outcomes ``complete``, ``fail``, ``error`` and ``preempted``; a
+task's ``control_type`` (§8.4) decides how its children's outcomes are wired. A machine
+built for a resumed task starts each sequence at its first unfinished child.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any, Final, Protocol
+
+from zenros.smach import Concurrence, State, StateMachine, UserDataAccess
+
+from .behaviours import BEHAVIOURS, Context
+from .documents import is_task, substitute
+from .robot import Outcome, Robot
+from .states import COMPLETE
+
+__all__ = ["OUTCOMES", "RunHooks", "build_machine"]
+
+OUTCOMES: Final = ("complete", "fail", "error", "preempted")
+
+
+class RunHooks(Protocol):
+    """The run an item belongs to: the manager records each item's start and end."""
+
+    robot: Robot
+    wait_release: threading.Event
+
+    def begin(self, item: dict[str, Any], parent: dict[str, Any]) -> bool:
+        """Mark ``item`` started; False when it already completed (a resumed run skips it)."""
+        ...
+
+    def finish(self, item: dict[str, Any], outcome: Outcome) -> None: ...
+
+    def changed(self) -> None: ...
+
+
+class ActionState(State):
+    """One action of a task: runs its behaviour and reports the outcome."""
+
+    def __init__(self, item: dict[str, Any], parent: dict[str, Any], board: dict[str, Any],
+                 hooks: RunHooks) -> None:
+        super().__init__(outcomes=OUTCOMES)
+        self.item, self.owner, self.board, self.hooks = item, parent, board, hooks
+
+    def execute(self, userdata: UserDataAccess) -> str:
+        if not self.hooks.begin(self.item, self.owner):
+            return "complete"
+        params = substitute({k: v for k, v in self.item.items()
+                             if k not in ("id", "type", "state", "result", "progress",
+                                          "current_location", "current_distance")}, self.board)
+        ctx = Context(self.hooks.robot, self.item, self.preempt_requested, self.hooks.changed,
+                      self.hooks.wait_release)
+        try:
+            outcome = BEHAVIOURS[self.item["type"]](ctx, params)
+        except Exception as exc:  # a behaviour's bug ends the action, never the service
+            outcome = Outcome("error", f"{self.item['type']} failed: {type(exc).__name__}:"
+                                       f" {exc}")
+        if outcome.name == "preempted" or (outcome.name != "complete"
+                                           and self.preempt_requested()):
+            self.service_preempt()
+            outcome = Outcome("preempted")
+        self.hooks.finish(self.item, outcome)
+        return outcome.name
+
+
+class TaskMachine(StateMachine):
+    """A nested task: a state machine that records its own start and end on its item."""
+
+    def __init__(self, item: dict[str, Any], parent: dict[str, Any] | None,
+                 hooks: RunHooks) -> None:
+        super().__init__(outcomes=OUTCOMES)
+        self.item, self.parent_item, self.hooks = item, parent, hooks
+
+    def execute(self, userdata: UserDataAccess | None = None) -> str:
+        if self.parent_item is None:
+            return super().execute(userdata)
+        if not self.hooks.begin(self.item, self.parent_item):
+            return "complete"
+        try:
+            outcome = super().execute(userdata)
+        except Exception as exc:
+            self.hooks.finish(self.item, Outcome("error", str(exc)))
+            raise
+        self.hooks.finish(self.item, Outcome(outcome))  # type: ignore[arg-type]
+        return outcome
+
+
+def _label(i: int, item: dict[str, Any]) -> str:
+    kind = "TASK" if is_task(item) else str(item["type"]).upper()
+    return f"{i:02d}_{kind}"
+
+
+def build_machine(doc: dict[str, Any], hooks: RunHooks,
+                  parent: dict[str, Any] | None = None,
+                  board: dict[str, Any] | None = None) -> State:
+    """The state (machine) that runs ``doc``; ``parent`` is None for the root task."""
+    scope = {**(board or {}), **doc.get("blackboard", {})}
+    children: list[tuple[str, State]] = []
+    for i, item in enumerate(doc["sub_tasks"]):
+        state: State
+        if is_task(item):
+            state = build_machine(item, hooks, doc, scope)
+        else:
+            state = ActionState(item, doc, scope, hooks)
+        children.append((_label(i, item), state))
+    control = doc.get("control_type", "sequence")
+    if control == "parallel":
+        return _parallel(doc, parent, hooks, children)
+    sm = TaskMachine(doc, parent, hooks)
+    if not children:
+        sm.add("00_EMPTY", _Done(), transitions={"complete": "complete"})
+        return sm
+    if control == "loop":
+        _wire_loop(sm, children[0], int(doc.get("target_loop_count", 1)))
+        return sm
+    labels = [label for label, _ in children]
+    for i, (label, state) in enumerate(children):
+        nxt = labels[i + 1] if i + 1 < len(labels) else "complete"
+        sm.add(label, state, transitions=_transitions(control, label, labels[0], nxt, i,
+                                                      len(labels)))
+    sm.set_initial_state([_first_unfinished(doc, control, labels)])
+    return sm
+
+
+def _transitions(control: str, label: str, first: str, nxt: str, i: int,
+                 n: int) -> dict[str, str]:
+    last_fail = "fail"
+    match control:
+        case "sequence":
+            return {"complete": nxt, "fail": "fail"}
+        case "restart_sequence":
+            return {"complete": nxt, "fail": first}
+        case "retry_sequence":
+            return {"complete": nxt, "fail": label}
+        case "fallback":
+            nxt_fail = nxt if i + 1 < n else last_fail
+            return {"complete": "complete", "fail": nxt_fail}
+        case "flip":
+            return {"complete": "fail", "fail": "complete"}
+        case "force_fail":
+            return {"complete": "fail", "fail": "fail"}
+        case "force_success":
+            return {"complete": "complete", "fail": "complete"}
+        case "retry_until_success":
+            return {"complete": "complete", "fail": label}
+    raise ValueError(f"unknown control_type {control!r}")
+
+
+def _first_unfinished(doc: dict[str, Any], control: str, labels: list[str]) -> str:
+    if control not in ("sequence", "restart_sequence", "retry_sequence"):
+        return labels[0]
+    for label, item in zip(labels, doc["sub_tasks"], strict=True):
+        if item["state"] != COMPLETE:
+            return label
+    return labels[-1]
+
+
+class _Done(State):
+    def __init__(self) -> None:
+        super().__init__(outcomes=["complete"])
+
+    def execute(self, userdata: UserDataAccess) -> str:
+        return "complete"
+
+
+class _Counter(State):
+    """Counts the loop's runs of its child: ``again`` until ``target`` runs are done."""
+
+    def __init__(self, item: dict[str, Any], target: int) -> None:
+        super().__init__(outcomes=["again", "done"])
+        self.item, self.target, self.runs = item, target, -1
+
+    def execute(self, userdata: UserDataAccess) -> str:
+        self.runs += 1
+        if self.runs >= self.target:
+            return "done"
+        if self.runs > 0:
+            for sub in self.item["sub_tasks"]:
+                sub["state"] = "WAITTING"
+        return "again"
+
+
+def _wire_loop(sm: StateMachine, child: tuple[str, State], target: int) -> None:
+    label, state = child
+    sm.add("00_COUNT", _Counter(sm.item if isinstance(sm, TaskMachine) else {}, target),
+           transitions={"again": label, "done": "complete"})
+    sm.add(label, state, transitions={"complete": "00_COUNT", "fail": "fail"})
+
+
+def _parallel(doc: dict[str, Any], parent: dict[str, Any] | None, hooks: RunHooks,
+              children: list[tuple[str, State]]) -> State:
+    need = int(doc.get("success_count", len(children)))
+
+    def decide(outcomes: dict[str, str]) -> str:
+        values = list(outcomes.values())
+        if "error" in values:
+            return "error"
+        if "preempted" in values:
+            return "preempted"
+        return "complete" if values.count("complete") >= need else "fail"
+
+    con = _TaskConcurrence(doc, parent, hooks, decide)
+    for label, state in children:
+        con.add(label, state)
+    return con
+
+
+class _TaskConcurrence(Concurrence):
+    """A parallel task: children at once; complete when ``success_count`` complete."""
+
+    def __init__(self, item: dict[str, Any], parent: dict[str, Any] | None, hooks: RunHooks,
+                 decide: Any) -> None:
+        super().__init__(outcomes=OUTCOMES, default_outcome="fail", outcome_cb=decide)
+        self.item, self.parent_item, self.hooks = item, parent, hooks
+
+    def execute(self, userdata: UserDataAccess | None = None) -> str:
+        if self.parent_item is None:
+            return super().execute(userdata)
+        if not self.hooks.begin(self.item, self.parent_item):
+            return "complete"
+        outcome = super().execute(userdata)
+        self.hooks.finish(self.item, Outcome(outcome))  # type: ignore[arg-type]
+        return outcome
+
+

@@ -1,0 +1,83 @@
+"""`TasksNode`: wires the task manager to the ``tasks/*`` services and ``tasks/status``."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import Any
+
+import msgspec
+
+from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse, TaskStatus
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+from zenros.home import data_dir
+from zenros.smach import Container, IntrospectionServer
+
+from .api import CALLS, call
+from .link import RobotLink
+from .manager import TaskManager
+from .store import TaskStore
+
+__all__ = ["DB_NAME", "TasksNode"]
+
+DB_NAME = "tasks.db"
+_enc = msgspec.json.Encoder()
+
+
+class TasksNode(Node):
+    """The robot API's tasks and actions (specs/robot-api.md §8-§9) as a service.
+
+    Parameters:
+        data_dir: where ``tasks.db`` lives (default ``$ZENROS_HOME`` or ``~/.zenros``).
+        resume_on_start: a task that was WORKING when the service stopped runs again at
+            start (default: it waits PAUSED for a resume).
+        introspection: publish the running task's state machine for ``zenros smach``.
+    """
+
+    node_name = "tasks"
+
+    def setup(self) -> None:
+        directory = data_dir(self.declare_parameter("data_dir", ""))
+        resume = self.declare_parameter("resume_on_start", False)
+        self.introspection = self.declare_parameter("introspection", True)
+        self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
+        self.store = TaskStore(directory / DB_NAME)
+        self.link = RobotLink(self)
+        self.manager = TaskManager(self.store, self.link, self.publish_status,
+                                   self.introspect if self.introspection else None,
+                                   resume_on_start=resume)
+        for task_id in self.manager.recovered:
+            self.logger.warning("task %s was running when the service stopped: %s", task_id,
+                                "resumed" if resume else "PAUSED until resumed")
+        if self.store.bad_rows:
+            self.logger.error("unreadable task rows skipped: %s", ", ".join(self.store.bad_rows))
+        for name in CALLS:
+            self.create_service(TaskCall, f"tasks/{name}", self._handler(name))
+        self.logger.info("tasks in %s (%d stored)", self.store.path, len(self.manager.list()))
+
+    def _handler(self, name: str) -> Callable[[TaskCallRequest], Any]:
+        async def handle(req: TaskCallRequest) -> TaskCallResponse:
+            return await asyncio.to_thread(call, self.manager, name, req)
+        return handle
+
+    def publish_status(self, doc: dict[str, Any], event: str) -> None:
+        current = doc.get("current_task") or {}
+        self.status_pub.publish(TaskStatus(
+            stamp=self.now(), id=doc["id"], name=doc.get("name", ""), state=doc["state"],
+            progress=float(doc.get("progress", 0.0)), loop_count=int(doc.get("loop_count", 0)),
+            current_id=current.get("id", ""), current_type=current.get("type", ""),
+            event=event, task=_enc.encode(doc).decode()))
+
+    def introspect(self, task_id: str, machine: Container) -> Callable[[], None]:
+        server = IntrospectionServer(self, machine, "~/smach")
+        return server.close
+
+    def close(self) -> None:
+        manager = getattr(self, "manager", None)
+        if manager is not None:
+            manager.close()
+        super().close()
+        store = getattr(self, "store", None)
+        if store is not None:
+            store.close()
