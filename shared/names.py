@@ -210,6 +210,10 @@ class KeySpace:
     def param(self, fqn: str) -> str:
         return f"{self.prefix}/param{fqn}"
 
+    def param_describe(self, node: str) -> str:
+        """Where a node answers its parameter declarations (`zenros.param_describe`)."""
+        return f"{self.prefix}/paramdesc{node}"
+
     def all_topics(self) -> str:
         return f"{self.prefix}/topic/**"
 

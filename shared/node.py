@@ -23,6 +23,7 @@ from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
 from .param_client import attach_parameter_backend
+from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .pubsub import Publisher, Subscription
 from .qos import QOS_SENSOR, QoSProfile, as_profile
@@ -100,6 +101,7 @@ class Node:
             ctx.keys.node_token(self.fqn, ctx.zid, socket.gethostname(), os.getpid(),
                                 self.start_ns)
         )
+        self._track(ParameterDescriptions(ctx, self.fqn, self.parameters))
         self._clock: Clock = SystemClock()
         if self.parameters.declare("use_sim_time", False):
             self._clock = ManualClock()
