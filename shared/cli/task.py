@@ -1,0 +1,78 @@
+"""`zenros task list|show|create|start|pause|resume|stop|delete`: the tasks service's tasks."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import Any
+
+from ..msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
+from ..names import resolve
+from ..rpc import Client
+from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
+
+_VERBS = {
+    "list": "list tasks: id, state, progress, name",
+    "show": "one task, whole (YAML, or --json)",
+    "create": "create a task from YAML/JSON: '{name: t, sub_tasks: [{type: sleep_action, wait_time: 1}]}'",
+    "start": "start a WAITTING (or finished) task",
+    "pause": "pause the running task (the robot stops; resume continues the same action)",
+    "resume": "resume a PAUSED task",
+    "stop": "stop a task (no id: the running one)",
+    "delete": "delete a task that is not running",
+}
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser("task", help="robot tasks (the tasks service): list, show, start, ...")
+    verbs = p.add_subparsers(dest="verb", required=True)
+    for verb, text in _VERBS.items():
+        v = verbs.add_parser(verb, help=text)
+        if verb == "create":
+            v.add_argument("body", help="the task, YAML flow style or JSON")
+        elif verb == "stop":
+            v.add_argument("id", nargs="?", default="")
+        elif verb != "list":
+            v.add_argument("id")
+        v.add_argument("--ns", default="/", help="the robot's namespace (default /)")
+        v.add_argument("--timeout", type=float, default=15.0)
+        v.add_argument("--json", action="store_true", help="print JSON")
+        add_common(v)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    ctx = open_context(args, settle=False)
+    try:
+        call = {"list": "get", "show": "get"}.get(args.verb, args.verb)
+        name = resolve(f"tasks/{call}", namespace=args.ns, kind="service")
+        client = Client(ctx, TaskCall, name)
+        if not client.wait_for_service(min(args.timeout, 5.0)):
+            raise CliError(f"service {name} is not available: is the tasks service running?"
+                           " (zenros launch deploy/launch/sim.yaml starts it)")
+        body = ""
+        if args.verb == "create":
+            body = json.dumps(parse_yaml_arg(args.body))
+        reply = client.call(TaskCallRequest(id=getattr(args, "id", ""), body=body),
+                            timeout=args.timeout)
+        if not reply.success:
+            raise CliError(f"{args.verb}: {reply.message} (code {reply.code})")
+        data = json.loads(reply.body) if reply.body else {}
+        if args.verb == "list" and not args.json:
+            _table(data)
+        else:
+            print_data(data, args.json, separator=False)
+        return 0
+    finally:
+        ctx.close()
+
+
+def _table(tasks: list[dict[str, Any]]) -> None:
+    if not tasks:
+        print("no tasks")
+        return
+    for t in tasks:
+        cur = t.get("current_task") or {}
+        now = f"  at {cur.get('type', '')}" if cur and t["state"] in ("WORKING", "PAUSED") else ""
+        loops = f"  loops {t['loop_count']}" if t.get("loop_flag") else ""
+        print(f"{t['id']}  {t['state']:<9} {t['progress'] * 100:5.1f}%  {t['name']}{now}{loops}")
