@@ -19,6 +19,8 @@ from .core import Core, make_identity
 from .link import RobotLink
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .settings import Settings
+from .topic_hub import TopicHub
+from .ws import ws_app
 
 __all__ = ["GatewayNode"]
 
@@ -43,6 +45,7 @@ class GatewayNode(Node):
     def setup(self) -> None:
         host = self.declare_parameter("host", "127.0.0.1")
         rest_port = self.declare_parameter("rest_port", 3546)
+        ws_port = self.declare_parameter("ws_port", 3547)
         config_file = self.declare_parameter("config_file", "")
         no_check = self.declare_parameter("no_token_check", False)
         max_body = self.declare_parameter("max_body", 65536)
@@ -64,6 +67,10 @@ class GatewayNode(Node):
         self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
+        self.hub = TopicHub(self)
+        self.ws_port = self.serve_asgi(ws_app(self.hub, self.core.tokens), host, ws_port,
+                                       ws_ping_interval=5.0, ws_ping_timeout=10.0)
+        self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
 
     def _default_dir(self) -> Path:
         home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")

@@ -1,0 +1,137 @@
+"""The §11 topic WebSocket through a real server and the `websockets` client."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import socket
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+import websockets
+from websockets.asyncio.client import connect
+from zenros.context import Context
+from zenros.msgs.geometry_msgs import Twist
+from zenros.msgs.std_msgs import String
+from zenros.qos import QOS_LATCHED
+from zenros.services.gateway.node import GatewayNode
+from zenros.services.gateway.testing import running_gateway
+from zenros.testing import Collector, wait_for
+
+
+@pytest.fixture
+def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
+    with running_gateway(ctx_pair[0], tmp_path) as node:
+        yield node
+
+
+def token_of(gw: GatewayNode) -> str:
+    r = httpx.get(f"http://127.0.0.1:{gw.rest_port}/api/v1/token",
+                  params={"username": "admin", "password": "admin"})
+    return str(r.json()["token"])
+
+
+async def test_status_stream_and_token(gw: GatewayNode) -> None:
+    base = f"ws://127.0.0.1:{gw.ws_port}"
+    with pytest.raises(websockets.InvalidStatus) as info:
+        async with connect(f"{base}/galileo/status"):
+            pass
+    assert info.value.response.status_code == 401
+    assert b"missing token" in info.value.response.body
+    tok = token_of(gw)
+    async with connect(f"{base}/galileo/status?token={tok}") as ws:
+        seqs = []
+        for _ in range(5):
+            st = json.loads(await asyncio.wait_for(ws.recv(), 3))
+            seqs.append(st["header"]["seq"])
+            assert {"navStatus", "power", "currentPosX", "busyStatus"} <= set(st)
+        assert seqs == sorted(seqs) and len(set(seqs)) == 5
+        pong = await ws.ping()
+        await asyncio.wait_for(pong, 3)
+
+
+async def test_teleop_publishes_cmd_vel_and_bad_frames_get_errors(
+        gw: GatewayNode, make_node: object) -> None:
+    base_node = make_node("fake_base", 1)  # type: ignore[operator]
+    got: Collector[Twist] = Collector()
+    base_node.create_subscription(Twist, "cmd_vel", got, 50)
+    assert gw.link.cmd_vel_pub.wait_for_subscribers(1, 5)
+    url = f"ws://127.0.0.1:{gw.ws_port}/cmd_vel?token={token_of(gw)}"
+    async with connect(url) as ws:
+        await ws.send(json.dumps({"linear": {"x": 0.2, "y": 0, "z": 0},
+                                  "angular": {"x": 0, "y": 0, "z": 0.5}}))
+        assert await asyncio.to_thread(got.wait, 1, 3)
+        assert got.items[0].linear.x == 0.2 and got.items[0].angular.z == 0.5
+        for bad, word in [("{nope", "malformed JSON"), ("[1]", "JSON object"),
+                          ('{"linear": {"x": "fast"}}', "$.linear.x"),
+                          ('{"linear": {"q": 1}}', "unknown field 'q'")]:
+            await ws.send(bad)
+            while True:  # our own cmd_vel echoes may come first
+                frame = json.loads(await asyncio.wait_for(ws.recv(), 3))
+                if frame.get("status") == "error":
+                    break
+            assert word in frame["description"], (bad, frame)
+        await ws.send(b"\x00binary")
+        while True:
+            frame = json.loads(await asyncio.wait_for(ws.recv(), 3))
+            if frame.get("status") == "error":
+                break
+        assert "binary" in frame["description"]
+        n = len(got.items)
+        await ws.send(json.dumps({"linear": {"x": 0.1}}))
+        assert await asyncio.to_thread(got.wait, n + 1, 3)
+
+
+async def test_latched_topic_sends_last_value_first(gw: GatewayNode, make_node: object) -> None:
+    pubnode = make_node("latcher", 1)  # type: ignore[operator]
+    pub = pubnode.create_publisher(String, "robot_note", QOS_LATCHED)
+    pub.publish(String(data="hello"))
+    assert await asyncio.to_thread(
+        gw.graph.wait_for, lambda: bool(gw.graph.publishers("/robot_note")), 5)
+    url = f"ws://127.0.0.1:{gw.ws_port}/robot_note?token={token_of(gw)}"
+    async with connect(url) as ws:
+        assert json.loads(await asyncio.wait_for(ws.recv(), 5)) == {"data": "hello"}
+        async with connect(url) as ws2:  # a second client of the same feed gets it too
+            assert json.loads(await asyncio.wait_for(ws2.recv(), 5)) == {"data": "hello"}
+
+
+async def test_unknown_topic_gets_error_frame(gw: GatewayNode) -> None:
+    url = f"ws://127.0.0.1:{gw.ws_port}/no_such_topic?token={token_of(gw)}"
+    async with connect(url) as ws:
+        frame = json.loads(await asyncio.wait_for(ws.recv(), 3))
+        assert frame["status"] == "error" and "unknown topic" in frame["description"]
+
+
+async def test_stalled_client_drops_to_latest_and_blocks_nobody(
+        gw: GatewayNode, make_node: object) -> None:
+    pubnode = make_node("bulk", 1)  # type: ignore[operator]
+    pub = pubnode.create_publisher(String, "bulk_text", 10)
+    assert await asyncio.to_thread(
+        gw.graph.wait_for, lambda: bool(gw.graph.publishers("/bulk_text")), 5)
+    url = f"ws://127.0.0.1:{gw.ws_port}/bulk_text?token={token_of(gw)}"
+    # a client that completes the handshake and then never reads
+    stalled = socket.create_connection(("127.0.0.1", gw.ws_port))
+    stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    stalled.sendall(f"GET /bulk_text?token={token_of(gw)} HTTP/1.1\r\nHost: x\r\n"
+                    "Upgrade: websocket\r\nConnection: Upgrade\r\n"
+                    "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                    "Sec-WebSocket-Version: 13\r\n\r\n".encode())
+    try:
+        assert stalled.recv(12) == b"HTTP/1.1 101"
+        async with connect(url, max_size=None) as fast:
+            assert await asyncio.to_thread(
+                wait_for, lambda: len(gw.hub.slots("/bulk_text")) == 2, 5)
+            assert pub.wait_for_subscribers(1, 5)
+            blob = "x" * 50_000
+            for i in range(300):
+                pub.publish(String(data=f"{i:04d}{blob}"))
+            while True:  # the fast client reaches the last message
+                got = await asyncio.wait_for(fast.recv(), 5)
+                if got.startswith('{"data":"0299'):
+                    break
+            dropped = sum(s.dropped for s in gw.hub.slots("/bulk_text"))
+            assert dropped > 0
+    finally:
+        stalled.close()
