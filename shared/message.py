@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass
 from typing import Any, ClassVar, TypeVar
 
@@ -26,6 +27,7 @@ __all__ = [
     "lookup_type",
     "normalize_type_name",
     "registered_types",
+    "similar_type_names",
 ]
 
 _MESSAGES: dict[str, type[Message]] = {}
@@ -78,11 +80,34 @@ def normalize_type_name(name: str) -> str:
 
 
 def _lookup(table: dict[str, Any], kind: str, name: str) -> Any:
-    try:
-        return table[normalize_type_name(name)]
-    except KeyError:
-        known = ", ".join(sorted(table)) or "none"
-        raise UnknownTypeError(f"unknown {kind} type {name!r}; known: {known}") from None
+    """``pkg/Name`` (or ``pkg/msg/Name``), or an unambiguous short ``Name``."""
+    key = normalize_type_name(name)
+    if key in table:
+        return table[key]
+    if "/" not in key:
+        owners = sorted(full for full in table if full.rsplit("/", 1)[-1] == key)
+        if len(owners) == 1:
+            return table[owners[0]]
+        if owners:
+            raise UnknownTypeError(f"{kind} type {name!r} is ambiguous: {' or '.join(owners)}")
+    close = similar_type_names(key, table)
+    hint = (f"; did you mean {' or '.join(close)}?" if close
+            else f" (no close match among {len(table)} registered {kind} types)")
+    raise UnknownTypeError(f"unknown {kind} type {name!r}{hint}")
+
+
+def similar_type_names(name: str, names: Any, n: int = 3) -> list[str]:
+    """The few registered names closest to a misspelled ``name`` (full or short, any case)."""
+    want = name.lower()
+    pkg, _, tail = want.rpartition("/")
+
+    def score(full: str) -> float:
+        f_pkg, _, f_tail = full.lower().rpartition("/")
+        short = difflib.SequenceMatcher(None, tail, f_tail).ratio()
+        return short - 0.1 if pkg and pkg != f_pkg else short
+
+    scored = sorted(((score(full), full) for full in names), key=lambda sf: (-sf[0], sf[1]))
+    return [full for sc, full in scored[:n] if sc >= 0.75]
 
 
 def lookup_type(name: str) -> type[Message]:
