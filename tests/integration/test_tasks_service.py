@@ -1,0 +1,99 @@
+"""The tasks service over Zenoh: every call, its refusals with codes, tasks/status, smach."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from zenros.context import Context
+from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskStatus
+from zenros.node import Node
+from zenros.rpc import Client
+from zenros.services.tasks.node import TasksNode
+from zenros.smach.introspection import StateStructure
+from zenros.testing import Collector, wait_for
+
+
+@pytest.fixture
+def tasks(ctx_pair: list[Context], tmp_path: Path) -> Iterator[TasksNode]:
+    node = TasksNode(context=ctx_pair[0], parameter_overrides={"data_dir": str(tmp_path)})
+    yield node
+    node.close()
+
+
+class Api:
+    def __init__(self, ctx: Context) -> None:
+        self.ctx = ctx
+        self.clients: dict[str, Client] = {}
+
+    def __call__(self, name: str, id: str = "", body: Any = None) -> tuple[int, Any, str]:
+        if name not in self.clients:
+            self.clients[name] = Client(self.ctx, TaskCall, f"/tasks/{name}")
+            assert self.clients[name].wait_for_service(10)
+        text = body if isinstance(body, str) else json.dumps(body) if body is not None else ""
+        r = self.clients[name].call(TaskCallRequest(id=id, body=text), timeout=10)
+        return r.code, json.loads(r.body) if r.body else None, r.message
+
+
+@pytest.fixture
+def api(ctx_pair: list[Context], tasks: TasksNode) -> Api:
+    return Api(ctx_pair[1])
+
+
+def test_create_start_complete_and_status(api: Api, make_node: Any) -> None:
+    watcher: Node = make_node("watch", side=1)
+    got = Collector()
+    watcher.create_subscription(TaskStatus, "/tasks/status", got)
+    code, task, _ = api("create", body={"name": "hello", "sub_tasks": [
+        {"type": "sleep_action", "wait_time": 0.05}, {"type": "tts_action", "text": "hi"}]})
+    assert code == 200 and task["state"] == "WAITTING"
+    code, started, _ = api("start", task["id"])
+    assert code == 200 and started["state"] == "WORKING"
+    assert wait_for(lambda: any(m.state == "COMPLETE" and m.id == task["id"]
+                                for m in got.items), 10)
+    final = next(m for m in got.items if m.state == "COMPLETE")
+    assert final.progress == 1.0 and json.loads(final.task)["sub_tasks"][1]["state"] == "COMPLETE"
+    states = [m.state for m in got.items if m.id == task["id"]]
+    assert states[0] in ("WAITTING", "WORKING") and "WORKING" in states
+    code, listed, _ = api("get")
+    assert [t["id"] for t in listed] == [task["id"]]
+
+
+@pytest.mark.parametrize("name, id, body, code, words", [
+    ("create", "", {"sub_tasks": [{"type": "fly"}]}, 400, "unknown action type 'fly'"),
+    ("create", "", "{not json", 400, "not valid JSON"),
+    ("create", "", "[" * 5000, 400, "not valid JSON"),
+    ("create", "", [1, 2], 400, "JSON object"),
+    ("start", "no-such-id", None, 404, "no task with id 'no-such-id'"),
+    ("start", "", None, 400, "'id'"),
+    ("get_action", "nope", None, 404, "no action"),
+    ("loop", "x", {"loop_flag": "yes"}, 400, "loop_flag"),
+    ("stop", "", None, 409, "no task is running"),
+])
+def test_refusals_have_codes(api: Api, name: str, id: str, body: Any, code: int,
+                             words: str) -> None:
+    got, _, message = api(name, id, body)
+    assert got == code and words in message
+    assert api("get")[0] == 200  # and the service still answers
+
+
+def test_running_task_is_a_live_state_machine(api: Api, make_node: Any) -> None:
+    code, task, _ = api("create", body={"sub_tasks": [{"type": "wait_req_action"}]})
+    watcher: Node = make_node("watch2", side=1)
+    structure = Collector()
+    watcher.create_subscription(StateStructure, "/tasks/smach/structure", structure)
+    api("start", task["id"])
+    assert wait_for(lambda: any([c.label for c in s.children] == ["00_WAIT_REQ_ACTION"]
+                                and s.type == "TaskMachine" for s in structure.items), 10), \
+        structure.items
+    code, paused, _ = api("pause", task["id"])
+    assert code == 200 and paused["state"] == "PAUSED"
+    assert paused["sub_tasks"][0]["state"] == "PAUSED"
+    code, _, msg = api("pause", task["id"])
+    assert code == 409 and "PAUSED" in msg
+    api("resume", task["id"])
+    assert api("update_wait_req")[0] == 200
+    assert wait_for(lambda: api("get", task["id"])[1]["state"] == "COMPLETE", 10)
