@@ -1,0 +1,123 @@
+"""GridGeometry: a costmap's size, resolution and origin, and world ↔ map cell conversion.
+
+Cells are indexed ``(mx, my)`` = (column, row), row 0 at the origin (the bottom of the map,
+as in an OccupancyGrid), so a cell's value is ``grid[my, mx]``. A world point ``(x, y)`` in
+the map frame lies in cell ``(floor((x − ox)/res), floor((y − oy)/res))``; a cell's world
+point is its centre. The origin's yaw is not supported (as most of Nav2 ignores it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["EMPTY", "Bounds", "GridGeometry"]
+
+
+@dataclass(frozen=True, slots=True)
+class Bounds:
+    """A half-open window of cells: columns ``x0 ≤ mx < x1``, rows ``y0 ≤ my < y1``."""
+
+    x0: int
+    y0: int
+    x1: int
+    y1: int
+
+    @property
+    def empty(self) -> bool:
+        return self.x1 <= self.x0 or self.y1 <= self.y0
+
+    def grow(self, cells: int, width: int, height: int) -> Bounds:
+        """This window widened by ``cells`` on each side, clipped to a width × height grid."""
+        return Bounds(
+            max(0, self.x0 - cells), max(0, self.y0 - cells),
+            min(width, self.x1 + cells), min(height, self.y1 + cells),
+        )
+
+    def union(self, other: Bounds) -> Bounds:
+        if self.empty:
+            return other
+        if other.empty:
+            return self
+        return Bounds(
+            min(self.x0, other.x0), min(self.y0, other.y0),
+            max(self.x1, other.x1), max(self.y1, other.y1),
+        )
+
+    @property
+    def slices(self) -> tuple[slice, slice]:
+        """``grid[bounds.slices]``: the window of a (rows, columns) array."""
+        return slice(self.y0, self.y1), slice(self.x0, self.x1)
+
+
+EMPTY = Bounds(0, 0, 0, 0)
+
+
+@dataclass(frozen=True, slots=True)
+class GridGeometry:
+    """The placement of a width × height grid of square cells in the map frame."""
+
+    width: int
+    height: int
+    resolution: float
+    origin_x: float = 0.0
+    origin_y: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.width <= 0 or self.height <= 0:
+            raise ValueError(f"a costmap needs a positive size, got {self.width} x {self.height}")
+        if not (math.isfinite(self.resolution) and self.resolution > 0):
+            raise ValueError(f"resolution must be a positive number, got {self.resolution!r}")
+        if not (math.isfinite(self.origin_x) and math.isfinite(self.origin_y)):
+            raise ValueError(f"origin must be finite, got ({self.origin_x!r}, {self.origin_y!r})")
+
+    @property
+    def full(self) -> Bounds:
+        return Bounds(0, 0, self.width, self.height)
+
+    def contains(self, mx: int, my: int) -> bool:
+        return 0 <= mx < self.width and 0 <= my < self.height
+
+    def world_to_map(self, x: float, y: float) -> tuple[int, int] | None:
+        """The cell ``(mx, my)`` holding the world point, or None outside the grid (or NaN)."""
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return None
+        mx = math.floor((x - self.origin_x) / self.resolution)
+        my = math.floor((y - self.origin_y) / self.resolution)
+        return (mx, my) if self.contains(mx, my) else None
+
+    def world_to_map_unbounded(self, x: float, y: float) -> tuple[int, int]:
+        """The cell of a world point, possibly outside the grid."""
+        return (
+            math.floor((x - self.origin_x) / self.resolution),
+            math.floor((y - self.origin_y) / self.resolution),
+        )
+
+    def map_to_world(self, mx: float, my: float) -> tuple[float, float]:
+        """The world point at the centre of cell ``(mx, my)``."""
+        return (
+            self.origin_x + (mx + 0.5) * self.resolution,
+            self.origin_y + (my + 0.5) * self.resolution,
+        )
+
+    def cells_to_world(self, cells: np.ndarray) -> np.ndarray:
+        """An (N, 2) array of ``(mx, my)`` cells as an (N, 2) float array of centres."""
+        c = np.asarray(cells, dtype=np.float64).reshape(-1, 2)
+        out = np.empty_like(c)
+        out[:, 0] = self.origin_x + (c[:, 0] + 0.5) * self.resolution
+        out[:, 1] = self.origin_y + (c[:, 1] + 0.5) * self.resolution
+        return out
+
+    def world_to_cells(self, points: np.ndarray) -> np.ndarray:
+        """An (N, 2) array of world points as (N, 2) int64 cells (unclipped)."""
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        out = np.empty(p.shape, dtype=np.int64)
+        out[:, 0] = np.floor((p[:, 0] - self.origin_x) / self.resolution)
+        out[:, 1] = np.floor((p[:, 1] - self.origin_y) / self.resolution)
+        return out
+
+    def cell_distance(self, metres: float) -> int:
+        """Nav2's ``cellDistance``: ``ceil(metres / resolution)``, at least 0."""
+        return int(max(0.0, math.ceil(metres / self.resolution)))
