@@ -27,6 +27,12 @@ setup(
             optional=True,
             # -ffp-contract=off: no fused multiply-adds, so results round as Python's do
             extra_compile_args=["-O2", "-ffp-contract=off"],
-        )
+        ),
+        Extension(
+            "zenros.services.nav.planner._astar",
+            sources=["services/nav/planner/_astar.c"],
+            optional=True,  # without it the planner runs its Python reference (docs/nav-planner.md)
+            extra_compile_args=["-O2", "-ffp-contract=off"],
+        ),
     ]
 )
