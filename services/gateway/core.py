@@ -19,7 +19,7 @@ from .settings import Settings
 from .status import RobotState, compose_status
 from .token import TokenStore
 
-__all__ = ["Core", "Identity", "NativeSink", "make_identity"]
+__all__ = ["Core", "Identity", "NativeSink", "NavPort", "NavUnavailable", "make_identity"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +46,25 @@ class NativeSink(Protocol):
     def __call__(self, data: bytes) -> None: ...
 
 
+class NavUnavailable(Exception):
+    """The navigation service the command needs is not running (yet)."""
+
+
+class NavPort(Protocol):
+    """What the front ends ask of navigation; quick calls that start work at a distance.
+
+    Each raises `NavUnavailable` when nav is not there, ValueError for a bad argument.
+    """
+
+    def goto_pose(self, x: float, y: float, theta: float) -> None: ...
+    def goto_index(self, index: int) -> None: ...
+    def cancel(self) -> None: ...
+    def pause(self) -> None: ...
+    def resume(self) -> None: ...
+    def go_charge(self) -> None: ...
+    def stop_charge(self) -> None: ...
+
+
 class Core:
     """Robot state, the latest GalileoStatus, the dead-man speed command, tokens, settings.
 
@@ -65,7 +84,8 @@ class Core:
         self.status: GalileoStatus = compose_status(self.state, 0, time.time_ns())
         self.status_listeners: list[Callable[[GalileoStatus], None]] = []
         self.native: NativeSink | None = None   # where native command bytes go (§12)
-        self.services: dict[str, Any] = {}      # optional backends: "nav", "tasks"
+        self.services: dict[str, Any] = {}      # optional backends (e.g. "maps")
+        self.nav: NavPort | None = None
         self._lock = threading.Lock()
 
     def refresh(self, stamp_ns: int | None = None) -> GalileoStatus:
@@ -78,6 +98,12 @@ class Core:
         for fn in list(self.status_listeners):
             fn(st)
         return st
+
+    def navigation(self) -> NavPort:
+        """The navigation port, or `NavUnavailable`."""
+        if self.nav is None:
+            raise NavUnavailable("navigation is not available: the nav service is not running")
+        return self.nav
 
     def send_native(self, data: bytes) -> None:
         """Hand a §12.3 native command to the robot (``galileo/cmds``)."""

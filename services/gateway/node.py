@@ -18,6 +18,7 @@ from .config import default_config_path, load_config
 from .core import Core, make_identity
 from .link import RobotLink
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
+from .modbus import ModbusFront
 from .settings import Settings
 from .topic_hub import TopicHub
 from .ws import ws_app
@@ -46,6 +47,7 @@ class GatewayNode(Node):
         host = self.declare_parameter("host", "127.0.0.1")
         rest_port = self.declare_parameter("rest_port", 3546)
         ws_port = self.declare_parameter("ws_port", 3547)
+        modbus_port = self.declare_parameter("modbus_port", 3551)
         config_file = self.declare_parameter("config_file", "")
         no_check = self.declare_parameter("no_token_check", False)
         max_body = self.declare_parameter("max_body", 65536)
@@ -71,6 +73,9 @@ class GatewayNode(Node):
         self.ws_port = self.serve_asgi(ws_app(self.hub, self.core.tokens), host, ws_port,
                                        ws_ping_interval=5.0, ws_ping_timeout=10.0)
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
+        self.modbus = ModbusFront(self.core, self.logger)
+        self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))
+        self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
 
     def _default_dir(self) -> Path:
         home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
@@ -92,6 +97,9 @@ class GatewayNode(Node):
                 for server, _ in self._servers:
                     server.should_exit = True
                 await asyncio.gather(*(t for _, t in self._servers), return_exceptions=True)
+                modbus = getattr(self, "modbus", None)
+                if modbus is not None:
+                    await modbus.stop()
 
             try:
                 runner.call(stop_servers(), 8.0)
