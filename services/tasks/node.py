@@ -25,6 +25,10 @@ DB_NAME = "tasks.db"
 _enc = msgspec.json.Encoder()
 
 
+def _nothing() -> None:
+    pass
+
+
 class TasksNode(Node):
     """The robot API's tasks and actions (specs/robot-api.md §8-§9) as a service.
 
@@ -41,6 +45,7 @@ class TasksNode(Node):
         directory = data_dir(self.declare_parameter("data_dir", ""))
         resume = self.declare_parameter("resume_on_start", False)
         self.introspection = self.declare_parameter("introspection", True)
+        self.smach_server: IntrospectionServer | None = None
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
         self.store = TaskStore(directory / DB_NAME)
         self.link = RobotLink(self)
@@ -70,8 +75,13 @@ class TasksNode(Node):
             event=event, task=_enc.encode(doc).decode()))
 
     def introspect(self, task_id: str, machine: Container) -> Callable[[], None]:
-        server = IntrospectionServer(self, machine, "~/smach")
-        return server.close
+        """Show the running task's machine on ``~/smach`` (one server for every run; the
+        last run stays visible with its final status)."""
+        if self.smach_server is None:
+            self.smach_server = IntrospectionServer(self, machine, "~/smach")
+        else:
+            self.smach_server.set_machine(machine)
+        return _nothing
 
     def close(self) -> None:
         manager = getattr(self, "manager", None)

@@ -70,6 +70,22 @@ class IntrospectionServer:
         self._timer = node.create_timer(period, self.publish_status)
         node._track(self)
 
+    def set_machine(self, machine: Container) -> None:
+        """Watch ``machine`` from now on instead (a service that runs one machine after
+        another, such as the tasks service, keeps one server): its structure and status are
+        published at once."""
+        if not isinstance(machine, Container):
+            raise SmachError(
+                f"IntrospectionServer serves a container, got {type(machine).__name__}")
+        with self._lock:
+            if self.closed:
+                return
+            self._remove_listener()
+            self.machine = machine
+            self._remove_listener = machine.add_listener(self._on_event)
+        self.publish_structure()
+        self.publish_status()
+
     def publish_structure(self) -> None:
         """Publish the machine's structure now."""
         with self._lock:

@@ -97,3 +97,10 @@ def test_running_task_is_a_live_state_machine(api: Api, make_node: Any) -> None:
     api("resume", task["id"])
     assert api("update_wait_req")[0] == 200
     assert wait_for(lambda: api("get", task["id"])[1]["state"] == "COMPLETE", 10)
+    # the next run is shown by the same server
+    code, second, _ = api("create", body={"sub_tasks": [
+        {"type": "sleep_action", "wait_time": 0}, {"type": "tts_action", "text": "x"}]})
+    api("start", second["id"])
+    assert wait_for(lambda: any([c.label for c in s.children]
+                                == ["00_SLEEP_ACTION", "01_TTS_ACTION"]
+                                for s in structure.items), 10)
