@@ -1,0 +1,173 @@
+"""The chassis node over real Zenoh at 10x: driving, TF, ground truth, scans, e-stop, bad input."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+from zenros.msgs.geometry_msgs import Pose2D, Twist, Vector3
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.rosgraph_msgs import Clock
+from zenros.msgs.sensor_msgs import BatteryState, LaserScan
+from zenros.msgs.std_msgs import String
+from zenros.msgs.std_srvs import SetBool, SetBoolRequest
+from zenros.msgs.zenros_msgs import (
+    ChassisState,
+    Obstacle,
+    SetObstacles,
+    SetObstaclesRequest,
+    Teleport,
+    TeleportRequest,
+)
+from zenros.services.chassis.node import ChassisNode
+from zenros.testing import wait_for
+from zenros.tf import Buffer, TransformListener
+
+SPEED = 10.0
+
+
+class Latest:
+    """The newest message of a topic, and how many came."""
+
+    def __init__(self) -> None:
+        self.msg: Any = None
+        self.count = 0
+
+    def __call__(self, msg: Any) -> None:
+        self.msg = msg
+        self.count += 1
+
+
+def yaw(q: Any) -> float:
+    return 2 * math.atan2(q.z, q.w)
+
+
+@pytest.fixture
+def rig(make_node: Any) -> dict[str, Any]:
+    """The chassis at 10x in session 0; a user node in session 1 listening to everything."""
+    chassis: ChassisNode = make_node("chassis", 0, cls=ChassisNode,
+                                     parameter_overrides={"speed": SPEED, "seed": 1})
+    user = make_node("user", 1)
+    got = {name: Latest() for name in ("odom", "truth", "scan", "state", "battery", "clock")}
+    user.create_subscription(Odometry, "odom", got["odom"])
+    user.create_subscription(Odometry, "sim/ground_truth", got["truth"])
+    user.create_subscription(LaserScan, "scan", got["scan"])
+    user.create_subscription(ChassisState, "chassis/state", got["state"])
+    user.create_subscription(BatteryState, "battery_state", got["battery"])
+    user.create_subscription(Clock, "/clock", got["clock"])
+    buffer = Buffer()
+    listener = TransformListener(buffer, user)
+    cmd = user.create_publisher(Twist, "cmd_vel")
+    assert wait_for(lambda: all(v.count for v in got.values()), 20), \
+        {k: v.count for k, v in got.items()}
+    assert cmd.wait_for_subscribers(1, 10)
+    return {"chassis": chassis, "user": user, "got": got, "buffer": buffer, "cmd": cmd,
+            "listener": listener}
+
+
+def drive(rig: dict[str, Any], v: float, w: float, until: Any, timeout: float = 20) -> bool:
+    """Publish cmd_vel (every 0.1 s of sim time) until ``until()`` holds."""
+    cmd, clock = rig["cmd"], rig["got"]["clock"]
+    twist = Twist(linear=Vector3(x=v), angular=Vector3(z=w))
+    last = [-1.0]
+
+    def step() -> bool:
+        t = clock.msg.clock.to_sec()
+        if t - last[0] >= 0.1:
+            cmd.publish(twist)
+            last[0] = t
+        return bool(until())
+
+    return wait_for(step, timeout, interval=0.002)
+
+
+def test_drive_and_odom_tf_truth_agree(rig: dict[str, Any]) -> None:
+    got, buffer = rig["got"], rig["buffer"]
+    start = got["truth"].msg.pose.pose.position
+    assert (start.x, start.y) == (0.0, 0.0)  # the demo map's start pose
+    assert drive(rig, 0.5, 0.2, lambda: got["odom"].msg.pose.pose.position.x > 1.5)
+    # stop, then compare once the base has halted
+    assert drive(rig, 0.0, 0.0, lambda: got["state"].msg is not None
+                 and abs(got["odom"].msg.twist.twist.linear.x) < 1e-9)
+    odom, truth = got["odom"].msg, got["truth"].msg
+    assert odom.header.frame_id == "odom" and odom.child_frame_id == "base_link"
+    assert truth.header.frame_id == "map"
+    # no odom noise: odom == truth (odom starts at the start pose, here the map origin)
+    assert wait_for(lambda: got["truth"].msg.header.stamp == got["odom"].msg.header.stamp, 5)
+    o, t = got["odom"].msg.pose.pose, got["truth"].msg.pose.pose
+    assert o.position.x == pytest.approx(t.position.x, abs=1e-9)
+    assert o.position.y == pytest.approx(t.position.y, abs=1e-9)
+    assert yaw(o.orientation) == pytest.approx(yaw(t.orientation), abs=1e-9)
+    assert o.position.x > 1.5 and o.position.y > 0.05  # it turned left while driving
+    assert odom.pose.covariance[0] > 0 and odom.twist.covariance[35] > 0
+    stamp = got["odom"].msg.header.stamp
+    assert buffer.can_transform("odom", "laser", stamp, timeout=5)
+    tf = buffer.lookup_transform("odom", "base_link", stamp)
+    assert tf.transform.translation.x == pytest.approx(o.position.x, abs=1e-9)
+    laser = buffer.lookup_transform("base_link", "laser", stamp).transform.translation
+    assert (laser.x, laser.z) == pytest.approx((0.1, 0.2))
+    # sim time runs about 10x the wall clock and stamps follow /clock
+    assert got["state"].msg.speed == SPEED and got["state"].msg.real_time_factor > 3
+
+
+def test_blocked_corridor_shows_in_the_scan(rig: dict[str, Any]) -> None:
+    got, user = rig["got"], rig["user"]
+    client = user.create_client(SetObstacles, "sim/set_obstacles")
+    ahead = int(np.argmin(np.abs(np.arange(360) * (2 * math.pi / 360) - math.pi)))  # 0 rad
+    before = float(got["scan"].msg.ranges[ahead])
+    assert before > 5.0  # the corridor is open to the east
+    box = Obstacle(id="cart", shape="box", x=2.0, y=0.0, size_x=0.5, size_y=2.6)
+    res = client.call(SetObstaclesRequest(obstacles=[box]), timeout=10)
+    assert res.success, res.message
+    assert [o.id for o in res.obstacles] == ["cart"]
+    # laser at x = 0.1: the box's face at x = 1.75
+    assert wait_for(lambda: abs(float(got["scan"].msg.ranges[ahead]) - 1.65) < 0.01, 10)
+    # driving into it: stops at contact with the bumper pressed, never overlapping it
+    assert drive(rig, 0.6, 0.0, lambda: got["state"].msg.bumper, 30)
+    x = got["truth"].msg.pose.pose.position.x
+    assert 1.75 - 0.2 - 0.02 < x <= 1.75 - 0.2
+    bad = client.call(SetObstaclesRequest(obstacles=[Obstacle(id="on", x=x, radius=0.1)]),
+                      timeout=10)
+    assert not bad.success and "overlap the robot" in bad.message
+    gone = client.call(SetObstaclesRequest(op="remove", ids=["cart"]), timeout=10)
+    assert gone.success and gone.obstacles == []
+    assert wait_for(lambda: float(got["scan"].msg.ranges[ahead]) > 5.0, 10)
+
+
+def test_estop_holds_and_teleport(rig: dict[str, Any]) -> None:
+    got, user = rig["got"], rig["user"]
+    estop = user.create_client(SetBool, "chassis/set_estop")
+    assert estop.call(SetBoolRequest(data=True), timeout=10).success
+    assert wait_for(lambda: got["state"].msg.estop, 5)
+    t0 = got["clock"].msg.clock.to_sec()
+    assert drive(rig, 0.5, 0.0, lambda: got["clock"].msg.clock.to_sec() > t0 + 2.0)
+    assert got["truth"].msg.pose.pose.position.x == 0.0  # held for 2 s of commands
+    assert estop.call(SetBoolRequest(data=False), timeout=10).success
+    assert drive(rig, 0.5, 0.0, lambda: got["truth"].msg.pose.pose.position.x > 0.2)
+    tp = user.create_client(Teleport, "sim/teleport")
+    res = tp.call(TeleportRequest(pose=Pose2D(x=5.0, y=0.5, theta=1.0)), timeout=10)
+    assert res.success, res.message
+    assert wait_for(lambda: abs(got["truth"].msg.pose.pose.position.x - 5.0) < 1e-6, 5)
+    wall = tp.call(TeleportRequest(pose=Pose2D(x=2.0, y=1.25)), timeout=10)
+    assert not wall.success and "does not fit" in wall.message
+
+
+def test_bad_cmd_vel_is_refused_and_the_robot_stops(rig: dict[str, Any],
+                                                     caplog: pytest.LogCaptureFixture) -> None:
+    got, user = rig["got"], rig["user"]
+    assert drive(rig, 0.5, 0.0, lambda: got["truth"].msg.twist.twist.linear.x > 0.3)
+    rig["cmd"].publish(Twist(linear=Vector3(x=math.nan)))
+    assert wait_for(lambda: got["truth"].msg.twist.twist.linear.x == 0.0, 5)
+    assert "cmd_vel refused, stopping: non-finite" in caplog.text
+    assert drive(rig, 0.5, 0.0, lambda: got["truth"].msg.twist.twist.linear.x > 0.3)
+    rig["cmd"].publish(Twist(linear=Vector3(x=1e6)))
+    assert wait_for(lambda: got["truth"].msg.twist.twist.linear.x == 0.0, 5)
+    assert "far beyond the limits" in caplog.text
+    assert drive(rig, 0.5, 0.0, lambda: got["truth"].msg.twist.twist.linear.x > 0.3)
+    wrong = user.create_publisher(String, "cmd_vel")
+    wrong.publish(String(data="go"))
+    assert wait_for(lambda: got["truth"].msg.twist.twist.linear.x == 0.0, 5)
+    assert "not a geometry_msgs/Twist" in caplog.text
+    assert rig["chassis"]._thread.is_alive()
