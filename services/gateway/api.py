@@ -20,7 +20,7 @@ from starlette.responses import Response
 from starlette.types import Receive, Scope, Send
 
 from .spec_routes import SPEC_OPERATIONS
-from .token import TokenStore
+from .tokens import TokenStore
 
 __all__ = ["Api", "ApiError", "Call", "Endpoint", "PREFIX", "error_body"]
 

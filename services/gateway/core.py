@@ -17,7 +17,7 @@ from .config import GatewayConfig
 from .deadman import DeadMan
 from .settings import Settings
 from .status import RobotState, compose_status
-from .token import TokenStore
+from .tokens import TokenStore
 
 __all__ = ["Core", "Identity", "NativeSink", "NavPort", "NavUnavailable", "make_identity"]
 

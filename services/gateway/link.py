@@ -8,6 +8,7 @@ dead-man speed command on ``cmd_vel`` and native commands on ``galileo/cmds``.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 from zenros.errors import UnknownTypeError
@@ -51,6 +52,8 @@ class RobotLink:
         if chassis_state is not None:
             node.create_subscription(chassis_state, "chassis/state", self.on_chassis, 10)
         core.native = self.publish_native
+        self.on_native: Callable[[bytes], Any] | None = None
+        node.create_subscription(GalileoNativeCmds, "galileo/cmds", self.on_cmds, 50)
         node.create_timer(1.0 / rate, self.on_status_tick)
         node.create_timer(0.05, self.on_deadman_tick)
 
@@ -89,6 +92,10 @@ class RobotLink:
         s.control_x = msg.linear.x
         s.control_theta = msg.angular.z
         self._control_at = time.monotonic()
+
+    def on_cmds(self, msg: GalileoNativeCmds) -> None:
+        if self.on_native is not None:
+            self.on_native(bytes(msg.data[:msg.length]))
 
     # ------------------------------------------------------------------ out
 

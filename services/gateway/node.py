@@ -18,7 +18,10 @@ from .config import default_config_path, load_config
 from .core import Core, make_identity
 from .link import RobotLink
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
+from .discovery import Discovery
 from .modbus import ModbusFront
+from .native import NativeCommands
+from .serial_bridge import SerialBridge
 from .settings import Settings
 from .topic_hub import TopicHub
 from .ws import ws_app
@@ -38,6 +41,12 @@ class GatewayNode(Node):
         api_version: the API version reported in /system/info and discovery.
         status_rate: GalileoStatus rate in Hz (default 30).
         deadman_timeout: seconds a speed command holds (default 0.5).
+        serial_port: the §13 serial port (device path or pyserial URL); empty: no bridge.
+        serial_baud: its baud rate (default 115200, 8N1).
+        discovery_port: UDP port of the §1.3 broadcast (default 22002; -1 turns it off).
+        discovery_address: where it goes (default: 127.0.0.1 when host is loopback,
+            else 255.255.255.255).
+        discovery_period: seconds between broadcasts (default 1).
         data_dir: where settings live (default $ZENROS_HOME/galileo_api/<robot>).
     """
 
@@ -48,6 +57,10 @@ class GatewayNode(Node):
         rest_port = self.declare_parameter("rest_port", 3546)
         ws_port = self.declare_parameter("ws_port", 3547)
         modbus_port = self.declare_parameter("modbus_port", 3551)
+        serial_port = self.declare_parameter("serial_port", "")
+        discovery_port = self.declare_parameter("discovery_port", 22002)
+        discovery_address = self.declare_parameter("discovery_address", "")
+        discovery_period = self.declare_parameter("discovery_period", 1.0)
         config_file = self.declare_parameter("config_file", "")
         no_check = self.declare_parameter("no_token_check", False)
         max_body = self.declare_parameter("max_body", 65536)
@@ -76,6 +89,24 @@ class GatewayNode(Node):
         self.modbus = ModbusFront(self.core, self.logger)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
+        self.native = NativeCommands(self.core, self.logger)
+        self.link.on_native = self.native
+        self.serial: SerialBridge | None = None
+        if serial_port:
+            self.serial = SerialBridge(self.core, serial_port, self.logger,
+                                       baud=self.declare_parameter("serial_baud", 115200))
+        else:
+            self.logger.info("serial bridge off (parameter serial_port is empty)")
+        if discovery_port >= 0:
+            address = discovery_address or (
+                "127.0.0.1" if host.startswith("127.") else "255.255.255.255")
+            self.discovery: Discovery | None = Discovery(
+                self.core, address, discovery_port or 22002, self.logger, discovery_period)
+            self.runner.call(self.discovery.start())
+            self.logger.info("discovery broadcast to %s:%d every %g s", address,
+                             discovery_port or 22002, discovery_period)
+        else:
+            self.discovery = None
 
     def _default_dir(self) -> Path:
         home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
@@ -91,6 +122,9 @@ class GatewayNode(Node):
         return bound
 
     def close(self) -> None:
+        bridge = getattr(self, "serial", None)
+        if bridge is not None:
+            bridge.close()
         runner = getattr(self, "runner", None)
         if runner is not None:
             async def stop_servers() -> None:
@@ -100,6 +134,9 @@ class GatewayNode(Node):
                 modbus = getattr(self, "modbus", None)
                 if modbus is not None:
                     await modbus.stop()
+                discovery = getattr(self, "discovery", None)
+                if discovery is not None:
+                    await discovery.stop()
 
             try:
                 runner.call(stop_servers(), 8.0)

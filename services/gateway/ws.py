@@ -11,7 +11,7 @@ from starlette.routing import WebSocketRoute
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
 from .api import error_body
-from .token import TokenStore
+from .tokens import TokenStore
 from .topic_hub import Slot, TopicError, TopicHub
 
 __all__ = ["ws_app"]

@@ -1,0 +1,56 @@
+"""`NativeCommands`: executes §12.3 native command bytes (from ``galileo/cmds``)."""
+
+from __future__ import annotations
+
+import logging
+
+from .core import Core, NavUnavailable
+
+__all__ = ["NativeCommands"]
+
+
+class NativeCommands:
+    """Interprets one command at a time; a command it cannot honour is logged, not faked."""
+
+    def __init__(self, core: Core, logger: logging.Logger) -> None:
+        self.core = core
+        self.logger = logger
+
+    def __call__(self, data: bytes) -> bool:
+        """Execute ``data``; True when it was understood and started."""
+        try:
+            return self._run(data)
+        except NavUnavailable as exc:
+            self.logger.warning("native command %s refused: %s", data.hex(" "), exc)
+        except ValueError as exc:
+            self.logger.warning("native command %s refused: %s", data.hex(" "), exc)
+        return False
+
+    def _run(self, data: bytes) -> bool:
+        if not data:
+            return False
+        op, args = data[0], data[1:]
+        s = self.core.state
+        if op == ord("m") and args[:1] == b"\x00":
+            self.core.navigation()
+            s.nav_open = True
+            return True
+        if op == ord("m") and args[:1] == b"\x04":
+            if self.core.nav is not None:
+                self.core.nav.cancel()
+            s.nav_open = False
+            return True
+        if op == ord("g") and len(args) == 1:
+            self.core.navigation().goto_index(args[0])
+            return True
+        if op == ord("i") and len(args) == 1 and args[0] <= 2:
+            nav = self.core.navigation()
+            (nav.pause, nav.resume, nav.cancel)[args[0]]()
+            return True
+        if op == ord("j") and args[:1] in (b"\x00", b"\x01"):
+            nav = self.core.navigation()
+            nav.go_charge() if args[0] == 0 else nav.stop_charge()
+            return True
+        self.logger.warning("native command %s is not supported by this robot",
+                            data.hex(" "))
+        return False
