@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from starlette.types import ASGIApp, Receive, Scope, Send
@@ -15,13 +16,13 @@ from .rest_system import add_system_routes
 __all__ = ["HttpApp", "build_api"]
 
 
-def build_api(core: Core, max_body: int = 64 * 1024,
-              logger: logging.Logger | None = None) -> Api:
-    """The /api/v1 operations: those implemented by the gateway now, 501 for the rest."""
+def build_api(core: Core, max_body: int = 64 * 1024, logger: logging.Logger | None = None,
+              adders: Sequence[Callable[[Api], None]] = ()) -> Api:
+    """The /api/v1 operations: the system ones, those ``adders`` add, 501 for the rest."""
     api = Api(core.tokens, max_body=max_body, logger=logger)
     add_system_routes(api, core)
-    for add in core.services.get("route_adders", []):
-        add(api, core)
+    for add in adders:
+        add(api)
     api.finish()
     schema: dict[str, Any] = {}
 

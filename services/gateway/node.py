@@ -22,7 +22,9 @@ from .discovery import Discovery
 from .modbus import ModbusFront
 from .native import NativeCommands
 from .serial_bridge import SerialBridge
+from .rest_tasks import add_task_routes
 from .settings import Settings
+from .tasks_link import TasksLink
 from .topic_hub import TopicHub
 from .ws import ws_app
 
@@ -76,7 +78,9 @@ class GatewayNode(Node):
         self.link = RobotLink(self, self.core, rate)
         self.runner = AsyncRunner()
         self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
-        self.api = build_api(self.core, max_body, self.logger)
+        self.tasks = TasksLink(self)
+        self.api = build_api(self.core, max_body, self.logger,
+                             [lambda api: add_task_routes(api, self.tasks)])
         self.http = HttpApp(self.api)
         self.rest_port = self.serve_asgi(self.http, host, rest_port)
         self.core.identity = replace(self.core.identity, port=self.rest_port)

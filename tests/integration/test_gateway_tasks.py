@@ -1,0 +1,70 @@
+"""REST /task and /action against the real tasks service, through the gateway (§8-§9)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+from zenros.context import Context
+from zenros.services.gateway.node import GatewayNode
+from zenros.services.gateway.testing import running_gateway
+from zenros.services.tasks.node import TasksNode
+from zenros.testing import wait_for
+
+
+@pytest.fixture
+def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
+    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as node:
+        yield node
+
+
+@pytest.fixture
+def http(gw: GatewayNode) -> Iterator[httpx.Client]:
+    with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=15) as c:
+        yield c
+
+
+@pytest.fixture
+def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
+    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
+    assert gw.graph.wait_for_service("/tasks/create", 10)
+    yield node
+    node.close()
+
+
+def test_without_tasks_service_503(http: httpx.Client) -> None:
+    r = http.get("/task")
+    assert r.status_code == 503 and "tasks service is not running" in r.json()["description"]
+
+
+def test_task_lifecycle_and_actions(http: httpx.Client, tasks: TasksNode) -> None:
+    r = http.post("/task", json={"name": "t", "sub_tasks": [
+        {"type": "sleep_action", "wait_time": 0.05}]})
+    assert r.status_code == 200, r.text
+    task = r.json()
+    assert task["state"] == "WAITTING" and task["name"] == "t"
+    assert any(t["id"] == task["id"] for t in http.get("/task").json())
+    assert http.get("/task/start", params={"id": task["id"]}).status_code == 200
+    assert wait_for(lambda: http.get("/task", params={"id": task["id"]}).json()["state"]
+                    == "COMPLETE", 10)
+    r = http.get("/task/loop", params={"id": task["id"], "loop_flag": "true"})
+    assert r.status_code == 200 and r.json()["loop_flag"] is True
+    # actions: POST wraps one in an "auto task"
+    r = http.post("/action", json={"type": "sleep_action", "wait_time": 2})
+    assert r.status_code == 200, r.text
+    auto = r.json()
+    assert auto["name"] == "auto task" and auto["sub_tasks"][0]["type"] == "sleep_action"
+    action_id = auto["sub_tasks"][0]["id"]
+    assert http.get("/action", params={"id": action_id}).json()["wait_time"] == 2
+    assert http.get("/action/update_wait_req").json() == {"status": "ok"}
+    assert http.delete("/task", params={"id": auto["id"]}).json() == {"status": "ok"}
+    # the tasks service's refusals pass through with their codes
+    r = http.get("/task/start", params={"id": "nope"})
+    assert r.status_code == 404 and r.json()["status"] == "error"
+    assert http.post("/action", json={"wait_time": 1}).status_code == 400
+    assert http.get("/task/start").status_code == 400            # id required
+    assert http.get("/task/loop", params={"id": "x", "loop_flag": "maybe"}).status_code == 400
+    r = http.post("/task", json={"name": "bad", "sub_tasks": [{"type": "warp_action"}]})
+    assert r.status_code == 400, r.text
