@@ -103,7 +103,8 @@ def main(out: Path) -> None:
     floor = draw()
     ox, oy, _ = ORIGIN
     save_map(GridMap(floor.grid, RES, ORIGIN), out / "office.yaml")
-    dock = MapPose(25.0 + ox, 0.5 + 0.25 + 0.25 + oy, -math.pi / 2)  # facing the dock
+    # the dock block's face is at y = 0.75; docked, the body (radius 0.2) is 2 cm from it
+    dock = MapPose(25.0 + ox, 0.75 + 0.22 + oy, -math.pi / 2)
     save_poses(MapPoses(start=MapPose(0.0, 0.0, 0.0), dock=dock), out / "office.yaml")
 
 

@@ -94,7 +94,7 @@ class World:
         """The centre of the free cell nearest to (x, y) where the body fits, if any."""
         if self.body_free(x, y, radius):
             return x, y
-        rows, cols = np.nonzero(self.edt > radius + self.res * math.sqrt(2))
+        rows, cols = np.nonzero(self.edt > radius)  # necessary: clearance <= edt
         if rows.size == 0:
             return None
         cx = self.ox + (cols + 0.5) * self.res
