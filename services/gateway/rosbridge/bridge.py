@@ -4,6 +4,7 @@ action), created on demand through a zenros `Node` and released when the last cl
 from __future__ import annotations
 
 import asyncio
+import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -54,20 +55,32 @@ class TopicFeed:
         self.type_name = normalize_type_name(msg_type.__msgtype__)
         self.sinks: set[Sink] = set()
         self._loop = bridge.loop
+        self._lock = threading.Lock()
+        self._pending: list[bytes] = []
+        self._scheduled = False
         tags = [t.qos for t in bridge.node.graph.publishers(topic)]
         self.sub: Subscription[Any] = bridge.node.create_subscription(
             msg_type, topic, self._on_message, _qos_like(tags))
 
     def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
         frame = publish_frame(self.topic, encode_message(msg))
-        try:
-            self._loop.call_soon_threadsafe(self._fan_out, frame)
+        with self._lock:
+            self._pending.append(frame)
+            if self._scheduled:
+                return
+            self._scheduled = True
+        try:  # one loop wake-up carries every frame that arrives before it runs
+            self._loop.call_soon_threadsafe(self._fan_out)
         except RuntimeError:  # the loop closed under a late sample at shutdown
             pass
 
-    def _fan_out(self, frame: bytes) -> None:
+    def _fan_out(self) -> None:
+        with self._lock:
+            frames, self._pending = self._pending, []
+            self._scheduled = False
         for sink in tuple(self.sinks):
-            sink.deliver(self.topic, frame)
+            for frame in frames:
+                sink.deliver(self.topic, frame)
 
 
 class Bridge:

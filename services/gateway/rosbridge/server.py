@@ -9,7 +9,7 @@ import logging
 import threading
 from typing import Any
 
-from websockets.asyncio.server import Server, ServerConnection, serve
+from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
 from websockets.exceptions import ConnectionClosed
 from zenros.node import Node
 
@@ -88,12 +88,8 @@ class RosbridgeServer:
 
     async def _connection(self, ws: ServerConnection) -> None:
         wake = asyncio.Event()
-        transport: Any = ws.transport
-
-        def congested() -> bool:
-            return bool(transport.get_write_buffer_size() > CONGESTED_BYTES)
-
-        client = ClientProtocol(self.bridge, next(self._ids), wake.set, congested, self.logger)
+        client = ClientProtocol(self.bridge, next(self._ids), wake.set, lambda: _congested(ws),
+                                self.logger)
         self.clients.add(client)
         self.logger.info("client %d connected from %s", client.client_id, ws.remote_address)
         writer = asyncio.create_task(self._write(ws, client, wake))
@@ -111,13 +107,17 @@ class RosbridgeServer:
     async def _write(self, ws: ServerConnection, client: ClientProtocol,
                      wake: asyncio.Event) -> None:
         loop = asyncio.get_running_loop()
+
         try:
             while True:
                 wake.clear()
                 frames, due = client.outbox.take()
                 for frame, size in frames:
                     for part in fragment(frame, size) if size else (frame,):
-                        await ws.send(part, text=True)
+                        if _congested(ws):  # ws.send waits until the socket drains
+                            await ws.send(part, text=True)
+                        else:  # written at once, no task switch per frame
+                            broadcast((ws,), part, text=True)
                 if frames:
                     continue
                 if due is None:
@@ -184,3 +184,9 @@ class RosbridgeServer:
             thread.join(timeout)
         self._thread = None
 
+
+
+def _congested(ws: ServerConnection) -> bool:
+    """True while the client's socket buffer holds more than `CONGESTED_BYTES`."""
+    transport: Any = ws.transport
+    return bool(transport.get_write_buffer_size() > CONGESTED_BYTES)
