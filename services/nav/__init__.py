@@ -1,0 +1,1 @@
+"""The navigation service: map server, localisation, planner and controller, Nav2-style actions."""

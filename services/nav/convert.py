@@ -1,0 +1,126 @@
+"""Conversions between nav's plain values (Pose2, numpy paths) and ROS messages."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from zenros.msgs.builtin_interfaces import Time
+from zenros.msgs.geometry_msgs import (
+    Point,
+    Pose,
+    Pose2D,
+    PoseStamped,
+    PoseWithCovarianceStamped,
+    Quaternion,
+    Transform,
+    TransformStamped,
+    Vector3,
+)
+from zenros.msgs.nav_msgs import Path
+from zenros.msgs.std_msgs import Header
+
+from .se2 import Pose2
+
+__all__ = [
+    "path_from_msg",
+    "path_to_msg",
+    "pose2_from_msg",
+    "pose2_from_pose2d",
+    "pose2_to_msg",
+    "pose2_to_pose2d",
+    "pose_stamped",
+    "pose_with_covariance",
+    "quaternion_from_yaw",
+    "transform_stamped",
+    "yaw_from_quaternion",
+]
+
+
+def yaw_from_quaternion(q: Quaternion) -> float:
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def quaternion_from_yaw(yaw: float) -> Quaternion:
+    return Quaternion(z=math.sin(yaw / 2.0), w=math.cos(yaw / 2.0))
+
+
+def pose2_from_msg(pose: Pose) -> Pose2:
+    """The planar part of a pose; raises ValueError for NaN/inf or a zero quaternion."""
+    q = pose.orientation
+    values = (pose.position.x, pose.position.y, q.x, q.y, q.z, q.w)
+    if not all(math.isfinite(v) for v in values):
+        raise ValueError(f"pose has a non-finite value: {values}")
+    if q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w < 1e-12:
+        raise ValueError("pose orientation is a zero quaternion")
+    return Pose2(pose.position.x, pose.position.y, yaw_from_quaternion(q))
+
+
+def pose2_to_msg(p: Pose2) -> Pose:
+    return Pose(position=Point(x=p.x, y=p.y), orientation=quaternion_from_yaw(p.theta))
+
+
+def pose2_from_pose2d(p: Pose2D) -> Pose2:
+    out = Pose2(p.x, p.y, p.theta)
+    if not out.is_finite():
+        raise ValueError(f"pose has a non-finite value: {tuple(out)}")
+    return out
+
+
+def pose2_to_pose2d(p: Pose2) -> Pose2D:
+    return Pose2D(x=p.x, y=p.y, theta=p.theta)
+
+
+def pose_stamped(p: Pose2, stamp: Time, frame_id: str = "map") -> PoseStamped:
+    return PoseStamped(header=Header(stamp=stamp, frame_id=frame_id), pose=pose2_to_msg(p))
+
+
+def pose_with_covariance(p: Pose2, stamp: Time, cov_xy: float, cov_yaw: float,
+                         frame_id: str = "map") -> PoseWithCovarianceStamped:
+    msg = PoseWithCovarianceStamped(header=Header(stamp=stamp, frame_id=frame_id))
+    msg.pose.pose = pose2_to_msg(p)
+    cov = np.zeros(36)
+    cov[0] = cov[7] = cov_xy
+    cov[35] = cov_yaw
+    msg.pose.covariance = cov.view(type(msg.pose.covariance))
+    return msg
+
+
+def transform_stamped(p: Pose2, stamp: Time, parent: str, child: str) -> TransformStamped:
+    return TransformStamped(
+        header=Header(stamp=stamp, frame_id=parent), child_frame_id=child,
+        transform=Transform(translation=Vector3(x=p.x, y=p.y),
+                            rotation=quaternion_from_yaw(p.theta)))
+
+
+def path_to_msg(xy: np.ndarray, stamp: Time, frame_id: str = "map",
+                final_yaw: float | None = None) -> Path:
+    """A ``nav_msgs/Path`` through the (N, 2) points; each pose faces the next point."""
+    poses: list[PoseStamped] = []
+    n = len(xy)
+    header = Header(stamp=stamp, frame_id=frame_id)
+    for i in range(n):
+        if i + 1 < n:
+            yaw = math.atan2(xy[i + 1, 1] - xy[i, 1], xy[i + 1, 0] - xy[i, 0])
+        elif final_yaw is not None:
+            yaw = final_yaw
+        elif n > 1:
+            yaw = math.atan2(xy[i, 1] - xy[i - 1, 1], xy[i, 0] - xy[i - 1, 0])
+        else:
+            yaw = 0.0
+        poses.append(PoseStamped(header=header, pose=pose2_to_msg(
+            Pose2(float(xy[i, 0]), float(xy[i, 1]), yaw))))
+    return Path(header=header, poses=poses)
+
+
+def path_from_msg(path: Path) -> tuple[np.ndarray, float | None]:
+    """The (N, 2) points of a path and the yaw of its last pose (None if empty).
+
+    Raises:
+        ValueError: a pose is not finite.
+    """
+    pts = [pose2_from_msg(ps.pose) for ps in path.poses]
+    if not pts:
+        return np.zeros((0, 2)), None
+    return np.array([(p.x, p.y) for p in pts], dtype=float), pts[-1].theta

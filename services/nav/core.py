@@ -1,0 +1,172 @@
+"""NavCore: nav's parts put together (maps, localisation, costmaps, planner, motion).
+
+Everything here is plain Python: the node feeds it sensor data (`on_odom`, `on_scan`,
+`on_ground_truth`, `on_battery`, `on_chassis`) and calls `tick` from its control timer;
+what goes out (commands, plans, status) is returned or handed to the ``on_plan`` callback.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from zenros.maps import GridMap
+
+from .behavior import Behavior, NavParams, Sense
+from .controller import ControllerParams
+from .costmap import CostmapParams
+from .costmaps import Costmaps
+from .docking import DockParams
+from .localizer import Localizer, Mode
+from .mapserver import MapServer
+from .mapstore import MapStore
+from .motion import Motion
+from .navigate import Codes, Navigate
+from .planner import PlannerParams
+from .planning import GlobalPlanner, PlanWorker
+from .records import Records
+from .se2 import Pose2
+
+__all__ = ["NavConfig", "NavCore"]
+
+
+@dataclass(frozen=True)
+class NavConfig:
+    """Every tunable of the core, built by the node from its parameters."""
+
+    nav: NavParams = field(default_factory=NavParams)
+    controller: ControllerParams = field(default_factory=ControllerParams)
+    costmap: CostmapParams = field(default_factory=CostmapParams)
+    planner: PlannerParams = field(default_factory=PlannerParams)
+    dock: DockParams = field(default_factory=DockParams)
+    planner_tolerance: float = 0.25
+    localization: Mode = "ground_truth"
+    costmap_update_rate: float = 2.0
+    local_costmap_size: float = 3.0
+    scan_max_points_range: float = 3.0
+
+
+class NavCore:
+    """The state of navigation; the node owns one."""
+
+    def __init__(self, config: NavConfig, maps_root: Any,
+                 on_plan: Callable[[np.ndarray], None] | None = None,
+                 on_map: Callable[[str, GridMap], None] | None = None) -> None:
+        self.config = config
+        self.localizer = Localizer(config.localization)
+        self.costmaps = Costmaps(config.costmap, config.local_costmap_size,
+                                 config.costmap_update_rate)
+        self.maps = MapServer(MapStore(maps_root), self._on_map)
+        self.records = Records(self.maps, self.localizer.pose, self._on_keepout)
+        self.planner = GlobalPlanner(config.planner, config.nav.robot_radius,
+                                     config.planner_tolerance)
+        self.worker = PlanWorker(self.planner, self.costmaps.snapshot)
+        self.motion = Motion()
+        self._on_plan_cb = on_plan
+        self._on_map_cb = on_map
+        self._lock = threading.Lock()
+        self.speed = (0.0, 0.0)
+        self.obstacles = np.zeros((0, 2))
+        self.scan_mounts: dict[str, Pose2] = {}
+        self.battery: float | None = None
+        self._battery_charging = False
+        self._chassis_charging = False
+        self.docked = False
+        self._last_tick: float | None = None
+
+    # ------------------------------------------------------------------ NavTools
+
+    def cost_at(self, x: float, y: float) -> int:
+        return self.costmaps.cost_at(x, y)
+
+    def keepout_hit(self, points: np.ndarray) -> bool:
+        return self.costmaps.keepout_hit(points)
+
+    def clear_obstacles(self) -> None:
+        self.costmaps.clear_obstacles()
+
+    def on_plan(self, xy: np.ndarray) -> None:
+        if self._on_plan_cb is not None:
+            self._on_plan_cb(xy)
+
+    # ------------------------------------------------------------------ maps
+
+    def _on_map(self, name: str, grid: GridMap) -> None:
+        self.costmaps.set_map(grid, self.maps.store.nav_data(name))
+        if self._on_map_cb is not None:
+            self._on_map_cb(name, grid)
+
+    def _on_keepout(self, name: str) -> None:
+        if name == self.maps.current:
+            self.costmaps.set_keepout(self.maps.store.nav_data(name))
+
+    # ------------------------------------------------------------------ sensors
+
+    def on_odom(self, stamp_ns: int, pose: Pose2, v: float, w: float) -> None:
+        self.localizer.on_odom(stamp_ns, pose)
+        self.speed = (v, w)
+
+    def on_ground_truth(self, stamp_ns: int, pose: Pose2) -> None:
+        self.localizer.on_ground_truth(stamp_ns, pose)
+
+    def on_scan(self, scan: Any, now: float) -> None:
+        """Keep the scan's points (in base_link) for collision checks and, when due, update
+        the global costmap's obstacle layer."""
+        mount = self.scan_mounts.get(scan.header.frame_id, Pose2())
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        n = len(ranges)
+        if n == 0 or not (math.isfinite(scan.angle_min) and math.isfinite(scan.angle_increment)):
+            return
+        angles = scan.angle_min + scan.angle_increment * np.arange(n)
+        ok = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max) \
+            & (ranges <= self.config.scan_max_points_range)
+        r, a = ranges[ok], angles[ok] + mount.theta
+        self.obstacles = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+        pose = self.localizer.pose()
+        if pose is not None:
+            self.costmaps.update_from_scan(scan, pose * mount, now)
+
+    def on_battery(self, percentage: float, charging: bool) -> None:
+        if math.isfinite(percentage):
+            self.battery = percentage
+        self._battery_charging = charging
+
+    def on_chassis(self, docked: bool, charging: bool) -> None:
+        self.docked = docked
+        self._chassis_charging = charging
+
+    @property
+    def charging(self) -> bool:
+        """Charging, as either the battery or the chassis reports it."""
+        return self._battery_charging or self._chassis_charging
+
+    # ------------------------------------------------------------------ behaviours
+
+    def make_nav(self, goal: Pose2, codes: Codes = Codes()) -> Navigate:
+        return Navigate([goal], self, self.config.nav, self.config.controller, codes)
+
+    def sense(self, now: float) -> Sense:
+        dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
+        if dt > 0.5:
+            dt = 0.0  # a pause (or a clock jump): no acceleration credit
+        return Sense(now=now, dt=dt, pose=self.localizer.pose(), speed=self.speed,
+                     obstacles=self.obstacles, battery=self.battery, charging=self.charging,
+                     docked=self.docked)
+
+    def tick(self, now: float) -> tuple[float, float] | None:
+        """One control step at ``now`` (seconds, node clock): the command, or None."""
+        s = self.sense(now)
+        self._last_tick = now
+        return self.motion.tick(s)
+
+    def start(self, behavior: Behavior) -> None:
+        self.motion.start(behavior)
+
+    def close(self) -> None:
+        self.motion.halt(reason="navigation is shutting down")
+        self.worker.close()

@@ -1,0 +1,90 @@
+"""Localizer: the robot's pose in ``map`` and the map→odom correction.
+
+The estimate is ``map_T_odom * odom_T_base``. Modes:
+
+- ``ground_truth`` (the simulator's default): each ``sim/ground_truth`` sample sets
+  ``map_T_odom = map_T_base(true) * inverse(odom_T_base)`` with the odometry sample of the
+  nearest stamp, so the estimate is exact even when odometry drifts.
+- ``odometry``: ``map_T_odom`` stays as the last initial pose set it (dead reckoning).
+
+`set_pose` (``initialpose``) puts the robot at a pose now; in ``ground_truth`` mode it
+switches to ``odometry``, since the truth would overwrite it at the next sample.
+"""
+
+from __future__ import annotations
+
+import bisect
+import threading
+from collections import deque
+from typing import Literal
+
+from .se2 import Pose2
+
+__all__ = ["MODES", "Localizer", "Mode"]
+
+Mode = Literal["ground_truth", "odometry"]
+MODES: tuple[Mode, ...] = ("ground_truth", "odometry")
+
+
+class Localizer:
+    """Fuses odometry with ground truth or an initial pose; thread-safe."""
+
+    def __init__(self, mode: Mode = "ground_truth", history: int = 200) -> None:
+        if mode not in MODES:
+            raise ValueError(f"unknown localization mode {mode!r}; valid: {', '.join(MODES)}")
+        self.mode: Mode = mode
+        self.map_to_odom = Pose2()
+        self._odom: deque[tuple[int, Pose2]] = deque(maxlen=history)
+        self._lock = threading.Lock()
+        self.localized = False
+        self.odom_stamp_ns = 0
+
+    def set_mode(self, mode: str) -> None:
+        if mode not in MODES:
+            raise ValueError(f"unknown localization mode {mode!r}; valid: {', '.join(MODES)}")
+        self.mode = mode  # type: ignore[assignment]
+
+    def on_odom(self, stamp_ns: int, odom_base: Pose2) -> None:
+        with self._lock:
+            if self._odom and stamp_ns < self._odom[-1][0]:
+                self._odom.clear()  # time went back (sim restart): start over
+            self._odom.append((stamp_ns, odom_base))
+            self.odom_stamp_ns = stamp_ns
+
+    def _odom_at(self, stamp_ns: int) -> Pose2 | None:
+        if not self._odom:
+            return None
+        stamps = [s for s, _ in self._odom]
+        i = bisect.bisect_left(stamps, stamp_ns)
+        if i == 0:
+            return self._odom[0][1]
+        if i == len(stamps):
+            return self._odom[-1][1]
+        before, after = self._odom[i - 1], self._odom[i]
+        return before[1] if stamp_ns - before[0] <= after[0] - stamp_ns else after[1]
+
+    def on_ground_truth(self, stamp_ns: int, map_base: Pose2) -> None:
+        if self.mode != "ground_truth":
+            return
+        with self._lock:
+            odom = self._odom_at(stamp_ns)
+            if odom is None:
+                return
+            self.map_to_odom = map_base * odom.inverse()
+            self.localized = True
+
+    def set_pose(self, map_base: Pose2) -> None:
+        """Put the robot at ``map_base`` now (``initialpose``)."""
+        with self._lock:
+            odom = self._odom[-1][1] if self._odom else Pose2()
+            self.map_to_odom = map_base * odom.inverse()
+            self.localized = True
+            if self.mode == "ground_truth":
+                self.mode = "odometry"
+
+    def pose(self) -> Pose2 | None:
+        """The robot in ``map`` (None before the first odometry and localisation)."""
+        with self._lock:
+            if not self._odom or not self.localized:
+                return None
+            return self.map_to_odom * self._odom[-1][1]

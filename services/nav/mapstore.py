@@ -1,0 +1,154 @@
+"""MapStore: the maps folder ``$ZENROS_HOME/maps/<name>/`` (map YAML + image + nav data).
+
+Each map folder holds ``<name>.yaml`` and its image (``<name>.pgm`` or ``.png``) in
+map_server format, the simulator's ``poses.yaml`` when the source map had one, and
+``nav.yaml`` (`MapNavData`). Importing copies a map_server map in; the source is checked
+first (`zenros.maps.load_map`), so a bad file never replaces a good one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+import threading
+from collections.abc import Callable
+from pathlib import Path
+
+import msgspec
+
+from zenros.errors import MapError
+from zenros.maps import (
+    GridMap,
+    MapMeta,
+    load_map,
+    load_poses,
+    poses_path,
+    read_meta,
+    write_meta,
+)
+from zenros.msgs.geometry_msgs import Pose2D
+from zenros.msgs.zenros_msgs.nav import MapInfo
+
+from .mapdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
+
+__all__ = ["MapStore"]
+
+
+class MapStore:
+    """The maps under ``root``; thread-safe for the service handlers that share it."""
+
+    def __init__(self, root: Path) -> None:
+        self.root = Path(root)
+        self.root.mkdir(parents=True, exist_ok=True)
+        self._lock = threading.RLock()
+        self._nav: dict[str, MapNavData] = {}
+
+    # ------------------------------------------------------------------ maps
+
+    def folder(self, name: str) -> Path:
+        return self.root / check_name("map", name)
+
+    def yaml_path(self, name: str) -> Path:
+        return self.folder(name) / f"{name}.yaml"
+
+    def names(self) -> list[str]:
+        """The stored maps, sorted."""
+        return sorted(p.parent.name for p in self.root.glob("*/*.yaml")
+                      if p.stem == p.parent.name)
+
+    def require(self, name: str) -> str:
+        """``name`` if such a map is stored, else a `MapError` listing the known ones."""
+        if not name or not self.yaml_path(name).is_file():
+            known = ", ".join(self.names()) or "none"
+            raise MapError(f"unknown map {name!r}; known maps: {known}")
+        return name
+
+    def load(self, name: str) -> GridMap:
+        """The stored map's grid (raises `MapError` naming the file and field)."""
+        return load_map(self.yaml_path(self.require(name)))
+
+    def md5sum(self, name: str) -> str:
+        meta = read_meta(self.yaml_path(self.require(name)))
+        return hashlib.md5(meta.image.read_bytes()).hexdigest()
+
+    def info(self, name: str, grid: GridMap | None = None) -> MapInfo:
+        """A stored map's metadata (reads the YAML; the size from ``grid`` or the image)."""
+        path = self.yaml_path(self.require(name))
+        meta = read_meta(path)
+        if grid is None:
+            grid = load_map(path)
+        return MapInfo(
+            name=name, resolution=meta.resolution, origin=list(meta.origin),
+            width=grid.width, height=grid.height, occupied_thresh=meta.occupied_thresh,
+            free_thresh=meta.free_thresh, negate=int(meta.negate), mode=meta.mode,
+            md5sum=hashlib.md5(meta.image.read_bytes()).hexdigest(),
+            yaml_path=str(path.resolve()), image_path=str(meta.image))
+
+    def import_map(self, source: str | Path, name: str = "", *, overwrite: bool = True) -> str:
+        """Copy a map_server map into the store as ``name`` (default: the YAML's stem).
+
+        The map is loaded first, so a bad source raises `MapError` and changes nothing.
+        An existing map's nav data is kept. Returns the name.
+        """
+        src = Path(source)
+        name = check_name("map", name or src.stem)
+        meta = read_meta(src)
+        load_map(src)  # the image must decode too
+        with self._lock:
+            dst = self.folder(name)
+            if self.yaml_path(name).is_file():
+                if not overwrite:
+                    raise MapError(f"map {name!r} already exists (set overwrite to replace it)")
+                if self.yaml_path(name).resolve() == src.resolve():
+                    return name
+            dst.mkdir(parents=True, exist_ok=True)
+            image = dst / f"{name}{meta.image.suffix.lower() or '.pgm'}"
+            for old in dst.glob(f"{name}.*"):
+                if old.suffix in (".pgm", ".png", ".bmp") and old != image:
+                    old.unlink()
+            shutil.copyfile(meta.image, image)
+            write_meta(MapMeta(image=image, resolution=meta.resolution, origin=meta.origin,
+                               negate=meta.negate, occupied_thresh=meta.occupied_thresh,
+                               free_thresh=meta.free_thresh, mode=meta.mode),
+                       self.yaml_path(name))
+            poses = load_poses(src)
+            if poses_path(src).is_file():
+                shutil.copyfile(poses_path(src), poses_path(dst))
+            nav_file = dst / NAV_FILE
+            if not nav_file.is_file() and poses.dock is not None:
+                d = poses.dock
+                write_nav_data(nav_file, MapNavData(charge_pose=Pose2D(x=d.x, y=d.y,
+                                                                       theta=d.theta)))
+            self._nav.pop(name, None)
+        return name
+
+    def delete(self, name: str) -> None:
+        with self._lock:
+            shutil.rmtree(self.folder(self.require(name)))
+            self._nav.pop(name, None)
+
+    # ------------------------------------------------------------------ nav data
+
+    def nav_data(self, name: str) -> MapNavData:
+        """The map's nav data (cached; a copy is not made, so treat it as read-only)."""
+        with self._lock:
+            data = self._nav.get(name)
+            if data is None:
+                data = read_nav_data(self.folder(self.require(name)) / NAV_FILE)
+                self._nav[name] = data
+            return data
+
+    def update_nav_data(self, name: str, change: Callable[[MapNavData], None]) -> MapNavData:
+        """Apply ``change`` to a copy of the map's nav data, persist it, and return it.
+
+        ``change`` may raise (ValueError, MapError) to refuse; nothing is written then.
+        """
+        with self._lock:
+            data = msgspec.structs.replace(self.nav_data(name))
+            data.paths = {k: msgspec.structs.replace(v) for k, v in data.paths.items()}
+            data.virtual_walls = list(data.virtual_walls)
+            data.forbidden_areas = list(data.forbidden_areas)
+            change(data)
+            write_nav_data(self.folder(name) / NAV_FILE, data)
+            self._nav[name] = data
+            return data

@@ -1,0 +1,289 @@
+"""`NavNode`: wires `NavCore` (maps, localisation, costmaps, planner, controller) to Zenoh."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from zenros.home import data_dir
+from zenros.maps import GridMap
+from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
+from zenros.msgs.nav2_msgs import (
+    ClearEntireCostmap,
+    ClearEntireCostmapRequest,
+    ClearEntireCostmapResponse,
+    ComputePathToPose,
+    DockRobot,
+    FollowPath,
+    LoadMap,
+    NavigateThroughPoses,
+    NavigateToPose,
+    UndockRobot,
+)
+from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path
+from zenros.msgs.sensor_msgs import BatteryState, LaserScan
+from zenros.msgs.tf2_msgs import TFMessage
+from zenros.msgs.zenros_msgs import nav as navmsgs
+from zenros.msgs.zenros_msgs.chassis import ChassisState
+from zenros.node import Node
+from zenros.params import Parameter
+from zenros.qos import QOS_LATCHED, QOS_SENSOR
+from zenros.tf import TransformBroadcaster
+from zenros.tf.listener import STATIC_LISTENER_QOS
+
+from .actions import NavActions
+from .autocharge import AutoCharge
+from .convert import (
+    path_to_msg,
+    pose2_from_msg,
+    pose_with_covariance,
+    transform_stamped,
+    yaw_from_quaternion,
+)
+from .core import NavCore
+from .docking import Dock
+from .params import DEMO_MAP, declare_nav_config
+from .se2 import Pose2
+from .status import nav_status
+
+__all__ = ["NavNode"]
+
+
+class NavNode(Node):
+    """Navigation: map server, localisation, costmaps, planner, controller, Nav2 actions.
+
+    Topics, services, actions and parameters: docs/nav.md. Runs in the robot's namespace
+    and needs the chassis (odom, scan, sim/ground_truth) and, in sim, ``use_sim_time``.
+    """
+
+    node_name = "nav"
+
+    def setup(self) -> None:
+        cfg = declare_nav_config(self)
+        map_param = str(self.declare_parameter("map", "", description="map_server YAML to "
+                                               "start with (default: the demo office)"))
+        maps_dir = str(self.declare_parameter("maps_dir", "", description="maps folder "
+                                              "(default: $ZENROS_HOME/maps)"))
+        rate = self.declare_parameter("controller_frequency", 20.0)
+        pose_rate = self.declare_parameter("pose_publish_rate", 10.0)
+        global_rate = self.declare_parameter("global_costmap_publish_rate", 1.0)
+        local_rate = self.declare_parameter("local_costmap_publish_rate", 2.0)
+        for name, v in (("controller_frequency", rate), ("pose_publish_rate", pose_rate),
+                        ("global_costmap_publish_rate", global_rate),
+                        ("local_costmap_publish_rate", local_rate)):
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ValueError(f"parameter {name!r} must be a positive number, got {v!r}")
+        self.autocharge = AutoCharge(
+            bool(self.declare_parameter("auto_charge", False,
+                                        description="dock when the battery runs low")),
+            float(self.declare_parameter("go_charge_percentage", 0.2,
+                                         description="battery fraction that sends it to dock")))
+        self.on_parameter_change(lambda p: setattr(self.autocharge, "enabled", bool(p.value)),
+                                 "auto_charge")
+        self.on_parameter_change(lambda p: setattr(self.autocharge, "threshold", float(p.value)),
+                                 "go_charge_percentage")
+        self.on_parameter_change(self._on_localization_param, "localization")
+
+        self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
+        self.core = NavCore(cfg, data_dir(maps_dir) / "maps" if not maps_dir else maps_dir,
+                            on_plan=self._publish_plan, on_map=self._publish_map)
+        self.core.maps.start(map_param or DEMO_MAP)
+        self.actions = NavActions(self.core, self.now, self.logger)
+
+        self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
+        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "robot_pose")
+        self.plan_pub = self.create_publisher(Path, "plan", QOS_LATCHED)
+        self.global_pub = self.create_publisher(OccupancyGrid, "global_costmap/costmap",
+                                                QOS_LATCHED)
+        self.local_pub = self.create_publisher(OccupancyGrid, "local_costmap/costmap")
+        self.status_pub = self.create_publisher(navmsgs.NavStatus, "nav/status", QOS_LATCHED)
+        self.tf = TransformBroadcaster(self)
+
+        self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR)
+        self.create_subscription(Odometry, "sim/ground_truth", self.on_ground_truth, QOS_SENSOR)
+        self.create_subscription(LaserScan, "scan", self.on_scan, QOS_SENSOR)
+        self.create_subscription(BatteryState, "battery_state", self.on_battery)
+        self.create_subscription(ChassisState, "chassis/state", self.on_chassis)
+        self.create_subscription(PoseWithCovarianceStamped, "initialpose", self.on_initialpose)
+        self.create_subscription(TFMessage, "/tf_static", self.on_tf_static, STATIC_LISTENER_QOS)
+
+        self._serve_maps()
+        self._serve_actions()
+        self.create_timer(1.0 / rate, self.on_control)
+        self.create_timer(1.0 / pose_rate, self.on_pose_timer)
+        self.create_timer(1.0 / global_rate, self.on_global_costmap_timer)
+        self.create_timer(1.0 / local_rate, self.on_local_costmap_timer)
+        self.create_timer(0.5, self.on_status_timer)
+
+    # ------------------------------------------------------------------ endpoints
+
+    def _serve_maps(self) -> None:
+        maps, rec = self.core.maps, self.core.records
+        for srv, name, handler in (
+            (LoadMap, "map_server/load_map", maps.handle_load_map),
+            (navmsgs.ListMaps, "map_server/list_maps", maps.handle_list_maps),
+            (navmsgs.GetCurrentMap, "map_server/current_map", maps.handle_current_map),
+            (navmsgs.ImportMap, "map_server/import_map", maps.handle_import_map),
+            (navmsgs.SwitchMap, "switch_map", maps.handle_switch_map),
+            (navmsgs.ListPaths, "list_paths", rec.handle_list_paths),
+            (navmsgs.GetPath, "get_path", rec.handle_get_path),
+            (navmsgs.SetPath, "set_path", rec.handle_set_path),
+            (navmsgs.DeletePath, "delete_path", rec.handle_delete_path),
+            (navmsgs.GetNavPoints, "get_nav_points", rec.handle_get_nav_points),
+            (navmsgs.SetNavPoints, "set_nav_points", rec.handle_set_nav_points),
+            (navmsgs.DeleteNavPoints, "delete_nav_points", rec.handle_delete_nav_points),
+            (navmsgs.GetVirtualWalls, "get_virtual_walls", rec.handle_get_virtual_walls),
+            (navmsgs.SetVirtualWalls, "set_virtual_walls", rec.handle_set_virtual_walls),
+            (navmsgs.GetForbiddenAreas, "get_forbidden_areas", rec.handle_get_forbidden_areas),
+            (navmsgs.SetForbiddenAreas, "set_forbidden_areas", rec.handle_set_forbidden_areas),
+            (navmsgs.GetChargePose, "get_charge_pose", rec.handle_get_charge_pose),
+            (navmsgs.SetChargePose, "set_charge_pose", rec.handle_set_charge_pose),
+            (ClearEntireCostmap, "global_costmap/clear_entirely_global_costmap",
+             self.handle_clear_costmap),
+        ):
+            self.create_service(srv, name, handler)
+
+    def _serve_actions(self) -> None:
+        a = self.actions
+        for act, name, execute, goal_cb in (
+            (NavigateToPose, "navigate_to_pose", a.execute_navigate_to_pose,
+             a.goal_navigate_to_pose),
+            (NavigateThroughPoses, "navigate_through_poses", a.execute_navigate_through_poses,
+             a.goal_navigate_through_poses),
+            (FollowPath, "follow_path", a.execute_follow_path, a.goal_follow_path),
+            (ComputePathToPose, "compute_path_to_pose", a.execute_compute_path_to_pose, None),
+            (DockRobot, "dock_robot", a.execute_dock_robot, None),
+            (UndockRobot, "undock_robot", a.execute_undock_robot, None),
+            (navmsgs.Patrol, "patrol", a.execute_patrol, a.goal_patrol),
+        ):
+            policy = "parallel" if name == "compute_path_to_pose" else "simple"
+            self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
+
+    def handle_clear_costmap(self, req: ClearEntireCostmapRequest) -> ClearEntireCostmapResponse:
+        self.core.clear_obstacles()
+        return ClearEntireCostmapResponse()
+
+    # ------------------------------------------------------------------ inputs
+
+    def on_odom(self, msg: Odometry) -> None:
+        try:
+            pose = pose2_from_msg(msg.pose.pose)
+        except ValueError:
+            self.logger.warning("odom with a bad pose ignored", exc_info=False)
+            return
+        t = msg.twist.twist
+        self.core.on_odom(msg.header.stamp.nanoseconds, pose, t.linear.x, t.angular.z)
+
+    def on_ground_truth(self, msg: Odometry) -> None:
+        try:
+            pose = pose2_from_msg(msg.pose.pose)
+        except ValueError:
+            return
+        self.core.on_ground_truth(msg.header.stamp.nanoseconds, pose)
+
+    def on_scan(self, msg: LaserScan) -> None:
+        self.core.on_scan(msg, self._seconds())
+
+    def on_battery(self, msg: BatteryState) -> None:
+        self.core.on_battery(msg.percentage, msg.power_supply_status in (
+            BatteryState.POWER_SUPPLY_STATUS_CHARGING, BatteryState.POWER_SUPPLY_STATUS_FULL))
+
+    def on_chassis(self, msg: ChassisState) -> None:
+        self.core.on_chassis(msg.docked, msg.charging)
+
+    def on_initialpose(self, msg: PoseWithCovarianceStamped) -> None:
+        frame = msg.header.frame_id.lstrip("/")
+        if frame not in ("", "map"):
+            self.logger.warning("initialpose in frame %r ignored: it must be in map", frame)
+            return
+        try:
+            pose = pose2_from_msg(msg.pose.pose)
+        except ValueError as exc:
+            self.logger.warning("initialpose ignored: %s", exc)
+            return
+        self.core.localizer.set_pose(pose)
+        self.logger.info("initial pose set to (%.2f, %.2f, %.2f); localization: %s",
+                         pose.x, pose.y, pose.theta, self.core.localizer.mode)
+
+    def on_tf_static(self, msg: TFMessage) -> None:
+        for t in msg.transforms:
+            if t.header.frame_id.lstrip("/") == "base_link":
+                tr, q = t.transform.translation, t.transform.rotation
+                self.core.scan_mounts[t.child_frame_id.lstrip("/")] = Pose2(
+                    tr.x, tr.y, yaw_from_quaternion(q))
+
+    def _on_localization_param(self, p: Parameter) -> None:
+        self.core.localizer.set_mode(str(p.value))
+
+    # ------------------------------------------------------------------ timers
+
+    def _seconds(self) -> float:
+        return self.now().nanoseconds / 1e9
+
+    def on_control(self) -> None:
+        now = self._seconds()
+        self._maybe_autocharge(now)
+        cmd = self.core.tick(now)
+        if cmd is not None:
+            self.cmd_pub.publish(Twist(linear=Vector3(x=cmd[0]), angular=Vector3(z=cmd[1])))
+
+    def _maybe_autocharge(self, now: float) -> None:
+        core = self.core
+        if not self.autocharge.due(core.battery, core.charging, core.docked,
+                                   core.motion.active is not None, now):
+            return
+        try:
+            dock = core.records.charge_pose()
+        except Exception:  # noqa: BLE001 - no map: nothing to do
+            dock = None
+        if dock is None:
+            self.logger.warning("battery at %.0f%% but map %r has no charge pose",
+                                100 * (core.battery or 0), core.maps.current)
+            return
+        self.logger.info("battery at %.0f%%: going to charge", 100 * (core.battery or 0))
+        core.start(Dock(dock, core.config.dock, core.make_nav))
+
+    def on_pose_timer(self) -> None:
+        loc = self.core.localizer
+        pose = loc.pose()
+        if pose is None:
+            return
+        stamp = self.now()
+        self.pose_pub.publish(pose_with_covariance(pose, stamp, 0.0025, 0.003))
+        tol = 100_000_000  # 0.1 s ahead, as amcl's transform_tolerance
+        odom_stamp = type(stamp).from_nanoseconds(loc.odom_stamp_ns + tol)
+        self.tf.send_transform(transform_stamped(loc.map_to_odom, odom_stamp, "map", "odom"))
+
+    def on_global_costmap_timer(self) -> None:
+        msg = self.core.costmaps.global_msg(self.now())
+        if msg is not None and self.global_pub.subscription_count > 0:
+            self.global_pub.publish(msg)
+
+    def on_local_costmap_timer(self) -> None:
+        pose = self.core.localizer.pose()
+        if pose is None or self.local_pub.subscription_count == 0:
+            return
+        msg = self.core.costmaps.local_msg(pose, self.now())
+        if msg is not None:
+            self.local_pub.publish(msg)
+
+    def on_status_timer(self) -> None:
+        self.status_pub.publish(nav_status(self.core, self.actions, self.now()))
+
+    # ------------------------------------------------------------------ outputs
+
+    def _publish_plan(self, xy: np.ndarray) -> None:
+        self.plan_pub.publish(path_to_msg(xy, self.now()))
+
+    def _publish_map(self, name: str, grid: GridMap) -> None:
+        self.map_pub.publish(grid.to_msg("map", self.now()))
+        self.logger.info("map %r: %dx%d cells at %g m", name, grid.width, grid.height,
+                         grid.resolution)
+
+    def close(self) -> None:
+        core = getattr(self, "core", None)
+        if core is not None:
+            core.close()
+        super().close()
+

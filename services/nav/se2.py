@@ -1,0 +1,53 @@
+"""Pose2: a pose in the plane (x, y, theta) and the SE(2) algebra nav needs."""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+__all__ = ["Pose2", "angle_diff", "normalize_angle"]
+
+
+def normalize_angle(a: float) -> float:
+    """``a`` wrapped into [-pi, pi)."""
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def angle_diff(to: float, frm: float) -> float:
+    """The shortest signed turn from ``frm`` to ``to``, in [-pi, pi)."""
+    return normalize_angle(to - frm)
+
+
+class Pose2(NamedTuple):
+    """A rigid transform of the plane: rotate by ``theta``, then translate by (x, y).
+
+    As a pose it is a frame in its parent: ``parent_T_child``. ``a * b`` composes
+    (``a`` applied after ``b``), as tf does with 4x4 matrices.
+    """
+
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+
+    def __mul__(self, other: object) -> Pose2:  # type: ignore[override]
+        if not isinstance(other, Pose2):
+            return NotImplemented
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose2(self.x + c * other.x - s * other.y,
+                     self.y + s * other.x + c * other.y,
+                     normalize_angle(self.theta + other.theta))
+
+    def inverse(self) -> Pose2:
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose2(-c * self.x - s * self.y, s * self.x - c * self.y, normalize_angle(-self.theta))
+
+    def apply(self, x: float, y: float) -> tuple[float, float]:
+        """The point (x, y) of this frame, expressed in the parent frame."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return self.x + c * x - s * y, self.y + s * x + c * y
+
+    def distance(self, other: Pose2) -> float:
+        return math.hypot(other.x - self.x, other.y - self.y)
+
+    def is_finite(self) -> bool:
+        return all(math.isfinite(v) for v in self)

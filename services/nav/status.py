@@ -1,0 +1,46 @@
+"""nav_status: the ``nav/status`` message from the core's state (for the gateway)."""
+
+from __future__ import annotations
+
+from zenros.msgs.builtin_interfaces import Time
+from zenros.msgs.std_msgs import Header
+from zenros.msgs.zenros_msgs.nav import NavStatus
+
+from .actions import NavActions
+from .convert import pose2_to_pose2d
+from .core import NavCore
+from .docking import Dock, Undock
+from .navigate import Navigate
+from .patrol import Patrol
+from .se2 import Pose2
+
+__all__ = ["nav_status"]
+
+
+def nav_status(core: NavCore, actions: NavActions, stamp: Time) -> NavStatus:
+    pose = core.localizer.pose()
+    msg = NavStatus(header=Header(stamp=stamp, frame_id="map"), map_name=core.maps.current,
+                    localized=pose is not None, pose=pose2_to_pose2d(pose or Pose2()))
+    b = core.motion.active
+    if b is None:
+        msg.state = "charging" if core.charging else "idle"
+        msg.goal_status, msg.error_code, msg.error_msg = actions.last_outcome
+        return msg
+    msg.goal_status = 1
+    cur = actions.current
+    if cur is not None and cur[1] is b and cur[2] is not None:
+        msg.goal = pose2_to_pose2d(cur[2])
+    nav = b.nav if isinstance(b, Patrol) else b if isinstance(b, Navigate) else None
+    if isinstance(b, Dock):
+        msg.state = "docking"
+        msg.goal = pose2_to_pose2d(b.dock)
+    elif isinstance(b, Undock):
+        msg.state = "undocking"
+    elif isinstance(b, Patrol):
+        msg.state = "patrolling"
+    else:
+        msg.state = "recovering" if isinstance(b, Navigate) and b.state == "recovering" \
+            else "navigating"
+    if nav is not None and nav.distance_remaining == nav.distance_remaining:  # not NaN
+        msg.target_distance = float(nav.distance_remaining)
+    return msg
