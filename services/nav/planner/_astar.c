@@ -1,42 +1,55 @@
 /* zenros.services.nav.planner._astar: 8-connected cost-aware A* on a uint8 cost grid, in C.
  *
- * search(costs, width, height, mult, start, goal, h_scale, budget_s, max_expansions)
+ * search(costs, width, height, steps, start, goal, h_straight, h_diag, budget_s, max_expansions)
  *   costs: a C-contiguous buffer of width*height bytes (row-major, index y*width + x);
- *   mult:  a buffer of 256 doubles, the traversal multiplier of each cost byte
- *          (a negative or infinite entry marks the cost as impassable);
- *   start, goal: flat cell indices; h_scale: the octile heuristic's factor;
+ *   steps: 512 int64: the fixed-point cost of a straight step into a cell of each cost
+ *          byte, then of a diagonal step (negative: the cell cannot be entered);
+ *   start, goal: flat cell indices; h_straight, h_diag: the octile heuristic's integer
+ *          coefficients (h = h_straight * max(dx, dy) + h_diag * min(dx, dy));
  *   budget_s: seconds allowed (<= 0: no limit); max_expansions (<= 0: no limit).
  * Returns (status, path, g_goal, expansions): status 0 found, 1 no path, 2 timeout,
  * 3 expansion limit; path: bytes of int32 flat indices from goal back to start.
  *
- * It is astar.py's search, step for step: the same step costs (mult[c] times 1 or
- * sqrt 2, c the cost of the cell entered), the same heuristic arithmetic, the same
- * neighbour order and the same total order of the open list (f, then h, then index),
- * so both return the same path. Python is the reference; ZENROS_NAV_PURE=1 turns this
- * module off. The search runs without the GIL.
+ * It is astar.py's search_python, step for step (integer arithmetic, the same neighbour
+ * order, the same open-list order), so both return the same path; Python is the
+ * reference and ZENROS_NAV_PURE=1 turns this module off. The search runs without the GIL.
+ *
+ * The open list: cells whose f equals the f last taken from the ordered part go on a
+ * stack (each expansion pushes its own in descending (h, cell) order, so the one nearest
+ * the goal is on top); the ordered part is a ring of buckets of width 2^BUCKET_SHIFT in
+ * f, the current bucket a binary heap by (f, h >> 10, cell), later ones plain arrays
+ * heapified when they become current.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
-#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#define CHECK_EVERY 1024
+#define BUCKET_SHIFT 18 /* a quarter of a cell at 2^20 per cell */
+
+enum { FOUND = 0, NO_PATH = 1, TIMEOUT = 2, LIMIT = 3, NOMEM = -1, RING = -2 };
+
 typedef struct {
-    double f;
-    double h;
-    int32_t idx;
+    int64_t f;
+    uint64_t tie; /* (h >> 10, clamped to 32 bits) << 32 | cell */
 } Entry;
 
 static inline int
 before(const Entry *a, const Entry *b)
 {
-    if (a->f != b->f)
-        return a->f < b->f;
-    if (a->h != b->h)
-        return a->h < b->h;
-    return a->idx < b->idx;
+    return a->f < b->f || (a->f == b->f && a->tie < b->tie);
+}
+
+static inline uint64_t
+tie_key(int64_t h, int32_t idx)
+{
+    uint64_t hq = (uint64_t)(h >> 10);
+    if (hq > 0xffffffffu)
+        hq = 0xffffffffu;
+    return (hq << 32) | (uint32_t)idx;
 }
 
 typedef struct {
@@ -45,26 +58,52 @@ typedef struct {
 } Heap;
 
 static int
-heap_push(Heap *hp, double f, double h, int32_t idx)
+reserve(Heap *hp)
 {
     if (hp->n == hp->cap) {
-        size_t cap = hp->cap ? hp->cap * 2 : 4096;
+        size_t cap = hp->cap ? hp->cap * 2 : 64;
         Entry *na = realloc(hp->a, cap * sizeof(Entry));
         if (na == NULL)
             return -1;
         hp->a = na;
         hp->cap = cap;
     }
-    Entry e = {f, h, idx};
+    return 0;
+}
+
+static void
+sift_down(Entry *a, size_t n, size_t i, Entry e)
+{
+    for (;;) {
+        size_t l = 2 * i + 1;
+        if (l >= n)
+            break;
+        size_t c = l;
+        if (l + 1 < n && before(&a[l + 1], &a[l]))
+            c = l + 1;
+        if (!before(&a[c], &e))
+            break;
+        a[i] = a[c];
+        i = c;
+    }
+    a[i] = e;
+}
+
+static int
+heap_push(Heap *hp, Entry e)
+{
+    if (reserve(hp) < 0)
+        return -1;
     size_t i = hp->n++;
+    Entry *a = hp->a;
     while (i > 0) {
         size_t p = (i - 1) >> 1;
-        if (!before(&e, &hp->a[p]))
+        if (!before(&e, &a[p]))
             break;
-        hp->a[i] = hp->a[p];
+        a[i] = a[p];
         i = p;
     }
-    hp->a[i] = e;
+    a[i] = e;
     return 0;
 }
 
@@ -73,22 +112,155 @@ heap_pop(Heap *hp)
 {
     Entry top = hp->a[0];
     Entry last = hp->a[--hp->n];
-    size_t n = hp->n, i = 0;
-    for (;;) {
-        size_t l = 2 * i + 1;
-        if (l >= n)
-            break;
-        size_t c = l;
-        if (l + 1 < n && before(&hp->a[l + 1], &hp->a[l]))
-            c = l + 1;
-        if (!before(&hp->a[c], &last))
-            break;
-        hp->a[i] = hp->a[c];
-        i = c;
-    }
-    if (n > 0)
-        hp->a[i] = last;
+    if (hp->n > 0)
+        sift_down(hp->a, hp->n, 0, last);
     return top;
+}
+
+static void
+heapify(Heap *hp)
+{
+    for (size_t i = hp->n / 2; i-- > 0;)
+        sift_down(hp->a, hp->n, i, hp->a[i]);
+}
+
+/* The ordered part. Every entry of the current heap has a smaller f than every entry of
+   a later bucket, so its top is the global minimum. With a consistent heuristic a new
+   entry's f is at most 2 * max_step above the f being expanded; the ring covers that. */
+typedef struct {
+    Heap *ring;
+    size_t nring, mask;
+    int64_t cur; /* absolute index of the current bucket */
+    size_t count;
+} Open;
+
+static int
+open_init(Open *o, int64_t max_step)
+{
+    int64_t need = ((2 * max_step) >> BUCKET_SHIFT) + 4;
+    if (need > (1 << 24))
+        return -1;
+    size_t n = 64;
+    while ((int64_t)n < need)
+        n <<= 1;
+    if (n > o->nring) {
+        Heap *r = realloc(o->ring, n * sizeof(Heap));
+        if (r == NULL)
+            return -1;
+        memset(r + o->nring, 0, (n - o->nring) * sizeof(Heap));
+        o->ring = r;
+        o->nring = n;
+    }
+    o->mask = n - 1;
+    for (size_t i = 0; i < o->nring; i++)
+        o->ring[i].n = 0;
+    o->count = 0;
+    o->cur = 0;
+    return 0;
+}
+
+static void
+open_free(Open *o)
+{
+    for (size_t i = 0; i < o->nring; i++)
+        free(o->ring[i].a);
+    free(o->ring);
+    o->ring = NULL;
+    o->nring = 0;
+}
+
+static int
+open_push(Open *o, int64_t f, uint64_t tie)
+{
+    Entry e = {f, tie};
+    int64_t b = f >> BUCKET_SHIFT;
+    if (o->count == 0)
+        o->cur = b;
+    if (b <= o->cur) {
+        if (heap_push(&o->ring[o->cur & (int64_t)o->mask], e) < 0)
+            return NOMEM;
+    } else {
+        if ((uint64_t)(b - o->cur) > o->mask)
+            return RING;
+        Heap *hp = &o->ring[b & (int64_t)o->mask];
+        if (reserve(hp) < 0)
+            return NOMEM;
+        hp->a[hp->n++] = e;
+    }
+    o->count++;
+    return 0;
+}
+
+static Entry
+open_pop(Open *o)
+{
+    Heap *hp = &o->ring[o->cur & (int64_t)o->mask];
+    while (hp->n == 0) {
+        o->cur++;
+        hp = &o->ring[o->cur & (int64_t)o->mask];
+        heapify(hp);
+    }
+    o->count--;
+    return heap_pop(hp);
+}
+
+/* Per-cell state, kept between searches so its pages stay mapped: a cell is open when
+   mark == gen, closed when mark == gen + 1, unseen otherwise. */
+typedef struct {
+    size_t n;
+    int64_t *g;
+    int32_t *parent;
+    uint32_t *mark;
+    uint32_t gen;
+    Open open;
+    int32_t *stack;
+    size_t sn, scap;
+} Workspace;
+
+static Workspace *spare; /* one idle workspace, taken and given back under the GIL */
+
+static void
+ws_free(Workspace *ws)
+{
+    if (ws == NULL)
+        return;
+    free(ws->g);
+    free(ws->parent);
+    free(ws->mark);
+    open_free(&ws->open);
+    free(ws->stack);
+    free(ws);
+}
+
+static Workspace *
+ws_take(size_t n)
+{
+    Workspace *ws = spare;
+    spare = NULL;
+    if (ws != NULL && ws->n >= n)
+        return ws;
+    ws_free(ws);
+    ws = calloc(1, sizeof(Workspace));
+    if (ws == NULL)
+        return NULL;
+    ws->n = n;
+    ws->g = malloc(n * sizeof(int64_t));
+    ws->parent = malloc(n * sizeof(int32_t));
+    ws->mark = calloc(n, sizeof(uint32_t));
+    if (ws->g == NULL || ws->parent == NULL || ws->mark == NULL) {
+        ws_free(ws);
+        return NULL;
+    }
+    return ws;
+}
+
+static void
+ws_give(Workspace *ws)
+{
+    if (spare == NULL)
+        spare = ws;
+    else
+        ws_free(ws);
 }
 
 static double
@@ -99,52 +271,101 @@ now_s(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-#define SQRT2 1.4142135623730951
-#define CHECK_EVERY 1024
-
-enum { FOUND = 0, NO_PATH = 1, TIMEOUT = 2, LIMIT = 3, NOMEM = -1 };
-
-/* the octile distance between two cells, scaled (astar.py's _octile) */
-static inline double
-octile(int32_t x, int32_t y, int32_t gx, int32_t gy, double scale)
+static inline int64_t
+octile(int32_t x, int32_t y, int32_t gx, int32_t gy, int64_t hs, int64_t hd)
 {
     int32_t dx = x > gx ? x - gx : gx - x;
     int32_t dy = y > gy ? y - gy : gy - y;
-    int32_t lo = dx < dy ? dx : dy, hi = dx < dy ? dy : dx;
-    return scale * ((double)hi + (SQRT2 - 1.0) * (double)lo);
+    return dx < dy ? hs * dy + hd * dx : hs * dx + hd * dy;
+}
+
+typedef struct {
+    const uint8_t *costs;
+    int32_t w, h;
+    const int64_t *straight, *diag;
+    int32_t start, goal;
+    int64_t hs, hd;
+    double budget;
+    long long max_exp;
+} Query;
+
+static int
+push_stack(Workspace *ws, const int32_t *cells, int n)
+{
+    if (ws->sn + (size_t)n > ws->scap) {
+        size_t cap = ws->scap ? ws->scap * 2 : 4096;
+        while (cap < ws->sn + (size_t)n)
+            cap *= 2;
+        int32_t *st = realloc(ws->stack, cap * sizeof(int32_t));
+        if (st == NULL)
+            return NOMEM;
+        ws->stack = st;
+        ws->scap = cap;
+    }
+    for (int j = 0; j < n; j++)
+        ws->stack[ws->sn++] = cells[j];
+    return 0;
 }
 
 static int
-run(const uint8_t *costs, int32_t w, int32_t h, const double *mult, int32_t start, int32_t goal,
-    double h_scale, double budget, long long max_exp, int32_t *parent, double *g, uint8_t *state,
-    long long *expansions)
+run(const Query *q, Workspace *ws, long long *expansions)
 {
     static const int DX[8] = {1, -1, 0, 0, 1, 1, -1, -1};
     static const int DY[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-    Heap hp = {NULL, 0, 0};
-    int32_t gx = goal % w, gy = goal / w;
-    double deadline = budget > 0 ? now_s() + budget : 0.0;
-    long long n_exp = 0;
-    int status = NO_PATH;
-
-    g[start] = 0.0;
-    parent[start] = -1;
-    state[start] = 1;
-    double h0 = octile(start % w, start / w, gx, gy, h_scale);
-    if (heap_push(&hp, 0.0 + h0, h0, start) < 0)
+    const int32_t w = q->w, h = q->h;
+    int32_t off[8];
+    for (int k = 0; k < 8; k++)
+        off[k] = DY[k] * w + DX[k];
+    int64_t max_step = 0;
+    for (int c = 0; c < 256; c++) {
+        if (q->straight[c] > max_step)
+            max_step = q->straight[c];
+        if (q->diag[c] > max_step)
+            max_step = q->diag[c];
+    }
+    if (ws->gen >= UINT32_MAX - 2) {
+        memset(ws->mark, 0, ws->n * sizeof(uint32_t));
+        ws->gen = 0;
+    }
+    ws->gen += 2;
+    const uint32_t OPEN = ws->gen, CLOSED = ws->gen + 1;
+    int64_t *g = ws->g;
+    int32_t *parent = ws->parent;
+    uint32_t *mark = ws->mark;
+    Open *open = &ws->open;
+    if (open_init(open, max_step) < 0)
         return NOMEM;
-    while (hp.n > 0) {
-        Entry e = heap_pop(&hp);
-        int32_t cur = e.idx;
-        if (state[cur] == 2)
+    ws->sn = 0;
+    const int32_t gx = q->goal % w, gy = q->goal / w;
+    const double deadline = q->budget > 0 ? now_s() + q->budget : 0.0;
+    long long n_exp = 0;
+    int status = NO_PATH, rc;
+
+    g[q->start] = 0;
+    parent[q->start] = -1;
+    mark[q->start] = OPEN;
+    int64_t h0 = octile(q->start % w, q->start / w, gx, gy, q->hs, q->hd);
+    if ((rc = open_push(open, h0, tie_key(h0, q->start))) < 0)
+        return rc;
+    int64_t cur_f = -1;
+    while (ws->sn > 0 || open->count > 0) {
+        int32_t cur;
+        if (ws->sn > 0) {
+            cur = ws->stack[--ws->sn];
+        } else {
+            Entry e = open_pop(open);
+            cur = (int32_t)(uint32_t)(e.tie & 0xffffffffu);
+            cur_f = e.f;
+        }
+        if (mark[cur] == CLOSED)
             continue; /* a stale entry: the cell was closed with a better g */
-        state[cur] = 2;
-        if (cur == goal) {
+        mark[cur] = CLOSED;
+        if (cur == q->goal) {
             status = FOUND;
             break;
         }
         n_exp++;
-        if (max_exp > 0 && n_exp > max_exp) {
+        if (q->max_exp > 0 && n_exp > q->max_exp) {
             status = LIMIT;
             break;
         }
@@ -152,84 +373,100 @@ run(const uint8_t *costs, int32_t w, int32_t h, const double *mult, int32_t star
             status = TIMEOUT;
             break;
         }
-        int32_t x = cur % w, y = cur / w;
-        double gc = g[cur];
+        const int32_t x = cur % w, y = cur / w;
+        const int inner = x > 0 && y > 0 && x < w - 1 && y < h - 1;
+        const int64_t gc = g[cur];
+        int64_t same_h[8];
+        int32_t same_i[8];
+        int ns = 0;
         for (int k = 0; k < 8; k++) {
-            int32_t nx = x + DX[k], ny = y + DY[k];
-            if (nx < 0 || ny < 0 || nx >= w || ny >= h)
+            const int32_t nx = x + DX[k], ny = y + DY[k];
+            if (!inner && (nx < 0 || ny < 0 || nx >= w || ny >= h))
                 continue;
-            int32_t nb = ny * w + nx;
-            if (state[nb] == 2)
+            const int32_t nb = cur + off[k];
+            const uint32_t mk = mark[nb];
+            if (mk == CLOSED)
                 continue;
-            double m = mult[costs[nb]];
-            if (!(m >= 0.0) || isinf(m))
+            const int64_t step = k < 4 ? q->straight[q->costs[nb]] : q->diag[q->costs[nb]];
+            if (step < 0)
                 continue;
-            double step = k < 4 ? m : m * SQRT2;
-            double ng = gc + step;
-            if (state[nb] == 1 && !(ng < g[nb]))
+            const int64_t ng = gc + step;
+            if (mk == OPEN && ng >= g[nb])
                 continue;
             g[nb] = ng;
             parent[nb] = cur;
-            state[nb] = 1;
-            double hn = octile(nx, ny, gx, gy, h_scale);
-            if (heap_push(&hp, ng + hn, hn, nb) < 0) {
-                free(hp.a);
-                return NOMEM;
+            mark[nb] = OPEN;
+            const int64_t hn = octile(nx, ny, gx, gy, q->hs, q->hd);
+            if (ng + hn == cur_f) {
+                int j = ns++; /* keep same_* in descending (h, cell) order */
+                while (j > 0 && (same_h[j - 1] < hn || (same_h[j - 1] == hn && same_i[j - 1] < nb))) {
+                    same_h[j] = same_h[j - 1];
+                    same_i[j] = same_i[j - 1];
+                    j--;
+                }
+                same_h[j] = hn;
+                same_i[j] = nb;
+            } else if ((rc = open_push(open, ng + hn, tie_key(hn, nb))) < 0) {
+                return rc;
             }
         }
+        if (ns > 0 && (rc = push_stack(ws, same_i, ns)) < 0)
+            return rc;
     }
-    free(hp.a);
     *expansions = n_exp;
     return status;
 }
 
 static PyObject *
-search(PyObject *self, PyObject *args)
+search(PyObject *Py_UNUSED(self), PyObject *args)
 {
-    Py_buffer cb, mb;
+    Py_buffer cb, sb;
     Py_ssize_t w, h, start, goal;
-    double h_scale, budget;
-    long long max_exp;
-    if (!PyArg_ParseTuple(args, "y*nny*nnddL", &cb, &w, &h, &mb, &start, &goal, &h_scale,
+    long long hs, hd, max_exp;
+    double budget;
+    if (!PyArg_ParseTuple(args, "y*nny*nnLLdL", &cb, &w, &h, &sb, &start, &goal, &hs, &hd,
                           &budget, &max_exp))
         return NULL;
     PyObject *result = NULL;
-    if (w <= 0 || h <= 0 || w * h != cb.len || w * h > INT32_MAX) {
+    Workspace *ws = NULL;
+    if (w <= 0 || h <= 0 || w > INT32_MAX / h || w * h != cb.len) {
         PyErr_SetString(PyExc_ValueError, "costs must hold width*height bytes");
         goto done;
     }
-    if (mb.len != 256 * (Py_ssize_t)sizeof(double)) {
-        PyErr_SetString(PyExc_ValueError, "mult must hold 256 doubles");
+    if (sb.len != 512 * (Py_ssize_t)sizeof(int64_t)) {
+        PyErr_SetString(PyExc_ValueError, "steps must hold 512 int64");
         goto done;
     }
     if (start < 0 || start >= w * h || goal < 0 || goal >= w * h) {
         PyErr_SetString(PyExc_ValueError, "start and goal must be cells of the grid");
         goto done;
     }
-    size_t n = (size_t)(w * h);
-    int32_t *parent = malloc(n * sizeof(int32_t));
-    double *g = malloc(n * sizeof(double));
-    uint8_t *state = calloc(n, 1);
-    if (parent == NULL || g == NULL || state == NULL) {
-        free(parent);
-        free(g);
-        free(state);
+    if (hs < 0 || hd < 0) {
+        PyErr_SetString(PyExc_ValueError, "heuristic coefficients must be >= 0");
+        goto done;
+    }
+    ws = ws_take((size_t)(w * h));
+    if (ws == NULL) {
         PyErr_NoMemory();
         goto done;
     }
-    double mult[256];
-    memcpy(mult, mb.buf, sizeof(mult));
+    int64_t steps[512];
+    memcpy(steps, sb.buf, sizeof(steps));
+    Query q = {(const uint8_t *)cb.buf, (int32_t)w, (int32_t)h, steps, steps + 256,
+               (int32_t)start, (int32_t)goal, hs, hd, budget, max_exp};
     long long expansions = 0;
     int status;
     Py_BEGIN_ALLOW_THREADS
-    status = run((const uint8_t *)cb.buf, (int32_t)w, (int32_t)h, mult, (int32_t)start,
-                 (int32_t)goal, h_scale, budget, max_exp, parent, g, state, &expansions);
+    status = run(&q, ws, &expansions);
     Py_END_ALLOW_THREADS
     if (status == NOMEM) {
         PyErr_NoMemory();
+    } else if (status == RING) {
+        PyErr_SetString(PyExc_RuntimeError, "the heuristic is not consistent with the step costs");
     } else {
         PyObject *path;
-        double g_goal = 0.0;
+        long long g_goal = 0;
+        const int32_t *parent = ws->parent;
         if (status == FOUND) {
             Py_ssize_t len = 0;
             for (int32_t c = (int32_t)goal; c != -1; c = parent[c])
@@ -241,31 +478,30 @@ search(PyObject *self, PyObject *args)
                 for (int32_t c = (int32_t)goal; c != -1; c = parent[c])
                     out[i++] = c;
             }
-            g_goal = g[goal];
+            g_goal = (long long)ws->g[goal];
         } else {
             path = PyBytes_FromStringAndSize(NULL, 0);
         }
         if (path != NULL)
-            result = Py_BuildValue("(iNdL)", status, path, g_goal, expansions);
+            result = Py_BuildValue("(iNLL)", status, path, g_goal, (long long)expansions);
     }
-    free(parent);
-    free(g);
-    free(state);
+    ws_give(ws);
 done:
     PyBuffer_Release(&cb);
-    PyBuffer_Release(&mb);
+    PyBuffer_Release(&sb);
     return result;
 }
 
 static PyMethodDef methods[] = {
     {"search", search, METH_VARARGS,
-     "search(costs, width, height, mult, start, goal, h_scale, budget_s, max_expansions)"
-     " -> (status, path_bytes, g_goal, expansions)"},
+     "search(costs, width, height, steps, start, goal, h_straight, h_diag, budget_s,"
+     " max_expansions) -> (status, path_bytes, g_goal, expansions)"},
     {NULL, NULL, 0, NULL},
 };
 
 static struct PyModuleDef module = {
     PyModuleDef_HEAD_INIT, "_astar", "8-connected cost-aware A* (see astar.py)", -1, methods,
+    NULL, NULL, NULL, NULL,
 };
 
 PyMODINIT_FUNC

@@ -1,30 +1,36 @@
 """The search: 8-connected, cost-aware A* on a uint8 cost grid (the Python reference).
 
-Each step into a cell of cost ``c`` costs ``mult[c]`` (× √2 diagonally); a cost whose
-multiplier is infinite (or negative) cannot be entered. The heuristic is the octile
-distance times the smallest multiplier, which is admissible and consistent, so the first
-time the goal is taken from the open list its path is optimal on the 8-connected grid.
-The open list is ordered by (f, h, cell index): ties go to the cell nearer the goal, and
-the whole order is total, so this code and the compiled one (``_astar.c``, the same
-arithmetic) expand the same cells and return the same path.
+Costs are fixed-point integers (``FIXED`` = 2^20 per cell): a step into a cell of cost
+byte ``c`` costs ``straight[c]`` or ``diag[c]`` (negative: the cell cannot be entered),
+so sums are exact and the compiled search (``_astar.c``) repeats this one bit for bit.
+The heuristic ``hs·max(dx, dy) + hd·min(dx, dy)`` is the octile distance scaled by the
+cheapest step and rounded down, so it is admissible and consistent: the first time the
+goal is taken from the open list its path is optimal for these step costs.
+
+Open-list order: cells whose f equals the f last taken from the ordered part are kept on
+a stack (each expansion pushes its own in descending (h, cell) order, so the one nearest
+the goal comes next); the others are ordered by (f, h >> 10, cell). Both kinds of choice
+take a cell of least f, which is all A* needs; the stack makes long runs of equal f (a
+flooded corridor, an open plateau) cheap.
 """
 
 from __future__ import annotations
 
 import heapq
-import math
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FOUND", "LIMIT", "NO_PATH", "TIMEOUT", "SearchOutcome", "search_python"]
+__all__ = ["FIXED", "FOUND", "LIMIT", "NO_PATH", "TIMEOUT", "SearchOutcome", "search_python"]
 
+FIXED = 1 << 20
+"""Fixed-point units per cell of travel."""
 FOUND, NO_PATH, TIMEOUT, LIMIT = 0, 1, 2, 3
-SQRT2 = 1.4142135623730951
 CHECK_EVERY = 1024
 _DX = (1, -1, 0, 0, 1, 1, -1, -1)
 _DY = (0, 0, 1, -1, 1, -1, 1, -1)
+_TIE_MAX = 0xFFFFFFFF
 
 
 @dataclass(frozen=True, slots=True)
@@ -33,42 +39,52 @@ class SearchOutcome:
 
     status: int
     path: np.ndarray  # int32 flat indices, goal first
-    g_goal: float
+    g_goal: int  # fixed point
     expansions: int
 
 
-def _octile(x: int, y: int, gx: int, gy: int, scale: float) -> float:
-    dx = abs(x - gx)
-    dy = abs(y - gy)
-    lo, hi = (dx, dy) if dx < dy else (dy, dx)
-    return scale * (float(hi) + (SQRT2 - 1.0) * float(lo))
+def _tie(h: int, idx: int) -> int:
+    return (min(h >> 10, _TIE_MAX) << 32) | idx
 
 
 def search_python(
     costs: np.ndarray,
-    mult: np.ndarray,
+    steps: np.ndarray,
     start: int,
     goal: int,
-    h_scale: float,
+    hs: int,
+    hd: int,
     budget_s: float,
     max_expansions: int,
 ) -> SearchOutcome:
-    """A* from flat cell ``start`` to ``goal`` over ``costs`` (2-D uint8, C order)."""
-    h_rows, w = costs.shape
+    """A* from flat cell ``start`` to ``goal`` over ``costs`` (2-D uint8, C order);
+    ``steps``: 512 int64, the straight then diagonal step cost of each cost byte."""
+    rows, w = costs.shape
     flat = costs.ravel().tolist()
-    m = [float(v) for v in mult]
-    passable = [(v >= 0.0) and not math.isinf(v) for v in m]
+    table = [int(v) for v in steps]
+    straight, diag = table[:256], table[256:]
     gx, gy = goal % w, goal // w
+
+    def octile(x: int, y: int) -> int:
+        dx, dy = abs(x - gx), abs(y - gy)
+        return hs * dy + hd * dx if dx < dy else hs * dx + hd * dy
+
     deadline = time.monotonic() + budget_s if budget_s > 0 else 0.0
-    g: dict[int, float] = {start: 0.0}
+    g: dict[int, int] = {start: 0}
     parent: dict[int, int] = {start: -1}
     closed: set[int] = set()
-    h0 = _octile(start % w, start // w, gx, gy, h_scale)
-    heap: list[tuple[float, float, int]] = [(0.0 + h0, h0, start)]
+    h0 = octile(start % w, start // w)
+    heap: list[tuple[int, int]] = [(h0, _tie(h0, start))]
+    stack: list[int] = []
+    cur_f = -1
     n_exp = 0
     status = NO_PATH
-    while heap:
-        _, _, cur = heapq.heappop(heap)
+    while stack or heap:
+        if stack:
+            cur = stack.pop()
+        else:
+            cur_f, tie = heapq.heappop(heap)
+            cur = tie & _TIE_MAX
         if cur in closed:
             continue  # a stale entry: the cell was closed with a better g
         closed.add(cur)
@@ -84,27 +100,33 @@ def search_python(
             break
         x, y = cur % w, cur // w
         gc = g[cur]
+        same: list[tuple[int, int]] = []
         for k in range(8):
             nx, ny = x + _DX[k], y + _DY[k]
-            if nx < 0 or ny < 0 or nx >= w or ny >= h_rows:
+            if nx < 0 or ny < 0 or nx >= w or ny >= rows:
                 continue
             nb = ny * w + nx
             if nb in closed:
                 continue
-            c = flat[nb]
-            if not passable[c]:
+            step = straight[flat[nb]] if k < 4 else diag[flat[nb]]
+            if step < 0:
                 continue
-            step = m[c] if k < 4 else m[c] * SQRT2
             ng = gc + step
             old = g.get(nb)
-            if old is not None and not ng < old:
+            if old is not None and ng >= old:
                 continue
             g[nb] = ng
             parent[nb] = cur
-            hn = _octile(nx, ny, gx, gy, h_scale)
-            heapq.heappush(heap, (ng + hn, hn, nb))
+            hn = octile(nx, ny)
+            if ng + hn == cur_f:
+                same.append((hn, nb))
+            else:
+                heapq.heappush(heap, (ng + hn, _tie(hn, nb)))
+        if same:
+            same.sort(reverse=True)  # descending (h, cell): the smallest ends on top
+            stack.extend(nb for _, nb in same)
     if status != FOUND:
-        return SearchOutcome(status, np.empty(0, np.int32), 0.0, n_exp)
+        return SearchOutcome(status, np.empty(0, np.int32), 0, n_exp)
     path: list[int] = []
     c = goal
     while c != -1:

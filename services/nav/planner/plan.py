@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import accel
-from .astar import FOUND, LIMIT, NO_PATH, TIMEOUT, SearchOutcome, search_python
+from .astar import FIXED, FOUND, LIMIT, NO_PATH, TIMEOUT, SearchOutcome, search_python
 from .errors import (
     GoalOccupied,
     GoalOutsideMap,
@@ -26,7 +26,7 @@ from .errors import (
     StartOutsideMap,
 )
 
-__all__ = ["PlanResult", "PlannerParams", "cost_multipliers", "path_length", "plan"]
+__all__ = ["PlanResult", "PlannerParams", "cost_multipliers", "path_length", "plan", "step_table"]
 
 Cell = tuple[int, int]
 
@@ -104,6 +104,21 @@ def cost_multipliers(params: PlannerParams) -> np.ndarray:
     return m
 
 
+def step_table(mult: np.ndarray) -> tuple[np.ndarray, int, int]:
+    """The fixed-point step costs (512 int64: straight then diagonal per cost byte, −1
+    where not passable) and the heuristic's two coefficients for a multiplier table."""
+    finite = np.isfinite(mult)
+    steps = np.full(512, -1, dtype=np.int64)
+    steps[:256][finite] = np.floor(mult[finite] * FIXED + 0.5).astype(np.int64)
+    steps[256:][finite] = np.floor(mult[finite] * math.sqrt(2.0) * FIXED + 0.5).astype(np.int64)
+    passable = steps[:256][finite]
+    hs = int(passable.min()) if passable.size else 0
+    # the diagonal part: the cheapest diagonal step minus a straight one, rounded down, so
+    # hs + hd never exceeds any diagonal step (the heuristic stays consistent)
+    hd = int(steps[256:][finite].min()) - hs if passable.size else 0
+    return steps, hs, max(0, min(hd, hs))
+
+
 def path_length(cells: np.ndarray) -> float:
     """The length of a cell path in cells (1 per straight step, √2 per diagonal)."""
     c = np.asarray(cells, dtype=np.int64).reshape(-1, 2)
@@ -175,7 +190,7 @@ def plan(
         if moved is None:
             raise GoalOccupied(f"goal cell {g} has cost {grid[g[1], g[0]]}")
         g = moved
-    h_scale = float(mult[np.isfinite(mult)].min())
+    steps, hs, hd = step_table(mult)
     module = accel.compiled if use_compiled is not False else None
     if use_compiled and module is None:
         raise RuntimeError("the compiled planner is not built here (or ZENROS_NAV_PURE is set)")
@@ -185,11 +200,11 @@ def plan(
     si, gi = s[1] * w + s[0], g[1] * w + g[0]
     if module is not None:
         st, raw, g_goal, n_exp = module.search(
-            grid, w, h, mult, si, gi, h_scale, budget, params.max_iterations
+            grid, w, h, steps, si, gi, hs, hd, budget, params.max_iterations
         )
         out = SearchOutcome(st, np.frombuffer(raw, dtype=np.int32), g_goal, n_exp)
     else:
-        out = search_python(grid, mult, si, gi, h_scale, budget, params.max_iterations)
+        out = search_python(grid, steps, si, gi, hs, hd, budget, params.max_iterations)
     elapsed = time.perf_counter() - t0
     if out.status == TIMEOUT:
         raise PlanningTimeout(f"no path found within {params.timeout} s ({out.expansions} cells expanded)")
@@ -201,6 +216,6 @@ def plan(
     flat = out.path[::-1]
     cells = np.column_stack([flat % w, flat // w]).astype(np.int32)
     return PlanResult(
-        cells=cells, cost=out.g_goal, length=path_length(cells), expansions=out.expansions,
+        cells=cells, cost=out.g_goal / FIXED, length=path_length(cells), expansions=out.expansions,
         planning_time=elapsed, goal=g, compiled=module is not None,
     )
