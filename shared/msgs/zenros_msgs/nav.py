@@ -86,6 +86,9 @@ __all__ = [
     "SwitchMap",
     "SwitchMapRequest",
     "SwitchMapResponse",
+    "SetVirtualWalls",
+    "SetVirtualWallsRequest",
+    "SetVirtualWallsResponse",
     "VirtualWall",
 ]
 
