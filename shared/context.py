@@ -7,7 +7,9 @@ serialization (intra-process delivery), while other processes still get them ove
 from __future__ import annotations
 
 import itertools
+import logging
 import threading
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Self
 
 import zenoh
@@ -19,7 +21,19 @@ from .session import SessionOptions, open_session
 if TYPE_CHECKING:
     from .graph import Graph
 
-__all__ = ["Context", "LocalTopic"]
+__all__ = ["Context", "LocalTopic", "is_session_failure"]
+
+_log = logging.getLogger("zenros.context")
+
+
+def is_session_failure(exc: BaseException) -> bool:
+    """True for the error a Zenoh call raises once its session is broken for good.
+
+    zenoh-python turns a panic of the Rust library into ``pyo3_runtime.PanicException`` (a
+    BaseException). After one, the session's transport is poisoned: every later call that
+    sends panics too, so the session cannot recover in this process.
+    """
+    return type(exc).__name__ == "PanicException"
 
 
 class LocalTopic:
@@ -51,6 +65,8 @@ class Context:
         self._graph: Graph | None = None
         self._eids = itertools.count(1)
         self._closables: list[Any] = []
+        self._on_failure: list[Callable[[BaseException], None]] = []
+        self.failure: BaseException | None = None
         self.closed = False
 
     def next_eid(self) -> int:
@@ -84,11 +100,46 @@ class Context:
                 self._graph = Graph(self.session, self.keys)
             return self._graph
 
+    # ------------------------------------------------------------------ failure
+
+    def on_failure(self, callback: Callable[[BaseException], None]) -> None:
+        """Call ``callback(exc)`` once if the session fails (see `fail`); the runtime uses
+        it to end the process with a non-zero code, so that supervision restarts it."""
+        with self._lock:
+            failure = self.failure
+            if failure is None:
+                self._on_failure.append(callback)
+        if failure is not None:
+            callback(failure)
+
+    def fail(self, exc: BaseException) -> None:
+        """Record that the Zenoh session broke (`is_session_failure`): log it once and tell
+        the `on_failure` callbacks. Receive loops call it when a Zenoh call panics."""
+        with self._lock:
+            if self.failure is not None:
+                return
+            self.failure = exc
+            callbacks, self._on_failure = self._on_failure, []
+        _log.critical("the Zenoh session failed (%s: %s); this process can no longer "
+                      "communicate", type(exc).__name__, str(exc).splitlines()[0] if str(exc)
+                      else "")
+        for cb in callbacks:
+            try:
+                cb(exc)
+            except Exception:  # noqa: BLE001 one callback must not keep the others from running
+                _log.exception("session failure callback %r raised", cb)
+
     def close(self) -> None:
-        """Close the graph, stop the executor and close the session (if we opened it)."""
+        """Close the graph, stop the executor and close the session (if we opened it).
+
+        After a session failure the session is left alone: closing a poisoned session
+        panics again (the process is about to exit anyway)."""
         if self.closed:
             return
         self.closed = True
+        if self.failure is not None:
+            self.executor.stop()
+            return
         if self._graph is not None:
             self._graph.close()
         self.executor.stop()

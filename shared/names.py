@@ -10,6 +10,7 @@ from .errors import InvalidNameError
 
 __all__ = [
     "DEFAULT_PREFIX",
+    "MAX_NAME_LENGTH",
     "KeySpace",
     "Remapper",
     "Token",
@@ -30,6 +31,13 @@ ENTITY_KINDS = ("node", "pub", "sub", "srv", "cli", "act", "actc")
 """Liveliness token kinds: nodes, publishers, subscribers, service servers and clients,
 action servers and clients."""
 
+MAX_NAME_LENGTH = 1000
+"""The longest topic, service, action or parameter name (resolved), in characters.
+
+ROS sets none, but a name becomes a Zenoh key expression, and Zenoh 1.10 cannot fragment a
+key expression: one longer than a transport batch (64 KiB) makes the sender's transport
+panic for good (see docs/wire.md). 1,000 leaves room for the prefix and the token fields."""
+
 _NAME_CHARS = re.compile(r"[A-Za-z0-9_/~]")
 _NODE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
@@ -39,10 +47,17 @@ def _fail(kind: str, name: str, pos: int, why: str) -> InvalidNameError:
     return InvalidNameError(f"invalid {kind} name {name!r}: {why}\n  {name}\n  {pointer}")
 
 
+def _check_length(name: str, kind: str) -> None:
+    if len(name) > MAX_NAME_LENGTH:
+        raise InvalidNameError(f"invalid {kind} name {name[:40]!r}...: {len(name)} characters "
+                               f"long; the limit is {MAX_NAME_LENGTH}")
+
+
 def validate_name(name: str, kind: str = "topic") -> str:
     """Check a (possibly relative, global or private) topic/service name; return it unchanged."""
     if not name:
         raise InvalidNameError(f"invalid {kind} name '': a name may not be empty")
+    _check_length(name, kind)
     for i, ch in enumerate(name):
         if not _NAME_CHARS.match(ch):
             raise _fail(kind, name, i, f"character {ch!r} is not allowed (use A-Z a-z 0-9 _ /)")
@@ -113,8 +128,11 @@ def resolve(name: str, namespace: str = "/", node: str | None = None, kind: str 
         if node is None:
             raise InvalidNameError(f"private {kind} name {name!r} needs a node")
         rest = name[1:].lstrip("/")
-        return node if not rest else f"{node}/{rest}"
-    return join(namespace, name)
+        full = node if not rest else f"{node}/{rest}"
+    else:
+        full = join(namespace, name)
+    _check_length(full, kind)
+    return full
 
 
 @dataclass

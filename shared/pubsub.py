@@ -14,6 +14,7 @@ from zenoh import ext as zext
 
 from .callbacks import make_dispatch
 from .codec import codec_for
+from .context import is_session_failure
 from .errors import CodecError, EncodeError
 from .executor import CallbackGroup
 from .log import ErrorLog, Throttle
@@ -254,6 +255,10 @@ class Subscription(Generic[M]):
                     self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
+        except BaseException as exc:
+            if not is_session_failure(exc):
+                raise
+            self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     @property
     def callback_errors(self) -> int:
@@ -287,6 +292,10 @@ class Subscription(Generic[M]):
             self._dispatch(msg)
         except Exception as exc:  # noqa: BLE001 nothing raises into Zenoh's thread
             self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
+        except BaseException as exc:
+            if not is_session_failure(exc):
+                raise
+            self._ctx.fail(exc)
 
     def _check(self, sample: zenoh.Sample) -> None:
         try:

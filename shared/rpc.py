@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import zenoh
 
 from .codec import codec_for
+from .context import is_session_failure
 from .errors import (
     CodecError,
     DecodeError,
@@ -112,6 +113,10 @@ class Service:
                     self._internal_error(query, exc)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
+        except BaseException as exc:
+            if not is_session_failure(exc):
+                raise
+            self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     def _on_query(self, query: zenoh.Query) -> None:
         if self._is_async:
@@ -167,6 +172,10 @@ class Service:
                 self._reply(query, res)
         except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
             self._internal_error(query, exc)
+        except BaseException as exc:
+            if not is_session_failure(exc):
+                raise
+            self._ctx.fail(exc)
         finally:
             self._ctx.executor.mark_work()
 

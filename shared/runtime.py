@@ -6,12 +6,12 @@ import argparse
 import os
 import sys
 import threading
-from collections.abc import Callable, Sequence
-from contextlib import AbstractContextManager
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import AbstractContextManager, contextmanager
 from types import FrameType
 from typing import Any, NoReturn
 
-from .context import Context
+from .context import Context, is_session_failure
 from .errors import ZenrosError
 from .log import configure_logging
 from .names import Remapper
@@ -21,9 +21,13 @@ from .session import add_session_arguments, options_from_args
 from .shutdown import install_shutdown_listener
 from .signals import handling_signals
 
-__all__ = ["EXIT_STARTUP_FAILED", "add_node_arguments", "capture_signals", "main", "run"]
+__all__ = ["EXIT_SESSION_FAILED", "EXIT_STARTUP_FAILED", "add_node_arguments",
+           "capture_signals", "main", "run"]
 
 EXIT_STARTUP_FAILED = 3
+EXIT_SESSION_FAILED = 4
+"""The Zenoh session broke for good while running (`Context.fail`): the process ends so that
+its supervisor (``zenros launch`` with ``respawn``, systemd) starts a fresh one."""
 
 
 def add_node_arguments(parser: argparse.ArgumentParser) -> None:
@@ -82,7 +86,8 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
          prog: str | None = None) -> int:
     """Parse flags, start the node, serve until SIGINT/SIGTERM; return the exit code.
 
-    0: clean end; 2: usage error; 3: startup failed (one line on stderr).
+    0: clean end; 2: usage error; 3: startup failed (one line on stderr); 4: the Zenoh
+    session failed while running (`EXIT_SESSION_FAILED`).
     """
     prog = prog or node_cls.node_name or node_cls.__name__
     parser = argparse.ArgumentParser(prog=prog, description=(node_cls.__doc__ or "").strip()
@@ -106,16 +111,46 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
             if ctx is not None:
                 ctx.close()
             return EXIT_STARTUP_FAILED
-        try:
-            node.logger.info("started (pid %d, session %s)", os.getpid(), ctx.zid)
-            stop.wait()
-            node.logger.info("shutting down")
-        finally:
-            node.close()
-            ctx.close()
+        ctx.on_failure(lambda _exc: stop.set())
+        with _failing_on_panics(ctx):
+            try:
+                node.logger.info("started (pid %d, session %s)", os.getpid(), ctx.zid)
+                stop.wait()
+                if ctx.failure is None:
+                    node.logger.info("shutting down")
+            finally:
+                if ctx.failure is None:  # a broken session cannot undeclare anything
+                    node.close()
+                ctx.close()
+        if ctx.failure is not None:
+            node.logger.critical("exiting with code %d: the Zenoh session failed (%s)",
+                                 EXIT_SESSION_FAILED, type(ctx.failure).__name__)
+            return EXIT_SESSION_FAILED
     return 0
+
+
+@contextmanager
+def _failing_on_panics(ctx: Context) -> Iterator[None]:
+    """Any thread that dies of a Zenoh panic (`is_session_failure`) fails ``ctx``."""
+    previous = threading.excepthook
+
+    def hook(args: Any) -> None:
+        if args.exc_value is not None and is_session_failure(args.exc_value):
+            ctx.fail(args.exc_value)
+        previous(args)
+
+    threading.excepthook = hook
+    try:
+        yield
+    finally:
+        threading.excepthook = previous
 
 
 def run(node_cls: type[Node], argv: Sequence[str] | None = None) -> NoReturn:
     """Run ``node_cls`` as a process (``if __name__ == "__main__": run(MyNode)``)."""
-    sys.exit(main(node_cls, argv))
+    code = main(node_cls, argv)
+    if code == EXIT_SESSION_FAILED:  # Zenoh's threads outlive a broken session: do not wait
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)

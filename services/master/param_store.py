@@ -18,7 +18,7 @@ import msgspec
 from zenros.errors import ParameterError
 
 from .param_tree import Change, Entry, ParamTree, Stamp, encode_entries, ntp64
-from .param_value import Value, canonical, check_value
+from .param_value import MAX_NAME_LENGTH, Value, canonical, check_value
 from .param_yaml import dump_yaml, parse_yaml
 
 __all__ = ["ChangeListener", "EntryListener", "ParamStore"]
@@ -95,6 +95,7 @@ class ParamStore:
                 Entry(name, int.from_bytes(t, "big"), src, bool(deleted),
                       None if blob is None else msgspec.msgpack.decode(blob))
                 for name, t, src, deleted, blob in db.execute("SELECT * FROM params")
+                if _loadable(name)
             ]
             db.execute("COMMIT")
         except BaseException:
@@ -316,6 +317,17 @@ def _notify(callback: Callable[[T], None], arg: T) -> None:
         callback(arg)
     except Exception:  # a listener is a boundary: the write is already durable
         log.exception("parameter listener %r failed", callback)
+
+
+def _loadable(name: str) -> bool:
+    """False (with an error logged) for a stored row a current master would refuse: a name
+    longer than `MAX_NAME_LENGTH` (stored before the limit existed) would otherwise go out
+    on every ``get zenros/param/**`` and break Zenoh's transport (see docs/params.md)."""
+    if len(name) <= MAX_NAME_LENGTH:
+        return True
+    log.error("skipping a stored parameter whose name is %d characters long (limit %d): "
+              "%.60s...", len(name), MAX_NAME_LENGTH, name)
+    return False
 
 
 def _checked(e: Entry) -> Entry:

@@ -23,7 +23,15 @@ import msgspec
 from zenros.errors import InvalidNameError, InvalidParameterValueError, ParameterNotFoundError
 from zenros.names import join, namespace_of, validate_name
 
-from .param_value import Value, ancestors, canonical, check_value, copy_value, flatten
+from .param_value import (
+    Value,
+    ancestors,
+    canonical,
+    check_size,
+    check_value,
+    copy_value,
+    flatten,
+)
 
 __all__ = [
     "ZERO",
@@ -218,6 +226,7 @@ class ParamTree:
         """
         name = canonical(name)
         value = check_value(value, name)
+        check_size(value, name)
         t, src = stamp
         if not isinstance(value, dict):
             if name == "/":
@@ -228,7 +237,7 @@ class ParamTree:
         if not value and name != "/":
             return [Entry(name, t, src, False, {})]
         rows = [Entry(name, t, src, True)]
-        rows += [Entry(leaf, t, src, False, v) for leaf, v in flatten(name, value)]
+        rows += [Entry(canonical(leaf), t, src, False, v) for leaf, v in flatten(name, value)]
         return rows
 
     def plan_delete(self, name: str, stamp: Stamp) -> list[Entry]:

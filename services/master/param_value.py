@@ -7,14 +7,18 @@ import re
 from collections.abc import Iterator, Mapping
 from typing import Any
 
+import msgspec
 from zenros.errors import InvalidNameError, InvalidParameterValueError
-from zenros.names import join, namespace_of, resolve, validate_name
+from zenros.names import MAX_NAME_LENGTH, join, namespace_of, resolve, validate_name
 
 __all__ = [
+    "MAX_NAME_LENGTH",
+    "MAX_VALUE_BYTES",
     "VALUE_TYPES",
     "Value",
     "ancestors",
     "canonical",
+    "check_size",
     "check_value",
     "copy_value",
     "flatten",
@@ -26,6 +30,11 @@ Value = Any
 """A parameter value: bool, int, float, str, bytes, or a list or str-keyed dict of those."""
 
 VALUE_TYPES = "bool, int, float, str, bytes, list, dict"
+MAX_VALUE_BYTES = 1 << 20
+"""The largest value one write may set (a dict set at once counts whole), MessagePack-encoded.
+
+Parameters are configuration, read by every node at startup and sent to every replica and
+subscriber on change; bulk data belongs on a topic."""
 _INT_MIN = -(2**63)
 _INT_MAX = 2**64 - 1
 _SEGMENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -109,6 +118,20 @@ def check_value(value: Any, where: str) -> Value:
     raise InvalidParameterValueError(
         f"parameter {where}: unsupported value {got}; valid types are {VALUE_TYPES}"
     )
+
+
+def check_size(value: Value, where: str) -> None:
+    """Refuse a value larger than `MAX_VALUE_BYTES` once encoded.
+
+    Raises:
+        InvalidParameterValueError: the value is too large (the message gives both sizes).
+    """
+    size = len(msgspec.msgpack.encode(value))
+    if size > MAX_VALUE_BYTES:
+        raise InvalidParameterValueError(
+            f"parameter {where[:200]}: value is {size} bytes encoded; the limit is "
+            f"{MAX_VALUE_BYTES} (put bulk data on a topic)"
+        )
 
 
 def flatten(name: str, value: Value) -> Iterator[tuple[str, Value]]:

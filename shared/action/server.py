@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import zenoh
 
 from ..codec import codec_for
+from ..context import is_session_failure
 from ..errors import EncodeError, GoalRejectedError, GoalStateError
 from ..log import ErrorLog
 from ..message import ActionType
@@ -140,6 +141,10 @@ class ActionServer:
                 self._on_query(query)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
+        except BaseException as exc:
+            if not is_session_failure(exc):
+                raise
+            self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     @property
     def errors(self) -> int:

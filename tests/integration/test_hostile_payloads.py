@@ -58,6 +58,7 @@ from zenros.services.tf.node import TfNode
 from zenros.testing import Collector, wait_for
 from zenros.tf import transform_stamped
 
+BLOCK = zenoh.CongestionControl.BLOCK  # a raw put drops under load by default: count them all
 DEPTH = 10_000
 HOSTILE: dict[str, bytes] = {
     "empty": b"",
@@ -193,7 +194,7 @@ def test_a_subscription_survives_every_hostile_sample(make_node: Any, ctx_pair: 
     sent = 0
     for payload in HOSTILE.values():
         for encoding in encodings:
-            ctx_pair[0].session.put(sub.key, payload, encoding=encoding)
+            ctx_pair[0].session.put(sub.key, payload, encoding=encoding, congestion_control=BLOCK)
             sent += 1
     # best effort keeps only the newest `depth` samples of a burst: some are never seen
     least = sent if qos.reliability == Reliability.RELIABLE else qos.depth
@@ -234,7 +235,7 @@ def test_the_tf_server_survives_hostile_samples_and_requests(
     for topic in ("/tf", "/tf_static"):
         for payload in HOSTILE.values():
             ctx_pair[0].session.put(ctx_pair[0].keys.topic(topic), payload,
-                                    encoding=str(_enc(TFMessage)))
+                                    encoding=str(_enc(TFMessage)), congestion_control=BLOCK)
     assert wait_for(lambda: tf.tap.errors >= 2 * (len(HOSTILE) - 1), 10), tf.tap.errors
     link = transform_stamped("odom", "base_link", (1.0, 0, 0, 0, 0, 0, 1), Time(sec=1))
     assert wait_for(lambda: pub.publish(TFMessage(transforms=[link])) or
