@@ -236,6 +236,10 @@ class Costmap2D:
 
     # --- the master grid ---------------------------------------------------------------
 
+    def rebuild(self) -> None:
+        """Recompute the whole master grid from the layers (updates do it per window)."""
+        self._rebuild(self.geometry.full)
+
     def _rebuild(self, touched: Bounds) -> Bounds:
         """Recompute the master grid in ``touched`` grown by the inflation radius (every
         cell whose inflated cost a change there can alter); returns that window."""
