@@ -250,14 +250,17 @@ class ParameterClient:
             name=self.resolve(name), value=value, caller=self.node or ""))
         return Written(res.name, res.time, res.source)
 
-    def delete(self, name: str) -> Written:
-        """Delete a leaf or a subtree.
+    def delete(self, name: str, *, namespace: bool = False) -> Written:
+        """Delete a leaf, or (with ``namespace=True``) a whole subtree, the root included.
 
         Raises:
             ParameterNotFoundError: nothing is set at or under ``name``.
+            ParameterError: ``name`` is a namespace and ``namespace`` is False.
+            InvalidNameError: ``name`` is empty or invalid.
         """
         res = self._call(DeleteParam, DELETE_PARAM, DeleteParamRequest(
-            name=self.resolve(name), caller=self.node or ""))
+            name=self.resolve(name) if name else "", caller=self.node or "",
+            namespace=namespace))
         return Written(res.name, res.time, res.source)
 
     def load(

@@ -223,9 +223,13 @@ class GetParamResponse(ParamResponse):
 
 
 class DeleteParamRequest(Message):
+    """Delete the leaf ``name``; a namespace (the root ``/`` included) only with ``namespace``
+    set, so that an empty or truncated request cannot wipe a subtree."""
+
     __msgtype__ = "zenros_msgs/DeleteParamRequest"
     name: str = ""
     caller: str = ""
+    namespace: bool = False
 
 
 class DeleteParamResponse(ParamResponse):

@@ -218,7 +218,16 @@ class ParamServer:
         return GetParamResponse(name=name, value=self._store.get(name))
 
     def handle_delete(self, req: DeleteParamRequest) -> DeleteParamResponse:
+        if not req.name:
+            raise InvalidNameError("delete_param needs a name (an empty one is not the root: "
+                                   "to delete every parameter, name / with namespace: true)")
         name = _resolve(req.name, req.caller)
+        if not req.namespace:
+            held = self._store.names(name)
+            if name == "/" or (held and held != [name]):
+                raise ParameterError(
+                    f"{name} is a namespace holding {len(held)} parameter(s); deleting it "
+                    f"needs namespace: true (zenros param delete --namespace {name})")
         stamp = self._store.delete(name, now=self._now())
         return DeleteParamResponse(name=name, time=stamp.time, source=stamp.source)
 

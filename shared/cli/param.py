@@ -25,8 +25,10 @@ def register(sub: Any) -> None:
     v = verbs.add_parser("set", help="set a value (read as YAML: 0.5, true, '[1, 2]', '{a: 1}')")
     v.add_argument("name")
     v.add_argument("value")
-    v = verbs.add_parser("delete", help="delete a parameter or a namespace")
+    v = verbs.add_parser("delete", help="delete a parameter (a namespace with --namespace)")
     v.add_argument("name")
+    v.add_argument("--namespace", action="store_true",
+                   help="delete a whole namespace (`--namespace /` deletes every parameter)")
     v = verbs.add_parser("dump", help="write parameters as a ROS 2 params file")
     v.add_argument("under", nargs="?", default="/", metavar="NAMESPACE",
                    help="a namespace (default /)")
@@ -79,7 +81,7 @@ def _set(client: ParameterClient, args: argparse.Namespace) -> int:
 
 
 def _delete(client: ParameterClient, args: argparse.Namespace) -> int:
-    client.delete(args.name)
+    client.delete(args.name, namespace=args.namespace)
     return 0
 
 

@@ -14,12 +14,15 @@ from zenros.context import Context
 from zenros.errors import (
     InvalidNameError,
     InvalidParameterValueError,
+    ParameterError,
     ParameterNotFoundError,
     ServiceUnavailableError,
 )
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.param_client import ParameterClient, ParamEvent, attach_parameter_backend
+from zenros.param_protocol import DELETE_PARAM, DeleteParam, DeleteParamRequest
+from zenros.rpc import Client
 from zenros.services.master.node import MasterNode
 from zenros.services.master.param_store import ParamStore
 from zenros.testing import Collector, wait_for
@@ -66,10 +69,29 @@ def test_set_dict_replaces_the_subtree_and_delete_removes_it(client: ParameterCl
     assert client.get("/nav") == {"max_speed": 0.7, "costmap": {"inflation": 0.3}}
     assert client.list("/nav") == ["/nav/costmap/inflation", "/nav/max_speed"]
     assert client.has("/nav/costmap") and not client.has("/nav/old")
-    client.delete("/nav/costmap")
+    client.delete("/nav/costmap", namespace=True)
     assert client.list() == ["/nav/max_speed"]
     with pytest.raises(ParameterNotFoundError, match="/nav/costmap"):
-        client.delete("/nav/costmap")
+        client.delete("/nav/costmap", namespace=True)
+
+
+def test_deleting_a_namespace_or_the_root_needs_the_flag(
+    ctx_pair: list[Context], client: ParameterClient
+) -> None:
+    client.set("/nav", {"max_speed": 0.5, "costmap": {"inflation": 0.3}})
+    raw = Client(ctx_pair[1], DeleteParam, DELETE_PARAM)
+    res = raw.call(DeleteParamRequest())  # `{}`: once resolved to / and deleted everything
+    assert res.error_type == "InvalidNameError" and "needs a name" in res.error
+    with pytest.raises(InvalidNameError):
+        client.delete("")
+    with pytest.raises(ParameterError, match="namespace holding 2 parameter"):
+        client.delete("/nav")
+    with pytest.raises(ParameterError, match="/ is a namespace"):
+        client.delete("/")
+    assert client.list() == ["/nav/costmap/inflation", "/nav/max_speed"]
+    client.delete("/nav/max_speed")  # a leaf needs no flag
+    client.delete("/", namespace=True)
+    assert client.list() == []
 
 
 def test_private_and_relative_names_resolve_against_the_caller(
@@ -122,7 +144,7 @@ def test_reads_after_a_write_see_it(client: ParameterClient) -> None:
     for i in range(2, 6):
         assert client.get("/c") == {"x": i - 1} and client.get("/c/x") == i - 1
         client.set("/c/x", i)
-    client.delete("/c")
+    client.delete("/c", namespace=True)
     assert client.lookup("/c") == (False, None)
     client.set("/c", "leaf")
     assert client.get("/c") == "leaf"
@@ -159,7 +181,7 @@ def test_yaml_load_and_dump(client: ParameterClient) -> None:
     assert client.get("/robot1/chassis/wheel_base") == 0.3
     dumped = client.dump("/nav")
     assert "ros__parameters" in dumped and "inflation: 0.3" in dumped
-    client.delete("/nav")
+    client.delete("/nav", namespace=True)
     client.load(dumped)
     assert client.get("/nav") == {"max_speed": 0.5, "costmap": {"inflation": 0.3}}
 

@@ -146,7 +146,7 @@ def test_param_cli_against_a_master_process(router: str, prefix: str, tmp_path: 
     dump = tmp_path / "nav.yaml"
     cli("dump", "/nav", "-o", str(dump))
     assert "ros__parameters" in dump.read_text()
-    cli("delete", "/nav")
+    cli("delete", "--namespace", "/nav")
     assert cli("list") == ""
     assert "loaded 3 parameters" in cli("load", str(dump), "/copy")
     assert cli("list", "/copy") == (
