@@ -1,0 +1,369 @@
+// The dashboard: wires the rosbridge link to the map view, the panels and the teleop pad.
+
+import { MapView, yawOf } from "./map_view.js";
+import { Rosbridge } from "./rosbridge.js";
+import { Teleop } from "./teleop.js";
+
+const $ = (id) => document.getElementById(id);
+
+async function loadConfig() {
+  const params = new URLSearchParams(location.search);
+  let config = {};
+  try {
+    const res = await fetch("config.json", { cache: "no-store" });
+    if (res.ok) config = await res.json();
+  } catch (err) {
+    config = {};
+  }
+  const port = config.rosbridge_port || 9090;
+  const scheme = location.protocol === "https:" ? "wss" : "ws";
+  return {
+    rosbridge: params.get("rosbridge") || `${scheme}://${location.hostname || "127.0.0.1"}:${port}/`,
+    ns: (params.get("ns") ?? config.namespace ?? "").replace(/\/+$/, ""),
+    title: config.title || "",
+  };
+}
+
+function toast(text, error = false) {
+  const el = $("toast");
+  el.textContent = text;
+  el.classList.toggle("error", error);
+  el.hidden = false;
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => { el.hidden = true; }, 3500);
+}
+
+function fmt(x, digits = 2) {
+  return Number.isFinite(x) ? x.toFixed(digits) : "–";
+}
+
+class Dashboard {
+  constructor(config) {
+    this.ns = config.ns;
+    this.ros = new Rosbridge(config.rosbridge);
+    this.view = new MapView($("map"));
+    this.laser = { x: 0, y: 0, yaw: 0 };
+    this.pose = null;
+    this.points = [];
+    this.tasks = new Map();
+    this.goal = null; // {id, index}
+    this.estop = false;
+    this.gotoMode = false;
+    $("robot-name").textContent = config.title || (this.ns ? this.ns.slice(1) : "zenros robot");
+    this.teleop = new Teleop($("pad"), (v, w) => this.drive(v, w));
+    this.wire();
+    this.subscribe();
+    this.ros.addEventListener("open", () => this.onOpen());
+    this.ros.addEventListener("close", () => this.setLink(false));
+  }
+
+  name(rel) {
+    return `${this.ns}/${rel}`;
+  }
+
+  // -------------------------------------------------------------- wiring
+
+  wire() {
+    document.querySelectorAll("[data-zoom]").forEach((b) => b.addEventListener("click", () => {
+      const c = this.view.canvas.getBoundingClientRect();
+      if (b.dataset.zoom === "fit") this.view.fit();
+      else this.view.zoom(b.dataset.zoom === "in" ? 1.3 : 1 / 1.3, c.width / 2, c.height / 2);
+    }));
+    document.querySelectorAll("[data-layer]").forEach((box) => box.addEventListener(
+      "change", () => this.view.setLayer(box.dataset.layer, box.checked)));
+    $("goto-mode").addEventListener("click", () => {
+      this.gotoMode = !this.gotoMode;
+      $("goto-mode").classList.toggle("active", this.gotoMode);
+      document.querySelector(".map-card").classList.toggle("goto", this.gotoMode);
+    });
+    this.view.addEventListener("pick", (e) => {
+      const { index, world } = e.detail;
+      if (index >= 0) this.goToPoint(index);
+      else if (this.gotoMode) this.navigate(world.x, world.y, this.pose ? this.pose.yaw : 0, null);
+    });
+    $("estop").addEventListener("click", () => this.toggleEstop());
+    $("cancel-goal").addEventListener("click", () => this.cancelGoal());
+  }
+
+  subscribe() {
+    const ros = this.ros;
+    ros.subscribe(this.name("map"), "nav_msgs/OccupancyGrid", (m) => {
+      this.view.setMap(m);
+      this.refreshMapData();
+    });
+    ros.subscribe(this.name("global_costmap/costmap"), "nav_msgs/OccupancyGrid",
+                  (m) => this.view.setCostmap(m), { throttle_rate: 2000, queue_length: 1 });
+    ros.subscribe(this.name("robot_pose"), "geometry_msgs/PoseWithCovarianceStamped",
+                  (m) => this.onPose(m.pose.pose), { throttle_rate: 50, queue_length: 1 });
+    ros.subscribe(this.name("scan"), "sensor_msgs/LaserScan", (m) => this.onScan(m),
+                  { throttle_rate: 150, queue_length: 1 });
+    ros.subscribe(this.name("plan"), "nav_msgs/Path", (m) => this.view.setPlan(
+      m.poses.map((p) => ({ x: p.pose.position.x, y: p.pose.position.y }))));
+    ros.subscribe(this.name("battery_state"), "sensor_msgs/BatteryState",
+                  (m) => this.onBattery(m), { throttle_rate: 1000, queue_length: 1 });
+    ros.subscribe(this.name("chassis/state"), "zenros_msgs/ChassisState",
+                  (m) => this.onChassis(m), { throttle_rate: 200, queue_length: 1 });
+    ros.subscribe(this.name("nav/status"), "zenros_msgs/NavStatus", (m) => this.onNav(m));
+    ros.subscribe(this.name("tasks/status"), "zenros_msgs/TaskStatus", (m) => this.onTask(m));
+    ros.subscribe("/tf_static", "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
+  }
+
+  onOpen() {
+    this.setLink(true);
+    this.refreshMapData();
+    this.refreshTasks();
+  }
+
+  setLink(up) {
+    $("link").classList.toggle("up", up);
+    $("link").classList.toggle("down", !up);
+    $("link-text").textContent = up ? "live" : "offline";
+  }
+
+  // -------------------------------------------------------------- live data
+
+  onPose(p) {
+    const yaw = yawOf(p.orientation);
+    this.pose = { x: p.position.x, y: p.position.y, yaw };
+    this.view.setRobot(this.pose.x, this.pose.y, yaw);
+    const pose = $("pose");
+    pose.textContent = `x ${fmt(this.pose.x)}  y ${fmt(this.pose.y)}  θ ${fmt(yaw * 180 / Math.PI, 0)}°`;
+    pose.dataset.x = String(this.pose.x);
+    pose.dataset.y = String(this.pose.y);
+  }
+
+  onTfStatic(m) {
+    for (const t of m.transforms) {
+      if (t.child_frame_id.endsWith("laser")) {
+        const tr = t.transform;
+        this.laser = { x: tr.translation.x, y: tr.translation.y, yaw: yawOf(tr.rotation) };
+      }
+    }
+  }
+
+  onScan(m) {
+    if (!this.pose) return;
+    const { x, y, yaw } = this.pose;
+    const lx = x + Math.cos(yaw) * this.laser.x - Math.sin(yaw) * this.laser.y;
+    const ly = y + Math.sin(yaw) * this.laser.x + Math.cos(yaw) * this.laser.y;
+    const pts = [];
+    m.ranges.forEach((r, i) => {
+      if (r === null || !(r >= m.range_min && r <= m.range_max)) return;
+      const a = yaw + this.laser.yaw + m.angle_min + i * m.angle_increment;
+      pts.push({ x: lx + r * Math.cos(a), y: ly + r * Math.sin(a) });
+    });
+    this.view.setScan(pts);
+  }
+
+  onBattery(m) {
+    const pct = Math.round((m.percentage ?? 0) * 100);
+    $("battery").textContent = Number.isFinite(pct) ? `${pct}%` : "–";
+    const fill = $("battery-fill");
+    fill.style.width = `${Math.max(0, Math.min(100, pct))}%`;
+    fill.style.background = pct < 20 ? "var(--bad)" : pct < 40 ? "var(--warn)" : "var(--ok)";
+  }
+
+  onChassis(m) {
+    this.estop = m.estop;
+    const btn = $("estop");
+    btn.classList.toggle("engaged", m.estop);
+    btn.textContent = m.estop ? "RELEASE" : "E-STOP";
+    btn.dataset.engaged = m.estop ? "1" : "0";
+    const banner = $("banner");
+    banner.hidden = !m.estop && !m.bumper;
+    banner.textContent = m.estop ? "Emergency stop engaged" : m.bumper ? "Bumper pressed" : "";
+    $("charging").textContent = m.charging ? "charging" : m.docked ? "docked" : "no";
+  }
+
+  onNav(m) {
+    $("nav-state").textContent = m.state;
+    $("robot-state").textContent = m.localized ? m.state : `${m.state} (not localized)`;
+    $("robot-state").dataset.state = m.state;
+    $("target").textContent = m.target_distance >= 0 ? `${fmt(m.target_distance, 1)} m to go` : "–";
+    $("map-name").textContent = m.map_name || "–";
+  }
+
+  // -------------------------------------------------------------- nav points, walls
+
+  async refreshMapData() {
+    try {
+      const res = await this.ros.callService(this.name("get_nav_points"), {});
+      this.points = res.points || [];
+    } catch (err) {
+      this.points = [];
+    }
+    this.view.setPoints(this.points);
+    this.renderPoints();
+    try {
+      const res = await this.ros.callService(this.name("get_virtual_walls"), {});
+      this.view.setWalls((res.walls || []).map((w) => w.points));
+    } catch (err) {
+      this.view.setWalls([]);
+    }
+  }
+
+  renderPoints() {
+    const list = $("points");
+    list.replaceChildren();
+    $("points-empty").hidden = this.points.length > 0;
+    this.points.forEach((p, i) => {
+      const li = document.createElement("li");
+      li.dataset.index = String(i);
+      if (this.goal && this.goal.index === i) li.classList.add("current");
+      const name = document.createElement("span");
+      name.className = "name";
+      name.textContent = p.name || `Point ${i}`;
+      const sub = document.createElement("span");
+      sub.className = "sub";
+      sub.textContent = `${fmt(p.x, 1)}, ${fmt(p.y, 1)}`;
+      const go = document.createElement("button");
+      go.type = "button";
+      go.textContent = "Go";
+      go.addEventListener("click", () => this.goToPoint(i));
+      li.append(name, sub, go);
+      list.append(li);
+    });
+  }
+
+  goToPoint(index) {
+    const p = this.points[index];
+    if (p) this.navigate(p.x, p.y, p.theta, index, p.name || `point ${index}`);
+  }
+
+  navigate(x, y, theta, index, label = null) {
+    if (this.goal) this.ros.cancelGoal(this.name("navigate_to_pose"), this.goal.id);
+    const goal = {
+      pose: {
+        header: { frame_id: "map" },
+        pose: {
+          position: { x, y, z: 0 },
+          orientation: { x: 0, y: 0, z: Math.sin(theta / 2), w: Math.cos(theta / 2) },
+        },
+      },
+    };
+    const text = label || `(${fmt(x, 1)}, ${fmt(y, 1)})`;
+    const { id, result } = this.ros.sendGoal(this.name("navigate_to_pose"),
+                                             "nav2_msgs/NavigateToPose", goal, () => {});
+    this.goal = { id, index };
+    this.view.setActivePoint(index);
+    this.renderPoints();
+    $("goal-text").textContent = `→ ${text}`;
+    result.then((r) => {
+      if (this.goal && this.goal.id === id) {
+        const done = { 4: "arrived at", 5: "canceled:", 6: "failed to reach" }[r.status] || "ended:";
+        toast(`${done} ${text}`, r.status !== 4);
+        this.clearGoal();
+      }
+    }).catch((err) => {
+      if (this.goal && this.goal.id === id) {
+        toast(`goal refused: ${err.message}`, true);
+        this.clearGoal();
+      }
+    });
+  }
+
+  clearGoal() {
+    this.goal = null;
+    this.view.setActivePoint(null);
+    $("goal-text").textContent = "";
+    this.renderPoints();
+  }
+
+  cancelGoal() {
+    if (this.goal) this.ros.cancelGoal(this.name("navigate_to_pose"), this.goal.id);
+    else toast("no navigation goal from this page");
+  }
+
+  // -------------------------------------------------------------- e-stop, teleop
+
+  async toggleEstop() {
+    const engage = !this.estop;
+    try {
+      const res = await this.ros.callService(this.name("chassis/set_estop"), { data: engage });
+      if (!res.success) toast(res.message || "e-stop refused", true);
+      if (engage && this.goal) this.cancelGoal();
+    } catch (err) {
+      toast(`e-stop: ${err.message}`, true);
+    }
+  }
+
+  drive(v, w) {
+    this.ros.publish(this.name("cmd_vel"), "geometry_msgs/Twist", {
+      linear: { x: v, y: 0, z: 0 }, angular: { x: 0, y: 0, z: w },
+    });
+  }
+
+  // -------------------------------------------------------------- tasks
+
+  async taskCall(name, id = "", body = "") {
+    const res = await this.ros.callService(this.name(`tasks/${name}`), { id, body });
+    if (!res.success) throw new Error(res.message || `tasks/${name} failed (${res.code})`);
+    return res.body ? JSON.parse(res.body) : null;
+  }
+
+  async refreshTasks() {
+    try {
+      const list = await this.taskCall("get");
+      this.tasks = new Map((Array.isArray(list) ? list : []).map((t) => [t.id, t]));
+    } catch (err) {
+      this.tasks = new Map();
+    }
+    this.renderTasks();
+  }
+
+  onTask(m) {
+    let doc = null;
+    try {
+      doc = m.task ? JSON.parse(m.task) : null;
+    } catch (err) {
+      doc = null;
+    }
+    const prev = this.tasks.get(m.id) || {};
+    this.tasks.set(m.id, { ...prev, ...(doc || {}), id: m.id, name: m.name || prev.name,
+                           state: m.state, progress: m.progress });
+    this.renderTasks();
+  }
+
+  renderTasks() {
+    const list = $("tasks");
+    list.replaceChildren();
+    $("tasks-empty").hidden = this.tasks.size > 0;
+    for (const t of this.tasks.values()) {
+      const li = document.createElement("li");
+      li.dataset.id = t.id;
+      li.dataset.state = t.state;
+      const body = document.createElement("div");
+      body.className = "name";
+      const title = document.createElement("div");
+      title.textContent = t.name || t.id;
+      const bar = document.createElement("div");
+      bar.className = "progress";
+      const fill = document.createElement("span");
+      fill.style.width = `${Math.round(Math.max(0, Math.min(1, (t.progress || 0) > 1 ? t.progress / 100 : t.progress || 0)) * 100)}%`;
+      bar.append(fill);
+      body.append(title, bar);
+      const badge = document.createElement("span");
+      badge.className = `badge ${t.state}`;
+      badge.textContent = t.state;
+      li.append(body, badge);
+      const buttons = t.state === "WORKING" ? [["pause", "Pause"], ["stop", "Stop"]]
+        : t.state === "PAUSED" ? [["resume", "Resume"], ["stop", "Stop"]]
+        : [["start", "Start"]];
+      for (const [call, label] of buttons) {
+        const b = document.createElement("button");
+        b.type = "button";
+        b.textContent = label;
+        b.dataset.call = call;
+        b.addEventListener("click", () => this.taskCall(call, t.id)
+          .then((doc) => { if (doc && doc.id) this.onTask({ ...doc, task: JSON.stringify(doc) }); })
+          .catch((err) => toast(err.message, true)));
+        li.append(b);
+      }
+      list.append(li);
+    }
+  }
+}
+
+loadConfig().then((config) => {
+  window.dashboard = new Dashboard(config);
+});
