@@ -16,6 +16,7 @@ from zenros.node import Node
 from .app import HttpApp, build_api
 from .config import default_config_path, load_config
 from .core import Core, make_identity
+from .dashboard import dashboard_app
 from .link import RobotLink
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .discovery import Discovery
@@ -23,6 +24,8 @@ from .modbus import ModbusFront
 from .native import NativeCommands
 from .serial_bridge import SerialBridge
 from .rest_tasks import add_task_routes
+from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
+from .rosbridge import RosbridgeServer
 from .settings import Settings
 from .tasks_link import TasksLink
 from .topic_hub import TopicHub
@@ -50,6 +53,10 @@ class GatewayNode(Node):
             else 255.255.255.255).
         discovery_period: seconds between broadcasts (default 1).
         data_dir: where settings live (default $ZENROS_HOME/galileo_api/<robot>).
+        rosbridge_port: rosbridge v2 for roslibpy/roslibjs and the dashboard (default 9090;
+            -1 turns it off; docs/rosbridge.md).
+        foxglove_port: the Foxglove server (needs zenros[foxglove]; default -1: off;
+            docs/foxglove.md).
     """
 
     node_name = "gateway"
@@ -81,7 +88,14 @@ class GatewayNode(Node):
         self.tasks = TasksLink(self)
         self.api = build_api(self.core, max_body, self.logger,
                              [lambda api: add_task_routes(api, self.tasks)])
-        self.http = HttpApp(self.api)
+        self.rosbridge: RosbridgeServer | None = None
+        rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
+        if rosbridge_port >= 0:
+            self.rosbridge = RosbridgeServer(self, host, rosbridge_port)
+            self.runner.call(self.rosbridge.start())
+        self.foxglove = self._start_foxglove(host, self.declare_parameter("foxglove_port", -1))
+        self.http = HttpApp(self.api, dashboard_app(
+            self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT, self.namespace))
         self.rest_port = self.serve_asgi(self.http, host, rest_port)
         self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
@@ -112,6 +126,19 @@ class GatewayNode(Node):
         else:
             self.discovery = None
 
+    def _start_foxglove(self, host: str, port: int) -> Any:
+        if port < 0:
+            return None
+        try:
+            from .foxglove.bridge import FoxgloveBridge
+        except ImportError as exc:
+            self.logger.error("Foxglove off: foxglove-sdk is not installed (pip install "
+                              "'zenros[foxglove]'): %s", exc)
+            return None
+        bridge = FoxgloveBridge(self, host, port)
+        bridge.start()
+        return bridge
+
     def _default_dir(self) -> Path:
         home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
         robot = self.namespace.strip("/").replace("/", "_") or "robot"
@@ -126,6 +153,9 @@ class GatewayNode(Node):
         return bound
 
     def close(self) -> None:
+        foxglove = getattr(self, "foxglove", None)
+        if foxglove is not None:
+            foxglove.stop()
         bridge = getattr(self, "serial", None)
         if bridge is not None:
             bridge.close()
@@ -141,6 +171,9 @@ class GatewayNode(Node):
                 discovery = getattr(self, "discovery", None)
                 if discovery is not None:
                     await discovery.stop()
+                rosbridge = getattr(self, "rosbridge", None)
+                if rosbridge is not None:
+                    await rosbridge.stop()
 
             try:
                 runner.call(stop_servers(), 8.0)

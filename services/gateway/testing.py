@@ -22,6 +22,7 @@ def running_gateway(ctx: Context, home: Path, **params: Any) -> Iterator[Gateway
     """
     namespace = params.pop("namespace", None)
     overrides: dict[str, Any] = {"rest_port": 0, "ws_port": 0, "modbus_port": 0,
+                                 "rosbridge_port": 0,
                                  "discovery_port": -1, "config_file": str(home / "config.json"),
                                  "data_dir": str(home / "data")}
     overrides.update(params)
