@@ -4,8 +4,8 @@ Each beam first marches a fixed number of steps along the map's distance field (
 the distance to the nearest solid cell, less a cell's diagonal so it never jumps over one,
 and at least half a cell); the few beams still going, those grazing a wall, are then
 sampled every half cell in one array operation. A beam that lands in a solid cell ranges
-to the ray's exact entry into the first solid cell it crosses in the last 1.5 cells (a
-cell-by-cell walk). A ray clipping only the corner of a lone cell by less than half a
+to the ray's exact entry into the first solid cell it crosses after its last free sample
+(a cell-by-cell walk over that half cell). A ray clipping only the corner of a lone cell by less than half a
 cell may miss it.
 Obstacles are intersected exactly (circles and boxes); the nearer hit wins.
 """
@@ -26,7 +26,7 @@ __all__ = ["Laser", "LaserConfig"]
 _COARSE_STEPS = 20
 _MARGIN = np.float32(math.sqrt(2))  # a cell's diagonal: a step never jumps over a solid cell
 _MIN_STEP = np.float32(0.5)  # cells
-_ENTRY_CROSSINGS = 5  # cell boundaries a ray crosses in 1.5 cells, at most
+_ENTRY_CROSSINGS = 2  # cell boundaries a ray crosses in half a cell, at most
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,7 @@ class Laser:
         self._kind = kind.reshape(-1)
         self._stride = w + 2
         self._limit = np.float32(config.range_max / world.res + 1.0)
-        self._fine = np.arange(1, 2 * int(self._limit) + 4, dtype=np.float32) * _MIN_STEP
+        self._fine = np.arange(0, 2 * int(self._limit) + 4, dtype=np.float32) * _MIN_STEP
 
     def ranges(self, x: float, y: float, theta: float) -> np.ndarray:
         """Float32 ranges of one scan from the laser at (x, y) facing ``theta`` in ``map``."""
@@ -141,16 +141,14 @@ class Laser:
             fx += px
             fy = tt * dy[active, None]
             fy += py
-            np.clip(fx, 0, self._stride - 1, out=fx)
-            np.clip(fy, 0, w.height + 1, out=fy)
             iy = fy.astype(np.int32)
             iy *= self._stride
             iy += fx.astype(np.int32)
-            first = (self._kind[iy] != 0).argmax(axis=1)
+            # a beam meets the outside ring before it can leave the grid; past that point
+            # the indices are not used, "clip" only keeps them in bounds
+            first = (np.take(self._kind, iy, mode="clip") != 0).argmax(axis=1)
             t[active] = tt[np.arange(active.size), first]
-        cell = self._cells(t, dx, dy, px, py)
-        np.clip(cell, 0, self._kind.size - 1, out=cell)
-        hit = self._kind[cell] == 1
+        hit = np.take(self._kind, self._cells(t, dx, dy, px, py), mode="clip") == 1
         out = np.full(dx.size, np.inf, dtype=np.float32)
         if hit.any():
             out[hit] = _entry(self._kind, self._stride, px, py, dx[hit], dy[hit],
@@ -160,35 +158,34 @@ class Laser:
 
 def _entry(kind: np.ndarray, stride: int, px: np.float32, py: np.float32, dx: np.ndarray,
            dy: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Where each ray first enters a solid cell, searching (cell by cell, as a DDA does) the
-    last 1.5 cells before ``t``, where it has landed in one (cell units)."""
+    """Where each ray first enters a solid cell (cell units), walking cell by cell (as a DDA
+    does) from the last free sample, half a cell before ``t`` where it landed in one."""
     tiny = np.float32(1e-30)  # an axis-parallel ray: that slab never limits
     dx = np.where(dx == 0, tiny, dx)
     dy = np.where(dy == 0, tiny, dy)
-    tb = np.maximum(t - np.float32(1.5), np.float32(0))
+    tb = np.maximum(t - _MIN_STEP, np.float32(0))
     x = px + tb * dx
     y = py + tb * dy
-    cx = np.floor(x)
-    cy = np.floor(y)
-    sx = np.where(dx > 0, np.float32(1), np.float32(-1))
-    sy = np.where(dy > 0, np.float32(1), np.float32(-1))
+    fx = np.floor(x)
+    fy = np.floor(y)
+    pos_x, pos_y = dx > 0, dy > 0
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        next_x = tb + (cx + (dx > 0) - x) / dx
-        next_y = tb + (cy + (dy > 0) - y) / dy
-        step_x = np.abs(np.float32(1) / dx)
-        step_y = np.abs(np.float32(1) / dy)
+        next_x = tb + (fx + pos_x - x) / dx
+        next_y = tb + (fy + pos_y - y) / dy
+    cell = fy.astype(np.int32) * stride + fx.astype(np.int32)
+    step_x = np.where(pos_x, 1, -1).astype(np.int32)
+    step_y = np.where(pos_y, stride, -stride).astype(np.int32)
     out = t.copy()
-    found = kind[(cy * stride + cx).astype(np.int64)] == 1
+    found = np.take(kind, cell, mode="clip") == 1
     out[found] = tb[found]
     for _ in range(_ENTRY_CROSSINGS):
         along_x = next_x < next_y
         cross = np.where(along_x, next_x, next_y)
-        cx += np.where(along_x, sx, 0)
-        cy += np.where(along_x, 0, sy)
-        next_x += np.where(along_x, step_x, 0)
-        next_y += np.where(along_x, 0, step_y)
-        cell = np.clip(cy * stride + cx, 0, kind.size - 1).astype(np.int64)
-        new = (kind[cell] == 1) & ~found & (cross <= t)
+        cell += np.where(along_x, step_x, step_y)
+        new = (np.take(kind, cell, mode="clip") == 1) & ~found & (cross <= t)
         out[new] = cross[new]
         found |= new
-    return out.astype(np.float32)
+        if _ == 0:
+            next_x = np.where(along_x, np.inf, next_x)  # each axis crosses once in half a cell
+            next_y = np.where(along_x, next_y, np.inf)
+    return out
