@@ -30,7 +30,7 @@ from .message import Message, ServiceType
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["Client", "Service", "error_payload"]
+__all__ = ["Client", "Service", "error_payload", "wildcard_refusal"]
 
 QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
 
@@ -38,6 +38,12 @@ QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
 def error_payload(kind: str, message: str) -> bytes:
     """The JSON body of a ``reply_err``: ``{"error": kind, "message": ...}``."""
     return json.dumps({"error": kind, "message": message}).encode()
+
+
+def wildcard_refusal(what: str, key: str, query: zenoh.Query) -> str:
+    """Why a query on a key expression other than ``key`` itself is refused."""
+    return (f"{what} answers only queries on its own key {key}, not {query.key_expr}: "
+            "a wildcard query must not call every service or action it matches")
 
 
 def _reply_err(query: zenoh.Query, kind: str, message: str) -> None:
@@ -119,6 +125,13 @@ class Service:
             self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     def _on_query(self, query: zenoh.Query) -> None:
+        if str(query.key_expr) != self.key:  # a wildcard get must not call every service
+            with query:
+                self._errors.report("Wildcard", logging.WARNING, "service %s: refused a "
+                                    "query on %s", self.name, query.key_expr)
+                _reply_err(query, "BadRequest", wildcard_refusal(f"service {self.name}",
+                                                                 self.key, query))
+            return
         if self._is_async:
             self._ctx.executor.submit(self._serve_async(query))
             return

@@ -17,6 +17,7 @@ from ..context import is_session_failure
 from ..errors import EncodeError, GoalRejectedError, GoalStateError
 from ..log import ErrorLog
 from ..message import ActionType
+from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .policies import GoalPolicy
@@ -157,9 +158,14 @@ class ActionServer:
         its goal's end (then `_deliver` answers it)."""
         part = ""
         try:
-            part = str(query.key_expr).rsplit("/", 1)[-1]
+            key = str(query.key_expr)
+            part = key.rsplit("/", 1)[-1]
             handler = self._handlers.get(part)
-            if handler is not None:
+            if "*" in key or "$" in key or key != self._key(part):  # a wildcard is refused
+                part = ""
+                self._reply_err(query, "BadRequest", wildcard_refusal(
+                    f"action {self.name}", self._key("<request>"), query))
+            elif handler is not None:
                 handler(query)
             else:
                 self._reply_err(query, "BadRequest", f"action {self.name}: no request "
