@@ -29,6 +29,12 @@ setup(
             extra_compile_args=["-O2", "-ffp-contract=off"],
         ),
         Extension(
+            "zenros.services.nav.costmap._edt",
+            sources=["services/nav/costmap/_edt.c"],
+            optional=True,  # without it inflation runs its numpy reference (docs/nav-planner.md)
+            extra_compile_args=["-O2"],
+        ),
+        Extension(
             "zenros.services.nav.planner._astar",
             sources=["services/nav/planner/_astar.c"],
             optional=True,  # without it the planner runs its Python reference (docs/nav-planner.md)
