@@ -186,7 +186,7 @@ class Costmap2D:
     def update_from_scan(self, scan: Any, pose: tuple[float, float, float]) -> Bounds:
         """Clear and mark the obstacle layer from a LaserScan (or ``Scan``) taken by a
         sensor at ``pose`` = (x, y, yaw) in the map frame, then rebuild the master grid
-        where it may have changed. Returns that window (empty if nothing was touched).
+        around the cells that changed. Returns that window (empty if nothing changed).
 
         Raises:
             ValueError: a non-finite pose or scan angle.

@@ -7,6 +7,9 @@ Euclidean distances between cell centres to the nearest source (lethal, and unkn
 ``inflate_around_unknown``), from a bounded two-pass distance transform in numpy; the layer
 combines with the master grid by maximum, and an unknown (255) cell takes an inflated cost
 only when it is inscribed or lethal (or above free with ``inflate_unknown``), as in Nav2.
+
+The distance transform is compiled (``_edt.c``, O(cells)) when built; the numpy code here
+is the reference (``ZENROS_NAV_PURE=1`` selects it).
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .accel import edt as _edt
 from .values import (
     FREE_SPACE,
     INSCRIBED_INFLATED_OBSTACLE,
@@ -25,7 +29,7 @@ from .values import (
     NO_INFORMATION,
 )
 
-__all__ = ["Inflation", "inflation_cost"]
+__all__ = ["Inflation", "distance_transform", "inflation_cost", "squared_distance"]
 
 
 def inflation_cost(
@@ -76,7 +80,7 @@ class Inflation:
             sources |= region == NO_INFORMATION
         if not sources.any():
             return old.copy()
-        d2 = squared_distance(sources, self.cells)[inner]
+        d2 = distance_transform(sources, self.cells)[inner]
         table = self.table()
         cost = table[np.minimum(d2, len(table) - 1)]
         unknown = old == NO_INFORMATION
@@ -98,6 +102,15 @@ def _cost_table(resolution: float, inscribed: float, cells: int, csf: float) -> 
         t[k] = inflation_cost(d_cells * resolution, inscribed, csf)
     t.flags.writeable = False
     return t
+
+
+def distance_transform(sources: np.ndarray, radius: int) -> np.ndarray:
+    """``squared_distance``, by the compiled transform when it is built."""
+    if _edt is None:
+        return squared_distance(sources, radius)
+    h, w = sources.shape
+    raw = _edt.squared_distance(np.ascontiguousarray(sources, dtype=np.uint8), w, h, radius)
+    return np.frombuffer(raw, dtype=np.int32).reshape(h, w)
 
 
 def squared_distance(sources: np.ndarray, radius: int) -> np.ndarray:

@@ -100,7 +100,7 @@ def update_layer(
     pose: tuple[float, float, float],
 ) -> Bounds:
     """Clear then mark ``layer`` in place from ``scan`` taken at ``pose`` (the sensor's
-    x, y, yaw in the map frame); returns the window of cells that may have changed."""
+    x, y, yaw in the map frame); returns the window of the cells that changed."""
     if not all(math.isfinite(v) for v in pose):
         raise ValueError(f"sensor pose must be finite, got {pose!r}")
     if not (math.isfinite(scan.angle_min) and math.isfinite(scan.angle_increment)):
@@ -116,12 +116,22 @@ def update_layer(
     ok = np.isfinite(clear_r) & (clear_r >= params.raytrace_min_range)
     clear_r = np.minimum(clear_r[ok], params.raytrace_max_range)
     cmx, cmy = raytrace_cells(geo, x0, y0, x0 + clear_r * c[ok], y0 + clear_r * s[ok])
-    layer[cmy, cmx] = FREE_SPACE
     # marking
     hit = valid & (r >= params.obstacle_min_range) & (r < params.obstacle_max_range)
     cells = geo.world_to_cells(np.stack([x0 + r[hit] * c[hit], y0 + r[hit] * s[hit]], axis=1))
     mx, my = cells[:, 0], cells[:, 1]
     inside = (mx >= 0) & (mx < geo.width) & (my >= 0) & (my < geo.height)
     mx, my = mx[inside], my[inside]
+    box = _bounds_of(cmx, cmy).union(_bounds_of(mx, my))
+    if box.empty:
+        return EMPTY
+    before = layer[box.slices].copy()
+    layer[cmy, cmx] = FREE_SPACE
     layer[my, mx] = LETHAL_OBSTACLE
-    return _bounds_of(cmx, cmy).union(_bounds_of(mx, my))
+    # only the cells whose value changed need the costmap rebuilt around them
+    ys, xs = np.nonzero(layer[box.slices] != before)
+    if ys.size == 0:
+        return EMPTY
+    return Bounds(
+        box.x0 + int(xs.min()), box.y0 + int(ys.min()), box.x0 + int(xs.max()) + 1, box.y0 + int(ys.max()) + 1
+    )

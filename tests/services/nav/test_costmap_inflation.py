@@ -106,3 +106,32 @@ def test_squared_distance_matches_brute_force() -> None:
                 assert got[y, x] == d2, (x, y)
             else:
                 assert got[y, x] > radius * radius, (x, y)
+
+
+def test_compiled_transform_matches_numpy_reference() -> None:
+    from zenros.services.nav.costmap import inflation
+    from zenros.services.nav.costmap.accel import edt
+
+    if edt is None:
+        pytest.skip("the costmap's C distance transform is not built here")
+    for seed in range(60):
+        rng = np.random.default_rng(seed)
+        shape = (int(rng.integers(1, 50)), int(rng.integers(1, 50)))
+        src = rng.random(shape) < rng.uniform(0.0, 0.2)
+        r = int(rng.integers(0, 12))
+        ref = squared_distance(src, r)
+        got = inflation.distance_transform(src, r)
+        near = ref <= r * r
+        assert np.array_equal(ref[near], got[near]), seed
+        assert np.all(got[~near] > r * r), seed
+
+
+def test_costmaps_agree_with_and_without_compiled_transform(monkeypatch: pytest.MonkeyPatch) -> None:
+    from zenros.services.nav.costmap import inflation
+
+    rng = np.random.default_rng(9)
+    occ = np.where(rng.random((80, 90)) < 0.02, 100, 0).astype(np.int8)
+    p = CostmapParams(inflation_radius=0.45, cost_scaling_factor=4.0)
+    compiled_costs = Costmap2D(occ, 0.05, params=p).costs.copy()
+    monkeypatch.setattr(inflation, "_edt", None)
+    assert np.array_equal(Costmap2D(occ, 0.05, params=p).costs, compiled_costs)
