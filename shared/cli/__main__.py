@@ -7,7 +7,7 @@ import sys
 from collections.abc import Sequence
 
 from ..errors import StartupError, ZenrosError
-from . import action, graph, node, param, service, smach, task, tf, topic
+from . import action, bag, graph, node, param, service, smach, task, tf, topic
 from .common import stdout_closed
 
 EXIT_ERROR = 1
@@ -17,7 +17,7 @@ EXIT_STARTUP = 3
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="zenros", description="zenros command-line tools")
     sub = parser.add_subparsers(dest="noun", required=True, metavar="COMMAND")
-    for mod in (topic, service, node, graph, tf, param, action, smach, task):
+    for mod in (topic, service, node, graph, tf, param, action, smach, task, bag):
         mod.register(sub)
     r = sub.add_parser("router", help="run a Zenoh router (default tcp/127.0.0.1:7447)",
                        add_help=False)

@@ -1,0 +1,109 @@
+"""Opening bags: a directory of ``.mcap`` files (split bags) or one file; clear errors for
+missing, truncated or corrupt files."""
+
+from __future__ import annotations
+
+import heapq
+import os
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from mcap.exceptions import McapError
+from mcap.reader import SeekingReader
+from mcap.records import Channel, Schema
+from mcap.summary import Summary
+
+from ..errors import ZenrosError
+
+__all__ = ["BagError", "BagMessage", "bag_files", "bags_home", "iter_messages", "open_summary",
+           "resolve_bag"]
+
+
+class BagError(ZenrosError, ValueError):
+    """A bag that cannot be read: missing, not MCAP, truncated or corrupt."""
+
+
+@dataclass(frozen=True)
+class BagMessage:
+    """One recorded message with its channel."""
+
+    log_time: int
+    publish_time: int
+    sequence: int
+    channel: Channel
+    schema: Schema | None
+    data: bytes
+
+
+def bags_home() -> Path:
+    """``$ZENROS_HOME/bags`` (``~/.zenros/bags`` by default)."""
+    return Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros").expanduser() / "bags"
+
+
+def resolve_bag(name: str) -> Path:
+    """A bag given on the command line: a path if it exists, else a name under `bags_home`."""
+    p = Path(name).expanduser()
+    if p.exists():
+        return p
+    home = bags_home() / name
+    if home.exists():
+        return home
+    raise BagError(f"no bag {name!r} (looked at {p} and {home})")
+
+
+def _split_index(p: Path) -> tuple[int, str]:
+    m = re.search(r"_(\d+)\.mcap$", p.name)
+    return (int(m.group(1)) if m else 0, p.name)
+
+
+def bag_files(path: Path) -> list[Path]:
+    """The MCAP files of a bag, in recording order."""
+    if path.is_dir():
+        files = sorted(path.glob("*.mcap"), key=_split_index)
+        if not files:
+            raise BagError(f"{path} holds no .mcap files")
+        return files
+    if not path.exists():
+        raise BagError(f"no such bag: {path}")
+    return [path]
+
+
+def open_summary(path: Path) -> Summary:
+    """The summary section of one file; `BagError` if it has none (a crashed recording) or
+    is not MCAP at all."""
+    try:
+        with open(path, "rb") as f:
+            summary = SeekingReader(f).get_summary()
+    except (McapError, ValueError, OSError, EOFError, KeyError) as exc:
+        raise BagError(f"{path}: not a readable MCAP file ({exc or type(exc).__name__}); if the "
+                       f"recorder was killed, run: zenros bag recover {path}") from exc
+    if summary is None or summary.statistics is None:
+        raise BagError(f"{path}: no summary (the recording did not finish); "
+                       f"run: zenros bag recover {path}")
+    return summary
+
+
+def _file_messages(path: Path, topics: list[str] | None, start: int | None) -> Iterator[BagMessage]:
+    try:
+        with open(path, "rb") as f:
+            reader = SeekingReader(f)
+            for schema, channel, msg in reader.iter_messages(topics=topics, starting_at=start,
+                                                             log_time_order=True):
+                yield BagMessage(msg.log_time, msg.publish_time, msg.sequence, channel, schema,
+                                 msg.data)
+    except (McapError, ValueError, EOFError, KeyError) as exc:
+        raise BagError(f"{path}: corrupt MCAP data ({exc or type(exc).__name__}); "
+                       f"try: zenros bag recover {path}") from exc
+
+
+def iter_messages(files: list[Path], topics: list[str] | None = None,
+                  start: int | None = None) -> Iterator[BagMessage]:
+    """Every message of the bag's files in log-time order (files may overlap at a split)."""
+    streams: list[Any] = [_file_messages(p, topics, start) for p in files]
+    if len(streams) == 1:
+        yield from streams[0]
+        return
+    yield from heapq.merge(*streams, key=lambda m: m.log_time)
