@@ -49,7 +49,7 @@ def add_record_arguments(v: argparse.ArgumentParser) -> None:
 def add_play_arguments(v: argparse.ArgumentParser) -> None:
     v.add_argument("bag", metavar="NAME", help="bag name or path (a directory or a .mcap file)")
     v.add_argument("--rate", type=float, default=1.0, help="speed factor (default 1)")
-    v.add_argument("-l", "--loop", action="store_true", help="play again from the start")
+    v.add_argument("--loop", action="store_true", help="play again from the start")
     v.add_argument("--start", type=float, default=0.0, metavar="S",
                    help="start S seconds into the bag")
     v.add_argument("--topics", nargs="+", default=[], metavar="TOPIC", help="only these topics")
