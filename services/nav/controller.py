@@ -128,8 +128,12 @@ class PurePursuit:
                        p.max_lookahead_dist)
         return p.lookahead_dist
 
-    def compute(self, pose: Pose2, dt: float, cost_at_robot: float = 0.0) -> ControlOutput:
-        """The command for the robot at ``pose`` (``dt``: seconds since the last command)."""
+    def compute(self, pose: Pose2, dt: float, cost_at_robot: float = 0.0,
+                carrot_limit: float | None = None) -> ControlOutput:
+        """The command for the robot at ``pose`` (``dt``: seconds since the last command).
+
+        ``carrot_limit`` (arc length along the path) keeps the carrot from passing a via
+        point, so the robot goes through it instead of cutting the corner."""
         p = self.params
         self.track.update(pose.x, pose.y)
         remaining = self.track.distance_remaining(pose.x, pose.y)
@@ -141,7 +145,7 @@ class PurePursuit:
         if self._xy_reached:
             return self._rotate_to_goal(pose, dt, (gx, gy), to_goal)
 
-        carrot = self.track.carrot(pose.x, pose.y, self.lookahead(self.last_v))
+        carrot = self.track.carrot(pose.x, pose.y, self.lookahead(self.last_v), carrot_limit)
         cx, cy = pose.inverse().apply(*carrot)
         angle = math.atan2(cy, cx)
         if p.use_rotate_to_heading and abs(angle) > p.rotate_to_heading_min_angle:

@@ -71,7 +71,8 @@ class Navigate(Behavior):
         self.speed = 0.0
         self.path: np.ndarray | None = None
         self._leg_ends: list[float] = []
-        self._first_wp = 0  # index of the first waypoint the current plan starts toward
+        self._first_wp = 0  # index of the first waypoint the current plan leads to
+        self._pending_first = 0  # the same for the plan being made
         self._ticket: int | None = None
         self._last_request = -math.inf
         self._plan_failures = 0
@@ -95,7 +96,7 @@ class Navigate(Behavior):
         goals = self._remaining_goals()
         if not goals:
             return
-        self._first_wp = len(self.waypoints) - len(goals)
+        self._pending_first = len(self.waypoints) - len(goals)
         self._ticket = self.tools.worker.submit(sense.pose, goals)
         self._last_request = sense.now
 
@@ -108,6 +109,11 @@ class Navigate(Behavior):
     def _on_plan(self, out: PlanOutcome, sense: Sense) -> None:
         if out.ok:
             assert out.xy is not None
+            done = sum(1 for w in self.waypoints if w.status != PENDING)
+            if self.path is not None and done != self._pending_first:
+                self._last_request = -math.inf  # a waypoint was passed meanwhile: plan again
+                return
+            self._first_wp = self._pending_first
             self._plan_failures = 0
             self._last_plan_error = None
             yaw = self.goals[-1].theta if self.final_yaw else None
@@ -131,6 +137,14 @@ class Navigate(Behavior):
         for w in self.waypoints:
             if w.status == PENDING:
                 w.status, w.error_code, w.error_msg = FAILED, code, msg
+
+    def _via_limit(self) -> float | None:
+        """The arc length of the next via point still to pass (None: only the goal left)."""
+        for k, end in enumerate(self._leg_ends[:-1]):
+            i = self._first_wp + k
+            if i < len(self.waypoints) and self.waypoints[i].status == PENDING:
+                return end
+        return None
 
     def _update_waypoints(self) -> None:
         if not self._leg_ends or self.path is None:
@@ -183,7 +197,7 @@ class Navigate(Behavior):
         assert sense.pose is not None
         pose = sense.pose
         cost = self.tools.cost_at(pose.x, pose.y)
-        out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost)
+        out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, self._via_limit())
         self.distance_remaining = out.distance_remaining
         self._update_waypoints()
         if out.state == "goal_reached":

@@ -84,12 +84,18 @@ class PathTracker:
         p = self.xy[i] + t * (self.xy[i + 1] - self.xy[i])
         return float(p[0]), float(p[1])
 
-    def carrot(self, px: float, py: float, lookahead: float) -> tuple[float, float]:
+    def carrot(self, px: float, py: float, lookahead: float,
+               max_s: float | None = None) -> tuple[float, float]:
         """The first path point at least ``lookahead`` from (px, py), beyond the closest point
-        (interpolated on its segment); the path's end when none is that far."""
+        (interpolated on its segment); the path's end when none is that far. With ``max_s``
+        the carrot goes no further along the path than that arc length."""
         n = len(self.xy)
         if n < 2:
             return float(self.xy[-1, 0]), float(self.xy[-1, 1])
+        if max_s is not None:
+            cap = self.point_at(max_s)
+            if math.hypot(cap[0] - px, cap[1] - py) < lookahead:
+                return cap
         start = self.index + 1
         d = np.hypot(self.xy[start:, 0] - px, self.xy[start:, 1] - py)
         far = np.nonzero(d >= lookahead)[0]
