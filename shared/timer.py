@@ -8,7 +8,7 @@ import logging
 from collections.abc import Callable
 from typing import Any
 
-from .clock import Clock, Duration
+from .clock import Clock, Duration, Time
 from .executor import CallbackGroup, Executor
 
 __all__ = ["Timer"]
@@ -48,10 +48,14 @@ class Timer:
             self.reset()
 
     def reset(self) -> None:
-        """(Re)start the timer: the next tick is one period from now."""
+        """(Re)start the timer: the next tick is one period from now.
+
+        "Now" is read here, on the caller's thread, not when the executor first runs the
+        timer: with a simulated clock, /clock may move in between, and the first tick would
+        then land up to a period late."""
         self.cancel()
         self.cancelled = False
-        self._future = self._executor.submit(self._run())
+        self._future = self._executor.submit(self._run(self.clock.now() + self.period))
 
     def cancel(self) -> None:
         self.cancelled = True
@@ -62,8 +66,7 @@ class Timer:
     def is_canceled(self) -> bool:
         return self.cancelled
 
-    async def _run(self) -> None:
-        due = self.clock.now() + self.period
+    async def _run(self, due: Time) -> None:
         while not self.cancelled:
             await self.clock.async_sleep_until(due)
             if self.cancelled:

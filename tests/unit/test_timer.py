@@ -120,6 +120,21 @@ def test_fires_once_per_period_on_the_executor(clock: RecordingClock, executor: 
     assert calls.threads == {"timer-executor"}
 
 
+def test_the_first_deadline_is_one_period_after_creation_however_busy_the_executor(
+    clock: RecordingClock, executor: Executor
+) -> None:
+    held, release = threading.Event(), threading.Event()
+    executor.call_soon(lambda: (held.set(), release.wait(WAIT)))
+    assert held.wait(WAIT)
+    calls = Calls(clock)
+    make(clock, executor, calls, period=0.1)  # at 10.000 s
+    clock.set(t_ms(10_050))  # the clock moves before the executor gets to the timer
+    release.set()
+    assert clock.wait_requests(1)[0] == t_ms(10_100)
+    clock.set(t_ms(10_100))
+    assert calls.wait(1) == [t_ms(10_100)]
+
+
 def test_deadlines_do_not_drift(clock: RecordingClock, executor: Executor) -> None:
     calls = Calls(clock)
     make(clock, executor, calls, period=0.25)
