@@ -117,16 +117,22 @@ def declare_config(node: _Declares) -> ChassisConfig:
     def p(name: str, default: object, description: str = "") -> object:
         return node.declare_parameter(name, default, description=description, read_only=True)
 
-    def f(name: str, default: float, description: str = "", *, positive: bool = False) -> float:
+    def f(name: str, default: float, description: str = "", *, positive: bool = False,
+          nonneg: bool = True) -> float:
         v = float(p(name, float(default), description))  # type: ignore[arg-type]
-        if not math.isfinite(v) or (positive and v <= 0):
+        if not math.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
+            want = " > 0" if positive else " >= 0" if nonneg else ""
             raise InvalidParameterValueError(
-                f"parameter {name!r}: expected a finite number{' > 0' if positive else ''}, "
-                f"got {v}")
+                f"parameter {name!r}: expected a finite number{want}, got {v}")
         return v
 
     map_path = str(p("map", "", "map_server YAML of the world (default: the demo office)"))
     speed = f("speed", 1.0, "sim seconds per wall second; 0 = as fast as possible")
+    range_min, range_max = f("range_min", 0.05), f("range_max", 12.0, positive=True)
+    if range_min >= range_max:
+        raise InvalidParameterValueError(
+            f"parameters 'range_min' ({range_min:g}) and 'range_max' ({range_max:g}): "
+            "range_min must be below range_max")
     publish_clock = bool(p("publish_clock", True, "publish /clock and stamp with sim time"))
     if not publish_clock and speed != 1.0:
         raise InvalidParameterValueError(
@@ -143,8 +149,8 @@ def declare_config(node: _Declares) -> ChassisConfig:
             max_angular_accel=f("max_angular_acceleration", 3.0),
             cmd_timeout=f("cmd_timeout", 0.5, "dead-man: stop after this long without cmd_vel"))
         laser = LaserConfig(
-            beams=int(p("scan_beams", 360)), range_min=f("range_min", 0.05),  # type: ignore[call-overload]
-            range_max=f("range_max", 12.0), fov=f("scan_fov", 2 * math.pi),
+            beams=int(p("scan_beams", 360)), range_min=range_min,  # type: ignore[call-overload]
+            range_max=range_max, fov=f("scan_fov", 2 * math.pi),
             noise=f("range_noise", 0.0, "std dev of laser range noise (m)"))
         battery = BatteryConfig(
             capacity=f("battery_capacity", 20.0), voltage=f("battery_voltage", 24.0),
@@ -157,15 +163,14 @@ def declare_config(node: _Declares) -> ChassisConfig:
         raise InvalidParameterValueError(str(exc)) from exc
     radius = f("robot_radius", 0.2, "the round body's radius (m)", positive=True)
     odom_noise = f("odom_noise", 0.0, "relative std dev of the odometry's speeds")
-    if odom_noise < 0:
-        raise InvalidParameterValueError(f"parameter 'odom_noise' must be >= 0, got {odom_noise}")
     return ChassisConfig(
         map_path=Path(map_path) if map_path else DEMO_MAP,
         speed=speed, publish_clock=publish_clock,
         publish_tf=bool(p("publish_tf", True, "publish odom -> base_link on /tf")),
         rate=rate, scan_rate=scan_rate, robot_radius=radius, limits=limits, laser=laser,
-        laser_mount=Pose2(f("laser_x", 0.1), f("laser_y", 0.0), f("laser_yaw", 0.0)),
-        laser_z=f("laser_z", 0.2), battery=battery, odom_noise=odom_noise,
+        laser_mount=Pose2(f("laser_x", 0.1, nonneg=False), f("laser_y", 0.0, nonneg=False),
+                          f("laser_yaw", 0.0, nonneg=False)),
+        laser_z=f("laser_z", 0.2, nonneg=False), battery=battery, odom_noise=odom_noise,
         start=_pose("start_pose", p("start_pose", [], "[x, y, theta] in map; [] = the map's")),
         dock=_pose("dock_pose", p("dock_pose", [], "[x, y, theta] in map; [] = the map's")),
         dock_tolerance=f("dock_tolerance", 0.05), dock_yaw_tolerance=f("dock_yaw_tolerance", 0.1),

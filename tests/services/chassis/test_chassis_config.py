@@ -1,0 +1,56 @@
+"""Chassis parameters: defaults build the demo world; bad values name the parameter."""
+
+from __future__ import annotations
+
+import logging
+
+import pytest
+from zenros.errors import InvalidParameterValueError, MapError
+from zenros.services.chassis.config import DEMO_MAP, declare_config
+from zenros.services.chassis.kinematics import Pose2
+
+
+class Params:
+    """A stand-in for the node: declared defaults, replaced by ``values``."""
+
+    def __init__(self, **values: object) -> None:
+        self.values = values
+
+    def declare_parameter(self, name: str, default: object, *, description: str = "",
+                          read_only: bool = False) -> object:
+        return self.values.get(name, default)
+
+
+def test_defaults_build_the_demo_office() -> None:
+    cfg = declare_config(Params())
+    assert cfg.map_path == DEMO_MAP and cfg.scan_every == 5 and cfg.battery_every == 50
+    sim = cfg.build(logging.getLogger("test"))
+    assert sim.truth == Pose2(0.0, 0.0, 0.0)  # the office's start pose
+    assert sim.dock is not None and sim.dock.pose.y == pytest.approx(-8.78)
+
+
+def test_pose_parameters_override_the_map_folder() -> None:
+    cfg = declare_config(Params(start_pose=[5.0, 0.5], dock_pose=[1.0, 0.0, 3.0]))
+    sim = cfg.build(logging.getLogger("test"))
+    assert sim.truth == Pose2(5.0, 0.5, 0.0)
+    assert sim.dock is not None and sim.dock.pose == Pose2(1.0, 0.0, 3.0)
+
+
+@pytest.mark.parametrize(("values", "match"), [
+    ({"max_linear_velocity": -1.0}, "'max_linear_velocity': expected a finite number >= 0"),
+    ({"range_min": 20.0}, "range_min must be below range_max"),
+    ({"rate": 0.0}, "'rate': expected a finite number > 0"),
+    ({"speed": 3.0, "publish_clock": False}, "publish_clock is false"),
+    ({"start_pose": [1.0, "a"]}, "'start_pose': expected \\[x, y\\] or \\[x, y, theta\\]"),
+    ({"battery_initial": 2.0}, "initial charge must be within 0..1"),
+])
+def test_bad_values_name_the_parameter(values: dict[str, object], match: str) -> None:
+    with pytest.raises(InvalidParameterValueError, match=match):
+        declare_config(Params(**values))
+
+
+def test_bad_map_and_blocked_start() -> None:
+    with pytest.raises(MapError, match="nope.yaml: cannot read map YAML"):
+        declare_config(Params(map="/nope.yaml")).build(logging.getLogger("test"))
+    with pytest.raises(ValueError, match="start pose .* does not fit"):
+        declare_config(Params(start_pose=[0.0, 1.25])).build(logging.getLogger("test"))
