@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import zenoh
 
-from .codec import codec_for
+from .codec import codec_for, split_encoding
 from .context import is_session_failure
 from .errors import (
     CodecError,
@@ -21,11 +21,12 @@ from .errors import (
     EncodeError,
     ServiceError,
     ServiceUnavailableError,
+    TypeMismatchError,
     ZenrosTimeout,
 )
 from .executor import CallbackGroup
 from .log import ErrorLog
-from .message import Message, ServiceType
+from .message import Message, ServiceType, normalize_type_name
 
 if TYPE_CHECKING:
     from .context import Context
@@ -90,6 +91,7 @@ class Service:
         self._req = codec_for(srv_type.Request)
         self._res = codec_for(srv_type.Response)
         self._res_encoding = zenoh.Encoding(self._res.mime).with_schema(self._res.type_name)
+        self._req_encoding = zenoh.Encoding(self._req.mime).with_schema(self._req.type_name)
         self._handler = handler
         self._errors = ErrorLog(logger)
         self._is_async = inspect.iscoroutinefunction(handler)
@@ -154,6 +156,9 @@ class Service:
     def _request(self, query: zenoh.Query) -> Message | None:
         payload = query.payload
         try:
+            enc = query.encoding
+            if enc is not None and enc != self._req_encoding:
+                self._check_schema(str(enc))
             msg: Message = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
             return msg
         except CodecError as exc:
@@ -162,6 +167,14 @@ class Service:
                             self.name, reason)
         _reply_err(query, "BadRequest", reason)
         return None
+
+    def _check_schema(self, encoding: str) -> None:
+        """Refuse a request whose encoding names another type (`TypeMismatchError`); a bare
+        MIME type (``z_get`` sends ``zenoh/bytes``) is accepted and the payload decides."""
+        schema = split_encoding(encoding)[1]
+        if schema and normalize_type_name(schema) != self._req.type_name:
+            raise TypeMismatchError(f"type mismatch: service {self.name} takes "
+                                    f"{self._req.type_name}, got {schema}")
 
     def _call(self, req: Message) -> Any:
         if self._two_args:

@@ -20,6 +20,7 @@ from zenros.action import ActionClient, ServerGoalHandle, wire_types
 from zenros.action.types import CancelGoalRequest
 from zenros.codec import codec_for
 from zenros.context import Context
+from zenros.errors import ServiceError
 from zenros.message import Message
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.example_interfaces import (
@@ -30,6 +31,7 @@ from zenros.msgs.example_interfaces import (
     FibonacciResult,
 )
 from zenros.msgs.geometry_msgs import Twist, Vector3
+from zenros.msgs.std_srvs import Trigger, TriggerRequest
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.tf_srvs import Frames, FramesRequest, LookupTransform, LookupTransformRequest
 from zenros.param_client import ParameterClient
@@ -252,3 +254,27 @@ def test_an_unknown_action_request_is_refused(make_node: Any, ctx_pair: list[Con
     body = _ask(ctx_pair[0], ctx_pair[0].keys.action("/fib", "bogus"), b"{}",
                 _enc(CancelGoalRequest))
     assert body["error"] == "BadRequest" and "bogus" in body["message"]
+
+
+def test_a_request_of_another_type_is_refused_naming_both_types(
+    make_node: Any, ctx_pair: list[Context]
+) -> None:
+    calls: list[Any] = []
+    server = make_node("server", 1)
+    srv = server.create_service(AddTwoInts, "add_two_ints",
+                                lambda r: calls.append(r) or AddTwoInts.Response(sum=r.a + r.b))
+    good = Client(ctx_pair[0], AddTwoInts, "/add_two_ints")
+    assert good.wait_for_service(10)
+    # `{}` would decode into an AddTwoInts request with defaults: the schema must decide
+    wrong = Client(ctx_pair[0], Trigger, "/add_two_ints")
+    with pytest.raises(ServiceError, match="BadRequest: type mismatch: service /add_two_ints "
+                       "takes example_interfaces/AddTwoIntsRequest, got std_srvs/TriggerRequest"):
+        wrong.call(TriggerRequest())
+    assert calls == [] and srv.errors == 1
+    # the ROS spelling of the same type, and a bare MIME type (z_get), are accepted
+    for encoding in ("application/json;example_interfaces/srv/AddTwoIntsRequest",
+                     "zenoh/bytes", "application/json"):
+        [reply] = ctx_pair[0].session.get(srv.key, payload=b'{"a": 1, "b": 2}',
+                                          encoding=encoding, timeout=5.0)
+        assert reply.ok is not None, encoding
+    assert good.call(AddTwoIntsRequest(a=2, b=3)).sum == 5
