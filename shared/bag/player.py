@@ -260,15 +260,17 @@ class Player:
                                   daemon=True, name="zenros-bag-reader")
         reader.start()
         rate = self.options.rate
+        first = batches.get()  # the clock starts once the first chunk is decoded
         with self._cond:
-            self._origin = start
+            self._origin = first[0].log_time if first else start
             self._base = time.perf_counter()
             if self._paused:
                 self._pause_at = self._base
         by_channel: dict[int, _Out | None] = {}
         now = time.perf_counter
+        batch = first
         try:
-            while (batch := batches.get()) is not None:
+            while batch is not None:
                 for m in batch:
                     cid = m.channel.id
                     if cid in by_channel:
@@ -297,6 +299,7 @@ class Player:
                     self.published += 1
                     if on_progress is not None:
                         on_progress(self)
+                batch = batches.get()
         finally:
             stop_reading.set()
             while reader.is_alive():  # unblock a reader waiting on a full queue
