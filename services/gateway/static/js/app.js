@@ -21,6 +21,7 @@ async function loadConfig() {
     rosbridge: params.get("rosbridge") || `${scheme}://${location.hostname || "127.0.0.1"}:${port}/`,
     ns: (params.get("ns") ?? config.namespace ?? "").replace(/\/+$/, ""),
     title: config.title || "",
+    path: params.get("path"),
   };
 }
 
@@ -49,6 +50,9 @@ class Dashboard {
     this.goal = null; // {id, index}
     this.estop = false;
     this.gotoMode = false;
+    this.mapName = "";
+    this.pathName = null;
+    this.wantedPath = config.path;
     $("robot-name").textContent = config.title || (this.ns ? this.ns.slice(1) : "zenros robot");
     this.teleop = new Teleop($("pad"), (v, w) => this.drive(v, w));
     this.wire();
@@ -82,6 +86,11 @@ class Dashboard {
       else if (this.gotoMode) this.navigate(world.x, world.y, this.pose ? this.pose.yaw : 0, null);
     });
     $("estop").addEventListener("click", () => this.toggleEstop());
+    $("path-select").addEventListener("change", (e) => {
+      this.pathName = e.target.value;
+      this.wantedPath = e.target.value;
+      this.refreshPoints();
+    });
     $("cancel-goal").addEventListener("click", () => this.cancelGoal());
   }
 
@@ -127,7 +136,7 @@ class Dashboard {
     this.pose = { x: p.position.x, y: p.position.y, yaw };
     this.view.setRobot(this.pose.x, this.pose.y, yaw);
     const pose = $("pose");
-    pose.textContent = `x ${fmt(this.pose.x)}  y ${fmt(this.pose.y)}  θ ${fmt(yaw * 180 / Math.PI, 0)}°`;
+    pose.textContent = `x ${fmt(this.pose.x)} m   y ${fmt(this.pose.y)} m   yaw ${fmt(yaw * 180 / Math.PI, 0)}°`;
     pose.dataset.x = String(this.pose.x);
     pose.dataset.y = String(this.pose.y);
   }
@@ -181,25 +190,57 @@ class Dashboard {
     $("robot-state").dataset.state = m.state;
     $("target").textContent = m.target_distance >= 0 ? `${fmt(m.target_distance, 1)} m to go` : "–";
     $("map-name").textContent = m.map_name || "–";
+    if (m.map_name && m.map_name !== this.mapName) {
+      this.mapName = m.map_name;
+      this.refreshPoints();
+    }
   }
 
   // -------------------------------------------------------------- nav points, walls
 
   async refreshMapData() {
-    try {
-      const res = await this.ros.callService(this.name("get_nav_points"), {});
-      this.points = res.points || [];
-    } catch (err) {
-      this.points = [];
-    }
-    this.view.setPoints(this.points);
-    this.renderPoints();
+    await this.refreshPoints();
     try {
       const res = await this.ros.callService(this.name("get_virtual_walls"), {});
       this.view.setWalls((res.walls || []).map((w) => w.points));
     } catch (err) {
       this.view.setWalls([]);
     }
+  }
+
+  async refreshPoints() {
+    let paths = [];
+    try {
+      const res = await this.ros.callService(this.name("list_paths"), { map_name: this.mapName || "" });
+      paths = (res.paths || []).filter((p) => !this.mapName || p.map_name === this.mapName)
+        .map((p) => p.path_name);
+    } catch (err) {
+      paths = [];
+    }
+    if (!paths.includes(this.pathName)) {
+      this.pathName = paths.includes(this.wantedPath) ? this.wantedPath : paths[0] ?? null;
+    }
+    const select = $("path-select");
+    select.replaceChildren(...paths.map((name) => {
+      const o = document.createElement("option");
+      o.value = name;
+      o.textContent = name;
+      o.selected = name === this.pathName;
+      return o;
+    }));
+    select.hidden = paths.length < 2;
+    this.points = [];
+    if (this.pathName !== null) {
+      try {
+        const res = await this.ros.callService(this.name("get_nav_points"),
+                                               { map_name: this.mapName || "", path_name: this.pathName });
+        this.points = res.points || [];
+      } catch (err) {
+        this.points = [];
+      }
+    }
+    this.view.setPoints(this.points);
+    this.renderPoints();
   }
 
   renderPoints() {
@@ -332,20 +373,25 @@ class Dashboard {
       const li = document.createElement("li");
       li.dataset.id = t.id;
       li.dataset.state = t.state;
-      const body = document.createElement("div");
-      body.className = "name";
-      const title = document.createElement("div");
+      const head = document.createElement("div");
+      head.className = "row";
+      const title = document.createElement("span");
+      title.className = "name";
       title.textContent = t.name || t.id;
-      const bar = document.createElement("div");
-      bar.className = "progress";
-      const fill = document.createElement("span");
-      fill.style.width = `${Math.round(Math.max(0, Math.min(1, (t.progress || 0) > 1 ? t.progress / 100 : t.progress || 0)) * 100)}%`;
-      bar.append(fill);
-      body.append(title, bar);
+      title.title = t.name || t.id;
       const badge = document.createElement("span");
       badge.className = `badge ${t.state}`;
       badge.textContent = t.state;
-      li.append(body, badge);
+      head.append(title, badge);
+      const foot = document.createElement("div");
+      foot.className = "row";
+      const bar = document.createElement("div");
+      bar.className = "progress";
+      const fill = document.createElement("span");
+      const p = t.progress || 0;
+      fill.style.width = `${Math.round(Math.max(0, Math.min(1, p > 1 ? p / 100 : p)) * 100)}%`;
+      bar.append(fill);
+      foot.append(bar);
       const buttons = t.state === "WORKING" ? [["pause", "Pause"], ["stop", "Stop"]]
         : t.state === "PAUSED" ? [["resume", "Resume"], ["stop", "Stop"]]
         : [["start", "Start"]];
@@ -357,8 +403,10 @@ class Dashboard {
         b.addEventListener("click", () => this.taskCall(call, t.id)
           .then((doc) => { if (doc && doc.id) this.onTask({ ...doc, task: JSON.stringify(doc) }); })
           .catch((err) => toast(err.message, true)));
-        li.append(b);
+        foot.append(b);
       }
+      li.classList.add("task");
+      li.append(head, foot);
       list.append(li);
     }
   }

@@ -38,12 +38,13 @@ function paintMap(v, px, o) {
 }
 
 function paintCost(v, px, o) {
-  if (v <= 0) { px[o + 3] = 0; return; }
-  const t = Math.min(v, 100) / 100;
-  px[o] = Math.round(40 + 200 * t);
-  px[o + 1] = Math.round(120 * (1 - t));
-  px[o + 2] = Math.round(220 - 60 * t);
-  px[o + 3] = v >= 99 ? 150 : Math.round(30 + 90 * t);
+  // inflation as a soft blue halo; lethal cells are left to the map's own dark walls
+  if (v <= 0 || v >= 99) { px[o + 3] = 0; return; }
+  const t = Math.min(v, 98) / 98;
+  px[o] = Math.round(56 + 90 * t);
+  px[o + 1] = Math.round(140 - 40 * t);
+  px[o + 2] = 246;
+  px[o + 3] = Math.round(25 + 95 * t * t);
 }
 
 export class MapView extends EventTarget {
@@ -261,10 +262,12 @@ export class MapView extends EventTarget {
       const r = 2 * px;
       for (const p of this.scanPoints) ctx.fillRect(p.x - r, p.y - r, 2 * r, 2 * r);
     }
-    if (this.robot) this.drawRobot(px);
-    // screen-space overlays (labels stay upright)
+    // nav points in screen space (labels stay upright), then the robot on top of them
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     if (this.layers.points) this.drawPoints();
+    ctx.setTransform(dpr * s, 0, 0, -dpr * s, dpr * tx, dpr * ty);
+    if (this.robot) this.drawRobot(px);
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     this.drawScaleBar(cw, ch);
   }
 
@@ -289,13 +292,13 @@ export class MapView extends EventTarget {
   drawRobot(px) {
     const ctx = this.ctx;
     const { x, y, yaw } = this.robot;
-    const r = this.footprint;
+    const r = Math.max(this.footprint, 10 * px); // still visible when zoomed far out
     ctx.save();
     ctx.translate(x, y);
     ctx.rotate(yaw);
-    ctx.fillStyle = "rgba(59, 130, 246, 0.18)";
+    ctx.fillStyle = "rgba(59, 130, 246, 0.22)";
     ctx.beginPath();
-    ctx.arc(0, 0, r + 6 * px, 0, 2 * Math.PI);
+    ctx.arc(0, 0, r + 8 * px, 0, 2 * Math.PI);
     ctx.fill();
     ctx.fillStyle = COLORS.robot;
     ctx.strokeStyle = COLORS.robotEdge;
