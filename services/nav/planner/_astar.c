@@ -14,6 +14,10 @@
  * order, the same open-list order), so both return the same path; Python is the
  * reference and ZENROS_NAV_PURE=1 turns this module off. The search runs without the GIL.
  *
+ * Per-cell state (g, parent, open/closed mark) sits in one 16-byte record, so a neighbour
+ * costs one cache line, and it is kept between searches (a generation counter replaces
+ * clearing it).
+ *
  * The open list: cells whose f equals the f last taken from the ordered part go on a
  * stack (each expansion pushes its own in descending (h, cell) order, so the one nearest
  * the goal is on top); the ordered part is a ring of buckets of width 2^BUCKET_SHIFT in
@@ -207,10 +211,14 @@ open_pop(Open *o)
 /* Per-cell state, kept between searches so its pages stay mapped: a cell is open when
    mark == gen, closed when mark == gen + 1, unseen otherwise. */
 typedef struct {
+    int64_t g;
+    int32_t parent;
+    uint32_t mark;
+} CellState;
+
+typedef struct {
     size_t n;
-    int64_t *g;
-    int32_t *parent;
-    uint32_t *mark;
+    CellState *cell;
     uint32_t gen;
     Open open;
     int32_t *stack;
@@ -224,9 +232,7 @@ ws_free(Workspace *ws)
 {
     if (ws == NULL)
         return;
-    free(ws->g);
-    free(ws->parent);
-    free(ws->mark);
+    free(ws->cell);
     open_free(&ws->open);
     free(ws->stack);
     free(ws);
@@ -244,10 +250,8 @@ ws_take(size_t n)
     if (ws == NULL)
         return NULL;
     ws->n = n;
-    ws->g = malloc(n * sizeof(int64_t));
-    ws->parent = malloc(n * sizeof(int32_t));
-    ws->mark = calloc(n, sizeof(uint32_t));
-    if (ws->g == NULL || ws->parent == NULL || ws->mark == NULL) {
+    ws->cell = calloc(n, sizeof(CellState));
+    if (ws->cell == NULL) {
         ws_free(ws);
         return NULL;
     }
@@ -324,26 +328,26 @@ run(const Query *q, Workspace *ws, long long *expansions)
             max_step = q->diag[c];
     }
     if (ws->gen >= UINT32_MAX - 2) {
-        memset(ws->mark, 0, ws->n * sizeof(uint32_t));
+        for (size_t i = 0; i < ws->n; i++)
+            ws->cell[i].mark = 0;
         ws->gen = 0;
     }
     ws->gen += 2;
     const uint32_t OPEN = ws->gen, CLOSED = ws->gen + 1;
-    int64_t *g = ws->g;
-    int32_t *parent = ws->parent;
-    uint32_t *mark = ws->mark;
+    CellState *cell = ws->cell;
     Open *open = &ws->open;
     if (open_init(open, max_step) < 0)
         return NOMEM;
     ws->sn = 0;
     const int32_t gx = q->goal % w, gy = q->goal / w;
+    const double inv_w = 1.0 / (double)w;
     const double deadline = q->budget > 0 ? now_s() + q->budget : 0.0;
     long long n_exp = 0;
     int status = NO_PATH, rc;
 
-    g[q->start] = 0;
-    parent[q->start] = -1;
-    mark[q->start] = OPEN;
+    cell[q->start].g = 0;
+    cell[q->start].parent = -1;
+    cell[q->start].mark = OPEN;
     int64_t h0 = octile(q->start % w, q->start / w, gx, gy, q->hs, q->hd);
     if ((rc = open_push(open, h0, tie_key(h0, q->start))) < 0)
         return rc;
@@ -357,9 +361,9 @@ run(const Query *q, Workspace *ws, long long *expansions)
             cur = (int32_t)(uint32_t)(e.tie & 0xffffffffu);
             cur_f = e.f;
         }
-        if (mark[cur] == CLOSED)
+        if (cell[cur].mark == CLOSED)
             continue; /* a stale entry: the cell was closed with a better g */
-        mark[cur] = CLOSED;
+        cell[cur].mark = CLOSED;
         if (cur == q->goal) {
             status = FOUND;
             break;
@@ -373,9 +377,14 @@ run(const Query *q, Workspace *ws, long long *expansions)
             status = TIMEOUT;
             break;
         }
-        const int32_t x = cur % w, y = cur / w;
+        int32_t y = (int32_t)((double)cur * inv_w); /* cur / w without a division ... */
+        if ((int64_t)y * w > cur)
+            y--;
+        else if ((int64_t)(y + 1) * w <= cur)
+            y++; /* ... corrected for rounding */
+        const int32_t x = cur - y * w;
         const int inner = x > 0 && y > 0 && x < w - 1 && y < h - 1;
-        const int64_t gc = g[cur];
+        const int64_t gc = cell[cur].g;
         int64_t same_h[8];
         int32_t same_i[8];
         int ns = 0;
@@ -384,18 +393,19 @@ run(const Query *q, Workspace *ws, long long *expansions)
             if (!inner && (nx < 0 || ny < 0 || nx >= w || ny >= h))
                 continue;
             const int32_t nb = cur + off[k];
-            const uint32_t mk = mark[nb];
+            CellState *cs = &cell[nb];
+            const uint32_t mk = cs->mark;
             if (mk == CLOSED)
                 continue;
             const int64_t step = k < 4 ? q->straight[q->costs[nb]] : q->diag[q->costs[nb]];
             if (step < 0)
                 continue;
             const int64_t ng = gc + step;
-            if (mk == OPEN && ng >= g[nb])
+            if (mk == OPEN && ng >= cs->g)
                 continue;
-            g[nb] = ng;
-            parent[nb] = cur;
-            mark[nb] = OPEN;
+            cs->g = ng;
+            cs->parent = cur;
+            cs->mark = OPEN;
             const int64_t hn = octile(nx, ny, gx, gy, q->hs, q->hd);
             if (ng + hn == cur_f) {
                 int j = ns++; /* keep same_* in descending (h, cell) order */
@@ -466,19 +476,19 @@ search(PyObject *Py_UNUSED(self), PyObject *args)
     } else {
         PyObject *path;
         long long g_goal = 0;
-        const int32_t *parent = ws->parent;
+        const CellState *cell = ws->cell;
         if (status == FOUND) {
             Py_ssize_t len = 0;
-            for (int32_t c = (int32_t)goal; c != -1; c = parent[c])
+            for (int32_t c = (int32_t)goal; c != -1; c = cell[c].parent)
                 len++;
             path = PyBytes_FromStringAndSize(NULL, len * (Py_ssize_t)sizeof(int32_t));
             if (path != NULL) {
                 int32_t *out = (int32_t *)PyBytes_AS_STRING(path);
                 Py_ssize_t i = 0;
-                for (int32_t c = (int32_t)goal; c != -1; c = parent[c])
+                for (int32_t c = (int32_t)goal; c != -1; c = cell[c].parent)
                     out[i++] = c;
             }
-            g_goal = (long long)ws->g[goal];
+            g_goal = (long long)cell[goal].g;
         } else {
             path = PyBytes_FromStringAndSize(NULL, 0);
         }
