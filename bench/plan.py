@@ -36,6 +36,7 @@ import statistics
 import sys
 import time
 from collections.abc import Callable
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -226,7 +227,7 @@ def main() -> None:
     metrics.update(bench_costmap(a.scans))
     metrics["python_ref_200_ms"] = python_reference_ms()
     emit("plan", metrics, repeats=a.repeats, compiled_planner=compiled is not None,
-         compiled_inflation=edt is not None, pyastar2d=getattr(pyastar2d, "__version__", "?"))
+         compiled_inflation=edt is not None, pyastar2d=version("pyastar2d"))
 
 
 if __name__ == "__main__":
