@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -23,6 +25,8 @@ from zenros.services.nav.planner import (
     plan_between,
 )
 from zenros.services.nav.planner.accel import compiled
+from zenros.services.nav.planner.astar import FOUND, LIMIT, TIMEOUT, SearchOutcome, search_python
+from zenros.services.nav.planner.plan import cost_multipliers, step_table
 
 
 @pytest.fixture(params=["c", "python"])
@@ -193,6 +197,31 @@ def test_timeout_and_iteration_limit(impl: bool) -> None:
     assert t.value.code == 207
     with pytest.raises(NoValidPath, match="maximum iterations"):
         plan(costs, (0, 0), (n - 1, n - 1), PlannerParams(max_iterations=100), use_compiled=impl)
+
+
+def test_search_statuses_on_both_paths() -> None:
+    """The search itself stops on its budget (status 2) and expansion limit (status 3)
+    after the same number of expansions in C and in Python."""
+    costs = np.zeros((300, 300), np.uint8)
+    costs[150, :299] = 254  # the goal is behind a wall with a gap at the far end
+    steps, hs, hd = step_table(cost_multipliers(PlannerParams()))
+    goal = 299 * 300 + 0
+    impls: list[Callable[..., SearchOutcome]] = [search_python]
+    if compiled is not None:
+        module = compiled
+
+        def c_search(grid: np.ndarray, *args: Any) -> SearchOutcome:
+            st, raw, g, n = module.search(grid, grid.shape[1], grid.shape[0], *args)
+            return SearchOutcome(st, np.frombuffer(raw, np.int32), g, n)
+
+        impls.append(c_search)
+    for search in impls:
+        out = search(costs, steps, 0, goal, hs, hd, 1e-9, 0)
+        assert out.status == TIMEOUT and out.expansions == 1024 and out.path.size == 0
+        out = search(costs, steps, 0, goal, hs, hd, 0.0, 500)
+        assert out.status == LIMIT and out.expansions == 501
+        out = search(costs, steps, 0, goal, hs, hd, 0.0, 0)
+        assert out.status == FOUND and out.path[0] == goal and out.path[-1] == 0
 
 
 def test_goal_tolerance_moves_an_occupied_goal(impl: bool) -> None:
