@@ -15,15 +15,14 @@ from zenros.errors import UnknownTypeError, ZenrosError
 from zenros.message import Message, lookup_type
 from zenros.names import Token
 from zenros.node import Node
-from zenros.qos import QOS_LATCHED, QoSProfile
 
+from ..rosbridge.bridge import qos_for_publishers
 from ..rosbridge.convert import encode_message, message_from_json
 from .schema import schema_bytes, schema_name
 
 __all__ = ["DEFAULT_PORT", "FoxgloveBridge"]
 
 DEFAULT_PORT = 8765
-LATCHED_TOPICS = ("/tf_static", "/map")
 
 
 class FoxgloveBridge:
@@ -98,7 +97,8 @@ class FoxgloveBridge:
                 msg_type = self._types.get(channel.topic)
                 if chan is None or msg_type is None:
                     return
-                qos = QOS_LATCHED if channel.topic in LATCHED_TOPICS else QoSProfile(depth=10)
+                tags = [t.qos for t in self.node.graph.publishers(channel.topic)]
+                qos = qos_for_publishers(tags)
                 sub = self.node.create_subscription(msg_type, channel.topic,
                                                     self._logger_for(chan), qos)
                 entry = self._subs[channel.id] = (sub, set())

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from zenros.pubsub import Publisher, Subscription
     from zenros.rpc import Client
 
-__all__ = ["Bridge", "BridgeError", "Sink"]
+__all__ = ["Bridge", "BridgeError", "Sink", "qos_for_publishers"]
 
 
 class BridgeError(ValueError):
@@ -34,7 +34,7 @@ class Sink(Protocol):
     def deliver(self, topic: str, frame: bytes) -> None: ...
 
 
-def _qos_like(tags: list[str]) -> QoSProfile:
+def qos_for_publishers(tags: list[str]) -> QoSProfile:
     """A subscription profile that hears every publisher: latched if any is, best effort
     only if all are."""
     latched = any("+tl" in t for t in tags)
@@ -60,7 +60,7 @@ class TopicFeed:
         self._scheduled = False
         tags = [t.qos for t in bridge.node.graph.publishers(topic)]
         self.sub: Subscription[Any] = bridge.node.create_subscription(
-            msg_type, topic, self._on_message, _qos_like(tags))
+            msg_type, topic, self._on_message, qos_for_publishers(tags))
 
     def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
         frame = publish_frame(self.topic, encode_message(msg))

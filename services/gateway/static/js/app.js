@@ -136,7 +136,7 @@ class Dashboard {
     this.pose = { x: p.position.x, y: p.position.y, yaw };
     this.view.setRobot(this.pose.x, this.pose.y, yaw);
     const pose = $("pose");
-    pose.textContent = `x ${fmt(this.pose.x)} m   y ${fmt(this.pose.y)} m   yaw ${fmt(yaw * 180 / Math.PI, 0)}°`;
+    pose.textContent = `x ${fmt(this.pose.x)} m   y ${fmt(this.pose.y)} m   yaw ${Math.round(yaw * 180 / Math.PI) || 0}°`;
     pose.dataset.x = String(this.pose.x);
     pose.dataset.y = String(this.pose.y);
   }
