@@ -109,14 +109,6 @@ class PathTracker:
         return _circle_hit((px, py), (float(a[0]), float(a[1])), (float(b[0]), float(b[1])),
                            lookahead)
 
-    def ahead(self, distance: float) -> np.ndarray:
-        """The path points from the closest point up to ``distance`` further along."""
-        s0 = self.position()
-        hi = int(np.searchsorted(self.cum, s0 + distance, side="right"))
-        pts = self.xy[self.index + 1:max(hi, self.index + 1) + 1]
-        here = np.array([self.point_at(s0)])
-        return np.vstack([here, pts]) if len(pts) else here
-
 
 def _circle_hit(c: tuple[float, float], a: tuple[float, float], b: tuple[float, float],
                 r: float) -> tuple[float, float]:

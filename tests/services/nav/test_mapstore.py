@@ -1,0 +1,95 @@
+"""MapStore and MapServer: importing maps into the maps folder, nav data on disk, switching."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from zenros.errors import MapError
+from zenros.maps import GridMap, save_map
+from zenros.msgs.geometry_msgs import Point, Pose2D
+from zenros.msgs.zenros_msgs.nav import NavPoint, VirtualWall
+from zenros.services.nav.mapdata import NAV_FILE, StoredPath, check_name, read_nav_data
+from zenros.services.nav.mapserver import MapServer
+from zenros.services.nav.mapstore import MapStore
+from zenros.services.nav.params import DEMO_MAP
+
+
+def make_map(folder: Path, name: str, value: int = 0) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    grid = np.full((10, 20), value, dtype=np.int8)
+    save_map(GridMap(grid, 0.1, (1.0, 2.0, 0.0)), folder / f"{name}.yaml")
+    return folder / f"{name}.yaml"
+
+
+def test_import_copies_the_map_and_its_dock_becomes_the_charge_pose(tmp_path: Path) -> None:
+    store = MapStore(tmp_path / "maps")
+    assert store.import_map(DEMO_MAP) == "office"
+    folder = tmp_path / "maps" / "office"
+    assert {p.name for p in folder.iterdir()} == {"office.yaml", "office.pgm", "poses.yaml",
+                                                  NAV_FILE}
+    assert store.load("office").grid.shape == (400, 600)
+    assert store.nav_data("office").charge_pose == Pose2D(x=22.0, y=-8.78, theta=-np.pi / 2)
+    info = store.info("office")
+    assert info.width == 600 and info.md5sum == store.md5sum("office")
+
+
+def test_a_bad_source_changes_nothing(tmp_path: Path) -> None:
+    store = MapStore(tmp_path / "maps")
+    src = make_map(tmp_path / "src", "lab")
+    store.import_map(src)
+    before = store.md5sum("lab")
+    make_map(tmp_path / "src2", "lab", value=100)
+    (tmp_path / "src2" / "lab.pgm").write_bytes(b"P5\n2 2\n255\n")  # truncated pixels
+    with pytest.raises(MapError, match="lab.pgm"):
+        store.import_map(tmp_path / "src2" / "lab.yaml")
+    assert store.md5sum("lab") == before
+    with pytest.raises(MapError, match="unknown map 'attic'; known maps: lab"):
+        store.load("attic")
+    with pytest.raises(ValueError, match="invalid map name"):
+        store.import_map(src, "../evil")
+
+
+def test_nav_data_round_trip_and_refused_changes(tmp_path: Path) -> None:
+    store = MapStore(tmp_path / "maps")
+    store.import_map(make_map(tmp_path / "src", "lab"))
+    wall = VirtualWall(name="w", points=[Point(x=1.0), Point(x=2.0, y=1.0)])
+
+    def change(d: object) -> None:
+        d.paths["p"] = StoredPath(nav_points=[NavPoint(name="a", x=1.5)])  # type: ignore[attr-defined]
+        d.virtual_walls = [wall]  # type: ignore[attr-defined]
+
+    store.update_nav_data("lab", change)
+    data = read_nav_data(tmp_path / "maps" / "lab" / NAV_FILE)
+    assert data.paths["p"].nav_points[0].x == 1.5 and data.virtual_walls == [wall]
+
+    def refuse(d: object) -> None:
+        d.virtual_walls.clear()  # type: ignore[attr-defined]
+        raise ValueError("no")
+
+    with pytest.raises(ValueError):
+        store.update_nav_data("lab", refuse)
+    assert store.nav_data("lab").virtual_walls == [wall]  # the refused change left no trace
+    (tmp_path / "maps" / "lab" / NAV_FILE).write_text("paths: 3\n")
+    with pytest.raises(MapError, match=r"nav\.yaml.*paths"):
+        read_nav_data(tmp_path / "maps" / "lab" / NAV_FILE)
+
+
+def test_names_are_checked() -> None:
+    assert check_name("map", "office-2.v1") == "office-2.v1"
+    for bad in ("", ".", "..", "a/b", "-x", "a" * 65, "a b"):
+        with pytest.raises(ValueError):
+            check_name("map", bad)
+
+
+def test_switch_keeps_the_current_map_on_failure(tmp_path: Path) -> None:
+    seen: list[str] = []
+    server = MapServer(MapStore(tmp_path / "maps"), lambda name, grid: seen.append(name))
+    server.start(make_map(tmp_path / "src", "lab"))
+    server.store.import_map(make_map(tmp_path / "src", "hall"))
+    (tmp_path / "maps" / "hall" / "hall.pgm").unlink()
+    with pytest.raises(MapError, match="hall"):
+        server.switch("hall")
+    assert server.current == "lab" and seen == ["lab"]
+    assert server.resolve("") == "lab"

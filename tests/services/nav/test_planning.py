@@ -1,0 +1,78 @@
+"""GlobalPlanner: plans through several poses with leg lengths, plans out of the inflated
+zone, error codes; PlanWorker serves the newest request on its thread."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+from zenros.msgs.nav2_msgs import ComputePathToPoseResult as Codes
+from zenros.services.nav.costmap import CostmapParams
+from zenros.services.nav.costmaps import Costmaps
+from zenros.services.nav.planner import PlannerParams
+from zenros.services.nav.planning import GlobalPlanner, PlanWorker
+from zenros.services.nav.se2 import Pose2
+from zenros.maps import GridMap
+
+
+def room() -> Costmaps:
+    """10 m x 6 m at 0.05 m, walled, with a wall at x = 5 and a door at y 4..5."""
+    g = np.zeros((120, 200), dtype=np.int8)
+    g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
+    g[:, 100] = 100
+    g[80:100, 100] = 0
+    cm = Costmaps(CostmapParams(robot_radius=0.2, inflation_radius=0.5, cost_scaling_factor=3.0))
+    cm.set_map(GridMap(g, 0.05, (0.0, 0.0, 0.0)))
+    return cm
+
+
+def test_plan_through_poses_reports_where_each_leg_ends() -> None:
+    planner = GlobalPlanner(PlannerParams(), 0.2)
+    snap = room().snapshot()
+    out = planner.plan(snap, Pose2(1.0, 1.0), [Pose2(3.0, 1.0), Pose2(8.0, 1.0)])
+    assert out.ok and out.error_code == 0
+    assert out.xy is not None
+    assert out.xy[0] == pytest.approx([1.0, 1.0]) and out.xy[-1] == pytest.approx([8.0, 1.0])
+    length = float(np.sum(np.hypot(*np.diff(out.xy, axis=0).T)))
+    assert out.leg_ends[-1] == pytest.approx(length)
+    assert out.leg_ends[0] == pytest.approx(2.0, abs=0.1)
+    assert np.max(out.xy[:, 1]) > 4.0  # through the door
+
+
+def test_error_codes() -> None:
+    planner = GlobalPlanner(PlannerParams(), 0.2, goal_tolerance=0.1)
+    snap = room().snapshot()
+    cases = [(Pose2(20.0, 1.0), Codes.GOAL_OUTSIDE_MAP), (Pose2(5.0, 1.0), Codes.GOAL_OCCUPIED)]
+    for goal, code in cases:
+        assert planner.plan(snap, Pose2(1.0, 1.0), [goal]).error_code == code
+    assert planner.plan(snap, Pose2(-1.0, 1.0), [Pose2(2, 2)]).error_code == \
+        Codes.START_OUTSIDE_MAP
+    assert planner.plan(snap, Pose2(1.0, 1.0), []).error_code == Codes.UNKNOWN
+
+
+def test_start_next_to_a_wall_is_planned_out_of() -> None:
+    planner = GlobalPlanner(PlannerParams(), 0.2)
+    snap = room().snapshot()
+    start = Pose2(4.9, 1.0)  # 0.1 m from the wall: inscribed
+    assert snap.costs[20, 98] >= 253
+    out = planner.plan(snap, start, [Pose2(2.0, 1.0)])
+    assert out.ok, out.error_msg
+
+
+def test_worker_answers_the_newest_request() -> None:
+    cm = room()
+    worker = PlanWorker(GlobalPlanner(PlannerParams(), 0.2), cm.snapshot)
+    try:
+        tickets = [worker.submit(Pose2(1.0, 1.0), [Pose2(x, 1.0)]) for x in (2.0, 3.0, 8.0)]
+        deadline = time.monotonic() + 10
+        out = None
+        while out is None and time.monotonic() < deadline:
+            out = worker.poll(tickets[-1])
+            time.sleep(0.005)
+        assert out is not None and out.ok and out.xy is not None
+        assert out.xy[-1] == pytest.approx([8.0, 1.0])
+        assert math.isfinite(out.planning_time)
+    finally:
+        worker.close()
