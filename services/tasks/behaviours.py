@@ -56,7 +56,8 @@ class Context:
 def _nav(ctx: Context, p: dict[str, Any]) -> Outcome:
     if "index" in p:
         try:
-            x, y, theta = ctx.robot.nav_point(int(p["index"]))
+            x, y, theta = ctx.robot.nav_point(int(p["index"]), str(p.get("map", "")),
+                                              str(p.get("path", "")))
         except LookupError as exc:
             return Outcome("error", str(exc))
     else:

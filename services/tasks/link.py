@@ -16,7 +16,10 @@ from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
 from zenros.msgs.nav2_msgs import DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.std_msgs import Header, String
-from zenros.msgs.zenros_msgs.nav import GetNavPoints, GetNavPointsRequest, SwitchMap, SwitchMapRequest
+from zenros.msgs.zenros_msgs.nav import (
+    GetCurrentMap, GetCurrentMapRequest, GetNavPoints, GetNavPointsRequest, ListPaths,
+    ListPathsRequest, SwitchMap, SwitchMapRequest,
+)
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
@@ -37,6 +40,8 @@ class RobotLink:
         self.nav = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.dock = ActionClient(node, DockRobot, "dock_robot")
         self.nav_points = node.create_client(GetNavPoints, "get_nav_points")
+        self.paths = node.create_client(ListPaths, "list_paths")
+        self.current_map = node.create_client(GetCurrentMap, "map_server/current_map")
         self.switch = node.create_client(SwitchMap, "switch_map")
         self.tts = node.create_publisher(String, "tts", QOS_LATCHED)
         self.battery: float | None = None
@@ -51,16 +56,30 @@ class RobotLink:
     def now(self) -> float:
         return self.node.now().to_sec()
 
-    def nav_point(self, index: int) -> tuple[float, float, float]:
+    def nav_point(self, index: int, map_name: str, path_name: str) -> tuple[float, float, float]:
         try:
-            points = self.nav_points.call(GetNavPointsRequest(), timeout=SERVER_WAIT).points
+            if not path_name:
+                path_name, map_name = self._only_path(map_name)
+            points = self.nav_points.call(GetNavPointsRequest(map_name=map_name,
+                                                              path_name=path_name),
+                                          timeout=SERVER_WAIT).points
         except ZenrosError as exc:
             raise LookupError(f"cannot read nav points: {exc}") from exc
         if not 0 <= index < len(points):
-            raise LookupError(f"no nav point {index}: the current path has {len(points)}"
+            raise LookupError(f"no nav point {index}: path {path_name!r} has {len(points)}"
                               + (f" (0..{len(points) - 1})" if points else ""))
         p = points[index]
         return p.x, p.y, p.theta
+
+    def _only_path(self, map_name: str) -> tuple[str, str]:
+        if not map_name:
+            map_name = self.current_map.call(GetCurrentMapRequest(), timeout=SERVER_WAIT).name
+        refs = self.paths.call(ListPathsRequest(map_name=map_name), timeout=SERVER_WAIT).paths
+        if len(refs) != 1:
+            names = ", ".join(r.path_name for r in refs) or "none"
+            raise LookupError(f"give the nav_action a 'path': map {map_name!r} has"
+                              f" {len(refs)} paths ({names})")
+        return refs[0].path_name, map_name
 
     def navigate(self, x: float, y: float, theta: float, timeout: float,
                  feedback: Callable[[Feedback], None],

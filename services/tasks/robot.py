@@ -34,8 +34,10 @@ class Robot(Protocol):
         """The node clock in seconds (simulated time when the robot runs on it)."""
         ...
 
-    def nav_point(self, index: int) -> tuple[float, float, float]:
-        """Nav point ``index`` of the current map as (x, y, theta); LookupError if none."""
+    def nav_point(self, index: int, map_name: str, path_name: str) -> tuple[float, float, float]:
+        """Nav point ``index`` of a path as (x, y, theta); LookupError if there is none.
+
+        Empty ``map_name``: the current map; empty ``path_name``: the map's only path."""
         ...
 
     def navigate(self, x: float, y: float, theta: float, timeout: float,

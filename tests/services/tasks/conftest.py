@@ -28,7 +28,8 @@ class FakeRobot:
     def now(self) -> float:
         return time.monotonic()
 
-    def nav_point(self, index: int) -> tuple[float, float, float]:
+    def nav_point(self, index: int, map_name: str = "",
+                  path_name: str = "") -> tuple[float, float, float]:
         if not 0 <= index < len(self.points):
             raise LookupError(f"no nav point {index}")
         return self.points[index]
