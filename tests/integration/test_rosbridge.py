@@ -413,6 +413,10 @@ def test_status_frames_only_after_set_level(server: RosbridgeServer) -> None:
         assert "Unknown operation: bogus" in status["msg"]
         ws.send(json.dumps({"op": "publish", "id": "p1", "topic": "/typed", "msg": {"x": 1}}))
         assert recv_json(ws)["id"] == "p1"
+        ws.send(json.dumps({"op": "advertise_action", "id": "a1", "action": "/x",
+                            "type": "example_interfaces/Fibonacci"}))
+        status = recv_json(ws)
+        assert status["id"] == "a1" and "not implemented: advertise_action" in status["msg"]
         ws.send(json.dumps({"op": "set_level", "level": "none"}))
         ws.send(json.dumps({"op": "bogus"}))
         ws.send(json.dumps({"op": "call_service", "id": "t", "service": "/rosapi/get_time"}))

@@ -127,6 +127,9 @@ class ClientProtocol:
             "fragment": self.op_fragment,
             "auth": lambda frame: None,  # accepted silently: rosauth is not supported
         }
+        for op in ("advertise_action", "unadvertise_action", "action_feedback",
+                   "action_result"):
+            self._ops[op] = self.op_not_implemented
 
     # ------------------------------------------------------------------ in and out
 
@@ -467,6 +470,10 @@ class ClientProtocol:
         self.spawn(asyncio.to_thread(handle.cancel))
 
     # ------------------------------------------------------------------ misc
+
+    def op_not_implemented(self, frame: dict[str, Any]) -> None:
+        raise OpError(f"not implemented: {frame.get('op')} (client-side action servers are "
+                      "not supported)")
 
     def op_set_level(self, frame: dict[str, Any]) -> None:
         level = frame.get("level")

@@ -353,6 +353,11 @@ class Dashboard {
   }
 
   onTask(m) {
+    if (m.event === "deleted") {
+      this.tasks.delete(m.id);
+      this.renderTasks();
+      return;
+    }
     let doc = null;
     try {
       doc = m.task ? JSON.parse(m.task) : null;
