@@ -4,6 +4,7 @@ chunks."""
 from __future__ import annotations
 
 import os
+import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -72,8 +73,8 @@ def recover_file(src: Path, dst: Path, compression: str = "zstd") -> Recovered:
                     if len(chunk) >= CHUNK:
                         out.write_chunk(chunk)
                         chunk = ChunkBuffer()
-    except EndOfFile:
-        stopped = "the file ends inside a record (truncated)"
+    except (EndOfFile, struct.error):
+        stopped = "the file ends before its footer (recording interrupted or file truncated)"
     except Exception as exc:  # noqa: BLE001 (any damage ends the readable part of the file)
         stopped = f"{type(exc).__name__}: {exc}" if str(exc) else type(exc).__name__
     out.write_chunk(chunk)

@@ -158,13 +158,13 @@ class BagSink:
 
     def _write_chunk(self, chunk: ChunkBuffer) -> None:
         f = self._file
-        first = min(e[0][0] for e in chunk.index.values())
+        first = min(idx[0] for idx in chunk.index.values())
         if self._file_start < 0:
             self._file_start = first
         f.write_chunk(chunk)
-        for channel, entries in chunk.index.items():
-            self.counts[channel] = self.counts.get(channel, 0) + len(entries)
-        last = max(e[-1][0] for e in chunk.index.values())
+        for channel, idx in chunk.index.items():
+            self.counts[channel] = self.counts.get(channel, 0) + len(idx) // 2
+        last = max(idx[-2] for idx in chunk.index.values())
         split = self.split
         if ((split.max_bytes and f.size >= split.max_bytes)
                 or (split.max_seconds and last - self._file_start >= split.max_seconds * 1e9)):

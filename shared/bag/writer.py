@@ -8,11 +8,14 @@ which keeps the recorder's hot path short). Files open in Foxglove and the mcap 
 from __future__ import annotations
 
 import struct
+import sys
 import zlib
+from array import array
 from collections import defaultdict
 from pathlib import Path
 from typing import BinaryIO
 
+import numpy as np
 from mcap.data_stream import RecordBuilder
 from mcap.opcode import Opcode
 from mcap.records import (
@@ -22,7 +25,6 @@ from mcap.records import (
     DataEnd,
     Footer,
     Header,
-    MessageIndex,
     Metadata,
     MetadataIndex,
     Schema,
@@ -37,6 +39,7 @@ LIBRARY = "zenros-bag"
 COMPRESSIONS = ("zstd", "lz4", "none")
 
 _MSG_HEAD = struct.Struct("<BQHIQQ")  # opcode, record length, channel, sequence, log, publish
+_INDEX_HEAD = struct.Struct("<BQHI")  # opcode, record length, channel, records length
 
 
 def compress(data: bytes, compression: str) -> tuple[str, bytes]:
@@ -55,25 +58,36 @@ def compress(data: bytes, compression: str) -> tuple[str, bytes]:
 
 
 class ChunkBuffer:
-    """Messages packed as MCAP records, plus the per-channel index of one chunk."""
+    """Messages packed as MCAP records, plus the per-channel index of one chunk: for each
+    channel a flat array of (log time, offset) pairs, written out as its MessageIndex as is."""
 
-    __slots__ = ("buf", "index", "opened")
+    __slots__ = ("buf", "index")
 
-    def __init__(self, opened: float = 0.0) -> None:
+    def __init__(self) -> None:
         self.buf = bytearray()
-        self.index: dict[int, list[tuple[int, int]]] = defaultdict(list)
-        self.opened = opened  # monotonic time of the first message (0: empty)
+        self.index: dict[int, array[int]] = {}
 
     def add(self, channel: int, sequence: int, log_time: int, publish_time: int,
             data: bytes) -> None:
         buf = self.buf
-        self.index[channel].append((log_time, len(buf)))
+        idx = self.index.get(channel)
+        if idx is None:
+            idx = self.index[channel] = array("Q")
+        idx.append(log_time)
+        idx.append(len(buf))
         buf += _MSG_HEAD.pack(5, 22 + len(data), channel, sequence & 0xFFFFFFFF, log_time,
                               publish_time)
         buf += data
 
     def __len__(self) -> int:
         return len(self.buf)
+
+
+def _index_bytes(idx: array[int]) -> bytes:
+    if sys.byteorder != "little":  # MCAP is little-endian
+        idx = array("Q", idx)
+        idx.byteswap()
+    return idx.tobytes()
 
 
 class McapFile:
@@ -144,8 +158,8 @@ class McapFile:
         if not chunk.index:
             return
         raw = bytes(chunk.buf)
-        times = [t for entries in chunk.index.values() for t, _ in entries]
-        start, end = min(times), max(times)
+        start = min(int(np.frombuffer(i, np.uint64)[0::2].min()) for i in chunk.index.values())
+        end = max(int(np.frombuffer(i, np.uint64)[0::2].max()) for i in chunk.index.values())
         name, data = compress(raw, self.compression)
         offset = self._f.tell()
         Chunk(compression=name, data=data, message_start_time=start, message_end_time=end,
@@ -154,11 +168,13 @@ class McapFile:
         self._emit()
         index_start = self._f.tell()
         offsets: dict[int, int] = {}
-        for channel, entries in chunk.index.items():
+        for channel, idx in chunk.index.items():
             offsets[channel] = index_start + self._rb.count
-            MessageIndex(channel_id=channel, records=entries).write(self._rb)
-            self._counts[channel] += len(entries)
-            self._messages += len(entries)
+            body = _index_bytes(idx)
+            self._rb.write(_INDEX_HEAD.pack(Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body)))
+            self._rb.write(body)
+            self._counts[channel] += len(idx) // 2
+            self._messages += len(idx) // 2
         index_length = self._rb.count
         self._emit()
         self._chunk_indexes.append(ChunkIndex(
