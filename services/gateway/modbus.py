@@ -83,27 +83,27 @@ class ModbusFront:
             except ValueError as exc:
                 self.logger.warning("modbus write at %d refused: %s", address + 1, exc)
                 return ExcCodes.ILLEGAL_VALUE
-            return self._apply(cmd)
+            return await self._apply(cmd)
         return None
 
-    def _apply(self, cmd: HoldingWrite) -> ExcCodes | None:
+    async def _apply(self, cmd: HoldingWrite) -> ExcCodes | None:
         if cmd.speed is not None:
             self.core.deadman.command(cmd.speed[0], 0.0, cmd.speed[1])
         try:
             if cmd.nav_index is not None:
                 nav = self.core.navigation()
                 if cmd.nav_index < 0:
-                    nav.cancel()
+                    await nav.cancel()
                 else:
-                    nav.goto_index(cmd.nav_index)
+                    await nav.goto_index(cmd.nav_index)
             if cmd.control is not None:
                 nav = self.core.navigation()
-                (nav.cancel, nav.pause, nav.resume)[cmd.control]()
+                await (nav.cancel, nav.pause, nav.resume)[cmd.control]()
             if cmd.charge is not None:
                 nav = self.core.navigation()
-                nav.go_charge() if cmd.charge else nav.stop_charge()
+                await (nav.go_charge() if cmd.charge else nav.stop_charge())
             if cmd.goal is not None:
-                self.core.navigation().goto_pose(*cmd.goal)
+                await self.core.navigation().goto_pose(*cmd.goal)
         except NavUnavailable as exc:
             self.logger.warning("modbus command refused: %s", exc)
             return ExcCodes.DEVICE_FAILURE

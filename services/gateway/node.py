@@ -23,6 +23,10 @@ from .discovery import Discovery
 from .modbus import ModbusFront
 from .native import NativeCommands
 from .serial_bridge import SerialBridge
+from .nav_link import NavLink
+from .navigator import Navigator
+from .rest_nav import add_nav_routes
+from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
@@ -86,8 +90,14 @@ class GatewayNode(Node):
         self.runner = AsyncRunner()
         self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
         self.tasks = TasksLink(self)
-        self.api = build_api(self.core, max_body, self.logger,
-                             [lambda api: add_task_routes(api, self.tasks)])
+        self.navigator = Navigator(self, self.core)
+        self.core.nav = self.navigator
+        self.nav_link = NavLink(self)
+        self.api = build_api(self.core, max_body, self.logger, [
+            lambda api: add_task_routes(api, self.tasks),
+            lambda api: add_nav_routes(api, self.core, self.navigator, self.nav_link,
+                                       self.tasks),
+            lambda api: add_record_routes(api, self.nav_link)])
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:
@@ -107,7 +117,7 @@ class GatewayNode(Node):
         self.modbus = ModbusFront(self.core, self.logger)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
-        self.native = NativeCommands(self.core, self.logger)
+        self.native = NativeCommands(self.core, self.logger, self.runner.loop)
         self.link.on_native = self.native
         self.serial: SerialBridge | None = None
         if serial_port:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import select
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -11,7 +14,7 @@ from zenros.context import Context
 
 from .node import GatewayNode
 
-__all__ = ["running_gateway"]
+__all__ = ["NullModem", "running_gateway"]
 
 
 @contextmanager
@@ -31,3 +34,32 @@ def running_gateway(ctx: Context, home: Path, **params: Any) -> Iterator[Gateway
         yield node
     finally:
         node.close()
+
+
+class NullModem:
+    """Two pty pairs joined master to master: a serial cable between two device paths."""
+
+    def __init__(self) -> None:
+        self.a_master, a_slave = os.openpty()
+        self.b_master, b_slave = os.openpty()
+        self.a, self.b = os.ttyname(a_slave), os.ttyname(b_slave)
+        self._slaves = (a_slave, b_slave)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._relay, daemon=True)
+        self._thread.start()
+
+    def _relay(self) -> None:
+        pairs = {self.a_master: self.b_master, self.b_master: self.a_master}
+        while not self._stop.is_set():
+            ready, _, _ = select.select(list(pairs), [], [], 0.05)
+            for fd in ready:
+                try:
+                    os.write(pairs[fd], os.read(fd, 4096))
+                except OSError:
+                    pass
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join(2)
+        for fd in (self.a_master, self.b_master, *self._slaves):
+            os.close(fd)

@@ -4,11 +4,8 @@ pyserial) and the §1.3 discovery broadcast on a loopback UDP socket."""
 from __future__ import annotations
 
 import json
-import os
-import select
 import socket
 import struct
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,37 +14,8 @@ import serial
 from zenros.context import Context
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.serial_frame import HEADER, STATUS_FRAME_LEN, command_frame
-from zenros.services.gateway.testing import running_gateway
+from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.testing import wait_for
-
-
-class NullModem:
-    """Two pty pairs joined master to master: a serial cable between two device paths."""
-
-    def __init__(self) -> None:
-        self.a_master, a_slave = os.openpty()
-        self.b_master, b_slave = os.openpty()
-        self.a, self.b = os.ttyname(a_slave), os.ttyname(b_slave)
-        self._slaves = (a_slave, b_slave)
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._relay, daemon=True)
-        self._thread.start()
-
-    def _relay(self) -> None:
-        pairs = {self.a_master: self.b_master, self.b_master: self.a_master}
-        while not self._stop.is_set():
-            ready, _, _ = select.select(list(pairs), [], [], 0.05)
-            for fd in ready:
-                try:
-                    os.write(pairs[fd], os.read(fd, 4096))
-                except OSError:
-                    pass
-
-    def close(self) -> None:
-        self._stop.set()
-        self._thread.join(2)
-        for fd in (self.a_master, self.b_master, *self._slaves):
-            os.close(fd)
 
 
 class RecordingNav:
@@ -57,7 +25,9 @@ class RecordingNav:
         self.calls: list[tuple[str, tuple[object, ...]]] = []
 
     def __getattr__(self, name: str) -> object:
-        return lambda *args: self.calls.append((name, args))
+        async def record(*args: object) -> None:
+            self.calls.append((name, args))
+        return record
 
 
 @pytest.fixture

@@ -1,0 +1,68 @@
+"""`NavLink`: the nav service's map, path, nav-point and charge-pose services, called from
+REST handlers; refusals become `ApiError`s with the nav service's reason."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.message import ServiceType
+from zenros.msgs import zenros_msgs as zm
+from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
+from zenros.msgs.nav_msgs import OccupancyGrid
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+from zenros.rpc import Client
+
+from .api import ApiError
+
+__all__ = ["NavLink"]
+
+SERVICES: dict[str, ServiceType] = {
+    "map_server/list_maps": zm.ListMaps,
+    "map_server/current_map": zm.GetCurrentMap,
+    "switch_map": zm.SwitchMap,
+    "list_paths": zm.ListPaths,
+    "get_path": zm.GetPath,
+    "set_path": zm.SetPath,
+    "delete_path": zm.DeletePath,
+    "get_nav_points": zm.GetNavPoints,
+    "set_nav_points": zm.SetNavPoints,
+    "delete_nav_points": zm.DeleteNavPoints,
+    "get_charge_pose": zm.GetChargePose,
+    "set_charge_pose": zm.SetChargePose,
+    "get_virtual_walls": zm.GetVirtualWalls,
+    "set_virtual_walls": zm.SetVirtualWalls,
+    "get_forbidden_areas": zm.GetForbiddenAreas,
+    "set_forbidden_areas": zm.SetForbiddenAreas,
+}
+
+
+class NavLink:
+    """`await call(name, request)`; the current map grid from ``map`` (latched)."""
+
+    def __init__(self, node: Node, timeout: float = 5.0) -> None:
+        self.timeout = timeout
+        self._clients: dict[str, Client] = {
+            name: node.create_client(srv, name) for name, srv in SERVICES.items()}
+        self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
+        self.grid: OccupancyGrid | None = None
+        node.create_subscription(OccupancyGrid, "map", self._on_map, QOS_LATCHED)
+
+    def _on_map(self, msg: OccupancyGrid) -> None:
+        self.grid = msg
+
+    async def call(self, name: str, request: Any) -> Any:
+        client = self._clients[name]
+        try:
+            return await client.call_async(request, self.timeout)
+        except ServiceUnavailableError:
+            raise ApiError(503, f"the nav service is not running (no server for "
+                                f"{client.name})") from None
+        except ZenrosTimeout:
+            raise ApiError(504, f"the nav service did not answer {client.name} within "
+                                f"{self.timeout:g} s") from None
+        except ServiceError as exc:
+            code = 404 if ("unknown" in exc.reason or "no such" in exc.reason
+                           or "not found" in exc.reason) else 400
+            raise ApiError(code, exc.reason) from exc

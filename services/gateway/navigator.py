@@ -1,0 +1,161 @@
+"""`Navigator`: the gateway's `NavPort` on the nav service (Nav2 actions and nav services).
+
+Goals go to ``navigate_to_pose``; nav point indexes are looked up with ``get_nav_points``
+on the current path; charging uses ``dock_robot`` / ``undock_robot``. ``nav/status``
+(latched) keeps the §4 goal fields (targetStatus, targetDistance) truthful.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from typing import Any
+
+from zenros.action import ActionClient
+from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
+from zenros.msgs.nav2_msgs import (
+    DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal, UndockRobot, UndockRobotGoal,
+)
+from zenros.msgs.std_msgs import Header
+from zenros.msgs.zenros_msgs import (
+    GetCurrentMap, GetCurrentMapRequest, GetNavPoints, GetNavPointsRequest, ListPaths,
+    ListPathsRequest, NavStatus,
+)
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+
+from .core import Core, NavUnavailable
+from .status import GoalState
+
+__all__ = ["Navigator", "pose_stamped"]
+
+# nav/status goal_status → §4 (targetStatus, angleGoalStatus)
+_GOAL = {0: (0, -1), 1: (1, 0), 2: (0, 1), 3: (3, 2), 4: (0, -1)}
+
+
+def pose_stamped(x: float, y: float, theta: float) -> PoseStamped:
+    return PoseStamped(header=Header(frame_id="map"), pose=Pose(
+        position=Point(x=x, y=y),
+        orientation=Quaternion(z=math.sin(theta / 2), w=math.cos(theta / 2))))
+
+
+class Navigator:
+    """Starts, pauses, resumes and cancels goals; `path_name` is the current path."""
+
+    def __init__(self, node: Node, core: Core) -> None:
+        self.node = node
+        self.core = core
+        self.path_name = ""
+        self.stopped = False          # /navigation/stop was called: navStatus 0
+        self._paused: tuple[float, float, float, int] | None = None
+        self._last: tuple[float, float, float, int] | None = None
+        self._handles: list[Any] = []
+        self.navigate = ActionClient(node, NavigateToPose, "navigate_to_pose")
+        self.dock = ActionClient(node, DockRobot, "dock_robot")
+        self.undock = ActionClient(node, UndockRobot, "undock_robot")
+        self.points = node.create_client(GetNavPoints, "get_nav_points")
+        self.paths = node.create_client(ListPaths, "list_paths")
+        self.current = node.create_client(GetCurrentMap, "map_server/current_map")
+        node.create_subscription(NavStatus, "nav/status", self.on_status, QOS_LATCHED)
+
+    # ------------------------------------------------------------------ state
+
+    def available(self) -> bool:
+        return self.navigate.server_is_ready()
+
+    def on_status(self, msg: NavStatus) -> None:
+        s = self.core.state
+        s.nav_open = not self.stopped
+        s.looping = msg.state == "patrolling"
+        s.docking_phase = {"docking": 4}.get(msg.state, 0)
+        status, angle = _GOAL.get(msg.goal_status, (-1, -1))
+        g = s.goal
+        if self._paused is not None:
+            status = 2
+        s.goal = GoalState(num_id=g.num_id if msg.goal_status or self._paused else -1,
+                           status=status, distance=msg.target_distance, angle_status=angle)
+
+    def _require(self) -> None:
+        if not self.available():
+            raise NavUnavailable("navigation is not available: no navigate_to_pose server")
+
+    # ------------------------------------------------------------------ NavPort
+
+    async def goto_pose(self, x: float, y: float, theta: float, num_id: int = -2) -> None:
+        if not all(math.isfinite(v) for v in (x, y, theta)):
+            raise ValueError(f"goal ({x}, {y}, {theta}) is not finite")
+        self._require()
+        self._paused = None
+        self._last = (x, y, theta, num_id)
+        self.stopped = False
+        self.core.state.nav_open = True
+        self.core.state.goal = GoalState(num_id=num_id, status=1, distance=-1.0, angle_status=0)
+        handle = self.navigate.send_goal_async(
+            NavigateToPoseGoal(pose=pose_stamped(x, y, theta)))
+        self._handles = [h for h in self._handles if not h.done] + [handle]
+
+    async def current_path(self) -> str:
+        """The current path: the one chosen (``/navigation/start?path=``), else the current
+        map's first."""
+        if self.path_name:
+            return self.path_name
+        current = await self.current.call_async(GetCurrentMapRequest(), 5.0)
+        res = await self.paths.call_async(ListPathsRequest(map_name=current.name), 5.0)
+        names = sorted(p.path_name for p in res.paths if p.map_name == current.name)
+        if not names:
+            raise ValueError(f"map {current.name!r} has no path with nav points yet "
+                             "(POST /navigation/nav_points)")
+        return names[0]
+
+    async def nav_point(self, index: int) -> tuple[float, float, float]:
+        """The pose of nav point ``index`` of the current path."""
+        try:
+            path = await self.current_path()
+            res = await self.points.call_async(
+                GetNavPointsRequest(map_name="", path_name=path), 5.0)
+        except (ServiceUnavailableError, ZenrosTimeout) as exc:
+            raise NavUnavailable(f"nav points are not available: {exc}") from exc
+        except ServiceError as exc:
+            raise ValueError(f"nav points of path {self.path_name!r}: {exc.reason}") from exc
+        if not 0 <= index < len(res.points):
+            raise ValueError(f"nav point {index} does not exist: path {res.path_name!r} "
+                             f"has {len(res.points)} (0..{len(res.points) - 1})")
+        p = res.points[index]
+        return p.x, p.y, p.theta
+
+    async def goto_index(self, index: int) -> None:
+        self._require()
+        x, y, theta = await self.nav_point(index)
+        await self.goto_pose(x, y, theta, num_id=index)
+
+    async def cancel(self) -> None:
+        self._paused = None
+        await asyncio.to_thread(self.navigate.cancel_all_goals)
+
+    async def pause(self) -> None:
+        if self._last is None or self._paused is not None:
+            return
+        self._paused = self._last
+        await asyncio.to_thread(self.navigate.cancel_all_goals)
+        self.core.state.goal = GoalState(num_id=self._last[3], status=2,
+                                         distance=self.core.state.goal.distance, angle_status=0)
+
+    async def resume(self) -> None:
+        paused = self._paused
+        if paused is None:
+            return
+        x, y, theta, num_id = paused
+        await self.goto_pose(x, y, theta, num_id)
+
+    async def go_charge(self) -> None:
+        if not self.dock.server_is_ready():
+            raise NavUnavailable("charging is not available: no dock_robot server")
+        self.core.state.docking_phase = 3
+        self.dock.send_goal_async(DockRobotGoal(use_dock_id=True, dock_id=""))
+
+    async def stop_charge(self) -> None:
+        await asyncio.to_thread(self.dock.cancel_all_goals)
+        if self.undock.server_is_ready():
+            self.undock.send_goal_async(UndockRobotGoal())
+        self.core.state.docking_phase = 0

@@ -1,0 +1,214 @@
+"""The gateway driving the simulated robot (chassis at 10x, nav, tasks): REST goals and nav
+points, maps, walls, Modbus goals, a serial 'g' idx, WebSocket teleop."""
+
+from __future__ import annotations
+
+import asyncio
+import io
+import json
+import math
+import logging
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+import serial
+from PIL import Image
+from pymodbus.client import AsyncModbusTcpClient, ModbusTcpClient
+from websockets.asyncio.client import connect
+from zenros.action import ActionClient
+from zenros.msgs.geometry_msgs import Pose2D
+from zenros.msgs.nav2_msgs import NavigateToPose
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.zenros_msgs import Teleport, TeleportRequest
+from zenros.node import Node
+from zenros.services.chassis.node import ChassisNode
+from zenros.services.gateway.node import GatewayNode
+from zenros.services.gateway.serial_frame import command_frame
+from zenros.services.gateway.serial_bridge import SerialBridge
+from zenros.services.gateway.testing import NullModem, running_gateway
+from zenros.services.nav.node import NavNode
+from zenros.services.tasks.node import TasksNode
+from zenros.testing import linked_contexts, wait_for
+
+DT = ModbusTcpClient.DATATYPE
+POINTS = "2 0 0 0 0.1 0.1 0 first\n4 0 0 1.57 0.1 0.1 0 second\n"
+
+
+class Rig:
+    def __init__(self, gw: GatewayNode, nav: NavNode, user: Node) -> None:
+        self.gw, self.nav, self.user = gw, nav, user
+        self.truth: list[tuple[float, float]] = []
+        self.speed = 0.0
+        user.create_subscription(Odometry, "sim/ground_truth", self._on_truth)
+        self.teleport = user.create_client(Teleport, "sim/teleport")
+        self.navigate = ActionClient(user, NavigateToPose, "navigate_to_pose")
+        self.http = httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
+                                 timeout=20)
+
+    def _on_truth(self, msg: Odometry) -> None:
+        p = msg.pose.pose.position
+        self.truth.append((p.x, p.y))
+        self.speed = abs(msg.twist.twist.linear.x) + abs(msg.twist.twist.angular.z)
+
+    def near(self, x: float, y: float, tol: float = 0.3) -> bool:
+        return bool(self.truth) and math.hypot(self.truth[-1][0] - x,
+                                               self.truth[-1][1] - y) <= tol
+
+    def reset(self) -> None:
+        self.http.get("/task/stop")
+        self.navigate.cancel_all_goals()
+        assert wait_for(lambda: self.nav.core.motion.active is None, 10)
+        assert self.teleport.call(TeleportRequest(pose=Pose2D()), timeout=10).success
+        assert wait_for(lambda: self.near(0, 0, 0.02), 10)
+
+
+@pytest.fixture(scope="module")
+def module_rig() -> Iterator[Rig]:
+    tmp = Path(tempfile.mkdtemp())
+    with linked_contexts(4) as ctxs:
+        nodes: list[Node] = []
+        try:
+            nodes.append(ChassisNode("chassis", context=ctxs[0],
+                                     parameter_overrides={"speed": 10.0, "seed": 1}))
+            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
+                "use_sim_time": True, "maps_dir": str(tmp / "maps")})
+            nodes.append(nav)
+            nodes.append(TasksNode(context=ctxs[2], parameter_overrides={
+                "data_dir": str(tmp / "tasks"), "use_sim_time": True}))
+            user = Node("user", context=ctxs[3])
+            nodes.append(user)
+            with running_gateway(ctxs[2], tmp, no_token_check=True) as gw:
+                rig = Rig(gw, nav, user)
+                assert gw.navigator.navigate.wait_for_server(10)
+                assert gw.graph.wait_for_service("/tasks/create", 10)
+                assert wait_for(lambda: nav.core.localizer.pose() is not None, 10)
+                r = rig.http.post("/navigation/nav_points", json={
+                    "map_name": nav.core.maps.current, "path_name": "p1",
+                    "path_data": POINTS})
+                assert r.status_code == 200, r.text
+                yield rig
+                rig.http.close()
+        finally:
+            for n in reversed(nodes):
+                n.close()
+
+
+@pytest.fixture
+def rig(module_rig: Rig) -> Rig:
+    module_rig.reset()
+    return module_rig
+
+
+def test_rest_goal_reaches_the_point(rig: Rig) -> None:
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 3.0, "y": 0.5, "theta": 0})
+    assert r.status_code == 200, r.text
+    task = r.json()
+    assert task["name"] == "navigation task" and task["sub_tasks"][0]["type"] == "nav_action"
+    assert wait_for(lambda: rig.http.get("/system/status").json()["status"] == "Navigating", 5)
+    assert wait_for(lambda: rig.http.get("/task", params={"id": task["id"]}).json()["state"]
+                    == "COMPLETE", 40)
+    assert rig.near(3.0, 0.5)
+    pose = rig.http.get("/navigation/pose").json()
+    assert math.hypot(pose["x"] - 3.0, pose["y"] - 0.5) < 0.3
+
+
+def test_move_to_index_and_nav_point_errors(rig: Rig) -> None:
+    r = rig.http.get("/navigation/move_to_index", params={"index": 1})
+    assert r.status_code == 200, r.text
+    assert wait_for(lambda: rig.gw.core.status.targetNumID == 1, 5)
+    task_id = r.json()["id"]
+    assert wait_for(lambda: rig.http.get("/task", params={"id": task_id}).json()["state"]
+                    == "COMPLETE", 40)
+    assert rig.near(4.0, 0.0)
+    r = rig.http.get("/navigation/move_to_index", params={"index": 7})
+    assert r.status_code == 404 and "does not exist" in r.json()["description"]
+    assert rig.http.get("/navigation/move_to_index", params={"index": -1}).status_code == 400
+
+
+def test_maps_paths_and_points(rig: Rig) -> None:
+    current = rig.http.get("/navigation/current_map").json()
+    assert current["name"] == rig.nav.core.maps.current and current["md5sum"]
+    maps = rig.http.get("/navigation/saved_maps").json()
+    assert any(m["name"] == current["name"] and m["resolution"] > 0 for m in maps)
+    png = rig.http.get("/navigation/map_png")
+    assert png.headers["content-type"] == "image/png"
+    img = Image.open(io.BytesIO(png.content))
+    grid = rig.gw.nav_link.grid
+    assert grid is not None and img.size == (grid.info.width, grid.info.height)
+    pts = rig.http.get("/navigation/nav_points",
+                       params={"map_name": current["name"], "path_name": "p1"}).json()
+    assert pts["path_data"] == POINTS
+    assert rig.http.get("/navigation/nav_points",
+                        params={"map_name": current["name"]}).json() == ["p1"]
+    r = rig.http.post("/navigation/path", json={"map_name": current["name"],
+                                                "path_name": "p1", "path_data": "0 0 0\n1 0 0\n"})
+    assert r.json()["path_data"] == "0 0 0\n1 0 0\n"
+    assert rig.http.get("/navigation/path").json() == {current["name"]: ["p1"]}
+    # bad names and bad data
+    for params in ({"map_name": "../../etc", "path_name": "p1"},
+                   {"map_name": current["name"], "path_name": "a/b"},
+                   {"map_name": ".hidden", "path_name": "p1"}):
+        r = rig.http.get("/navigation/nav_points", params=params)
+        assert r.status_code == 400 and "map_name" in r.text or "path_name" in r.text, r.text
+    r = rig.http.get("/navigation/map_png", params={"name": "../secret"})
+    assert r.status_code == 400
+    r = rig.http.post("/navigation/nav_points", json={
+        "map_name": current["name"], "path_name": "p2", "path_data": "1 2 nan 0 0 0 0\n"})
+    assert r.status_code == 400 and "line 1" in r.json()["description"]
+    r = rig.http.get("/navigation/switch_map", params={"map_name": "nowhere"})
+    assert r.status_code in (400, 404) and "nowhere" in r.json()["description"]
+    # walls
+    r = rig.http.post("/navigation/virtual_wall", json={
+        "map_name": current["name"], "virtual_wall": "1 -1\n1 1\n"})
+    assert r.status_code == 200, r.text
+    walls = rig.http.get("/navigation/virtual_wall", params={"map_name": current["name"]})
+    assert walls.json()["virtual_wall"] == "1 -1\n1 1\n"
+    assert rig.http.delete("/navigation/virtual_wall",
+                           params={"map_name": current["name"]}).json() == {"status": "ok"}
+
+
+async def test_modbus_goal_reaches_the_point(rig: Rig) -> None:
+    c = AsyncModbusTcpClient("127.0.0.1", port=rig.gw.modbus_port)
+    await c.connect()
+    try:
+        regs: list[int] = []
+        for v in (2.5, -0.5, 0.0):
+            regs += c.convert_to_registers(v, DT.FLOAT32, word_order="little")
+        rr = await c.write_registers(7, regs, device_id=1)
+        assert not rr.isError(), rr
+        assert await asyncio.to_thread(wait_for, lambda: rig.near(2.5, -0.5), 40)
+        assert await asyncio.to_thread(wait_for,
+                                       lambda: rig.gw.core.status.targetStatus == 0, 10)
+        rr = await c.read_input_registers(15, count=4, device_id=1)
+        x = c.convert_from_registers(rr.registers[0:2], DT.FLOAT32, word_order="little")
+        assert abs(x - 2.5) < 0.3
+    finally:
+        c.close()
+
+
+def test_serial_g_index_starts_navigation(rig: Rig) -> None:
+    modem = NullModem()
+    bridge = SerialBridge(rig.gw.core, modem.a, logging.getLogger("test.serial"))
+    try:
+        with serial.Serial(modem.b, 115200, timeout=2) as ctl:
+            assert bridge.connected.wait(5)
+            ctl.write(command_frame(b"g\x00"))
+            assert wait_for(lambda: rig.gw.core.status.targetNumID == 0
+                            and rig.gw.core.status.targetStatus == 1, 5)
+            assert wait_for(lambda: rig.near(2.0, 0.0), 40)
+    finally:
+        bridge.close()
+        modem.close()
+
+
+async def test_websocket_teleop_moves_the_robot(rig: Rig) -> None:
+    start = rig.truth[-1]
+    async with connect(f"ws://127.0.0.1:{rig.gw.ws_port}/cmd_vel") as ws:
+        for _ in range(20):
+            await ws.send(json.dumps({"linear": {"x": 0.3}, "angular": {"z": 0.0}}))
+            await asyncio.sleep(0.05)
+    x, y = rig.truth[-1]
+    assert math.hypot(x - start[0], y - start[1]) > 0.3
