@@ -12,13 +12,14 @@ from ..action import ActionClient, ClientGoalHandle, GoalResult, GoalStatus
 from ..codec import from_builtins, to_builtins
 from ..context import Context
 from ..errors import ZenrosError, ZenrosTimeout
-from ..message import lookup_action
 from ..names import resolve
 from .common import (
     STDOUT_CLOSED,
     CliError,
     ToolNode,
     add_common,
+    check_graph_type,
+    find_action_type,
     open_context,
     parse_yaml_arg,
     print_data,
@@ -48,7 +49,8 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    ctx = open_context(args, settle=args.verb in ("list", "info"))
+    ctx = open_context(args, settle=args.verb in ("list", "info"),
+                       waiting_for=f"the action server {getattr(args, 'action', '')}")
     try:
         if args.verb == "list":
             return _list(ctx, args)
@@ -83,11 +85,14 @@ def _info(ctx: Context, args: argparse.Namespace) -> int:
 
 
 def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
-    action = lookup_action(args.type)
+    action = find_action_type(args.type)
     goal = from_builtins(parse_yaml_arg(args.goal), action.Goal)
+    name = resolve(args.action, kind="action")
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    check_graph_type("action", name, action.name, ctx.graph.actions().get(name))
     node = ToolNode(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
     try:
-        client = ActionClient(node, action, resolve(args.action, kind="action"))
+        client = ActionClient(node, action, name)
         print("Waiting for an action server to become available...")
         if not client.wait_for_server(args.server_timeout):
             raise CliError(f"action server {client.name} is not available "

@@ -3,32 +3,52 @@
 from __future__ import annotations
 
 import argparse
+import importlib
+import importlib.util
 import json
 import os
+import pkgutil
 import sys
 import threading
-from typing import Any
+import time
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 import msgspec
 import yaml
 
 from ..codec import JSON, MSGPACK, decode_any, split_encoding, to_builtins
 from ..context import Context
-from ..errors import ZenrosError
+from ..errors import StartupError, UnknownTypeError, ZenrosError
+from ..message import (
+    ActionType,
+    Message,
+    ServiceType,
+    lookup_action,
+    lookup_service,
+    lookup_type,
+    normalize_type_name,
+)
 from ..node import Node
-from ..session import add_session_arguments, options_from_args
+from ..session import DEFAULT_ROUTER, add_session_arguments, options_from_args
 
 __all__ = [
     "STDOUT_CLOSED",
     "CliError",
     "ToolNode",
     "add_common",
+    "check_graph_type",
+    "find_action_type",
+    "find_message_type",
+    "find_service_type",
     "open_context",
     "parse_yaml_arg",
     "payload_to_data",
     "print_data",
     "stdout_closed",
 ]
+
+T = TypeVar("T")
 
 STDOUT_CLOSED = threading.Event()
 """Set once stdout's reader has gone (``zenros topic echo /chatter | head -4``)."""
@@ -63,12 +83,47 @@ def add_common(parser: argparse.ArgumentParser) -> None:
     add_session_arguments(parser)
 
 
-def open_context(args: argparse.Namespace, settle: bool = True) -> Context:
-    """The tool's session; with ``settle``, its graph view has caught up with the network."""
-    ctx = Context(options_from_args(args), prefix=args.prefix)
+def open_context(args: argparse.Namespace, settle: bool = True, *,
+                 required: bool | None = None, waiting_for: str = "") -> Context:
+    """The tool's session; with ``settle``, its graph view has caught up with the network.
+
+    When no router or peer answered, a verb that needs one now (``required``, default
+    ``settle``: the snapshot verbs) fails with `StartupError` (exit code 3) saying so and how
+    to start a router; a waiting verb says on stderr what it is waiting for and waits (the
+    session keeps trying to connect).
+    """
+    opts = options_from_args(args)
+    endpoints = ", ".join(opts.connect or [DEFAULT_ROUTER])
+    hint = (f"nothing answered at {endpoints} (no Zenoh router or peer there): start one with "
+            "`zenros router` or `zenros launch deploy/launch/sim.yaml`, or pass -e ENDPOINT")
+    try:
+        ctx = Context(opts, prefix=args.prefix)
+    except StartupError as exc:
+        if "Unable to connect" in str(exc):
+            raise StartupError(hint) from None
+        raise
+    if not opts.listen and not opts.multicast_scouting and not _reached_anyone(ctx):
+        if settle if required is None else required:
+            ctx.close()
+            raise StartupError(hint)
+        what = f"waiting for {waiting_for}: " if waiting_for else "waiting: "
+        sys.stderr.write(f"{what}{hint}\n")
+        sys.stderr.flush()
     if settle:
         ctx.graph.settle()
     return ctx
+
+
+def _reached_anyone(ctx: Context, wait: float = 0.3) -> bool:
+    """Whether the session is connected to a router or a peer (a short grace for late links)."""
+    info = ctx.session.info
+    deadline = time.monotonic() + wait
+    while True:
+        if any(True for _ in info.routers_zid()) or any(True for _ in info.peers_zid()):
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.02)
 
 
 def parse_yaml_arg(text: str) -> Any:
@@ -122,3 +177,62 @@ def print_data(data: Any, as_json: bool, *, separator: bool = True) -> None:
         if separator:
             sys.stdout.write("---\n")
     sys.stdout.flush()
+
+
+# ---------------------------------------------------------------------- types
+
+
+def _served_types_loaded() -> bool:
+    """Import the wire types that installed services declare in their own ``messages``
+    module (``zenros.services.master.messages``: GetSystemState, LookupNode, ...), so every
+    type a service serves can be called from the command line. False if already done."""
+    global _SERVED_LOADED
+    if _SERVED_LOADED:
+        return False
+    _SERVED_LOADED = True
+    try:
+        import zenros.services as services
+    except ImportError:
+        return True
+    for info in pkgutil.iter_modules(services.__path__):
+        name = f"{services.__name__}.{info.name}.messages"
+        try:
+            if info.ispkg and importlib.util.find_spec(name) is not None:
+                importlib.import_module(name)
+        except Exception:  # noqa: BLE001 -- a broken service package must not break the CLI
+            continue
+    return True
+
+
+_SERVED_LOADED = False
+
+
+def _find(lookup: Callable[[str], T], name: str) -> T:
+    try:
+        return lookup(name)
+    except UnknownTypeError:
+        if not _served_types_loaded():
+            raise
+        return lookup(name)
+
+
+def find_message_type(name: str) -> type[Message]:
+    """A message type by name (short names and suggestions as `lookup_type`)."""
+    return _find(lookup_type, name)
+
+
+def find_service_type(name: str) -> ServiceType:
+    """A service type by name, the types declared by installed services included."""
+    return _find(lookup_service, name)
+
+
+def find_action_type(name: str) -> ActionType:
+    """An action type by name, the types declared by installed services included."""
+    return _find(lookup_action, name)
+
+
+def check_graph_type(kind: str, name: str, wanted: str, known: list[str] | None) -> None:
+    """Refuse to talk ``wanted`` on a ``kind`` whose endpoints in the graph use another type
+    (the other side would only log a mismatch)."""
+    if known and normalize_type_name(wanted) not in {normalize_type_name(k) for k in known}:
+        raise CliError(f"{kind} {name} has type {' and '.join(known)}, not {wanted}")

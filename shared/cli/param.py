@@ -9,7 +9,12 @@ from typing import Any
 
 import yaml
 
+from ..context import Context
+from ..errors import ParameterError
 from ..param_client import ParameterClient
+from ..param_describe import fetch_descriptions
+from ..param_protocol import local_param_name
+from ..params import coerce
 from .common import CliError, add_common, open_context, print_data
 
 
@@ -25,6 +30,8 @@ def register(sub: Any) -> None:
     v = verbs.add_parser("set", help="set a value (read as YAML: 0.5, true, '[1, 2]', '{a: 1}')")
     v.add_argument("name")
     v.add_argument("value")
+    v.add_argument("--force", action="store_true",
+                   help="store the value even if the owning node declared another type")
     v = verbs.add_parser("delete", help="delete a parameter (a namespace with --namespace)")
     v.add_argument("name")
     v.add_argument("--namespace", action="store_true",
@@ -44,13 +51,15 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    ctx = open_context(args, settle=False)
+    ctx = open_context(args, settle=False, required=True)
     try:
         client = ParameterClient(ctx, timeout=max(args.timeout, 1.0))
         if not client.wait_for_master(args.timeout):
             raise CliError(f"no master reachable within {args.timeout:g} s (prefix "
                            f"{ctx.keys.prefix!r}); start it with"
                            " `python -m zenros.services.master`")
+        if args.verb == "set" and not args.force:
+            _check_declared(ctx, client.resolve(args.name), _parse_value(args.value))
         return int(_VERBS[args.verb](client, args))
     finally:
         ctx.close()
@@ -71,13 +80,45 @@ def _get(client: ParameterClient, args: argparse.Namespace) -> int:
     return 0
 
 
-def _set(client: ParameterClient, args: argparse.Namespace) -> int:
+def _parse_value(text: str) -> Any:
     try:
-        value = yaml.safe_load(args.value)
+        return yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise CliError(f"invalid YAML value {args.value!r}: {exc}") from exc
-    client.set(args.name, value)
+        raise CliError(f"invalid YAML value {text!r}: {exc}") from exc
+
+
+def _set(client: ParameterClient, args: argparse.Namespace) -> int:
+    client.set(args.name, _parse_value(args.value))
     return 0
+
+
+_TYPES = {"bool": bool, "int": int, "float": float, "str": str, "bytes": bytes, "list": list,
+          "dict": dict}
+
+
+def _check_declared(ctx: Context, full: str, value: Any) -> None:
+    """Refuse a value the node owning ``full`` declared with another type (or read-only),
+    as the node itself would; nodes that do not answer are not checked."""
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    for node in ctx.graph.node_names():
+        local = local_param_name(node, full)
+        if local is None:
+            continue
+        declared = (fetch_descriptions(ctx, node) or {}).get(local)
+        if not isinstance(declared, dict):
+            continue
+        kind = _TYPES.get(str(declared.get("type")))
+        if declared.get("read_only"):
+            raise CliError(f"{node} declared {local!r} read-only; --force stores {full} anyway")
+        if kind is None:
+            continue
+        try:
+            coerce(local, kind, value)
+        except ParameterError:
+            raise CliError(
+                f"{node} declared {local!r} as {declared['type']}; {value!r} is "
+                f"{type(value).__name__} (--force stores it anyway)"
+            ) from None
 
 
 def _delete(client: ParameterClient, args: argparse.Namespace) -> int:

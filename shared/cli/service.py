@@ -6,10 +6,17 @@ import argparse
 from typing import Any
 
 from ..codec import from_builtins, to_builtins
-from ..message import lookup_service
 from ..names import resolve
 from ..rpc import Client
-from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
+from .common import (
+    CliError,
+    add_common,
+    check_graph_type,
+    find_service_type,
+    open_context,
+    parse_yaml_arg,
+    print_data,
+)
 
 
 def register(sub: Any) -> None:
@@ -44,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
                 raise CliError(f"unknown service {name}")
             print("\n".join(found))
             return 0
-        srv = lookup_service(args.type)
+        srv = find_service_type(args.type)
+        check_graph_type("service", name, srv.name, ctx.graph.services().get(name))
         request = from_builtins(parse_yaml_arg(args.values), srv.Request)
         client = Client(ctx, srv, name)
         if not client.wait_for_service(min(args.timeout, 5.0)):

@@ -16,12 +16,13 @@ import zenoh
 from zenoh import ext as zext
 
 from ..codec import from_builtins
-from ..message import lookup_type
 from ..names import resolve
 from .common import (
     CliError,
     ToolNode,
     add_common,
+    check_graph_type,
+    find_message_type,
     open_context,
     parse_yaml_arg,
     payload_to_data,
@@ -71,7 +72,10 @@ def register(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    ctx = open_context(args, settle=args.verb in ("list", "info", "type"))
+    waiting = {"echo": "messages on", "hz": "messages on", "bw": "messages on",
+               "pub": "subscribers of"}.get(args.verb, "")
+    ctx = open_context(args, settle=args.verb in ("list", "info", "type"),
+                       waiting_for=f"{waiting} {getattr(args, 'topic', '')}")
     try:
         return int(_VERBS[args.verb](ctx, args))
     finally:
@@ -148,23 +152,50 @@ def _echo(ctx: Any, args: argparse.Namespace) -> int:
                 done.set()
 
     ctx.graph.settle(quiet=0.2, timeout=1.0)
-    latched = any("+tl" in t.qos for t in ctx.graph.publishers(topic))
+    publishers = ctx.graph.publishers(topic)
+    latched = any("+tl" in t.qos for t in publishers)
     sub = _subscribe(ctx, topic, on_sample, history=latched)
+    if not publishers:
+        _say(f"no publisher on {topic} yet; waiting for one"
+             + (f" (at most {args.timeout:g} s)" if args.timeout else " (Ctrl-C to stop)"))
     try:
         got = done.wait(args.timeout or None)
     except KeyboardInterrupt:
         got = True
     finally:
         sub.undeclare()
-    return 0 if got or not args.timeout else 1
+    if not got and args.timeout:
+        raise CliError(f"{_nothing_came(ctx, topic, count, limit)} within {args.timeout:g} s")
+    return 0
+
+
+def _nothing_came(ctx: Any, topic: str, count: int, limit: int) -> str:
+    """Why an echo with --timeout ended: no publisher at all, or too few messages."""
+    what = f"only {count} of {limit} messages" if count else "no message"
+    pubs = sorted({t.node for t in ctx.graph.publishers(topic)})
+    if not pubs:
+        return f"{what} on {topic}: it has no publisher"
+    return f"{what} on {topic} (published by {', '.join(pubs)})"
+
+
+def _say(text: str) -> None:
+    """A status line for the user, on stderr (stdout carries only the data)."""
+    sys.stderr.write(text + "\n")
+    sys.stderr.flush()
 
 
 def _pub(ctx: Any, args: argparse.Namespace) -> int:
-    msg_type = lookup_type(args.type)
+    msg_type = find_message_type(args.type)
     msg = from_builtins(parse_yaml_arg(args.values), msg_type)
+    topic = _topic(args)
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    check_graph_type("topic", topic, msg_type.__msgtype__, ctx.graph.topics().get(topic))
     node = ToolNode(f"zenros_topic_pub_{_pid()}", context=ctx)
     pub = node.create_publisher(msg_type, args.topic)
     limit = 1 if args.once else args.times
+    if not limit:
+        _say(f"publishing {msg_type.__msgtype__} on {pub.topic} at {args.rate:g} Hz until Ctrl-C"
+             " (-1 publishes once, -t N N times, -r HZ sets the rate)")
     if limit and args.wait_subs and not pub.wait_for_subscribers(args.wait_subs, 5.0):
         print(f"warning: no subscriber on {pub.topic} after 5 s; publishing anyway",
               file=sys.stderr)
@@ -202,6 +233,9 @@ def _report_loop(ctx: Any, args: argparse.Namespace, report: Any) -> int:
             stamps.append((time.monotonic(), len(sample.payload)))
 
     sub = _subscribe(ctx, topic, on_sample)
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    if not ctx.graph.publishers(topic):
+        _say(f"no publisher on {topic} yet; waiting for one (Ctrl-C to stop)")
     reports = 0
     try:
         while not args.count or reports < args.count:
