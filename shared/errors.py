@@ -68,6 +68,10 @@ class GoalRejectedError(ZenrosError, RuntimeError):
     """An action server rejected a goal."""
 
 
+class NodeClosedError(ZenrosError, RuntimeError):
+    """A node (or one of its parts) was used after it was closed."""
+
+
 class StartupError(ZenrosError, RuntimeError):
     """A node could not start (bad flags, unreachable router, bad parameters)."""
 

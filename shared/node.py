@@ -11,10 +11,11 @@ import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Self, TypeVar
+from typing import Any, Protocol, Self, TypeVar
 
 from .clock import Clock, ManualClock, Rate, SystemClock, Time
 from .context import Context
+from .errors import NodeClosedError
 from .executor import CallbackGroup
 from .graph import Graph
 from .log import RosoutHandler, node_logger
@@ -22,7 +23,7 @@ from .message import ActionType, Message, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
-from .param_client import attach_parameter_backend
+from .param_backend import attach_parameter_backend
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .pubsub import Publisher, Subscription
@@ -30,9 +31,17 @@ from .qos import QOS_SENSOR, QoSProfile, as_profile
 from .rpc import Client, Service
 from .timer import Timer
 
-__all__ = ["Node"]
+__all__ = ["Closable", "Node"]
+
+
+class Closable(Protocol):
+    """What a node can own (`Node.add_waitable`): an endpoint with ``close()``."""
+
+    def close(self) -> None: ...
+
 
 M = TypeVar("M", bound=Message)
+W = TypeVar("W", bound=Closable)
 
 
 def _snake(name: str) -> str:
@@ -101,7 +110,7 @@ class Node:
             ctx.keys.node_token(self.fqn, ctx.zid, socket.gethostname(), os.getpid(),
                                 self.start_ns)
         )
-        self._track(ParameterDescriptions(ctx, self.fqn, self.parameters))
+        self.add_waitable(ParameterDescriptions(ctx, self.fqn, self.parameters))
         self._clock: Clock = SystemClock()
         if self.parameters.declare("use_sim_time", False):
             self._clock = ManualClock()
@@ -123,13 +132,28 @@ class Node:
 
     # ------------------------------------------------------------------ endpoints
 
-    def _track(self, endpoint: Any) -> Any:
+    def add_waitable(self, endpoint: W) -> W:
+        """Make this node own ``endpoint`` (anything with ``close()``): closing the node
+        closes it, after the endpoints created before it (rclpy's ``add_waitable``).
+
+        Action servers and clients, parameter backends, state machine servers and other
+        endpoints built from a node's parts register here. Returns ``endpoint``.
+
+        Raises:
+            NodeClosedError: the node is closed (``endpoint`` is closed right away).
+        """
         with self._lock:
             if self._closed:
                 endpoint.close()
-                raise RuntimeError(f"node {self.fqn} is closed")
+                raise NodeClosedError(f"node {self.fqn} is closed")
             self._endpoints.append(endpoint)
         return endpoint
+
+    def remove_waitable(self, endpoint: Any) -> None:
+        """Stop owning ``endpoint`` without closing it (rclpy's ``remove_waitable``)."""
+        with self._lock:
+            if endpoint in self._endpoints:
+                self._endpoints.remove(endpoint)
 
     def create_publisher(self, msg_type: type[M], topic: str,
                          qos: QoSProfile | int = 10) -> Publisher[M]:
@@ -137,7 +161,7 @@ class Node:
         pub = Publisher(self.context, self.fqn, msg_type, self.resolve_name(topic),
                         as_profile(qos))
         self._warn_type_conflict(pub.topic, pub.type_name)
-        p: Publisher[M] = self._track(pub)
+        p: Publisher[M] = self.add_waitable(pub)
         return p
 
     def create_subscription(
@@ -153,18 +177,18 @@ class Node:
         sub = Subscription(self.context, self.fqn, msg_type, self.resolve_name(topic), callback,
                            as_profile(qos), self.logger, callback_group)
         self._warn_type_conflict(sub.topic, sub._codec.type_name)
-        s: Subscription[M] = self._track(sub)
+        s: Subscription[M] = self.add_waitable(sub)
         return s
 
     def create_service(self, srv_type: ServiceType, name: str, handler: Callable[..., Any], *,
                        callback_group: CallbackGroup | None = None) -> Service:
         srv = Service(self.context, self.fqn, srv_type, self.resolve_name(name, "service"),
                       handler, self.logger, callback_group)
-        s: Service = self._track(srv)
+        s: Service = self.add_waitable(srv)
         return s
 
     def create_client(self, srv_type: ServiceType, name: str) -> Client:
-        c: Client = self._track(
+        c: Client = self.add_waitable(
             Client(self.context, srv_type, self.resolve_name(name, "service"), node=self.fqn)
         )
         return c

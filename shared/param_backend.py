@@ -9,13 +9,14 @@ from typing import TYPE_CHECKING, Any
 
 from .errors import InvalidNameError, ParameterError, ServiceUnavailableError, ZenrosTimeout
 from .names import Token
+from .param_client import ParameterClient
 from .param_protocol import SET_PARAM, local_param_name, node_param_name
 
 if TYPE_CHECKING:
     from .node import Node
-    from .param_client import ParameterClient, ParamEvent
+    from .param_client import ParamEvent
 
-__all__ = ["MasterBackend"]
+__all__ = ["MasterBackend", "attach_parameter_backend"]
 
 _UNREACHABLE = (ServiceUnavailableError, ZenrosTimeout)
 
@@ -187,3 +188,23 @@ class MasterBackend:
         self._sub.close()
         if self._node.parameters.backend is self:
             self._node.parameters.backend = None
+
+
+def attach_parameter_backend(node: Node) -> MasterBackend:
+    """Back ``node``'s parameters with the master; call it before parameters are declared.
+
+    Sets ``node.parameters.backend``: a declared parameter takes its stored value from the
+    master (under the node's name: ``costmap.inflation`` of ``/nav/planner`` is
+    ``/nav/planner/costmap/inflation``) and ``set_parameter`` writes through. Remote changes
+    reach the node's on-change callbacks. Parameters declared before the call are fetched
+    now. With master down, declared values stay and a warning says so; when a master
+    appears, stored values are picked up and writes made meanwhile are pushed.
+
+    Returns:
+        The backend (closed with the node).
+    """
+    backend = MasterBackend(node, ParameterClient(node.context, node=node.fqn))
+    node.parameters.backend = backend
+    node.add_waitable(backend)
+    backend.resync()
+    return backend

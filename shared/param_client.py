@@ -21,7 +21,6 @@ from .errors import (
 )
 from .message import Message, ServiceType
 from .names import namespace_of, resolve
-from .param_backend import MasterBackend
 from .param_protocol import (
     DELETE_PARAM,
     DUMP_PARAMS,
@@ -56,10 +55,8 @@ from .rpc import Client
 
 if TYPE_CHECKING:
     from .context import Context
-    from .node import Node
 
-__all__ = ["MasterBackend", "ParamEvent", "ParamSubscription", "ParameterClient", "Written",
-           "attach_parameter_backend"]
+__all__ = ["ParamEvent", "ParamSubscription", "ParameterClient", "Written"]
 
 _log = logging.getLogger("zenros.params")
 _ERRORS: dict[str, type[Exception]] = {
@@ -299,23 +296,3 @@ def _parse_error(data: bytes) -> tuple[str, str]:
         return str(body["error"]), str(body["message"])
     except (ValueError, KeyError, TypeError):
         return "", data.decode("utf-8", "replace")
-
-
-def attach_parameter_backend(node: Node) -> MasterBackend:
-    """Back ``node``'s parameters with the master; call it before parameters are declared.
-
-    Sets ``node.parameters.backend``: a declared parameter takes its stored value from the
-    master (under the node's name: ``costmap.inflation`` of ``/nav/planner`` is
-    ``/nav/planner/costmap/inflation``) and ``set_parameter`` writes through. Remote changes
-    reach the node's on-change callbacks. Parameters declared before the call are fetched
-    now. With master down, declared values stay and a warning says so; when a master
-    appears, stored values are picked up and writes made meanwhile are pushed.
-
-    Returns:
-        The backend (closed with the node).
-    """
-    backend = MasterBackend(node, ParameterClient(node.context, node=node.fqn))
-    node.parameters.backend = backend
-    node._track(backend)
-    backend.resync()
-    return backend

@@ -104,5 +104,5 @@ def install_shutdown_listener(node: Node, on_shutdown: Callable[[], None]) -> Sh
         The listener (``close()`` undeclares it; closing the node does that too).
     """
     listener = ShutdownListener(node, on_shutdown)
-    node._track(listener)
+    node.add_waitable(listener)
     return listener

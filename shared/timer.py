@@ -42,7 +42,7 @@ class Timer:
         self._group = group
         self._is_async = inspect.iscoroutinefunction(callback)
         self._future: Any = None
-        self.cancelled = True
+        self._canceled = True
         self.calls = 0
         if autostart:
             self.reset()
@@ -54,22 +54,23 @@ class Timer:
         timer: with a simulated clock, /clock may move in between, and the first tick would
         then land up to a period late."""
         self.cancel()
-        self.cancelled = False
+        self._canceled = False
         self._future = self._executor.submit(self._run(self.clock.now() + self.period))
 
     def cancel(self) -> None:
-        self.cancelled = True
+        self._canceled = True
         if self._future is not None:
             self._executor.call_soon(self._future.cancel)
             self._future = None
 
     def is_canceled(self) -> bool:
-        return self.cancelled
+        """True once `cancel` was called (or before `reset` without autostart), as rclpy."""
+        return self._canceled
 
     async def _run(self, due: Time) -> None:
-        while not self.cancelled:
+        while not self._canceled:
             await self.clock.async_sleep_until(due)
-            if self.cancelled:
+            if self._canceled:
                 return
             await self._fire()
             now = self.clock.now()

@@ -88,7 +88,7 @@ class ActionClient:
         self._unlisten = self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "actc", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
-        node._track(self)
+        node.add_waitable(self)
 
     # ------------------------------------------------------------------ server presence
 

@@ -131,7 +131,7 @@ class ActionServer:
         self._status.flush(force=True)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
-        node._track(self)
+        node.add_waitable(self)
 
     def _key(self, part: str) -> str:
         return self._ctx.keys.action(self.name, part)

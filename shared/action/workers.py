@@ -13,6 +13,8 @@ import queue
 import threading
 from collections.abc import Callable
 
+from ..errors import ActionError
+
 __all__ = ["WorkerPool"]
 
 _STOP = object()
@@ -35,7 +37,7 @@ class WorkerPool:
         """Run ``fn`` on a worker; an exception it raises is logged."""
         with self._lock:
             if self._closed:
-                raise RuntimeError(f"worker pool {self._name} is closed")
+                raise ActionError(f"worker pool {self._name} is closed")
             if self._idle > 0:
                 self._idle -= 1
             else:

@@ -68,7 +68,7 @@ class IntrospectionServer:
         self.publish_status()
         self._remove_listener = machine.add_listener(self._on_event)
         self._timer = node.create_timer(period, self.publish_status)
-        node._track(self)
+        node.add_waitable(self)
 
     def set_machine(self, machine: Container) -> None:
         """Watch ``machine`` from now on instead (a service that runs one machine after

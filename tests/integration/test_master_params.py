@@ -20,7 +20,8 @@ from zenros.errors import (
 )
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.param_client import ParameterClient, ParamEvent, attach_parameter_backend
+from zenros.param_backend import attach_parameter_backend
+from zenros.param_client import ParameterClient, ParamEvent
 from zenros.param_protocol import DELETE_PARAM, DeleteParam, DeleteParamRequest
 from zenros.rpc import Client
 from zenros.services.master.node import MasterNode
