@@ -2,9 +2,10 @@
 playback timing error at 1x.
 
 record_ratio: a recorder process (`zenros.bag.Recorder`, Twist to MCAP with zstd) receiving
-N Twists from a publisher process, lossless (every sequence number in the bag, checked by
-reading it back), in msgs/s, divided by a zenros subscriber process receiving the same
-N Twists (bench/pubsub.py's sink), measured back to back in each repeat.
+N numbered Twists from a zenros publisher process, lossless (every number in the bag, in
+order, checked by reading it back), in msgs/s, divided by a zenros subscription process
+receiving (and decoding) the same N Twists from the same publisher, back to back in each
+repeat (as bench/pubsub.py measures one-way throughput).
 play_error_p99_ms: a `zenros bag play` process (a real CLI process) plays a recorded bag of
 Twists at 1x into a subscriber in this process; the error of a message is its arrival time
 minus the recorded schedule (first message aligned by the median offset); p99 of |error|.
@@ -26,12 +27,45 @@ from pathlib import Path
 from typing import Any
 
 from _harness import Child, bench_parser, emit, free_port, paired_ratio, percentile, unique_prefix
-from pubsub import MSG
-from pubsub import throughput as runtime_throughput
 from zenros import Node
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.testing import loopback_options
+
+
+def _wait_count(get: Any, count: int) -> None:
+    """Until ``get()`` reaches ``count``, or it stops growing for 10 s (messages were lost)."""
+    deadline = time.monotonic() + 120
+    last_n, last_change = -1, time.monotonic()
+    while time.monotonic() < deadline:
+        n = get()
+        if n >= count:
+            return
+        if n != last_n:
+            last_n, last_change = n, time.monotonic()
+        elif n and time.monotonic() - last_change > 10.0:
+            return
+        time.sleep(0.01)
+
+
+def child_sink(port: int, prefix: str, count: int) -> None:
+    """The runtime's own one-way receiver: a zenros subscription decoding every Twist."""
+    ctx = Context(loopback_options(connect=[port]), prefix=prefix)
+    node = Node("sink", context=ctx)
+    times: list[float] = []
+    xs: list[float] = []
+
+    def on_msg(m: Twist) -> None:
+        times.append(time.perf_counter())
+        xs.append(m.linear.x)
+
+    node.create_subscription(Twist, "/data", on_msg)
+    print("ready", flush=True)
+    _wait_count(lambda: len(xs), count)
+    node.close()
+    ctx.close()
+    print(json.dumps({"received": len(xs), "lossless": xs == [float(i) for i in range(count)],
+                      "seconds": times[-1] - times[0] if times else -1.0}), flush=True)
 
 
 def child_recorder(port: int, prefix: str, count: int, directory: str) -> None:
@@ -41,17 +75,7 @@ def child_recorder(port: int, prefix: str, count: int, directory: str) -> None:
     ctx = Context(loopback_options(connect=[port]), prefix=prefix)
     rec = Recorder(ctx, RecordOptions(Path(directory), topics=["/data"]))
     print("ready", flush=True)
-    deadline = time.monotonic() + 90
-    last_n, last_change = -1, time.monotonic()
-    while time.monotonic() < deadline:
-        n = rec.sink.message_count
-        if n >= count:
-            break
-        if n != last_n:
-            last_n, last_change = n, time.monotonic()
-        elif n and time.monotonic() - last_change > 3.0:
-            break  # stalled: messages were lost
-        time.sleep(0.01)
+    _wait_count(lambda: rec.sink.message_count, count)
     rec.close()
     ctx.close()
     times, xs = [], []
@@ -65,13 +89,15 @@ def child_recorder(port: int, prefix: str, count: int, directory: str) -> None:
                       "seconds": (max(times) - min(times)) / 1e9 if times else -1.0}), flush=True)
 
 
-def record_throughput(count: int, workdir: Path) -> tuple[float, int]:
+def throughput(role: str, count: int, workdir: Path) -> tuple[float, int]:
+    """msgs/s into a ``role`` child (recorder or sink) and how many were lost; the parent
+    publishes the same numbered Twists either way."""
     port, prefix = free_port(), unique_prefix()
     directory = workdir / f"rec_{prefix}"
     ctx = Context(loopback_options(port), prefix=prefix)
     node = Node("bench", context=ctx)
     pub = node.create_publisher(Twist, "/data")
-    child = Child(__file__, "--role", "recorder", "--port", str(port), "--prefix", prefix,
+    child = Child(__file__, "--role", role, "--port", str(port), "--prefix", prefix,
                   "--count", str(count), "--dir", str(directory))
     try:
         assert pub.wait_for_subscribers(1, 10)
@@ -149,7 +175,7 @@ def play_errors(workdir: Path, n: int, hz: float) -> list[float]:
 
 
 def main() -> None:
-    ap = bench_parser(__doc__, ["recorder"], repeats=3)
+    ap = bench_parser(__doc__, ["recorder", "sink"], repeats=3)
     ap.add_argument("--count", type=int, default=50_000)
     ap.add_argument("--dir", default="")
     ap.add_argument("--play-count", type=int, default=2000)
@@ -158,15 +184,18 @@ def main() -> None:
     if a.role == "recorder":
         child_recorder(a.port, a.prefix, a.count, a.dir)
         return
+    if a.role == "sink":
+        child_sink(a.port, a.prefix, a.count)
+        return
     workdir = Path(tempfile.mkdtemp(prefix="zenros_bag_bench_"))
     thr: dict[str, list[float]] = {"zenros": [], "raw": []}  # "raw" = the runtime's own sink
     lost: dict[str, int] = {"record": 0, "runtime": 0}
     try:
         for _ in range(a.repeats):
-            rate, missing = record_throughput(a.count, workdir)
+            rate, missing = throughput("recorder", a.count, workdir)
             thr["zenros"].append(rate)
             lost["record"] += missing
-            rate, missing = runtime_throughput("zenros", a.count)
+            rate, missing = throughput("sink", a.count, workdir)
             thr["raw"].append(rate)
             lost["runtime"] += missing
         errors = play_errors(workdir, a.play_count, a.play_hz)
