@@ -20,7 +20,7 @@ from zenros.msgs.nav2_msgs import (
 from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs import (
     GetCurrentMap, GetCurrentMapRequest, GetNavPoints, GetNavPointsRequest, ListPaths,
-    ListPathsRequest, NavStatus,
+    ListPathsRequest, NavStatus, TaskStatus,
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
@@ -57,7 +57,9 @@ class Navigator:
         self.points = node.create_client(GetNavPoints, "get_nav_points")
         self.paths = node.create_client(ListPaths, "list_paths")
         self.current = node.create_client(GetCurrentMap, "map_server/current_map")
+        self.loop_task_id = ""        # the patrol task started by /navigation/loop_task
         node.create_subscription(NavStatus, "nav/status", self.on_status, QOS_LATCHED)
+        node.create_subscription(TaskStatus, "tasks/status", self.on_task, QOS_LATCHED)
 
     # ------------------------------------------------------------------ state
 
@@ -67,7 +69,7 @@ class Navigator:
     def on_status(self, msg: NavStatus) -> None:
         s = self.core.state
         s.nav_open = not self.stopped
-        s.looping = msg.state == "patrolling"
+        s.looping = msg.state == "patrolling" or bool(self.loop_task_id)
         s.docking_phase = {"docking": 4}.get(msg.state, 0)
         status, angle = _GOAL.get(msg.goal_status, (-1, -1))
         g = s.goal
@@ -75,6 +77,11 @@ class Navigator:
             status = 2
         s.goal = GoalState(num_id=g.num_id if msg.goal_status or self._paused else -1,
                            status=status, distance=msg.target_distance, angle_status=angle)
+
+    def on_task(self, msg: TaskStatus) -> None:
+        if msg.id == self.loop_task_id and msg.state not in ("WAITTING", "WORKING", "PAUSED"):
+            self.loop_task_id = ""
+            self.core.state.looping = False
 
     def _require(self) -> None:
         if not self.available():

@@ -263,6 +263,7 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
                 subs.append({"type": "sleep_action", "wait_time": b.wait_time})
         task = await run_task("loop task", subs, loop=True)
         loop_ids.append(task["id"])
+        nav.loop_task_id = task["id"]
         core.state.looping = True
         return task
 
@@ -271,6 +272,7 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         if not loop_ids:
             raise ApiError(404, "no loop task is running")
         task = await task_call("stop", loop_ids[-1])
+        nav.loop_task_id = ""
         core.state.looping = False
         return task
 

@@ -212,3 +212,57 @@ async def test_websocket_teleop_moves_the_robot(rig: Rig) -> None:
             await asyncio.sleep(0.05)
     x, y = rig.truth[-1]
     assert math.hypot(x - start[0], y - start[1]) > 0.3
+
+
+def test_lifecycle_loop_charge_and_records(rig: Rig) -> None:
+    h = rig.http
+    current = h.get("/navigation/current_map").json()["name"]
+    assert h.get("/navigation/start", params={"map": current, "path": "p1"}).json() == {
+        "result": True, "description": "navigation started"}
+    assert h.get("/navigation/current_path").json() == {"map": current, "path": "p1"}
+    assert h.get("/navigation/target_distance").json()["distance"] == -1.0
+    assert h.get("/navigation/switch_map", params={"map_name": current}).json() == {
+        "status": "ok"}
+    assert h.post("/navigation/init_pose", json={"x": 0, "y": 0, "z": 0}).json() == {
+        "status": "ok"}
+    assert h.post("/navigation/init_pose", json={"x": "a", "y": 0}).status_code == 400
+    # patrol every nav point of p1, then stop it
+    assert h.get("/navigation/loop_task").status_code == 404
+    loop = h.post("/navigation/loop_task", json={"wait_time": 0}).json()
+    assert loop["loop_flag"] is True and len(loop["sub_tasks"]) == 2
+    assert h.get("/navigation/loop_task").json()["id"] == loop["id"]
+    assert wait_for(lambda: rig.gw.core.status.loopStatus == 1
+                    and rig.gw.core.status.targetDistance > 0, 10)
+    stopped = h.delete("/navigation/loop_task").json()
+    assert stopped["id"] == loop["id"] and stopped["state"] == "CANCELLED"
+    assert h.get("/navigation/stop_nav_task").status_code in (200, 409)
+    # charge pose and charging
+    pose = h.post("/navigation/charge_pose").json()
+    assert set(pose) == {"x", "y", "theta"}
+    assert h.get("/navigation/charge_pose").json() == pose
+    task = h.get("/navigation/go_charge").json()
+    assert task["sub_tasks"][0]["type"] == "charge_action" and task["state"] == "WORKING"
+    out = h.get("/navigation/stop_charge").json()
+    assert out["status"] == "ok" and out["task"]["id"] == task["id"]
+    assert h.get("/navigation/stop").json()["result"] is True
+    assert wait_for(lambda: rig.gw.core.status.navStatus == 0, 5)
+    assert h.get("/system/status").json()["status"] == "Free"
+    # path and nav points: PUT replaces, DELETE removes
+    body = {"map_name": current, "path_name": "tmp", "path_data": "1 1 0 0 0.1 0.1 0\n"}
+    assert h.put("/navigation/nav_points", json=body).json()["path_data"] == body["path_data"]
+    body["path_data"] = "1 1 0\n"
+    assert h.put("/navigation/path", json=body).json()["path_data"] == "1 1 0\n"
+    q = {"map_name": current, "path_name": "tmp"}
+    assert h.delete("/navigation/nav_points", params=q).json() == {"status": "ok"}
+    assert h.delete("/navigation/path", params=q).json() == {"status": "ok"}
+    assert h.get("/navigation/path", params=q).status_code == 404
+    # tasks and actions: PUT and DELETE
+    t = h.post("/task", json={"name": "a", "sub_tasks": [{"type": "sleep_action",
+                                                          "wait_time": 1}]}).json()
+    t = h.put("/task", json={"id": t["id"], "name": "b"}).json()
+    assert t["name"] == "b"
+    action = t["sub_tasks"][0]["id"]
+    assert h.put("/action", json={"id": action, "wait_time": 2}).json()["wait_time"] == 2
+    assert h.delete("/action", params={"id": action}).json() == {"status": "ok"}
+    assert h.delete("/task", params={"id": t["id"]}).json() == {"status": "ok"}
+    assert h.get("/navigation/start", params={"path": "p1"}).json()["result"] is True
