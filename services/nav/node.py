@@ -27,7 +27,7 @@ from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
 from zenros.node import Node
-from zenros.params import Parameter
+from zenros.params import Parameter, SetParametersResult
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.tf import TransformBroadcaster
 from zenros.tf.listener import STATIC_LISTENER_QOS
@@ -43,6 +43,7 @@ from .convert import (
 )
 from .core import NavCore
 from .docking import Dock
+from .localizer import MODES
 from .params import DEMO_MAP, declare_nav_config
 from .se2 import Pose2
 from .status import nav_status
@@ -84,6 +85,7 @@ class NavNode(Node):
         self.on_parameter_change(lambda p: setattr(self.autocharge, "threshold", float(p.value)),
                                  "go_charge_percentage")
         self.on_parameter_change(self._on_localization_param, "localization")
+        self.add_on_set_parameters_callback(self._check_live_params)
 
         self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
         self.core = NavCore(cfg, data_dir(maps_dir) / "maps" if not maps_dir else maps_dir,
@@ -215,6 +217,15 @@ class NavNode(Node):
 
     def _on_localization_param(self, p: Parameter) -> None:
         self.core.localizer.set_mode(str(p.value))
+
+    def _check_live_params(self, params: list[Parameter]) -> SetParametersResult:
+        for p in params:
+            if p.name == "localization" and p.value not in MODES:
+                return SetParametersResult(False, f"localization must be one of "
+                                                  f"{', '.join(MODES)}, got {p.value!r}")
+            if p.name == "go_charge_percentage" and not 0.0 <= float(p.value) <= 1.0:
+                return SetParametersResult(False, "go_charge_percentage must be within 0..1")
+        return SetParametersResult(True)
 
     # ------------------------------------------------------------------ timers
 
