@@ -25,7 +25,7 @@ scaling 3.0; Nav2's default obstacle/raytrace ranges 2.5/3.0 m); ``scan_update_1
 the same with both ranges 10 m; ``costmap_build_ms`` a full build of that costmap.
 ``python_ref_200_ms`` is the planner's pure-Python reference on a 200 x 200 random grid.
 
-Run: ``python bench/plan.py`` (needs the ``bench`` extra: pyastar2d, scipy).
+Run: ``python bench/plan.py`` (needs the ``bench`` extra for pyastar2d; scipy is a dependency).
 """
 
 from __future__ import annotations
@@ -33,24 +33,19 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
-import sys
 import time
 from collections.abc import Callable
 from importlib.metadata import version
-from pathlib import Path
 
 import numpy as np
 import pyastar2d
+from _harness import emit
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _harness import emit  # noqa: E402
-
-from zenros.services.nav.costmap import Costmap2D, CostmapParams, ObstacleParams, Scan  # noqa: E402
-from zenros.services.nav.costmap.accel import edt  # noqa: E402
-from zenros.services.nav.planner import PlannerParams, path_length, plan  # noqa: E402
-from zenros.services.nav.planner.accel import compiled  # noqa: E402
+from zenros.services.nav.costmap import Costmap2D, CostmapParams, ObstacleParams, Scan
+from zenros.services.nav.costmap.accel import edt
+from zenros.services.nav.planner import PlannerParams, path_length, plan
+from zenros.services.nav.planner.accel import compiled
 
 N = 1000
 LETHAL = 254
@@ -101,7 +96,9 @@ def office_grid(seed: int = 7) -> Grid:
     return g, (6, 6), (N - 7, N - 7)
 
 
-GRIDS: dict[str, Callable[[], Grid]] = {"random": random_grid, "maze": maze_grid, "office": office_grid}
+GRIDS: dict[str, Callable[[], Grid]] = {
+    "random": random_grid, "maze": maze_grid, "office": office_grid,
+}
 
 
 def optimal_length(g: np.ndarray, start: Cell, goal: Cell) -> float:
@@ -119,7 +116,8 @@ def optimal_length(g: np.ndarray, start: Cell, goal: Cell) -> float:
         rows.append(ia[both])
         cols.append(ib[both])
         wts.append(np.full(int(both.sum()), cost))
-    m = coo_matrix((np.concatenate(wts), (np.concatenate(rows), np.concatenate(cols))), shape=(h * w, h * w)).tocsr()
+    edges = (np.concatenate(wts), (np.concatenate(rows), np.concatenate(cols)))
+    m = coo_matrix(edges, shape=(h * w, h * w)).tocsr()
     d = dijkstra(m, directed=False, indices=start[1] * w + start[0])
     return float(d[goal[1] * w + goal[0]])
 
@@ -156,7 +154,9 @@ def bench_grid(name: str, repeats: int) -> dict[str, float]:
         f"{name}_ms": round(statistics.median(t_ours) * 1e3, 2),
         f"{name}_wall_ms": round(statistics.median(wall) * 1e3, 2),
         f"{name}_pyastar2d_ms": round(statistics.median(t_theirs) * 1e3, 2),
-        f"{name}_plan_ratio": round(statistics.median(a / b for a, b in zip(t_ours, t_theirs, strict=True)), 3),
+        f"{name}_plan_ratio": round(
+            statistics.median(a / b for a, b in zip(t_ours, t_theirs, strict=True)), 3
+        ),
         f"{name}_cost_ratio": round(path_length(cells) / best, 5),
         f"{name}_pyastar2d_cost_ratio": round(path_length(their_cells) / best, 5),
         f"{name}_optimal_length": round(best, 2),
@@ -186,9 +186,10 @@ def bench_costmap(scans: int) -> dict[str, float]:
     out: dict[str, float] = {}
     rng = np.random.default_rng(1)
     free = np.argwhere(g == 0)
-    poses = [((c[1] + 0.5) * res, (c[0] + 0.5) * res) for c in free[rng.integers(len(free), size=scans)]]
-    for key, ob in (("scan_update_ms", ObstacleParams()),
-                    ("scan_update_10m_ms", ObstacleParams(obstacle_max_range=10.0, raytrace_max_range=10.0))):
+    picked = free[rng.integers(len(free), size=scans)]
+    poses = [((c[1] + 0.5) * res, (c[0] + 0.5) * res) for c in picked]
+    ranges_10m = ObstacleParams(obstacle_max_range=10.0, raytrace_max_range=10.0)
+    for key, ob in (("scan_update_ms", ObstacleParams()), ("scan_update_10m_ms", ranges_10m)):
         params = CostmapParams(inflation_radius=0.7, cost_scaling_factor=3.0, obstacle=ob)
         t0 = time.thread_time()
         cm = Costmap2D(occ, res, (0.0, 0.0), params)
@@ -196,7 +197,8 @@ def bench_costmap(scans: int) -> dict[str, float]:
         out.setdefault("costmap_build_ms", round(build * 1e3, 1))
         times = []
         for x, y in poses:
-            scan = Scan(-math.pi, 2 * math.pi / 360, 0.05, 12.0, ray_cast(occ, res, (x, y), 360, 12.0, rng))
+            ranges = ray_cast(occ, res, (x, y), 360, 12.0, rng)
+            scan = Scan(-math.pi, 2 * math.pi / 360, 0.05, 12.0, ranges)
             t0 = time.thread_time()
             cm.update_from_scan(scan, (x, y, 0.0))
             times.append(time.thread_time() - t0)

@@ -7,6 +7,7 @@ compiled code against. Set ``ZENROS_NAV_PURE=1`` to use numpy anyway.
 
 from __future__ import annotations
 
+import importlib
 import os
 from types import ModuleType
 
@@ -17,10 +18,9 @@ def _load() -> ModuleType | None:
     if os.environ.get("ZENROS_NAV_PURE", "") not in ("", "0"):
         return None
     try:
-        from . import _edt
+        return importlib.import_module(f"{__package__}._edt")
     except ImportError:
         return None
-    return _edt
 
 
 edt = _load()

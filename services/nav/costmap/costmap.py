@@ -9,11 +9,10 @@ and last the keep-out cells written as 254 (a costmap filter: lethal, not inflat
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
-
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import Point, Pose, Quaternion
 from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid
@@ -48,7 +47,7 @@ class CostmapParams:
     track_unknown_space: bool = False
     lethal_cost_threshold: int = 100
     trinary_costmap: bool = True
-    obstacle: ObstacleParams = ObstacleParams()
+    obstacle: ObstacleParams = field(default_factory=ObstacleParams)
 
     def with_(self, **changes: Any) -> CostmapParams:
         """A copy with some fields changed."""
@@ -86,7 +85,9 @@ class Costmap2D:
             if occupancy.ndim != 2:
                 raise ValueError(f"occupancy must be 2-D (height, width), got {occupancy.shape}")
             h, w = occupancy.shape
-        self.geometry = GridGeometry(int(w), int(h), float(resolution), float(origin[0]), float(origin[1]))
+        self.geometry = GridGeometry(
+            int(w), int(h), float(resolution), float(origin[0]), float(origin[1])
+        )
         self.params = params
         self.inflation = Inflation(
             self.geometry.resolution, params.robot_radius, params.inflation_radius,
@@ -104,14 +105,17 @@ class Costmap2D:
     # --- construction ------------------------------------------------------------------
 
     @classmethod
-    def from_occupancy_grid(cls, grid: OccupancyGrid, params: CostmapParams = CostmapParams()) -> Costmap2D:
+    def from_occupancy_grid(
+        cls, grid: OccupancyGrid, params: CostmapParams = CostmapParams()
+    ) -> Costmap2D:
         """A costmap whose static layer is a nav_msgs/OccupancyGrid (origin yaw ignored)."""
         info = grid.info
         if len(grid.data) != info.width * info.height:
             raise ValueError(
                 f"OccupancyGrid has {len(grid.data)} cells for {info.width} x {info.height}"
             )
-        return cls(grid.grid(), info.resolution, (info.origin.position.x, info.origin.position.y), params)
+        origin = (info.origin.position.x, info.origin.position.y)
+        return cls(grid.grid(), info.resolution, origin, params)
 
     def _static_costs(self, occupancy: np.ndarray) -> np.ndarray:
         p = self.params
@@ -208,7 +212,7 @@ class Costmap2D:
         if mx.size == 0:
             return EMPTY
         self._obstacle[my, mx] = LETHAL_OBSTACLE
-        return self._rebuild(Bounds(int(mx.min()), int(my.min()), int(mx.max()) + 1, int(my.max()) + 1))
+        return self._rebuild(Bounds.around(mx, my))
 
     def clear_obstacles(self) -> None:
         """Forget everything the obstacle layer saw (Nav2's clear_entirely_* services)."""
@@ -232,7 +236,7 @@ class Costmap2D:
         self._keepout = new
         if changed[0].size:
             ys, xs = changed
-            self._rebuild(Bounds(int(xs.min()), int(ys.min()), int(xs.max()) + 1, int(ys.max()) + 1))
+            self._rebuild(Bounds.around(xs, ys))
 
     # --- the master grid ---------------------------------------------------------------
 
@@ -270,7 +274,10 @@ class Costmap2D:
             header=Header(stamp=t, frame_id=frame_id),
             info=MapMetaData(
                 map_load_time=t, resolution=self.resolution, width=self.width, height=self.height,
-                origin=Pose(position=Point(x=self.origin[0], y=self.origin[1], z=0.0), orientation=Quaternion(w=1.0)),
+                origin=Pose(
+                    position=Point(x=self.origin[0], y=self.origin[1], z=0.0),
+                    orientation=Quaternion(w=1.0),
+                ),
             ),
             data=cost_to_occupancy(self._master).ravel(),
         )

@@ -25,6 +25,13 @@ class Bounds:
     x1: int
     y1: int
 
+    @staticmethod
+    def around(mx: np.ndarray, my: np.ndarray) -> Bounds:
+        """The smallest window holding the cells (mx[i], my[i]); EMPTY for none."""
+        if mx.size == 0:
+            return Bounds(0, 0, 0, 0)
+        return Bounds(int(mx.min()), int(my.min()), int(mx.max()) + 1, int(my.max()) + 1)
+
     @property
     def empty(self) -> bool:
         return self.x1 <= self.x0 or self.y1 <= self.y0

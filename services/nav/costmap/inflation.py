@@ -68,7 +68,9 @@ class Inflation:
 
     def table(self) -> np.ndarray:
         """``table[k]``: the cost at squared cell distance k (0 beyond the radius)."""
-        return _cost_table(self.resolution, self.inscribed_radius, self.cells, self.cost_scaling_factor)
+        return _cost_table(
+            self.resolution, self.inscribed_radius, self.cells, self.cost_scaling_factor
+        )
 
     def apply(self, region: np.ndarray, inner: tuple[slice, slice]) -> np.ndarray:
         """The inflated costs of ``region[inner]``: ``region`` holds the combined layer

@@ -12,6 +12,7 @@ after inflation, so a wall is lethal but not inflated into the free space around
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable, Sequence
 
@@ -39,7 +40,9 @@ def check_shape(points: Sequence[Sequence[float]], kind: str, minimum: int) -> n
     return arr
 
 
-def _segment_cells(geo: GridGeometry, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _segment_cells(
+    geo: GridGeometry, a: np.ndarray, b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Every cell the segment a→b touches (supercover), possibly outside the grid."""
     res = geo.resolution
     fx0, fy0 = (a[0] - geo.origin_x) / res, (a[1] - geo.origin_y) / res
@@ -106,13 +109,13 @@ def rasterise(
         xs.append(mx)
         ys.append(my)
         closed = np.vstack([poly, poly[:1]])
-        for a, b in zip(closed[:-1], closed[1:], strict=True):
+        for a, b in itertools.pairwise(closed):
             mx, my = _segment_cells(geo, a, b)
             xs.append(mx)
             ys.append(my)
     for w in walls:
         line = check_shape(w, "wall", 2)
-        for a, b in zip(line[:-1], line[1:], strict=True):
+        for a, b in itertools.pairwise(line):
             mx, my = _segment_cells(geo, a, b)
             xs.append(mx)
             ys.append(my)

@@ -86,12 +86,6 @@ def raytrace_cells(
     return mx[inside], my[inside]
 
 
-def _bounds_of(mx: np.ndarray, my: np.ndarray) -> Bounds:
-    if mx.size == 0:
-        return EMPTY
-    return Bounds(int(mx.min()), int(my.min()), int(mx.max()) + 1, int(my.max()) + 1)
-
-
 def update_layer(
     layer: np.ndarray,
     geo: GridGeometry,
@@ -122,7 +116,7 @@ def update_layer(
     mx, my = cells[:, 0], cells[:, 1]
     inside = (mx >= 0) & (mx < geo.width) & (my >= 0) & (my < geo.height)
     mx, my = mx[inside], my[inside]
-    box = _bounds_of(cmx, cmy).union(_bounds_of(mx, my))
+    box = Bounds.around(cmx, cmy).union(Bounds.around(mx, my))
     if box.empty:
         return EMPTY
     before = layer[box.slices].copy()
@@ -132,6 +126,4 @@ def update_layer(
     ys, xs = np.nonzero(layer[box.slices] != before)
     if ys.size == 0:
         return EMPTY
-    return Bounds(
-        box.x0 + int(xs.min()), box.y0 + int(ys.min()), box.x0 + int(xs.max()) + 1, box.y0 + int(ys.max()) + 1
-    )
+    return Bounds.around(xs + box.x0, ys + box.y0)

@@ -134,6 +134,7 @@ heapify(Heap *hp)
 typedef struct {
     Heap *ring;
     size_t nring, mask;
+    int shift;   /* bucket width: 2^shift */
     int64_t cur; /* absolute index of the current bucket */
     size_t count;
 } Open;
@@ -141,9 +142,12 @@ typedef struct {
 static int
 open_init(Open *o, int64_t max_step)
 {
-    int64_t need = ((2 * max_step) >> BUCKET_SHIFT) + 4;
-    if (need > (1 << 24))
-        return -1;
+    /* wider buckets when steps are huge (a large cost weight), so the ring stays small;
+       the order is exact whatever the width */
+    o->shift = BUCKET_SHIFT;
+    while (((2 * max_step) >> o->shift) + 4 > (1 << 16))
+        o->shift++;
+    int64_t need = ((2 * max_step) >> o->shift) + 4;
     size_t n = 64;
     while ((int64_t)n < need)
         n <<= 1;
@@ -177,7 +181,7 @@ static int
 open_push(Open *o, int64_t f, uint64_t tie)
 {
     Entry e = {f, tie};
-    int64_t b = f >> BUCKET_SHIFT;
+    int64_t b = f >> o->shift;
     if (o->count == 0)
         o->cur = b;
     if (b <= o->cur) {

@@ -7,6 +7,7 @@ Set ``ZENROS_NAV_PURE=1`` to use pure Python anyway.
 
 from __future__ import annotations
 
+import importlib
 import os
 from types import ModuleType
 
@@ -17,10 +18,9 @@ def _load() -> ModuleType | None:
     if os.environ.get("ZENROS_NAV_PURE", "") not in ("", "0"):
         return None
     try:
-        from . import _astar
+        return importlib.import_module(f"{__package__}._astar")
     except ImportError:
         return None
-    return _astar
 
 
 compiled = _load()

@@ -59,7 +59,7 @@ def search_python(
 ) -> SearchOutcome:
     """A* from flat cell ``start`` to ``goal`` over ``costs`` (2-D uint8, C order);
     ``steps``: 512 int64, the straight then diagonal step cost of each cost byte."""
-    rows, w = costs.shape
+    rows, w = int(costs.shape[0]), int(costs.shape[1])
     flat = costs.ravel().tolist()
     table = [int(v) for v in steps]
     straight, diag = table[:256], table[256:]

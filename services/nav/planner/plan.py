@@ -29,6 +29,8 @@ from .errors import (
 __all__ = ["PlanResult", "PlannerParams", "cost_multipliers", "path_length", "plan", "step_table"]
 
 Cell = tuple[int, int]
+MAX_COST_WEIGHT = 1000.0
+"""Above this, fixed-point path costs could overflow 64 bits on the largest grids."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -36,7 +38,7 @@ class PlannerParams:
     """Planner parameters (defaults: Smac Planner 2D's where it has one)."""
 
     cost_weight: float = 2.0
-    """Smac's ``cost_travel_multiplier``: 0 plans the shortest path, ignoring costs."""
+    """Smac's ``cost_travel_multiplier`` (0 .. 1000): 0 plans the shortest path."""
     lethal_cost: int = 253
     """Cells with a cost at or above this (and below 255) are not entered."""
     allow_unknown: bool = True
@@ -48,8 +50,11 @@ class PlannerParams:
     """Cells: an occupied goal is moved to the nearest free cell within this radius."""
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.cost_weight) and self.cost_weight >= 0):
-            raise ValueError(f"cost_weight must be a finite number >= 0, got {self.cost_weight!r}")
+        if not (math.isfinite(self.cost_weight) and 0 <= self.cost_weight <= MAX_COST_WEIGHT):
+            raise ValueError(
+                f"cost_weight must be a number in 0 .. {MAX_COST_WEIGHT:g}, "
+                f"got {self.cost_weight!r}"
+            )
         if not 1 <= self.lethal_cost <= 255:
             raise ValueError(f"lethal_cost must be in 1..255, got {self.lethal_cost!r}")
         if not (math.isfinite(self.timeout) and self.timeout >= 0):
@@ -168,7 +173,8 @@ def plan(
     uint8 cost grid ``costs[my, mx]`` (Nav2's cost values).
 
     Args:
-        use_compiled: None uses the C search when it is built; False forces Python.
+        use_compiled: None uses the C search when it is built; False forces Python;
+            True insists on C (RuntimeError where it is not built).
 
     Raises:
         StartOutsideMap, GoalOutsideMap, StartOccupied, GoalOccupied, NoValidPath,
@@ -186,7 +192,9 @@ def plan(
     if not math.isfinite(mult[grid[s[1], s[0]]]):
         raise StartOccupied(f"start cell {s} has cost {grid[s[1], s[0]]}")
     if not math.isfinite(mult[grid[g[1], g[0]]]):
-        moved = _nearest_free(grid, mult, g, params.goal_tolerance) if params.goal_tolerance else None
+        moved = None
+        if params.goal_tolerance:
+            moved = _nearest_free(grid, mult, g, params.goal_tolerance)
         if moved is None:
             raise GoalOccupied(f"goal cell {g} has cost {grid[g[1], g[0]]}")
         g = moved
@@ -207,7 +215,9 @@ def plan(
         out = search_python(grid, steps, si, gi, hs, hd, budget, params.max_iterations)
     elapsed = time.perf_counter() - t0
     if out.status == TIMEOUT:
-        raise PlanningTimeout(f"no path found within {params.timeout} s ({out.expansions} cells expanded)")
+        raise PlanningTimeout(
+            f"no path found within {params.timeout} s ({out.expansions} cells expanded)"
+        )
     if out.status == LIMIT:
         raise NoValidPath(f"exceeded maximum iterations ({params.max_iterations})")
     if out.status == NO_PATH:

@@ -26,7 +26,7 @@ def plan_between(
     costmap: _Grid,
     start: tuple[float, float],
     goal: tuple[float, float],
-    params: PlannerParams = PlannerParams(),
+    params: PlannerParams | None = None,
 ) -> PlanResult:
     """``plan`` between the cells holding two map-frame points of a costmap.
 
@@ -40,4 +40,4 @@ def plan_between(
     g = costmap.world_to_map(float(goal[0]), float(goal[1]))
     if g is None:
         raise GoalOutsideMap(f"goal ({goal[0]}, {goal[1]}) is outside the map")
-    return plan(costmap.costs, s, g, params)
+    return plan(costmap.costs, s, g, params if params is not None else PlannerParams())

@@ -126,7 +126,9 @@ def test_compiled_transform_matches_numpy_reference() -> None:
         assert np.all(got[~near] > r * r), seed
 
 
-def test_costmaps_agree_with_and_without_compiled_transform(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_costmaps_agree_with_and_without_compiled_transform(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     from zenros.services.nav.costmap import inflation
 
     rng = np.random.default_rng(9)

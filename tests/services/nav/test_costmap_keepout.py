@@ -37,7 +37,9 @@ def test_wall_over_unknown_and_over_inflation() -> None:
     assert np.all(cm.costs[:, 90] == 254)  # on unknown cells
 
 
-@pytest.mark.parametrize("direction", [(1.0, 0.87), (0.87, 1.0), (1.0, -0.33), (0.2, 1.0), (1.0, 0.5)])
+@pytest.mark.parametrize(
+    "direction", [(1.0, 0.87), (0.87, 1.0), (1.0, -0.33), (0.2, 1.0), (1.0, 0.5)]
+)
 def test_diagonal_wall_blocks_8_connected_paths(direction: tuple[float, float]) -> None:
     # a wall through the middle of the map, across it in any direction
     cm = open_map()
@@ -119,7 +121,10 @@ def test_bad_shapes_are_clear_errors_and_keep_previous() -> None:
 
 def test_shapes_partly_outside_the_map() -> None:
     cm = open_map()
-    cm.set_keepout(walls=[[(-3.0, 2.5), (9.0, 2.5)]], polygons=[[(-1, -1), (0.5, -1), (0.5, 0.5), (-1, 0.5)]])
+    cm.set_keepout(
+        walls=[[(-3.0, 2.5), (9.0, 2.5)]],
+        polygons=[[(-1, -1), (0.5, -1), (0.5, 0.5), (-1, 0.5)]],
+    )
     assert np.all(cm.costs[50, :] == 254)
     assert np.all(cm.costs[:10, :10] == 254)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -150,5 +151,5 @@ def test_raytrace_cells_are_8_connected_and_exclude_end() -> None:
     cells = list(zip(mx.tolist(), my.tolist(), strict=True))
     assert cells[0] == (0, 0) and (10, 4) not in cells
     assert len(cells) == 10
-    for (x0, y0), (x1, y1) in zip(cells, cells[1:], strict=False):
+    for (x0, y0), (x1, y1) in itertools.pairwise(cells):
         assert max(abs(x1 - x0), abs(y1 - y0)) == 1

@@ -37,7 +37,8 @@ def test_static_layer_scaled() -> None:
     occ = np.array([[0, 25, 50, 99, 100, -1]], dtype=np.int8)
     got = occupancy_to_cost(occ, trinary_costmap=False, track_unknown_space=True)
     # Nav2: v / lethal_threshold * 254, truncated
-    assert got.tolist() == [[0, int(25 / 100 * 254), int(50 / 100 * 254), int(99 / 100 * 254), 254, 255]]
+    scaled = [int(v / 100 * 254) for v in (25, 50, 99)]
+    assert got.tolist() == [[0, *scaled, 254, 255]]
 
 
 def test_static_layer_reads_bytes_unsigned() -> None:
