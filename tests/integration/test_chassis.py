@@ -109,7 +109,7 @@ def test_drive_and_odom_tf_truth_agree(rig: dict[str, Any]) -> None:
     laser = buffer.lookup_transform("base_link", "laser", stamp).transform.translation
     assert (laser.x, laser.z) == pytest.approx((0.1, 0.2))
     # sim time runs about 10x the wall clock and stamps follow /clock
-    assert got["state"].msg.speed == SPEED and got["state"].msg.real_time_factor > 3
+    assert got["state"].msg.speed == SPEED and got["state"].msg.real_time_factor > 1.5
 
 
 def test_blocked_corridor_shows_in_the_scan(rig: dict[str, Any]) -> None:
