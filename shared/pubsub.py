@@ -24,7 +24,7 @@ from .qos import QoSProfile, Reliability
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["Publisher", "Subscription"]
+__all__ = ["MessageInfo", "Publisher", "Subscription"]
 
 M = TypeVar("M", bound=Message)
 
@@ -95,6 +95,8 @@ class Publisher(Generic[M]):
         self._refresh_remote()
 
     def _refresh_remote(self) -> bool:
+        if self._matching is None:  # latched: always puts; late joiners query the cache
+            return True
         with self._match_cond:
             self._remote = bool(self._pub.matching_status.matching)
             self._match_cond.notify_all()
@@ -148,11 +150,77 @@ class Publisher(Generic[M]):
         self._pub.undeclare()
 
 
+class MessageInfo:
+    """How one message arrived (rclpy's ``MessageInfo``), for callbacks that take it.
+
+    A subscription callback with two parameters, ``callback(msg, info)``, gets one with each
+    message. Built only for such callbacks; the source timestamp is converted on first use.
+
+    Attributes:
+        publisher_gid: the publishing Zenoh session's id (``Graph.nodes_of_zid`` names its
+            nodes); empty when the sample carried no timestamp.
+        received_timestamp: wall-clock nanoseconds (Unix epoch) when it was received.
+        from_intra_process: True when a publisher in this process handed it over directly.
+    """
+
+    __slots__ = ("_ts", "from_intra_process", "publisher_gid", "received_timestamp")
+
+    def __init__(self, ts: zenoh.Timestamp | None, publisher_gid: str,
+                 from_intra_process: bool = False) -> None:
+        self._ts = ts
+        self.publisher_gid = publisher_gid
+        self.received_timestamp = time.time_ns()
+        self.from_intra_process = from_intra_process
+
+    @classmethod
+    def of(cls, sample: zenoh.Sample) -> MessageInfo:
+        ts = sample.timestamp
+        return cls(ts, str(ts.get_id()) if ts is not None else "")
+
+    @property
+    def source_timestamp(self) -> int:
+        """Publication time, nanoseconds since the Unix epoch (the publisher session's
+        hybrid clock); the receive time for an in-process message, 0 when unknown."""
+        if self.from_intra_process:
+            return self.received_timestamp
+        return int(self._ts.get_time_as_ntp64().as_nanos()) if self._ts is not None else 0
+
+    def __repr__(self) -> str:
+        return (f"MessageInfo(publisher_gid={self.publisher_gid!r}, source_timestamp="
+                f"{self.source_timestamp}, received_timestamp={self.received_timestamp}, "
+                f"from_intra_process={self.from_intra_process})")
+
+
+def _takes_info(callback: Callable[..., Any]) -> bool:
+    """True for ``callback(msg, info)``: two or more positional parameters."""
+    try:
+        params = inspect.signature(callback).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    positional = [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    return len(positional) >= 2
+
+
+def _with_info(callback: Callable[..., Any]) -> Callable[[Any], Any]:
+    """``callback(msg, info)`` as a one-argument callback of ``(msg, info)`` pairs."""
+    if inspect.iscoroutinefunction(callback):
+        async def call_async(pair: tuple[Any, MessageInfo]) -> Any:
+            return await callback(pair[0], pair[1])
+
+        return call_async
+
+    def call(pair: tuple[Any, MessageInfo]) -> Any:
+        return callback(pair[0], pair[1])
+
+    return call
+
+
 class Subscription(Generic[M]):
     """Receives messages of one type from one topic and hands them to a callback.
 
     A sample that fails to decode, or carries another type, is logged (rate-limited per
     sender) and counted in ``errors``; the callback never sees it and the node keeps running.
+    A callback with two parameters, ``callback(msg, info)``, also gets a `MessageInfo`.
     """
 
     def __init__(
@@ -177,6 +245,9 @@ class Subscription(Generic[M]):
         self._codec = codec_for(msg_type)
         self._decode = self._codec._decode
         self._encoding = zenoh.Encoding(self._codec.mime).with_schema(self._codec.type_name)
+        self._info = _takes_info(callback)
+        if self._info:
+            callback = _with_info(callback)
         # A plain sync callback with no group is called straight from the receive loop.
         self._direct = (callback if group is None and not inspect.iscoroutinefunction(callback)
                         else None)
@@ -231,7 +302,7 @@ class Subscription(Generic[M]):
     def _pump(self) -> None:
         """Drain the channel: `_on_sample` written out, with locals, for the hot path."""
         encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
-        direct = self._direct
+        direct, info = self._direct, self._info
         try:
             for sample in self._sub.handler:  # ends when the subscriber is undeclared
                 try:
@@ -244,6 +315,8 @@ class Subscription(Generic[M]):
                         self._reject(f"expected {self._codec.type_name}: {exc}",
                                      self._sender(sample))
                         continue
+                    if info:
+                        msg = (msg, MessageInfo.of(sample))
                     if direct is None:
                         dispatch(msg)
                         continue
@@ -275,6 +348,8 @@ class Subscription(Generic[M]):
             self._reject(f"type mismatch: expected {self._codec.type_name}, got {pub.type_name}",
                          ("this process", "local"))
             return
+        if self._info:
+            msg = (msg, MessageInfo(None, self._ctx.zid, from_intra_process=True))
         self._dispatch(msg)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
@@ -289,7 +364,7 @@ class Subscription(Generic[M]):
             except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
                 self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
                 return
-            self._dispatch(msg)
+            self._dispatch((msg, MessageInfo.of(sample)) if self._info else msg)
         except Exception as exc:  # noqa: BLE001 nothing raises into Zenoh's thread
             self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
         except BaseException as exc:
@@ -304,7 +379,7 @@ class Subscription(Generic[M]):
         except CodecError as exc:
             self._reject(str(exc), self._sender(sample))
             return
-        self._dispatch(msg)
+        self._dispatch((msg, MessageInfo.of(sample)) if self._info else msg)
 
     def _sender(self, sample: zenoh.Sample) -> tuple[str, str]:
         """(who, throttle key): node names behind the sample's session, and the session id."""

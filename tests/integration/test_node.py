@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 from zenros import InvalidNameError, InvalidParameterValueError, Node, ParameterNotDeclaredError
 from zenros.clock import ManualClock, Time
+from zenros.errors import NodeClosedError
 from zenros.msgs.rcl_interfaces import Log
 from zenros.msgs.rosgraph_msgs import Clock
 from zenros.msgs.std_msgs import String
@@ -168,3 +169,26 @@ def test_setup_failure_closes_the_node(ctx_pair: Any) -> None:
         Broken("broken", context=ctx_pair[0])
     g = ctx_pair[1].graph
     assert g.wait_for(lambda: "/broken" not in g.node_names(), 5)
+
+
+def test_a_node_owns_what_is_added_as_a_waitable(make_node: Any) -> None:
+    class Part:
+        def __init__(self) -> None:
+            self.closed = 0
+
+        def close(self) -> None:
+            self.closed += 1
+
+    node = make_node("owner", 0)
+    kept, dropped = Part(), Part()
+    assert node.add_waitable(kept) is kept
+    node.add_waitable(dropped)
+    node.remove_waitable(dropped)
+    node.close()
+    assert kept.closed == 1 and dropped.closed == 0
+    late = Part()
+    with pytest.raises(NodeClosedError, match="node /owner is closed"):
+        node.add_waitable(late)
+    assert late.closed == 1
+    with pytest.raises(NodeClosedError):
+        node.create_publisher(String, "chatter")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import logging
 import threading
+import time
 from typing import Any
 
 import numpy as np
@@ -14,6 +15,7 @@ from zenros import QOS_LATCHED, QOS_SENSOR, EncodeError, MutuallyExclusiveCallba
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.sensor_msgs import LaserScan
 from zenros.msgs.std_msgs import Int64, String
+from zenros.pubsub import MessageInfo
 from zenros.qos import QoSProfile
 from zenros.testing import Collector, wait_for
 
@@ -206,3 +208,34 @@ def test_callback_exception_is_logged_and_node_keeps_running(
         pub.publish(Int64(data=1))
         assert good.wait(1)
     assert "callback bug" in caplog.text
+
+
+@pytest.mark.parametrize("qos", [QoSProfile(depth=10), QOS_SENSOR, QOS_LATCHED],
+                         ids=["reliable", "best_effort", "latched"])
+def test_a_two_argument_callback_gets_the_message_info(make_node: Any, qos: QoSProfile) -> None:
+    got: list[tuple[String, MessageInfo]] = []
+    async_got: list[tuple[String, MessageInfo]] = []
+
+    async def on_async(msg: String, info: MessageInfo) -> None:
+        async_got.append((msg, info))
+
+    listener = make_node("listener", 1)
+    listener.create_subscription(String, "chatter", lambda m, i: got.append((m, i)), qos)
+    listener.create_subscription(String, "chatter", on_async, qos)
+    local: list[tuple[String, MessageInfo]] = []
+    talker = make_node("talker", 0)
+    talker.create_subscription(String, "chatter", lambda m, i: local.append((m, i)), qos)
+    pub = talker.create_publisher(String, "chatter", qos)
+    assert pub.wait_for_subscribers(3, 5)
+    before = time.time_ns()
+    pub.publish(String(data="hi"))
+    assert wait_for(lambda: got and async_got and local, 5)
+    msg, info = got[0]
+    assert msg.data == "hi" and not info.from_intra_process
+    assert info.publisher_gid == talker.context.zid  # the graph names its nodes from this
+    assert talker.graph.nodes_of_zid(info.publisher_gid, "/chatter") == ["/talker"]
+    assert before - 1_000_000_000 < info.source_timestamp <= info.received_timestamp
+    assert async_got[0][1].publisher_gid == talker.context.zid
+    msg, info = local[0]
+    assert info.from_intra_process and info.publisher_gid == talker.context.zid
+    assert info.source_timestamp == info.received_timestamp
