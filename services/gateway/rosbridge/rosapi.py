@@ -11,10 +11,12 @@ import json
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from zenros.errors import ZenrosError
+from zenros.errors import UnknownTypeError, ZenrosError
+from zenros.message import lookup_action, lookup_service, lookup_type
 from zenros.msgs.builtin_interfaces import Time
 
 from .convert import long_type
+from .typedefs import typedefs
 
 __all__ = ["ROSAPI", "Rosapi", "RosapiError", "param_name"]
 
@@ -209,6 +211,26 @@ class Rosapi:
     def _get_param_names(self, args: dict[str, Any]) -> dict[str, Any]:
         return {"names": self._params.list("/")}
 
+    # ------------------------------------------------------------------ type details
+
+    def _message_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_type, _str(args, "type")))}
+
+    def _service_request_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_service, _str(args, "type")).Request)}
+
+    def _service_response_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_service, _str(args, "type")).Response)}
+
+    def _action_goal_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Goal)}
+
+    def _action_result_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Result)}
+
+    def _action_feedback_details(self, args: dict[str, Any]) -> dict[str, Any]:
+        return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Feedback)}
+
     # ------------------------------------------------------------------ time, version
 
     def _get_time(self, args: dict[str, Any]) -> dict[str, Any]:
@@ -219,6 +241,13 @@ class Rosapi:
         return {"version": 2, "distro": self._distro}
 
 
+def _lookup(find: Callable[[str], Any], name: str) -> Any:
+    try:
+        return find(name)
+    except UnknownTypeError as exc:
+        raise RosapiError(str(exc)) from None
+
+
 def _camel(name: str) -> str:
     return "".join(p.capitalize() for p in name.split("_"))
 
@@ -227,6 +256,8 @@ ROSAPI = (
     "topics", "topic_type", "topics_for_type", "services", "service_type", "services_for_type",
     "service_providers", "service_node", "nodes", "node_details", "publishers", "subscribers",
     "action_servers", "action_type", "get_param", "set_param", "has_param", "delete_param",
-    "get_param_names", "get_time", "get_ros_version",
+    "get_param_names", "get_time", "get_ros_version", "message_details",
+    "service_request_details", "service_response_details", "action_goal_details",
+    "action_result_details", "action_feedback_details",
 )
 """Every rosapi service the bridge answers (under ``/rosapi/``)."""

@@ -144,3 +144,23 @@ def test_bad_requests(api: Rosapi) -> None:
         api.call("/rosapi/topic_type", {})
     with pytest.raises(RosapiError, match="must be a string"):
         api.call("/rosapi/topic_type", {"topic": 3})
+
+
+def test_message_details(api: Rosapi) -> None:
+    defs = api.call("/rosapi/message_details", {"type": "geometry_msgs/PoseStamped"})["typedefs"]
+    by_type = {d["type"]: d for d in defs}
+    assert defs[0]["type"] == "geometry_msgs/msg/PoseStamped"
+    assert defs[0]["fieldnames"] == ["header", "pose"]
+    assert defs[0]["fieldtypes"] == ["std_msgs/msg/Header", "geometry_msgs/msg/Pose"]
+    assert by_type["geometry_msgs/msg/Quaternion"]["examples"] == ["0.0", "0.0", "0.0", "1.0"]
+    assert len(defs) == len(by_type)  # each nested type once
+    grid = api.call("/rosapi/message_details", {"type": "nav_msgs/msg/OccupancyGrid"})
+    assert grid["typedefs"][0]["fieldarraylen"] == [-1, -1, 0]
+    request = api.call("/rosapi/service_request_details",
+                       {"type": "example_interfaces/srv/AddTwoInts"})["typedefs"][0]
+    assert request["fieldnames"] == ["a", "b"] and request["fieldtypes"] == ["int64", "int64"]
+    goal = api.call("/rosapi/action_goal_details",
+                    {"type": "example_interfaces/action/Fibonacci"})["typedefs"][0]
+    assert goal["fieldnames"] == ["order"]
+    with pytest.raises(RosapiError, match="unknown message type"):
+        api.call("/rosapi/message_details", {"type": "no/Such"})
