@@ -1,0 +1,60 @@
+"""Reading rosbridge request frames: names, ids and numbers, with the reference's errors."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from zenros.names import validate_name
+
+__all__ = ["OpError", "SubOptions", "frame_int", "frame_name", "legacy_id"]
+
+
+class OpError(ValueError):
+    """An op that cannot be carried out; reported with the request's id."""
+
+
+@dataclass
+class SubOptions:
+    """One subscription id's options; several ids on one topic are merged."""
+
+    throttle_rate: float = 0
+    queue_length: int = 0
+    fragment_size: int = 0
+
+
+def frame_name(frame: dict[str, Any], key: str) -> str:
+    """``frame[key]`` as an absolute, valid name (``rosapi/topics`` → ``/rosapi/topics``;
+    a legacy ``#id`` suffix dropped)."""
+    value = frame.get(key)
+    if not isinstance(value, str) or not value:
+        raise OpError(f"Expected a key '{key}' with a non-empty string in message")
+    name = value if value.startswith("/") else "/" + value
+    name = name.split("#", 1)[0]  # the legacy form carries the call id after '#'
+    try:
+        validate_name(name, key)
+    except ValueError as exc:
+        raise OpError(str(exc)) from None
+    return name
+
+
+def legacy_id(frame: dict[str, Any], key: str) -> Any:
+    """The interaction id: the ``id`` field, else what follows ``#`` in the name."""
+    if "id" in frame:
+        return frame["id"]
+    value = frame.get(key)
+    if isinstance(value, str) and "#" in value:
+        return value.split("#", 1)[1]
+    return None
+
+
+def frame_int(frame: dict[str, Any], key: str, default: int = 0) -> int:
+    """``frame[key]`` as an int (``default`` when absent or null)."""
+    value = frame.get(key, default)
+    if value is None:
+        return default
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise OpError(f"Expected '{key}' to be a number, got {type(value).__name__}")
+    return int(value)
+
+

@@ -1,0 +1,97 @@
+"""`ActionOps`: rosbridge action goals (``send_action_goal``, ``cancel_action_goal``) to
+zenros actions, with ``action_feedback`` and ``action_result`` back."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Awaitable, Callable
+from typing import TYPE_CHECKING, Any
+
+from zenros.errors import UnknownTypeError, ZenrosError
+from zenros.message import lookup_action
+
+from .bridge import BridgeError
+from .convert import message_from_json, to_json
+from .frames import OpError, frame_int, frame_name, legacy_id
+
+if TYPE_CHECKING:
+    from .bridge import Bridge
+
+__all__ = ["ActionOps"]
+
+
+class ActionOps:
+    """Mixed into `ClientProtocol`: the goals this client sent, by interaction id."""
+
+    bridge: Bridge
+    goals: dict[Any, Any]
+
+    if TYPE_CHECKING:  # provided by ClientProtocol
+        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
+        def report(self, level: str, message: str, mid: Any = None) -> None: ...
+        def spawn(self, coro: Awaitable[Any]) -> None: ...
+
+    def op_send_action_goal(self, frame: dict[str, Any]) -> None:
+        mid = legacy_id(frame, "action")
+        action = frame.get("action")
+        if not isinstance(action, str):
+            raise OpError("Expected a key 'action' with a string in message")
+        self.spawn(self._send_goal(action, mid, frame))
+
+    async def _send_goal(self, given: str, mid: Any, frame: dict[str, Any]) -> None:
+        def reply(values: Any, status: int, ok: bool) -> None:
+            out: dict[str, Any] = {"op": "action_result", "action": given, "values": values,
+                                   "status": status, "result": ok}
+            if mid is not None:
+                out["id"] = mid
+            self.send(out, frame_int(frame, "fragment_size"))
+
+        try:
+            action = frame_name(frame, "action")
+            type_name = frame.get("action_type")
+            if not isinstance(type_name, str) or not type_name:
+                raise OpError("Expected a key 'action_type' with a non-empty string in message")
+            try:
+                action_type = lookup_action(type_name)
+            except UnknownTypeError as exc:
+                raise OpError(str(exc)) from None
+            goal = message_from_json(frame.get("args") or {}, action_type.Goal)
+            client = self.bridge.action_client(action_type, action)
+            on_feedback = self._feedback_sender(given, mid) if frame.get("feedback") else None
+            handle = client.send_goal_async(goal, on_feedback)
+            if mid is not None:
+                self.goals[mid] = handle
+            try:
+                result = await handle.result_async()
+            finally:
+                if mid is not None:
+                    self.goals.pop(mid, None)
+        except (OpError, BridgeError, ZenrosError, ValueError, TypeError) as exc:
+            self.report("error", f"send_action_goal {type(exc).__name__}: {exc}", mid)
+            reply(str(exc), 0, False)
+            return
+        status = int(result.status) if result.status <= 6 else 0
+        if result.reason and status == 0:
+            reply(result.reason, 0, False)
+            return
+        reply(to_json(result.result), status, True)
+
+    def _feedback_sender(self, action: str, mid: Any) -> Callable[[Any], None]:
+        loop = self.bridge.loop
+
+        def on_feedback(msg: Any) -> None:  # on the action client's feedback thread
+            out: dict[str, Any] = {"op": "action_feedback", "action": action,
+                                   "values": to_json(msg.feedback)}
+            if mid is not None:
+                out["id"] = mid
+            loop.call_soon_threadsafe(self.send, out)
+
+        return on_feedback
+
+    def op_cancel_action_goal(self, frame: dict[str, Any]) -> None:
+        mid = legacy_id(frame, "action")
+        handle = self.goals.get(mid)
+        if handle is None:
+            raise OpError(f"no goal in progress with id {mid!r}")
+        self.spawn(asyncio.to_thread(handle.cancel))
+

@@ -1,0 +1,165 @@
+"""`ServiceOps`: rosbridge service calls, to zenros services and rosapi, and services a
+client serves (``advertise_service``; its answers come back as ``service_response``)."""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import itertools
+from collections.abc import Awaitable, Callable
+from typing import TYPE_CHECKING, Any
+
+from zenros.errors import ServiceError, UnknownTypeError, ZenrosError, ZenrosTimeout
+from zenros.message import Message, ServiceType, lookup_service
+
+from .bridge import BridgeError
+from .convert import message_from_json, request_args, to_json
+from .frames import OpError, frame_int, frame_name, legacy_id
+from .rosapi import Rosapi, RosapiError
+
+if TYPE_CHECKING:
+    from .bridge import Bridge
+
+__all__ = ["CLIENT_SERVICE_TIMEOUT", "DEFAULT_SERVICE_TIMEOUT", "ServiceOps"]
+
+DEFAULT_SERVICE_TIMEOUT = 10.0  # seconds, when call_service carries no timeout
+CLIENT_SERVICE_TIMEOUT = 10.0  # seconds a browser has to answer a forwarded call
+
+
+class ServiceOps:
+    """Mixed into `ClientProtocol`: calls out, and the services this client serves."""
+
+    bridge: Bridge
+    services: dict[str, Any]
+    pending: dict[str, tuple[concurrent.futures.Future[Any], str]]
+    _request_ids: itertools.count[int]
+
+    if TYPE_CHECKING:  # provided by ClientProtocol
+        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
+        def report(self, level: str, message: str, mid: Any = None) -> None: ...
+        def spawn(self, coro: Awaitable[Any]) -> None: ...
+
+    def op_call_service(self, frame: dict[str, Any]) -> None:
+        mid = legacy_id(frame, "service")
+        given = frame.get("service")
+        try:
+            service = frame_name(frame, "service")
+        except OpError as exc:
+            if isinstance(given, str):
+                self._service_failed(given, mid, str(exc))
+                return
+            raise
+        self.spawn(self._call_service(service, str(given), mid, frame))
+
+    def _service_failed(self, service: str, mid: Any, reason: str) -> None:
+        self.report("error", f"call_service {service}: {reason}", mid)
+        reply: dict[str, Any] = {"op": "service_response", "service": service,
+                                 "values": reason, "result": False}
+        if mid is not None:
+            reply["id"] = mid
+        self.send(reply)
+
+    async def _call_service(self, service: str, given: str, mid: Any,
+                            frame: dict[str, Any]) -> None:
+        args = frame.get("args") or {}
+        try:
+            if Rosapi.handles(service):
+                if not isinstance(args, dict):
+                    raise OpError("rosapi services take an object of named args")
+                values = await asyncio.to_thread(self.bridge.rosapi.call, service, args)
+            else:
+                values = await self._call_zenros(service, args, frame)
+        except (OpError, BridgeError, RosapiError, ZenrosError, ValueError, TypeError) as exc:
+            self._service_failed(given, mid, str(exc) if not isinstance(exc, ServiceError)
+                                 else exc.reason)
+            return
+        reply: dict[str, Any] = {"op": "service_response", "service": given, "values": values,
+                                 "result": True}
+        if mid is not None:
+            reply["id"] = mid
+        self.send(reply, frame_int(frame, "fragment_size"))
+
+    async def _call_zenros(self, service: str, args: Any, frame: dict[str, Any]) -> Any:
+        type_name = self.bridge.service_type_of(service)
+        if type_name is None:
+            raise OpError(f"Service {service} does not exist")
+        try:
+            srv_type = lookup_service(type_name)
+        except UnknownTypeError as exc:
+            raise OpError(str(exc)) from None
+        request = message_from_json(request_args(args, srv_type.Request), srv_type.Request)
+        timeout = frame.get("timeout")
+        if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or timeout <= 0:
+            timeout = DEFAULT_SERVICE_TIMEOUT
+        try:
+            response = await self.bridge.client(srv_type, service).call_async(request, timeout)
+        except ZenrosTimeout:
+            raise OpError(f"Service {service} timed out after {timeout:g} s") from None
+        return to_json(response)
+
+
+    def op_advertise_service(self, frame: dict[str, Any]) -> None:
+        service = frame_name(frame, "service")
+        type_name = frame.get("type")
+        if not isinstance(type_name, str) or not type_name:
+            raise OpError("Expected a key 'type' with a non-empty string in message")
+        try:
+            srv_type = lookup_service(type_name)
+        except UnknownTypeError as exc:
+            raise OpError(str(exc)) from None
+        old = self.services.get(service)
+        if old is not None:
+            if old.srv_type is srv_type:
+                return  # a replay after reconnect
+            self._stop_service(service)
+        self.services[service] = self.bridge.serve(srv_type, service,
+                                                   self._forwarder(service, srv_type))
+
+    def _forwarder(self, service: str, srv_type: ServiceType) -> Callable[..., Any]:
+        loop = self.bridge.loop
+
+        async def forward(request: Message) -> Message:  # on the node's executor loop
+            cid = f"service_request:{service}:{next(self._request_ids)}"
+            fut: concurrent.futures.Future[Any] = concurrent.futures.Future()
+            self.pending[cid] = (fut, service)
+            loop.call_soon_threadsafe(self.send, {"op": "call_service", "id": cid,
+                                                  "service": service, "args": to_json(request)})
+            try:
+                values = await asyncio.wait_for(asyncio.wrap_future(fut), CLIENT_SERVICE_TIMEOUT)
+            except TimeoutError:
+                raise ServiceError(service, f"the rosbridge client did not answer within "
+                                   f"{CLIENT_SERVICE_TIMEOUT:g} s") from None
+            finally:
+                self.pending.pop(cid, None)
+            return message_from_json(values, srv_type.Response)
+
+        return forward
+
+    def op_service_response(self, frame: dict[str, Any]) -> None:
+        mid = frame.get("id")
+        entry = self.pending.get(mid) if isinstance(mid, str) else None
+        if entry is None:
+            raise OpError(f"no pending service call with id {mid!r}")
+        fut, service = entry
+        if fut.done():
+            return
+        if frame.get("result", True) is False:
+            values = frame.get("values")
+            fut.set_exception(ServiceError(service, values if isinstance(values, str)
+                                           else "the rosbridge client's handler failed"))
+        else:
+            fut.set_result(frame.get("values") or {})
+
+    def op_unadvertise_service(self, frame: dict[str, Any]) -> None:
+        self._stop_service(frame_name(frame, "service"))
+
+    def _stop_service(self, service: str) -> None:
+        srv = self.services.pop(service, None)
+        if srv is None:
+            return
+        self.bridge.release(srv)
+        for cid, (fut, name) in list(self.pending.items()):
+            if name == service and not fut.done():
+                fut.set_exception(ServiceError(service, "the service was unadvertised"))
+                self.pending.pop(cid, None)
+

@@ -1,0 +1,102 @@
+"""`TopicOps`: the rosbridge topic ops (advertise, publish, subscribe and their reverses)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from .convert import message_from_json
+from .frames import OpError, SubOptions, frame_int, frame_name
+
+if TYPE_CHECKING:
+    from .bridge import Bridge
+    from .outbox import Outbox
+
+__all__ = ["TopicOps"]
+
+
+class TopicOps:
+    """Mixed into `ClientProtocol`: one client's advertisements and subscriptions."""
+
+    bridge: Bridge
+    outbox: Outbox
+    advertised: set[str]
+    subs: dict[str, dict[Any, SubOptions]]
+
+    def op_advertise(self, frame: dict[str, Any]) -> None:
+        topic = frame_name(frame, "topic")
+        type_name = frame.get("type")
+        if not isinstance(type_name, str) or not type_name:
+            raise OpError("Expected a key 'type' with a non-empty string in message")
+        msg_type = self.bridge.topic_type(topic, type_name)
+        if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
+            return  # a replay after reconnect, or a second advertise: nothing to do
+        self.bridge.advertise(topic, msg_type, self, bool(frame.get("latch", False)),
+                              frame_int(frame, "queue_size", 100))
+        self.advertised.add(topic)
+
+    def op_unadvertise(self, frame: dict[str, Any]) -> None:
+        topic = frame_name(frame, "topic")
+        if topic in self.advertised:
+            self.advertised.discard(topic)
+            self.bridge.unadvertise(topic, self)
+
+    def op_publish(self, frame: dict[str, Any]) -> None:
+        topic = frame_name(frame, "topic")
+        if topic not in self.advertised:
+            entry = self.bridge.publishers.get(topic)
+            known = self.bridge.node.graph.topics().get(topic)
+            if entry is None and not known:
+                raise OpError(f"Cannot infer topic type for topic {topic} as it is not yet "
+                              "advertised")
+            msg_type = entry[0].msg_type if entry else self.bridge.topic_type(topic, None)
+            self.bridge.advertise(topic, msg_type, self, bool(frame.get("latch", False)), 100)
+            self.advertised.add(topic)
+        pub = self.bridge.publishers[topic][0]
+        msg = message_from_json(frame.get("msg"), pub.msg_type, self.bridge.node.now())
+        pub.publish(msg)
+
+    def op_subscribe(self, frame: dict[str, Any]) -> None:
+        topic = frame_name(frame, "topic")
+        type_name = frame.get("type")
+        if type_name is not None and not isinstance(type_name, str):
+            raise OpError("Expected 'type' to be a string")
+        opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
+                          queue_length=frame_int(frame, "queue_length"),
+                          fragment_size=frame_int(frame, "fragment_size"))
+        if topic not in self.subs:
+            msg_type = self.bridge.topic_type(topic, type_name or None)
+            self.bridge.attach(topic, msg_type, self)
+            self.subs[topic] = {}
+        elif type_name:
+            feed = self.bridge.feeds[topic]
+            if self.bridge.topic_type(topic, type_name) is not feed.msg_type:
+                raise OpError(f"{topic} is already subscribed with type {feed.type_name}")
+        self.subs[topic][frame.get("id")] = opts
+        self._configure(topic)
+
+    def _configure(self, topic: str) -> None:
+        opts = list(self.subs[topic].values())
+        fragments = [o.fragment_size for o in opts if o.fragment_size > 0]
+        self.outbox.configure(topic, min(o.throttle_rate for o in opts),
+                              max(o.queue_length for o in opts),
+                              min(fragments) if fragments else 0)
+
+    def op_unsubscribe(self, frame: dict[str, Any]) -> None:
+        topic = frame_name(frame, "topic")
+        ids = self.subs.get(topic)
+        if ids is None:
+            return
+        mid = frame.get("id")
+        if mid is not None and mid in ids and len(ids) > 1:
+            del ids[mid]
+            self._configure(topic)
+            return
+        if mid is not None and mid not in ids:
+            return
+        self._drop_subscription(topic)
+
+    def _drop_subscription(self, topic: str) -> None:
+        self.subs.pop(topic, None)
+        self.outbox.remove(topic)
+        self.bridge.detach(topic, self)
+
