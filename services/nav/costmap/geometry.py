@@ -9,6 +9,7 @@ point is its centre. The origin's yaw is not supported (as most of Nav2 ignores 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,6 +61,7 @@ class Bounds:
 
 
 EMPTY = Bounds(0, 0, 0, 0)
+_FAR = float(1 << 40)  # cells: farther than any grid, small enough for int64
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,9 +123,39 @@ class GridGeometry:
         """An (N, 2) array of world points as (N, 2) int64 cells (unclipped)."""
         p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         out = np.empty(p.shape, dtype=np.int64)
-        out[:, 0] = np.floor((p[:, 0] - self.origin_x) / self.resolution)
-        out[:, 1] = np.floor((p[:, 1] - self.origin_y) / self.resolution)
+        # far-away points are clipped first so that the cast cannot overflow
+        out[:, 0] = np.clip(np.floor((p[:, 0] - self.origin_x) / self.resolution), -_FAR, _FAR)
+        out[:, 1] = np.clip(np.floor((p[:, 1] - self.origin_y) / self.resolution), -_FAR, _FAR)
         return out
+
+    def clip_segment(
+        self, a: Sequence[float], b: Sequence[float], margin: float = 1.0
+    ) -> tuple[tuple[float, float], tuple[float, float]] | None:
+        """The part of the segment a→b within the grid grown by ``margin`` cells, or None
+        (Liang–Barsky)."""
+        m = margin * self.resolution
+        lo = (self.origin_x - m, self.origin_y - m)
+        hi = (self.origin_x + self.width * self.resolution + m,
+              self.origin_y + self.height * self.resolution + m)
+        t0, t1 = 0.0, 1.0
+        for axis in (0, 1):
+            d = b[axis] - a[axis]
+            for p, q in ((-d, a[axis] - lo[axis]), (d, hi[axis] - a[axis])):
+                if p == 0:
+                    if q < 0:
+                        return None
+                    continue
+                t = q / p
+                if p < 0:
+                    t0 = max(t0, t)
+                else:
+                    t1 = min(t1, t)
+        if t0 > t1:
+            return None
+        return (
+            (a[0] + t0 * (b[0] - a[0]), a[1] + t0 * (b[1] - a[1])),
+            (a[0] + t1 * (b[0] - a[0]), a[1] + t1 * (b[1] - a[1])),
+        )
 
     def cell_distance(self, metres: float) -> int:
         """Nav2's ``cellDistance``: ``ceil(metres / resolution)``, at least 0."""

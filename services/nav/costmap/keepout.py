@@ -43,7 +43,12 @@ def check_shape(points: Sequence[Sequence[float]], kind: str, minimum: int) -> n
 def _segment_cells(
     geo: GridGeometry, a: np.ndarray, b: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Every cell the segment a→b touches (supercover), possibly outside the grid."""
+    """Every cell the segment a→b touches (supercover), possibly outside the grid (the
+    segment is first clipped to the grid and a one-cell margin)."""
+    clipped = geo.clip_segment((float(a[0]), float(a[1])), (float(b[0]), float(b[1])))
+    if clipped is None:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    a, b = np.asarray(clipped[0]), np.asarray(clipped[1])
     res = geo.resolution
     fx0, fy0 = (a[0] - geo.origin_x) / res, (a[1] - geo.origin_y) / res
     fx1, fy1 = (b[0] - geo.origin_x) / res, (b[1] - geo.origin_y) / res

@@ -56,14 +56,38 @@ def beam_endpoints(
     return r, np.cos(ang), np.sin(ang)
 
 
+CHUNK = 1 << 20
+"""Cells walked per batch of beams (bounds the temporary arrays)."""
+
+
 def raytrace_cells(
     geo: GridGeometry, x0: float, y0: float, x1: np.ndarray, y1: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The cells (mx, my) traversed from (x0, y0) to each (x1, y1), excluding each end
-    cell, clipped to the grid: a DDA stepping one cell along the major axis (Bresenham's
-    cells), vectorised over all beams."""
+    """The cells (mx, my) traversed from (x0, y0), a point inside the grid, to each
+    (x1, y1), excluding each end cell, clipped to the grid: a DDA stepping one cell along
+    the major axis (Bresenham's cells), vectorised over beams (in batches)."""
     if x1.size == 0:
         return np.empty(0, np.int64), np.empty(0, np.int64)
+    # no ray needs to go farther than the grid's farthest corner (plus a cell)
+    corners_x = (geo.origin_x, geo.origin_x + geo.width * geo.resolution)
+    corners_y = (geo.origin_y, geo.origin_y + geo.height * geo.resolution)
+    reach = max(math.hypot(cx - x0, cy - y0) for cx in corners_x for cy in corners_y)
+    reach += 2 * geo.resolution
+    dx, dy = x1 - x0, y1 - y0
+    length = np.hypot(dx, dy)
+    scale = np.where(length > reach, reach / np.maximum(length, 1e-300), 1.0)
+    x1, y1 = x0 + dx * scale, y0 + dy * scale
+    steps = reach / geo.resolution + 2
+    per = max(1, int(CHUNK // steps))
+    if x1.size > per:
+        parts = [_walk(geo, x0, y0, x1[i:i + per], y1[i:i + per]) for i in range(0, x1.size, per)]
+        return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+    return _walk(geo, x0, y0, x1, y1)
+
+
+def _walk(
+    geo: GridGeometry, x0: float, y0: float, x1: np.ndarray, y1: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     res = geo.resolution
     fx0, fy0 = (x0 - geo.origin_x) / res, (y0 - geo.origin_y) / res
     fx1, fy1 = (x1 - geo.origin_x) / res, (y1 - geo.origin_y) / res
@@ -109,7 +133,11 @@ def update_layer(
         clear_r = np.where(np.isposinf(r), scan.range_max, clear_r)
     ok = np.isfinite(clear_r) & (clear_r >= params.raytrace_min_range)
     clear_r = np.minimum(clear_r[ok], params.raytrace_max_range)
-    cmx, cmy = raytrace_cells(geo, x0, y0, x0 + clear_r * c[ok], y0 + clear_r * s[ok])
+    if geo.world_to_map(x0, y0) is None:
+        # Nav2: "sensor origin is out of map bounds ... the costmap cannot raytrace for it"
+        cmx = cmy = np.empty(0, np.int64)
+    else:
+        cmx, cmy = raytrace_cells(geo, x0, y0, x0 + clear_r * c[ok], y0 + clear_r * s[ok])
     # marking
     hit = valid & (r >= params.obstacle_min_range) & (r < params.obstacle_max_range)
     cells = geo.world_to_cells(np.stack([x0 + r[hit] * c[hit], y0 + r[hit] * s[hit]], axis=1))

@@ -136,3 +136,9 @@ def test_planner_goes_around_a_wall_with_a_gap() -> None:
     mask = cm.keepout_mask
     assert not mask[res.cells[:, 1], res.cells[:, 0]].any()
     assert res.cells[:, 1].max() >= 80
+
+
+def test_far_away_coordinates_are_clipped_not_walked() -> None:
+    cm = open_map()
+    cm.set_keepout(walls=[[(-1e12, 2.5), (1e12, 2.5)], [(1e9, 1e9), (2e9, 2e9)]])
+    assert np.all(cm.costs[50, :] == 254) and int(cm.keepout_mask.sum()) == 100

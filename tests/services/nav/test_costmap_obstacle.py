@@ -153,3 +153,24 @@ def test_raytrace_cells_are_8_connected_and_exclude_end() -> None:
     assert len(cells) == 10
     for (x0, y0), (x1, y1) in itertools.pairwise(cells):
         assert max(abs(x1 - x0), abs(y1 - y0)) == 1
+
+
+def test_sensor_outside_the_map_marks_but_does_not_clear() -> None:
+    cm = empty()
+    cm.mark([(0.5, 2.5)])
+    ranges = np.full(360, np.inf, np.float32)
+    ranges[180] = 2.0  # angle 0: from (-1.0, 2.5) to (1.0, 2.5), through the marked cell
+    cm.update_from_scan(ring_scan(ranges.tolist()), (-1.0, 2.5, 0.0))
+    assert cm.cost(*cell_of(cm, 0.5, 2.5)) == 254  # Nav2 cannot raytrace from off the map
+    assert cm.cost(*cell_of(cm, 1.0, 2.5)) == 254  # the hit is marked
+
+
+def test_huge_ranges_and_many_beams_stay_bounded() -> None:
+    p = NO_INFLATION.with_(obstacle=ObstacleParams(obstacle_max_range=math.inf,
+                                                   raytrace_max_range=math.inf))
+    cm = empty(p)
+    cm.mark([(4.9, 2.5)])
+    scan = LaserScan(angle_min=0.0, angle_increment=2 * math.pi / 20000, range_min=0.0,
+                     range_max=1e12, ranges=np.full(20000, 1e9, np.float32))
+    cm.update_from_scan(scan, (2.5, 2.5, 0.0))
+    assert int((cm.costs == 254).sum()) == 0  # every beam cleared across the whole map
