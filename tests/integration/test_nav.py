@@ -307,3 +307,42 @@ def test_patrol_loops_over_nav_points(rig: Rig) -> None:
     assert out.result.loops_completed == 2 and out.result.points_visited == 4
 
 
+
+
+def test_a_new_goal_preempts_and_bad_goals_are_rejected(rig: Rig) -> None:
+    first = rig.navigate.send_goal_async(rig.goal(20.0, 0.0))
+    assert first.wait_accepted(10)
+    assert wait_for(lambda: rig.track.poses and rig.track.last[0] > 1.0, 20)
+    second = rig.navigate.send_goal_async(rig.goal(3.0, 3.0, math.pi / 2))
+    old = first.result(10)
+    assert old.status is GoalStatus.ABORTED and "preempted" in old.result.error_msg
+    out = second.result(40)
+    assert out.status is GoalStatus.SUCCEEDED, out.result
+    assert math.hypot(rig.track.last[0] - 3.0, rig.track.last[1] - 3.0) <= 0.17
+    # a goal of another nav action takes over too
+    moving = rig.navigate.send_goal_async(rig.goal(20.0, 0.0))
+    assert moving.wait_accepted(10)
+    plan = ComputePathToPoseGoal(goal=pose_stamped(Pose2(5.0, 0.0), Time()))
+    assert rig.compute.send_goal(plan, timeout=10).status is GoalStatus.SUCCEEDED
+    assert moving.status is not GoalStatus.ABORTED  # planning alone drives nothing
+    undock = rig.undock.send_goal_async(UndockRobotGoal())
+    assert moving.result(10).status is GoalStatus.ABORTED
+    assert undock.result(20).status is GoalStatus.SUCCEEDED
+    bad = rig.goal(math.nan, 0.0)
+    assert not rig.navigate.send_goal_async(bad).wait_accepted(10)
+    framed = rig.goal(1.0, 0.0)
+    framed.pose.header.frame_id = "base_footprint"
+    assert not rig.navigate.send_goal_async(framed).wait_accepted(10)
+    assert not rig.through.send_goal_async(NavigateThroughPosesGoal()).wait_accepted(10)
+
+
+def test_low_battery_sends_the_idle_robot_to_charge(rig: Rig) -> None:
+    rig.reset(19.0, -4.0, 0.0)
+    nav = rig.nav
+    nav.set_parameter("go_charge_percentage", 0.99)
+    nav.set_parameter("auto_charge", True)
+    try:
+        assert wait_for(lambda: nav.core.docked and nav.core.charging, 40)
+    finally:
+        nav.set_parameter("auto_charge", False)
+        nav.set_parameter("go_charge_percentage", 0.2)
