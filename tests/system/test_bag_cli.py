@@ -1,0 +1,142 @@
+"""`zenros bag` as real processes: record, kill -9 and recover, info, play, launch node."""
+
+from __future__ import annotations
+
+import json
+import re
+import signal
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from zenros.context import Context
+from zenros.testing import Proc, wait_for
+
+pytestmark = pytest.mark.system
+
+
+def zenros(*args: str, timeout: float = 30) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "zenros.cli", *args], capture_output=True,
+                          text=True, timeout=timeout, check=False)
+
+
+@pytest.fixture
+def talker(router: str, prefix: str) -> Iterator[Proc]:
+    p = Proc([sys.executable, "-m", "zenros.examples.talker", "-e", router, "--prefix", prefix,
+              "-p", "rate:=200.0"])
+    try:
+        assert p.wait_line("started", 15), p.output
+        yield p
+    finally:
+        p.stop()
+
+
+def numbers(bag: Path) -> list[int]:
+    from zenros.bag import bag_files, iter_messages
+
+    return [int(json.loads(m.data)["data"].split()[-1]) for m in iter_messages(bag_files(bag))]
+
+
+def record(router: str, prefix: str, *args: str) -> Proc:
+    p = Proc([sys.executable, "-m", "zenros.cli", "bag", "record", *args, "-e", router,
+              "--prefix", prefix])
+    assert p.wait_line("Subscribed to topic '/chatter'", 15), p.output
+    return p
+
+
+def test_kill_9_then_recover(router: str, prefix: str, talker: Proc, tmp_path: Path) -> None:
+    bag = tmp_path / "crash"
+    rec = record(router, prefix, "/chatter", "-o", str(bag), "--flush-interval", "0.1")
+    try:
+        data = bag / "crash_0.mcap"
+        # a few flushed chunks on disk (each 0.1 s of messages)
+        assert wait_for(lambda: data.exists() and data.stat().st_size > 3000, 15)
+        rec.popen.send_signal(signal.SIGKILL)
+        rec.wait(10)
+    finally:
+        rec.stop()
+    r = zenros("bag", "info", str(bag))
+    assert r.returncode == 1 and "zenros bag recover" in r.stderr and "Traceback" not in r.stderr
+    r = zenros("bag", "recover", str(bag))
+    assert r.returncode == 0, r.stderr
+    n = int(re.search(r"recovered (\d+) messages", r.stdout).group(1))  # type: ignore[union-attr]
+    assert n > 0
+    assert (bag / "crash_0.mcap.damaged").exists()
+    r = zenros("bag", "info", str(bag))
+    assert r.returncode == 0 and f"Messages:          {n}" in r.stdout
+    got = numbers(bag)
+    assert got == list(range(got[0], got[0] + n))  # no gaps up to the last flushed chunk
+
+
+def test_record_info_play(router: str, prefix: str, talker: Proc, tmp_path: Path) -> None:
+    bag = tmp_path / "run"
+    rec = record(router, prefix, "-a", "-o", str(bag), "--exclude", "^/rosout$",
+                 "--compression", "lz4")
+    from zenros.session import SessionOptions
+
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    try:
+        assert ctx.graph.wait_for(lambda: any(
+            t.name == "/chatter" and t.node.startswith("/zenros_bag_recorder")
+            for t in ctx.graph.subscribers("/chatter")), 10)
+        assert wait_for(lambda: (bag / "run_0.mcap").exists()
+                        and (bag / "run_0.mcap").stat().st_size > 2000, 15)
+    finally:
+        assert rec.stop() == 0, rec.output
+        ctx.close()
+    assert re.search(r"Recorded \d+ messages on 1 topics", rec.output), rec.output
+    r = zenros("bag", "info", str(bag))
+    assert r.returncode == 0, r.stderr
+    assert "Compression:       lz4" in r.stdout
+    assert re.search(r"Topic: /chatter \| Type: std_msgs/String \| Count: \d+", r.stdout)
+    recorded = numbers(bag)
+    talker.stop()
+    from zenros.msgs.std_msgs import String
+    from zenros.node import Node
+    from zenros.testing import Collector
+
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("bag_listener", context=ctx)
+    got: Collector[String] = Collector()
+    try:
+        node.create_subscription(String, "/chatter", got)
+        r = zenros("bag", "play", str(bag), "--rate", "4", "-e", router, "--prefix", prefix)
+        assert r.returncode == 0, r.stdout + r.stderr
+        assert f"Played {len(recorded)} messages" in r.stdout
+        assert got.wait(len(recorded), 10), len(got)
+    finally:
+        node.close()
+        ctx.close()
+    assert [int(m.data.split()[-1]) for m in got.items] == recorded
+
+
+def test_launch_node_form(router: str, prefix: str, talker: Proc, tmp_path: Path) -> None:
+    """`python -m zenros.bag` takes the node flags a launch file adds before the verb."""
+    bag = tmp_path / "launched"
+    p = Proc([sys.executable, "-m", "zenros.bag", "--name", "recorder", "--ns", "/tools",
+              "-e", router, "--prefix", prefix, "record", "/chatter", "-o", str(bag)])
+    from zenros.session import SessionOptions
+
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    try:
+        assert ctx.graph.wait_for_node("/tools/recorder", 15), p.output
+        assert wait_for(lambda: (bag / "launched_0.mcap").exists(), 10)
+    finally:
+        ctx.close()
+        assert p.stop() == 0, p.output
+    assert numbers(bag)
+
+
+def test_bad_arguments(tmp_path: Path) -> None:
+    r = zenros("bag", "record")
+    assert r.returncode == 1 and "give topics to record, or -a" in r.stderr
+    r = zenros("bag", "play", str(tmp_path / "none"))
+    assert r.returncode == 1 and "no bag" in r.stderr
+    (tmp_path / "taken").mkdir()
+    (tmp_path / "taken" / "x").write_text("x")
+    r = zenros("bag", "record", "-a", "-o", str(tmp_path / "taken"))
+    assert r.returncode == 1 and "already exists" in r.stderr
+    r = zenros("bag", "record", "-a", "--compression", "gzip")
+    assert r.returncode == 2
