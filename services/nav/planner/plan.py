@@ -10,6 +10,7 @@ collision) are refused; unknown cells (255) count as cost 252 when ``allow_unkno
 from __future__ import annotations
 
 import math
+import operator
 import time
 from dataclasses import dataclass, field
 
@@ -136,7 +137,9 @@ def path_length(cells: np.ndarray) -> float:
 
 def _check_cell(costs: np.ndarray, cell: Cell, what: str) -> tuple[int, int]:
     try:
-        mx, my = int(cell[0]), int(cell[1])
+        if len(cell) != 2:
+            raise ValueError
+        mx, my = operator.index(cell[0]), operator.index(cell[1])
     except (TypeError, ValueError, IndexError):
         raise ValueError(f"{what} must be an (mx, my) cell, got {cell!r}") from None
     h, w = costs.shape
@@ -182,7 +185,12 @@ def plan(
         ValueError: costs that are not a 2-D grid, or a start/goal that is not a cell.
     """
     t0 = time.perf_counter()
-    grid = np.ascontiguousarray(costs, dtype=np.uint8)
+    raw = np.asarray(costs)
+    if raw.dtype != np.uint8 and (
+        raw.dtype.kind not in "iu" or (raw.size and (raw.min() < 0 or raw.max() > 255))
+    ):
+        raise ValueError(f"costs must be cost bytes (uint8 0..255), got {raw.dtype}")
+    grid = np.ascontiguousarray(raw, dtype=np.uint8)
     if grid.ndim != 2 or grid.size == 0:
         raise ValueError(f"costs must be a non-empty 2-D grid, got shape {grid.shape}")
     h, w = grid.shape

@@ -182,8 +182,18 @@ def test_errors_carry_compute_path_to_pose_codes(impl: bool) -> None:
     assert nv.value.code == 208
     with pytest.raises(ValueError, match="cell"):
         plan(costs, ("a", 0), (3, 3), use_compiled=impl)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="cell"):
+        plan(costs, (1.5, 0), (3, 3), use_compiled=impl)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="cell"):
+        plan(costs, (1, 0, 2), (3, 3), use_compiled=impl)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="2-D"):
         plan(np.zeros(5, np.uint8), (0, 0), (1, 0), use_compiled=impl)
+    with pytest.raises(ValueError, match="cost bytes"):
+        plan(np.zeros((3, 3)), (0, 0), (1, 0), use_compiled=impl)
+    with pytest.raises(ValueError, match="cost bytes"):
+        plan(np.full((3, 3), 300), (0, 0), (1, 0), use_compiled=impl)
+    res = plan(np.zeros((3, 3), np.int64), (np.int64(0), 0), (2, 2), use_compiled=impl)
+    assert res.length == pytest.approx(2 * math.sqrt(2))
 
 
 def test_timeout_and_iteration_limit(impl: bool) -> None:
