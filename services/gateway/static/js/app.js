@@ -2,6 +2,7 @@
 
 import { MapView, yawOf } from "./map_view.js";
 import { Rosbridge } from "./rosbridge.js";
+import { TaskPanel } from "./tasks.js";
 import { Teleop } from "./teleop.js";
 
 const $ = (id) => document.getElementById(id);
@@ -46,7 +47,6 @@ class Dashboard {
     this.laser = { x: 0, y: 0, yaw: 0 };
     this.pose = null;
     this.points = [];
-    this.tasks = new Map();
     this.goal = null; // {id, index}
     this.estop = false;
     this.gotoMode = false;
@@ -55,6 +55,8 @@ class Dashboard {
     this.wantedPath = config.path;
     $("robot-name").textContent = config.title || (this.ns ? this.ns.slice(1) : "zenros robot");
     this.teleop = new Teleop($("pad"), (v, w) => this.drive(v, w));
+    this.taskPanel = new TaskPanel(this.ros, (call) => this.name(`tasks/${call}`), $("tasks"),
+                                   $("tasks-empty"), (text) => toast(text, true));
     this.wire();
     this.subscribe();
     this.ros.addEventListener("open", () => this.onOpen());
@@ -113,14 +115,15 @@ class Dashboard {
     ros.subscribe(this.name("chassis/state"), "zenros_msgs/ChassisState",
                   (m) => this.onChassis(m), { throttle_rate: 200, queue_length: 1 });
     ros.subscribe(this.name("nav/status"), "zenros_msgs/NavStatus", (m) => this.onNav(m));
-    ros.subscribe(this.name("tasks/status"), "zenros_msgs/TaskStatus", (m) => this.onTask(m));
+    ros.subscribe(this.name("tasks/status"), "zenros_msgs/TaskStatus",
+                  (m) => this.taskPanel.onStatus(m));
     ros.subscribe("/tf_static", "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
   }
 
   onOpen() {
     this.setLink(true);
     this.refreshMapData();
-    this.refreshTasks();
+    this.taskPanel.refresh();
   }
 
   setLink(up) {
@@ -332,88 +335,6 @@ class Dashboard {
     this.ros.publish(this.name("cmd_vel"), "geometry_msgs/Twist", {
       linear: { x: v, y: 0, z: 0 }, angular: { x: 0, y: 0, z: w },
     });
-  }
-
-  // -------------------------------------------------------------- tasks
-
-  async taskCall(name, id = "", body = "") {
-    const res = await this.ros.callService(this.name(`tasks/${name}`), { id, body });
-    if (!res.success) throw new Error(res.message || `tasks/${name} failed (${res.code})`);
-    return res.body ? JSON.parse(res.body) : null;
-  }
-
-  async refreshTasks() {
-    try {
-      const list = await this.taskCall("get");
-      this.tasks = new Map((Array.isArray(list) ? list : []).map((t) => [t.id, t]));
-    } catch (err) {
-      this.tasks = new Map();
-    }
-    this.renderTasks();
-  }
-
-  onTask(m) {
-    if (m.event === "deleted") {
-      this.tasks.delete(m.id);
-      this.renderTasks();
-      return;
-    }
-    let doc = null;
-    try {
-      doc = m.task ? JSON.parse(m.task) : null;
-    } catch (err) {
-      doc = null;
-    }
-    const prev = this.tasks.get(m.id) || {};
-    this.tasks.set(m.id, { ...prev, ...(doc || {}), id: m.id, name: m.name || prev.name,
-                           state: m.state, progress: m.progress });
-    this.renderTasks();
-  }
-
-  renderTasks() {
-    const list = $("tasks");
-    list.replaceChildren();
-    $("tasks-empty").hidden = this.tasks.size > 0;
-    for (const t of this.tasks.values()) {
-      const li = document.createElement("li");
-      li.dataset.id = t.id;
-      li.dataset.state = t.state;
-      const head = document.createElement("div");
-      head.className = "row";
-      const title = document.createElement("span");
-      title.className = "name";
-      title.textContent = t.name || t.id;
-      title.title = t.name || t.id;
-      const badge = document.createElement("span");
-      badge.className = `badge ${t.state}`;
-      badge.textContent = t.state;
-      head.append(title, badge);
-      const foot = document.createElement("div");
-      foot.className = "row";
-      const bar = document.createElement("div");
-      bar.className = "progress";
-      const fill = document.createElement("span");
-      const p = t.progress || 0;
-      fill.style.width = `${Math.round(Math.max(0, Math.min(1, p > 1 ? p / 100 : p)) * 100)}%`;
-      bar.append(fill);
-      foot.append(bar);
-      const buttons = t.state === "WORKING" ? [["pause", "Pause"], ["stop", "Stop"]]
-        : t.state === "PAUSED" ? [["resume", "Resume"], ["stop", "Stop"]]
-        : [["start", "Start"]];
-      for (const [call, label] of buttons) {
-        const b = document.createElement("button");
-        b.type = "button";
-        b.textContent = label;
-        b.dataset.call = call;
-        b.addEventListener("click", () => this.taskCall(call, t.id)
-          .then((doc) => { if (doc && doc.id) this.onTask({ ...doc, task: JSON.stringify(doc) }); })
-          .catch((err) => toast(err.message, true)));
-        foot.append(b);
-      }
-      li.classList.add("task");
-      li.append(head, foot);
-      list.append(li);
-    }
   }
 }
 
