@@ -8,6 +8,7 @@ dead-man speed command on ``cmd_vel`` and native commands on ``galileo/cmds``.
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any
 
@@ -16,9 +17,11 @@ from zenros.message import lookup_type
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoStatus
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav_msgs import Odometry
-from zenros.msgs.sensor_msgs import BatteryState
+from zenros.msgs.rcl_interfaces import Log
+from zenros.msgs.sensor_msgs import BatteryState, LaserScan
+from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.qos import QoSProfile, Reliability
+from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
 
 from .core import Core
 from .status import yaw_of
@@ -45,6 +48,11 @@ class RobotLink:
         node.create_subscription(BatteryState, "battery_state", self.on_battery, 10)
         node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self.on_pose, 10)
         node.create_subscription(Twist, "cmd_vel", self.on_cmd_vel, 10)
+        node.create_subscription(LaserScan, "scan", self.on_scan, _SENSOR)
+        node.create_subscription(Log, "/rosout", self.on_log, 100)
+        self.tts_pub = node.create_publisher(String, "tts", QOS_LATCHED)
+        self.seen: dict[str, float] = {}      # topic -> time.monotonic() of its last message
+        self.log: deque[str] = deque(maxlen=500)
         try:
             chassis_state: Any = lookup_type("zenros_msgs/ChassisState")
         except UnknownTypeError:
@@ -59,13 +67,29 @@ class RobotLink:
 
     # ------------------------------------------------------------------ in
 
+    def on_scan(self, msg: LaserScan) -> None:
+        self.seen["scan"] = time.monotonic()
+
+    def on_log(self, msg: Log) -> None:
+        level = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL"}.get(
+            msg.level, str(msg.level))
+        self.log.append(f"[{level}] [{msg.stamp.sec}.{msg.stamp.nanosec // 1_000_000:03d}] "
+                        f"[{msg.name}]: {msg.msg}")
+
+    def fresh(self, topic: str, within: float = 2.0) -> bool:
+        """Whether ``topic`` delivered a message in the last ``within`` seconds."""
+        at = self.seen.get(topic)
+        return at is not None and time.monotonic() - at <= within
+
     def on_odom(self, msg: Odometry) -> None:
+        self.seen["odom"] = time.monotonic()
         s = self.core.state
         s.speed_x = msg.twist.twist.linear.x
         s.speed_theta = msg.twist.twist.angular.z
         s.note_odom()
 
     def on_battery(self, msg: BatteryState) -> None:
+        self.seen["battery_state"] = time.monotonic()
         s = self.core.state
         s.voltage = msg.voltage
         pct = msg.percentage
@@ -75,6 +99,7 @@ class RobotLink:
             s.charging = True
 
     def on_chassis(self, msg: Any) -> None:
+        self.seen["chassis/state"] = time.monotonic()
         s = self.core.state
         s.charging = bool(getattr(msg, "charging", False))
         if not s.charging:

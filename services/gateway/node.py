@@ -12,6 +12,7 @@ import uvicorn
 from starlette.types import ASGIApp
 
 from zenros.node import Node
+from zenros.param_client import ParameterClient
 
 from .app import HttpApp, build_api
 from .config import default_config_path, load_config
@@ -25,6 +26,7 @@ from .native import NativeCommands
 from .serial_bridge import SerialBridge
 from .nav_link import NavLink
 from .navigator import Navigator
+from .rest_extras import add_extra_routes
 from .rest_nav import add_nav_routes
 from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
@@ -90,6 +92,7 @@ class GatewayNode(Node):
         self.runner = AsyncRunner()
         self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
         self.tasks = TasksLink(self)
+        self.hub = TopicHub(self)
         self.navigator = Navigator(self, self.core)
         self.core.nav = self.navigator
         self.nav_link = NavLink(self)
@@ -97,7 +100,9 @@ class GatewayNode(Node):
             lambda api: add_task_routes(api, self.tasks),
             lambda api: add_nav_routes(api, self.core, self.navigator, self.nav_link,
                                        self.tasks),
-            lambda api: add_record_routes(api, self.nav_link)])
+            lambda api: add_record_routes(api, self.nav_link),
+            lambda api: add_extra_routes(api, self.link, self.hub,
+                                         ParameterClient(self.context, node=self.fqn))])
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:
@@ -110,7 +115,6 @@ class GatewayNode(Node):
         self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
-        self.hub = TopicHub(self)
         self.ws_port = self.serve_asgi(ws_app(self.hub, self.core.tokens), host, ws_port,
                                        ws_ping_interval=5.0, ws_ping_timeout=10.0)
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)

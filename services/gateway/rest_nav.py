@@ -39,6 +39,11 @@ class StartQuery(msgspec.Struct, forbid_unknown_fields=True):
     level: int = 0
 
 
+class ReloadQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map: Name
+    path: OptName = ""
+
+
 class NamedMap(msgspec.Struct, forbid_unknown_fields=True):
     name: OptName = ""
 
@@ -136,6 +141,17 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         nav.stopped = False
         core.state.nav_open = True
         return {"result": True, "description": "navigation started"}
+
+    async def reload(call: Call) -> Any:
+        """Load ``map`` (when not loaded) and make ``path`` the current path."""
+        q: ReloadQuery = call.query
+        if q.map != await current_map():
+            res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+            if not res.success:
+                raise ApiError(400, res.message)
+        if q.path:
+            nav.path_name = q.path
+        return {"status": "ok", "map": q.map, "path": q.path}
 
     async def stop(call: Call) -> Any:
         """Stop navigation: cancel the goal; navStatus goes to 0."""
@@ -308,6 +324,7 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     result = {"result_style": True}
     api.add("GET", "/navigation/start", start, query=StartQuery, **result)
     api.add("GET", "/navigation/stop", stop, **result)
+    api.add("GET", "/navigation/reload", reload, query=ReloadQuery)
     api.add("GET", "/navigation/pose", pose)
     api.add("GET", "/navigation/current_path", current_path)
     api.add("GET", "/navigation/target_distance", target_distance)

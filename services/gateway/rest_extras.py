@@ -1,0 +1,111 @@
+"""REST extras the simulated robot honours truthfully: log, TTS as text, topic snapshots,
+self-test, ROS parameters (§3.1, §3.5, §3.7), and navigation reload (§6.1)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import Annotated, Any
+
+import msgspec
+
+from zenros.errors import (
+    InvalidParameterValueError, ParameterNotFoundError, ServiceError, ServiceUnavailableError,
+    ZenrosError, ZenrosTimeout,
+)
+from zenros.msgs.std_msgs import String
+from zenros.param_client import ParameterClient
+
+from .api import Api, ApiError, Call
+from .link import RobotLink
+from .topic_hub import Slot, TopicError, TopicHub
+
+__all__ = ["add_extra_routes"]
+
+TOPIC_WAIT = 3.0
+
+
+class TtsQuery(msgspec.Struct, forbid_unknown_fields=True):
+    text: Annotated[str, msgspec.Meta(min_length=1, max_length=2000)]
+
+
+class TopicQuery(msgspec.Struct, forbid_unknown_fields=True):
+    topic_name: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+
+
+class ParamQuery(msgspec.Struct, forbid_unknown_fields=True):
+    param: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+
+
+class ParamBody(msgspec.Struct, forbid_unknown_fields=True):
+    param: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+    value: Any
+
+
+async def _params(fn: Callable[[], Any]) -> Any:
+    try:
+        return await asyncio.to_thread(fn)
+    except ParameterNotFoundError as exc:
+        raise ApiError(404, str(exc)) from exc
+    except (ServiceUnavailableError, ZenrosTimeout) as exc:
+        raise ApiError(503, f"the parameter server (master) is not available: {exc}") from exc
+    except (InvalidParameterValueError, ServiceError, ValueError) as exc:
+        raise ApiError(400, str(exc)) from exc
+    except ZenrosError as exc:
+        raise ApiError(400, str(exc)) from exc
+
+
+def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: ParameterClient) -> None:
+    """Route the extra system operations."""
+
+    async def log(call: Call) -> Any:
+        """The recent system log (``/rosout``), oldest first."""
+        return {"log": "\n".join(link.log)}
+
+    async def tts(call: Call) -> Any:
+        """Speak ``text``: the simulated robot publishes it on ``tts`` (std_msgs/String)."""
+        link.tts_pub.publish(String(data=call.query.text))
+        return {"status": "ok"}
+
+    async def topic(call: Call) -> Any:
+        """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
+        try:
+            name = hub.resolve(call.query.topic_name)
+        except TopicError as exc:
+            raise ApiError(400, str(exc)) from exc
+        slot = Slot(asyncio.get_running_loop())
+        try:
+            hub.attach(name, slot)
+        except TopicError as exc:
+            raise ApiError(404, str(exc)) from exc
+        try:
+            frame = await asyncio.wait_for(slot.get(), TOPIC_WAIT)
+        except TimeoutError:
+            raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
+        finally:
+            hub.detach(name, slot)
+        return msgspec.Raw(frame.encode())
+
+    async def self_test(call: Call) -> Any:
+        """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
+        return {"motor_driver": link.fresh("odom"), "camera": False,
+                "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
+                "bluetooth": False, "battery": link.fresh("battery_state")}
+
+    async def get_param(call: Call) -> Any:
+        """A parameter (or a namespace as an object) from the parameter server."""
+        name = call.query.param
+        return {"value": await _params(lambda: params.get(name))}
+
+    async def put_param(call: Call) -> Any:
+        """Set a parameter; answers the value stored."""
+        b: ParamBody = call.body
+        await _params(lambda: params.set(b.param, b.value))
+        return {"value": b.value}
+
+    api.add("GET", "/system/log", log)
+    api.add("GET", "/system/tts", tts, query=TtsQuery)
+    api.add("GET", "/system/topic", topic, query=TopicQuery)
+    api.add("GET", "/system/self_test", self_test)
+    api.add("GET", "/system/ros_params", get_param, query=ParamQuery)
+    api.add("PUT", "/system/ros_params", put_param, body=ParamBody)
