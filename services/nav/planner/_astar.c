@@ -18,6 +18,10 @@
  * costs one cache line, and it is kept between searches (a generation counter replaces
  * clearing it).
  *
+ * A cell whose g improves while its entry still waits in a later bucket has that entry
+ * updated (in place, or swapped out of the unsorted bucket) instead of leaving a stale
+ * one behind: the live entries, hence the order, are those of the Python reference.
+ *
  * The open list: cells whose f equals the f last taken from the ordered part go on a
  * stack (each expansion pushes its own in descending (h, cell) order, so the one nearest
  * the goal is on top); the ordered part is a ring of buckets of width 2^BUCKET_SHIFT in
@@ -34,7 +38,7 @@
 #define CHECK_EVERY 1024
 #define BUCKET_SHIFT 18 /* a quarter of a cell at 2^20 per cell */
 
-enum { FOUND = 0, NO_PATH = 1, TIMEOUT = 2, LIMIT = 3, NOMEM = -1, RING = -2 };
+enum { FOUND = 0, NO_PATH = 1, TIMEOUT = 2, LIMIT = 3, NOMEM = -2, RING = -3 };
 
 typedef struct {
     int64_t f;
@@ -177,26 +181,28 @@ open_free(Open *o)
     o->nring = 0;
 }
 
-static int
+/* Adds an entry; returns its slot in a later (unsorted) bucket, -1 when it went into
+   the current heap, or an error (NOMEM, RING: both below -1). */
+static int64_t
 open_push(Open *o, int64_t f, uint64_t tie)
 {
     Entry e = {f, tie};
     int64_t b = f >> o->shift;
     if (o->count == 0)
         o->cur = b;
+    o->count++;
     if (b <= o->cur) {
         if (heap_push(&o->ring[o->cur & (int64_t)o->mask], e) < 0)
             return NOMEM;
-    } else {
-        if ((uint64_t)(b - o->cur) > o->mask)
-            return RING;
-        Heap *hp = &o->ring[b & (int64_t)o->mask];
-        if (reserve(hp) < 0)
-            return NOMEM;
-        hp->a[hp->n++] = e;
+        return -1;
     }
-    o->count++;
-    return 0;
+    if ((uint64_t)(b - o->cur) > o->mask)
+        return RING;
+    Heap *hp = &o->ring[b & (int64_t)o->mask];
+    if (reserve(hp) < 0)
+        return NOMEM;
+    hp->a[hp->n] = e;
+    return (int64_t)hp->n++;
 }
 
 static Entry
@@ -218,6 +224,9 @@ typedef struct {
     int64_t g;
     int32_t parent;
     uint32_t mark;
+    int32_t slot; /* where its entry sits in a later bucket (valid while that bucket is
+                     still ahead of the current one), or -1 */
+    int32_t pad;
 } CellState;
 
 typedef struct {
@@ -352,9 +361,10 @@ run(const Query *q, Workspace *ws, long long *expansions)
     cell[q->start].g = 0;
     cell[q->start].parent = -1;
     cell[q->start].mark = OPEN;
+    cell[q->start].slot = -1;
     int64_t h0 = octile(q->start % w, q->start / w, gx, gy, q->hs, q->hd);
-    if ((rc = open_push(open, h0, tie_key(h0, q->start))) < 0)
-        return rc;
+    if (open_push(open, h0, tie_key(h0, q->start)) < -1)
+        return NOMEM;
     int64_t cur_f = -1;
     while (ws->sn > 0 || open->count > 0) {
         int32_t cur;
@@ -407,11 +417,33 @@ run(const Query *q, Workspace *ws, long long *expansions)
             const int64_t ng = gc + step;
             if (mk == OPEN && ng >= cs->g)
                 continue;
+            const int64_t hn = octile(nx, ny, gx, gy, q->hs, q->hd);
+            const int64_t fn = ng + hn;
+            if (mk == OPEN && cs->slot >= 0) {
+                /* a better g for a cell whose entry waits in a later bucket: update
+                   that entry instead of leaving it behind as a stale one */
+                const int64_t b_old = (cs->g + hn) >> open->shift;
+                if (b_old > open->cur) {
+                    Heap *bk = &open->ring[b_old & (int64_t)open->mask];
+                    if (fn != cur_f && (fn >> open->shift) == b_old) {
+                        bk->a[cs->slot].f = fn; /* same bucket: in place */
+                        cs->g = ng;
+                        cs->parent = cur;
+                        continue;
+                    }
+                    Entry last = bk->a[--bk->n]; /* otherwise take it out */
+                    if ((size_t)cs->slot != bk->n) {
+                        bk->a[cs->slot] = last;
+                        cell[(int32_t)(uint32_t)(last.tie & 0xffffffffu)].slot = cs->slot;
+                    }
+                    open->count--;
+                }
+            }
             cs->g = ng;
             cs->parent = cur;
             cs->mark = OPEN;
-            const int64_t hn = octile(nx, ny, gx, gy, q->hs, q->hd);
-            if (ng + hn == cur_f) {
+            cs->slot = -1;
+            if (fn == cur_f) {
                 int j = ns++; /* keep same_* in descending (h, cell) order */
                 while (j > 0 && (same_h[j - 1] < hn || (same_h[j - 1] == hn && same_i[j - 1] < nb))) {
                     same_h[j] = same_h[j - 1];
@@ -420,8 +452,11 @@ run(const Query *q, Workspace *ws, long long *expansions)
                 }
                 same_h[j] = hn;
                 same_i[j] = nb;
-            } else if ((rc = open_push(open, ng + hn, tie_key(hn, nb))) < 0) {
-                return rc;
+            } else {
+                const int64_t slot = open_push(open, fn, tie_key(hn, nb));
+                if (slot < -1)
+                    return (int)slot;
+                cs->slot = (int32_t)slot;
             }
         }
         if (ns > 0 && (rc = push_stack(ws, same_i, ns)) < 0)
