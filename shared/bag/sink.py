@@ -72,7 +72,7 @@ class BagSink:
         self._file_start = -1
         self._error: BaseException | None = None
         directory.mkdir(parents=True, exist_ok=True)
-        self._file = self._open_file()
+        self._file: McapFile | None = self._open_file()
         self._stop = threading.Event()
         self._writer = threading.Thread(target=self._write_loop, name="zenros-bag-writer",
                                         daemon=True)
@@ -144,10 +144,12 @@ class BagSink:
             while True:
                 kind, item = self._queue.get()
                 if kind == "stop":
-                    self._file.finish()
+                    if self._file is not None:
+                        self._file.finish()
                     return
                 if kind == "channel":
-                    self._declare(self._file, item)
+                    if self._file is not None:  # else the next file declares it
+                        self._declare(self._file, item)
                     continue
                 self._write_chunk(item)
         except BaseException as exc:  # noqa: BLE001 (reported by close(); the disk may be full)
@@ -157,6 +159,10 @@ class BagSink:
                     return
 
     def _write_chunk(self, chunk: ChunkBuffer) -> None:
+        if self._file is None:  # split: the next file opens with its first chunk
+            self._file = self._open_file()
+            for info in list(self.channels.values()):
+                self._declare(self._file, info)
         f = self._file
         first = min(idx[0] for idx in chunk.index.values())
         if self._file_start < 0:
@@ -169,9 +175,7 @@ class BagSink:
         if ((split.max_bytes and f.size >= split.max_bytes)
                 or (split.max_seconds and last - self._file_start >= split.max_seconds * 1e9)):
             f.finish()
-            self._file = self._open_file()
-            for info in list(self.channels.values()):
-                self._declare(self._file, info)
+            self._file = None
 
     def _tick_loop(self) -> None:
         while not self._stop.wait(self.flush_interval):

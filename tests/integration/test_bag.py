@@ -158,7 +158,7 @@ def test_split_and_compression_round_trip(ctx_pair: list[Context], publisher: No
     bag = tmp_path / "split"
     rec = Recorder(ctx_pair[1], RecordOptions(
         bag, topics=["/scan"], compression=compression, chunk_size=16_000,
-        split=SplitPolicy(max_bytes=40_000)))
+        split=SplitPolicy(max_bytes=25_000)))
     n = 60
     try:
         pub = publisher.create_publisher(LaserScan, "/scan")
