@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import LaunchError, StartupError
 from .loader import declared_args, load_launch
-from .model import LaunchDescription
+from .model import LaunchDescription, ProcessSpec
 from .supervisor import EXIT_STARTUP, BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
 
 __all__ = ["LaunchHooks", "LaunchOptions", "add_arguments", "default_data_dir", "main", "run"]
@@ -48,12 +48,14 @@ class LaunchHooks:
             to run (e.g. with the router endpoint added to its environment).
         wait_ready: called after every start; True once the node is up (its liveliness).
         on_event: sees every supervisor `Event`.
+        stop_last: True for processes stopped after all the others (e.g. master).
     """
 
     startup: Callable[[LaunchOptions], AbstractAsyncContextManager[object]] | None = None
     before_start: BeforeStart | None = None
     wait_ready: WaitReady | None = None
     on_event: Callable[[Event], None] | None = None
+    stop_last: Callable[[ProcessSpec], bool] | None = None
 
 
 def default_data_dir() -> Path:
@@ -146,6 +148,7 @@ async def run(description: LaunchDescription, options: LaunchOptions, hooks: Lau
             before_start=hooks.before_start,
             wait_ready=hooks.wait_ready,
             on_event=hooks.on_event,
+            stop_last=hooks.stop_last,
         ),
     )
     startup = hooks.startup(options) if hooks.startup else _nothing()

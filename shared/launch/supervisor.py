@@ -62,6 +62,9 @@ class SupervisorConfig:
         wait_ready: hook run after every start; True when the process is ready (e.g. its
             node's liveliness token appeared). A False is reported, not fatal.
         on_event: called with every `Event` (tests wait on these).
+        stop_last: processes for which it is True get their SIGINT only after the others
+            have ended (or ``sigterm_timeout`` passed): the services the rest depend on, so
+            an orderly stop does not make every node report them gone.
     """
 
     log_dir: Path
@@ -73,6 +76,7 @@ class SupervisorConfig:
     before_start: BeforeStart | None = None
     wait_ready: WaitReady | None = None
     on_event: Callable[[Event], None] | None = None
+    stop_last: Callable[[ProcessSpec], bool] | None = None
 
 
 class Supervisor:
@@ -242,6 +246,7 @@ class Supervisor:
 
     async def _shutdown(self) -> None:
         self._stopping.set()
+        await self._stop_first_wave()
         steps = (
             (signal.SIGINT, self.config.sigterm_timeout),
             (signal.SIGTERM, self.config.sigkill_timeout),
@@ -252,6 +257,9 @@ class Supervisor:
             if not alive:
                 break
             for state in alive:
+                if sig == signal.SIGINT and state.stop_signal == signal.SIGINT:
+                    continue  # already asked in the first wave: a second SIGINT would
+                    # interrupt its clean-up
                 self._signal(state, sig)
             self._escalate.clear()
             await self._wait_watchers(timeout)
@@ -261,6 +269,21 @@ class Supervisor:
             for task in tasks:
                 task.cancel()
             await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _stop_first_wave(self) -> None:
+        """SIGINT to every process but the `stop_last` ones, and wait for them to end."""
+        last = self.config.stop_last
+        alive = [s for s in self.states.values() if s.alive]
+        first = [s for s in alive if last is not None and not last(s.spec)]
+        if not first or len(first) == len(alive):
+            return
+        for state in first:
+            self._signal(state, signal.SIGINT)
+        self._escalate.clear()
+        deadline = time.monotonic() + self.config.sigterm_timeout
+        while (any(s.alive for s in first) and time.monotonic() < deadline
+               and not self._escalate.is_set()):
+            await asyncio.sleep(0.02)
 
     async def _wait_watchers(self, timeout: float | None) -> None:
         """Until every watcher ends, ``timeout`` passes, or another `stop` escalates."""

@@ -15,15 +15,23 @@ from dataclasses import replace
 
 from ..context import Context
 from ..errors import StartupError
+from ..param_client import ParameterClient
 from ..router import router_reachable
 from ..session import DEFAULT_ROUTER, SessionOptions
 from .cli import LaunchHooks, LaunchOptions
 from .model import ProcessSpec
 
-__all__ = ["ZenohLaunch", "router_endpoint"]
+__all__ = ["ZenohLaunch", "is_master", "router_endpoint"]
 
 READY_TIMEOUT = 20.0
 READY_SLICE = 0.25
+MASTER_WAIT = 5.0
+MASTER_MODULE = "zenros.services.master"
+
+
+def is_master(spec: ProcessSpec) -> bool:
+    """Whether a process of the launch is the master (``module: zenros.services.master``)."""
+    return MASTER_MODULE in spec.cmd
 
 
 def router_endpoint() -> str:
@@ -38,10 +46,12 @@ class ZenohLaunch:
     def __init__(self, endpoint: str | None = None) -> None:
         self.endpoint = endpoint or router_endpoint()
         self.ctx: Context | None = None
+        self._master_in_launch = False
+        self._master_waited = False
 
     def hooks(self) -> LaunchHooks:
         return LaunchHooks(startup=self.startup, before_start=self.before_start,
-                           wait_ready=self.wait_ready)
+                           wait_ready=self.wait_ready, stop_last=is_master)
 
     @contextlib.asynccontextmanager
     async def startup(self, options: LaunchOptions) -> AsyncIterator[None]:
@@ -78,10 +88,32 @@ class ZenohLaunch:
         print(f"[launch] started a Zenoh router on {self.endpoint} (pid {proc.pid})", flush=True)
         return proc
 
-    def before_start(self, spec: ProcessSpec) -> ProcessSpec:
+    async def before_start(self, spec: ProcessSpec) -> ProcessSpec:
+        if is_master(spec):
+            self._master_in_launch = True
+        elif spec.ros_args and self._master_in_launch and not self._master_waited:
+            self._master_waited = True  # once: a node started later or respawned just joins
+            await self._wait_for_master()
         if "ZENROS_CONNECT" in spec.env or "ZENROS_CONNECT" in os.environ:
             return spec
         return replace(spec, env={**spec.env, "ZENROS_CONNECT": self.endpoint})
+
+    async def _wait_for_master(self) -> None:
+        """Hold the nodes after master until its parameter services are up (MASTER_WAIT s at
+        most), so they read their stored parameters instead of each warning it is down."""
+        if self.ctx is None:
+            return
+        client = ParameterClient(self.ctx)
+        if client.wait_for_master(0):
+            return
+        print(f"[launch] waiting for master's parameter services before starting the other "
+              f"nodes (at most {MASTER_WAIT:g} s)", flush=True)
+        deadline = time.monotonic() + MASTER_WAIT
+        while time.monotonic() < deadline:
+            if await asyncio.to_thread(client.wait_for_master, READY_SLICE):
+                return
+        print(f"[launch] master is not up after {MASTER_WAIT:g} s; starting the other nodes "
+              "anyway", flush=True)
 
     async def wait_ready(self, spec: ProcessSpec) -> bool:
         """A zenros node is up when its liveliness token is seen; other programs at once."""

@@ -238,6 +238,24 @@ async def test_second_stop_skips_the_wait(harness: Callable[..., Harness]) -> No
     assert time.monotonic() - t0 < 5
 
 
+async def test_stop_last_processes_get_sigint_after_the_others_ended(
+    harness: Callable[..., Harness],
+) -> None:
+    """master-like processes outlive the nodes that use them, so no node reports them gone."""
+    h = harness([ProcessSpec("base", py(SLEEP)), ProcessSpec("user", py(SLEEP)),
+                 ProcessSpec("other", py(SLEEP))],
+                stop_last=lambda spec: spec.name == "base")
+    h.start()
+    await h.until(lambda: all(f"[{n}] ready" in h.screen.getvalue()
+                              for n in ("base", "user", "other")))
+    h.sup.stop()
+    assert await h.result() == 0
+    base_signal = h.first("signal", "base")[0]
+    assert all(h.first("exit", n)[0] <= base_signal for n in ("user", "other"))
+    assert [e.detail for _, e in h.events if e.kind == "signal" and e.label == "base"] == \
+        ["SIGINT"]
+
+
 async def test_clean_exits_and_failures(harness: Callable[..., Harness]) -> None:
     ok = harness([ProcessSpec("a", py("pass")), ProcessSpec("b", py("print(1)"))])
     ok.start()

@@ -4,6 +4,7 @@ graph, and a clean Ctrl-C."""
 from __future__ import annotations
 
 import os
+import re
 import signal
 import sys
 import time
@@ -93,5 +94,29 @@ def test_a_node_that_fails_at_once_ends_the_launch_without_waiting_for_readiness
         finished = time.monotonic()
         assert proc.wait(10) == 1, proc.output
         assert time.monotonic() - finished < 5, proc.output  # it was ~19 s
+    finally:
+        proc.stop()
+
+
+def test_start_waits_for_master_once_and_stop_is_quiet(tmp_path: Path) -> None:
+    """No node warns that the parameter server is unreachable while master starts, nor that
+    master left the graph at Ctrl-C (master is stopped after the nodes)."""
+    (tmp_path / "quiet.yaml").write_text(
+        "nodes:\n  - module: zenros.services.master\n  - module: zenros.examples.talker\n"
+        "  - module: zenros.examples.listener\n")
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "quiet.yaml"),
+                 "--data-dir", str(tmp_path / "home")],
+                env={"ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}",
+                     "ZENROS_PREFIX": unique_prefix(), "ZENROS_HOME": str(tmp_path / "home")})
+    try:
+        assert proc.wait_line("waiting for master's parameter services", 20), proc.output
+        assert proc.wait_line("[listener] [INFO]", 30), proc.output
+        assert proc.wait_line("I heard", 20), proc.output
+        proc.signal(signal.SIGINT)
+        assert proc.wait(30) == 0, proc.output
+        out = proc.output
+        assert "WARNING" not in out, out
+        talker_end = re.search(r"\[launch\] talker \(pid \d+\) (exited|was killed)", out)
+        assert talker_end is not None and talker_end.start() < out.index("SIGINT to master")
     finally:
         proc.stop()
