@@ -14,9 +14,9 @@
  * order, the same open-list order), so both return the same path; Python is the
  * reference and ZENROS_NAV_PURE=1 turns this module off. The search runs without the GIL.
  *
- * Per-cell state (g, parent, open/closed mark) sits in one 16-byte record, so a neighbour
- * costs one cache line, and it is kept between searches (a generation counter replaces
- * clearing it).
+ * Per-cell state (g, parent, open/closed mark, open-list slot) sits in one 24-byte
+ * record, so a neighbour costs one cache line or two, and it is kept between searches (a
+ * generation counter replaces clearing it).
  *
  * A cell whose g improves while its entry still waits in a later bucket has that entry
  * updated (in place, or swapped out of the unsorted bucket) instead of leaving a stale
