@@ -468,3 +468,30 @@ def test_resubscribe_after_the_server_restarts(bridge_node: Node, robot: Node) -
             second.stop_in_thread()
     finally:
         ros.close()
+
+
+def test_roslibjs_2_frames(server: RosbridgeServer, robot: Node) -> None:
+    """roslibjs 2.x: uuid ids, rosapi names without the leading slash, a `timeout` field,
+    `subscribe` then `unsubscribe` by id."""
+    robot.create_service(AddTwoInts, "/add", lambda r: AddTwoIntsResponse(sum=r.a + r.b))
+    pub = robot.create_publisher(String, "/news")
+    assert wait_for(lambda: server.node.graph.servers("/add"), TIMEOUT)
+    with raw(server) as ws:
+        ws.send(json.dumps({"op": "call_service", "id": "call_service:rosapi/topics:7f3c9b1e",
+                            "service": "rosapi/topics", "args": {}, "timeout": 5}))
+        reply = recv_json(ws)
+        assert reply["service"] == "rosapi/topics" and reply["result"] is True
+        assert "/news" in reply["values"]["topics"]
+        ws.send(json.dumps({"op": "call_service", "id": "call_service:/add:9a1d", "type":
+                            "example_interfaces/srv/AddTwoInts", "service": "/add",
+                            "args": {"a": 20, "b": 22}, "timeout": 5}))
+        assert recv_json(ws)["values"] == {"sum": 42}
+        sid = "subscribe:/news:1b7e2c44-0d6f-4f1a-9b0e-6f1d2c3b4a59"
+        ws.send(json.dumps({"op": "subscribe", "id": sid, "type": "std_msgs/msg/String",
+                            "topic": "/news", "compression": "none", "throttle_rate": 0,
+                            "queue_length": 0}))
+        assert pub.wait_for_subscribers(1, TIMEOUT)
+        pub.publish(String(data="extra"))
+        assert recv_json(ws) == {"op": "publish", "topic": "/news", "msg": {"data": "extra"}}
+        ws.send(json.dumps({"op": "unsubscribe", "id": sid, "topic": "/news"}))
+        assert wait_for(lambda: not robot.graph.subscribers("/news"), TIMEOUT)

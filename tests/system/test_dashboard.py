@@ -2,7 +2,8 @@
 against real processes: chassis (10x sim time), nav, tasks and the gateway (REST + rosbridge).
 
 The page must load with no console errors, show the map and the robot, send the robot to a
-nav point clicked on the map, pause a task and engage the e-stop. A screenshot is saved in
+nav point clicked on the map, pause a task, engage the e-stop and fit a phone-sized window.
+Screenshots are saved in
 ``$ZENROS_ARTIFACTS`` (default ``test-artifacts/`` at the repository root).
 """
 
@@ -45,6 +46,7 @@ from selenium.webdriver.chrome.options import Options  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
 from selenium.common.exceptions import (  # noqa: E402
+    ElementClickInterceptedException,
     NoSuchElementException,
     StaleElementReferenceException,
 )
@@ -139,7 +141,8 @@ def click(d: Any, selector: str) -> None:
     def attempt() -> bool:
         try:
             d.find_element(By.CSS_SELECTOR, selector).click()
-        except (StaleElementReferenceException, NoSuchElementException):
+        except (StaleElementReferenceException, NoSuchElementException,
+                ElementClickInterceptedException):
             return False
         return True
 
@@ -159,8 +162,9 @@ def test_dashboard_drives_the_robot(robot: Robot, observer: Context, driver: Any
     assert nav_points.wait_for_service(TIMEOUT)
     res = nav_points.call(SetNavPointsRequest(path_name="tour", points=POINTS), TIMEOUT)
     assert [p.name for p in res.points] == ["Lab", "Corridor end"]
-    task = task_call(observer, "create", body={"name": "to the corridor end", "sub_tasks": [
-        {"type": "nav_action", "x": 20.0, "y": 0.0, "theta": 0.0}]})
+    task = task_call(observer, "create", body={"name": "corridor and back", "sub_tasks": [
+        {"type": "nav_action", "x": 20.0, "y": 0.0, "theta": 0.0},
+        {"type": "nav_action", "x": 6.0, "y": 0.0, "theta": 0.0}]})
 
     # the page loads, with the map, the robot, the nav points and the task
     driver.get(f"http://127.0.0.1:{robot.rest_port}/")
@@ -202,6 +206,14 @@ def test_dashboard_drives_the_robot(robot: Robot, observer: Context, driver: Any
     click(driver, "#estop")
     assert wait_for(lambda: driver.find_element(By.ID, "estop")
                     .get_attribute("data-engaged") == "0", TIMEOUT)
+
+    # phone-sized: one column, nothing wider than the screen, the map still drawn
+    driver.set_window_size(390, 844)
+    assert wait_for(lambda: driver.execute_script(
+        "const c = document.getElementById('map').getBoundingClientRect();"
+        "return document.documentElement.scrollWidth <= window.innerWidth"
+        " && c.width > 300 && c.height > 300;"), TIMEOUT)
+    assert driver.save_screenshot(str(ARTIFACTS / "dashboard-phone.png"))
 
     errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
     assert not errors, errors

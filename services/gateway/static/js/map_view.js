@@ -55,6 +55,7 @@ export class MapView extends EventTarget {
     this.scale = 40; // pixels per metre
     this.center = { x: 0, y: 0 };
     this.fitted = false;
+    this.userMoved = false;
     this.layers = { costmap: true, scan: true, plan: true, walls: true, points: true };
     this.map = null;
     this.mapImage = null;
@@ -85,6 +86,7 @@ export class MapView extends EventTarget {
     this.canvas.width = Math.max(1, Math.round(rect.width * dpr));
     this.canvas.height = Math.max(1, Math.round(rect.height * dpr));
     this.dpr = dpr;
+    if (this.fitted && !this.userMoved) this.fit(); // follow the window until the user pans
     this.dirty = true;
   }
 
@@ -120,6 +122,7 @@ export class MapView extends EventTarget {
 
   fit() {
     if (!this.map) return;
+    this.userMoved = false;
     const { width, height, resolution, origin } = this.map.info;
     const w = width * resolution;
     const h = height * resolution;
@@ -132,6 +135,7 @@ export class MapView extends EventTarget {
   }
 
   zoom(factor, sx, sy) {
+    this.userMoved = true;
     const before = this.screenToWorld(sx, sy);
     this.scale = Math.min(400, Math.max(2, this.scale * factor));
     const after = this.screenToWorld(sx, sy);
@@ -202,6 +206,7 @@ export class MapView extends EventTarget {
       const dy = e.clientY - last.y;
       if (Math.abs(dx) + Math.abs(dy) > 2) moved = true;
       if (moved) {
+        this.userMoved = true;
         this.center.x -= dx / this.scale;
         this.center.y += dy / this.scale;
         last = { x: e.clientX, y: e.clientY };
