@@ -84,7 +84,8 @@ class Core:
         self.status: GalileoStatus = compose_status(self.state, 0, time.time_ns())
         self.status_listeners: list[Callable[[GalileoStatus], None]] = []
         self.native: NativeSink | None = None   # where native command bytes go (§12)
-        self.services: dict[str, Any] = {}      # optional backends (e.g. "maps")
+        # optional backends: "maps" -> async () -> (map names, current map)
+        self.services: dict[str, Any] = {}
         self.nav: NavPort | None = None
         self._lock = threading.Lock()
 

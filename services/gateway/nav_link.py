@@ -52,6 +52,14 @@ class NavLink:
     def _on_map(self, msg: OccupancyGrid) -> None:
         self.grid = msg
 
+    async def maps(self) -> tuple[list[str], str]:
+        """(stored map names, current map); empty when nav does not answer."""
+        try:
+            res = await self.call("map_server/list_maps", zm.ListMapsRequest())
+        except ApiError:
+            return [], ""
+        return sorted(m.name for m in res.maps), str(res.current)
+
     async def call(self, name: str, request: Any) -> Any:
         client = self._clients[name]
         try:

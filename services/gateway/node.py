@@ -96,6 +96,7 @@ class GatewayNode(Node):
         self.navigator = Navigator(self, self.core)
         self.core.nav = self.navigator
         self.nav_link = NavLink(self)
+        self.core.services["maps"] = self.nav_link.maps
         self.api = build_api(self.core, max_body, self.logger, [
             lambda api: add_task_routes(api, self.tasks),
             lambda api: add_nav_routes(api, self.core, self.navigator, self.nav_link,

@@ -87,8 +87,11 @@ def add_system_routes(api: Api, core: Core) -> None:
     async def get_config(call: Call) -> Any:
         """Navigation configuration (§3.6): ``default_map``, ``maps``, ``auto_charge``, ..."""
         out = core.settings.as_dict()
-        nav = core.services.get("maps")
-        out["maps"] = sorted(nav()) if nav is not None else []
+        maps = core.services.get("maps")
+        names, current = await maps() if maps is not None else ([], "")
+        out["maps"] = names
+        if not out["default_map"]:
+            out["default_map"] = current
         return out
 
     async def post_config(call: Call) -> Any:

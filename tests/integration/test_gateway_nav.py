@@ -131,6 +131,8 @@ def test_move_to_index_and_nav_point_errors(rig: Rig) -> None:
 def test_maps_paths_and_points(rig: Rig) -> None:
     current = rig.http.get("/navigation/current_map").json()
     assert current["name"] == rig.nav.core.maps.current and current["md5sum"]
+    config = rig.http.get("/system/config").json()
+    assert current["name"] in config["maps"] and config["default_map"] == current["name"]
     maps = rig.http.get("/navigation/saved_maps").json()
     assert any(m["name"] == current["name"] and m["resolution"] > 0 for m in maps)
     png = rig.http.get("/navigation/map_png")
