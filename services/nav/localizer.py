@@ -13,7 +13,6 @@ switches to ``odometry``, since the truth would overwrite it at the next sample.
 
 from __future__ import annotations
 
-import bisect
 import threading
 from collections import deque
 from typing import Literal
@@ -52,16 +51,17 @@ class Localizer:
             self.odom_stamp_ns = stamp_ns
 
     def _odom_at(self, stamp_ns: int) -> Pose2 | None:
+        """The odometry sample nearest ``stamp_ns`` (searched from the newest: the truth
+        usually carries the latest odometry's stamp)."""
         if not self._odom:
             return None
-        stamps = [s for s, _ in self._odom]
-        i = bisect.bisect_left(stamps, stamp_ns)
-        if i == 0:
-            return self._odom[0][1]
-        if i == len(stamps):
-            return self._odom[-1][1]
-        before, after = self._odom[i - 1], self._odom[i]
-        return before[1] if stamp_ns - before[0] <= after[0] - stamp_ns else after[1]
+        best = self._odom[-1]
+        for sample in reversed(self._odom):
+            if abs(sample[0] - stamp_ns) < abs(best[0] - stamp_ns):
+                best = sample
+            if sample[0] <= stamp_ns:
+                break
+        return best[1]
 
     def on_ground_truth(self, stamp_ns: int, map_base: Pose2) -> None:
         if self.mode != "ground_truth":

@@ -44,6 +44,7 @@ from .convert import (
 from .core import NavCore
 from .docking import Dock
 from .localizer import MODES
+from .loop import ControlLoop
 from .params import DEMO_MAP, declare_nav_config
 from .se2 import Pose2
 from .status import nav_status
@@ -112,7 +113,8 @@ class NavNode(Node):
 
         self._serve_maps()
         self._serve_actions()
-        self.create_timer(1.0 / rate, self.on_control)
+        self.control = ControlLoop(self.get_clock(), 1.0 / rate, self.on_control, self.logger)
+        self.control.start()
         self.create_timer(1.0 / pose_rate, self.on_pose_timer)
         self.create_timer(1.0 / global_rate, self.on_global_costmap_timer)
         self.create_timer(1.0 / local_rate, self.on_local_costmap_timer)
@@ -293,8 +295,14 @@ class NavNode(Node):
                          grid.resolution)
 
     def close(self) -> None:
+        control = getattr(self, "control", None)
+        if control is not None:
+            control.stop()
         core = getattr(self, "core", None)
         if core is not None:
+            moving = core.motion.active is not None
             core.close()
+            if moving:  # leave the robot stopped, not coasting until its dead-man
+                self.cmd_pub.publish(Twist())
         super().close()
 

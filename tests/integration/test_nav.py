@@ -189,7 +189,7 @@ def test_reaches_a_goal_across_the_map_and_reports_feedback(rig: Rig) -> None:
     assert abs(math.remainder(th + math.pi / 2, 2 * math.pi)) <= 0.15 + 0.02
     assert rig.plans and rig.plans[0].header.frame_id == "map"
     assert len(feedback) > 5
-    first = feedback[0]
+    first = next(f for f in feedback if f.distance_remaining > 0)  # 0 until the first plan
     assert first.distance_remaining > 20 and first.estimated_time_remaining.to_sec() >= 0
     assert feedback[-1].distance_remaining < first.distance_remaining
     assert feedback[-1].navigation_time.to_sec() > 10
@@ -313,12 +313,12 @@ def test_a_new_goal_preempts_and_bad_goals_are_rejected(rig: Rig) -> None:
     first = rig.navigate.send_goal_async(rig.goal(20.0, 0.0))
     assert first.wait_accepted(10)
     assert wait_for(lambda: rig.track.poses and rig.track.last[0] > 1.0, 20)
-    second = rig.navigate.send_goal_async(rig.goal(3.0, 3.0, math.pi / 2))
+    second = rig.navigate.send_goal_async(rig.goal(2.0, 3.0, math.pi / 2))
     old = first.result(10)
     assert old.status is GoalStatus.ABORTED and "preempted" in old.result.error_msg
     out = second.result(40)
     assert out.status is GoalStatus.SUCCEEDED, out.result
-    assert math.hypot(rig.track.last[0] - 3.0, rig.track.last[1] - 3.0) <= 0.17
+    assert math.hypot(rig.track.last[0] - 2.0, rig.track.last[1] - 3.0) <= 0.17
     # a goal of another nav action takes over too
     moving = rig.navigate.send_goal_async(rig.goal(20.0, 0.0))
     assert moving.wait_accepted(10)
