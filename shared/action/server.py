@@ -123,6 +123,7 @@ class ActionServer:
         # send_goal), and Zenoh queues them without taking the GIL (as services do).
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
+        self._parts = {key(p): p for p in self._handlers}  # exact keys only: no wildcards
         self._queryable: Any = s.declare_queryable(
             key("*"), zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True)
         self._serve_thread = threading.Thread(target=self._serve, daemon=True,
@@ -159,9 +160,9 @@ class ActionServer:
         part = ""
         try:
             key = str(query.key_expr)
-            part = key.rsplit("/", 1)[-1]
+            part = self._parts.get(key, "")
             handler = self._handlers.get(part)
-            if "*" in key or "$" in key or key != self._key(part):  # a wildcard is refused
+            if not part and ("*" in key or "$" in key):  # a wildcard is refused
                 part = ""
                 self._reply_err(query, "BadRequest", wildcard_refusal(
                     f"action {self.name}", self._key("<request>"), query))
@@ -169,7 +170,8 @@ class ActionServer:
                 handler(query)
             else:
                 self._reply_err(query, "BadRequest", f"action {self.name}: no request "
-                                f"{part!r}; valid: {', '.join(self._handlers)}")
+                                f"{key.rsplit('/', 1)[-1]!r}; valid: "
+                                f"{', '.join(self._handlers)}")
         except Exception as exc:  # noqa: BLE001 nothing a request does stops the server
             self._errors.report("InternalError", logging.ERROR,
                                 "action %s: %s request failed: %s: %s", self.name, part or "a",

@@ -30,14 +30,14 @@ _TABLE: dict[GoalStatus, dict[GoalEvent, GoalStatus]] = {
 }
 
 
-def transition(state: GoalStatus, event: GoalEvent, goal: str = "") -> GoalStatus:
+def transition(state: GoalStatus, event: GoalEvent, goal: object = "") -> GoalStatus:
     """The state after ``event``; raises `GoalStateError` naming what would have been valid."""
     moves = _TABLE.get(state, {})
     try:
         return moves[event]
     except KeyError:
         valid = ", ".join(e.value for e in moves) or "none (the goal has ended)"
-        what = f"goal {goal}" if goal else "goal"
+        what = f"goal {goal}" if goal else "goal"  # formatted only here: the hot path skips it
         hint = " (cancel was not requested)" if event is _E.CANCELED and moves else ""
         raise GoalStateError(
             f"{what} cannot {event.value} while {state.name}{hint}; valid now: {valid}"

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import threading
 from collections.abc import Callable
+from functools import cache
 from typing import Any, TypeVar
 
 import zenoh
@@ -31,6 +32,7 @@ __all__ = [
 M = TypeVar("M", bound=Message)
 
 
+@cache
 def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:
     """The Zenoh encoding of a type: its MIME type with the wire type name as schema."""
     codec = codec_for(msg_type)
@@ -67,8 +69,8 @@ def decode_query(query: zenoh.Query, codec: Codec[M], what: str) -> M | str:
         return f"{what}: empty request; expected {codec.type_name}"
     enc = query.encoding
     # The schema must match when one is given; a bare MIME type (z_get sends zenoh/bytes)
-    # is accepted and the payload decides.
-    schema = split_encoding(str(enc))[1] if enc is not None else ""
+    # is accepted and the payload decides. The usual case, the exact encoding, is one compare.
+    schema = "" if enc is None or enc == encoding_for(codec.type) else split_encoding(str(enc))[1]
     if schema and schema != codec.type_name:
         return f"{what}: type mismatch: expected {codec.type_name}, got {schema}"
     try:
