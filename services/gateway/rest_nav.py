@@ -30,6 +30,7 @@ OptName = Annotated[str, msgspec.Meta(pattern=r"^([A-Za-z0-9_][A-Za-z0-9_.\-]{0,
 Coord = Annotated[float, msgspec.Meta(ge=-1e5, le=1e5)]
 Angle = Annotated[float, msgspec.Meta(ge=-100.0, le=100.0)]
 _ENC = msgspec.json.Encoder()
+OWN_TASKS = frozenset({"navigation task", "loop task", "charge task"})
 
 
 class StartQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -89,19 +90,32 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     """Route the navigation operations backed by the nav and tasks services."""
     loop_ids: list[str] = []
 
-    async def task_call(name: str, ident: str = "", body: Any = None) -> dict[str, Any]:
+    async def task_call(name: str, ident: str = "", body: Any = None) -> Any:
         code, message, text = await tasks(name, ident, "" if body is None
                                           else _ENC.encode(body).decode())
         if code != 200:
             raise ApiError(code, message or f"tasks/{name} failed ({code})")
-        out: dict[str, Any] = msgspec.json.decode(text)
-        return out
+        return msgspec.json.decode(text)
 
     async def run_task(name: str, sub_tasks: list[dict[str, Any]], loop: bool = False
                        ) -> dict[str, Any]:
+        """Create and start a task; a running navigation task of ours gives way to it (a new
+        goal replaces the old one), any other running task is a 409."""
         task = await task_call("create", "", {"name": name, "sub_tasks": sub_tasks,
                                               "loop_flag": loop})
-        return await task_call("start", task["id"])
+        try:
+            return await task_call("start", task["id"])
+        except ApiError as exc:
+            if exc.status_code != 409:
+                raise
+            running = [t for t in await task_call("get")
+                       if t.get("state") in ("WORKING", "PAUSED")]
+            if not running or any(t.get("name") not in OWN_TASKS for t in running):
+                await task_call("delete", task["id"])
+                raise
+            for t in running:
+                await task_call("stop", t["id"])
+            return await task_call("start", task["id"])
 
     async def point(index: int) -> tuple[float, float, float]:
         try:

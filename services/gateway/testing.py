@@ -1,4 +1,4 @@
-"""Test support: a `GatewayNode` on free loopback ports, and a stand-in robot's topics."""
+"""Test support: a `GatewayNode` on free loopback ports, and a null-modem pty pair."""
 
 from __future__ import annotations
 

@@ -123,6 +123,18 @@ def test_move_to_index_and_nav_point_errors(rig: Rig) -> None:
     assert wait_for(lambda: rig.http.get("/task", params={"id": task_id}).json()["state"]
                     == "COMPLETE", 40)
     assert rig.near(4.0, 0.0)
+    # a new goal replaces a running one; a user's own running task is not preempted
+    first = rig.http.get("/navigation/move_to_index", params={"index": 0}).json()
+    second = rig.http.post("/navigation/start_nav_task", json={"x": 1.0, "y": 0.0}).json()
+    assert second["state"] == "WORKING"
+    assert rig.http.get("/task", params={"id": first["id"]}).json()["state"] == "CANCELLED"
+    rig.http.get("/task/stop")
+    mine = rig.http.post("/task", json={"name": "mine", "sub_tasks": [
+        {"type": "sleep_action", "wait_time": 30}]}).json()
+    assert rig.http.get("/task/start", params={"id": mine["id"]}).status_code == 200
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 1.0, "y": 0.0})
+    assert r.status_code == 409 and "mine" in r.json()["description"]
+    rig.http.get("/task/stop", params={"id": mine["id"]})
     r = rig.http.get("/navigation/move_to_index", params={"index": 7})
     assert r.status_code == 404 and "does not exist" in r.json()["description"]
     assert rig.http.get("/navigation/move_to_index", params={"index": -1}).status_code == 400
