@@ -168,7 +168,8 @@ def play_errors(workdir: Path, n: int, hz: float) -> list[float]:
         ctx.close()
         shutil.rmtree(directory, ignore_errors=True)
     if len(arrivals) != n:
-        raise RuntimeError(f"playback delivered {len(arrivals)}/{n}: {proc.stdout.read() if proc.stdout else ''}")
+        out = proc.stdout.read() if proc.stdout else ""
+        raise RuntimeError(f"playback delivered {len(arrivals)}/{n}: {out}")
     offsets = [arrivals[i] - recorded[i] / 1e9 for i in range(n)]
     med = statistics.median(offsets)
     return [abs(o - med) for o in offsets]

@@ -23,7 +23,8 @@ __all__ = ["PlayOptions", "Player"]
 
 BATCH = 256  # messages per hand-over from the reader thread
 READ_AHEAD = 32  # batches the reader thread may be ahead
-SPIN = 0.0015  # seconds before a deadline where waiting turns into a short spin
+SPIN = 0.0002  # s before a deadline where sleeping turns into spinning (kept short: under
+#               load a process that spins loses its turn to ones that slept)
 CLOCK_PERIOD = 0.01  # /clock at 100 Hz with --clock
 MATCH_TIMEOUT = 2.0  # seconds to wait for Zenoh to route to known subscribers before playing
 

@@ -175,7 +175,8 @@ class Recorder:
                 return None
             mime, type_name = split_encoding(enc)
             schema_encoding, schema = schema_for(type_name) if type_name else ("", b"")
-            pubs = [t for t in self.ctx.graph.publishers(topic) if not type_name or t.type == type_name]
+            pubs = [t for t in self.ctx.graph.publishers(topic)
+                    if not type_name or t.type == type_name]
             qos = pubs[0].qos if pubs else QOS_UNKNOWN
             channel = self.sink.add_channel(
                 topic, message_encoding(mime) if mime else "", type_name, schema_encoding,

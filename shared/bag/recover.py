@@ -8,6 +8,7 @@ import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
 
 from mcap.exceptions import EndOfFile
 from mcap.records import Channel, Chunk, McapRecord, Message, Schema
@@ -44,9 +45,9 @@ def recover_file(src: Path, dst: Path, compression: str = "zstd") -> Recovered:
     kept, stopped, skipped = 0, "", 0
     seen: set[int] = set()
 
-    def records(f: object) -> Iterator[McapRecord]:
+    def records(f: BinaryIO) -> Iterator[McapRecord]:
         nonlocal skipped
-        for record in StreamReader(f, skip_magic=False, emit_chunks=True).records:  # type: ignore[arg-type]
+        for record in StreamReader(f, skip_magic=False, emit_chunks=True).records:
             if not isinstance(record, Chunk):
                 yield record
                 continue
@@ -96,8 +97,8 @@ def recover_bag(path: Path, compression: str = "zstd") -> list[Recovered]:
     out: list[Recovered] = []
     for f in bag_files(path):
         if _valid(f):
-            out.append(Recovered(f, open_summary(f).statistics.message_count, "",  # type: ignore[union-attr]
-                                 already_valid=True))
+            stats = open_summary(f).statistics
+            out.append(Recovered(f, stats.message_count if stats else 0, "", already_valid=True))
             continue
         tmp = f.with_suffix(".mcap.recovering")
         try:

@@ -39,7 +39,8 @@ def stamp_reader(type_name: str, msgpack: bool) -> StampReader | None:
         return None
     if "header" not in fields:
         return None
-    decode = (msgspec.msgpack.Decoder(_Stamped) if msgpack else msgspec.json.Decoder(_Stamped)).decode
+    decoder = msgspec.msgpack.Decoder(_Stamped) if msgpack else msgspec.json.Decoder(_Stamped)
+    decode = decoder.decode
 
     def read(data: bytes) -> int:
         try:

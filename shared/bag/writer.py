@@ -171,7 +171,8 @@ class McapFile:
         for channel, idx in chunk.index.items():
             offsets[channel] = index_start + self._rb.count
             body = _index_bytes(idx)
-            self._rb.write(_INDEX_HEAD.pack(Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body)))
+            self._rb.write(_INDEX_HEAD.pack(Opcode.MESSAGE_INDEX, 6 + len(body), channel,
+                                            len(body)))
             self._rb.write(body)
             self._counts[channel] += len(idx) // 2
             self._messages += len(idx) // 2
