@@ -30,6 +30,7 @@ from .navigate import Codes, Navigate
 from .planner import PlannerParams
 from .planning import GlobalPlanner, PlanWorker
 from .records import Records
+from .scanmatch import ScanMatcher
 from .se2 import Pose2
 
 __all__ = ["NavConfig", "NavCore"]
@@ -49,6 +50,8 @@ class NavConfig:
     costmap_update_rate: float = 2.0
     local_costmap_size: float = 3.0
     scan_max_points_range: float = 3.0
+    scan_match_rate: float = 5.0
+    scan_match_gain: float = 0.5
 
 
 class NavCore:
@@ -78,6 +81,8 @@ class NavCore:
         self._chassis_charging = False
         self.docked = False
         self._last_tick: float | None = None
+        self.matcher: ScanMatcher | None = None
+        self._last_match = -math.inf
 
     # ------------------------------------------------------------------ NavTools
 
@@ -98,6 +103,7 @@ class NavCore:
 
     def _on_map(self, name: str, grid: GridMap) -> None:
         self.costmaps.set_map(grid, self.maps.store.nav_data(name))
+        self.matcher = ScanMatcher(grid)
         if self._on_map_cb is not None:
             self._on_map_cb(name, grid)
 
@@ -127,9 +133,30 @@ class NavCore:
             & (ranges <= self.config.scan_max_points_range)
         r, a = ranges[ok], angles[ok] + mount.theta
         self.obstacles = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+        if self.localizer.mode == "scan_match":
+            self._match(scan, ranges, angles, mount, now)
         pose = self.localizer.pose()
         if pose is not None:
             self.costmaps.update_from_scan(scan, pose * mount, now)
+
+    def _match(self, scan: Any, ranges: np.ndarray, angles: np.ndarray, mount: Pose2,
+               now: float) -> None:
+        """Correct the pose with this scan, at most ``scan_match_rate`` times a second."""
+        rate = self.config.scan_match_rate
+        matcher = self.matcher
+        if matcher is None or rate <= 0 or (0 <= now - self._last_match < 1.0 / rate):
+            return
+        self._last_match = now
+        stamp = scan.header.stamp.nanoseconds
+        guess = self.localizer.pose_at(stamp)
+        if guess is None:
+            return
+        ok = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
+        r, a = ranges[ok], angles[ok] + mount.theta
+        pts = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+        found, score = matcher.match(pts, guess)
+        if score >= matcher.p.min_score:
+            self.localizer.correct(stamp, found, self.config.scan_match_gain)
 
     def on_battery(self, percentage: float, charging: bool) -> None:
         if math.isfinite(percentage):

@@ -6,6 +6,9 @@ The estimate is ``map_T_odom * odom_T_base``. Modes:
   ``map_T_odom = map_T_base(true) * inverse(odom_T_base)`` with the odometry sample of the
   nearest stamp, so the estimate is exact even when odometry drifts.
 - ``odometry``: ``map_T_odom`` stays as the last initial pose set it (dead reckoning).
+- ``scan_match``: as ``odometry``, and each matched scan (`correct`) pulls ``map_T_odom``
+  toward the pose the scan matcher found. It starts at the identity (the robot starting at
+  odom's origin, the map origin in the simulator) unless an initial pose is given.
 
 `set_pose` (``initialpose``) puts the robot at a pose now; in ``ground_truth`` mode it
 switches to ``odometry``, since the truth would overwrite it at the next sample.
@@ -17,12 +20,12 @@ import threading
 from collections import deque
 from typing import Literal
 
-from .se2 import Pose2
+from .se2 import Pose2, angle_diff
 
 __all__ = ["MODES", "Localizer", "Mode"]
 
-Mode = Literal["ground_truth", "odometry"]
-MODES: tuple[Mode, ...] = ("ground_truth", "odometry")
+Mode = Literal["ground_truth", "odometry", "scan_match"]
+MODES: tuple[Mode, ...] = ("ground_truth", "odometry", "scan_match")
 
 
 class Localizer:
@@ -35,13 +38,16 @@ class Localizer:
         self.map_to_odom = Pose2()
         self._odom: deque[tuple[int, Pose2]] = deque(maxlen=history)
         self._lock = threading.Lock()
-        self.localized = False
+        self.localized = mode == "scan_match"
         self.odom_stamp_ns = 0
+        self.corrections = 0
 
     def set_mode(self, mode: str) -> None:
         if mode not in MODES:
             raise ValueError(f"unknown localization mode {mode!r}; valid: {', '.join(MODES)}")
         self.mode = mode  # type: ignore[assignment]
+        if mode == "scan_match":
+            self.localized = True
 
     def on_odom(self, stamp_ns: int, odom_base: Pose2) -> None:
         with self._lock:
@@ -72,6 +78,26 @@ class Localizer:
                 return
             self.map_to_odom = map_base * odom.inverse()
             self.localized = True
+
+    def pose_at(self, stamp_ns: int) -> Pose2 | None:
+        """The estimate at the odometry sample nearest ``stamp_ns``."""
+        with self._lock:
+            odom = self._odom_at(stamp_ns)
+            return None if odom is None or not self.localized else self.map_to_odom * odom
+
+    def correct(self, stamp_ns: int, map_base: Pose2, gain: float = 0.5) -> None:
+        """Move map→odom by ``gain`` of the way to where ``map_base`` (the robot at
+        ``stamp_ns``, found by the scan matcher) puts it."""
+        with self._lock:
+            odom = self._odom_at(stamp_ns)
+            if odom is None or self.mode != "scan_match":
+                return
+            target = map_base * odom.inverse()
+            cur = self.map_to_odom
+            self.map_to_odom = Pose2(cur.x + gain * (target.x - cur.x),
+                                     cur.y + gain * (target.y - cur.y),
+                                     cur.theta + gain * angle_diff(target.theta, cur.theta))
+            self.corrections += 1
 
     def set_pose(self, map_base: Pose2) -> None:
         """Put the robot at ``map_base`` now (``initialpose``)."""

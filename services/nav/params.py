@@ -117,7 +117,7 @@ def declare_nav_config(node: _Declares) -> NavConfig:
         max_retries=i("dock_max_retries", 3),
         use_battery_status=b("use_battery_status", True, "docked = charging starts"))
     mode = str(node.declare_parameter("localization", "ground_truth",
-                                      description="ground_truth or odometry"))
+                                      description="ground_truth, odometry or scan_match"))
     if mode not in MODES:
         raise InvalidParameterValueError(f"parameter 'localization': expected one of "
                                          f"{', '.join(MODES)}, got {mode!r}")
@@ -126,4 +126,7 @@ def declare_nav_config(node: _Declares) -> NavConfig:
         planner_tolerance=planner_tolerance,
         localization=mode,  # type: ignore[arg-type]
         costmap_update_rate=f("costmap_update_rate", 2.0, "obstacle updates per second"),
-        local_costmap_size=f("local_costmap_size", 3.0, "m", positive=True))
+        local_costmap_size=f("local_costmap_size", 3.0, "m", positive=True),
+        scan_match_rate=f("scan_match_rate", 5.0, "scan matches per second (scan_match mode)"),
+        scan_match_gain=f("scan_match_gain", 0.5, "fraction of each match's correction "
+                                                  "applied"))
