@@ -167,7 +167,8 @@ class Navigate(Behavior):
             return 0.0, 0.0
         self._no_pose_since = None
         assert self.started_at is not None
-        if self.p.navigation_timeout > 0 and sense.now - self.started_at > self.p.navigation_timeout:
+        limit = self.p.navigation_timeout
+        if limit > 0 and sense.now - self.started_at > limit:
             self._fail_waypoints(self.codes.timeout, "timed out")
             return self.finish(False, self.codes.timeout,
                                f"navigation took longer than {self.p.navigation_timeout} s")

@@ -39,7 +39,8 @@ class Pose2(NamedTuple):
 
     def inverse(self) -> Pose2:
         c, s = math.cos(self.theta), math.sin(self.theta)
-        return Pose2(-c * self.x - s * self.y, s * self.x - c * self.y, normalize_angle(-self.theta))
+        return Pose2(-c * self.x - s * self.y, s * self.x - c * self.y,
+                     normalize_angle(-self.theta))
 
     def apply(self, x: float, y: float) -> tuple[float, float]:
         """The point (x, y) of this frame, expressed in the parent frame."""

@@ -19,8 +19,6 @@ error naming the known ones (the caller's client raises ``ServiceError``).
 
 from __future__ import annotations
 
-from typing import Literal
-
 import msgspec
 
 from ...message import Message, define_action, define_service

@@ -10,7 +10,13 @@ from zenros.errors import MapError
 from zenros.maps import GridMap, save_map
 from zenros.msgs.geometry_msgs import Point, Pose2D
 from zenros.msgs.zenros_msgs.nav import NavPoint, VirtualWall
-from zenros.services.nav.mapdata import NAV_FILE, StoredPath, check_name, read_nav_data
+from zenros.services.nav.mapdata import (
+    NAV_FILE,
+    MapNavData,
+    StoredPath,
+    check_name,
+    read_nav_data,
+)
 from zenros.services.nav.mapserver import MapServer
 from zenros.services.nav.mapstore import MapStore
 from zenros.services.nav.params import DEMO_MAP
@@ -56,16 +62,16 @@ def test_nav_data_round_trip_and_refused_changes(tmp_path: Path) -> None:
     store.import_map(make_map(tmp_path / "src", "lab"))
     wall = VirtualWall(name="w", points=[Point(x=1.0), Point(x=2.0, y=1.0)])
 
-    def change(d: object) -> None:
-        d.paths["p"] = StoredPath(nav_points=[NavPoint(name="a", x=1.5)])  # type: ignore[attr-defined]
-        d.virtual_walls = [wall]  # type: ignore[attr-defined]
+    def change(d: MapNavData) -> None:
+        d.paths["p"] = StoredPath(nav_points=[NavPoint(name="a", x=1.5)])
+        d.virtual_walls = [wall]
 
     store.update_nav_data("lab", change)
     data = read_nav_data(tmp_path / "maps" / "lab" / NAV_FILE)
     assert data.paths["p"].nav_points[0].x == 1.5 and data.virtual_walls == [wall]
 
-    def refuse(d: object) -> None:
-        d.virtual_walls.clear()  # type: ignore[attr-defined]
+    def refuse(d: MapNavData) -> None:
+        d.virtual_walls.clear()
         raise ValueError("no")
 
     with pytest.raises(ValueError):
