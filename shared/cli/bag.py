@@ -164,7 +164,12 @@ def play(args: argparse.Namespace) -> int:
             print(f"Playing {len(files)} file(s), {player.duration:.3f} s at {args.rate:g}x",
                   flush=True)
             shown.start()
-            keys = {" ": player.toggle_pause, "s": player.step}
+            def toggle() -> None:
+                player.toggle_pause()
+                print("\nPaused (space: resume, s: step)" if player.paused else "\nResumed",
+                      flush=True)
+
+            keys = {" ": toggle, "s": player.step}
             with capture_signals(player.stop), keyboard_controls(keys):
                 n = player.play()
         finally:

@@ -140,3 +140,65 @@ def test_bad_arguments(tmp_path: Path) -> None:
     assert r.returncode == 1 and "already exists" in r.stderr
     r = zenros("bag", "record", "-a", "--compression", "gzip")
     assert r.returncode == 2
+
+
+def test_keyboard_pause_and_step(router: str, prefix: str, talker: Proc, tmp_path: Path) -> None:
+    """Space pauses and resumes, `s` steps, when stdin is a terminal."""
+    import os
+    import pty
+
+    from zenros.msgs.std_msgs import String
+    from zenros.node import Node
+    from zenros.session import SessionOptions
+    from zenros.testing import Collector
+
+    bag = tmp_path / "keys"
+    rec = record(router, prefix, "/chatter", "-o", str(bag))
+    assert wait_for(lambda: (bag / "keys_0.mcap").exists()
+                    and (bag / "keys_0.mcap").stat().st_size > 3000, 15)
+    assert rec.stop() == 0
+    talker.stop()
+    recorded = numbers(bag)
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("key_listener", context=ctx)
+    got: Collector[String] = Collector()
+    node.create_subscription(String, "/chatter", got)
+    master, slave = pty.openpty()
+    play = subprocess.Popen(
+        [sys.executable, "-m", "zenros.cli", "bag", "play", str(bag), "--rate", "0.1",
+         "-e", router, "--prefix", prefix],
+        stdin=slave, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        start_new_session=True)
+    os.close(slave)
+    try:
+        assert got.wait(1, 20)
+        os.write(master, b" ")
+        assert play.stdout is not None
+        assert "Paused" in _read_until(play.stdout, "Paused")
+        paused_at = len(got)
+        for _ in range(3):
+            os.write(master, b"s")
+        assert got.wait(paused_at + 3, 10)
+        assert len(got) < len(recorded)  # at 0.1x the rest would take many seconds
+        os.write(master, b" ")
+        assert got.wait(len(recorded), 60), (len(got), len(recorded))
+        assert play.wait(20) == 0
+    finally:
+        if play.poll() is None:
+            play.kill()
+            play.wait()
+        if play.stdout is not None:
+            play.stdout.close()
+        os.close(master)
+        node.close()
+        ctx.close()
+    assert [int(m.data.split()[-1]) for m in got.items] == recorded
+
+
+def _read_until(stream: object, needle: str) -> str:
+    lines = []
+    for line in stream:  # type: ignore[attr-defined]
+        lines.append(line)
+        if needle in line:
+            break
+    return "".join(lines)
