@@ -22,7 +22,7 @@ from starlette.types import Receive, Scope, Send
 from .spec_routes import SPEC_OPERATIONS
 from .tokens import TokenStore
 
-__all__ = ["Api", "ApiError", "Call", "Endpoint", "PREFIX", "error_body"]
+__all__ = ["PREFIX", "Api", "ApiError", "Call", "Endpoint", "error_body"]
 
 PREFIX = "/api/v1"
 _ENC = msgspec.json.Encoder()

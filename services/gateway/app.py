@@ -28,7 +28,8 @@ def build_api(core: Core, max_body: int = 64 * 1024, logger: logging.Logger | No
 
     async def index(call: Call) -> Any:
         """The API's operations, split into ``implemented`` and ``not_implemented``."""
-        done, todo = [], []
+        done: list[str] = []
+        todo: list[str] = []
         for ep in sorted(api.endpoints(), key=lambda e: (e.path, e.method)):
             (done if ep.implemented else todo).append(f"{ep.method} {PREFIX}{ep.path}")
         return {"version": core.identity.version, "implemented": done, "not_implemented": todo}

@@ -7,7 +7,6 @@ import io
 
 import numpy as np
 from PIL import Image
-
 from zenros.msgs.nav_msgs import OccupancyGrid
 
 __all__ = ["grid_png"]

@@ -13,12 +13,16 @@ from typing import Any
 from pymodbus.constants import ExcCodes
 from pymodbus.server import ModbusTcpServer
 from pymodbus.simulator import DataType, SimData, SimDevice
-
 from zenros.msgs.galileo_msgs import GalileoStatus
 
 from .core import Core, NavUnavailable
 from .modbus_map import (
-    DI_COUNT, HR_COUNT, IR_COUNT, HoldingWrite, discrete_inputs, input_registers,
+    DI_COUNT,
+    HR_COUNT,
+    IR_COUNT,
+    HoldingWrite,
+    discrete_inputs,
+    input_registers,
     parse_holding_write,
 )
 
@@ -66,7 +70,7 @@ class ModbusFront:
 
     async def stop(self) -> None:
         if self.server is not None:
-            await self.server.shutdown()
+            await self.server.shutdown()  # type: ignore[no-untyped-call]
 
     async def _on_request(self, fc: int, start: int, address: int, count: int,
                           registers: list[int], set_values: Any) -> ExcCodes | None:

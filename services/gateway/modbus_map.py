@@ -91,7 +91,7 @@ def parse_holding_write(current: list[int], address: int, values: list[int],
     touched = range(address, address + len(values))
     regs[address:address + len(values)] = values
     out: dict[str, object] = {}
-    if any(a in touched for a in range(0, 4)):
+    if any(a in touched for a in range(4)):
         lin, ang = decode_f32(regs[0:2]), decode_f32(regs[2:4])
         if not (math.isfinite(lin) and math.isfinite(ang)):
             raise ValueError("speed registers hold a non-finite float")

@@ -15,12 +15,23 @@ from zenros.action import ActionClient
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
 from zenros.msgs.nav2_msgs import (
-    DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal, UndockRobot, UndockRobotGoal,
+    DockRobot,
+    DockRobotGoal,
+    NavigateToPose,
+    NavigateToPoseGoal,
+    UndockRobot,
+    UndockRobotGoal,
 )
 from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs import (
-    GetCurrentMap, GetCurrentMapRequest, GetNavPoints, GetNavPointsRequest, ListPaths,
-    ListPathsRequest, NavStatus, TaskStatus,
+    GetCurrentMap,
+    GetCurrentMapRequest,
+    GetNavPoints,
+    GetNavPointsRequest,
+    ListPaths,
+    ListPathsRequest,
+    NavStatus,
+    TaskStatus,
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
@@ -64,7 +75,7 @@ class Navigator:
     # ------------------------------------------------------------------ state
 
     def available(self) -> bool:
-        return self.navigate.server_is_ready()
+        return bool(self.navigate.server_is_ready())
 
     def on_status(self, msg: NavStatus) -> None:
         s = self.core.state
@@ -106,14 +117,14 @@ class Navigator:
         """The current path: the one chosen (``/navigation/start?path=``), else the current
         map's first."""
         if self.path_name:
-            return self.path_name
+            return str(self.path_name)
         current = await self.current.call_async(GetCurrentMapRequest(), 5.0)
         res = await self.paths.call_async(ListPathsRequest(map_name=current.name), 5.0)
         names = sorted(p.path_name for p in res.paths if p.map_name == current.name)
         if not names:
             raise ValueError(f"map {current.name!r} has no path with nav points yet "
                              "(POST /navigation/nav_points)")
-        return names[0]
+        return str(names[0])
 
     async def nav_point(self, index: int) -> tuple[float, float, float]:
         """The pose of nav point ``index`` of the current path."""

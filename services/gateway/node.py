@@ -10,7 +10,6 @@ from typing import Any
 
 import uvicorn
 from starlette.types import ASGIApp
-
 from zenros.node import Node
 from zenros.param_client import ParameterClient
 
@@ -18,12 +17,10 @@ from .app import HttpApp, build_api
 from .config import default_config_path, load_config
 from .core import Core, make_identity
 from .dashboard import dashboard_app
-from .link import RobotLink
-from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .discovery import Discovery
+from .link import RobotLink
 from .modbus import ModbusFront
 from .native import NativeCommands
-from .serial_bridge import SerialBridge
 from .nav_link import NavLink
 from .navigator import Navigator
 from .rest_extras import add_extra_routes
@@ -32,6 +29,8 @@ from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
+from .runner import AsyncRunner, bind_tcp, start_uvicorn
+from .serial_bridge import SerialBridge
 from .settings import Settings
 from .tasks_link import TasksLink
 from .topic_hub import TopicHub

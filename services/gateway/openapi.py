@@ -54,10 +54,10 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
     err = {"description": "error (§1.2 body)",
            "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
     if not ep.implemented:
-        op["responses"] = {"501": {"description": "not implemented", **{
-            "content": err["content"]}}}
+        op["responses"] = {"501": {"description": "not implemented", 
+            "content": err["content"]}}
         return op
-    ok_content = ({ep.media_type: {}} if ep.media_type != "application/json"
+    ok_content: dict[str, Any] = ({ep.media_type: {}} if ep.media_type != "application/json"
                   else {"application/json": {"schema": {}}})
     responses: dict[str, Any] = {"200": {"description": "success", "content": ok_content},
                                  "400": err}

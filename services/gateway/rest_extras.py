@@ -8,10 +8,13 @@ from collections.abc import Callable
 from typing import Annotated, Any
 
 import msgspec
-
 from zenros.errors import (
-    InvalidParameterValueError, ParameterNotFoundError, ServiceError, ServiceUnavailableError,
-    ZenrosError, ZenrosTimeout,
+    InvalidParameterValueError,
+    ParameterNotFoundError,
+    ServiceError,
+    ServiceUnavailableError,
+    ZenrosError,
+    ZenrosTimeout,
 )
 from zenros.msgs.std_msgs import String
 from zenros.param_client import ParameterClient

@@ -11,7 +11,6 @@ from typing import Annotated, Any
 
 import msgspec
 from starlette.responses import Response
-
 from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.std_msgs import Header
@@ -104,7 +103,8 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         task = await task_call("create", "", {"name": name, "sub_tasks": sub_tasks,
                                               "loop_flag": loop})
         try:
-            return await task_call("start", task["id"])
+            started: dict[str, Any] = await task_call("start", task["id"])
+            return started
         except ApiError as exc:
             if exc.status_code != 409:
                 raise
@@ -115,7 +115,8 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
                 raise
             for t in running:
                 await task_call("stop", t["id"])
-            return await task_call("start", task["id"])
+            restarted: dict[str, Any] = await task_call("start", task["id"])
+            return restarted
 
     async def point(index: int) -> tuple[float, float, float]:
         try:

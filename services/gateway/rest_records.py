@@ -7,14 +7,19 @@ from collections.abc import Callable
 from typing import Annotated, Any
 
 import msgspec
-
 from zenros.msgs import zenros_msgs as zm
 
 from .api import Api, ApiError, Call
 from .nav_link import NavLink
 from .path_data import (
-    format_areas, format_nav_points, format_points, format_walls, parse_areas,
-    parse_nav_points, parse_points, parse_walls,
+    format_areas,
+    format_nav_points,
+    format_points,
+    format_walls,
+    parse_areas,
+    parse_nav_points,
+    parse_points,
+    parse_walls,
 )
 from .rest_nav import Name, OptName
 

@@ -46,14 +46,14 @@ class SerialBridge:
                                          parity="N", stopbits=1, timeout=0,
                                          write_timeout=0.2)
         except (serial.SerialException, OSError, ValueError) as exc:
-            return self._down(f"cannot open serial port {self.port}: {exc}")
+            self._down(f"cannot open serial port {self.port}: {exc}")
+            return None
 
     def _down(self, why: str) -> None:
         if self.connected.is_set() or not getattr(self, "_said", False):
             self.logger.warning("%s; retrying every %g s", why, self.retry)
             self._said = True
         self.connected.clear()
-        return None
 
     def _run(self) -> None:
         while not self._stop.is_set():

@@ -50,7 +50,7 @@ class CommandParser:
         while True:
             i = buf.find(HEADER)
             if i < 0:
-                keep = 2 if len(buf) >= 2 else len(buf)  # a header may straddle reads
+                keep = min(2, len(buf))  # a header may straddle reads
                 self.skipped += len(buf) - keep
                 del buf[:len(buf) - keep]
                 return out

@@ -46,7 +46,7 @@ class RobotSettings(msgspec.Struct, forbid_unknown_fields=True):
 
 
 def _patch_type() -> type[Any]:
-    fields = [(f.name, f.type | msgspec.UnsetType, msgspec.UNSET)  # type: ignore[operator]
+    fields = [(f.name, f.type | msgspec.UnsetType, msgspec.UNSET)
               for f in msgspec.structs.fields(RobotSettings)]
     return msgspec.defstruct("SettingsPatch", fields, forbid_unknown_fields=True)
 

@@ -11,15 +11,14 @@ import threading
 from typing import Any
 
 import msgspec
-
 from zenros.codec import from_builtins, to_builtins
 from zenros.errors import DecodeError, UnknownTypeError
 from zenros.message import Message, lookup_type
 from zenros.node import Node
 from zenros.pubsub import Publisher, Subscription
-from zenros.qos import QoSProfile, Durability
+from zenros.qos import Durability, QoSProfile
 
-__all__ = ["Slot", "TopicHub", "TopicError"]
+__all__ = ["Slot", "TopicError", "TopicHub"]
 
 _ENC = msgspec.json.Encoder()
 
@@ -63,7 +62,7 @@ class TopicHub:
     """Streams topics to `Slot`s and publishes client frames, for the WebSocket front end."""
 
     def __init__(self, node: Node) -> None:
-        self.node = node
+        self.node: Node = node
         self._feeds: dict[str, _Feed] = {}
         self._pubs: dict[str, Publisher[Any]] = {}
         self._lock = threading.Lock()
@@ -74,7 +73,7 @@ class TopicHub:
         if not name:
             raise TopicError("no topic in the URL: use ws://host:port/<topic>")
         try:
-            return self.node.resolve_name(name)
+            return str(self.node.resolve_name(name))
         except ValueError as exc:
             raise TopicError(f"bad topic name {name!r}: {exc}") from exc
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import asyncio
 import io
 import json
-import math
 import logging
+import math
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -26,8 +26,8 @@ from zenros.msgs.zenros_msgs import Teleport, TeleportRequest
 from zenros.node import Node
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.serial_frame import command_frame
 from zenros.services.gateway.serial_bridge import SerialBridge
+from zenros.services.gateway.serial_frame import command_frame
 from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.services.nav.node import NavNode
 from zenros.services.tasks.node import TasksNode

@@ -12,7 +12,6 @@ from zenros.msgs.galileo_msgs import GalileoStatus
 from zenros.msgs.geometry_msgs import Twist
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.sensor_msgs import BatteryState
-from zenros.node import Node
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.spec_routes import SPEC_OPERATIONS
 from zenros.services.gateway.testing import running_gateway

@@ -12,7 +12,6 @@ from pathlib import Path
 import pytest
 import serial
 from zenros.context import Context
-from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.serial_frame import HEADER, STATUS_FRAME_LEN, command_frame
 from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.testing import wait_for

@@ -11,12 +11,20 @@ import pytest
 from zenros.services.gateway.config import GatewayConfig, load_config
 from zenros.services.gateway.deadman import DeadMan
 from zenros.services.gateway.path_data import (
-    format_areas, format_nav_points, format_walls, parse_areas, parse_nav_points,
-    parse_points, parse_walls,
+    format_areas,
+    format_nav_points,
+    format_walls,
+    parse_areas,
+    parse_nav_points,
+    parse_points,
+    parse_walls,
 )
 from zenros.services.gateway.settings import Settings, SettingsPatch
 from zenros.services.gateway.status import (
-    GoalState, RobotState, compose_status, system_status_name,
+    GoalState,
+    RobotState,
+    compose_status,
+    system_status_name,
 )
 from zenros.services.gateway.tokens import TokenStore
 from zenros.services.gateway.topic_hub import Slot
@@ -78,7 +86,7 @@ def test_config_file(tmp_path: Path) -> None:
 def test_tokens() -> None:
     store = TokenStore(GatewayConfig(), capacity=2)
     assert store.issue("admin", "x") is None
-    a, b, c = (store.issue("admin", "admin") for _ in range(3))
+    a, _b, c = (store.issue("admin", "admin") for _ in range(3))
     assert a and len(a) == 32 and store.problem(c) is None
     assert store.problem(a) == "invalid token"  # the oldest was forgotten
     assert "missing token" in (store.problem(None) or "")

@@ -8,7 +8,12 @@ import pytest
 from pymodbus.client import ModbusTcpClient
 from zenros.msgs.galileo_msgs import GalileoStatus
 from zenros.services.gateway.modbus_map import (
-    DI_COUNT, IR_COUNT, decode_f32, discrete_inputs, encode_f32, input_registers,
+    DI_COUNT,
+    IR_COUNT,
+    decode_f32,
+    discrete_inputs,
+    encode_f32,
+    input_registers,
     parse_holding_write,
 )
 

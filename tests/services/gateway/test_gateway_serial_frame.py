@@ -7,7 +7,11 @@ import struct
 import pytest
 from zenros.msgs.galileo_msgs import GalileoStatus
 from zenros.services.gateway.serial_frame import (
-    HEADER, STATUS_FRAME_LEN, CommandParser, command_frame, status_frame,
+    HEADER,
+    STATUS_FRAME_LEN,
+    CommandParser,
+    command_frame,
+    status_frame,
 )
 
 
