@@ -16,6 +16,7 @@ from zenros.msgs.nav2_msgs import (
     ComputePathToPose,
     DockRobot,
     FollowPath,
+    FollowWaypoints,
     LoadMap,
     NavigateThroughPoses,
     NavigateToPose,
@@ -32,6 +33,7 @@ from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.tf import TransformBroadcaster
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
+from .action_base import Ledger
 from .actions import NavActions
 from .autocharge import AutoCharge
 from .convert import (
@@ -46,6 +48,7 @@ from .docking import Dock
 from .localizer import MODES
 from .loop import ControlLoop
 from .params import DEMO_MAP, declare_nav_config
+from .routines import RoutineActions
 from .se2 import Pose2
 from .status import nav_status
 
@@ -92,7 +95,9 @@ class NavNode(Node):
         self.core = NavCore(cfg, data_dir(maps_dir) / "maps" if not maps_dir else maps_dir,
                             on_plan=self._publish_plan, on_map=self._publish_map)
         self.core.maps.start(map_param or DEMO_MAP)
-        self.actions = NavActions(self.core, self.now, self.logger)
+        self.ledger = Ledger()
+        self.actions = NavActions(self.core, self.now, self.logger, self.ledger)
+        self.routines = RoutineActions(self.core, self.now, self.logger, self.ledger)
 
         self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "robot_pose")
@@ -149,7 +154,7 @@ class NavNode(Node):
             self.create_service(srv, name, handler)
 
     def _serve_actions(self) -> None:
-        a = self.actions
+        a, r = self.actions, self.routines
         for act, name, execute, goal_cb in (
             (NavigateToPose, "navigate_to_pose", a.execute_navigate_to_pose,
              a.goal_navigate_to_pose),
@@ -157,9 +162,11 @@ class NavNode(Node):
              a.goal_navigate_through_poses),
             (FollowPath, "follow_path", a.execute_follow_path, a.goal_follow_path),
             (ComputePathToPose, "compute_path_to_pose", a.execute_compute_path_to_pose, None),
-            (DockRobot, "dock_robot", a.execute_dock_robot, None),
-            (UndockRobot, "undock_robot", a.execute_undock_robot, None),
-            (navmsgs.Patrol, "patrol", a.execute_patrol, a.goal_patrol),
+            (DockRobot, "dock_robot", r.execute_dock_robot, None),
+            (UndockRobot, "undock_robot", r.execute_undock_robot, None),
+            (navmsgs.Patrol, "patrol", r.execute_patrol, r.goal_patrol),
+            (FollowWaypoints, "follow_waypoints", r.execute_follow_waypoints,
+             r.goal_follow_waypoints),
         ):
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
             self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
@@ -282,7 +289,7 @@ class NavNode(Node):
             self.local_pub.publish(msg)
 
     def on_status_timer(self) -> None:
-        self.status_pub.publish(nav_status(self.core, self.actions, self.now()))
+        self.status_pub.publish(nav_status(self.core, self.ledger, self.now()))
 
     # ------------------------------------------------------------------ outputs
 

@@ -6,7 +6,7 @@ from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs.nav import NavStatus
 
-from .actions import NavActions
+from .action_base import Ledger
 from .convert import pose2_to_pose2d
 from .core import NavCore
 from .docking import Dock, Undock
@@ -17,17 +17,17 @@ from .se2 import Pose2
 __all__ = ["nav_status"]
 
 
-def nav_status(core: NavCore, actions: NavActions, stamp: Time) -> NavStatus:
+def nav_status(core: NavCore, ledger: Ledger, stamp: Time) -> NavStatus:
     pose = core.localizer.pose()
     msg = NavStatus(header=Header(stamp=stamp, frame_id="map"), map_name=core.maps.current,
                     localized=pose is not None, pose=pose2_to_pose2d(pose or Pose2()))
     b = core.motion.active
     if b is None:
         msg.state = "charging" if core.charging else "idle"
-        msg.goal_status, msg.error_code, msg.error_msg = actions.last_outcome
+        msg.goal_status, msg.error_code, msg.error_msg = ledger.last_outcome
         return msg
     msg.goal_status = 1
-    cur = actions.current
+    cur = ledger.current
     if cur is not None and cur[1] is b and cur[2] is not None:
         msg.goal = pose2_to_pose2d(cur[2])
     nav = b.nav if isinstance(b, Patrol) else b if isinstance(b, Navigate) else None

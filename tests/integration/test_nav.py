@@ -25,6 +25,8 @@ from zenros.msgs.nav2_msgs import (
     ComputePathToPoseResult,
     DockRobot,
     DockRobotGoal,
+    FollowWaypoints,
+    FollowWaypointsGoal,
     NavigateThroughPoses,
     NavigateThroughPosesGoal,
     NavigateToPose,
@@ -94,6 +96,7 @@ class Rig:
         self.dock = ActionClient(user, DockRobot, "dock_robot")
         self.undock = ActionClient(user, UndockRobot, "undock_robot")
         self.patrol = ActionClient(user, Patrol, "patrol")
+        self.waypoints = ActionClient(user, FollowWaypoints, "follow_waypoints")
         self.teleport = user.create_client(Teleport, "sim/teleport")
         self.obstacles = user.create_client(SetObstacles, "sim/set_obstacles")
         self.walls = user.create_client(SetVirtualWalls, "set_virtual_walls")
@@ -105,7 +108,8 @@ class Rig:
         return NavigateToPoseGoal(pose=pose_stamped(Pose2(x, y, theta), Time()))
 
     def reset(self, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> None:
-        for client in (self.navigate, self.through, self.dock, self.undock, self.patrol):
+        for client in (self.navigate, self.through, self.dock, self.undock, self.patrol,
+                       self.waypoints):
             client.cancel_all_goals()
         assert wait_for(lambda: self.nav.core.motion.active is None, 10)
         assert self.obstacles.call(SetObstaclesRequest(op="clear"), timeout=10).success
@@ -305,6 +309,13 @@ def test_patrol_loops_over_nav_points(rig: Rig) -> None:
     out = rig.patrol.send_goal(PatrolGoal(path_name="loop", loops=2, wait_time=0.5), timeout=50)
     assert out.status is GoalStatus.SUCCEEDED, out.result
     assert out.result.loops_completed == 2 and out.result.points_visited == 4
+    # Nav2's waypoint follower on the same behaviour: one pass, then one extra loop
+    goal = FollowWaypointsGoal(number_of_loops=1, poses=[
+        pose_stamped(Pose2(1.0, 0.0), Time()), pose_stamped(Pose2(1.0, 1.0), Time())])
+    done = rig.waypoints.send_goal(goal, timeout=40)
+    assert done.status is GoalStatus.SUCCEEDED and done.result.missed_waypoints == []
+    bad = FollowWaypointsGoal(goal_index=5, poses=[pose_stamped(Pose2(1.0, 0.0), Time())])
+    assert not rig.waypoints.send_goal_async(bad).wait_accepted(10)
 
 
 
