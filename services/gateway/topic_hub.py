@@ -11,7 +11,8 @@ import threading
 from typing import Any
 
 import msgspec
-from zenros.codec import from_builtins, to_builtins
+import numpy as np
+from zenros.codec import from_builtins
 from zenros.errors import DecodeError, UnknownTypeError
 from zenros.message import Message, lookup_type
 from zenros.node import Node
@@ -20,7 +21,15 @@ from zenros.qos import Durability, QoSProfile
 
 __all__ = ["Slot", "TopicError", "TopicHub"]
 
-_ENC = msgspec.json.Encoder()
+def _enc_hook(obj: Any) -> Any:
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    raise NotImplementedError(f"cannot encode {type(obj).__name__}")
+
+
+_ENC = msgspec.json.Encoder(enc_hook=_enc_hook)  # messages straight to JSON, one pass
 
 
 class TopicError(Exception):
@@ -128,7 +137,7 @@ class TopicHub:
             return list(feed.slots) if feed is not None else []
 
     def _on_message(self, feed: _Feed, msg: Message) -> None:
-        frame = _ENC.encode(to_builtins(msg)).decode()
+        frame = _ENC.encode(msg).decode()
         with self._lock:
             feed.last = frame
             slots = list(feed.slots)
