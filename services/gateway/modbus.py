@@ -50,7 +50,7 @@ class ModbusFront:
         self._di = _pack_bits(discrete_inputs(core.status))
         core.status_listeners.append(self._on_status)
         self.device = SimDevice(id=0, action=self._on_request, simdata=(
-            [SimData(0, count=16, values=False, datatype=DataType.BITS)],
+            [SimData(65000, count=16, values=False, datatype=DataType.BITS)],  # no coils in §14
             [SimData(0, count=DI_COUNT, values=False, datatype=DataType.BITS)],
             [SimData(0, count=HR_COUNT, values=0, datatype=DataType.REGISTERS)],
             [SimData(0, count=IR_COUNT, values=0, datatype=DataType.REGISTERS)]))

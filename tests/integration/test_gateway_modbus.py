@@ -46,6 +46,12 @@ async def test_spec_example_and_status_tables(gw: GatewayNode) -> None:
         assert di.bits[:6] == [True, False, False, False, False, True]  # nav, busy
         bad = await c.read_input_registers(40, count=2, device_id=1)
         assert bad.isError() and bad.exception_code == 2           # ILLEGAL ADDRESS
+        bad = await c.read_input_registers(20, count=10, device_id=1)  # runs past doc 27
+        assert bad.isError() and bad.exception_code == 2
+        bad = await c.read_coils(0, count=1, device_id=1)          # §14 has no coils
+        assert bad.isError() and bad.exception_code == 2
+        bad = await c.write_register(20, 1, device_id=1)           # past holding reg 14
+        assert bad.isError() and bad.exception_code == 2
     finally:
         c.close()
 
