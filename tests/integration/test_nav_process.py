@@ -1,0 +1,79 @@
+"""The nav service as processes (chassis and nav at 10x, each its own process, through a
+router): a goal over the wire, SIGINT ends nav cleanly with the robot stopped; a bad
+start map is a startup failure (exit code 3) naming the file and the field."""
+
+from __future__ import annotations
+
+import math
+import signal
+import sys
+from pathlib import Path
+
+import pytest
+from zenros.action import ActionClient, GoalStatus
+from zenros.context import Context
+from zenros.msgs.builtin_interfaces import Time
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.zenros_msgs import ListMaps, ListMapsRequest
+from zenros.node import Node
+from zenros.services.nav.convert import pose_stamped
+from zenros.services.nav.se2 import Pose2
+from zenros.testing import Proc, wait_for
+
+pytestmark = pytest.mark.system
+
+
+def start(router: str, prefix: str, module: str, *params: str) -> Proc:
+    args = [sys.executable, "-m", module, "-e", router, "--prefix", prefix]
+    for p in params:
+        args += ["-p", p]
+    return Proc(args)
+
+
+def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
+                                   procs: list[Proc], tmp_path: Path) -> None:
+    chassis = start(router, prefix, "zenros.services.chassis", "speed:=10", "seed:=1")
+    procs.append(chassis)
+    nav = start(router, prefix, "zenros.services.nav", "use_sim_time:=true",
+                f"maps_dir:={tmp_path}")
+    procs.append(nav)
+    assert nav.wait_line("started", 30), nav.output
+    user = Node("user", context=observer)
+    try:
+        maps = user.create_client(ListMaps, "map_server/list_maps")
+        assert maps.wait_for_service(10)
+        assert [m.name for m in maps.call(ListMapsRequest(), timeout=10).maps] == ["office"]
+        assert (tmp_path / "office" / "office.yaml").is_file()
+        truth: list[Odometry] = []
+        user.create_subscription(Odometry, "sim/ground_truth", truth.append)
+        client = ActionClient(user, NavigateToPose, "navigate_to_pose")
+        assert client.wait_for_server(20)
+        out = client.send_goal(NavigateToPoseGoal(pose=pose_stamped(Pose2(6.0, 0.0), Time())),
+                               timeout=40)
+        assert out.status is GoalStatus.SUCCEEDED, out.result
+        p = truth[-1].pose.pose.position
+        assert math.hypot(p.x - 6.0, p.y) <= 0.17
+        # a goal under way, then nav is stopped: it leaves the robot standing
+        handle = client.send_goal_async(NavigateToPoseGoal(
+            pose=pose_stamped(Pose2(20.0, 0.0), Time())))
+        assert handle.wait_accepted(10)
+        assert wait_for(lambda: abs(truth[-1].twist.twist.linear.x) > 0.3, 20)
+        nav.signal(signal.SIGINT)
+        assert nav.wait(15) == 0, nav.output
+        assert wait_for(lambda: abs(truth[-1].twist.twist.linear.x) < 1e-6, 5)
+    finally:
+        user.close()
+
+
+def test_a_bad_map_fails_startup(router: str, prefix: str, procs: list[Proc],
+                                 tmp_path: Path) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("image: nowhere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                   "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    nav = start(router, prefix, "zenros.services.nav", f"map:={bad}",
+                f"maps_dir:={tmp_path / 'maps'}")
+    procs.append(nav)
+    assert nav.wait(30) == 3, nav.output
+    assert "startup failed" in nav.output and "bad.yaml" in nav.output
+    assert "'image'" in nav.output
