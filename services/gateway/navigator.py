@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import asyncio
 import math
+import time
+from collections import deque
 from typing import Any
 
 from zenros.action import ActionClient
@@ -41,6 +43,9 @@ from .status import GoalState
 
 __all__ = ["Navigator", "pose_stamped"]
 
+TRACK_PERIOD = 1.0     # s between recorded track points
+TRACK_LENGTH = 3600    # points kept per map
+
 # nav/status goal_status → §4 (targetStatus, angleGoalStatus)
 _GOAL = {0: (0, -1), 1: (1, 0), 2: (0, 1), 3: (3, 2), 4: (0, -1)}
 
@@ -69,6 +74,8 @@ class Navigator:
         self.paths = node.create_client(ListPaths, "list_paths")
         self.current = node.create_client(GetCurrentMap, "map_server/current_map")
         self.loop_task_id = ""        # the patrol task started by /navigation/loop_task
+        self.tracks: dict[str, deque[tuple[float, float]]] = {}  # map -> 1 Hz poses
+        self._track_at = 0.0
         node.create_subscription(NavStatus, "nav/status", self.on_status, QOS_LATCHED)
         node.create_subscription(TaskStatus, "tasks/status", self.on_task, QOS_LATCHED)
 
@@ -79,6 +86,11 @@ class Navigator:
 
     def on_status(self, msg: NavStatus) -> None:
         s = self.core.state
+        now = time.monotonic()
+        if msg.localized and msg.map_name and now - self._track_at >= TRACK_PERIOD:
+            self._track_at = now
+            track = self.tracks.setdefault(msg.map_name, deque(maxlen=TRACK_LENGTH))
+            track.append((msg.pose.x, msg.pose.y))
         s.nav_open = not self.stopped
         s.looping = msg.state == "patrolling" or bool(self.loop_task_id)
         s.docking_phase = {"docking": 4}.get(msg.state, 0)

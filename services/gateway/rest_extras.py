@@ -106,7 +106,12 @@ def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: Parameter
         await _params(lambda: params.set(b.param, b.value))
         return {"value": b.value}
 
+    async def schedule_manager(call: Call) -> Any:
+        """The multi-robot schedule manager the robot is connected to: none (empty)."""
+        return {}
+
     api.add("GET", "/system/log", log)
+    api.add("GET", "/system/schedule_manager", schedule_manager)
     api.add("GET", "/system/tts", tts, query=TtsQuery)
     api.add("GET", "/system/topic", topic, query=TopicQuery)
     api.add("GET", "/system/self_test", self_test)

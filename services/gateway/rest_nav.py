@@ -17,7 +17,7 @@ from zenros.msgs.std_msgs import Header
 
 from .api import Api, ApiError, Call
 from .core import Core, NavUnavailable
-from .map_image import grid_png
+from .map_image import grid_pgm, grid_png
 from .nav_link import NavLink
 from .navigator import Navigator, pose_stamped
 from .rest_tasks import TaskCaller
@@ -46,6 +46,10 @@ class ReloadQuery(msgspec.Struct, forbid_unknown_fields=True):
 
 class NamedMap(msgspec.Struct, forbid_unknown_fields=True):
     name: OptName = ""
+
+
+class TrackQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: OptName = ""
 
 
 class SavedMapsQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -219,9 +223,8 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
         return {"name": res.name, "md5sum": res.md5sum}
 
-    async def map_png(call: Call) -> Any:
-        """The current map as a PNG image (``name`` must be the current map or empty)."""
-        name = call.query.name
+    async def loaded_grid(name: str) -> Any:
+        """The loaded map's grid; ``name`` must be it (or empty)."""
         current = await current_map()
         if name and name != current:
             listed = await link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
@@ -231,7 +234,23 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
                                 f"the loaded map ({current!r}): switch_map first")
         if link.grid is None:
             raise ApiError(503, "no map received from the nav service yet")
-        return Response(grid_png(link.grid), media_type="image/png")
+        return link.grid
+
+    async def map_png(call: Call) -> Any:
+        """The current map as a PNG image (``name`` must be the current map or empty)."""
+        return Response(grid_png(await loaded_grid(call.query.name)), media_type="image/png")
+
+    async def map_pgm(call: Call) -> Any:
+        """The current map as a PGM image (``name`` must be the current map or empty)."""
+        return Response(grid_pgm(await loaded_grid(call.query.name)),
+                        media_type="image/x-portable-graymap")
+
+    async def robot_tracks(call: Call) -> Any:
+        """Where the robot has been on ``map_name`` (default: the current map), one
+        ``{x, y, z}`` a second, the last hour, since the gateway started."""
+        name = call.query.map_name or await current_map()
+        return {"map_name": name,
+                "track": [{"x": x, "y": y, "z": 0.0} for x, y in nav.tracks.get(name, ())]}
 
     async def switch_map(call: Call) -> Any:
         """Load another stored map."""
@@ -346,6 +365,9 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     api.add("GET", "/navigation/saved_maps", saved_maps, query=SavedMapsQuery)
     api.add("GET", "/navigation/current_map", get_current_map)
     api.add("GET", "/navigation/map_png", map_png, query=NamedMap, media_type="image/png")
+    api.add("GET", "/navigation/map_pgm", map_pgm, query=NamedMap,
+            media_type="image/x-portable-graymap")
+    api.add("GET", "/navigation/robot_tracks", robot_tracks, query=TrackQuery)
     api.add("GET", "/navigation/switch_map", switch_map, query=SwitchQuery)
     api.add("POST", "/navigation/init_pose", init_pose, body=InitPose)
     api.add("POST", "/navigation/start_nav_task", start_nav_task, body=NavTaskBody)

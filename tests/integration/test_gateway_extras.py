@@ -54,6 +54,7 @@ def test_tts_log_topic_self_test(gw: GatewayNode, http: httpx.Client,
     assert http.get("/system/topic", params={"topic_name": "a b"}).status_code == 400
     assert wait_for(lambda: batt.publish(BatteryState(voltage=24.5)) or gw.link.fresh(
         "battery_state"), 5)
+    assert http.get("/system/schedule_manager").json() == {}
     test = http.get("/system/self_test").json()
     assert test["battery"] is True and test["lidar"] is False and test["camera"] is False
 

@@ -152,6 +152,13 @@ def test_maps_paths_and_points(rig: Rig) -> None:
     img = Image.open(io.BytesIO(png.content))
     grid = rig.gw.nav_link.grid
     assert grid is not None and img.size == (grid.info.width, grid.info.height)
+    pgm = rig.http.get("/navigation/map_pgm").content
+    assert pgm.startswith(f"P5\n{grid.info.width} {grid.info.height}\n255\n".encode())
+    assert Image.open(io.BytesIO(pgm)).tobytes() == img.tobytes()
+    assert wait_for(lambda: len(rig.http.get("/navigation/robot_tracks").json()["track"]) > 0, 5)
+    assert rig.http.get("/navigation/robot_tracks",
+                        params={"map_name": "elsewhere"}).json() == {"map_name": "elsewhere",
+                                                                      "track": []}
     pts = rig.http.get("/navigation/nav_points",
                        params={"map_name": current["name"], "path_name": "p1"}).json()
     assert pts["path_data"] == POINTS
