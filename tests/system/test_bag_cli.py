@@ -122,7 +122,7 @@ def test_launch_node_form(router: str, prefix: str, talker: Proc, tmp_path: Path
     ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
     try:
         assert ctx.graph.wait_for_node("/tools/recorder", 15), p.output
-        assert wait_for(lambda: (bag / "launched_0.mcap").exists(), 10)
+        assert p.wait_line("Subscribed to topic '/chatter'", 15), p.output  # a first sample
     finally:
         ctx.close()
         assert p.stop() == 0, p.output
