@@ -22,7 +22,7 @@ from zenros.testing import Collector, wait_for
 
 pytest.importorskip("foxglove", reason="foxglove-sdk not installed (pip install zenros[foxglove])")
 
-from zenros.services.gateway.foxglove.bridge import FoxgloveBridge  # noqa: E402
+from zenros.services.gateway.foxglove.bridge import FoxgloveBridge
 
 TIMEOUT = 10.0
 SUBPROTOCOL = "foxglove.sdk.v1"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from functools import cache
 from typing import Any
 
 import msgspec
@@ -27,7 +26,6 @@ def schema_name(type_name: str) -> str:
     return f"{pkg}/msg/{name}" if pkg else name
 
 
-@cache
 def json_schema(msg_type: type[Message]) -> dict[str, Any]:
     """A self-contained JSON schema (draft 2020-12) of a message type, root type first."""
     schema: dict[str, Any] = msgspec.json.schema(msg_type, schema_hook=_hook)

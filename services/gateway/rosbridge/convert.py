@@ -36,12 +36,14 @@ _ENCODER = msgspec.json.Encoder(enc_hook=_enc_hook)
 
 def dumps(obj: Any) -> bytes:
     """One frame as UTF-8 JSON (NaN and infinities become ``null``, as rosbridge writes them)."""
-    return _ENCODER.encode(obj)
+    data: bytes = _ENCODER.encode(obj)
+    return data
 
 
 def encode_message(msg: Message) -> bytes:
     """A message as the JSON object rosbridge sends (the ROS field layout)."""
-    return _ENCODER.encode(msg)
+    data: bytes = _ENCODER.encode(msg)
+    return data
 
 
 def to_json(msg: Message) -> Any:
@@ -51,7 +53,7 @@ def to_json(msg: Message) -> Any:
 
 def publish_frame(topic: str, msg_json: bytes) -> bytes:
     """``{"op":"publish","topic":...,"msg":...}`` around an encoded message, without re-parsing."""
-    return b'{"op":"publish","topic":' + _ENCODER.encode(topic) + b',"msg":' + msg_json + b"}"
+    return b'{"op":"publish","topic":' + dumps(topic) + b',"msg":' + msg_json + b"}"
 
 
 def long_type(name: str, kind: str = "msg") -> str:

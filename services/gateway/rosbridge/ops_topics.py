@@ -22,6 +22,9 @@ class TopicOps:
     advertised: set[str]
     subs: dict[str, dict[Any, SubOptions]]
 
+    if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
+        def deliver(self, topic: str, frame: bytes) -> None: ...
+
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
         type_name = frame.get("type")

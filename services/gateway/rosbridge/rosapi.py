@@ -27,13 +27,6 @@ class RosapiError(ValueError):
     """A rosapi request that cannot be answered (unknown service, bad arguments)."""
 
 
-class _Token(Protocol):
-    name: str
-    type: str
-    node: str
-    kind: str
-
-
 class GraphView(Protocol):
     def topics(self) -> dict[str, list[str]]: ...
     def services(self) -> dict[str, list[str]]: ...

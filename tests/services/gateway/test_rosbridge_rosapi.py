@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import pytest
 from zenros.errors import ParameterNotFoundError
@@ -20,7 +20,7 @@ class Tok:
 
 
 class Graph:
-    toks = [Tok("pub", "/a", "/chatter", "std_msgs/String"),
+    toks: ClassVar[list[Tok]] = [Tok("pub", "/a", "/chatter", "std_msgs/String"),
             Tok("sub", "/b", "/chatter", "std_msgs/String"),
             Tok("srv", "/a", "/add", "example_interfaces/AddTwoInts"),
             Tok("act", "/a", "/fib", "example_interfaces/Fibonacci")]
