@@ -287,3 +287,28 @@ def test_lifecycle_loop_charge_and_records(rig: Rig) -> None:
     assert h.delete("/action", params={"id": action}).json() == {"status": "ok"}
     assert h.delete("/task", params={"id": t["id"]}).json() == {"status": "ok"}
     assert h.get("/navigation/start", params={"path": "p1"}).json()["result"] is True
+
+
+def test_hostile_inputs_with_services_up(rig: Rig) -> None:
+    """With nav and tasks running, bad input still never reaches a 500 or a service."""
+    bodies = [b"{", b"[]", b'{"x": "a"}', (b'{"map_name": "../x", "path_name": "p",'
+                                           b' "path_data": "1 2 3"}'),
+              b'{"x": 1e308, "y": -1e308}',
+              b'{"map_name": "office", "path_name": "p1", "path_data": "' + b"1 " * 3000 + b'"}']
+    queries = [{"index": "-1"}, {"index": "1e9"}, {"map_name": "..", "path_name": "x"},
+               {"map_name": "office", "path_name": "../p1"}, {"name": "/etc/passwd"},
+               {"map": "nowhere"}, {"index": "3", "map": "elsewhere"}]
+    index = rig.http.get("/").json()
+    for entry in index["implemented"]:
+        method, url = entry.split(" ", 1)
+        if "/navigation/" not in url:
+            continue
+        path = url.removeprefix("/api/v1")
+        tries: list[tuple[dict[str, str], bytes | None]] = [(q, None) for q in queries]
+        if method in ("POST", "PUT"):
+            tries += [({}, b) for b in bodies]
+        for params, body in tries:
+            r = rig.http.request(method, path, params=params, content=body,
+                                 headers={"content-type": "application/json"})
+            assert r.status_code < 500 or r.status_code == 503, (entry, params, body, r.text)
+    assert rig.http.get("/system/status").status_code == 200
