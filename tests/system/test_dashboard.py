@@ -2,7 +2,8 @@
 against real processes: chassis (10x sim time), nav, tasks and the gateway (REST + rosbridge).
 
 The page must load with no console errors, show the map and the robot, send the robot to a
-nav point clicked on the map, pause a task, engage the e-stop and fit a phone-sized window.
+nav point clicked on the map, pause a task, engage the e-stop, drive from the keyboard and
+the teleop pad, and fit a phone-sized window.
 Screenshots are saved in
 ``$ZENROS_ARTIFACTS`` (default ``test-artifacts/`` at the repository root).
 """
@@ -206,6 +207,28 @@ def test_dashboard_drives_the_robot(robot: Robot, observer: Context, driver: Any
     click(driver, "#estop")
     assert wait_for(lambda: driver.find_element(By.ID, "estop")
                     .get_attribute("data-engaged") == "0", TIMEOUT)
+
+    # teleop: with navigation stopped, holding W drives the robot, the pad too
+    click(driver, "#cancel-goal")
+    assert wait_for(lambda: driver.find_element(By.ID, "goal-text").text == "", TIMEOUT)
+    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
+    here = pose(driver)
+    body = driver.find_element(By.TAG_NAME, "body")
+    ActionChains(driver).key_down("w", body).perform()
+    try:
+        assert wait_for(lambda: math.dist(pose(driver) or here, here) > 0.3, TIMEOUT)
+    finally:
+        ActionChains(driver).key_up("w", body).perform()
+    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
+    here = pose(driver)
+    pad = driver.find_element(By.ID, "pad")
+    chain = ActionChains(driver).click_and_hold(pad).move_by_offset(0, -40)
+    chain.perform()
+    try:
+        assert wait_for(lambda: math.dist(pose(driver) or here, here) > 0.3, TIMEOUT)
+    finally:
+        ActionChains(driver).release().perform()
+    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
 
     # phone-sized: one column, nothing wider than the screen, the map still drawn
     driver.set_window_size(390, 844)
