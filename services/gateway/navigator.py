@@ -14,7 +14,7 @@ from collections import deque
 from typing import Any
 
 from zenros.action import ActionClient
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosError, ZenrosTimeout
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
 from zenros.msgs.nav2_msgs import (
     DockRobot,
@@ -159,15 +159,21 @@ class Navigator:
         x, y, theta = await self.nav_point(index)
         await self.goto_pose(x, y, theta, num_id=index)
 
+    async def _cancel_all(self, client: ActionClient) -> None:
+        try:
+            await asyncio.to_thread(client.cancel_all_goals)
+        except ZenrosError as exc:  # no server, or it did not answer
+            raise NavUnavailable(f"cannot cancel {client.name}: {exc}") from exc
+
     async def cancel(self) -> None:
         self._paused = None
-        await asyncio.to_thread(self.navigate.cancel_all_goals)
+        await self._cancel_all(self.navigate)
 
     async def pause(self) -> None:
         if self._last is None or self._paused is not None:
             return
         self._paused = self._last
-        await asyncio.to_thread(self.navigate.cancel_all_goals)
+        await self._cancel_all(self.navigate)
         self.core.state.goal = GoalState(num_id=self._last[3], status=2,
                                          distance=self.core.state.goal.distance, angle_status=0)
 
@@ -185,7 +191,7 @@ class Navigator:
         self.dock.send_goal_async(DockRobotGoal(use_dock_id=True, dock_id=""))
 
     async def stop_charge(self) -> None:
-        await asyncio.to_thread(self.dock.cancel_all_goals)
+        await self._cancel_all(self.dock)
         if self.undock.server_is_ready():
             self.undock.send_goal_async(UndockRobotGoal())
         self.core.state.docking_phase = 0

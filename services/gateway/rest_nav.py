@@ -175,7 +175,10 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     async def stop(call: Call) -> Any:
         """Stop navigation: cancel the goal; navStatus goes to 0."""
         if nav.available():
-            await nav.cancel()
+            try:
+                await nav.cancel()
+            except NavUnavailable as exc:
+                raise ApiError(503, str(exc)) from exc
         nav.stopped = True
         core.state.nav_open = False
         return {"result": True, "description": "navigation stopped"}
@@ -339,7 +342,10 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     async def stop_charge(call: Call) -> Any:
         """Stop charging: stops the charge task and undocks."""
         task = await task_call("stop")
-        await nav.stop_charge()
+        try:
+            await nav.stop_charge()
+        except NavUnavailable as exc:
+            raise ApiError(503, str(exc)) from exc
         return {"status": "ok", "task": task}
 
     async def get_charge_pose(call: Call) -> Any:
