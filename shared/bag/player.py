@@ -6,7 +6,7 @@ import queue
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +18,7 @@ from ..context import Context
 from ..msgs.rosgraph_msgs import Clock as ClockMsg
 from ..node import Node
 from .reader import BagMessage, iter_messages, open_summary
+from .transcode import TRANSCODED, from_json
 
 __all__ = ["PlayOptions", "Player"]
 
@@ -198,8 +199,18 @@ class Player:
     def _read(self, out: queue.Queue[list[BagMessage] | None], start: int,
               stop: threading.Event) -> None:
         batch: list[BagMessage] = []
+        back: dict[int, Any] = {}  # channel id -> JSON-to-MessagePack (bulk_json bags)
         try:
             for m in iter_messages(self.files, self.options.topics or None, start):
+                cid = m.channel.id
+                if cid not in back:
+                    back[cid] = (from_json(m.schema.name) if m.schema is not None
+                                 and m.channel.metadata.get(TRANSCODED) == "msgpack" else None)
+                if back[cid] is not None:
+                    data = back[cid](m.data)
+                    if data is None:
+                        continue
+                    m = replace(m, data=data)
                 batch.append(m)
                 if len(batch) >= BATCH:
                     out.put(batch)

@@ -16,9 +16,11 @@ from zenoh import ext as zext
 from ..codec import MSGPACK, split_encoding
 from ..context import Context
 from ..names import Token, resolve
-from .schema import message_encoding, schema_for
+from ..message import lookup_type
+from .schema import message_encoding, schema_for, schema_of_type
 from .sink import CHUNK_SIZE, FLUSH_INTERVAL, BagSink, SplitPolicy
 from .stamp import stamp_reader
+from .transcode import TRANSCODED, to_json
 
 __all__ = ["RecordOptions", "Recorder"]
 
@@ -38,6 +40,8 @@ class RecordOptions:
         compression: ``zstd``, ``lz4`` or ``none``.
         split: when to start the next file.
         chunk_size, flush_interval: see `BagSink`.
+        bulk_json: store bulk (MessagePack) types as JSON, so that JSON-only viewers
+            (Foxglove) decode them; costs a decode and an encode per bulk message.
     """
 
     directory: Path
@@ -48,17 +52,20 @@ class RecordOptions:
     split: SplitPolicy = field(default_factory=SplitPolicy)
     chunk_size: int = CHUNK_SIZE
     flush_interval: float = FLUSH_INTERVAL
+    bulk_json: bool = False
 
 
 class _Route:
     """Where samples of one key and encoding go: a channel, and how to read their stamp."""
 
-    __slots__ = ("channel", "encoding", "stamp")
+    __slots__ = ("channel", "encoding", "stamp", "transcode")
 
-    def __init__(self, channel: int, encoding: str, stamp: Callable[[bytes], int] | None) -> None:
+    def __init__(self, channel: int, encoding: str, stamp: Callable[[bytes], int] | None,
+                 transcode: Callable[[bytes], bytes | None] | None = None) -> None:
         self.channel = channel
         self.encoding = encoding
         self.stamp = stamp
+        self.transcode = transcode
 
 
 class Recorder:
@@ -92,6 +99,7 @@ class Recorder:
         self._tokens: dict[tuple[str, str], Any] = {}
         self._token_lock = threading.Lock()
         self._closed = False
+        self.dropped = 0  # bulk payloads that could not be transcoded (bulk_json only)
         self._subs: list[Any] = []
         self._pumps: list[threading.Thread] = []
         graph = ctx.graph
@@ -158,6 +166,12 @@ class Recorder:
                 if not publish:
                     ts = sample.timestamp
                     publish = ts.get_time_as_ntp64().as_nanos() if ts is not None else log_time
+                if route.transcode is not None:  # only with bulk_json
+                    converted = route.transcode(data)
+                    if converted is None:
+                        self.dropped += 1
+                        continue
+                    data = converted
                 add(route.channel, log_time, publish, data)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
@@ -177,13 +191,17 @@ class Recorder:
             schema_encoding, schema = schema_for(type_name) if type_name else ("", b"")
             pubs = [t for t in self.ctx.graph.publishers(topic)
                     if not type_name or t.type == type_name]
-            qos = pubs[0].qos if pubs else QOS_UNKNOWN
-            channel = self.sink.add_channel(
-                topic, message_encoding(mime) if mime else "", type_name, schema_encoding,
-                schema, {"zenoh_encoding": enc, "qos": qos},
-            )
+            metadata = {"zenoh_encoding": enc, "qos": pubs[0].qos if pubs else QOS_UNKNOWN}
+            encoding = message_encoding(mime) if mime else ""
+            transcode = (to_json(type_name) if self.options.bulk_json and mime == MSGPACK
+                         and type_name else None)
+            if transcode is not None:
+                encoding, schema = "json", schema_of_type(lookup_type(type_name), False)
+                metadata[TRANSCODED] = "msgpack"
+            channel = self.sink.add_channel(topic, encoding, type_name, schema_encoding, schema,
+                                            metadata)
             route = _Route(channel, enc, stamp_reader(type_name, mime == MSGPACK) if type_name
-                           else None)
+                           else None, transcode)
             self._routes[key] = self._by_encoding[(key, enc)] = route
         if self._on_channel is not None:
             self._on_channel(topic, type_name or mime)

@@ -41,6 +41,9 @@ def add_record_arguments(v: argparse.ArgumentParser) -> None:
     v.add_argument("--compression", choices=COMPRESSIONS, default="zstd",
                    help="chunk compression (default zstd)")
     v.add_argument("--exclude", metavar="REGEX", help="do not record topics matching REGEX")
+    v.add_argument("--bulk-json", action="store_true",
+                   help="store MessagePack (bulk) types as JSON, for Foxglove; costs a decode "
+                        "and an encode per bulk message")
     v.add_argument("--flush-interval", type=float, default=FLUSH_INTERVAL, metavar="S",
                    help=f"write the open chunk at least every S seconds (default "
                         f"{FLUSH_INTERVAL:g}): at most this much is lost if the recorder is killed")
@@ -104,7 +107,7 @@ def record(args: argparse.Namespace) -> int:
         directory=output_dir(args.output), topics=list(args.topics),
         all_topics=args.all_topics, exclude=args.exclude, compression=args.compression,
         split=SplitPolicy(int(args.split_size * mb), args.split_duration),
-        flush_interval=args.flush_interval,
+        flush_interval=args.flush_interval, bulk_json=args.bulk_json,
     )
     stop = threading.Event()
     ctx = open_context(args, settle=False)

@@ -289,3 +289,36 @@ def test_pause_and_step(ctx_pair: list[Context], publisher: Node, tmp_path: Path
         t.join(10)
         player.close()
     assert [m.linear.x for m in got.items] == [float(i) for i in range(50)]
+
+
+def test_bulk_json_for_viewers_and_back(ctx_pair: list[Context], publisher: Node,
+                                        tmp_path: Path) -> None:
+    """--bulk-json stores LaserScan as JSON (Foxglove reads it) and plays it as MessagePack."""
+    bag = tmp_path / "viewable"
+    rec = Recorder(ctx_pair[1], RecordOptions(bag, topics=["/scan"], bulk_json=True))
+    try:
+        pub = publisher.create_publisher(LaserScan, "/scan")
+        assert pub.wait_for_subscribers(1, 10)
+        for i in range(5):
+            pub.publish(scan(i))
+        assert wait_for(lambda: rec.sink.message_count >= 5, 10)
+    finally:
+        rec.close()
+    items = read_all(bag)
+    schema, channel, _ = items[0]
+    assert channel.message_encoding == "json"
+    validator = jsonschema.Draft202012Validator(json.loads(schema.data))
+    for _, _, m in items:
+        obj = json.loads(m.data)
+        validator.validate(obj)
+        assert isinstance(obj["ranges"], list) and len(obj["ranges"]) == 360
+    got: Collector[LaserScan] = Collector()
+    sub = publisher.create_subscription(LaserScan, "/scan", got)
+    player = Player(ctx_pair[1], bag_files(bag), PlayOptions(rate=10.0))
+    try:
+        player.play()
+        assert got.wait(5, 10)
+    finally:
+        player.close()
+        publisher.destroy(sub)
+    assert got.items == [scan(i) for i in range(5)]
