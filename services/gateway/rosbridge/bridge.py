@@ -217,5 +217,5 @@ class Bridge:
             self.node.destroy(c)
         self._clients.clear()
         for ac in self._action_clients.values():
-            ac.close()
+            self.node.destroy(ac)
         self._action_clients.clear()

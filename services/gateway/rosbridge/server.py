@@ -67,6 +67,7 @@ class RosbridgeServer:
         self._server = await serve(
             self._connection, self.host, self.port, compression=None, max_size=MAX_FRAME,
             max_queue=64, write_limit=CONGESTED_BYTES, ping_interval=20, ping_timeout=20,
+            close_timeout=2,
             logger=self.logger.getChild("ws"),
         )
         sock = next(iter(self._server.sockets))
