@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import struct
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import jsonschema
@@ -120,3 +121,18 @@ def test_vanished_topics_are_unadvertised(bridge: FoxgloveBridge, robot: Node) -
     assert wait_for(lambda: "/gone" in bridge.channels, TIMEOUT)
     robot.destroy(pub)
     assert wait_for(lambda: "/gone" not in bridge.channels, TIMEOUT)
+
+
+def test_the_gateway_serves_foxglove(ctx_pair: list[Context], tmp_path: Path,
+                                     robot: Node) -> None:
+    from zenros.services.gateway.testing import running_gateway
+
+    robot.create_publisher(LaserScan, "/scan")
+    with running_gateway(ctx_pair[0], tmp_path, foxglove_port=0) as gateway:
+        assert gateway.foxglove is not None
+        assert wait_for(lambda: "/scan" in gateway.foxglove.channels, TIMEOUT)
+        with connect(f"ws://127.0.0.1:{gateway.foxglove.port}",
+                     subprotocols=[SUBPROTOCOL],  # type: ignore[list-item]
+                     open_timeout=TIMEOUT) as ws:
+            assert json_frames(ws, "serverInfo")["name"] == "zenros /gateway"
+            assert channel_for(ws, "/scan")["schemaName"] == "sensor_msgs/msg/LaserScan"
