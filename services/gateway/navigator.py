@@ -13,6 +13,7 @@ import time
 from collections import deque
 from typing import Any
 
+import msgspec
 from zenros.action import ActionClient
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosError, ZenrosTimeout
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
@@ -39,6 +40,7 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 
 from .core import Core, NavUnavailable
+from .rest_tasks import TaskCaller
 from .status import GoalState
 
 __all__ = ["Navigator", "pose_stamped"]
@@ -67,6 +69,7 @@ class Navigator:
         self._paused: tuple[float, float, float, int] | None = None
         self._last: tuple[float, float, float, int] | None = None
         self._handles: list[Any] = []
+        self.tasks: TaskCaller | None = None  # the tasks service, for pause/resume/cancel
         self.navigate = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.dock = ActionClient(node, DockRobot, "dock_robot")
         self.undock = ActionClient(node, UndockRobot, "undock_robot")
@@ -116,6 +119,9 @@ class Navigator:
         if not all(math.isfinite(v) for v in (x, y, theta)):
             raise ValueError(f"goal ({x}, {y}, {theta}) is not finite")
         self._require()
+        running = await self._task("WORKING", "PAUSED")
+        if running:  # a direct goal replaces the running task
+            await self._task_step("stop", running)
         self._paused = None
         self._last = (x, y, theta, num_id)
         self.stopped = False
@@ -165,11 +171,37 @@ class Navigator:
         except ZenrosError as exc:  # no server, or it did not answer
             raise NavUnavailable(f"cannot cancel {client.name}: {exc}") from exc
 
+    async def _task(self, *states: str) -> str:
+        """The id of a task of the tasks service in one of ``states``, or ""."""
+        if self.tasks is None:
+            return ""
+        code, _, text = await self.tasks("get", "", "")
+        if code != 200:
+            return ""
+        for t in msgspec.json.decode(text):
+            if isinstance(t, dict) and t.get("state") in states:
+                return str(t.get("id", ""))
+        return ""
+
+    async def _task_step(self, name: str, ident: str) -> None:
+        assert self.tasks is not None
+        code, message, _ = await self.tasks(name, ident, "")
+        if code != 200:
+            raise ValueError(f"task {ident}: {name} refused: {message}")
+
     async def cancel(self) -> None:
+        """Cancel the goal: the running task when there is one, else the direct goal."""
         self._paused = None
+        running = await self._task("WORKING", "PAUSED")
+        if running:
+            await self._task_step("stop", running)
         await self._cancel_all(self.navigate)
 
     async def pause(self) -> None:
+        running = await self._task("WORKING")
+        if running:
+            await self._task_step("pause", running)
+            return
         if self._last is None or self._paused is not None:
             return
         self._paused = self._last
@@ -178,6 +210,10 @@ class Navigator:
                                          distance=self.core.state.goal.distance, angle_status=0)
 
     async def resume(self) -> None:
+        paused_task = await self._task("PAUSED")
+        if paused_task:
+            await self._task_step("resume", paused_task)
+            return
         paused = self._paused
         if paused is None:
             return

@@ -93,6 +93,7 @@ class GatewayNode(Node):
         self.tasks = TasksLink(self)
         self.hub = TopicHub(self)
         self.navigator = Navigator(self, self.core)
+        self.navigator.tasks = self.tasks
         self.core.nav = self.navigator
         self.nav_link = NavLink(self)
         self.core.services["maps"] = self.nav_link.maps

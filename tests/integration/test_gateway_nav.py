@@ -312,3 +312,18 @@ def test_hostile_inputs_with_services_up(rig: Rig) -> None:
                                  headers={"content-type": "application/json"})
             assert r.status_code < 500 or r.status_code == 503, (entry, params, body, r.text)
     assert rig.http.get("/system/status").status_code == 200
+
+
+def test_native_pause_resume_cancel_act_on_the_running_task(rig: Rig) -> None:
+    task = rig.http.post("/navigation/start_nav_task", json={"x": 4.0, "y": 0.0}).json()
+
+    def state() -> str:
+        return str(rig.http.get("/task", params={"id": task["id"]}).json()["state"])
+
+    assert wait_for(lambda: state() == "WORKING", 5)
+    rig.gw.core.send_native(b"i\x00")          # pause, as a serial controller sends it
+    assert wait_for(lambda: state() == "PAUSED", 10)
+    rig.gw.core.send_native(b"i\x01")          # resume
+    assert wait_for(lambda: state() == "WORKING", 10)
+    rig.gw.core.send_native(b"i\x02")          # cancel
+    assert wait_for(lambda: state() == "CANCELLED", 10)
