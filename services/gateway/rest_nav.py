@@ -148,15 +148,19 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         q: StartQuery = call.query
         if not nav.available():
             raise ApiError(503, "navigation is not available: the nav service is not running")
-        if q.map and q.map != await current_map():
-            res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
-            if not res.success:
-                raise ApiError(400, res.message)
-        if q.path:
-            nav.path_name = q.path
-        if q.start_index >= 0:
-            x, y, th = await point(q.start_index)
-            publish_initialpose(x, y, th)
+        core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
+        try:
+            if q.map and q.map != await current_map():
+                res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+                if not res.success:
+                    raise ApiError(400, res.message)
+            if q.path:
+                nav.path_name = q.path
+            if q.start_index >= 0:
+                x, y, th = await point(q.start_index)
+                publish_initialpose(x, y, th)
+        finally:
+            core.state.busy = False
         nav.stopped = False
         core.state.nav_open = True
         return {"result": True, "description": "navigation started"}
