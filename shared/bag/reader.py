@@ -17,6 +17,7 @@ from mcap.records import Channel, Schema
 from mcap.summary import Summary
 
 from ..errors import ZenrosError
+from .writer import MAGIC
 
 __all__ = ["BagError", "BagMessage", "bag_files", "bags_home", "iter_messages", "open_summary",
            "resolve_bag"]
@@ -76,7 +77,18 @@ def open_summary(path: Path) -> Summary:
     is not MCAP at all."""
     try:
         with open(path, "rb") as f:
+            head = f.read(8)
+            if head != MAGIC:
+                raise BagError(f"{path} is not an MCAP file (it does not start with the MCAP magic)")
+            f.seek(0, os.SEEK_END)
+            if f.tell() < 16 or (f.seek(-8, os.SEEK_END), f.read(8))[1] != MAGIC:
+                raise BagError(f"{path} ends without its footer: the recording did not finish "
+                               f"(recorder killed?) or the file was cut; run: zenros bag recover "
+                               f"{path}")
+            f.seek(0)
             summary = SeekingReader(f).get_summary()
+    except BagError:
+        raise
     except (McapError, ValueError, OSError, EOFError, KeyError) as exc:
         raise BagError(f"{path}: not a readable MCAP file ({exc or type(exc).__name__}); if the "
                        f"recorder was killed, run: zenros bag recover {path}") from exc
