@@ -7,6 +7,7 @@ Skipped when the optional extra (``pip install zenros[foxglove]``) is not instal
 from __future__ import annotations
 
 import json
+import socket
 import struct
 from collections.abc import Iterator
 from pathlib import Path
@@ -136,3 +137,17 @@ def test_the_gateway_serves_foxglove(ctx_pair: list[Context], tmp_path: Path,
                      open_timeout=TIMEOUT) as ws:
             assert json_frames(ws, "serverInfo")["name"] == "zenros /gateway"
             assert channel_for(ws, "/scan")["schemaName"] == "sensor_msgs/msg/LaserScan"
+
+
+def test_a_taken_port_is_a_startup_error(ctx_pair: list[Context]) -> None:
+    from zenros.errors import StartupError
+
+    node = Node("foxglove2", context=ctx_pair[0])
+    try:
+        with socket.socket() as taken:
+            taken.bind(("127.0.0.1", 0))
+            taken.listen()
+            with pytest.raises(StartupError, match="Address already in use"):
+                FoxgloveBridge(node, port=taken.getsockname()[1]).start()
+    finally:
+        node.close()

@@ -11,7 +11,7 @@ from typing import Any
 import foxglove
 from foxglove import Channel, Schema
 from foxglove.websocket import Capability, ChannelView, Client, ClientChannel, WebSocketServer
-from zenros.errors import UnknownTypeError, ZenrosError
+from zenros.errors import StartupError, UnknownTypeError, ZenrosError
 from zenros.message import Message, lookup_type
 from zenros.names import Token
 from zenros.node import Node
@@ -49,11 +49,18 @@ class FoxgloveBridge:
         self._unlisten: Any = None
 
     def start(self) -> None:
-        """Start the server and advertise the graph's topics (and follow it from then on)."""
-        self._server = foxglove.start_server(
-            name=f"zenros {self.node.fqn}", host=self.host, port=self.port,
-            capabilities=[Capability.ClientPublish], supported_encodings=["json"],
-            server_listener=self, context=self._ctx)
+        """Start the server and advertise the graph's topics (and follow it from then on).
+
+        Raises:
+            StartupError: the server cannot start (the port is taken).
+        """
+        try:
+            self._server = foxglove.start_server(
+                name=f"zenros {self.node.fqn}", host=self.host, port=self.port,
+                capabilities=[Capability.ClientPublish], supported_encodings=["json"],
+                server_listener=self, context=self._ctx)
+        except RuntimeError as exc:  # the SDK's FoxgloveError, e.g. the port is taken
+            raise StartupError(f"Foxglove server on {self.host}:{self.port}: {exc}") from exc
         self.port = self._server.port
         graph = self.node.graph
         self._unlisten = graph.add_listener(self._on_graph)

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from zenros import Node
+from zenros.errors import StartupError
 
-from .bridge import DEFAULT_PORT, FoxgloveBridge
+__all__ = ["DEFAULT_PORT", "FoxgloveNode"]
 
-__all__ = ["FoxgloveNode"]
+DEFAULT_PORT = 8765
 
 
 class FoxgloveNode(Node):
@@ -20,7 +23,12 @@ class FoxgloveNode(Node):
         port = int(self.declare_parameter("port", DEFAULT_PORT,
                                           description="TCP port (0: any free one)",
                                           read_only=True))
-        self.bridge = FoxgloveBridge(self, host, port)
+        try:
+            from .bridge import FoxgloveBridge
+        except ImportError as exc:
+            raise StartupError("foxglove-sdk is not installed (pip install 'zenros[foxglove]'): "
+                               f"{exc}") from exc
+        self.bridge: Any = FoxgloveBridge(self, host, port)
         self.bridge.start()
 
     def close(self) -> None:
