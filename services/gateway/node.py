@@ -51,6 +51,8 @@ class GatewayNode(Node):
         api_version: the API version reported in /system/info and discovery.
         status_rate: GalileoStatus rate in Hz (default 30).
         deadman_timeout: seconds a speed command holds (default 0.5).
+        ws_ping_interval, ws_ping_timeout: the topic WebSocket pings every interval and
+            closes a connection whose pong is later than the timeout (5 s, 10 s).
         serial_port: the §13 serial port (device path or pyserial URL); empty: no bridge.
         serial_baud: its baud rate (default 115200, 8N1).
         discovery_port: UDP port of the §1.3 broadcast (default 22002; -1 turns it off).
@@ -116,8 +118,10 @@ class GatewayNode(Node):
         self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
-        self.ws_port = self.serve_asgi(ws_app(self.hub, self.core.tokens), host, ws_port,
-                                       ws_ping_interval=5.0, ws_ping_timeout=10.0)
+        self.ws_port = self.serve_asgi(
+            ws_app(self.hub, self.core.tokens), host, ws_port,
+            ws_ping_interval=self.declare_parameter("ws_ping_interval", 5.0),
+            ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0))
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
         self.modbus = ModbusFront(self.core, self.logger)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))

@@ -135,3 +135,40 @@ async def test_stalled_client_drops_to_latest_and_blocks_nobody(
             assert dropped > 0
     finally:
         stalled.close()
+
+
+def frame_opcodes(data: bytes) -> list[int]:
+    """The opcodes of the (unmasked, server-sent) WebSocket frames in ``data``."""
+    ops, i = [], 0
+    while i + 2 <= len(data):
+        op, n = data[i] & 0x0F, data[i + 1] & 0x7F
+        i += 2
+        if n == 126:
+            n, i = int.from_bytes(data[i:i + 2], "big"), i + 2
+        elif n == 127:
+            n, i = int.from_bytes(data[i:i + 8], "big"), i + 8
+        ops.append(op)
+        i += n
+    return ops
+
+
+def test_silent_client_is_closed(ctx_pair: list[Context], tmp_path: Path) -> None:
+    """A client that never answers the server's pings is dropped after the ping timeout."""
+    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True, ws_ping_interval=0.2,
+                         ws_ping_timeout=0.4) as gw:
+        s = socket.create_connection(("127.0.0.1", gw.ws_port))
+        try:
+            s.sendall(b"GET /galileo/status HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\n"
+                      b"Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                      b"Sec-WebSocket-Version: 13\r\n\r\n")
+            s.settimeout(10)
+            got = b""
+            while True:  # status frames and pings arrive; no pong goes back
+                chunk = s.recv(65536)
+                if not chunk:
+                    break
+                got += chunk
+            assert got.startswith(b"HTTP/1.1 101")
+            assert 9 in frame_opcodes(got.split(b"\r\n\r\n", 1)[1])  # pings were sent
+        finally:
+            s.close()
