@@ -39,7 +39,8 @@ class NavParams:
     """Navigation parameters besides the controller's (see docs/nav.md)."""
 
     robot_radius: float = 0.22
-    collision_margin: float = 0.02
+    collision_radius: float = 0.2
+    """The body's radius for the scan check (the costmaps' robot_radius is padded)."""
     collision_horizon: float = 1.0
     replan_period: float = 1.0
     blocked_wait: float = 1.5

@@ -129,11 +129,22 @@ class PurePursuit:
         return p.lookahead_dist
 
     def compute(self, pose: Pose2, dt: float, cost_at_robot: float = 0.0,
-                carrot_limit: float | None = None) -> ControlOutput:
+                carrot_limit: float | None = None, lookahead: float | None = None,
+                commit: bool = True) -> ControlOutput:
         """The command for the robot at ``pose`` (``dt``: seconds since the last command).
 
         ``carrot_limit`` (arc length along the path) keeps the carrot from passing a via
-        point, so the robot goes through it instead of cutting the corner."""
+        point, so the robot goes through it instead of cutting the corner. ``lookahead``
+        overrides the lookahead distance; with ``commit`` false the command is not taken as
+        sent (a trial: the acceleration limits still start from the last sent one)."""
+        saved = (self.last_v, self.last_w, self._xy_reached)
+        out = self._compute(pose, dt, cost_at_robot, carrot_limit, lookahead)
+        if not commit:
+            self.last_v, self.last_w, self._xy_reached = saved
+        return out
+
+    def _compute(self, pose: Pose2, dt: float, cost_at_robot: float,
+                 carrot_limit: float | None, lookahead: float | None) -> ControlOutput:
         p = self.params
         self.track.update(pose.x, pose.y)
         remaining = self.track.distance_remaining(pose.x, pose.y)
@@ -145,7 +156,8 @@ class PurePursuit:
         if self._xy_reached:
             return self._rotate_to_goal(pose, dt, (gx, gy), to_goal)
 
-        carrot = self.track.carrot(pose.x, pose.y, self.lookahead(self.last_v), carrot_limit)
+        ahead = lookahead if lookahead is not None else self.lookahead(self.last_v)
+        carrot = self.track.carrot(pose.x, pose.y, ahead, carrot_limit)
         cx, cy = pose.inverse().apply(*carrot)
         angle = math.atan2(cy, cx)
         if p.use_rotate_to_heading and abs(angle) > p.rotate_to_heading_min_angle:

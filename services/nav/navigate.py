@@ -198,6 +198,7 @@ class Navigate(Behavior):
         assert sense.pose is not None
         pose = sense.pose
         cost = self.tools.cost_at(pose.x, pose.y)
+        sent = (self.pp.last_v, self.pp.last_w)
         out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, self._via_limit())
         self.distance_remaining = out.distance_remaining
         self._update_waypoints()
@@ -209,7 +210,14 @@ class Navigate(Behavior):
             return self.finish(True)
         v, w = out.v, out.w
         if self._collides(pose, v, w, sense):
-            return self._blocked(sense)
+            # the arc to a nearer carrot hugs the plan more closely: try that before stopping
+            self.pp.reset_speed(*sent)
+            alt = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, self._via_limit(),
+                                  lookahead=self.pp.params.min_lookahead_dist, commit=False)
+            if alt.state != out.state or self._collides(pose, alt.v, alt.w, sense):
+                return self._blocked(sense)
+            v, w = alt.v, alt.w
+            self.pp.reset_speed(v, w)
         self._blocked_since = None
         self.state = "following"
         self.speed = v
@@ -223,7 +231,7 @@ class Navigate(Behavior):
         return v, w
 
     def _collides(self, pose: Pose2, v: float, w: float, sense: Sense) -> bool:
-        radius = self.p.robot_radius + self.p.collision_margin
+        radius = self.p.collision_radius
         if first_collision(v, w, sense.obstacles, radius, self.p.collision_horizon) is not None:
             return True
         if abs(v) < 1e-6:
@@ -259,7 +267,7 @@ class Navigate(Behavior):
         self._recovery = recovery_cycle(
             self.recoveries, wait=self.p.wait_duration, backup=self.p.backup_distance,
             backup_speed=self.p.backup_speed, spin=self.p.spin_angle,
-            spin_speed=self.p.spin_speed, radius=self.p.robot_radius + self.p.collision_margin)
+            spin_speed=self.p.spin_speed, radius=self.p.collision_radius)
         self.recoveries += 1
         self.state = "recovering"
         return self._recover(sense)

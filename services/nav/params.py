@@ -96,7 +96,8 @@ def declare_nav_config(node: _Declares) -> NavConfig:
     controller.check()
     nav = NavParams(
         robot_radius=robot_radius,
-        collision_margin=f("collision_margin", 0.02, "m added to robot_radius for scan checks"),
+        collision_radius=f("collision_radius", 0.2, "m: the body's radius for the scan check",
+                           positive=True),
         collision_horizon=f("collision_horizon", 1.0, "s of the commanded arc checked",
                             positive=True),
         replan_period=f("replan_period", 1.0, "s between replans (0: plan once)"),

@@ -39,6 +39,7 @@ from zenros.msgs.nav2_msgs import (
 from zenros.msgs.nav_msgs import Odometry, Path as PathMsg
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.zenros_msgs import (
+    ChassisState,
     NavPoint,
     Obstacle,
     Patrol,
@@ -88,6 +89,8 @@ class Rig:
         user.create_subscription(Odometry, "sim/ground_truth", self.track)
         self.battery: list[BatteryState] = []
         user.create_subscription(BatteryState, "battery_state", self.battery.append)
+        self.bumped = False
+        user.create_subscription(ChassisState, "chassis/state", self._on_state)
         self.plans: list[PathMsg] = []
         user.create_subscription(PathMsg, "plan", self.plans.append)
         self.navigate = ActionClient(user, NavigateToPose, "navigate_to_pose")
@@ -103,6 +106,9 @@ class Rig:
         self.clear = user.create_client(ClearEntireCostmap,
                                         "global_costmap/clear_entirely_global_costmap")
         self.nav_points = user.create_client(SetNavPoints, "set_nav_points")
+
+    def _on_state(self, msg: ChassisState) -> None:
+        self.bumped = self.bumped or msg.bumper
 
     def goal(self, x: float, y: float, theta: float = 0.0) -> NavigateToPoseGoal:
         return NavigateToPoseGoal(pose=pose_stamped(Pose2(x, y, theta), Time()))
@@ -125,6 +131,7 @@ class Rig:
         assert wait_for(at_start, 10)
         self.track.poses.clear()
         self.plans.clear()
+        self.bumped = False
 
     def sim_time(self) -> float:
         return self.nav.now().nanoseconds / 1e9
@@ -216,6 +223,21 @@ def test_replans_through_another_door_when_the_corridor_is_blocked(rig: Rig) -> 
     assert not crossed(rig.track.poses, (12.0, -1.4), (12.0, 1.4))  # never through the cart
     assert min(p[1] for p in rig.track.poses) < -2.0  # round it, through the open-plan office
     assert math.hypot(rig.track.last[0] - 22.0, rig.track.last[1] + 5.0) <= 0.17
+
+
+def test_stops_for_and_goes_round_an_obstacle_dropped_in_front(rig: Rig) -> None:
+    handle = rig.navigate.send_goal_async(rig.goal(10.0, 0.0))
+    assert handle.wait_accepted(10)
+    assert wait_for(lambda: rig.track.speed > 0.4, 20)
+    x, y, th = rig.track.last
+    bin_ = Obstacle(id="bin", shape="circle", x=x + 0.8 * math.cos(th),
+                    y=y + 0.8 * math.sin(th), radius=0.25)
+    assert rig.obstacles.call(SetObstaclesRequest(obstacles=[bin_]), timeout=10).success
+    out = handle.result(40)
+    assert out.status is GoalStatus.SUCCEEDED, out.result
+    assert not rig.bumped  # never touched it
+    closest = min(math.hypot(p[0] - bin_.x, p[1] - bin_.y) for p in rig.track.poses)
+    assert closest > 0.25 + 0.2  # body radius 0.2: a gap all the way round
 
 
 def test_never_crosses_a_virtual_wall(rig: Rig) -> None:
