@@ -4,14 +4,17 @@
 # `loss` also needs iptables. docs/demo.md walks through it.
 #
 #   deploy/demo/demo.sh up          create the namespaces and the network
-#   deploy/demo/demo.sh start       station.yaml on the station (with the router), robot.yaml
-#                                   on each robot; waits until the station sees both robots
+#   deploy/demo/demo.sh start       station.yaml on the station (with the router and a gateway
+#                                   per robot), robot.yaml on each robot (chassis, nav, tf,
+#                                   tasks, ...); waits until the station sees every node
 #   deploy/demo/demo.sh show        what the station sees: nodes, topics, a service call,
-#                                   the heartbeat counts
+#                                   robot1's TF frames, robot2's pose over REST, heartbeats
 #   deploy/demo/demo.sh link robot1 down|up      pull a robot's cable out / plug it back
 #   deploy/demo/demo.sh flap robot1 [SECONDS]    down, wait (default 5 s), up
 #   deploy/demo/demo.sh loss robot1 PROB|off     random loss on the robot's incoming packets
 #   deploy/demo/demo.sh run HOST CMD...          run a command on a host with the demo's env
+#   deploy/demo/demo.sh api ROBOT METHOD PATH [JSON]   call the robot's REST API through its
+#                                   gateway on the station (token fetched for you)
 #   deploy/demo/demo.sh report                   the monitor's latest heartbeat counts
 #   deploy/demo/demo.sh status | stop | down     (down = stop + delete the namespaces)
 #
@@ -117,10 +120,15 @@ until_ok() {
 
 router_up() { ip netns exec "$(ns st)" bash -c "exec 3<>/dev/tcp/$NET.1/7447"; }
 
+# Every node of both robots (robot.yaml), and each robot's gateway on the station.
+ROBOT_NODES=(chassis nav tf tasks heartbeat listener add_two_ints_server gateway)
+
 robots_seen() {
-    local out
-    out=$(cmd_run station "$PY" -m zenros.cli node list) || return 1
-    grep -q '^/robot1/heartbeat$' <<<"$out" && grep -q '^/robot2/heartbeat$' <<<"$out"
+    local out r n
+    out=$(cmd_run station timeout 20 "$PY" -m zenros.cli node list) || return 1
+    for r in robot1 robot2; do
+        for n in "${ROBOT_NODES[@]}"; do grep -qx "/$r/$n" <<<"$out" || return 1; done
+    done
 }
 
 cmd_start() {
@@ -142,8 +150,40 @@ cmd_run() {
     ip netns exec "$(ns "$h")" env "${HOST_ENV[@]}" "$@"
 }
 
+# The REST port of a robot's gateway on the station (station.yaml).
+rest_port() { case "$1" in r1) echo 3546 ;; r2) echo 3556 ;; *) die "no gateway for '$1'" ;; esac; }
+
+# api ROBOT METHOD PATH [JSON]: one call to the robot's gateway on the station, with a token
+# from /api/v1/token (user admin, password admin: the gateway's default config). Prints the
+# HTTP status and the body; exits 1 unless the status is 2xx.
+cmd_api() {
+    [ $# -ge 3 ] || die "usage: api ROBOT METHOD PATH [JSON]"
+    local h; h=$(short "$1")
+    cmd_run station "$PY" - "http://127.0.0.1:$(rest_port "$h")/api/v1" "$2" "$3" "${4:-}" <<'PYEOF'
+import json, sys, urllib.error, urllib.request
+base, method, path, body = sys.argv[1:5]
+def call(method, url, data=None):
+    req = urllib.request.Request(url, data=data, method=method,
+                                 headers={"Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(req, timeout=15) as r:
+            return r.status, r.read().decode()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read().decode()
+status, text = call("GET", base + "/token?username=admin&password=admin")
+if status != 200:
+    sys.exit(f"no token from {base}/token: {status} {text}")
+token = json.loads(text)["token"]
+url = base + path + ("&" if "?" in path else "?") + "token=" + token
+status, text = call(method.upper(), url, body.encode() if body else None)
+print(status, text)
+sys.exit(0 if 200 <= status < 300 else 1)
+PYEOF
+}
+
+# Each CLI call is bounded: a graph query that never returns must not hang the demo.
 cmd_show() {
-    local z=("$PY" -m zenros.cli)
+    local z=(timeout 30 "$PY" -m zenros.cli)
     say "zenros node list (on the station)"; cmd_run station "${z[@]}" node list
     say "zenros topic list -t"; cmd_run station "${z[@]}" topic list -t
     say "zenros service call /robot2/add_two_ints"
@@ -151,6 +191,10 @@ cmd_show() {
         example_interfaces/AddTwoInts '{a: 2, b: 3}'
     say "zenros topic echo /robot1/heartbeat --once"
     cmd_run station "${z[@]}" topic echo /robot1/heartbeat --once --timeout 5
+    say "zenros tf frames --server /robot1/tf (robot1's own TF tree)"
+    cmd_run station "${z[@]}" tf frames --server /robot1/tf
+    say "GET /api/v1/navigation/pose through robot2's gateway on the station"
+    cmd_api robot2 GET /navigation/pose
     say "heartbeat counts (station's heartbeat_monitor)"; cmd_report
 }
 
@@ -253,7 +297,7 @@ cmd_down() {
 main() {
     local cmd=${1:-}; shift || true
     case "$cmd" in
-        up|start|show|report|link|flap|loss|run|status|stop|down) "cmd_$cmd" "$@" ;;
+        up|start|show|api|report|link|flap|loss|run|status|stop|down) "cmd_$cmd" "$@" ;;
         *) awk 'NR > 1 && /^set -euo/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"
            [ -n "$cmd" ] && exit 2; exit 0 ;;
     esac
