@@ -65,6 +65,8 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
         responses["401"] = err
     if ep.body is not None:
         responses["413"] = err
+    responses["default"] = {**err, "description": "any other refusal (404, 409, 503, ...), "
+                                                 "with the §1.2 body"}
     op["responses"] = responses
     return op
 
