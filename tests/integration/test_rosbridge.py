@@ -340,6 +340,48 @@ def test_action_cancel_and_failure(server: RosbridgeServer, fibonacci: Node) -> 
         assert frame["result"] is False and "unknown action type" in frame["values"]
 
 
+def test_a_browser_serves_a_zenros_action(server: RosbridgeServer, robot: Node) -> None:
+    from zenros.action import ActionClient, GoalStatus
+    from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal, FibonacciResult
+
+    with raw(server) as ws:
+        ws.send(json.dumps({"op": "advertise_action", "action": "/browser_fib",
+                            "type": "example_interfaces/action/Fibonacci"}))
+        client = ActionClient(robot, Fibonacci, "/browser_fib")
+        assert client.wait_for_server(TIMEOUT)
+        feedback: Collector[Any] = Collector()
+        handle = client.send_goal_async(FibonacciGoal(order=3), feedback)
+        goal = recv_json(ws)
+        assert goal["op"] == "send_action_goal" and goal["action"] == "/browser_fib"
+        assert goal["id"].startswith("action_goal:/browser_fib:")
+        assert goal["args"] == {"order": 3} and goal["feedback"] is True
+        ws.send(json.dumps({"op": "action_feedback", "id": goal["id"], "action": "/browser_fib",
+                            "values": {"sequence": [0, 1]}}))
+        ws.send(json.dumps({"op": "action_result", "id": goal["id"], "action": "/browser_fib",
+                            "values": {"sequence": [0, 1, 1, 2]}, "status": 4,
+                            "result": True}))
+        done = handle.result(TIMEOUT)
+        assert done.status is GoalStatus.SUCCEEDED
+        assert done.result == FibonacciResult(sequence=[0, 1, 1, 2])
+        assert feedback.wait(1, TIMEOUT) and feedback.items[0].feedback.sequence == [0, 1]
+
+        handle = client.send_goal_async(FibonacciGoal(order=9))
+        goal = recv_json(ws)
+        assert handle.wait_accepted(TIMEOUT)
+        threading.Thread(target=handle.cancel, daemon=True).start()
+        cancel = recv_json(ws)
+        assert cancel == {"op": "cancel_action_goal", "id": goal["id"], "action": "/browser_fib"}
+        ws.send(json.dumps({"op": "action_result", "id": goal["id"], "action": "/browser_fib",
+                            "values": {"sequence": [0]}, "status": 5, "result": True}))
+        assert handle.result(TIMEOUT).status is GoalStatus.CANCELED
+
+        handle = client.send_goal_async(FibonacciGoal(order=1))
+        goal = recv_json(ws)
+        ws.send(json.dumps({"op": "unadvertise_action", "action": "/browser_fib"}))
+        assert handle.result(TIMEOUT).status is GoalStatus.ABORTED
+        assert wait_for(lambda: not robot.graph.action_servers("/browser_fib"), TIMEOUT)
+
+
 # ------------------------------------------------------------------ rosapi
 
 
@@ -419,10 +461,10 @@ def test_status_frames_only_after_set_level(server: RosbridgeServer) -> None:
         assert "Unknown operation: bogus" in status["msg"]
         ws.send(json.dumps({"op": "publish", "id": "p1", "topic": "/typed", "msg": {"x": 1}}))
         assert recv_json(ws)["id"] == "p1"
-        ws.send(json.dumps({"op": "advertise_action", "id": "a1", "action": "/x",
-                            "type": "example_interfaces/Fibonacci"}))
+        ws.send(json.dumps({"op": "action_result", "id": "a1", "action": "/x", "status": 4,
+                            "result": True, "values": {}}))
         status = recv_json(ws)
-        assert status["id"] == "a1" and "not implemented: advertise_action" in status["msg"]
+        assert status["id"] == "a1" and "/x has not been advertised via rosbridge" in status["msg"]
         ws.send(json.dumps({"op": "set_level", "level": "none"}))
         ws.send(json.dumps({"op": "bogus"}))
         ws.send(json.dumps({"op": "call_service", "id": "t", "service": "/rosapi/get_time"}))

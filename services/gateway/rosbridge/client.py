@@ -28,6 +28,7 @@ from .ops_actions import ActionOps
 from .ops_services import ServiceOps
 from .ops_topics import TopicOps
 from .outbox import Outbox
+from .served_action import ServedAction
 
 __all__ = ["LEVELS", "ClientProtocol", "OpError"]
 
@@ -60,6 +61,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self.services: dict[str, Any] = {}
         self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
         self.goals: dict[Any, Any] = {}
+        self.served_actions: dict[str, ServedAction] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
         self._request_ids = itertools.count(1)
         self._defrag = Defragmenter(time.monotonic)
@@ -80,9 +82,12 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
             "fragment": self.op_fragment,
             "auth": lambda frame: None,  # accepted silently: rosauth is not supported
         }
-        for op in ("advertise_action", "unadvertise_action", "action_feedback",
-                   "action_result"):
-            self._ops[op] = self.op_not_implemented
+        self._ops.update({
+            "advertise_action": self.op_advertise_action,
+            "unadvertise_action": self.op_unadvertise_action,
+            "action_feedback": self.op_action_feedback,
+            "action_result": self.op_action_result,
+        })
 
     # ------------------------------------------------------------------ in and out
 
@@ -151,10 +156,6 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
 
     # ------------------------------------------------------------------ misc
 
-    def op_not_implemented(self, frame: dict[str, Any]) -> None:
-        raise OpError(f"not implemented: {frame.get('op')} (client-side action servers are "
-                      "not supported)")
-
     def op_set_level(self, frame: dict[str, Any]) -> None:
         level = frame.get("level")
         if level not in LEVELS:
@@ -181,6 +182,8 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         for topic in list(self.advertised):
             self.bridge.unadvertise(topic, self)
         self.advertised.clear()
+        for action in list(self.served_actions):
+            self.stop_served_action(action)
         for service in list(self.services):
             self._stop_service(service)
         for task in list(self._tasks):

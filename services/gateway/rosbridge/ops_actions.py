@@ -13,6 +13,7 @@ from zenros.message import lookup_action
 from .bridge import BridgeError
 from .convert import message_from_json, to_json
 from .frames import OpError, frame_int, frame_name, legacy_id
+from .served_action import ServedAction
 
 if TYPE_CHECKING:
     from .bridge import Bridge
@@ -21,10 +22,12 @@ __all__ = ["ActionOps"]
 
 
 class ActionOps:
-    """Mixed into `ClientProtocol`: the goals this client sent, by interaction id."""
+    """Mixed into `ClientProtocol`: the goals this client sent, by interaction id, and the
+    actions it serves (`ServedAction`), by name."""
 
     bridge: Bridge
     goals: dict[Any, Any]
+    served_actions: dict[str, ServedAction]
 
     if TYPE_CHECKING:  # provided by ClientProtocol
         def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
@@ -95,3 +98,55 @@ class ActionOps:
             raise OpError(f"no goal in progress with id {mid!r}")
         self.spawn(asyncio.to_thread(handle.cancel))
 
+    # ------------------------------------------------------------------ serving actions
+
+    def op_advertise_action(self, frame: dict[str, Any]) -> None:
+        action = frame_name(frame, "action")
+        type_name = frame.get("type")
+        if not isinstance(type_name, str) or not type_name:
+            raise OpError("Expected a key 'type' with a non-empty string in message")
+        try:
+            action_type = lookup_action(type_name)
+        except UnknownTypeError as exc:
+            raise OpError(str(exc)) from None
+        old = self.served_actions.get(action)
+        if old is not None:
+            if old.action_type is action_type:
+                return  # a replay after reconnect
+            self.stop_served_action(action)
+        loop = self.bridge.loop
+
+        def send(out: dict[str, Any]) -> None:  # from the node's threads
+            loop.call_soon_threadsafe(self.send, out)
+
+        served = ServedAction(action, action_type, send)
+        served.server = self.bridge.node.create_action_server(
+            action_type, action, served.execute, cancel_callback=served.on_cancel,
+            policy="parallel")
+        self.served_actions[action] = served
+
+    def op_unadvertise_action(self, frame: dict[str, Any]) -> None:
+        self.stop_served_action(frame_name(frame, "action"))
+
+    def _served(self, frame: dict[str, Any]) -> ServedAction:
+        action = frame_name(frame, "action")
+        served = self.served_actions.get(action)
+        if served is None:
+            raise OpError(f"Action {action} has not been advertised via rosbridge.")
+        return served
+
+    def op_action_feedback(self, frame: dict[str, Any]) -> None:
+        self._served(frame).feedback(frame.get("id"), frame.get("values"))
+
+    def op_action_result(self, frame: dict[str, Any]) -> None:
+        self._served(frame).result(frame.get("id"), frame.get("values"), frame.get("status"),
+                                   frame.get("result") is not False)
+
+    def stop_served_action(self, action: str) -> None:
+        """Abort the action's running goals and close its server (off the loop: closing waits
+        for the goals to end)."""
+        served = self.served_actions.pop(action, None)
+        if served is None:
+            return
+        served.close()
+        self.bridge.loop.run_in_executor(None, served.server.close)
