@@ -20,6 +20,7 @@ from types import FrameType
 import zenoh
 
 from .errors import StartupError
+from .exits import EXIT_STARTUP
 from .session import apply_runtime_defaults
 from .signals import handling_signals
 
@@ -27,7 +28,6 @@ __all__ = [
     "DEFAULT_KEEP_ALIVE",
     "DEFAULT_LEASE_MS",
     "DEFAULT_LISTEN",
-    "EXIT_STARTUP_FAILURE",
     "build_router_config",
     "listen_endpoints",
     "main",
@@ -39,7 +39,6 @@ __all__ = [
 DEFAULT_LISTEN = "tcp/127.0.0.1:7447"
 DEFAULT_LEASE_MS = 1000  # a frozen or cut-off router is noticed in ~0.8 s (zenoh: 10000)
 DEFAULT_KEEP_ALIVE = 4  # keep-alives per lease: one every 250 ms
-EXIT_STARTUP_FAILURE = 3
 
 _TCP_BASED = ("tcp", "tls", "ws")
 _RUST_LOCATION = re.compile(r" at /\S+?\.rs:\d+\.?")
@@ -173,7 +172,7 @@ def serve_router(
             the main thread; from another thread, pass ``stop`` to end the router.
 
     Returns:
-        0 after a normal stop; `EXIT_STARTUP_FAILURE` (3), after one line on stderr, when the
+        0 after a normal stop; `EXIT_STARTUP` (3), after one line on stderr, when the
         router cannot open (port in use, missing certificate, bad dictionary file...).
     """
     stop = stop if stop is not None else threading.Event()
@@ -184,7 +183,7 @@ def serve_router(
             session = zenoh.open(config)
         except zenoh.ZError as exc:
             print(f"zenros router: cannot listen on {endpoints}: {_clean(exc)}", file=sys.stderr)
-            return EXIT_STARTUP_FAILURE
+            return EXIT_STARTUP
         try:
             log.info("router listening on %s (zid %s)", endpoints, session.zid())
             if ready is not None:
@@ -263,7 +262,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         config = build_router_config(args.listen, args.config, args.cfg, args.multicast_scouting)
     except StartupError as exc:
         print(f"zenros router: {exc}", file=sys.stderr)
-        return EXIT_STARTUP_FAILURE
+        return EXIT_STARTUP
     return serve_router(config)
 
 

@@ -13,6 +13,7 @@ from typing import Any, NoReturn
 
 from .context import Context, is_session_failure
 from .errors import ZenrosError
+from .exits import EXIT_SESSION_FAILED, EXIT_STARTUP
 from .log import configure_logging
 from .names import Remapper
 from .node import Node
@@ -21,13 +22,9 @@ from .session import add_session_arguments, options_from_args
 from .shutdown import install_shutdown_listener
 from .signals import handling_signals
 
-__all__ = ["EXIT_SESSION_FAILED", "EXIT_STARTUP_FAILED", "add_node_arguments",
+__all__ = ["EXIT_SESSION_FAILED", "add_node_arguments",
            "capture_signals", "main", "run"]
 
-EXIT_STARTUP_FAILED = 3
-EXIT_SESSION_FAILED = 4
-"""The Zenoh session broke for good while running (`Context.fail`): the process ends so that
-its supervisor (``zenros launch`` with ``respawn``, systemd) starts a fresh one."""
 
 
 def add_node_arguments(parser: argparse.ArgumentParser) -> None:
@@ -110,7 +107,7 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
             sys.stderr.write(f"{prog}: startup failed: {msg}\n")
             if ctx is not None:
                 ctx.close()
-            return EXIT_STARTUP_FAILED
+            return EXIT_STARTUP
         ctx.on_failure(lambda _exc: stop.set())
         with _failing_on_panics(ctx):
             try:

@@ -7,11 +7,10 @@ import sys
 from collections.abc import Sequence
 
 from ..errors import StartupError, ZenrosError
+from ..exits import EXIT_ERROR, EXIT_STARTUP
 from . import action, bag, graph, node, param, service, smach, task, tf, topic
 from .common import stdout_closed
 
-EXIT_ERROR = 1
-EXIT_STARTUP = 3
 
 
 def build_parser() -> argparse.ArgumentParser:

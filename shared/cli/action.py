@@ -11,7 +11,7 @@ from typing import Any
 from ..action import ActionClient, ClientGoalHandle, GoalResult, GoalStatus
 from ..codec import from_builtins, to_builtins
 from ..context import Context
-from ..errors import ZenrosError, ZenrosTimeout
+from ..errors import ZenrosTimeout
 from ..names import resolve
 from .common import (
     STDOUT_CLOSED,
@@ -164,24 +164,3 @@ def _print(data: Any, as_json: bool) -> None:
     if not as_json:
         sys.stdout.write("\n")
     sys.stdout.flush()
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m zenros.cli.action ...``: this noun alone (until `zenros action` is wired)."""
-    from .__main__ import EXIT_ERROR
-
-    parser = argparse.ArgumentParser(prog="zenros action")
-    sub = parser.add_subparsers(dest="noun", required=True)
-    register(sub)
-    args = parser.parse_args(["action", *(sys.argv[1:] if argv is None else argv)])
-    try:
-        return int(args.func(args))
-    except (ZenrosError, ValueError) as exc:
-        sys.stderr.write(f"zenros action: {exc}\n")
-        return EXIT_ERROR
-    except KeyboardInterrupt:
-        return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

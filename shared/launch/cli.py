@@ -18,7 +18,8 @@ from pathlib import Path
 from ..errors import LaunchError, StartupError
 from .loader import declared_args, load_launch
 from .model import LaunchDescription, ProcessSpec
-from .supervisor import EXIT_STARTUP, BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
+from ..exits import EXIT_STARTUP
+from .supervisor import BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
 
 __all__ = ["LaunchHooks", "LaunchOptions", "add_arguments", "default_data_dir", "main", "run"]
 

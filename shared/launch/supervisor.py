@@ -25,14 +25,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TextIO, TypeVar
 
+from ..exits import EXIT_ERROR, EXIT_OK, EXIT_STARTUP
 from .model import ProcessSpec, write_params_files
 from .output import LogFile, pump
 from .process import Event, ProcessState, describe_exit
 
 __all__ = [
-    "EXIT_CLEAN",
-    "EXIT_FAILED",
-    "EXIT_STARTUP",
     "Event",
     "ProcessState",
     "Supervisor",
@@ -40,7 +38,6 @@ __all__ = [
 ]
 T = TypeVar("T")
 
-EXIT_CLEAN, EXIT_FAILED, EXIT_STARTUP = 0, 1, 3
 
 BeforeStart = Callable[[ProcessSpec], "ProcessSpec | Awaitable[ProcessSpec]"]
 WaitReady = Callable[[ProcessSpec], "bool | Awaitable[bool]"]
@@ -124,7 +121,7 @@ class Supervisor:
         """0 if every process ended cleanly, 3 if one could not start, else 1."""
         if self._startup_failed:
             return EXIT_STARTUP
-        return EXIT_CLEAN if all(s.clean for s in self.states.values()) else EXIT_FAILED
+        return EXIT_OK if all(s.clean for s in self.states.values()) else EXIT_ERROR
 
     def kill_all(self) -> None:
         """SIGKILL every live process group now (for emergencies and test teardown)."""

@@ -53,7 +53,7 @@ def test_server_killed_mid_goal_is_noticed_within_2s(client_node: Node,
 
 
 def run_cli(router: str, prefix: str, *args: str, timeout: float = 30) -> tuple[int, str]:
-    p = Proc([sys.executable, "-m", "zenros.cli.action", *args, "-e", router,
+    p = Proc([sys.executable, "-m", "zenros.cli", "action", *args, "-e", router,
               "--prefix", prefix])
     try:
         return p.wait(timeout), p.output
