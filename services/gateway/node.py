@@ -21,9 +21,11 @@ from .discovery import Discovery
 from .link import RobotLink
 from .modbus import ModbusFront
 from .native import NativeCommands
+from .nav_calls import NavCalls
 from .nav_link import NavLink
 from .navigator import Navigator
 from .rest_extras import add_extra_routes
+from .rest_goals import add_goal_routes
 from .rest_nav import add_nav_routes
 from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
@@ -99,10 +101,11 @@ class GatewayNode(Node):
         self.core.nav = self.navigator
         self.nav_link = NavLink(self)
         self.core.services["maps"] = self.nav_link.maps
+        nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
         self.api = build_api(self.core, max_body, self.logger, [
             lambda api: add_task_routes(api, self.tasks),
-            lambda api: add_nav_routes(api, self.core, self.navigator, self.nav_link,
-                                       self.tasks),
+            lambda api: add_nav_routes(api, nav_calls),
+            lambda api: add_goal_routes(api, nav_calls),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_extra_routes(api, self.link, self.hub,
                                          ParameterClient(self.context, node=self.fqn))])

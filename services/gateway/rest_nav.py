@@ -1,9 +1,5 @@
-"""REST ``/navigation/...`` lifecycle, pose, maps and goals (§6.1-§6.5, §6.9).
-
-Goals that the spec answers with a task (start_nav_task, move_to_index, loop_task,
-go_charge) are tasks of the tasks service, so they show in ``/task`` and are tracked,
-paused and stopped like any other.
-"""
+"""REST ``/navigation/...`` lifecycle, queries, maps and the initial pose (§6.1-§6.3,
+§6.9); goals and charging are in `rest_goals`."""
 
 from __future__ import annotations
 
@@ -12,24 +8,13 @@ from typing import Annotated, Any
 import msgspec
 from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
-from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
-from zenros.msgs.std_msgs import Header
 
 from .api import Api, ApiError, Call
-from .core import Core, NavUnavailable
+from .core import NavUnavailable
 from .map_image import grid_pgm, grid_png
-from .nav_link import NavLink
-from .navigator import Navigator, pose_stamped
-from .rest_tasks import TaskCaller
+from .nav_calls import Angle, Coord, Name, NavCalls, OptName
 
-__all__ = ["Name", "OptName", "add_nav_routes"]
-
-Name = Annotated[str, msgspec.Meta(pattern=r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$")]
-OptName = Annotated[str, msgspec.Meta(pattern=r"^([A-Za-z0-9_][A-Za-z0-9_.\-]{0,63})?$")]
-Coord = Annotated[float, msgspec.Meta(ge=-1e5, le=1e5)]
-Angle = Annotated[float, msgspec.Meta(ge=-100.0, le=100.0)]
-_ENC = msgspec.json.Encoder()
-OWN_TASKS = frozenset({"navigation task", "loop task", "charge task"})
+__all__ = ["add_nav_routes"]
 
 
 class StartQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -69,77 +54,11 @@ class InitPose(msgspec.Struct, forbid_unknown_fields=True):
     z: Angle = 0.0
 
 
-class NavTaskBody(msgspec.Struct, forbid_unknown_fields=True):
-    x: Coord
-    y: Coord
-    theta: Angle = 0.0
-    map: OptName = ""
-    path: OptName = ""
-
-
-class IndexQuery(msgspec.Struct, forbid_unknown_fields=True):
-    index: Annotated[int, msgspec.Meta(ge=0, le=10000)]
-    map: OptName = ""
-    path: OptName = ""
-    level: int = 0
-
-
-class LoopBody(msgspec.Struct, forbid_unknown_fields=True):
-    wait_time: Annotated[float, msgspec.Meta(ge=0, le=86400)] = 0.0
-
-
-def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
-                   tasks: TaskCaller) -> None:
-    """Route the navigation operations backed by the nav and tasks services."""
-    loop_ids: list[str] = []
-
-    async def task_call(name: str, ident: str = "", body: Any = None) -> Any:
-        code, message, text = await tasks(name, ident, "" if body is None
-                                          else _ENC.encode(body).decode())
-        if code != 200:
-            raise ApiError(code, message or f"tasks/{name} failed ({code})")
-        return msgspec.json.decode(text)
-
-    async def run_task(name: str, sub_tasks: list[dict[str, Any]], loop: bool = False
-                       ) -> dict[str, Any]:
-        """Create and start a task; a running navigation task of ours gives way to it (a new
-        goal replaces the old one), any other running task is a 409."""
-        task = await task_call("create", "", {"name": name, "sub_tasks": sub_tasks,
-                                              "loop_flag": loop})
-        try:
-            started: dict[str, Any] = await task_call("start", task["id"])
-            return started
-        except ApiError as exc:
-            if exc.status_code != 409:
-                raise
-            running = [t for t in await task_call("get")
-                       if t.get("state") in ("WORKING", "PAUSED")]
-            if not running or any(t.get("name") not in OWN_TASKS for t in running):
-                await task_call("delete", task["id"])
-                raise
-            for t in running:
-                await task_call("stop", t["id"])
-            restarted: dict[str, Any] = await task_call("start", task["id"])
-            return restarted
-
-    async def point(index: int) -> tuple[float, float, float]:
-        try:
-            return await nav.nav_point(index)
-        except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
-        except ValueError as exc:
-            raise ApiError(404 if "does not exist" in str(exc) else 409, str(exc)) from exc
-
-    async def current_map() -> str:
-        res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
-        return str(res.name)
-
-    def same_map(map_name: str, path: str, current: str) -> None:
-        if map_name and map_name != current:
-            raise ApiError(400, f"map {map_name!r} is not the current map {current!r}: "
-                                "cross-map navigation is not supported; switch_map first")
-        if path and path != nav.path_name:
-            nav.path_name = path
+def add_nav_routes(api: Api, calls: NavCalls) -> None:
+    """Route the navigation lifecycle, query and map operations."""
+    core, nav, link = calls.core, calls.nav, calls.link
+    current_map, point = calls.current_map, calls.point
+    publish_initialpose = calls.publish_initialpose
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -186,11 +105,6 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         nav.stopped = True
         core.state.nav_open = False
         return {"result": True, "description": "navigation stopped"}
-
-    def publish_initialpose(x: float, y: float, theta: float) -> None:
-        msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))
-        msg.pose.pose = pose_stamped(x, y, theta).pose
-        link.initialpose.publish(msg)
 
     # ------------------------------------------------------------------ queries
 
@@ -272,99 +186,6 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
         publish_initialpose(b.x, b.y, b.z)
         return {"status": "ok"}
 
-    # ------------------------------------------------------------------ goals (tasks)
-
-    async def start_nav_task(call: Call) -> Any:
-        """Go to ``x``, ``y``, ``theta``; returns the started navigation task."""
-        b: NavTaskBody = call.body
-        same_map(b.map, b.path, await current_map())
-        task = await run_task("navigation task", [
-            {"type": "nav_action", "x": b.x, "y": b.y, "theta": b.theta}])
-        core.state.goal.num_id = -2
-        return task
-
-    async def move_to_index(call: Call) -> Any:
-        """Go to nav point ``index`` of the current path; returns the started task."""
-        q: IndexQuery = call.query
-        same_map(q.map, q.path, await current_map())
-        x, y, th = await point(q.index)
-        task = await run_task("navigation task", [
-            {"type": "nav_action", "x": x, "y": y, "theta": th}])
-        core.state.goal.num_id = q.index
-        return task
-
-    async def stop_nav_task(call: Call) -> Any:
-        """Stop the running (navigation) task; returns it."""
-        return await task_call("stop")
-
-    async def get_loop(call: Call) -> Any:
-        """The patrol (loop) task, or 404 when none was started."""
-        if not loop_ids:
-            raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
-        return await task_call("get", loop_ids[-1])
-
-    async def post_loop(call: Call) -> Any:
-        """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
-        b: LoopBody = call.body
-        try:
-            path = await nav.current_path()
-        except ValueError as exc:
-            raise ApiError(409, str(exc)) from exc
-        res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
-        if not res.points:
-            raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
-        subs: list[dict[str, Any]] = []
-        for p in res.points:
-            subs.append({"type": "nav_action", "x": p.x, "y": p.y, "theta": p.theta})
-            if b.wait_time > 0:
-                subs.append({"type": "sleep_action", "wait_time": b.wait_time})
-        task = await run_task("loop task", subs, loop=True)
-        loop_ids.append(task["id"])
-        nav.loop_task_id = task["id"]
-        core.state.looping = True
-        return task
-
-    async def delete_loop(call: Call) -> Any:
-        """Stop patrolling; returns the stopped loop task."""
-        if not loop_ids:
-            raise ApiError(404, "no loop task is running")
-        task = await task_call("stop", loop_ids[-1])
-        nav.loop_task_id = ""
-        core.state.looping = False
-        return task
-
-    async def go_charge(call: Call) -> Any:
-        """Go to the charging station and dock; returns the task (one ``charge_action``)."""
-        res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
-        if not res.is_set:
-            raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
-                                "POST /navigation/charge_pose first")
-        p = res.pose
-        return await run_task("charge task", [
-            {"type": "charge_action", "x": p.x, "y": p.y, "theta": p.theta}])
-
-    async def stop_charge(call: Call) -> Any:
-        """Stop charging: stops the charge task and undocks."""
-        task = await task_call("stop")
-        try:
-            await nav.stop_charge()
-        except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
-        return {"status": "ok", "task": task}
-
-    async def get_charge_pose(call: Call) -> Any:
-        """The stored charging-station pose: ``x``, ``y``, ``theta``."""
-        res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
-        if not res.is_set:
-            raise ApiError(404, f"map {res.map_name!r} has no charge pose yet")
-        return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
-
-    async def post_charge_pose(call: Call) -> Any:
-        """Store the robot's current pose as the charging-station pose."""
-        res = await link.call("set_charge_pose",
-                              zm.SetChargePoseRequest(use_current_pose=True))
-        return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
-
     result = {"result_style": True}
     api.add("GET", "/navigation/start", start, query=StartQuery, **result)
     api.add("GET", "/navigation/stop", stop, **result)
@@ -380,13 +201,3 @@ def add_nav_routes(api: Api, core: Core, nav: Navigator, link: NavLink,
     api.add("GET", "/navigation/robot_tracks", robot_tracks, query=TrackQuery)
     api.add("GET", "/navigation/switch_map", switch_map, query=SwitchQuery)
     api.add("POST", "/navigation/init_pose", init_pose, body=InitPose)
-    api.add("POST", "/navigation/start_nav_task", start_nav_task, body=NavTaskBody)
-    api.add("GET", "/navigation/move_to_index", move_to_index, query=IndexQuery)
-    api.add("GET", "/navigation/stop_nav_task", stop_nav_task)
-    api.add("GET", "/navigation/loop_task", get_loop)
-    api.add("POST", "/navigation/loop_task", post_loop, body=LoopBody)
-    api.add("DELETE", "/navigation/loop_task", delete_loop)
-    api.add("GET", "/navigation/go_charge", go_charge)
-    api.add("GET", "/navigation/stop_charge", stop_charge)
-    api.add("GET", "/navigation/charge_pose", get_charge_pose)
-    api.add("POST", "/navigation/charge_pose", post_charge_pose)

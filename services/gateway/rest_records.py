@@ -10,6 +10,7 @@ import msgspec
 from zenros.msgs import zenros_msgs as zm
 
 from .api import Api, ApiError, Call
+from .nav_calls import Name, OptName
 from .nav_link import NavLink
 from .path_data import (
     format_areas,
@@ -21,7 +22,6 @@ from .path_data import (
     parse_points,
     parse_walls,
 )
-from .rest_nav import Name, OptName
 
 __all__ = ["add_record_routes"]
 
