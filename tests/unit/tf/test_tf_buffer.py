@@ -22,24 +22,9 @@ from zenros.tf import (
     LATEST,
     Buffer,
     quaternion_from_yaw,
-    transform_stamped,
     yaw_from_quaternion,
 )
-
-NS = 1_000_000_000
-
-
-def T(sec: float) -> Time:
-    return Time.from_nanoseconds(round(sec * NS))
-
-
-def link(
-    parent: str, child: str, t: float = 0.0, x: float = 0.0, y: float = 0.0, z: float = 0.0,
-    yaw: float = 0.0, q: tuple[float, float, float, float] | None = None,
-) -> TransformStamped:
-    rot = q if q is not None else quaternion_from_yaw(yaw)
-    return transform_stamped(parent, child, (x, y, z, *rot), T(t))
-
+from tf_links import NS, T, link
 
 def xyz(msg: TransformStamped) -> tuple[float, float, float]:
     v = msg.transform.translation

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from zenros.errors import InvalidArgumentException, LookupException
 from zenros.message import Float64Array
-from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import (
     Point,
     PointStamped,
@@ -28,24 +27,12 @@ from zenros.tf import (
     do_transform,
     quaternion_from_yaw,
     register_transformable,
-    transform_stamped,
     yaw_from_quaternion,
 )
 from zenros.tf.cache import StaticCache
 from zenros.tf.stamped import _REGISTRY
 from zenros.tf.walk import latest_common_time, walk
-
-NS = 1_000_000_000
-
-
-def T(sec: float) -> Time:
-    return Time.from_nanoseconds(round(sec * NS))
-
-
-def link(parent: str, child: str, t: float, x: float = 0.0, y: float = 0.0,
-         yaw: float = 0.0) -> TransformStamped:  # fmt: skip
-    return transform_stamped(parent, child, (x, y, 0.0, *quaternion_from_yaw(yaw)), T(t))
-
+from tf_links import T, link
 
 @pytest.fixture
 def buf() -> Buffer:

@@ -15,18 +15,8 @@ from zenros.errors import (
 )
 from zenros.msgs.builtin_interfaces import Duration, Time
 from zenros.msgs.geometry_msgs import TransformStamped
-from zenros.tf import Buffer, transform_stamped
-
-NS = 1_000_000_000
-
-
-def T(sec: float) -> Time:
-    return Time.from_nanoseconds(round(sec * NS))
-
-
-def link(parent: str, child: str, t: float, x: float = 0.0) -> TransformStamped:
-    return transform_stamped(parent, child, (x, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0), T(t))
-
+from zenros.tf import Buffer
+from tf_links import T, link
 
 class SpyBuffer(Buffer):  # type: ignore[misc]
     """Sets ``checked`` when a waiter first tests its condition (under the buffer lock), so
