@@ -239,7 +239,8 @@ def main() -> None:
         "modbus_ratio": round(median([g / b for g, b in zip(mb["gateway"], mb["bare"])]), 3),
         "modbus_rps_gateway": round(median(mb["gateway"])),
         "modbus_rps_bare": round(median(mb["bare"])),
-    }, repeats=args.repeats, seconds=args.seconds)
+    }, repeats=args.repeats, seconds=args.seconds,
+        load_average=round(os.getloadavg()[0], 1))
 
 
 async def _token(port: int) -> str:
