@@ -60,5 +60,8 @@ def _show(screen: TextIO, label: str, lines: list[bytes]) -> None:
     if not lines:
         return
     texts = (line.decode(errors="replace").rstrip("\r") for line in lines)
-    screen.write("".join(f"[{label}] {text}\n" for text in texts))
-    screen.flush()
+    try:
+        screen.write("".join(f"[{label}] {text}\n" for text in texts))
+        screen.flush()
+    except (OSError, ValueError):  # the terminal or pipe went away: the log file keeps all
+        pass

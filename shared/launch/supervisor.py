@@ -321,8 +321,11 @@ class Supervisor:
         if self._launch_log is not None and not self._launch_log.closed:
             self._launch_log.mark(text)
         out = self.config.screen_err or sys.stderr
-        out.write(f"[launch] {text}\n")
-        out.flush()
+        try:
+            out.write(f"[launch] {text}\n")
+            out.flush()
+        except (OSError, ValueError):  # stderr went away (a closed pipe): launch.log has it
+            pass
         if self.config.on_event is not None:
             self.config.on_event(event)
 

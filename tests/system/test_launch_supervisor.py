@@ -256,6 +256,32 @@ async def test_stop_last_processes_get_sigint_after_the_others_ended(
         ["SIGINT"]
 
 
+class ClosedScreen(io.StringIO):
+    """A terminal that went away: every write fails as on a closed pipe."""
+
+    def write(self, s: str) -> int:
+        raise BrokenPipeError(32, "Broken pipe")
+
+
+async def test_a_closed_screen_does_not_stop_supervision(tmp_path: Path) -> None:
+    """With stdout and stderr gone (the reader of a pipe died), output still reaches the log
+    files and a stop still stops everything."""
+    sup = Supervisor([ProcessSpec("chatty", py("import time\nfor i in range(3):\n"
+                                               "    print('line', i, flush=True)\n"
+                                               "time.sleep(300)"))],
+                     SupervisorConfig(log_dir=tmp_path, screen=ClosedScreen(),
+                                      screen_err=ClosedScreen()))
+    task = asyncio.create_task(sup.run())
+    log = tmp_path / "chatty.log"
+    deadline = time.monotonic() + 20
+    while "line 2" not in (log.read_text() if log.exists() else ""):
+        assert time.monotonic() < deadline and not task.done()
+        await asyncio.sleep(0.05)
+    sup.stop()
+    assert await asyncio.wait_for(task, 20) == 0
+    assert "launch finished with exit code 0" in (tmp_path / "launch.log").read_text()
+
+
 async def test_clean_exits_and_failures(harness: Callable[..., Harness]) -> None:
     ok = harness([ProcessSpec("a", py("pass")), ProcessSpec("b", py("print(1)"))])
     ok.start()
