@@ -68,3 +68,29 @@ def test_task_lifecycle_and_actions(http: httpx.Client, tasks: TasksNode) -> Non
     assert http.get("/task/loop", params={"id": "x", "loop_flag": "maybe"}).status_code == 400
     r = http.post("/task", json={"name": "bad", "sub_tasks": [{"type": "warp_action"}]})
     assert r.status_code == 400, r.text
+
+
+def test_action_types_through_the_api(http: httpx.Client, tasks: TasksNode,
+                                      gw: GatewayNode) -> None:
+    """§0 rows 22-25: wait_req_action released by /action/update_wait_req, a callback_action
+    calling back into the gateway, a tts_action, a sequence control_type; progress counts."""
+    callback = f"http://127.0.0.1:{gw.rest_port}/api/v1/system/status"
+    r = http.post("/task", json={"name": "kinds", "control_type": "sequence", "sub_tasks": [
+        {"type": "wait_req_action"},
+        {"type": "callback_action", "url": callback, "method": "GET"},
+        {"type": "tts_action", "text": "done"}]})
+    assert r.status_code == 200, r.text
+    task = r.json()
+    assert task["state"] == "WAITTING" and task["progress"] == 0
+    assert http.get("/task/start", params={"id": task["id"]}).json()["state"] == "WORKING"
+
+    def doc() -> dict[str, object]:
+        return dict(http.get("/task", params={"id": task["id"]}).json())
+
+    assert wait_for(lambda: doc()["current_task"] is not None
+                    and doc()["current_task"]["type"] == "wait_req_action", 5)  # type: ignore[index]
+    assert http.get("/action/update_wait_req").json() == {"status": "ok"}
+    assert wait_for(lambda: doc()["state"] == "COMPLETE", 10), doc()
+    final = doc()
+    assert final["progress"] == 1.0
+    assert [a["state"] for a in final["sub_tasks"]] == ["COMPLETE"] * 3  # type: ignore[attr-defined]
