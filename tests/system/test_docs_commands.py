@@ -1,0 +1,240 @@
+"""Every shell command of README.md and docs/*.md works as written against a launched sim.
+
+`zenros launch deploy/launch/sim.yaml` runs in a temporary ZENROS_HOME with its own key
+prefix and router port; the gateway's fixed ports (REST 3546, topic WebSocket 3547, Modbus
+3551, rosbridge 9090) are moved to free ones by storing them on master before the launch, and
+the commands' ``127.0.0.1:<default port>`` are rewritten to match. Each command runs in bash
+from a scratch directory that links the repository's top-level entries (so files it writes
+stay out of the tree); ``zenros launch deploy/launch/sim.yaml`` lines are the sim itself and
+are not run again. A command passes when it exits 0, or, for a streaming one, when it was
+still running GRACE seconds after it first printed on stdout. Blocks and lines that cannot
+run against the sim are marked in the page (see docs_commands.py for the markers).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO
+
+import pytest
+from docs_commands import Block, Command, doc_blocks, doc_pages
+from zenros.context import Context
+from zenros.param_client import ParameterClient
+from zenros.session import SessionOptions
+from zenros.testing import Proc, free_port, unique_prefix
+
+pytestmark = pytest.mark.system
+
+ROOT = Path(__file__).resolve().parents[2]
+GRACE = 3.0  # a command still running this long after its first output is a streaming one
+COMMAND_LIMIT = 45.0  # a command that neither ends nor prints fails after this long
+LAUNCHED = "zenros launch deploy/launch/sim.yaml"  # what the check runs: not run again
+GATEWAY_PORTS = {"rest_port": 3546, "ws_port": 3547, "modbus_port": 3551, "rosbridge_port": 9090}
+PAGES = [p for p in doc_pages(ROOT) if any(b.commands for b in doc_blocks(p, ROOT))]
+
+
+@dataclass
+class Sim:
+    env: dict[str, str]
+    workdir: Path
+    ports: dict[int, int]  # documented default port -> this sim's
+
+
+@pytest.fixture(scope="module")
+def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
+    home = tmp_path_factory.mktemp("home")
+    workdir = tmp_path_factory.mktemp("work")
+    for entry in ROOT.iterdir():
+        if not entry.name.startswith("."):
+            (workdir / entry.name).symlink_to(entry)
+    endpoint, prefix = f"tcp/127.0.0.1:{free_port()}", unique_prefix()
+    env = {**os.environ, "ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix,
+           "ZENROS_CONNECT": endpoint,
+           "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+    ports = {name: free_port() for name in GATEWAY_PORTS}
+    _store_on_master(env, {f"/gateway/{k}": v for k, v in ports.items()}
+                     | {"/gateway/discovery_port": -1})
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(ROOT / "deploy/launch/sim.yaml")],
+                env={k: env[k] for k in ("ZENROS_HOME", "ZENROS_PREFIX", "ZENROS_CONNECT")})
+    try:
+        assert _all_ready(proc, 90), proc.output
+        yield Sim(env, workdir, {GATEWAY_PORTS[k]: v for k, v in ports.items()})
+    finally:
+        proc.stop(timeout=30)
+
+
+def _store_on_master(env: dict[str, str], values: dict[str, object]) -> None:
+    """Values stored before the launch: master keeps them in ZENROS_HOME, and nodes read
+    stored values over their launch file's."""
+    listen = f"tcp/127.0.0.1:{free_port()}"
+    master = Proc([sys.executable, "-m", "zenros.services.master", "-l", listen,
+                   "--prefix", env["ZENROS_PREFIX"]], env={"ZENROS_HOME": env["ZENROS_HOME"]})
+    try:
+        assert master.wait_line("started", 30), master.output
+        with Context(SessionOptions(connect=[listen]), prefix=env["ZENROS_PREFIX"]) as ctx:
+            client = ParameterClient(ctx, timeout=10.0)
+            assert client.wait_for_master(20)
+            for name, value in values.items():
+                client.set(name, value)
+    finally:
+        master.stop()
+
+
+def _all_ready(proc: Proc, timeout: float) -> bool:
+    """Every process the launch started is reported ready."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        out = proc.output
+        started = set(re.findall(r"\[launch\] started (\S+) \(pid", out))
+        ready = set(re.findall(r"\[launch\] (\S+) is ready", out))
+        if started and "gateway" in started and started <= ready:
+            return True
+        if proc.popen.poll() is not None:
+            return False
+        time.sleep(0.2)
+    return False
+
+
+def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
+    """None when the command worked, else why not (with its output).
+
+    It worked if it exited 0; or if it printed on stdout and was still running GRACE seconds
+    later (a streaming command: echo, hz, pub -r, tf echo), when it is stopped with SIGINT.
+    """
+    text = cmd.text
+    for default, port in sim.ports.items():
+        text = re.sub(rf"(127\.0\.0\.1|localhost):{default}\b", rf"\g<1>:{port}", text)
+    p = subprocess.Popen(["bash", "-c", text], cwd=cwd, env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    out: list[str] = []
+    err: list[str] = []
+    readers = [threading.Thread(target=_drain, args=(f, sink), daemon=True)
+               for f, sink in ((p.stdout, out), (p.stderr, err))]
+    for r in readers:
+        r.start()
+    deadline = time.monotonic() + COMMAND_LIMIT
+    first_output: float | None = None
+    streaming = False
+    while p.poll() is None:
+        now = time.monotonic()
+        if first_output is None and out:
+            first_output = now
+        if first_output is not None and now - first_output >= GRACE or now >= deadline:
+            streaming = first_output is not None
+            _stop(p)
+            break
+        time.sleep(0.05)
+    for r in readers:
+        r.join(5)
+    for f in (p.stdout, p.stderr):
+        if f is not None:
+            f.close()
+    if streaming or p.returncode == 0:
+        return None
+    how = (f"neither ended nor printed in {COMMAND_LIMIT:g} s" if p.returncode is None
+           or p.returncode < 0 else f"exit {p.returncode}")
+    return (f"{cmd.where}: `{cmd.text}`: {how}\n  stdout: {''.join(out)[-600:]!r}\n"
+            f"  stderr: {''.join(err)[-600:]!r}")
+
+
+def _drain(stream: IO[str] | None, sink: list[str]) -> None:
+    assert stream is not None
+    for line in stream:
+        sink.append(line)
+
+
+def _stop(p: subprocess.Popen[str]) -> None:
+    """SIGINT to the command's process group (Ctrl-C), then SIGKILL."""
+    try:
+        os.killpg(p.pid, signal.SIGINT)
+        p.wait(10)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        p.wait(5)
+    except ProcessLookupError:
+        p.wait(5)
+
+
+_CD = re.compile(r"^cd\s+(\S+)$")
+_ASSIGN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)=(.+)$")
+
+
+def _run_block(block: Block, sim: Sim) -> list[str]:
+    """The block's commands in order, as one shell session would run them: a ``cd DIR`` line
+    moves the later ones, a ``NAME=VALUE`` line (``id=$(...)``) sets a variable for them."""
+    failures: list[str] = []
+    cwd, env = sim.workdir, dict(sim.env)
+    for cmd in block.runnable():
+        if cmd.text.startswith(LAUNCHED):
+            continue  # the sim the check runs against
+        if m := _CD.match(cmd.text):
+            cwd = (cwd / m.group(1)).resolve()
+            continue
+        if m := _ASSIGN.match(cmd.text):
+            r = subprocess.run(["bash", "-c", f'{cmd.text}\nprintf %s "${m.group(1)}"'],
+                               cwd=cwd, env=env, capture_output=True, text=True,
+                               timeout=COMMAND_LIMIT, check=False)
+            if r.returncode != 0 or not r.stdout:
+                failures.append(f"{cmd.where}: `{cmd.text}`: exit {r.returncode}, value "
+                                f"{r.stdout!r}\n  stderr: {r.stderr[-600:]!r}")
+                return failures  # later lines need the value
+            env[m.group(1)] = r.stdout
+            continue
+        start = time.monotonic()
+        why = _run(cmd, sim, cwd, env)
+        print(f"{time.monotonic() - start:5.1f} s  {cmd.where}  {cmd.text[:70]}", flush=True)
+        if why is not None:
+            failures.append(why)
+    return failures
+
+
+def _run_page(page: Path, sim: Sim) -> list[str] | None:
+    """The failures of one page's blocks (in order); None if nothing of it is runnable."""
+    blocks = [b for b in doc_blocks(page, ROOT) if b.runnable()]
+    if not blocks:
+        return None
+    return [why for b in blocks for why in _run_block(b, sim)]
+
+
+@pytest.fixture(scope="module")
+def results(sim: Sim) -> dict[Path, list[str] | None]:
+    """Every page checked, pages side by side (each page's blocks in order)."""
+    with ThreadPoolExecutor(max_workers=3) as pool:
+        return dict(zip(PAGES, pool.map(lambda p: _run_page(p, sim), PAGES), strict=True))
+
+
+@pytest.mark.timeout(600)
+@pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+def test_every_command_of_the_page_works(page: Path, results: dict[Path, list[str] | None]
+                                         ) -> None:
+    failures = results[page]
+    if failures is None:
+        pytest.skip("every shell block of the page is marked doc-check: skip")
+    assert not failures, "\n".join(failures)
+
+
+def test_the_markers_are_read(tmp_path: Path) -> None:
+    page = tmp_path / "docs" / "page.md"
+    page.parent.mkdir()
+    page.write_text(
+        "text\n\n<!-- doc-check: skip needs a robot -->\n```bash\nzenros robot go\n```\n\n"
+        "<!-- doc-check: skip-line zenros router -->\n\n```sh\n# a comment\n"
+        "zenros router\nzenros topic echo /x \\\n  --once\n$ zenros node list\n```\n"
+        "```python\nprint(1)\n```\n"
+    )
+    first, second = doc_blocks(page, tmp_path)
+    assert first.skip == "needs a robot" and first.runnable() == []
+    assert [c.text for c in second.runnable()] == ["zenros topic echo /x --once",
+                                                   "zenros node list"]
+    assert second.runnable()[0].where == "docs/page.md:13"
