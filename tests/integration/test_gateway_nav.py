@@ -9,6 +9,7 @@ import json
 import logging
 import math
 import tempfile
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -327,3 +328,13 @@ def test_native_pause_resume_cancel_act_on_the_running_task(rig: Rig) -> None:
     assert wait_for(lambda: state() == "WORKING", 10)
     rig.gw.core.send_native(b"i\x02")          # cancel
     assert wait_for(lambda: state() == "CANCELLED", 10)
+
+
+def test_put_speed_moves_the_robot_and_the_deadman_stops_it(rig: Rig) -> None:
+    start = rig.truth[-1]
+    for _ in range(10):  # a client repeating its command every 50 ms
+        r = rig.http.put("/system/speed", json={"speed_x": 0.3, "speed_angle": 0.0})
+        assert r.json() == {"result": True}
+        time.sleep(0.05)  # the client's own pacing, not a wait for a result
+    assert wait_for(lambda: math.dist(rig.truth[-1], start) > 0.2, 5)
+    assert wait_for(lambda: rig.speed < 1e-3, 5)  # silence: the robot stops by itself
