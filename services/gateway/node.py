@@ -55,6 +55,7 @@ class GatewayNode(Node):
         deadman_timeout: seconds a speed command holds (default 0.5).
         ws_ping_interval, ws_ping_timeout: the topic WebSocket pings every interval and
             closes a connection whose pong is later than the timeout (5 s, 10 s).
+        ws_max_frame: largest WebSocket frame a client may send (1 MiB; larger: close 1009).
         serial_port: the §13 serial port (device path or pyserial URL); empty: no bridge.
         serial_baud: its baud rate (default 115200, 8N1).
         discovery_port: UDP port of the §1.3 broadcast (default 22002; -1 turns it off).
@@ -124,7 +125,8 @@ class GatewayNode(Node):
         self.ws_port = self.serve_asgi(
             ws_app(self.hub, self.core.tokens), host, ws_port,
             ws_ping_interval=self.declare_parameter("ws_ping_interval", 5.0),
-            ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0))
+            ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0),
+            ws_max_size=self.declare_parameter("ws_max_frame", 1 << 20))
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
         self.modbus = ModbusFront(self.core, self.logger)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))

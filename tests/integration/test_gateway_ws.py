@@ -172,3 +172,16 @@ def test_silent_client_is_closed(ctx_pair: list[Context], tmp_path: Path) -> Non
             assert 9 in frame_opcodes(got.split(b"\r\n\r\n", 1)[1])  # pings were sent
         finally:
             s.close()
+
+
+async def test_oversized_frame_closes_only_that_client(gw: GatewayNode) -> None:
+    url = f"ws://127.0.0.1:{gw.ws_port}/cmd_vel?token={token_of(gw)}"
+    async with connect(url) as big, connect(url) as other:
+        await big.send("x" * (2 << 20))
+        with pytest.raises(websockets.ConnectionClosed) as info:
+            while True:
+                await asyncio.wait_for(big.recv(), 5)
+        assert info.value.rcvd is not None and info.value.rcvd.code == 1009
+        await other.send(json.dumps({"linear": {"x": 0.0}}))
+        pong = await other.ping()
+        await asyncio.wait_for(pong, 3)
