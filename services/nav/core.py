@@ -83,6 +83,7 @@ class NavCore:
         self._last_tick: float | None = None
         self.matcher: ScanMatcher | None = None
         self._last_match = -math.inf
+        self._pending_scan: tuple[int, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ NavTools
 
@@ -116,6 +117,8 @@ class NavCore:
     def on_odom(self, stamp_ns: int, pose: Pose2, v: float, w: float) -> None:
         self.localizer.on_odom(stamp_ns, pose)
         self.speed = (v, w)
+        if self._pending_scan is not None:
+            self._run_match()
 
     def on_ground_truth(self, stamp_ns: int, pose: Pose2) -> None:
         self.localizer.on_ground_truth(stamp_ns, pose)
@@ -141,19 +144,27 @@ class NavCore:
 
     def _match(self, scan: Any, ranges: np.ndarray, angles: np.ndarray, mount: Pose2,
                now: float) -> None:
-        """Correct the pose with this scan, at most ``scan_match_rate`` times a second."""
+        """Queue this scan for matching (at most ``scan_match_rate`` a second); it is
+        matched once the odometry of its stamp is in (`_run_match`)."""
         rate = self.config.scan_match_rate
-        matcher = self.matcher
-        if matcher is None or rate <= 0 or (0 <= now - self._last_match < 1.0 / rate):
+        if self.matcher is None or rate <= 0 or (0 <= now - self._last_match < 1.0 / rate):
             return
         self._last_match = now
-        stamp = scan.header.stamp.nanoseconds
-        guess = self.localizer.pose_at(stamp)
-        if guess is None:
-            return
         ok = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
         r, a = ranges[ok], angles[ok] + mount.theta
         pts = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+        self._pending_scan = (scan.header.stamp.nanoseconds, pts)
+        self._run_match()
+
+    def _run_match(self) -> None:
+        pending, matcher = self._pending_scan, self.matcher
+        if pending is None or matcher is None or not self.localizer.covers(pending[0]):
+            return
+        self._pending_scan = None
+        stamp, pts = pending
+        guess = self.localizer.pose_at(stamp)
+        if guess is None:
+            return
         found, score = matcher.match(pts, guess)
         if score >= matcher.p.min_score:
             self.localizer.correct(stamp, found, self.config.scan_match_gain)

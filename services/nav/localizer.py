@@ -41,6 +41,7 @@ class Localizer:
         self.localized = mode == "scan_match"
         self.odom_stamp_ns = 0
         self.corrections = 0
+        self._pending_truth: tuple[int, Pose2] | None = None
 
     def set_mode(self, mode: str) -> None:
         if mode not in MODES:
@@ -55,6 +56,11 @@ class Localizer:
                 self._odom.clear()  # time went back (sim restart): start over
             self._odom.append((stamp_ns, odom_base))
             self.odom_stamp_ns = stamp_ns
+            pending = self._pending_truth
+            if pending is not None and pending[0] <= stamp_ns:
+                self._pending_truth = None
+                if self.mode == "ground_truth":
+                    self._apply_truth(*pending)
 
     def _odom_at(self, stamp_ns: int) -> Pose2 | None:
         """The odometry sample nearest ``stamp_ns`` (searched from the newest: the truth
@@ -70,14 +76,26 @@ class Localizer:
         return best[1]
 
     def on_ground_truth(self, stamp_ns: int, map_base: Pose2) -> None:
+        """The true pose at ``stamp_ns``; used once the odometry of that stamp is in (it
+        may arrive after the truth), so the two always describe the same instant."""
         if self.mode != "ground_truth":
             return
         with self._lock:
-            odom = self._odom_at(stamp_ns)
-            if odom is None:
+            if not self._odom or self._odom[-1][0] < stamp_ns:
+                self._pending_truth = (stamp_ns, map_base)
                 return
+            self._apply_truth(stamp_ns, map_base)
+
+    def _apply_truth(self, stamp_ns: int, map_base: Pose2) -> None:
+        odom = self._odom_at(stamp_ns)
+        if odom is not None:
             self.map_to_odom = map_base * odom.inverse()
             self.localized = True
+
+    def covers(self, stamp_ns: int) -> bool:
+        """True once odometry at or after ``stamp_ns`` has arrived."""
+        with self._lock:
+            return bool(self._odom) and self._odom[-1][0] >= stamp_ns
 
     def pose_at(self, stamp_ns: int) -> Pose2 | None:
         """The estimate at the odometry sample nearest ``stamp_ns``."""

@@ -47,21 +47,25 @@ def test_scan_matcher_keeps_the_estimate_on_the_truth(
     chassis, nav, user = noisy
     errors: list[float] = []
     drift: list[float] = []
-    latest: dict[str, Odometry] = {}
+    truths: dict[int, Odometry] = {}
 
     def on_truth(msg: Odometry) -> None:
-        latest["truth"] = msg
-        est = nav.core.localizer.pose_at(msg.header.stamp.nanoseconds)
-        odom = latest.get("odom")
-        p = msg.pose.pose.position
-        if est is not None:
-            errors.append(math.hypot(est.x - p.x, est.y - p.y))
-        if odom is not None:  # odom's origin is the start pose, the map origin
-            o = odom.pose.pose.position
-            drift.append(math.hypot(o.x - p.x, o.y - p.y))
+        truths[msg.header.stamp.nanoseconds] = msg
 
-    user.create_subscription(Odometry, "odom", lambda m: latest.__setitem__("odom", m))
+    def on_odom(msg: Odometry) -> None:
+        # compare at the same instant: the odometry sample and the truth of its stamp
+        t = truths.pop(msg.header.stamp.nanoseconds, None)
+        if t is None:
+            return
+        o, p = msg.pose.pose, t.pose.pose.position
+        odom = Pose2(o.position.x, o.position.y,
+                     2 * math.atan2(o.orientation.z, o.orientation.w))
+        est = nav.core.localizer.map_to_odom * odom
+        errors.append(math.hypot(est.x - p.x, est.y - p.y))
+        drift.append(math.hypot(odom.x - p.x, odom.y - p.y))  # odom's origin: the map's
+
     user.create_subscription(Odometry, "sim/ground_truth", on_truth)
+    user.create_subscription(Odometry, "odom", on_odom)
     client = ActionClient(user, NavigateToPose, "navigate_to_pose")
     assert client.wait_for_server(10)
     assert wait_for(lambda: len(errors) > 10, 10)
@@ -76,15 +80,19 @@ def test_scan_matcher_keeps_the_estimate_on_the_truth(
     assert max(drift) > 0.1  # the noise is real: without the matcher it would be off
 
 
-def test_initialpose_sets_the_estimate(noisy: tuple[ChassisNode, NavNode, Node]) -> None:
+def test_initialpose_sets_the_estimate_and_the_matcher_pulls_it_back(
+        noisy: tuple[ChassisNode, NavNode, Node]) -> None:
     _, nav, user = noisy
+    loc = nav.core.localizer
+    nav.set_parameter("localization", "odometry")  # no matching: the pose stays as given
     pub = user.create_publisher(PoseWithCovarianceStamped, "initialpose")
     assert pub.wait_for_subscribers(1, 10)
-    pub.publish(pose_with_covariance(Pose2(0.05, -0.05, 0.03), Time(), 0.01, 0.01))
+    pub.publish(pose_with_covariance(Pose2(0.1, -0.06, 0.03), Time(), 0.01, 0.01))
 
-    def near() -> bool:
-        p = nav.core.localizer.pose()
-        return p is not None and math.hypot(p.x - 0.05, p.y + 0.05) < 0.02
+    def at(x: float, y: float, tol: float) -> bool:
+        p = loc.pose()
+        return p is not None and math.hypot(p.x - x, p.y - y) < tol
 
-    assert wait_for(near, 10)
-    assert nav.core.localizer.mode == "scan_match"  # the matcher keeps running
+    assert wait_for(lambda: at(0.1, -0.06, 1e-6), 10)
+    nav.set_parameter("localization", "scan_match")  # the robot really stands at (0, 0)
+    assert wait_for(lambda: at(0.0, 0.0, 0.02), 10)

