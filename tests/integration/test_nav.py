@@ -145,8 +145,9 @@ def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
                               parameter_overrides={"speed": SPEED, "seed": 1})
         nav = user = None
         try:
-            nav = NavNode("nav", context=ctxs[1],
-                          parameter_overrides={"use_sim_time": True, "maps_dir": str(maps)})
+            # planning time is wall time: a loaded machine must not turn 208 into 207
+            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
+                "use_sim_time": True, "maps_dir": str(maps), "max_planning_time": 10.0})
             user = Node("user", context=ctxs[2])
             rig = Rig(chassis, nav, user)
             for client in (rig.navigate, rig.through, rig.compute, rig.dock, rig.undock,
@@ -274,7 +275,7 @@ def test_unreachable_goals_fail_with_the_planner_error_code(rig: Rig) -> None:
         assert out.status is GoalStatus.ABORTED, (x, y, out.result)
         assert out.result.error_code == code, (x, y, out.result)
         assert out.result.error_msg
-        assert rig.sim_time() - t < 10  # fails fast, without driving
+        assert rig.sim_time() - t < 30  # fails at planning, without driving
         plan = rig.compute.send_goal(ComputePathToPoseGoal(
             goal=pose_stamped(Pose2(x, y), Time())), timeout=10)
         assert plan.status is GoalStatus.ABORTED and plan.result.error_code == code
