@@ -64,7 +64,8 @@ def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
     ports = {name: free_port() for name in GATEWAY_PORTS}
     _store_on_master(env, {f"/gateway/{k}": v for k, v in ports.items()}
                      | {"/gateway/discovery_port": -1})
-    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(ROOT / "deploy/launch/sim.yaml")],
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
+                 str(ROOT / "deploy" / "launch" / "sim.yaml")],
                 env={k: env[k] for k in ("ZENROS_HOME", "ZENROS_PREFIX", "ZENROS_CONNECT")})
     try:
         assert _all_ready(proc, 90), proc.output

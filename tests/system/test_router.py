@@ -12,14 +12,9 @@ import time
 import pytest
 import zenoh
 from zenros.router import build_router_config, router_reachable, serve_router
+from zenros.testing import free_port
 
 pytestmark = pytest.mark.system
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def wait_until(condition: threading.Event | subprocess.Popen[str] | str, timeout: float = 10.0

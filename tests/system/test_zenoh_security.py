@@ -15,37 +15,21 @@ import os
 import secrets
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import threading
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 import zenoh
 from zenros.router import router_reachable
+from zenros.testing import free_port, wait_for
 
 pytestmark = pytest.mark.system
 
 DEPLOY = Path(__file__).resolve().parents[2] / "deploy" / "zenoh"
 WAIT = 10.0  # generous bound for every condition; the tests finish long before it
-
-
-def wait_for(condition: Callable[[], bool], timeout: float = WAIT, what: str = "") -> None:
-    """Poll ``condition`` until it holds; fail the test after ``timeout`` seconds."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            pytest.fail(f"timed out after {timeout} s waiting for {what or condition}")
-        time.sleep(0.01)
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 # ------------------------------------------------------------------ fixtures
@@ -89,8 +73,9 @@ class RouterProcess:
                 cwd=cwd, stdout=log, stderr=subprocess.STDOUT, text=True,
             )
         try:
-            wait_for(lambda: self.proc.poll() is not None or router_reachable(self.endpoint, 0.2),
-                     what=f"{config} to listen on {self.endpoint}")
+            assert wait_for(lambda: self.proc.poll() is not None
+                            or router_reachable(self.endpoint, 0.2), WAIT), \
+                f"timed out waiting for {config} to listen on {self.endpoint}"
         except BaseException:
             self.stop()
             raise
@@ -210,7 +195,7 @@ def send_when_matched(session: zenoh.Session, puts: list[tuple[str, str]]) -> No
     pubs = {key: session.declare_publisher(key) for key, _ in puts}
     try:
         for key, pub in pubs.items():
-            wait_for(functools.partial(matched, pub), what=f"a subscriber matching {key}")
+            assert wait_for(functools.partial(matched, pub), WAIT), f"a subscriber matching {key}"
         for key, payload in puts:
             pubs[key].put(payload)
     finally:
@@ -227,7 +212,7 @@ def roundtrip(sub_conf: zenoh.Config, pub_conf: zenoh.Config, key: str) -> None:
         pub_session = zenoh.open(pub_conf)
         try:
             send_when_matched(pub_session, [(key, "hello")])
-            wait_for(lambda: got.has(key, "hello"), what=f"'hello' on {key}")
+            assert wait_for(lambda: got.has(key, "hello"), WAIT), f"'hello' on {key}"
         finally:
             pub_session.close()  # type: ignore[no-untyped-call]
     finally:
@@ -349,7 +334,7 @@ def test_acl_drops_cmd_vel_from_other_users(acl_router: RouterProcess, users: di
                                             acl_watch: Received) -> None:
     # same session, same priority: in order. Once "odom" is in, "denied" had its chance.
     put_as(acl_router.endpoint, "viewer", users["viewer"], [(CMD_VEL, "denied"), (ODOM, "allowed")])
-    wait_for(lambda: acl_watch.has(ODOM, "allowed"), what="the allowed odom sample")
+    assert wait_for(lambda: acl_watch.has(ODOM, "allowed"), WAIT), "the allowed odom sample"
     assert acl_watch.payloads() == ["allowed"]
 
 
@@ -357,7 +342,7 @@ def test_acl_drops_cmd_vel_from_other_users(acl_router: RouterProcess, users: di
 def test_acl_lets_drivers_put_cmd_vel(acl_router: RouterProcess, users: dict[str, str],
                                       acl_watch: Received, user: str) -> None:
     put_as(acl_router.endpoint, user, users[user], [(CMD_VEL, f"from {user}")])
-    wait_for(lambda: acl_watch.has(CMD_VEL, f"from {user}"), what=f"{user}'s cmd_vel")
+    assert wait_for(lambda: acl_watch.has(CMD_VEL, f"from {user}"), WAIT), f"{user}'s cmd_vel"
 
 
 def test_acl_does_not_cover_wildcard_puts(acl_router: RouterProcess, users: dict[str, str],
@@ -369,7 +354,8 @@ def test_acl_does_not_cover_wildcard_puts(acl_router: RouterProcess, users: dict
     wildcard. If this starts failing, zenoh closed the gap: update docs/security.md.
     """
     put_as(acl_router.endpoint, "viewer", users["viewer"], [("zenros/topic/robot1/*", "wildcard")])
-    wait_for(lambda: acl_watch.has("zenros/topic/robot1/*", "wildcard"), what="the wildcard put")
+    assert wait_for(lambda: acl_watch.has("zenros/topic/robot1/*", "wildcard"), WAIT), \
+        "the wildcard put"
 
 
 def test_acl_is_bypassed_by_a_direct_link_to_a_listening_peer(
@@ -389,7 +375,7 @@ def test_acl_is_bypassed_by_a_direct_link_to_a_listening_peer(
         got = Received()
         chassis.declare_subscriber(CMD_VEL, got)
         put_as(peer_endpoint, "viewer", users["viewer"], [(CMD_VEL, "around the router")])
-        wait_for(lambda: got.has(CMD_VEL, "around the router"), what="the bypassing put")
+        assert wait_for(lambda: got.has(CMD_VEL, "around the router"), WAIT), "the bypassing put"
     finally:
         chassis.close()  # type: ignore[no-untyped-call]
 
