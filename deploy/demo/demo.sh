@@ -66,10 +66,12 @@ need_root() {
 # the lease drops its sessions, every process that had 2 or more links to that robot blocks
 # both rx threads in close(2) until the link returns (or 10 s pass): all its traffic, to every
 # host, stalls (measured: robot2 stalled 4.1-4.3 s during robot1's 5 s outage, 10 s during a
-# 12 s one). More rx threads than processes per host keep the other links flowing.
+# 12 s one). More rx threads than processes per host keep the other links flowing: a robot
+# runs 8 processes (robot.yaml), and with 8 threads robot2's nav still dropped out of its own
+# tasks service's view during robot1's outage (the goal was lost); 16 leave room.
 host_env() {
     HOST_ENV=("ZENROS_CONNECT=$ROUTER" "ZENROS_CONFIG=$CONFIG" "ZENROS_HOME=$STATE/home-$1"
-              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 8))}")
+              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 16))}")
 }
 
 cmd_up() {

@@ -1,10 +1,13 @@
-"""The multi-host demo in network namespaces: a link outage and packet loss, per QoS."""
+"""The multi-host demo in network namespaces: a link outage and packet loss, per QoS; two full
+robots driven through the station's gateways while one robot's link is down."""
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import secrets
+import select
 import shutil
 import subprocess
 import sys
@@ -17,7 +20,8 @@ from typing import Any
 import pytest
 from zenros.testing import wait_for
 
-pytestmark = [pytest.mark.system, pytest.mark.netns]
+# The first test also pays for starting ~20 processes on 3 hosts (the module's fixture).
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(150)]
 
 ROOT = Path(__file__).resolve().parents[2]
 DEMO = ROOT / "deploy" / "demo" / "demo.sh"
@@ -118,11 +122,11 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
     prefix = "zr" + secrets.token_hex(3)
     state = tmp_path_factory.mktemp("netns-demo")
     env = {**os.environ, "ZR_PREFIX": prefix, "ZR_STATE": str(state),
-           "PYTHON": sys.executable, "ZR_WAIT": "40"}
+           "PYTHON": sys.executable, "ZR_WAIT": "100"}
     d = Demo(prefix, state, env)
     try:
         d.sh("up")
-        d.sh("start", timeout=60)
+        d.sh("start", timeout=120)
         yield d
     finally:
         try:
@@ -139,13 +143,24 @@ def _flowing(reports: Reports, topics: list[str], after: float) -> bool:
 
 
 def test_station_sees_both_robots(demo: Demo) -> None:
-    out = demo.sh("show", timeout=60)
+    out = demo.sh("show", timeout=100)
     for node in ("/robot1/heartbeat", "/robot2/heartbeat", "/robot1/listener",
-                 "/robot2/add_two_ints_server", "/heartbeat_monitor", "/talker"):
+                 "/robot2/add_two_ints_server", "/heartbeat_monitor", "/talker",
+                 *(f"/{r}/{n}" for r in ("robot1", "robot2")
+                   for n in ("chassis", "nav", "tf", "tasks", "gateway"))):
         assert f"\n{node}\n" in out, out
     assert "/robot1/heartbeat_cached [std_msgs/Int64]" in out, out
+    assert "/robot2/tf [tf2_msgs/TFMessage]" in out, out  # each robot's TF in its namespace
+    assert "\n/tf [" not in out, out  # and nothing on the global /tf
     assert "sum: 5" in out, out  # /robot2/add_two_ints, called from the station
     assert "data: " in out, out  # one /robot1/heartbeat, echoed on the station
+    # robot1's TF tree holds robot1's links only: robot2's odom -> base_link never mixes in.
+    frames = out.split("(robot1's own TF tree)", 1)[1].split("[demo]", 1)[0]
+    for link in ("odom  [/robot1/nav", "base_link  [/robot1/chassis",
+                 "laser  [static, /robot1/chassis]"):
+        assert link in frames, frames
+    assert "robot2" not in frames, frames
+    assert '\n200 {"x":' in out, out  # robot2's pose over REST, through its station gateway
 
 
 def test_link_outage_plain_resumes_cached_recovers_everything(demo: Demo) -> None:
@@ -224,3 +239,206 @@ def test_random_loss_cached_topic_loses_nothing(demo: Demo) -> None:
         {"plain_lost": lost[r2], "cached_lost": lost[r2c],
          "plain_max_gap_s": after[r2]["max_gap"]}))
     assert after[r2c]["lost"] == 0 and after[r2c]["duplicates"] == 0, after[r2c]
+
+
+# ---------------------------------------------------------------------- full robots over REST
+
+R1_PORT, R2_PORT = 3546, 3556  # station.yaml: robot1's and robot2's gateway REST ports
+R2_GOAL = (1.5, 0.0)  # straight ahead of robot2's start (0, 0, 0): a few seconds at 0.5 m/s
+R1_LEGS = [(4.0, 0.0), (2.0, 0.0)]  # robot1's task: out and partly back, ~15 s in all
+ARRIVED = 0.3  # m: nav's goal tolerance (0.15) plus odometry slack
+
+# Runs on the station (demo.sh run station): one JSON request per stdin line, one JSON answer
+# per stdout line; gets a token per gateway (§2, the default admin/admin) and renews it on 401.
+_REST_CLIENT = r"""
+import json, sys, urllib.error, urllib.request
+tokens = {}
+def call(method, url, body):
+    data = None if body is None else json.dumps(body).encode()
+    req = urllib.request.Request(url, data=data, method=method,
+                                 headers={"Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(req, timeout=10) as r:
+            return r.status, r.read().decode()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read().decode()
+    except OSError as e:
+        return 0, f"{type(e).__name__}: {e}"
+for line in sys.stdin:
+    q = json.loads(line)
+    base = "http://127.0.0.1:%d/api/v1" % q["port"]
+    for attempt in (0, 1):
+        if q["port"] not in tokens:
+            status, text = call("GET", base + "/token?username=admin&password=admin", None)
+            if status != 200:
+                break
+            tokens[q["port"]] = json.loads(text)["token"]
+        sep = "&" if "?" in q["path"] else "?"
+        status, text = call(q["method"], f"{base}{q['path']}{sep}token={tokens[q['port']]}",
+                            q.get("body"))
+        if status != 401:
+            break
+        tokens.pop(q["port"])
+    print(json.dumps({"status": status, "text": text}), flush=True)
+"""
+
+
+class Rest:
+    """HTTP calls to the gateways, made on the station (they bind its 127.0.0.1)."""
+
+    def __init__(self, demo: Demo) -> None:
+        self.proc = subprocess.Popen(
+            [str(DEMO), "run", "station", sys.executable, "-u", "-c", _REST_CLIENT],
+            env=demo.env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+
+    def call(self, port: int, method: str, path: str,
+             body: dict[str, Any] | None = None) -> tuple[int, Any]:
+        """``(status, JSON body)``; status 0 when the gateway did not answer within 10 s."""
+        assert self.proc.stdin is not None and self.proc.stdout is not None
+        self.proc.stdin.write(json.dumps({"port": port, "method": method, "path": path,
+                                          "body": body}) + "\n")
+        self.proc.stdin.flush()
+        ready, _, _ = select.select([self.proc.stdout], [], [], 30.0)
+        assert ready, f"the REST client on the station hung on {method} {path}"
+        line = self.proc.stdout.readline()
+        assert line, f"the REST client on the station exited (code {self.proc.poll()})"
+        answer = json.loads(line)
+        try:
+            return answer["status"], json.loads(answer["text"])
+        except json.JSONDecodeError:
+            return answer["status"], answer["text"]
+
+    def ok(self, port: int, method: str, path: str, body: dict[str, Any] | None = None) -> Any:
+        status, doc = self.call(port, method, path, body)
+        assert status == 200, f"{method} {path} on :{port}: {status} {doc}"
+        return doc
+
+    def close(self) -> None:
+        if self.proc.stdin is not None:
+            self.proc.stdin.close()
+        try:
+            self.proc.wait(10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait(5)
+        if self.proc.stdout is not None:
+            self.proc.stdout.close()
+
+
+@pytest.fixture
+def rest(demo: Demo) -> Iterator[Rest]:
+    client = Rest(demo)
+    try:
+        yield client
+    finally:
+        client.close()
+
+
+def _task(rest: Rest, port: int, task_id: str) -> tuple[int, Any]:
+    return rest.call(port, "GET", f"/task?id={task_id}")
+
+
+def _why(task: dict[str, Any]) -> str:
+    """A task's state and each action's state and result, for failure messages."""
+    return f"{task['name']}: {task['state']} " + "; ".join(
+        f"{a['type']} {a['state']} {a['result']!r}" for a in task["sub_tasks"])
+
+
+def _off(pose: dict[str, float], goal: tuple[float, float]) -> float:
+    return math.hypot(pose["x"] - goal[0], pose["y"] - goal[1])
+
+
+def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
+        demo: Demo, rest: Rest) -> None:
+    # Both robots are up behind their gateways: the tasks service and nav answer.
+    def ready(port: int) -> bool:
+        status, doc = rest.call(port, "GET", "/navigation/pose")
+        return status == 200 and _off(doc, (0.0, 0.0)) < 0.5 and \
+            rest.call(port, "GET", "/task")[0] == 200
+    assert wait_for(lambda: ready(R1_PORT) and ready(R2_PORT), 60, interval=0.5)
+
+    # robot1 runs a two-leg task (created and started through its gateway) and is moving.
+    task = rest.ok(R1_PORT, "POST", "/task", {
+        "name": "robot1 errand",
+        "sub_tasks": [{"type": "nav_action", "x": x, "y": y, "theta": 0.0} for x, y in R1_LEGS]})
+    r1_id = task["id"]
+    rest.ok(R1_PORT, "GET", f"/task/start?id={r1_id}")
+    seen: dict[str, Any] = {}
+
+    def r1_moving() -> bool:
+        status, doc = _task(rest, R1_PORT, r1_id)
+        seen.update(doc if status == 200 else {})
+        return status == 200 and doc["state"] == "WORKING" and doc["progress"] > 0.02
+    assert wait_for(r1_moving, 30, interval=0.3), f"robot1's task did not get going: {seen}"
+    r1_before = dict(seen)
+    t_r1_last = time.monotonic()
+
+    # Pull robot1's cable; send robot2 its goal through robot2's gateway on the station.
+    demo.sh("link", "robot1", "down")
+    t_down = time.monotonic()
+    try:
+        t_goal = time.monotonic()
+        r2_task = rest.ok(R2_PORT, "POST", "/navigation/start_nav_task",
+                          {"x": R2_GOAL[0], "y": R2_GOAL[1], "theta": 0.0})
+        r2_done: float | None = None
+        r2_max_moved = 0.0  # how far robot2 was seen to go while robot1 was cut off
+        while time.monotonic() < t_down + OUTAGE:  # the outage is the scenario
+            status, doc = _task(rest, R2_PORT, r2_task["id"])
+            if status == 200 and doc["state"] == "COMPLETE" and r2_done is None:
+                r2_done = time.monotonic()
+            status, pose = rest.call(R2_PORT, "GET", "/navigation/pose")
+            if status == 200 and time.monotonic() < t_down + OUTAGE:
+                r2_max_moved = max(r2_max_moved, math.hypot(pose["x"], pose["y"]))
+            time.sleep(0.2)
+    finally:
+        t_up = time.monotonic()
+        demo.sh("link", "robot1", "up")
+
+    # robot2 reached its point.
+    def r2_complete() -> bool:
+        nonlocal r2_done
+        status, doc = _task(rest, R2_PORT, r2_task["id"])
+        if status == 200 and doc["state"] == "COMPLETE":
+            r2_done = r2_done or time.monotonic()
+            return True
+        assert status != 200 or doc["state"] in ("WAITTING", "WORKING"), _why(doc)
+        return False
+    assert wait_for(r2_complete, 30, interval=0.3), "robot2's REST goal did not complete"
+    assert r2_done is not None
+    r2_pose = rest.ok(R2_PORT, "GET", "/navigation/pose")
+    assert _off(r2_pose, R2_GOAL) < ARRIVED, r2_pose
+
+    # robot1's task carried on through the outage and completes once the link is back.
+    states: list[str] = []
+    back: dict[str, Any] = {}
+
+    def r1_complete() -> bool:
+        status, doc = _task(rest, R1_PORT, r1_id)
+        if status != 200:
+            return False
+        if not back:
+            back.update(doc, t=time.monotonic())
+        states.append(doc["state"])
+        return bool(doc["state"] == "COMPLETE")
+    assert wait_for(r1_complete, 60, interval=0.3), \
+        f"robot1's task did not complete: {states} {_why(rest.ok(R1_PORT, 'GET', f'/task?id={r1_id}'))}"
+    final = rest.ok(R1_PORT, "GET", f"/task?id={r1_id}")
+    assert set(states) <= {"WORKING", "COMPLETE"}, (states, _why(final))  # never paused/failed
+    assert back["progress"] > r1_before["progress"], (r1_before, back)  # moved while cut off
+    assert [a["state"] for a in final["sub_tasks"]] == ["COMPLETE"] * len(R1_LEGS), final
+    r1_pose = rest.ok(R1_PORT, "GET", "/navigation/pose")
+    assert _off(r1_pose, R1_LEGS[-1]) < ARRIVED, r1_pose
+
+    figures = {
+        "outage_s": round(t_up - t_down, 2),
+        "robot2_goal_to_complete_s": round(r2_done - t_goal, 2),
+        "robot2_complete_before_link_up": r2_done < t_up,
+        "robot2_moved_during_outage_m": round(r2_max_moved, 2),
+        "robot1_rest_gap_s": round(back["t"] - t_r1_last, 2),
+        "robot1_rest_back_after_link_up_s": round(back["t"] - t_up, 2),
+        "robot1_progress_before_after": [r1_before["progress"], back["progress"]],
+        "robot1_state_after": back["state"],
+    }
+    print("netns demo, robot2 goal while robot1 is cut off:", json.dumps(figures))
+    # robot2 was served through the station while robot1's link was down.
+    assert r2_max_moved > 0.3, figures
