@@ -8,6 +8,7 @@ built for a resumed task starts each sequence at its first unfinished child.
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any, Final, Protocol
 
 from zenros.smach import Concurrence, State, StateMachine, UserDataAccess
@@ -66,6 +67,28 @@ class ActionState(State):
         return outcome.name
 
 
+class _TaskContainer(Protocol):
+    item: dict[str, Any]
+    parent_item: dict[str, Any] | None
+    hooks: RunHooks
+
+
+def _as_item(box: _TaskContainer, run: Callable[[], str]) -> str:
+    """Run a nested task's container, recording its start and end on its item (the root
+    task's state is the manager's to set)."""
+    if box.parent_item is None:
+        return run()
+    if not box.hooks.begin(box.item, box.parent_item):
+        return "complete"
+    try:
+        outcome = run()
+    except Exception as exc:
+        box.hooks.finish(box.item, Outcome("error", str(exc)))
+        raise
+    box.hooks.finish(box.item, Outcome(outcome))  # type: ignore[arg-type]
+    return outcome
+
+
 class TaskMachine(StateMachine):
     """A nested task: a state machine that records its own start and end on its item."""
 
@@ -75,17 +98,7 @@ class TaskMachine(StateMachine):
         self.item, self.parent_item, self.hooks = item, parent, hooks
 
     def execute(self, userdata: UserDataAccess | None = None) -> str:
-        if self.parent_item is None:
-            return super().execute(userdata)
-        if not self.hooks.begin(self.item, self.parent_item):
-            return "complete"
-        try:
-            outcome = super().execute(userdata)
-        except Exception as exc:
-            self.hooks.finish(self.item, Outcome("error", str(exc)))
-            raise
-        self.hooks.finish(self.item, Outcome(outcome))  # type: ignore[arg-type]
-        return outcome
+        return _as_item(self, lambda: super(TaskMachine, self).execute(userdata))
 
 
 def _label(i: int, item: dict[str, Any]) -> str:
@@ -217,12 +230,6 @@ class _TaskConcurrence(Concurrence):
         self.item, self.parent_item, self.hooks = item, parent, hooks
 
     def execute(self, userdata: UserDataAccess | None = None) -> str:
-        if self.parent_item is None:
-            return super().execute(userdata)
-        if not self.hooks.begin(self.item, self.parent_item):
-            return "complete"
-        outcome = super().execute(userdata)
-        self.hooks.finish(self.item, Outcome(outcome))  # type: ignore[arg-type]
-        return outcome
+        return _as_item(self, lambda: super(_TaskConcurrence, self).execute(userdata))
 
 
