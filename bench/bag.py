@@ -70,7 +70,7 @@ def child_sink(port: int, prefix: str, count: int) -> None:
 
 def child_recorder(port: int, prefix: str, count: int, directory: str) -> None:
     from mcap.reader import make_reader
-    from zenros.bag import RecordOptions, Recorder, bag_files
+    from zenros.bag import Recorder, RecordOptions, bag_files
 
     ctx = Context(loopback_options(connect=[port]), prefix=prefix)
     rec = Recorder(ctx, RecordOptions(Path(directory), topics=["/data"]))
@@ -132,8 +132,8 @@ def make_bag(directory: Path, n: int, hz: float) -> None:
 
 
 def play_errors(workdir: Path, n: int, hz: float) -> list[float]:
-    from zenros.bag import bag_files
     from mcap.reader import make_reader
+    from zenros.bag import bag_files
 
     port, prefix = free_port(), unique_prefix()
     directory = workdir / f"play_{prefix}"

@@ -6,9 +6,9 @@ type; `Player` republishes them on their original schedule; `bag_info` summarize
 """
 
 from .info import BagInfo, bag_info, format_info
-from .player import PlayOptions, Player
+from .player import Player, PlayOptions
 from .reader import BagError, BagMessage, bag_files, bags_home, iter_messages, resolve_bag
-from .recorder import RecordOptions, Recorder
+from .recorder import Recorder, RecordOptions
 from .recover import Recovered, recover_bag, recover_file
 from .sink import BagSink, SplitPolicy
 

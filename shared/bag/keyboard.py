@@ -8,7 +8,7 @@ import sys
 import threading
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
-from typing import Any
+from typing import Any, Self
 
 __all__ = ["keyboard_controls"]
 
@@ -23,7 +23,7 @@ class _Keys(AbstractContextManager["_Keys"]):
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, daemon=True, name="zenros-bag-keys")
 
-    def __enter__(self) -> _Keys:
+    def __enter__(self) -> Self:
         import termios
         import tty
 

@@ -322,10 +322,10 @@ class Player:
 
     @staticmethod
     def _encoding(m: BagMessage) -> str:
-        enc = m.channel.metadata.get("zenoh_encoding")
+        enc: str = m.channel.metadata.get("zenoh_encoding", "")
         if enc:
             return enc
-        mime = _MIMES.get(m.channel.message_encoding, m.channel.message_encoding)
+        mime: str = _MIMES.get(m.channel.message_encoding, m.channel.message_encoding)
         return mime + (f";{m.schema.name}" if m.schema is not None and m.schema.name else "")
 
     def _clock_loop(self, stop: threading.Event) -> None:

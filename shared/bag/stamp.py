@@ -49,6 +49,7 @@ def stamp_reader(type_name: str, msgpack: bool) -> StampReader | None:
             return 0
         if h is None:
             return 0
-        return h.stamp.sec * 1_000_000_000 + h.stamp.nanosec
+        ns: int = h.stamp.sec * 1_000_000_000 + h.stamp.nanosec
+        return ns
 
     return read

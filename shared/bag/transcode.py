@@ -31,9 +31,10 @@ def to_json(type_name: str) -> Transcoder | None:
 
     def transcode(data: bytes) -> bytes | None:
         try:
-            return encode(to_builtins(codec.decode(data)))
+            out: bytes = encode(to_builtins(codec.decode(data)))
         except (ValueError, TypeError):
             return None
+        return out
 
     return transcode
 

@@ -14,9 +14,9 @@ from typing import Any
 
 from ..bag.info import bag_info, format_info
 from ..bag.keyboard import keyboard_controls
-from ..bag.player import PlayOptions, Player
+from ..bag.player import Player, PlayOptions
 from ..bag.reader import BagError, bag_files, bags_home, resolve_bag
-from ..bag.recorder import RecordOptions, Recorder
+from ..bag.recorder import Recorder, RecordOptions
 from ..bag.recover import recover_bag
 from ..bag.sink import FLUSH_INTERVAL, SplitPolicy
 from ..bag.writer import COMPRESSIONS

@@ -15,7 +15,7 @@ import msgspec
 import numpy as np
 import pytest
 from mcap.reader import make_reader
-from zenros.bag import PlayOptions, Player, RecordOptions, Recorder, bag_files, bag_info
+from zenros.bag import Player, PlayOptions, Recorder, RecordOptions, bag_files, bag_info
 from zenros.bag.sink import SplitPolicy
 from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
@@ -117,7 +117,7 @@ def test_records_a_mixed_set_losslessly(ctx_pair: list[Context], publisher: Node
     for _, _, msg in by_topic["/cmd_vel"][:50]:
         assert abs(msg.publish_time - msg.log_time) < 5 * 10**9
     # every message validates against its channel's JSON Schema
-    for topic, items in by_topic.items():
+    for items in by_topic.values():
         schema, channel, _ = items[0]
         assert schema.encoding == "jsonschema" and schema.name
         validator = jsonschema.Draft202012Validator(json.loads(schema.data))
