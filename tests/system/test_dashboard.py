@@ -1,6 +1,9 @@
 """The web dashboard in headless Chromium (Debian's chromium + chromium-driver, via selenium)
 against real processes: chassis (10x sim time), nav, tasks and the gateway (REST + rosbridge).
 
+One robot and one browser serve the module; each test is one step of a session at the page
+and starts from a robot standing still with no goal.
+
 The page must load with no console errors, show the map and the robot, send the robot to a
 nav point clicked on the map, pause a task, engage the e-stop, drive from the keyboard and
 the teleop pad, and fit a phone-sized window.
@@ -24,9 +27,12 @@ from zenros.context import Context
 from zenros.msgs.zenros_msgs import NavPoint, SetNavPoints, SetNavPointsRequest
 from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
 from zenros.rpc import Client
-from zenros.testing import Proc, free_port, wait_for
+from zenros.session import SessionOptions
+from zenros.testing import Proc, free_port, unique_prefix, wait_for
 
-pytestmark = pytest.mark.system
+# The module's first test also pays for starting five processes and Chromium, which takes up
+# to a minute on a loaded 2-core machine: more than the suite's 60 s per test.
+pytestmark = [pytest.mark.system, pytest.mark.timeout(180)]
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")
@@ -54,53 +60,98 @@ from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 
 
-class Robot:
-    """The processes of a simulated robot with its gateway, on one router."""
+class Rig:
+    """Router, chassis, nav, tasks and gateway processes, a session of the test's own, and
+    a browser on the dashboard."""
 
-    def __init__(self, router: str, prefix: str, home: Path, procs: list[Proc]) -> None:
+    def __init__(self, home: Path) -> None:
+        self.procs: list[Proc] = []
         self.rest_port = free_port()
-        self.rosbridge_port = free_port()
+        endpoint = f"tcp/127.0.0.1:{free_port()}"
+        prefix = unique_prefix()
+        router = self._start([sys.executable, "-m", "zenros.router", "-l", endpoint], {})
+        assert router.wait_line("router listening", TIMEOUT), router.output
         env = {"ZENROS_HOME": str(home)}
-        common = ["-e", router, "--prefix", prefix]
+        common = ["-e", endpoint, "--prefix", prefix]
 
         def start(module: str, *params: str) -> Proc:
             args = [sys.executable, "-m", module, *common]
             for p in params:
                 args += ["-p", p]
-            proc = Proc(args, env=env)
-            procs.append(proc)
-            return proc
+            return self._start(args, env)
 
-        chassis = start("zenros.services.chassis", "speed:=10", "publish_clock:=true")
-        nav = start("zenros.services.nav", "use_sim_time:=true", f"maps_dir:={home / 'maps'}")
-        tasks = start("zenros.services.tasks", "use_sim_time:=true")
-        gateway = start("zenros.services.gateway", f"rest_port:={self.rest_port}",
-                        f"ws_port:={free_port()}", f"modbus_port:={free_port()}",
-                        f"rosbridge_port:={self.rosbridge_port}", "discovery_port:=-1",
-                        "no_token_check:=true", f"data_dir:={home / 'gateway'}")
-        for proc in (chassis, nav, tasks, gateway):
+        started = [
+            start("zenros.services.chassis", "speed:=10", "publish_clock:=true"),
+            start("zenros.services.nav", "use_sim_time:=true", f"maps_dir:={home / 'maps'}"),
+            start("zenros.services.tasks", "use_sim_time:=true"),
+            start("zenros.services.gateway", f"rest_port:={self.rest_port}",
+                  f"ws_port:={free_port()}", f"modbus_port:={free_port()}",
+                  f"rosbridge_port:={free_port()}", "discovery_port:=-1",
+                  "no_token_check:=true", f"data_dir:={home / 'gateway'}"),
+        ]
+        for proc in started:
             assert proc.wait_line("started", TIMEOUT), proc.output
+        self.ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        self.driver: Any = None
+
+    def _start(self, argv: list[str], env: dict[str, str]) -> Proc:
+        proc = Proc(argv, env=env)
+        self.procs.append(proc)
+        return proc
+
+    def open_browser(self, profile: Path) -> Any:
+        options = Options()
+        options.binary_location = str(CHROMIUM)
+        for flag in FLAGS:
+            options.add_argument(flag)
+        options.add_argument(f"--user-data-dir={profile}")
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        self.driver = webdriver.Chrome(service=Service(str(CHROMEDRIVER)), options=options)
+        self.driver.set_page_load_timeout(TIMEOUT)
+        return self.driver
+
+    def close(self) -> None:
+        if self.driver is not None:
+            self.driver.quit()
+        if hasattr(self, "ctx"):
+            self.ctx.close()
+        for proc in reversed(self.procs):
+            proc.stop()
 
 
-@pytest.fixture
-def robot(router: str, prefix: str, tmp_path: Path, procs: list[Proc]) -> Robot:
-    return Robot(router, prefix, tmp_path, procs)
-
-
-@pytest.fixture
-def driver(tmp_path: Path) -> Iterator[Any]:
-    options = Options()
-    options.binary_location = str(CHROMIUM)
-    for flag in FLAGS:
-        options.add_argument(flag)
-    options.add_argument(f"--user-data-dir={tmp_path / 'chromium'}")
-    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    d = webdriver.Chrome(service=Service(str(CHROMEDRIVER)), options=options)
-    d.set_page_load_timeout(TIMEOUT)
+@pytest.fixture(scope="module")
+def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    home = tmp_path_factory.mktemp("dashboard")
+    r = Rig(home)
     try:
-        yield d
+        nav_points = Client(r.ctx, SetNavPoints, "/set_nav_points")
+        assert nav_points.wait_for_service(TIMEOUT)
+        res = nav_points.call(SetNavPointsRequest(path_name="tour", points=POINTS), TIMEOUT)
+        assert [p.name for p in res.points] == ["Lab", "Corridor end"]
+        legs = [{"type": "nav_action", "x": x, "y": 0.0, "theta": 0.0}
+                for x in (20.0, 6.0) * 4]  # long enough that a loaded machine pauses it mid-run
+        r.task = task_call(r.ctx, "create", body={"name": "corridor patrol", "sub_tasks": legs})
+        driver = r.open_browser(home / "chromium")
+        driver.get(f"http://127.0.0.1:{r.rest_port}/")
+        yield r
     finally:
-        d.quit()
+        r.close()
+
+
+@pytest.fixture
+def page(rig: Rig) -> Any:
+    """The browser, with the robot standing still, no goal from the page, the e-stop off."""
+    d = rig.driver
+    assert wait_for(lambda: pose(d) is not None, TIMEOUT)
+    if d.find_element(By.ID, "estop").get_attribute("data-engaged") == "1":
+        click(d, "#estop")
+        assert wait_for(lambda: d.find_element(By.ID, "estop")
+                        .get_attribute("data-engaged") == "0", TIMEOUT)
+    if d.find_element(By.ID, "goal-text").text:
+        click(d, "#cancel-goal")
+        assert wait_for(lambda: d.find_element(By.ID, "goal-text").text == "", TIMEOUT)
+    assert wait_for(lambda: still(d, 0.3), TIMEOUT)
+    return d
 
 
 def task_call(ctx: Context, name: str, id: str = "", body: Any = None) -> Any:
@@ -147,7 +198,9 @@ def click(d: Any, selector: str) -> None:
             return False
         return True
 
-    assert wait_for(attempt, TIMEOUT), f"cannot click {selector}"
+    assert wait_for(attempt, TIMEOUT), (
+        f"cannot click {selector}; tasks: "
+        + d.execute_script("return document.getElementById('tasks').innerText;"))
 
 
 def still(d: Any, seconds: float) -> bool:
@@ -158,85 +211,96 @@ def still(d: Any, seconds: float) -> bool:
     return start is not None and end is not None and math.dist(start, end) < 0.05
 
 
-def test_dashboard_drives_the_robot(robot: Robot, observer: Context, driver: Any) -> None:
-    nav_points = Client(observer, SetNavPoints, "/set_nav_points")
-    assert nav_points.wait_for_service(TIMEOUT)
-    res = nav_points.call(SetNavPointsRequest(path_name="tour", points=POINTS), TIMEOUT)
-    assert [p.name for p in res.points] == ["Lab", "Corridor end"]
-    task = task_call(observer, "create", body={"name": "corridor and back", "sub_tasks": [
-        {"type": "nav_action", "x": 20.0, "y": 0.0, "theta": 0.0},
-        {"type": "nav_action", "x": 6.0, "y": 0.0, "theta": 0.0}]})
-
-    # the page loads, with the map, the robot, the nav points and the task
-    driver.get(f"http://127.0.0.1:{robot.rest_port}/")
-    assert wait_for(lambda: driver.find_element(By.ID, "map")
+def test_the_page_shows_map_robot_points_and_tasks(rig: Rig, page: Any) -> None:
+    assert wait_for(lambda: page.find_element(By.ID, "map")
                     .get_attribute("data-map-loaded") == "1", TIMEOUT)
-    assert wait_for(lambda: pose(driver) is not None, TIMEOUT)
-    assert wait_for(lambda: len(driver.find_elements(By.CSS_SELECTOR, "#points li")) == 2,
+    assert wait_for(lambda: len(page.find_elements(By.CSS_SELECTOR, "#points li")) == 2,
                     TIMEOUT)
-    assert wait_for(lambda: task_state(driver, task["id"]) == "WAITTING", TIMEOUT)
-    assert "live" in driver.find_element(By.ID, "link-text").text
-    start = pose(driver)
+    assert wait_for(lambda: task_state(page, rig.task["id"]) == "WAITTING", TIMEOUT)
+    assert "live" in page.find_element(By.ID, "link-text").text
+    start = pose(page)
     assert start is not None and math.dist(start, (0.0, 0.0)) < 0.5
 
-    # clicking the "Lab" pin sends the robot there
-    click_world(driver, POINTS[0].x, POINTS[0].y)
-    assert wait_for(lambda: "Lab" in driver.find_element(By.ID, "goal-text").text, TIMEOUT)
-    assert wait_for(lambda: math.dist(pose(driver) or start, (6.0, 0.0)) < 0.3, TIMEOUT)
 
-    # start the task from the page, then pause it: the robot stops
-    assert wait_for(lambda: driver.find_element(By.ID, "goal-text").text == "", TIMEOUT)
-    click(driver, f'#tasks li[data-id="{task["id"]}"] button[data-call="start"]')
-    assert wait_for(lambda: task_state(driver, task["id"]) == "WORKING", TIMEOUT)
-    here = pose(driver)
-    assert wait_for(lambda: math.dist(pose(driver) or here, here) > 0.5, TIMEOUT)
+def test_clicking_a_nav_point_sends_the_robot_there(page: Any) -> None:
+    here = pose(page)
+    assert here is not None
+    lab = (POINTS[0].x, POINTS[0].y)
+    click_world(page, *lab)
+    assert wait_for(lambda: "Lab" in page.find_element(By.ID, "goal-text").text, TIMEOUT)
+    assert wait_for(lambda: math.dist(pose(page) or here, lab) < math.dist(here, lab) - 1.0,
+                    TIMEOUT)
+
+
+def test_a_task_started_from_the_page_pauses(rig: Rig, page: Any) -> None:
+    task = f'#tasks li[data-id="{rig.task["id"]}"]'
+    click(page, f'{task} button[data-call="start"]')
+    assert wait_for(lambda: task_state(page, rig.task["id"]) == "WORKING", TIMEOUT)
+    here = pose(page)
+    assert here is not None
+    assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.5, TIMEOUT)
+    click(page, f'{task} button[data-call="pause"]')
+    assert wait_for(lambda: task_state(page, rig.task["id"]) == "PAUSED", TIMEOUT)
+    assert wait_for(lambda: still(page, 0.5), TIMEOUT)
+    click(page, f'{task} button[data-call="stop"]')
+    assert wait_for(lambda: task_state(page, rig.task["id"]) == "CANCELLED", TIMEOUT)
+
+
+def test_the_e_stop_holds_the_robot(page: Any) -> None:
+    click_world(page, POINTS[1].x, POINTS[1].y)
+    assert wait_for(lambda: "Corridor end" in page.find_element(By.ID, "goal-text").text,
+                    TIMEOUT)
+    here = pose(page)
+    assert here is not None
+    assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
-    assert driver.save_screenshot(str(ARTIFACTS / "dashboard-navigating.png"))
-    click(driver, f'#tasks li[data-id="{task["id"]}"] button[data-call="pause"]')
-    assert wait_for(lambda: task_state(driver, task["id"]) == "PAUSED", TIMEOUT)
-    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
-
-    # the e-stop: engaged from the page, a goal does not move the robot; released again
-    click(driver, "#estop")
-    assert wait_for(lambda: driver.find_element(By.ID, "estop")
+    assert page.save_screenshot(str(ARTIFACTS / "dashboard-navigating.png"))
+    click(page, "#estop")
+    assert wait_for(lambda: page.find_element(By.ID, "estop")
                     .get_attribute("data-engaged") == "1", TIMEOUT)
-    assert driver.find_element(By.ID, "banner").is_displayed()
-    click_world(driver, POINTS[0].x, POINTS[0].y)
-    assert still(driver, 1.0)
-    assert driver.save_screenshot(str(ARTIFACTS / "dashboard-estop.png"))
-    click(driver, "#estop")
-    assert wait_for(lambda: driver.find_element(By.ID, "estop")
+    assert page.find_element(By.ID, "banner").is_displayed()
+    assert wait_for(lambda: still(page, 0.5), TIMEOUT)  # halted mid-run
+    click_world(page, POINTS[0].x, POINTS[0].y)  # a new goal does not move it either
+    assert wait_for(lambda: "Lab" in page.find_element(By.ID, "goal-text").text, TIMEOUT)
+    assert still(page, 1.0)
+    assert page.save_screenshot(str(ARTIFACTS / "dashboard-estop.png"))
+    click(page, "#estop")
+    assert wait_for(lambda: page.find_element(By.ID, "estop")
                     .get_attribute("data-engaged") == "0", TIMEOUT)
 
-    # teleop: with navigation stopped, holding W drives the robot, the pad too
-    click(driver, "#cancel-goal")
-    assert wait_for(lambda: driver.find_element(By.ID, "goal-text").text == "", TIMEOUT)
-    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
-    here = pose(driver)
-    body = driver.find_element(By.TAG_NAME, "body")
-    ActionChains(driver).key_down("w", body).perform()
-    try:
-        assert wait_for(lambda: math.dist(pose(driver) or here, here) > 0.3, TIMEOUT)
-    finally:
-        ActionChains(driver).key_up("w", body).perform()
-    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
-    here = pose(driver)
-    pad = driver.find_element(By.ID, "pad")
-    chain = ActionChains(driver).click_and_hold(pad).move_by_offset(0, -40)
-    chain.perform()
-    try:
-        assert wait_for(lambda: math.dist(pose(driver) or here, here) > 0.3, TIMEOUT)
-    finally:
-        ActionChains(driver).release().perform()
-    assert wait_for(lambda: still(driver, 0.5), TIMEOUT)
 
-    # phone-sized: one column, nothing wider than the screen, the map still drawn
-    driver.set_window_size(390, 844)
-    assert wait_for(lambda: driver.execute_script(
-        "const c = document.getElementById('map').getBoundingClientRect();"
-        "return document.documentElement.scrollWidth <= window.innerWidth"
-        " && c.width > 300 && c.height > 300;"), TIMEOUT)
-    assert driver.save_screenshot(str(ARTIFACTS / "dashboard-phone.png"))
+def test_teleop_from_the_keyboard(page: Any) -> None:
+    here = pose(page)
+    assert here is not None
+    body = page.find_element(By.TAG_NAME, "body")
+    ActionChains(page).key_down("w", body).perform()
+    try:
+        assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
+    finally:
+        ActionChains(page).key_up("w", body).perform()
 
-    errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
+
+def test_teleop_from_the_pad(page: Any) -> None:
+    here = pose(page)
+    assert here is not None
+    ActionChains(page).click_and_hold(page.find_element(By.ID, "pad")) \
+        .move_by_offset(0, -40).perform()
+    try:
+        assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
+    finally:
+        ActionChains(page).release().perform()
+
+
+def test_phone_sized_and_no_console_errors(page: Any) -> None:
+    page.set_window_size(390, 844)
+    try:
+        assert wait_for(lambda: page.execute_script(
+            "const c = document.getElementById('map').getBoundingClientRect();"
+            "return document.documentElement.scrollWidth <= window.innerWidth"
+            " && c.width > 300 && c.height > 300;"), TIMEOUT)
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        assert page.save_screenshot(str(ARTIFACTS / "dashboard-phone.png"))
+    finally:
+        page.set_window_size(1280, 800)
+    errors = [e for e in page.get_log("browser") if e["level"] == "SEVERE"]
     assert not errors, errors
