@@ -1,0 +1,70 @@
+"""A plain (non-editable) ``pip install .`` installs every module of shared/ and services/.
+
+The working tree is copied first (the build writes into its source), installed with
+``--no-deps --target`` into a scratch directory (the venv's packages serve the
+dependencies), then the services are imported from that copy in a fresh interpreter.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.system
+
+ROOT = Path(__file__).resolve().parents[2]
+TREES = {"shared": "zenros", "services": "zenros/services"}
+
+
+def _sources() -> set[str]:
+    """Every module the install must carry, as a path under the target (``zenros/...``)."""
+    found = set()
+    for tree, dest in TREES.items():
+        for py in (ROOT / tree).rglob("*.py"):
+            rel = py.relative_to(ROOT / tree)
+            if "__pycache__" in rel.parts or not (py.parent / "__init__.py").exists():
+                continue
+            found.add(f"{dest}/{rel.as_posix()}")
+    return found
+
+
+@pytest.mark.timeout(400)
+def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> None:
+    src, target = tmp_path / "src", tmp_path / "site"
+    src.mkdir()
+    for name in ("pyproject.toml", "setup.py", "README.md"):
+        shutil.copy2(ROOT / name, src / name)
+    for tree in TREES:
+        shutil.copytree(ROOT / tree, src / tree,
+                        ignore=shutil.ignore_patterns("__pycache__", "*.so", "*.pyc"))
+    r = subprocess.run(
+        [sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-compile",
+         "--disable-pip-version-check", "--target", str(target), str(src)],
+        capture_output=True, text=True, timeout=380, check=False,
+    )
+    assert r.returncode == 0, r.stderr[-3000:]
+    installed = {p.relative_to(target).as_posix() for p in (target / "zenros").rglob("*.py")}
+    missing = sorted(_sources() - installed)
+    assert not missing, f"not installed by `pip install .`: {missing}"
+    services = sorted(p.parent.name for p in (ROOT / "services").glob("*/__init__.py"))
+    code = (
+        "import importlib, importlib.util, sys, zenros\n"
+        f"target = {str(target)!r}\n"
+        "assert zenros.__file__.startswith(target), zenros.__file__\n"
+        f"for name in {services!r}:\n"
+        "    mod = importlib.import_module('zenros.services.' + name)\n"
+        "    assert mod.__file__.startswith(target), mod.__file__\n"
+        "    if importlib.util.find_spec('zenros.services.' + name + '.node'):\n"
+        "        importlib.import_module('zenros.services.' + name + '.node')\n"
+        "import zenros.cli.__main__\n"
+        "print('imported', len(sys.modules))\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(target)}
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True,
+                       text=True, timeout=120, check=False)
+    assert r.returncode == 0 and "imported" in r.stdout, r.stderr[-3000:]
