@@ -79,7 +79,9 @@ def run(args: argparse.Namespace) -> int:
             return _static(ctx, args, link)
         finally:
             ctx.close()
-    ctx = open_context(args, settle=args.verb == "frames" and not args.no_server)
+    waiting = f"the transform {args.target} -> {args.source}" if args.verb == "echo" else ""
+    ctx = open_context(args, settle=args.verb == "frames" and not args.no_server,
+                       waiting_for=waiting)
     try:
         return _echo(ctx, args) if args.verb == "echo" else _frames(ctx, args)
     finally:
