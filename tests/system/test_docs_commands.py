@@ -239,3 +239,19 @@ def test_the_markers_are_read(tmp_path: Path) -> None:
     assert [c.text for c in second.runnable()] == ["zenros topic echo /x --once",
                                                    "zenros node list"]
     assert second.runnable()[0].where == "docs/page.md:13"
+
+
+def test_every_type_the_sim_serves_is_callable_from_the_cli(sim: Sim) -> None:
+    """`zenros service list -t` / `action list -t` name only types `service call` and
+    `action send_goal` can build."""
+    from zenros.cli.common import find_action_type, find_service_type
+
+    for noun, find in (("service", find_service_type), ("action", find_action_type)):
+        r = subprocess.run(["zenros", noun, "list", "-t"], cwd=sim.workdir, env=sim.env,
+                           capture_output=True, text=True, timeout=60, check=False)
+        assert r.returncode == 0, r.stderr
+        types = {t for line in r.stdout.splitlines()
+                 for t in line.split(" [", 1)[1].rstrip("]").split(", ")}
+        assert types, r.stdout
+        for name in sorted(types):
+            find(name)  # raises UnknownTypeError with the name
