@@ -41,7 +41,7 @@ SERVICES: dict[str, ServiceType] = {
 class NavLink:
     """`await call(name, request)`; the current map grid from ``map`` (latched)."""
 
-    def __init__(self, node: Node, timeout: float = 5.0) -> None:
+    def __init__(self, node: Node, timeout: float = 10.0) -> None:
         self.timeout = timeout
         self._clients: dict[str, Client] = {
             name: node.create_client(srv, name) for name, srv in SERVICES.items()}

@@ -45,6 +45,7 @@ from .status import GoalState
 
 __all__ = ["Navigator", "pose_stamped"]
 
+CALL_TIMEOUT = 10.0    # s for a nav service call (a loaded machine answers slowly)
 TRACK_PERIOD = 1.0     # s between recorded track points
 TRACK_LENGTH = 3600    # points kept per map
 
@@ -133,11 +134,22 @@ class Navigator:
 
     async def current_path(self) -> str:
         """The current path: the one chosen (``/navigation/start?path=``), else the current
-        map's first."""
+        map's first.
+
+        Raises:
+            NavUnavailable: nav does not answer.
+            ValueError: the map has no path.
+        """
         if self.path_name:
             return str(self.path_name)
-        current = await self.current.call_async(GetCurrentMapRequest(), 5.0)
-        res = await self.paths.call_async(ListPathsRequest(map_name=current.name), 5.0)
+        try:
+            current = await self.current.call_async(GetCurrentMapRequest(), CALL_TIMEOUT)
+            res = await self.paths.call_async(ListPathsRequest(map_name=current.name),
+                                              CALL_TIMEOUT)
+        except (ServiceUnavailableError, ZenrosTimeout) as exc:
+            raise NavUnavailable(f"nav paths are not available: {exc}") from exc
+        except ServiceError as exc:
+            raise ValueError(exc.reason) from exc
         names = sorted(p.path_name for p in res.paths if p.map_name == current.name)
         if not names:
             raise ValueError(f"map {current.name!r} has no path with nav points yet "
@@ -149,7 +161,7 @@ class Navigator:
         try:
             path = await self.current_path()
             res = await self.points.call_async(
-                GetNavPointsRequest(map_name="", path_name=path), 5.0)
+                GetNavPointsRequest(map_name="", path_name=path), CALL_TIMEOUT)
         except (ServiceUnavailableError, ZenrosTimeout) as exc:
             raise NavUnavailable(f"nav points are not available: {exc}") from exc
         except ServiceError as exc:

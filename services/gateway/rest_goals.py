@@ -79,6 +79,8 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
         b: LoopBody = call.body
         try:
             path = await nav.current_path()
+        except NavUnavailable as exc:
+            raise ApiError(503, str(exc)) from exc
         except ValueError as exc:
             raise ApiError(409, str(exc)) from exc
         res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))

@@ -117,6 +117,8 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         """The loaded ``map`` and ``path``."""
         try:
             path = await nav.current_path()
+        except NavUnavailable as exc:
+            raise ApiError(503, str(exc)) from exc
         except ValueError:
             path = ""
         return {"map": await current_map(), "path": path}

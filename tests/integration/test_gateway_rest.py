@@ -193,7 +193,7 @@ def test_no_input_gets_a_500(http: httpx.Client, token: str) -> None:
     for entry in index["implemented"]:
         method, url = entry.split(" ", 1)
         path = url.removeprefix("/api/v1")
-        tries: list[tuple[dict[str, str], bytes | None]] = [
+        tries: list[tuple[dict[str, str], bytes | None]] = [({"token": token}, None)] + [
             ({"token": token, **q}, None) for q in HOSTILE_QUERIES]
         if method in ("POST", "PUT"):
             tries += [({"token": token}, b) for b in HOSTILE_BODIES]
