@@ -11,7 +11,6 @@ from collections.abc import Callable
 from typing import Any, Final
 
 import msgspec
-
 from zenros.msgs.zenros_msgs.tasks import TaskCallRequest, TaskCallResponse
 
 from .documents import DocumentError
@@ -46,17 +45,17 @@ def _loop(m: TaskManager, req: TaskCallRequest) -> Any:
 
 
 def _get(m: TaskManager, req: TaskCallRequest) -> Any:
-    return m.get(req.id) if req.id else m.list()
+    return m.get(req.id) if req.id else m.tasks()
 
 
 def _get_action(m: TaskManager, req: TaskCallRequest) -> Any:
     return m.get_action(req.id) if req.id else m.list_actions()
 
 
-def _deleted(fn: Callable[[str], None]) -> Callable[[TaskManager, TaskCallRequest], Any]:
+def _deleted(fn: Callable[[TaskManager, str], None]
+             ) -> Callable[[TaskManager, TaskCallRequest], Any]:
     def run(m: TaskManager, req: TaskCallRequest) -> Any:
-        fn_bound = getattr(m, fn.__name__)
-        fn_bound(req.id)
+        fn(m, req.id)
         return {"status": "ok"}
     return run
 

@@ -110,7 +110,7 @@ def new_task(body: Any, where: str = "task", depth: int = 0,
                            "progress": 0.0, "current_task": None, "control_type": control,
                            "blackboard": board}
     if extra is not None:
-        value = body.get(extra, 1 if extra == "success_count" else 1)
+        value = body.get(extra, len(items) if extra == "success_count" else 1)
         if not isinstance(value, int) or isinstance(value, bool) or value < 1:
             raise DocumentError(f"{where}: {extra} must be an integer >= 1, got {value!r}")
         doc[extra] = value

@@ -17,8 +17,14 @@ from zenros.msgs.nav2_msgs import DockRobot, DockRobotGoal, NavigateToPose, Navi
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.std_msgs import Header, String
 from zenros.msgs.zenros_msgs.nav import (
-    GetCurrentMap, GetCurrentMapRequest, GetNavPoints, GetNavPointsRequest, ListPaths,
-    ListPathsRequest, SwitchMap, SwitchMapRequest,
+    GetCurrentMap,
+    GetCurrentMapRequest,
+    GetNavPoints,
+    GetNavPointsRequest,
+    ListPaths,
+    ListPathsRequest,
+    SwitchMap,
+    SwitchMapRequest,
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED

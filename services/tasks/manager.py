@@ -15,13 +15,29 @@ from typing import Any, Final
 from zenros.smach import Container, Execution, State
 
 from .documents import (
-    DocumentError, find_item, is_task, leaves, new_action, new_task, progress_of, reset,
-    update_task, walk,
+    DocumentError,
+    find_item,
+    is_task,
+    leaves,
+    new_action,
+    new_task,
+    progress_of,
+    reset,
+    update_task,
+    walk,
 )
 from .machine import build_machine
 from .robot import Outcome, Robot
 from .states import (
-    CANCELLED, COMPLETE, ERROR, FAILED, PAUSED, TERMINAL, WAITTING, WORKING, TaskStateError,
+    CANCELLED,
+    COMPLETE,
+    ERROR,
+    FAILED,
+    PAUSED,
+    TERMINAL,
+    WAITTING,
+    WORKING,
+    TaskStateError,
     check_request,
 )
 from .store import TaskStore
@@ -96,7 +112,7 @@ class TaskManager:
 
     # ------------------------------------------------------------------ reading
 
-    def list(self) -> list[dict[str, Any]]:
+    def tasks(self) -> list[dict[str, Any]]:
         with self._lock:
             return list(self._tasks.values())
 
@@ -293,7 +309,7 @@ class TaskManager:
         try:
             outcome = execution.result(0)
             reason = ""
-        except Exception as exc:  # a machine that raised ends its task in ERROR
+        except Exception as exc:  # noqa: BLE001 (a machine that raised ends its task in ERROR)
             outcome, reason = "error", str(exc)
         relaunch = False
         with self._lock:

@@ -7,11 +7,10 @@ from collections.abc import Callable
 from typing import Any
 
 import msgspec
-
+from zenros.home import data_dir
 from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse, TaskStatus
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
-from zenros.home import data_dir
 from zenros.smach import Container, IntrospectionServer
 
 from .api import CALLS, call
@@ -59,7 +58,7 @@ class TasksNode(Node):
             self.logger.error("unreadable task rows skipped: %s", ", ".join(self.store.bad_rows))
         for name in CALLS:
             self.create_service(TaskCall, f"tasks/{name}", self._handler(name))
-        self.logger.info("tasks in %s (%d stored)", self.store.path, len(self.manager.list()))
+        self.logger.info("tasks in %s (%d stored)", self.store.path, len(self.manager.tasks()))
 
     def _handler(self, name: str) -> Callable[[TaskCallRequest], Any]:
         async def handle(req: TaskCallRequest) -> TaskCallResponse:

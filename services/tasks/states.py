@@ -5,8 +5,17 @@ from __future__ import annotations
 from typing import Final
 
 __all__ = [
-    "CANCELLED", "COMPLETE", "ERROR", "FAILED", "PAUSED", "STATES", "TERMINAL",
-    "TaskStateError", "WAITTING", "WORKING", "check_request",
+    "CANCELLED",
+    "COMPLETE",
+    "ERROR",
+    "FAILED",
+    "PAUSED",
+    "STATES",
+    "TERMINAL",
+    "WAITTING",
+    "WORKING",
+    "TaskStateError",
+    "check_request",
 ]
 
 WAITTING: Final = "WAITTING"  # sic: the wire value keeps the source's spelling

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         if not reply.success:
             raise CliError(f"{args.verb}: {reply.message} (code {reply.code})")
         data = json.loads(reply.body) if reply.body else {}
-        if args.verb == "list" and not args.json:
+        if args.verb == "list" and not args.json and isinstance(data, list):
             _table(data)
         else:
             print_data(data, args.json, separator=False)

@@ -14,7 +14,11 @@ import pytest
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import (
-    NavPoint, SetNavPoints, SetNavPointsRequest, Teleport, TeleportRequest,
+    NavPoint,
+    SetNavPoints,
+    SetNavPointsRequest,
+    Teleport,
+    TeleportRequest,
 )
 from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
 from zenros.node import Node

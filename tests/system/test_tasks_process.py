@@ -34,7 +34,8 @@ def call(ctx: Context, name: str, id: str = "", body: object = None) -> dict:
 
 def cli(router: str, prefix: str, *args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "zenros.cli", "task", *args, "-e", router,
-                           "--prefix", prefix], capture_output=True, text=True, timeout=60)
+                           "--prefix", prefix], capture_output=True, text=True, timeout=60,
+                          check=False)
 
 
 def test_kill_9_mid_task_loses_nothing(router: str, prefix: str, tmp_path: Path,

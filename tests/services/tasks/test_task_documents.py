@@ -6,7 +6,13 @@ from typing import Any
 
 import pytest
 from zenros.services.tasks.documents import (
-    DocumentError, leaves, new_task, progress_of, reset, substitute, update_task,
+    DocumentError,
+    leaves,
+    new_task,
+    progress_of,
+    reset,
+    substitute,
+    update_task,
 )
 
 

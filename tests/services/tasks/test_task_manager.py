@@ -7,7 +7,7 @@ import http.server
 import threading
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import pytest
 from conftest import FakeRobot
@@ -104,7 +104,7 @@ def test_failed_create_changes_nothing(manager: TaskManager) -> None:
     before = manager.store.load()
     with pytest.raises(DocumentError):
         manager.create({"sub_tasks": [SLEEP, {"type": "fly"}]})
-    assert manager.store.load() == before and manager.list() == []
+    assert manager.store.load() == before and manager.tasks() == []
 
 
 def test_loop_counts_until_stopped(manager: TaskManager) -> None:
@@ -209,9 +209,9 @@ def test_action_api(manager: TaskManager) -> None:
 
 
 class _Hook(http.server.BaseHTTPRequestHandler):
-    hits: list[tuple[str, str, bytes]] = []
+    hits: ClassVar[list[tuple[str, str, bytes]]] = []
 
-    def do_POST(self) -> None:  # noqa: N802
+    def do_POST(self) -> None:
         body = self.rfile.read(int(self.headers.get("Content-Length", 0)))
         self.hits.append(("POST", self.path, body))
         self.send_response(204 if self.path == "/ok" else 500)

@@ -4,7 +4,15 @@ from __future__ import annotations
 
 import pytest
 from zenros.services.tasks.states import (
-    CANCELLED, COMPLETE, ERROR, FAILED, PAUSED, STATES, WAITTING, WORKING, TaskStateError,
+    CANCELLED,
+    COMPLETE,
+    ERROR,
+    FAILED,
+    PAUSED,
+    STATES,
+    WAITTING,
+    WORKING,
+    TaskStateError,
     check_request,
 )
 
