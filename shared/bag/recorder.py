@@ -63,7 +63,7 @@ class _Route:
     def __init__(self, channel: int, encoding: str, stamp: Callable[[bytes], int] | None,
                  transcode: Callable[[bytes], bytes | None] | None = None) -> None:
         self.channel = channel
-        self.encoding = encoding
+        self.encoding = zenoh.Encoding(encoding)  # compared with samples' as is (no str())
         self.stamp = stamp
         self.transcode = transcode
 
@@ -120,7 +120,8 @@ class Recorder:
             recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
             subscriber_detection=True,
         )
-        pump = threading.Thread(target=self._pump, args=(sub,), name=f"zenros-bag:{key}",
+        fixed = None if key == self.ctx.keys.all_topics() else key
+        pump = threading.Thread(target=self._pump, args=(sub, fixed), name=f"zenros-bag:{key}",
                                 daemon=True)
         self._subs.append(sub)
         self._pumps.append(pump)
@@ -147,18 +148,19 @@ class Recorder:
 
     # ------------------------------------------------------------------ hot path
 
-    def _pump(self, sub: Any) -> None:
+    def _pump(self, sub: Any, fixed_key: str | None) -> None:
+        """Drain one subscriber (``fixed_key``: the key of a one-topic subscriber, whose
+        samples need no key lookup)."""
         routes, add, now = self._routes, self.sink.add, time.time_ns
         try:
             for sample in sub.handler:  # ends when the subscriber is undeclared
                 log_time = now()
-                key = str(sample.key_expr)
-                enc = str(sample.encoding)
+                key = fixed_key if fixed_key is not None else str(sample.key_expr)
                 route = routes.get(key)
-                if route is None or route.encoding != enc:
-                    if key in routes and route is None:
+                if route is None or sample.encoding != route.encoding:
+                    if route is None and key in routes:
                         continue  # excluded
-                    route = self._route(key, enc)
+                    route = self._route(key, str(sample.encoding))
                     if route is None:
                         continue
                 data = sample.payload.to_bytes()

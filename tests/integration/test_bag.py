@@ -322,3 +322,26 @@ def test_bulk_json_for_viewers_and_back(ctx_pair: list[Context], publisher: Node
         player.close()
         publisher.destroy(sub)
     assert got.items == [scan(i) for i in range(5)]
+
+
+def test_two_types_on_one_topic_get_two_channels(ctx_pair: list[Context], tmp_path: Path) -> None:
+    from zenros.msgs.std_msgs import String
+
+    bag = tmp_path / "mixed_types"
+    a = Node("typed_a", context=ctx_pair[0])
+    b = Node("typed_b", context=ctx_pair[0])
+    rec = Recorder(ctx_pair[1], RecordOptions(bag, topics=["/x"]))
+    try:
+        twists = a.create_publisher(Twist, "/x")
+        strings = b.create_publisher(String, "/x")
+        assert twists.wait_for_subscribers(1, 10) and strings.wait_for_subscribers(1, 10)
+        for i in range(6):
+            (twists.publish(Twist()) if i % 2 else strings.publish(String(data=str(i))))
+        assert wait_for(lambda: rec.sink.message_count >= 6, 10)
+    finally:
+        rec.close()
+        a.close()
+        b.close()
+    info = bag_info(bag)
+    assert sorted((t.topic, t.type, t.count) for t in info.topics) == [
+        ("/x", "geometry_msgs/Twist", 3), ("/x", "std_msgs/String", 3)]
