@@ -133,7 +133,21 @@ def update_task(doc: dict[str, Any], body: dict[str, Any]) -> dict[str, Any]:
     fresh = new_task(merged)
     fresh["id"] = doc["id"]
     fresh["loop_count"] = doc.get("loop_count", 0)
+    if "sub_tasks" not in body:
+        fresh["sub_tasks"] = doc["sub_tasks"]  # unchanged: same items, same ids
+    else:
+        _keep_ids(fresh["sub_tasks"], body["sub_tasks"], {i["id"] for i in walk(doc)})
     return fresh
+
+
+def _keep_ids(items: list[dict[str, Any]], given: list[Any], known: set[str]) -> None:
+    """Items of a PUT body that name an id the task already had keep that id."""
+    for item, src in zip(items, given, strict=True):
+        if isinstance(src, dict):
+            if isinstance(src.get("id"), str) and src["id"] in known:
+                item["id"] = src["id"]
+            if is_task(item) and isinstance(src.get("sub_tasks"), list):
+                _keep_ids(item["sub_tasks"], src["sub_tasks"], known)
 
 
 def _as_body(item: dict[str, Any]) -> dict[str, Any]:

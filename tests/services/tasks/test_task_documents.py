@@ -74,6 +74,11 @@ def test_update_keeps_ids_and_validates() -> None:
     fresh = update_task(doc, {"name": "b", "loop_flag": True})
     assert fresh["id"] == doc["id"] and fresh["name"] == "b" and fresh["loop_flag"] is True
     assert fresh["sub_tasks"][0]["wait_time"] == 1
+    assert [a["id"] for a in fresh["sub_tasks"]] == [a["id"] for a in doc["sub_tasks"]]
+    old = doc["sub_tasks"][0]
+    again = update_task(doc, {"sub_tasks": [old, {"type": "tts_action", "text": "x"}]})
+    assert again["sub_tasks"][0]["id"] == old["id"]
+    assert again["sub_tasks"][1]["id"] != old["id"]
     with pytest.raises(DocumentError, match="state"):
         update_task(doc, {"state": "COMPLETE"})
 
