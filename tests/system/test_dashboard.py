@@ -247,11 +247,11 @@ def test_a_task_started_from_the_page_pauses(rig: Rig, page: Any) -> None:
 
 
 def test_the_e_stop_holds_the_robot(page: Any) -> None:
-    click_world(page, POINTS[1].x, POINTS[1].y)
-    assert wait_for(lambda: "Corridor end" in page.find_element(By.ID, "goal-text").text,
-                    TIMEOUT)
     here = pose(page)
     assert here is not None
+    far = max(POINTS, key=lambda p: math.dist(here, (p.x, p.y)))  # a goal that takes a while
+    click_world(page, far.x, far.y)
+    assert wait_for(lambda: far.name in page.find_element(By.ID, "goal-text").text, TIMEOUT)
     assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
     assert page.save_screenshot(str(ARTIFACTS / "dashboard-navigating.png"))
@@ -260,8 +260,10 @@ def test_the_e_stop_holds_the_robot(page: Any) -> None:
                     .get_attribute("data-engaged") == "1", TIMEOUT)
     assert page.find_element(By.ID, "banner").is_displayed()
     assert wait_for(lambda: still(page, 0.5), TIMEOUT)  # halted mid-run
-    click_world(page, POINTS[0].x, POINTS[0].y)  # a new goal does not move it either
-    assert wait_for(lambda: "Lab" in page.find_element(By.ID, "goal-text").text, TIMEOUT)
+    now = pose(page) or here
+    other = max(POINTS, key=lambda p: math.dist(now, (p.x, p.y)))
+    click_world(page, other.x, other.y)  # a new goal does not move it either
+    assert wait_for(lambda: other.name in page.find_element(By.ID, "goal-text").text, TIMEOUT)
     assert still(page, 1.0)
     assert page.save_screenshot(str(ARTIFACTS / "dashboard-estop.png"))
     click(page, "#estop")
