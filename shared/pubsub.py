@@ -59,6 +59,7 @@ class Publisher(Generic[M]):
         self.type_name = codec.type_name
         encoding = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
         self._match_cond = threading.Condition()
+        self._latched = qos.latched  # before the matching listener, whose events may come first
         self._pub: Any
         if qos.latched:
             self._pub = zext.declare_advanced_publisher(
@@ -95,7 +96,7 @@ class Publisher(Generic[M]):
         self._refresh_remote()
 
     def _refresh_remote(self) -> bool:
-        if self._matching is None:  # latched: always puts; late joiners query the cache
+        if self._latched:  # always puts; late joiners query the cache
             return True
         with self._match_cond:
             self._remote = bool(self._pub.matching_status.matching)
