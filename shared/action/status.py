@@ -18,7 +18,7 @@ from .types import GoalStatusArray, GoalStatusMsg
 __all__ = ["STATUS_DELAY", "STATUS_INTERVAL", "StatusPublisher"]
 
 STATUS_DELAY = 0.002  # seconds: state changes within this window share one status array
-STATUS_INTERVAL = 0.02  # seconds: at most one array per interval while goals come quickly
+STATUS_INTERVAL = 0.005  # seconds: at most one array per interval while goals come quickly
 
 
 class StatusPublisher:

@@ -57,10 +57,11 @@ def until_canceled(h: Handle) -> FibonacciResult:
 class Recorder:
     """An execute callback that records starts and holds each goal until released."""
 
-    def __init__(self) -> None:
+    def __init__(self, hold_canceled: bool = False) -> None:
         self.started: list[int] = []
         self.gates: dict[int, threading.Event] = {}
         self.lock = threading.Lock()
+        self.hold_canceled = hold_canceled  # a canceled goal ends only once released
 
     def __call__(self, h: Handle) -> FibonacciResult:
         order = h.request.order
@@ -68,9 +69,12 @@ class Recorder:
             self.started.append(order)
             gate = self.gates.setdefault(order, threading.Event())
         while not gate.wait(0.05):
-            if h.is_cancel_requested:
+            if h.is_cancel_requested and not self.hold_canceled:
                 h.canceled()
                 return FibonacciResult(sequence=[order, -1])
+        if self.hold_canceled and h.is_cancel_requested:
+            h.canceled()
+            return FibonacciResult(sequence=[order, -1])
         h.succeed()
         return FibonacciResult(sequence=[order])
 
@@ -169,7 +173,7 @@ def test_simple_policy_new_goal_preempts_the_running_one(pair: Any) -> None:
 
 
 def test_simple_policy_a_newer_goal_replaces_a_waiting_one(pair: Any) -> None:
-    rec = Recorder()
+    rec = Recorder(hold_canceled=True)  # `a` stays CANCELING until released: no race with c
     _, client = pair(rec, policy="simple")
     a = client.send_goal_async(goal(1))
     assert wait_for(lambda: rec.started == [1], 10)
@@ -177,6 +181,7 @@ def test_simple_policy_a_newer_goal_replaces_a_waiting_one(pair: Any) -> None:
     assert wait_for(lambda: a.status is GoalStatus.CANCELING, 10)
     c = client.send_goal_async(goal(3))
     assert b.result(10).status is GoalStatus.CANCELED  # replaced before it ever ran
+    rec.release(1)
     assert a.result(10).status is GoalStatus.CANCELED
     rec.release(3)
     assert c.result(10).status is GoalStatus.SUCCEEDED

@@ -6,6 +6,7 @@ import logging
 from typing import Any
 
 import pytest
+import zenoh
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.std_msgs import String
 from zenros.testing import Collector, wait_for
@@ -25,7 +26,8 @@ def setup(make_node: Any, ctx_pair: Any) -> Any:
 
 
 def _put(ctx: Any, key: str, data: bytes, encoding: str) -> None:
-    ctx.session.put(key, data, encoding=encoding)
+    # BLOCK: a raw put's default (DROP) loses large samples when the machine is busy
+    ctx.session.put(key, data, encoding=encoding, congestion_control=zenoh.CongestionControl.BLOCK)
 
 
 def _recovers(pub: Any, got: Collector[Twist]) -> None:
