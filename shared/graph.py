@@ -49,12 +49,27 @@ class Graph:
         self._snapshot(snapshot_timeout)
 
     def _snapshot(self, timeout: float) -> None:
-        for reply in self._session.liveliness().get(self._keys.alive_all(), timeout=timeout):
+        # A callback, not the default FIFO channel: Zenoh 1.10 delivers the tokens it already
+        # knows inside get(), holding the session's lock, and a channel that fills up (256
+        # replies) before get() returns blocks that thread, and with it every Zenoh thread of
+        # the process, for good (found with gdb in the two-robot demo: ~300 tokens).
+        keys: list[str] = []
+        done = threading.Event()
+
+        def on_reply(reply: zenoh.Reply) -> None:
             if reply.ok is not None:
-                key = str(reply.ok.key_expr)
-                with self._cond:
-                    if key not in self._deleted and key not in self._tokens:
-                        self._add(key)
+                keys.append(str(reply.ok.key_expr))
+
+        self._session.liveliness().get(
+            self._keys.alive_all(),
+            zenoh.handlers.Callback(on_reply, done.set, indirect=False),
+            timeout=timeout,
+        )
+        done.wait(timeout + 1.0)
+        with self._cond:
+            for key in list(keys):
+                if key not in self._deleted and key not in self._tokens:
+                    self._add(key)
 
     def settle(self, quiet: float = 0.3, timeout: float = 3.0) -> None:
         """Wait until the view stops changing for ``quiet`` seconds (at most ``timeout``).
