@@ -22,7 +22,7 @@
 # Environment: ZR_PREFIX (namespace prefix, default zrdemo, at most 10 characters),
 # ZR_STATE (pids and logs, default /tmp/zenros-demo-$ZR_PREFIX), PYTHON (default python3),
 # ZR_CONFIG (the session config of every process, default deploy/demo/zenoh-host.json5),
-# ZR_WAIT (seconds `start` waits for the robots, default 60).
+# ZR_WAIT (seconds `start` waits for the robots, default 120).
 set -euo pipefail
 
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -122,8 +122,8 @@ until_ok() {
 
 router_up() { ip netns exec "$(ns st)" bash -c "exec 3<>/dev/tcp/$NET.1/7447"; }
 
-# The zenros CLI on the station, bounded: under load a Zenoh 1.10 liveliness query (the CLI's
-# graph snapshot) or the session's close can hang past its timeout (docs/demo.md).
+# The zenros CLI on the station, bounded: under heavy load its session's close can take 10 s
+# or more, and a call that hangs must not hang the demo (docs/demo.md, Troubleshooting).
 station_cli_once() { cmd_run station timeout 20 "$PY" -m zenros.cli "$@"; }
 
 # station_cli ARGS...: the same, tried again (3 tries) while it hangs before printing anything;
@@ -159,7 +159,7 @@ cmd_start() {
     until_ok 30 "the station's router on $ROUTER" router_up
     start_host r1 robot.yaml robot:=robot1 --no-router
     start_host r2 robot.yaml robot:=robot2 --no-router
-    until_ok "${ZR_WAIT:-60}" "the robots' nodes, seen from the station" robots_seen
+    until_ok "${ZR_WAIT:-120}" "the robots' nodes, seen from the station" robots_seen
     say "the station sees both robots; try '$0 show'"
 }
 
