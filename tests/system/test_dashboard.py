@@ -271,24 +271,35 @@ def test_the_e_stop_holds_the_robot(page: Any) -> None:
                     .get_attribute("data-engaged") == "0", TIMEOUT)
 
 
+def yaw(d: Any) -> float | None:
+    """The robot's heading as the page shows it."""
+    value = d.execute_script("return document.getElementById('pose').dataset.yaw || null;")
+    return float(value) if value is not None else None
+
+
+def turned(d: Any, start: float, angle: float) -> bool:
+    now = yaw(d)
+    return now is not None and abs(math.remainder(now - start, 2 * math.pi)) > angle
+
+
 def test_teleop_from_the_keyboard(page: Any) -> None:
-    here = pose(page)
-    assert here is not None
+    start = yaw(page)  # turning in place: no wall can be in the way
+    assert start is not None
     body = page.find_element(By.TAG_NAME, "body")
-    ActionChains(page).key_down("w", body).perform()
+    ActionChains(page).key_down("a", body).perform()
     try:
-        assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
+        assert wait_for(lambda: turned(page, start, 0.3), TIMEOUT)
     finally:
-        ActionChains(page).key_up("w", body).perform()
+        ActionChains(page).key_up("a", body).perform()
 
 
 def test_teleop_from_the_pad(page: Any) -> None:
-    here = pose(page)
-    assert here is not None
+    start = yaw(page)
+    assert start is not None
     ActionChains(page).click_and_hold(page.find_element(By.ID, "pad")) \
-        .move_by_offset(0, -40).perform()
+        .move_by_offset(-40, 0).perform()  # stick to the left: turn left
     try:
-        assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.3, TIMEOUT)
+        assert wait_for(lambda: turned(page, start, 0.3), TIMEOUT)
     finally:
         ActionChains(page).release().perform()
 

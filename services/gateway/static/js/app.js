@@ -142,6 +142,7 @@ class Dashboard {
     pose.textContent = `x ${fmt(this.pose.x)} m   y ${fmt(this.pose.y)} m   yaw ${Math.round(yaw * 180 / Math.PI) || 0}°`;
     pose.dataset.x = String(this.pose.x);
     pose.dataset.y = String(this.pose.y);
+    pose.dataset.yaw = String(yaw);
   }
 
   onTfStatic(m) {
