@@ -244,6 +244,8 @@ class Api:
             data = msgspec.json.decode(raw)
         except msgspec.DecodeError as exc:
             raise ApiError(400, f"malformed JSON body: {exc}") from exc
+        except RecursionError as exc:
+            raise ApiError(400, "malformed JSON body: nested too deep") from exc
         if not isinstance(data, dict):
             raise ApiError(400, f"the JSON body must be an object, got {type(data).__name__}")
         return data

@@ -132,6 +132,7 @@ def test_config_get_post_delete(http: httpx.Client, token: str) -> None:
     (b'{"speed_x": 50}', ["speed_x", "<="]),
     (b'{"speed_x": NaN}', ["malformed JSON"]),
     (b"{\"speed_angle\": -1e400}", ["out of range"]),
+    (b'{"speed_x": ' + b"[" * 3000 + b"]" * 3000 + b"}", ["malformed JSON", "deep"]),
 ])
 def test_bad_bodies_get_4xx(http: httpx.Client, token: str, body: bytes,
                             words: list[str]) -> None:
