@@ -160,6 +160,8 @@ class TopicHub:
             obj = msgspec.json.decode(text)
         except msgspec.DecodeError as exc:
             raise TopicError(f"malformed JSON: {exc}") from exc
+        except RecursionError as exc:
+            raise TopicError("malformed JSON: nested too deep") from exc
         if not isinstance(obj, dict):
             raise TopicError(f"expected a JSON object, got {type(obj).__name__}")
         msg_type, _ = self.type_of(topic)

@@ -66,7 +66,8 @@ async def test_teleop_publishes_cmd_vel_and_bad_frames_get_errors(
         assert got.items[0].linear.x == 0.2 and got.items[0].angular.z == 0.5
         for bad, word in [("{nope", "malformed JSON"), ("[1]", "JSON object"),
                           ('{"linear": {"x": "fast"}}', "$.linear.x"),
-                          ('{"linear": {"q": 1}}', "unknown field 'q'")]:
+                          ('{"linear": {"q": 1}}', "unknown field 'q'"),
+                          ('{"linear": ' + "[" * 3000 + "]" * 3000 + "}", "nested too deep")]:
             await ws.send(bad)
             while True:  # our own cmd_vel echoes may come first
                 frame = json.loads(await asyncio.wait_for(ws.recv(), 3))
