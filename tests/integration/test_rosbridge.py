@@ -441,7 +441,8 @@ def test_bad_frames_are_logged_not_answered_and_the_connection_stays(
                       json.dumps({"op": "subscribe", "id": "s", "topic": "/t", "type": "no/Such"}),
                       json.dumps({"op": "subscribe", "topic": "/never_advertised"}),
                       json.dumps({"op": "publish", "topic": "/unknown", "msg": {}}),
-                      json.dumps({"op": "advertise", "topic": "bad topic!", "type": "std_msgs/String"})):
+                      json.dumps({"op": "advertise", "topic": "bad topic!", "type": "std_msgs/String"}),
+                      "[" * 3000 + "]" * 3000):
             ws.send(frame)
         ws.send(b"\x00binary")
         ws.send(json.dumps({"op": "call_service", "id": "alive", "service": "/rosapi/get_time"}))
@@ -450,6 +451,7 @@ def test_bad_frames_are_logged_not_answered_and_the_connection_stays(
     text = caplog.text
     assert "Unknown operation: bogus" in text and "unknown message type 'no/Such'" in text
     assert "Cannot infer topic type for topic /never_advertised" in text
+    assert "nested too deep" in text
 
 
 def test_status_frames_only_after_set_level(server: RosbridgeServer) -> None:

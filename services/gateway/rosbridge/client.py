@@ -124,6 +124,10 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         except ValueError as exc:
             self.report("error", f"Unable to parse JSON: {exc}; message was: {text[:200]}")
             return
+        except RecursionError:
+            self.report("error", "Unable to parse JSON: nested too deep;"
+                                 f" message was: {text[:200]}")
+            return
         if not isinstance(frame, dict):
             self.report("error", f"Expected a JSON object, got {type(frame).__name__}")
             return
