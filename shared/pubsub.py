@@ -93,7 +93,11 @@ class Publisher(Generic[M]):
         # Read the current status rather than trust the event's: events arrive late, and a
         # stale "no longer matching" (an old subscriber leaving) must not switch off puts to
         # a subscriber that has joined since.
-        self._refresh_remote()
+        try:
+            self._refresh_remote()
+        except zenoh.ZError:
+            if not self.closed:  # else an event in flight while close() undeclared the publisher
+                raise
 
     def _refresh_remote(self) -> bool:
         if self._latched:  # always puts; late joiners query the cache
