@@ -14,7 +14,7 @@ from zenros.msgs.galileo_msgs import GalileoStatus
 
 __all__ = [
     "DI_COUNT", "HR_COUNT", "IR_COUNT", "HoldingWrite", "decode_f32", "discrete_inputs",
-    "encode_f32", "input_registers", "parse_holding_write",
+    "encode_f32", "f32", "input_registers", "parse_holding_write",
 ]
 
 DI_COUNT = 30     # doc 1-6 status bits, 7-22 input IO 0-15, 23-30 output IO 0-7
@@ -22,9 +22,17 @@ IR_COUNT = 27     # doc 1..27 (the uint32 at doc 26 ends at 27)
 HR_COUNT = 14     # doc 1..14
 
 
+_F32_MAX = 3.4028234663852886e38
+
+
+def f32(v: float) -> float:
+    """``v`` packable as a float32: beyond its range, ±infinity (as a float32 cast rounds)."""
+    return math.copysign(math.inf, v) if abs(v) > _F32_MAX else v
+
+
 def encode_f32(v: float) -> list[int]:
     """float32 → two registers, low word first."""
-    hi, lo = struct.unpack(">HH", struct.pack(">f", v))
+    hi, lo = struct.unpack(">HH", struct.pack(">f", f32(v)))
     return [lo, hi]
 
 

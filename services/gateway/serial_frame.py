@@ -6,6 +6,8 @@ import struct
 
 from zenros.msgs.galileo_msgs import GalileoStatus
 
+from .modbus_map import f32
+
 __all__ = ["HEADER", "MAX_CMD_LEN", "STATUS_FRAME_LEN", "CommandParser", "command_frame",
            "status_frame"]
 
@@ -19,10 +21,11 @@ def status_frame(st: GalileoStatus, counter: int) -> bytes:
     """The status packet: header, LEN=0x55, 21 little-endian fields, 0x00."""
     payload = _STATUS.pack(
         st.navStatus, st.visualStatus, st.mapStatus, st.gcStatus, st.gbaStatus,
-        st.chargeStatus, st.loopStatus, st.power, st.targetNumID, st.targetStatus,
-        st.targetDistance, st.angleGoalStatus, st.controlSpeedX, st.controlSpeedTheta,
-        st.currentSpeedX, st.currentSpeedTheta, counter & 0xFFFFFFFF, st.currentPosX,
-        st.currentPosY, st.currentAngle, st.busyStatus)
+        st.chargeStatus, st.loopStatus, f32(st.power), st.targetNumID, st.targetStatus,
+        f32(st.targetDistance), st.angleGoalStatus, f32(st.controlSpeedX),
+        f32(st.controlSpeedTheta), f32(st.currentSpeedX), f32(st.currentSpeedTheta),
+        counter & 0xFFFFFFFF, f32(st.currentPosX), f32(st.currentPosY), f32(st.currentAngle),
+        st.busyStatus)
     return HEADER + bytes([len(payload) + 1]) + payload + b"\x00"
 
 

@@ -84,3 +84,11 @@ def test_refusals(address: int, values: list[int], word: str) -> None:
 
 def test_index_minus_one_cancels() -> None:
     assert parse_holding_write([0] * 14, 4, [0xFFFF], max_speed=1.0).nav_index == -1
+
+
+def test_values_beyond_float32_saturate_to_infinity() -> None:
+    # a client's /cmd_vel of 1e308 reaches controlSpeedX; the table must still build
+    assert decode_f32(encode_f32(1e308)) == math.inf
+    assert decode_f32(encode_f32(-1e308)) == -math.inf
+    regs = input_registers(GalileoStatus(controlSpeedX=1e308, controlSpeedTheta=-1e300))
+    assert len(regs) == IR_COUNT

@@ -51,3 +51,9 @@ def test_parser_waits_for_the_whole_packet() -> None:
     assert p.feed(HEADER + b"\x03ab") == []
     assert p.feed(b"c") == [b"abc"]
     assert p.feed(b"\xcd") == [] and p.feed(b"\xeb\xd7\x01z") == [b"z"]
+
+
+def test_status_frame_with_values_beyond_float32() -> None:
+    # a client's /cmd_vel of 1e308 reaches controlSpeedX; the packet must still be built
+    frame = status_frame(GalileoStatus(controlSpeedX=1e308, controlSpeedTheta=-1e300), 1)
+    assert len(frame) == STATUS_FRAME_LEN
