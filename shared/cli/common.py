@@ -184,12 +184,15 @@ def print_data(data: Any, as_json: bool, *, separator: bool = True) -> None:
 
 def _served_types_loaded() -> bool:
     """Import the wire types that installed services declare in their own ``messages``
-    module (``zenros.services.master.messages``: GetSystemState, LookupNode, ...), so every
-    type a service serves can be called from the command line. False if already done."""
+    module (``zenros.services.master.messages``: GetSystemState, LookupNode, ...) and the
+    library's own (smach's SetInitialState, ...), so every type a service serves can be
+    called from the command line. False if already done."""
     global _SERVED_LOADED
     if _SERVED_LOADED:
         return False
     _SERVED_LOADED = True
+    for name in _LIBRARY_TYPES:
+        importlib.import_module(name)
     try:
         import zenros.services as services
     except ImportError:
@@ -205,6 +208,8 @@ def _served_types_loaded() -> bool:
 
 
 _SERVED_LOADED = False
+_LIBRARY_TYPES = ("zenros.action.types", "zenros.param_protocol", "zenros.smach.introspection")
+"""Library modules that declare wire types outside zenros.msgs (actions, parameters, smach)."""
 
 
 def _find(lookup: Callable[[str], T], name: str) -> T:
