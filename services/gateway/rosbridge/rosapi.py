@@ -184,6 +184,8 @@ class Rosapi:
             value = json.loads(text)
         except ValueError as exc:
             return {"successful": False, "reason": f"value of {name} is not JSON text: {exc}"}
+        except RecursionError:
+            return {"successful": False, "reason": f"value of {name} is nested too deep"}
         try:
             self._params.set(name, value)
         except ZenrosError as exc:

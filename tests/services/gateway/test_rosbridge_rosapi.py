@@ -126,6 +126,8 @@ def test_params_round_trip_as_json_text(api: Rosapi) -> None:
     assert got["successful"] is False
     bad = api.call("/rosapi/set_param", {"name": "/n:speed", "value": "nope"})
     assert bad["successful"] is False and "JSON" in bad["reason"]
+    deep = api.call("/rosapi/set_param", {"name": "/n:speed", "value": "[" * 3000 + "]" * 3000})
+    assert deep["successful"] is False and "nested too deep" in deep["reason"]
     assert api.call("/rosapi/get_ros_version", {}) == {"version": 2, "distro": "zenros"}
 
 
