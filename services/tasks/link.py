@@ -7,11 +7,12 @@
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable
 from typing import Any, Final
 
 from zenros.action import ActionClient, GoalStatus
-from zenros.errors import ZenrosError
+from zenros.errors import ActionServerUnavailableError, ZenrosError
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
 from zenros.msgs.nav2_msgs import DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.sensor_msgs import BatteryState
@@ -41,8 +42,9 @@ SERVER_WAIT: Final = 5.0
 class RobotLink:
     """Implements `Robot` for a tasks node; every call is bounded in time and cancellable."""
 
-    def __init__(self, node: Node) -> None:
+    def __init__(self, node: Node, reconnect: float = 30.0) -> None:
         self.node = node
+        self.reconnect = reconnect
         self.nav = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.dock = ActionClient(node, DockRobot, "dock_robot")
         self.nav_points = node.create_client(GetNavPoints, "get_nav_points")
@@ -90,8 +92,6 @@ class RobotLink:
     def navigate(self, x: float, y: float, theta: float, timeout: float,
                  feedback: Callable[[Feedback], None],
                  cancelled: Callable[[], bool]) -> Outcome:
-        if not self.nav.wait_for_server(SERVER_WAIT):
-            return Outcome("error", "navigation is not available (no navigate_to_pose server)")
 
         def on_feedback(msg: Any) -> None:
             fb = msg.feedback
@@ -106,8 +106,6 @@ class RobotLink:
 
     def charge(self, pose: tuple[float, float, float] | None, level: float, timeout: float,
                cancelled: Callable[[], bool]) -> Outcome:
-        if not self.dock.wait_for_server(SERVER_WAIT):
-            return Outcome("error", "docking is not available (no dock_robot server)")
         goal = DockRobotGoal(use_dock_id=pose is None, navigate_to_staging_pose=True)
         if pose is not None:
             goal.dock_pose = _pose(*pose)
@@ -126,29 +124,63 @@ class RobotLink:
 
     def _run(self, client: ActionClient, goal: Any, on_feedback: Any, timeout: float,
              cancelled: Callable[[], bool], what: str) -> Outcome:
-        handle = client.send_goal_async(goal, on_feedback)
+        """Run one goal to its end. A server that goes away (a link flap, a respawn) is
+        waited for up to ``reconnect`` seconds and the goal sent again, as a robot's task
+        should outlive a short outage; past that the action ends in ERROR."""
         start = self.now()
-        while not handle.done:
-            if cancelled() or (timeout > 0 and self.now() - start > timeout):
-                try:
-                    handle.cancel()
-                    handle.result(SERVER_WAIT)
-                except ZenrosError:
-                    pass
+        lost_since: float | None = None
+        while True:
+            budget = self.reconnect - (time.monotonic() - lost_since if lost_since else 0.0)
+            if not self._await_server(client, cancelled, max(budget, 0.0)):
                 if cancelled():
                     return Outcome("preempted")
-                return Outcome("error", f"{what}: not done within {timeout:g} s")
-            threading.Event().wait(POLL)
-        try:
-            res = handle.result(0)
-        except ZenrosError as exc:
-            return Outcome("error", f"{what}: {exc}")
+                return Outcome("error", f"{what}: no {client.name} server"
+                                        f" (waited {self.reconnect:g} s)")
+            handle = client.send_goal_async(goal, on_feedback)
+            while not handle.done:
+                if cancelled() or (timeout > 0 and self.now() - start > timeout):
+                    try:
+                        handle.cancel()
+                        handle.result(SERVER_WAIT)
+                    except ZenrosError:
+                        pass
+                    if cancelled():
+                        return Outcome("preempted")
+                    return Outcome("error", f"{what}: not done within {timeout:g} s")
+                if handle.accepted:
+                    lost_since = None
+                threading.Event().wait(POLL)
+            try:
+                res = handle.result(0)
+            except ActionServerUnavailableError as exc:
+                res = None
+                reason = str(exc)
+            except ZenrosError as exc:
+                return Outcome("error", f"{what}: {exc}")
+            if res is None or (res.status is GoalStatus.LOST and not cancelled()):
+                reason = reason if res is None else res.reason
+                lost_since = lost_since or time.monotonic()
+                if time.monotonic() - lost_since < self.reconnect:
+                    self.node.logger.warning("%s: %s; sending the goal again when %s is back",
+                                             what, reason, client.name)
+                    continue
+                return Outcome("error", f"{what}: lost ({reason})")
+            break
         if res.status is GoalStatus.SUCCEEDED:
             return Outcome("complete", f"{what}: done")
         msg = getattr(res.result, "error_msg", "") or res.reason
         code = getattr(res.result, "error_code", 0)
         return Outcome("error", f"{what}: {res.status.name.lower()}"
                                 + (f" (error {code}: {msg})" if code or msg else ""))
+
+    @staticmethod
+    def _await_server(client: ActionClient, cancelled: Callable[[], bool],
+                      limit: float) -> bool:
+        end = time.monotonic() + limit
+        while not client.wait_for_server(0.2):
+            if cancelled() or time.monotonic() > end:
+                return False
+        return True
 
     def switch_map(self, name: str, path: str, start_index: int) -> Outcome:
         try:

@@ -36,6 +36,9 @@ class TasksNode(Node):
         resume_on_start: a task that was WORKING when the service stopped runs again at
             start (default: it waits PAUSED for a resume).
         introspection: publish the running task's state machine for ``zenros smach``.
+        reconnect_timeout: seconds a nav or dock goal waits for its server to come back
+            (a link flap, a respawn) before the action ends in ERROR; the goal is then sent
+            again.
     """
 
     node_name = "tasks"
@@ -47,7 +50,7 @@ class TasksNode(Node):
         self.smach_server: IntrospectionServer | None = None
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
         self.store = TaskStore(directory / DB_NAME)
-        self.link = RobotLink(self)
+        self.link = RobotLink(self, self.declare_parameter("reconnect_timeout", 30.0))
         self.manager = TaskManager(self.store, self.link, self.publish_status,
                                    self.introspect if self.introspection else None,
                                    resume_on_start=resume)

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import logging
+import signal
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -14,7 +17,7 @@ from zenros.node import Node
 from zenros.rpc import Client
 from zenros.services.tasks.node import TasksNode
 from zenros.smach.introspection import StateStructure
-from zenros.testing import Collector, wait_for
+from zenros.testing import Collector, Proc, free_port, loopback_options, unique_prefix, wait_for
 
 
 @pytest.fixture
@@ -104,3 +107,62 @@ def test_running_task_is_a_live_state_machine(api: Api, make_node: Any) -> None:
     assert wait_for(lambda: any([c.label for c in s.children]
                                 == ["00_SLEEP_ACTION", "01_TTS_ACTION"]
                                 for s in structure.items), 10)
+
+
+NAV_STANDIN = """
+import sys, threading
+from zenros.action import ActionServer
+from zenros.context import Context
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseResult
+from zenros.node import Node
+from zenros.testing import loopback_options
+
+port, prefix, finish = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "finish"
+
+def execute(handle):
+    print("goal", handle.request.pose.pose.position.x, flush=True)
+    while not (finish or handle.is_cancel_requested):
+        threading.Event().wait(0.01)
+    if handle.is_cancel_requested:
+        handle.canceled()
+    else:
+        handle.succeed()
+    return NavigateToPoseResult()
+
+node = Node("nav", context=Context(loopback_options(connect=[port]), prefix=prefix))
+ActionServer(node, NavigateToPose, "navigate_to_pose", execute)
+print("serving", flush=True)
+sys.stdin.readline()
+"""
+
+
+def test_nav_goal_outlives_its_server_going_away(tmp_path: Path, procs: list[Proc],
+                                                 caplog: pytest.LogCaptureFixture) -> None:
+    """navigate_to_pose's server killed mid-goal (as a link cut or a crash looks): the task
+    waits for it, sends the goal again when a server is back, and completes; no ERROR."""
+    port, prefix = free_port(), unique_prefix()
+    script = tmp_path / "nav_standin.py"
+    script.write_text(NAV_STANDIN)
+    caplog.set_level(logging.WARNING)
+    with Context(loopback_options(port), prefix=prefix) as ctx:
+        tasks = TasksNode(context=ctx, parameter_overrides={"data_dir": str(tmp_path)})
+        try:
+            api = Api(ctx)
+            first = Proc([sys.executable, str(script), str(port), prefix, "hold"])
+            procs.append(first)
+            assert first.wait_line("serving", 15), first.output
+            _, task, _ = api("create", body={"sub_tasks": [{"type": "nav_action", "x": 3.0,
+                                                            "y": 1.0}]})
+            api("start", task["id"])
+            assert first.wait_line("goal 3.0", 15), first.output
+            first.signal(signal.SIGKILL)
+            assert wait_for(lambda: "sending the goal again" in caplog.text, 15)
+            assert api("get", task["id"])[1]["state"] == "WORKING"
+            second = Proc([sys.executable, str(script), str(port), prefix, "finish"])
+            procs.append(second)
+            assert second.wait_line("goal 3.0", 20), second.output
+            assert wait_for(lambda: api("get", task["id"])[1]["state"] != "WORKING", 15)
+            done = api("get", task["id"])[1]
+            assert done["state"] == "COMPLETE", done
+        finally:
+            tasks.close()
