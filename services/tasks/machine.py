@@ -56,7 +56,7 @@ class ActionState(State):
                       self.hooks.wait_release)
         try:
             outcome = BEHAVIOURS[self.item["type"]](ctx, params)
-        except Exception as exc:  # noqa: BLE001 (a behaviour's bug ends the action, not the service)
+        except Exception as exc:  # noqa: BLE001 (a behaviour's bug ends the action only)
             outcome = Outcome("error", f"{self.item['type']} failed: {type(exc).__name__}:"
                                        f" {exc}")
         if outcome.name == "preempted" or (outcome.name != "complete"
