@@ -22,6 +22,7 @@ __all__ = [
     "decode_any",
     "encoding_of",
     "from_builtins",
+    "json_bytes",
     "split_encoding",
     "to_builtins",
 ]
@@ -103,7 +104,7 @@ class Codec(Generic[M]):
             raise DecodeError(f"expected {self.type_name}: {exc}") from exc
         except RecursionError:  # deep nesting ([[[[...): hostile or broken, never a message
             raise DecodeError(f"expected {self.type_name}: nested too deeply") from None
-        except Exception as exc:  # noqa: BLE001 whatever the payload does, callers get one error
+        except Exception as exc:
             raise DecodeError(f"expected {self.type_name}: {type(exc).__name__}: {exc}") from exc
 
     def check_encoding(self, encoding: str) -> None:
@@ -219,6 +220,13 @@ def decode_any(data: bytes, encoding: str) -> Message:
         raise DecodeError(f"payload encoding {encoding!r} names no message type")
     msg: Message = codec_for(lookup_type(schema)).decode(data)
     return msg
+
+
+def json_bytes(obj: Any) -> bytes:
+    """Any message (bulk types too) or plain data as JSON in one pass, numpy arrays as lists
+    (NaN and infinities become ``null``): what the gateway's JSON protocols send."""
+    data: bytes = _JSON_ENCODER.encode(obj)
+    return data
 
 
 def to_builtins(msg: Message) -> Any:

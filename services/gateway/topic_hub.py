@@ -11,8 +11,7 @@ import threading
 from typing import Any
 
 import msgspec
-import numpy as np
-from zenros.codec import from_builtins
+from zenros.codec import from_builtins, json_bytes
 from zenros.errors import DecodeError, UnknownTypeError
 from zenros.message import Message, lookup_type
 from zenros.node import Node
@@ -21,15 +20,6 @@ from zenros.qos import Durability, QoSProfile
 
 __all__ = ["Slot", "TopicError", "TopicHub"]
 
-def _enc_hook(obj: Any) -> Any:
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, np.generic):
-        return obj.item()
-    raise NotImplementedError(f"cannot encode {type(obj).__name__}")
-
-
-_ENC = msgspec.json.Encoder(enc_hook=_enc_hook)  # messages straight to JSON, one pass
 
 
 class TopicError(Exception):
@@ -137,7 +127,7 @@ class TopicHub:
             return list(feed.slots) if feed is not None else []
 
     def _on_message(self, feed: _Feed, msg: Message) -> None:
-        frame = _ENC.encode(msg).decode()
+        frame = json_bytes(msg).decode()  # straight to JSON, one pass
         with self._lock:
             feed.last = frame
             slots = list(feed.slots)

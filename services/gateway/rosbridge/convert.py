@@ -7,8 +7,7 @@ import binascii
 from typing import Any
 
 import msgspec
-import numpy as np
-from zenros.codec import from_builtins
+from zenros.codec import from_builtins, json_bytes, to_builtins
 from zenros.message import Message, UInt8Array, normalize_type_name
 from zenros.msgs.builtin_interfaces import Time
 
@@ -23,32 +22,19 @@ __all__ = [
 ]
 
 
-def _enc_hook(obj: Any) -> Any:
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, np.generic):
-        return obj.item()
-    raise NotImplementedError(f"cannot encode {type(obj).__name__}")
-
-
-_ENCODER = msgspec.json.Encoder(enc_hook=_enc_hook)
-
-
 def dumps(obj: Any) -> bytes:
     """One frame as UTF-8 JSON (NaN and infinities become ``null``, as rosbridge writes them)."""
-    data: bytes = _ENCODER.encode(obj)
-    return data
+    return json_bytes(obj)
 
 
 def encode_message(msg: Message) -> bytes:
     """A message as the JSON object rosbridge sends (the ROS field layout)."""
-    data: bytes = _ENCODER.encode(msg)
-    return data
+    return json_bytes(msg)
 
 
 def to_json(msg: Message) -> Any:
     """A message as plain dicts and lists."""
-    return msgspec.to_builtins(msg, enc_hook=_enc_hook)
+    return to_builtins(msg)
 
 
 def publish_frame(topic: str, msg_json: bytes) -> bytes:
