@@ -166,9 +166,10 @@ class Navigator:
             raise NavUnavailable(f"nav points are not available: {exc}") from exc
         except ServiceError as exc:
             raise ValueError(f"nav points of path {self.path_name!r}: {exc.reason}") from exc
-        if not 0 <= index < len(res.points):
-            raise ValueError(f"nav point {index} does not exist: path {res.path_name!r} "
-                             f"has {len(res.points)} (0..{len(res.points) - 1})")
+        n = len(res.points)
+        if not 0 <= index < n:
+            has = f"has {n} (0..{n - 1})" if n else "has no nav points"
+            raise ValueError(f"nav point {index} does not exist: path {res.path_name!r} {has}")
         p = res.points[index]
         return p.x, p.y, p.theta
 
