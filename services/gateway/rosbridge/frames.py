@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
+from zenros.errors import UnknownTypeError
 from zenros.names import validate_name
 
-__all__ = ["OpError", "SubOptions", "frame_int", "frame_name", "legacy_id"]
+__all__ = ["OpError", "SubOptions", "frame_int", "frame_name", "frame_text", "frame_type",
+           "legacy_id"]
+
+T = TypeVar("T")
 
 
 class OpError(ValueError):
@@ -26,9 +31,7 @@ class SubOptions:
 def frame_name(frame: dict[str, Any], key: str) -> str:
     """``frame[key]`` as an absolute, valid name (``rosapi/topics`` → ``/rosapi/topics``;
     a legacy ``#id`` suffix dropped)."""
-    value = frame.get(key)
-    if not isinstance(value, str) or not value:
-        raise OpError(f"Expected a key '{key}' with a non-empty string in message")
+    value = frame_text(frame, key)
     name = value if value.startswith("/") else "/" + value
     name = name.split("#", 1)[0]  # the legacy form carries the call id after '#'
     try:
@@ -36,6 +39,22 @@ def frame_name(frame: dict[str, Any], key: str) -> str:
     except ValueError as exc:
         raise OpError(str(exc)) from None
     return name
+
+
+def frame_text(frame: dict[str, Any], key: str) -> str:
+    """``frame[key]`` as a non-empty string."""
+    value = frame.get(key)
+    if not isinstance(value, str) or not value:
+        raise OpError(f"Expected a key '{key}' with a non-empty string in message")
+    return value
+
+
+def frame_type(frame: dict[str, Any], key: str, lookup: Callable[[str], T]) -> T:
+    """The registered type named by ``frame[key]`` (``lookup_service``, ``lookup_action``)."""
+    try:
+        return lookup(frame_text(frame, key))
+    except UnknownTypeError as exc:
+        raise OpError(str(exc)) from None
 
 
 def legacy_id(frame: dict[str, Any], key: str) -> Any:

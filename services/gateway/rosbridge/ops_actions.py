@@ -7,12 +7,12 @@ import asyncio
 from collections.abc import Awaitable, Callable
 from typing import TYPE_CHECKING, Any
 
-from zenros.errors import UnknownTypeError, ZenrosError
+from zenros.errors import ZenrosError
 from zenros.message import lookup_action
 
 from .bridge import BridgeError
 from .convert import message_from_json, to_json
-from .frames import OpError, frame_int, frame_name, legacy_id
+from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
 from .served_action import ServedAction
 
 if TYPE_CHECKING:
@@ -51,13 +51,7 @@ class ActionOps:
 
         try:
             action = frame_name(frame, "action")
-            type_name = frame.get("action_type")
-            if not isinstance(type_name, str) or not type_name:
-                raise OpError("Expected a key 'action_type' with a non-empty string in message")
-            try:
-                action_type = lookup_action(type_name)
-            except UnknownTypeError as exc:
-                raise OpError(str(exc)) from None
+            action_type = frame_type(frame, "action_type", lookup_action)
             goal = message_from_json(frame.get("args") or {}, action_type.Goal)
             client = self.bridge.action_client(action_type, action)
             on_feedback = self._feedback_sender(given, mid) if frame.get("feedback") else None
@@ -102,13 +96,7 @@ class ActionOps:
 
     def op_advertise_action(self, frame: dict[str, Any]) -> None:
         action = frame_name(frame, "action")
-        type_name = frame.get("type")
-        if not isinstance(type_name, str) or not type_name:
-            raise OpError("Expected a key 'type' with a non-empty string in message")
-        try:
-            action_type = lookup_action(type_name)
-        except UnknownTypeError as exc:
-            raise OpError(str(exc)) from None
+        action_type = frame_type(frame, "type", lookup_action)
         old = self.served_actions.get(action)
         if old is not None:
             if old.action_type is action_type:

@@ -14,7 +14,7 @@ from zenros.message import Message, ServiceType, lookup_service
 
 from .bridge import BridgeError
 from .convert import message_from_json, request_args, to_json
-from .frames import OpError, frame_int, frame_name, legacy_id
+from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
 from .rosapi import Rosapi, RosapiError
 
 if TYPE_CHECKING:
@@ -100,13 +100,7 @@ class ServiceOps:
 
     def op_advertise_service(self, frame: dict[str, Any]) -> None:
         service = frame_name(frame, "service")
-        type_name = frame.get("type")
-        if not isinstance(type_name, str) or not type_name:
-            raise OpError("Expected a key 'type' with a non-empty string in message")
-        try:
-            srv_type = lookup_service(type_name)
-        except UnknownTypeError as exc:
-            raise OpError(str(exc)) from None
+        srv_type = frame_type(frame, "type", lookup_service)
         old = self.services.get(service)
         if old is not None:
             if old.srv_type is srv_type:

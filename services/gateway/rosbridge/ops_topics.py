@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from .convert import message_from_json
-from .frames import OpError, SubOptions, frame_int, frame_name
+from .frames import OpError, SubOptions, frame_int, frame_name, frame_text
 
 if TYPE_CHECKING:
     from .bridge import Bridge
@@ -27,10 +27,7 @@ class TopicOps:
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
-        type_name = frame.get("type")
-        if not isinstance(type_name, str) or not type_name:
-            raise OpError("Expected a key 'type' with a non-empty string in message")
-        msg_type = self.bridge.topic_type(topic, type_name)
+        msg_type = self.bridge.topic_type(topic, frame_text(frame, "type"))
         if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
             return  # a replay after reconnect, or a second advertise: nothing to do
         self.bridge.advertise(topic, msg_type, self, bool(frame.get("latch", False)),
