@@ -15,10 +15,14 @@ import msgspec
 
 from ..message import Message, define_action, define_service
 from .builtin_interfaces import Duration
-from .geometry_msgs import PoseStamped
+from .geometry_msgs import Point, PoseStamped
 from .nav_msgs import OccupancyGrid, Path
 
 __all__ = [
+    "BackUp",
+    "BackUpFeedback",
+    "BackUpGoal",
+    "BackUpResult",
     "ClearEntireCostmap",
     "ClearEntireCostmapRequest",
     "ClearEntireCostmapResponse",
@@ -30,6 +34,10 @@ __all__ = [
     "DockRobotFeedback",
     "DockRobotGoal",
     "DockRobotResult",
+    "DriveOnHeading",
+    "DriveOnHeadingFeedback",
+    "DriveOnHeadingGoal",
+    "DriveOnHeadingResult",
     "FollowPath",
     "FollowPathFeedback",
     "FollowPathGoal",
@@ -52,6 +60,10 @@ __all__ = [
     "SaveMap",
     "SaveMapRequest",
     "SaveMapResponse",
+    "Spin",
+    "SpinFeedback",
+    "SpinGoal",
+    "SpinResult",
     "UndockRobot",
     "UndockRobotFeedback",
     "UndockRobotGoal",
@@ -398,4 +410,100 @@ class ClearEntireCostmapResponse(Message):
 
 ClearEntireCostmap = define_service(
     "nav2_msgs/ClearEntireCostmap", ClearEntireCostmapRequest, ClearEntireCostmapResponse
+)
+
+
+# ------------------------------------------------------------------ behavior server actions
+
+
+class SpinGoal(Message):
+    """Turn in place by ``target_yaw`` radians (counter-clockwise positive)."""
+
+    __msgtype__ = "nav2_msgs/SpinGoal"
+    target_yaw: float = 0.0
+    time_allowance: Duration = msgspec.field(default_factory=Duration)
+    disable_collision_checks: bool = False
+
+
+class SpinResult(Message):
+    __msgtype__ = "nav2_msgs/SpinResult"
+    NONE = 0
+    UNKNOWN = 700
+    TIMEOUT = 701
+    TF_ERROR = 702
+    COLLISION_AHEAD = 703
+    total_elapsed_time: Duration = msgspec.field(default_factory=Duration)
+    error_code: UInt16 = 0
+    error_msg: str = ""
+
+
+class SpinFeedback(Message):
+    __msgtype__ = "nav2_msgs/SpinFeedback"
+    angular_distance_traveled: float = 0.0
+
+
+Spin = define_action("nav2_msgs/Spin", SpinGoal, SpinResult, SpinFeedback)
+
+
+class BackUpGoal(Message):
+    """Drive straight backwards ``target.x`` metres at ``speed`` (m/s, both positive)."""
+
+    __msgtype__ = "nav2_msgs/BackUpGoal"
+    target: Point = msgspec.field(default_factory=Point)
+    speed: float = 0.0
+    time_allowance: Duration = msgspec.field(default_factory=Duration)
+    disable_collision_checks: bool = False
+
+
+class BackUpResult(Message):
+    __msgtype__ = "nav2_msgs/BackUpResult"
+    NONE = 0
+    UNKNOWN = 710
+    TIMEOUT = 711
+    TF_ERROR = 712
+    INVALID_INPUT = 713
+    COLLISION_AHEAD = 714
+    total_elapsed_time: Duration = msgspec.field(default_factory=Duration)
+    error_code: UInt16 = 0
+    error_msg: str = ""
+
+
+class BackUpFeedback(Message):
+    __msgtype__ = "nav2_msgs/BackUpFeedback"
+    distance_traveled: float = 0.0
+
+
+BackUp = define_action("nav2_msgs/BackUp", BackUpGoal, BackUpResult, BackUpFeedback)
+
+
+class DriveOnHeadingGoal(Message):
+    """Drive straight ``target.x`` metres (negative: backwards) at ``speed`` (same sign)."""
+
+    __msgtype__ = "nav2_msgs/DriveOnHeadingGoal"
+    target: Point = msgspec.field(default_factory=Point)
+    speed: float = 0.0
+    time_allowance: Duration = msgspec.field(default_factory=Duration)
+    disable_collision_checks: bool = False
+
+
+class DriveOnHeadingResult(Message):
+    __msgtype__ = "nav2_msgs/DriveOnHeadingResult"
+    NONE = 0
+    UNKNOWN = 720
+    TIMEOUT = 721
+    TF_ERROR = 722
+    COLLISION_AHEAD = 723
+    INVALID_INPUT = 724
+    total_elapsed_time: Duration = msgspec.field(default_factory=Duration)
+    error_code: UInt16 = 0
+    error_msg: str = ""
+
+
+class DriveOnHeadingFeedback(Message):
+    __msgtype__ = "nav2_msgs/DriveOnHeadingFeedback"
+    distance_traveled: float = 0.0
+
+
+DriveOnHeading = define_action(
+    "nav2_msgs/DriveOnHeading", DriveOnHeadingGoal, DriveOnHeadingResult, DriveOnHeadingFeedback
 )
