@@ -14,6 +14,8 @@ error naming the known ones (the caller's client raises ``ServiceError``).
   ``set_forbidden_areas`` (lethal keep-out in both costmaps), ``get_charge_pose`` /
   ``set_charge_pose``.
 - ``patrol`` (action Patrol): loop over a path's nav points.
+- ``list_point_connections`` / ``add_point_connection`` / ``delete_point_connection``:
+  links between nav points of different maps (multi-map navigation, robot API §6.7).
 - ``nav/status`` (NavStatus, latched): what navigation is doing, for the gateway.
 """
 
@@ -27,12 +29,19 @@ from ..geometry_msgs import Point, Pose2D, PoseStamped
 from ..std_msgs import Header
 
 __all__ = [
+    "AddPointConnection",
+    "AddPointConnectionRequest",
+    "AddPointConnectionResponse",
+    "ConnectionPoint",
     "DeleteNavPoints",
     "DeleteNavPointsRequest",
     "DeleteNavPointsResponse",
     "DeletePath",
     "DeletePathRequest",
     "DeletePathResponse",
+    "DeletePointConnection",
+    "DeletePointConnectionRequest",
+    "DeletePointConnectionResponse",
     "ForbiddenArea",
     "GetChargePose",
     "GetChargePoseRequest",
@@ -61,6 +70,9 @@ __all__ = [
     "ListPaths",
     "ListPathsRequest",
     "ListPathsResponse",
+    "ListPointConnections",
+    "ListPointConnectionsRequest",
+    "ListPointConnectionsResponse",
     "MapInfo",
     "NavPoint",
     "NavStatus",
@@ -69,6 +81,8 @@ __all__ = [
     "PatrolFeedback",
     "PatrolGoal",
     "PatrolResult",
+    "PointConnection",
+    "PointRef",
     "SetChargePose",
     "SetChargePoseRequest",
     "SetChargePoseResponse",
@@ -81,12 +95,12 @@ __all__ = [
     "SetPath",
     "SetPathRequest",
     "SetPathResponse",
-    "SwitchMap",
-    "SwitchMapRequest",
-    "SwitchMapResponse",
     "SetVirtualWalls",
     "SetVirtualWallsRequest",
     "SetVirtualWallsResponse",
+    "SwitchMap",
+    "SwitchMapRequest",
+    "SwitchMapResponse",
     "VirtualWall",
 ]
 
@@ -528,3 +542,91 @@ class PatrolFeedback(Message):
 
 
 Patrol = define_action("zenros_msgs/Patrol", PatrolGoal, PatrolResult, PatrolFeedback)
+
+
+# ------------------------------------------------------------------ point connections
+
+
+class PointRef(Message):
+    """One nav point: its map, path and index (robot API §6.7 ``{map, path, index}``)."""
+
+    __msgtype__ = "zenros_msgs/PointRef"
+    map_name: str = ""
+    path_name: str = ""
+    index: int = 0
+
+
+class ConnectionPoint(Message):
+    """A nav point of some map with its pose, as ``point_connections`` lists them."""
+
+    __msgtype__ = "zenros_msgs/ConnectionPoint"
+    map_name: str = ""
+    path_name: str = ""
+    index: int = 0
+    name: str = ""
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+
+
+class PointConnection(Message):
+    """Two nav points (of different maps or paths) linked ``direct`` (the same physical
+    spot) or by ``elevator``; ``is_available`` false makes route planning skip it."""
+
+    __msgtype__ = "zenros_msgs/PointConnection"
+    DIRECT = "direct"
+    ELEVATOR = "elevator"
+    id: str = ""
+    oid: str = ""  # 24 hex digits, the §6.7 ``_id.$oid``
+    type: str = "direct"
+    is_available: bool = True
+    points: list[PointRef] = msgspec.field(default_factory=list)
+
+
+class ListPointConnectionsRequest(Message):
+    __msgtype__ = "zenros_msgs/ListPointConnectionsRequest"
+
+
+class ListPointConnectionsResponse(Message):
+    """Every nav point of every map, and every stored connection."""
+
+    __msgtype__ = "zenros_msgs/ListPointConnectionsResponse"
+    points: list[ConnectionPoint] = msgspec.field(default_factory=list)
+    connections: list[PointConnection] = msgspec.field(default_factory=list)
+
+
+ListPointConnections = define_service(
+    "zenros_msgs/ListPointConnections", ListPointConnectionsRequest,
+    ListPointConnectionsResponse)
+
+
+class AddPointConnectionRequest(Message):
+    """Two existing nav points, the ``type`` (``direct``/``elevator``) and availability."""
+
+    __msgtype__ = "zenros_msgs/AddPointConnectionRequest"
+    points: list[PointRef] = msgspec.field(default_factory=list)
+    type: str = "direct"
+    is_available: bool = True
+
+
+class AddPointConnectionResponse(Message):
+    __msgtype__ = "zenros_msgs/AddPointConnectionResponse"
+    connection: PointConnection = msgspec.field(default_factory=PointConnection)
+
+
+AddPointConnection = define_service(
+    "zenros_msgs/AddPointConnection", AddPointConnectionRequest, AddPointConnectionResponse)
+
+
+class DeletePointConnectionRequest(Message):
+    __msgtype__ = "zenros_msgs/DeletePointConnectionRequest"
+    id: str = ""
+
+
+class DeletePointConnectionResponse(Message):
+    __msgtype__ = "zenros_msgs/DeletePointConnectionResponse"
+
+
+DeletePointConnection = define_service(
+    "zenros_msgs/DeletePointConnection", DeletePointConnectionRequest,
+    DeletePointConnectionResponse)
