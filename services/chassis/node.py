@@ -14,6 +14,10 @@ from zenros.msgs.std_msgs import Header
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest, SetBoolResponse
 from zenros.msgs.zenros_msgs import (
     ChassisState,
+    IoState,
+    SetIo,
+    SetIoRequest,
+    SetIoResponse,
     SetObstacles,
     SetObstaclesRequest,
     SetObstaclesResponse,
@@ -22,12 +26,13 @@ from zenros.msgs.zenros_msgs import (
     TeleportResponse,
 )
 from zenros.node import Node
-from zenros.qos import QOS_SENSOR
+from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
 from . import messages
 from .config import declare_config
 from .drive import CommandError
+from .ioports import IoError, IoPorts
 from .kinematics import Pose2
 from .obstacle_requests import apply_request, to_msgs
 from .pacer import Pacer
@@ -43,7 +48,8 @@ class ChassisNode(Node):
     Publishes ``odom``, ``/tf`` (odom -> base_link), ``/tf_static`` (base_link -> laser),
     ``scan``, ``battery_state``, ``chassis/state``, ``sim/ground_truth`` and ``/clock``;
     takes ``cmd_vel``; serves ``sim/teleport``, ``sim/set_obstacles`` and
-    ``chassis/set_estop``. Parameters: see `declare_config` and docs/chassis.md.
+    ``chassis/set_estop``; IO ports on ``chassis/io`` (latched) and ``chassis/set_io``
+    (`IoPorts`). Parameters: see `declare_config` and docs/chassis.md.
     """
 
     node_name = "chassis"
@@ -73,6 +79,10 @@ class ChassisNode(Node):
         self.create_service(Teleport, "sim/teleport", self.handle_teleport)
         self.create_service(SetObstacles, "sim/set_obstacles", self.handle_set_obstacles)
         self.create_service(SetBool, "chassis/set_estop", self.handle_set_estop)
+        self.io = IoPorts(bool(self.declare_parameter("io_extension_board", True)))
+        self.io_pub = self.create_publisher(IoState, "chassis/io", QOS_LATCHED)
+        self.create_service(SetIo, "chassis/set_io", self.handle_set_io)
+        self.io_pub.publish(self._io_state())
         self._pose_cov = messages.covariance(self.sim.odometry.pose_covariance())
         self._twist_cov = messages.covariance(self.sim.odometry.twist_covariance())
         self.static_tf = StaticTransformBroadcaster(self)
@@ -126,6 +136,23 @@ class ChassisNode(Node):
         self.logger.warning("e-stop %s", "ENGAGED" if req.data else "released")
         return SetBoolResponse(success=True,
                                message="e-stop engaged" if req.data else "e-stop released")
+
+    def _io_state(self) -> IoState:
+        main, ext_out, ext_in = self.io.snapshot()
+        return IoState(header=Header(stamp=self.stamp(), frame_id=self.cfg.base_frame),
+                       outputs=main, ext_outputs=ext_out, ext_inputs=ext_in)
+
+    def handle_set_io(self, req: SetIoRequest) -> SetIoResponse:
+        try:
+            changed = self.io.set(req.board, req.port, req.level)
+        except IoError as exc:
+            return SetIoResponse(success=False, message=str(exc), state=self._io_state())
+        state = self._io_state()
+        if changed:
+            self.io_pub.publish(state)
+            self.logger.info("IO %s port %d set %s", req.board, req.port,
+                             "high" if req.level else "low")
+        return SetIoResponse(success=True, message="", state=state)
 
     # ------------------------------------------------------------------ the loop
 

@@ -5,6 +5,9 @@
 - ``zenros_msgs/Teleport`` (``sim/teleport``): set the robot's true pose in ``map``.
 - ``zenros_msgs/SetObstacles`` (``sim/set_obstacles``): add, move, remove or replace the
   movable circles and boxes of the simulated world.
+- ``zenros_msgs/IoState`` on ``chassis/io`` (latched): the IO ports' levels.
+- ``zenros_msgs/SetIo`` (``chassis/set_io``): set one output of the main board or the
+  extension board.
 - ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
 """
 
@@ -20,7 +23,11 @@ from ..std_msgs import Header
 
 __all__ = [
     "ChassisState",
+    "IoState",
     "Obstacle",
+    "SetIo",
+    "SetIoRequest",
+    "SetIoResponse",
     "SetObstacles",
     "SetObstaclesRequest",
     "SetObstaclesResponse",
@@ -113,3 +120,43 @@ Teleport = define_service("zenros_msgs/Teleport", TeleportRequest, TeleportRespo
 SetObstacles = define_service(
     "zenros_msgs/SetObstacles", SetObstaclesRequest, SetObstaclesResponse
 )
+
+
+class IoState(Message):
+    """The IO ports' levels (0 low, 1 high), published latched on ``chassis/io``.
+
+    ``outputs``: the main board's outputs out1..out3 (index 0 is out1). ``ext_outputs``
+    (ports 0..7) and ``ext_inputs`` (0..15): the extension IO board, empty when the robot
+    has none. Published on every change and once a second.
+    """
+
+    __msgtype__ = "zenros_msgs/IoState"
+    header: Header = msgspec.field(default_factory=Header)
+    outputs: list[int] = msgspec.field(default_factory=list)
+    ext_outputs: list[int] = msgspec.field(default_factory=list)
+    ext_inputs: list[int] = msgspec.field(default_factory=list)
+
+
+class SetIoRequest(Message):
+    """Set output ``port`` of ``board`` to ``level`` (0 or 1).
+
+    ``board`` ``main``: ports 1..3 (out1..out3); ``ext``: the extension board, ports 0..7.
+    """
+
+    __msgtype__ = "zenros_msgs/SetIoRequest"
+    board: str = "main"
+    port: int = 1
+    level: int = 0
+
+
+class SetIoResponse(Message):
+    """``success`` false with the reason for an unknown board, port or level; ``state``
+    is the IO state after the request."""
+
+    __msgtype__ = "zenros_msgs/SetIoResponse"
+    success: bool = False
+    message: str = ""
+    state: IoState = msgspec.field(default_factory=IoState)
+
+
+SetIo = define_service("zenros_msgs/SetIo", SetIoRequest, SetIoResponse)
