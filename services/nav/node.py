@@ -36,6 +36,7 @@ from zenros.tf.listener import STATIC_LISTENER_QOS
 from .action_base import Ledger
 from .actions import NavActions
 from .autocharge import AutoCharge
+from .connections import Connections
 from .convert import (
     path_to_msg,
     pose2_from_msg,
@@ -129,6 +130,7 @@ class NavNode(Node):
 
     def _serve_maps(self) -> None:
         maps, rec = self.core.maps, self.core.records
+        conn = self.connections = Connections(maps.store)
         for srv, name, handler in (
             (LoadMap, "map_server/load_map", maps.handle_load_map),
             (navmsgs.ListMaps, "map_server/list_maps", maps.handle_list_maps),
@@ -147,6 +149,9 @@ class NavNode(Node):
             (navmsgs.GetForbiddenAreas, "get_forbidden_areas", rec.handle_get_forbidden_areas),
             (navmsgs.SetForbiddenAreas, "set_forbidden_areas", rec.handle_set_forbidden_areas),
             (navmsgs.GetChargePose, "get_charge_pose", rec.handle_get_charge_pose),
+            (navmsgs.ListPointConnections, "list_point_connections", conn.handle_list),
+            (navmsgs.AddPointConnection, "add_point_connection", conn.handle_add),
+            (navmsgs.DeletePointConnection, "delete_point_connection", conn.handle_delete),
             (navmsgs.SetChargePose, "set_charge_pose", rec.handle_set_charge_pose),
             (ClearEntireCostmap, "global_costmap/clear_entirely_global_costmap",
              self.handle_clear_costmap),
