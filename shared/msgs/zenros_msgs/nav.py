@@ -14,6 +14,8 @@ error naming the known ones (the caller's client raises ``ServiceError``).
   ``set_forbidden_areas`` (lethal keep-out in both costmaps), ``get_charge_pose`` /
   ``set_charge_pose``.
 - ``patrol`` (action Patrol): loop over a path's nav points.
+- ``local_move_target`` (action LocalMoveTarget): a precise short move to a pose without
+  the global planner (Nav2's ``drive_on_heading``, ``backup`` and ``spin`` are nav2_msgs).
 - ``list_point_connections`` / ``add_point_connection`` / ``delete_point_connection``:
   links between nav points of different maps (multi-map navigation, robot API §6.7).
 - ``nav/status`` (NavStatus, latched): what navigation is doing, for the gateway.
@@ -73,6 +75,10 @@ __all__ = [
     "ListPointConnections",
     "ListPointConnectionsRequest",
     "ListPointConnectionsResponse",
+    "LocalMoveTarget",
+    "LocalMoveTargetFeedback",
+    "LocalMoveTargetGoal",
+    "LocalMoveTargetResult",
     "MapInfo",
     "NavPoint",
     "NavStatus",
@@ -630,3 +636,49 @@ class DeletePointConnectionResponse(Message):
 DeletePointConnection = define_service(
     "zenros_msgs/DeletePointConnection", DeletePointConnectionRequest,
     DeletePointConnectionResponse)
+
+
+class LocalMoveTargetGoal(Message):
+    """Move to ``pose`` without the global planner (specs/robot-api.md §9.2
+    ``local_move_target_action``).
+
+    ``pose.header.frame_id``: ``map`` (or empty) or ``base_link`` (relative to the robot's
+    pose when the goal starts). Done within ``xy_tolerance`` m, and ``yaw_tolerance`` rad of
+    the pose's heading when ``target_rotate_enable``. ``start_rotate_enable``: turn toward
+    the target before driving. ``time_allowance`` 0: no limit.
+    """
+
+    __msgtype__ = "zenros_msgs/LocalMoveTargetGoal"
+    pose: PoseStamped = msgspec.field(default_factory=PoseStamped)
+    xy_tolerance: float = 0.05
+    yaw_tolerance: float = 0.05
+    time_allowance: Duration = msgspec.field(default_factory=Duration)
+    start_rotate_enable: bool = True
+    target_rotate_enable: bool = True
+    speed: float = 0.0
+
+
+class LocalMoveTargetResult(Message):
+    """Error codes (Nav2 style): NONE 0, UNKNOWN 730, TIMEOUT 731, TF_ERROR 732,
+    COLLISION_AHEAD 733, INVALID_INPUT 734."""
+
+    __msgtype__ = "zenros_msgs/LocalMoveTargetResult"
+    NONE = 0
+    UNKNOWN = 730
+    TIMEOUT = 731
+    TF_ERROR = 732
+    COLLISION_AHEAD = 733
+    INVALID_INPUT = 734
+    total_elapsed_time: Duration = msgspec.field(default_factory=Duration)
+    error_code: int = 0
+    error_msg: str = ""
+
+
+class LocalMoveTargetFeedback(Message):
+    __msgtype__ = "zenros_msgs/LocalMoveTargetFeedback"
+    current_pose: PoseStamped = msgspec.field(default_factory=PoseStamped)
+    distance_remaining: float = 0.0
+
+
+LocalMoveTarget = define_action("zenros_msgs/LocalMoveTarget", LocalMoveTargetGoal,
+                                LocalMoveTargetResult, LocalMoveTargetFeedback)
