@@ -35,6 +35,9 @@ SERVICES: dict[str, ServiceType] = {
     "set_virtual_walls": zm.SetVirtualWalls,
     "get_forbidden_areas": zm.GetForbiddenAreas,
     "set_forbidden_areas": zm.SetForbiddenAreas,
+    "list_point_connections": zm.ListPointConnections,
+    "add_point_connection": zm.AddPointConnection,
+    "delete_point_connection": zm.DeletePointConnection,
 }
 
 

@@ -24,6 +24,7 @@ from .native import NativeCommands
 from .nav_calls import NavCalls
 from .nav_link import NavLink
 from .navigator import Navigator
+from .rest_connections import add_connection_routes
 from .rest_extras import add_extra_routes
 from .rest_goals import add_goal_routes
 from .rest_nav import add_nav_routes
@@ -108,6 +109,7 @@ class GatewayNode(Node):
             lambda api: add_nav_routes(api, nav_calls),
             lambda api: add_goal_routes(api, nav_calls),
             lambda api: add_record_routes(api, self.nav_link),
+            lambda api: add_connection_routes(api, self.nav_link),
             lambda api: add_extra_routes(api, self.link, self.hub,
                                          ParameterClient(self.context, node=self.fqn))])
         self.rosbridge: RosbridgeServer | None = None
