@@ -10,16 +10,19 @@ from zenros.home import data_dir
 from zenros.maps import GridMap
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav2_msgs import (
+    BackUp,
     ClearEntireCostmap,
     ClearEntireCostmapRequest,
     ClearEntireCostmapResponse,
     ComputePathToPose,
     DockRobot,
+    DriveOnHeading,
     FollowPath,
     FollowWaypoints,
     LoadMap,
     NavigateThroughPoses,
     NavigateToPose,
+    Spin,
     UndockRobot,
 )
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path
@@ -36,6 +39,7 @@ from zenros.tf.listener import STATIC_LISTENER_QOS
 from .action_base import Ledger
 from .actions import NavActions
 from .autocharge import AutoCharge
+from .behavior_actions import BehaviorActions
 from .connections import Connections
 from .convert import (
     path_to_msg,
@@ -99,6 +103,7 @@ class NavNode(Node):
         self.ledger = Ledger()
         self.actions = NavActions(self.core, self.now, self.logger, self.ledger)
         self.routines = RoutineActions(self.core, self.now, self.logger, self.ledger)
+        self.behaviors = BehaviorActions(self.core, self.now, self.logger, self.ledger)
 
         self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "robot_pose")
@@ -159,7 +164,7 @@ class NavNode(Node):
             self.create_service(srv, name, handler)
 
     def _serve_actions(self) -> None:
-        a, r = self.actions, self.routines
+        a, r, b = self.actions, self.routines, self.behaviors
         for act, name, execute, goal_cb in (
             (NavigateToPose, "navigate_to_pose", a.execute_navigate_to_pose,
              a.goal_navigate_to_pose),
@@ -172,6 +177,12 @@ class NavNode(Node):
             (navmsgs.Patrol, "patrol", r.execute_patrol, r.goal_patrol),
             (FollowWaypoints, "follow_waypoints", r.execute_follow_waypoints,
              r.goal_follow_waypoints),
+            (Spin, "spin", b.execute_spin, b.goal_spin),
+            (BackUp, "backup", b.execute_backup, b.goal_backup),
+            (DriveOnHeading, "drive_on_heading", b.execute_drive_on_heading,
+             b.goal_drive_on_heading),
+            (navmsgs.LocalMoveTarget, "local_move_target", b.execute_local_move_target,
+             b.goal_local_move_target),
         ):
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
             self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
