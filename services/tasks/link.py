@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from collections.abc import Callable
@@ -13,7 +14,13 @@ from typing import Any, Final
 
 from zenros.action import ActionClient, GoalStatus
 from zenros.errors import ActionServerUnavailableError, ZenrosError
-from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
+from zenros.msgs.geometry_msgs import (
+    Point,
+    Pose,
+    PoseStamped,
+    PoseWithCovarianceStamped,
+    Quaternion,
+)
 from zenros.msgs.nav2_msgs import DockRobot, DockRobotGoal, NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.std_msgs import Header, String
@@ -24,6 +31,8 @@ from zenros.msgs.zenros_msgs.nav import (
     GetNavPointsRequest,
     ListPaths,
     ListPathsRequest,
+    ListPointConnections,
+    ListPointConnectionsRequest,
     SwitchMap,
     SwitchMapRequest,
 )
@@ -31,12 +40,14 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
+from .maproute import Link, PointEnd
 from .robot import Feedback, Outcome
 
 __all__ = ["RobotLink"]
 
 POLL: Final = 0.02
 SERVER_WAIT: Final = 5.0
+RELOCALISED: Final = (0.05, 0.05)  # m, rad: robot_pose this close to an initial pose
 
 
 class RobotLink:
@@ -49,8 +60,12 @@ class RobotLink:
         self.dock = ActionClient(node, DockRobot, "dock_robot")
         self.nav_points = node.create_client(GetNavPoints, "get_nav_points")
         self.paths = node.create_client(ListPaths, "list_paths")
-        self.current_map = node.create_client(GetCurrentMap, "map_server/current_map")
+        self.current_map_srv = node.create_client(GetCurrentMap, "map_server/current_map")
         self.switch = node.create_client(SwitchMap, "switch_map")
+        self.connections = node.create_client(ListPointConnections, "list_point_connections")
+        self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
+        self._pose: tuple[float, float, float] | None = None
+        node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self._on_pose)
         self.tts = node.create_publisher(String, "tts", QOS_LATCHED)
         self.battery: float | None = None
         self.charging = False
@@ -61,8 +76,52 @@ class RobotLink:
         self.charging = msg.power_supply_status in (BatteryState.POWER_SUPPLY_STATUS_CHARGING,
                                                     BatteryState.POWER_SUPPLY_STATUS_FULL)
 
+    def _on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        p = msg.pose.pose
+        q = p.orientation
+        self._pose = (p.position.x, p.position.y, yaw_from_quaternion((q.x, q.y, q.z, q.w)))
+
     def now(self) -> float:
         return self.node.now().to_sec()
+
+    def pose(self) -> tuple[float, float, float] | None:
+        return self._pose
+
+    def current_map(self) -> str:
+        try:
+            return str(self.current_map_srv.call(GetCurrentMapRequest(),
+                                                 timeout=SERVER_WAIT).name)
+        except ZenrosError as exc:
+            raise LookupError(f"cannot read the current map: {exc}") from exc
+
+    def point_connections(self) -> list[Link]:
+        try:
+            res = self.connections.call(ListPointConnectionsRequest(), timeout=SERVER_WAIT)
+        except ZenrosError as exc:
+            raise LookupError(f"cannot read the point connections: {exc}") from exc
+        known = {(p.map_name, p.path_name, p.index) for p in res.points}
+        out = []
+        for c in res.connections:
+            if len(c.points) != 2:
+                continue
+            a, b = (PointEnd(p.map_name, p.path_name, p.index) for p in c.points)
+            out.append(Link(c.id, c.type, c.is_available and a in known and b in known, a, b))
+        return out
+
+    def relocalise(self, x: float, y: float, theta: float) -> Outcome:
+        msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))
+        msg.pose.pose = _pose(x, y, theta).pose
+        self.initialpose.publish(msg)
+        end = time.monotonic() + SERVER_WAIT
+        while time.monotonic() < end:
+            p = self._pose
+            if p is not None and math.hypot(p[0] - x, p[1] - y) <= RELOCALISED[0] \
+                    and abs(math.remainder(p[2] - theta, math.tau)) <= RELOCALISED[1]:
+                return Outcome("complete", f"relocalised at ({x:.2f}, {y:.2f}, {theta:.2f})")
+            threading.Event().wait(POLL)
+            self.initialpose.publish(msg)  # until nav has it (a new link may drop the first)
+        return Outcome("error", f"nav did not take the initial pose ({x:.2f}, {y:.2f}, "
+                                f"{theta:.2f}) within {SERVER_WAIT:g} s")
 
     def nav_point(self, index: int, map_name: str, path_name: str) -> tuple[float, float, float]:
         try:
@@ -81,7 +140,8 @@ class RobotLink:
 
     def _only_path(self, map_name: str) -> tuple[str, str]:
         if not map_name:
-            map_name = self.current_map.call(GetCurrentMapRequest(), timeout=SERVER_WAIT).name
+            map_name = self.current_map_srv.call(GetCurrentMapRequest(),
+                                                 timeout=SERVER_WAIT).name
         refs = self.paths.call(ListPathsRequest(map_name=map_name), timeout=SERVER_WAIT).paths
         if len(refs) != 1:
             names = ", ".join(r.path_name for r in refs) or "none"
@@ -183,12 +243,22 @@ class RobotLink:
         return True
 
     def switch_map(self, name: str, path: str, start_index: int) -> Outcome:
+        start = None
+        if start_index >= 0:
+            try:
+                start = self.nav_point(start_index, name, path)
+            except LookupError as exc:
+                return Outcome("error", f"switch to map {name!r}: {exc}")
         try:
             res = self.switch.call(SwitchMapRequest(map_name=name), timeout=SERVER_WAIT)
         except ZenrosError as exc:
             return Outcome("error", f"switch to map {name!r}: {exc}")
         if not res.success:
             return Outcome("error", f"switch to map {name!r}: {res.message}")
+        if start is not None:
+            out = self.relocalise(*start)
+            if out.name != "complete":
+                return out
         return Outcome("complete", f"map {name}")
 
     def say(self, text: str) -> None:

@@ -1,4 +1,4 @@
-"""`Robot`: what task actions need from the rest of the robot (nav, dock, maps, speech).
+"""`Robot`: what task actions need from the rest of the robot (nav, dock, maps, IO, speech).
 
 The tasks node implements it over zenros (actions and services of nav and chassis); unit
 tests pass a double. Long calls take ``cancelled``, polled while they wait, and return an
@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from typing import Literal, NamedTuple, Protocol
+
+from .maproute import Link
 
 __all__ = ["Feedback", "Outcome", "Robot"]
 
@@ -52,6 +54,47 @@ class Robot(Protocol):
         ...
 
     def switch_map(self, name: str, path: str, start_index: int) -> Outcome:
+        """Make map ``name`` current; relocalise at nav point ``start_index`` (>= 0)."""
+        ...
+
+    def current_map(self) -> str:
+        """The map in use; LookupError when nav does not answer."""
+        ...
+
+    def point_connections(self) -> list[Link]:
+        """The point connections (§6.7); one whose point no longer exists is unavailable.
+        LookupError when nav does not answer."""
+        ...
+
+    def pose(self) -> tuple[float, float, float] | None:
+        """The robot's latest pose on the current map, if known."""
+        ...
+
+    def relocalise(self, x: float, y: float, theta: float) -> Outcome:
+        """Tell localisation the robot is at (x, y, theta) now; complete once it agrees."""
+        ...
+
+    def drive(self, distance: float, speed: float, timeout: float,
+              progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:
+        """Drive straight ``distance`` m (+ forward) at ``speed`` m/s without the planner;
+        ``progress`` gets the metres travelled; ``timeout`` 0 means none."""
+        ...
+
+    def spin(self, angle: float, timeout: float, progress: Callable[[float], None],
+             cancelled: Callable[[], bool]) -> Outcome:
+        """Turn in place by ``angle`` rad (+ counter-clockwise); ``progress`` gets the
+        radians turned."""
+        ...
+
+    def local_move_target(self, x: float, y: float, theta: float, frame_id: str,
+                          xy_tolerance: float, yaw_tolerance: float, timeout: float,
+                          start_rotate: bool, target_rotate: bool,
+                          cancelled: Callable[[], bool]) -> Outcome:
+        """A precise short move to (x, y, theta) in ``frame_id`` (map or base_link)."""
+        ...
+
+    def set_io(self, port: int, level: int) -> Outcome:
+        """Set main-board output ``port`` (1..3) to ``level`` (0/1)."""
         ...
 
     def say(self, text: str) -> None:

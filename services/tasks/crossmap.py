@@ -1,0 +1,97 @@
+"""Cross-map navigation: a ``nav_action`` whose ``map`` is not the current map (§6.4, §6.7).
+
+The route comes from `maproute.find_route` over the point connections. For each hop the
+robot drives to the connection's point on the current map, nav switches to the next map,
+and the robot is relocalised at the connected point (keeping how far it stopped from the
+point on the old map), then it carries on; the last leg goes to the goal itself. Elevator
+connections cannot be ridden (the simulated robot has no elevator): a route that needs one
+ends in ERROR naming the connection before the robot moves. ``timeout`` bounds the whole
+trip.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from .maproute import Hop, NoRoute, find_route
+from .robot import Outcome, Robot
+
+__all__ = ["navigate_across", "carry_over"]
+
+Pose = tuple[float, float, float]
+Leg = Callable[[dict[str, Any]], Outcome]
+
+
+def carry_over(leave: Pose, enter: Pose, robot: Pose | None) -> Pose:
+    """Where the robot is on the new map: ``enter`` composed with the robot's offset from
+    ``leave`` on the old map (``enter`` itself when the robot's pose is not known)."""
+    if robot is None:
+        return enter
+    dx, dy = robot[0] - leave[0], robot[1] - leave[1]
+    c, s = math.cos(leave[2]), math.sin(leave[2])
+    lx, ly = c * dx + s * dy, -s * dx + c * dy  # the offset in leave's frame
+    c2, s2 = math.cos(enter[2]), math.sin(enter[2])
+    theta = enter[2] + (robot[2] - leave[2])
+    theta = math.atan2(math.sin(theta), math.cos(theta))
+    return enter[0] + c2 * lx - s2 * ly, enter[1] + s2 * lx + c2 * ly, theta
+
+
+def navigate_across(robot: Robot, params: dict[str, Any], current: str, leg: Leg,
+                    note: Callable[[str], None]) -> Outcome:
+    """Take ``params`` (a nav_action on map ``params['map']``) from map ``current``.
+
+    ``leg(params)`` navigates within the current map (the same-map nav_action); ``note``
+    records progress text (which map, which connection) on the action.
+    """
+    target = str(params["map"])
+    try:
+        route = find_route(robot.point_connections(), current, target)
+    except (NoRoute, LookupError) as exc:
+        return Outcome("error", str(exc))
+    for hop in route:
+        if hop.type != "direct":
+            return Outcome("error", f"the route from map {current!r} to map {target!r} "
+                                    f"needs the {hop.describe()}: the simulated robot has "
+                                    "no elevator to ride")
+    try:
+        if "index" in params:  # the goal point must exist before the robot sets off
+            robot.nav_point(int(params["index"]), target, str(params.get("path", "")))
+        ends = [(robot.nav_point(h.leave.index, h.leave.map, h.leave.path),
+                 robot.nav_point(h.enter.index, h.enter.map, h.enter.path)) for h in route]
+    except LookupError as exc:
+        return Outcome("error", f"route to map {target!r}: {exc}")
+    timeout = float(params.get("timeout", 0.0))
+    end = robot.now() + timeout if timeout > 0 else None
+
+    def left() -> float | None:
+        return None if end is None else end - robot.now()
+
+    for hop, (leave, enter) in zip(route, ends, strict=True):
+        out = _leg(leg, {"x": leave[0], "y": leave[1], "theta": leave[2]}, left(), timeout)
+        if out.name != "complete":
+            return Outcome(out.name, f"on the way to {hop.describe()}: {out.reason}")
+        out = _cross(robot, hop, leave, enter)
+        if out.name != "complete":
+            return out
+        note(f"on map {hop.enter.map} via {hop.describe()}")
+    return _leg(leg, params, left(), timeout)
+
+
+def _leg(leg: Leg, params: dict[str, Any], remaining: float | None,
+         timeout: float) -> Outcome:
+    if remaining is not None and remaining <= 0:
+        return Outcome("error", f"not done within {timeout:g} s")
+    return leg({**params, "timeout": 0.0 if remaining is None else remaining})
+
+
+def _cross(robot: Robot, hop: Hop, leave: Pose, enter: Pose) -> Outcome:
+    here = robot.pose()
+    out = robot.switch_map(hop.enter.map, hop.enter.path, -1)
+    if out.name != "complete":
+        return Outcome("error", f"at {hop.describe()}: {out.reason}")
+    out = robot.relocalise(*carry_over(leave, enter, here))
+    if out.name != "complete":
+        return Outcome("error", f"at {hop.describe()}: {out.reason}")
+    return Outcome("complete")

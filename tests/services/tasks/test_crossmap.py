@@ -1,0 +1,104 @@
+"""navigate_across: legs, map switches and relocalisation along a route, on a Robot double."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pytest
+from zenros.services.tasks.crossmap import carry_over, navigate_across
+from zenros.services.tasks.maproute import Link, PointEnd
+from zenros.services.tasks.robot import Outcome
+
+POINTS = {("a", "p", 0): (1.0, 0.0, 0.0), ("b", "p", 0): (5.0, 5.0, math.pi / 2),
+          ("b", "p", 1): (6.0, 5.0, 0.0), ("c", "p", 0): (0.0, 0.0, 0.0),
+          ("c", "p", 2): (2.0, 1.0, 0.5)}
+
+
+class MapRobot:
+    """Maps a..c, every call recorded in ``log``."""
+
+    def __init__(self, links: list[Link]) -> None:
+        self.links = links
+        self.map = "a"
+        self.log: list[Any] = []
+        self.here: tuple[float, float, float] | None = None
+
+    def now(self) -> float:
+        return 0.0
+
+    def nav_point(self, index: int, map_name: str, path_name: str) -> tuple[float, ...]:
+        try:
+            return POINTS[(map_name, path_name, index)]
+        except KeyError:
+            raise LookupError(f"no nav point {index} on {map_name}/{path_name}") from None
+
+    def point_connections(self) -> list[Link]:
+        return self.links
+
+    def pose(self) -> tuple[float, float, float] | None:
+        return self.here
+
+    def switch_map(self, name: str, path: str, start_index: int) -> Outcome:
+        self.log.append(("switch", name))
+        self.map = name
+        return Outcome("complete")
+
+    def relocalise(self, x: float, y: float, theta: float) -> Outcome:
+        self.log.append(("relocalise", round(x, 3), round(y, 3), round(theta, 3)))
+        return Outcome("complete")
+
+
+def leg_of(robot: MapRobot) -> Any:
+    def leg(p: dict[str, Any]) -> Outcome:
+        robot.log.append(("nav", robot.map, p.get("index", (p.get("x"), p.get("y")))))
+        if "x" in p:  # it stops 0.1 m past the point, along the point's heading
+            th = p["theta"]
+            robot.here = (p["x"] + 0.1 * math.cos(th), p["y"] + 0.1 * math.sin(th), th)
+        return Outcome("complete", "arrived")
+    return leg
+
+
+def link(ident: str, a: tuple[str, int], b: tuple[str, int], kind: str = "direct") -> Link:
+    return Link(ident, kind, True, PointEnd(a[0], "p", a[1]), PointEnd(b[0], "p", b[1]))
+
+
+def test_two_hops_then_the_goal() -> None:
+    robot = MapRobot([link("1", ("a", 0), ("b", 0)), link("2", ("b", 1), ("c", 0))])
+    notes: list[str] = []
+    out = navigate_across(robot, {"map": "c", "path": "p", "index": 2}, "a",  # type: ignore[arg-type]
+                          leg_of(robot), notes.append)
+    assert out == Outcome("complete", "arrived")
+    assert robot.log == [
+        ("nav", "a", (1.0, 0.0)), ("switch", "b"), ("relocalise", 5.0, 5.1, 1.571),
+        ("nav", "b", (6.0, 5.0)), ("switch", "c"), ("relocalise", 0.1, 0.0, 0.0),
+        ("nav", "c", 2)]
+    assert notes[-1].startswith("on map c via direct connection 2")
+
+
+def test_an_elevator_or_no_route_fails_before_moving() -> None:
+    robot = MapRobot([link("lift", ("a", 0), ("b", 0), "elevator")])
+    out = navigate_across(robot, {"map": "b", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+                          leg_of(robot), print)
+    assert out.name == "error" and "elevator connection lift" in out.reason
+    assert "no elevator" in out.reason and robot.log == []
+    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+                          leg_of(robot), print)
+    assert out.name == "error" and "no route from map 'a' to map 'c'" in out.reason
+
+
+def test_a_missing_goal_point_fails_before_moving() -> None:
+    robot = MapRobot([link("1", ("a", 0), ("b", 0))])
+    out = navigate_across(robot, {"map": "b", "path": "p", "index": 9}, "a",  # type: ignore[arg-type]
+                          leg_of(robot), print)
+    assert out.name == "error" and "no nav point 9" in out.reason and robot.log == []
+
+
+@pytest.mark.parametrize(("robot", "expected"), [
+    (None, (5.0, 5.0, math.pi / 2)),
+    ((1.0, 0.0, 0.0), (5.0, 5.0, math.pi / 2)),
+    ((1.2, 0.1, 0.1), (4.9, 5.2, math.pi / 2 + 0.1)),
+])
+def test_carry_over_keeps_the_offset(robot: Any, expected: tuple[float, ...]) -> None:
+    got = carry_over((1.0, 0.0, 0.0), (5.0, 5.0, math.pi / 2), robot)
+    assert got == pytest.approx(expected)
