@@ -7,7 +7,7 @@ mistyped field, or a field the type does not have is refused with the field's na
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, Final
+from typing import Annotated, Any, Final, Literal
 
 import msgspec
 from msgspec import Meta
@@ -69,6 +69,40 @@ class SwitchMapAction(_Params):
     start_index: Annotated[int, Meta(ge=-1)] = -1
 
 
+class LocalMoveAction(_Params):
+    """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) without the planner.
+
+    ``method`` (illegible in the spec; our reading): 0 moves then turns, 1 turns then moves.
+    """
+
+    distance: Annotated[float, Meta(ge=-20, le=20)] = 0.0
+    angle: Annotated[float, Meta(ge=-20, le=20)] = 0.0
+    method: Literal[0, 1] = 0
+    speed: Annotated[float, Meta(gt=0, le=2)] = 0.3
+    timeout: Seconds = 0.0  # 0: no limit
+
+
+class LocalMoveTargetAction(_Params):
+    """A precise short move to (x, y, theta) in ``map`` or relative to ``base_link``."""
+
+    x: Annotated[float, Meta(ge=-1e5, le=1e5)]
+    y: Annotated[float, Meta(ge=-1e5, le=1e5)]
+    theta: float = 0.0
+    frame_id: Literal["map", "base_link"] = "map"
+    xy_tolerance: Annotated[float, Meta(gt=0, le=10)] = 0.05
+    yaw_tolerance: Annotated[float, Meta(gt=0, le=3.15)] = 0.05
+    timeout: Seconds = 0.0  # 0: no limit
+    start_rotate_enable: bool = True
+    target_rotate_enable: bool = True
+
+
+class IoAction(_Params):
+    """Set main-board output ``port`` ("1".."3") to ``level`` ("0" low, "1" high)."""
+
+    level: Literal["0", "1"]
+    port: Literal["1", "2", "3"]
+
+
 ACTION_TYPES: Final[dict[str, type[_Params]]] = {
     "nav_action": NavAction,
     "sleep_action": SleepAction,
@@ -77,6 +111,9 @@ ACTION_TYPES: Final[dict[str, type[_Params]]] = {
     "wait_req_action": WaitReqAction,
     "tts_action": TtsAction,
     "switch_map_action": SwitchMapAction,
+    "local_move_action": LocalMoveAction,
+    "local_move_target_action": LocalMoveTargetAction,
+    "io_action": IoAction,
 }
 
 # fields every action document carries besides its parameters

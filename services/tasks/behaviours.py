@@ -13,6 +13,7 @@ import urllib.request
 from collections.abc import Callable
 from typing import Any, Final
 
+from .crossmap import navigate_across
 from .robot import Feedback, Outcome, Robot
 
 __all__ = ["BEHAVIOURS", "Context"]
@@ -54,6 +55,21 @@ class Context:
 
 
 def _nav(ctx: Context, p: dict[str, Any]) -> Outcome:
+    """Navigate on the current map, or across maps when ``map`` is another one."""
+    if p.get("map"):
+        try:
+            current = ctx.robot.current_map()
+        except LookupError as exc:
+            return Outcome("error", str(exc))
+        if p["map"] != current:
+            def note(text: str) -> None:
+                ctx.item["result"] = text
+                ctx.changed()
+            return navigate_across(ctx.robot, p, current, lambda q: _nav_here(ctx, q), note)
+    return _nav_here(ctx, p)
+
+
+def _nav_here(ctx: Context, p: dict[str, Any]) -> Outcome:
     if "index" in p:
         try:
             x, y, theta = ctx.robot.nav_point(int(p["index"]), str(p.get("map", "")),
@@ -141,6 +157,57 @@ def _switch_map(ctx: Context, p: dict[str, Any]) -> Outcome:
                                 int(p.get("start_index", -1)))
 
 
+def _local_move(ctx: Context, p: dict[str, Any]) -> Outcome:
+    """Legs ``drive`` and ``spin`` (``method`` 0: drive first, 1: spin first); each leg is
+    half the progress. A resumed move drives only what its progress says is left."""
+    distance, angle = float(p.get("distance", 0.0)), float(p.get("angle", 0.0))
+    legs = [(kind, amount) for kind, amount in (("drive", distance), ("spin", angle))
+            if abs(amount) > 1e-6]
+    if int(p.get("method", 0)) == 1:
+        legs.reverse()
+    if not legs:
+        return Outcome("complete", "nothing to do (distance and angle are 0)")
+    timeout = float(p.get("timeout", 0.0))
+    deadline = ctx.robot.now() + timeout if timeout > 0 else None
+    n, before = len(legs), float(ctx.item.get("progress", 0.0))
+    for i, (kind, amount) in enumerate(legs):
+        done = max(0.0, min(1.0, (before - i / n) * n))
+        if done >= 0.999:
+            continue
+        left = amount * (1.0 - done)
+        budget = 0.0
+        if deadline is not None:
+            budget = deadline - ctx.robot.now()
+            if budget <= 0:
+                return Outcome("error", f"local move not done within {timeout:g} s")
+
+        def moved(value: float, i: int = i, done: float = done, left: float = left) -> None:
+            frac = done + (1.0 - done) * min(1.0, abs(value) / abs(left))
+            ctx.progress((i + frac) / n)
+
+        if kind == "drive":
+            out = ctx.robot.drive(left, float(p.get("speed", 0.3)), budget, moved,
+                                  ctx.cancelled)
+        else:
+            out = ctx.robot.spin(left, budget, moved, ctx.cancelled)
+        if out.name != "complete":
+            return out
+        ctx.progress((i + 1) / n)
+    return Outcome("complete", f"moved {distance:g} m and turned {angle:g} rad")
+
+
+def _local_move_target(ctx: Context, p: dict[str, Any]) -> Outcome:
+    return ctx.robot.local_move_target(
+        float(p["x"]), float(p["y"]), float(p.get("theta", 0.0)), str(p.get("frame_id", "map")),
+        float(p.get("xy_tolerance", 0.05)), float(p.get("yaw_tolerance", 0.05)),
+        float(p.get("timeout", 0.0)), bool(p.get("start_rotate_enable", True)),
+        bool(p.get("target_rotate_enable", True)), ctx.cancelled)
+
+
+def _io(ctx: Context, p: dict[str, Any]) -> Outcome:
+    return ctx.robot.set_io(int(p["port"]), int(p["level"]))
+
+
 BEHAVIOURS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
     "nav_action": _nav,
     "sleep_action": _sleep,
@@ -149,4 +216,7 @@ BEHAVIOURS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
     "wait_req_action": _wait_req,
     "tts_action": _tts,
     "switch_map_action": _switch_map,
+    "local_move_action": _local_move,
+    "local_move_target_action": _local_move_target,
+    "io_action": _io,
 }

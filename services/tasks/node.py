@@ -14,7 +14,7 @@ from zenros.qos import QOS_LATCHED
 from zenros.smach import Container, IntrospectionServer
 
 from .api import CALLS, call
-from .link import RobotLink
+from .local_link import LocalLink
 from .manager import TaskManager
 from .store import TaskStore
 
@@ -50,7 +50,7 @@ class TasksNode(Node):
         self.smach_server: IntrospectionServer | None = None
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
         self.store = TaskStore(directory / DB_NAME)
-        self.link = RobotLink(self, self.declare_parameter("reconnect_timeout", 30.0))
+        self.link = LocalLink(self, self.declare_parameter("reconnect_timeout", 30.0))
         self.manager = TaskManager(self.store, self.link, self.publish_status,
                                    self.introspect if self.introspection else None,
                                    resume_on_start=resume)

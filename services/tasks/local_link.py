@@ -1,0 +1,75 @@
+"""`LocalLink`: the tasks service's `RobotLink` plus local moves and IO outputs.
+
+Local moves go to nav's ``drive_on_heading`` and ``spin`` (nav2_msgs) and
+``local_move_target`` (zenros_msgs/LocalMoveTarget) actions; outputs to the chassis's
+``chassis/set_io`` service. Each call is bounded in time and cancellable, as RobotLink's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from zenros.action import ActionClient
+from zenros.errors import ZenrosError
+from zenros.msgs.builtin_interfaces import Duration
+from zenros.msgs.geometry_msgs import Point
+from zenros.msgs.nav2_msgs import DriveOnHeading, DriveOnHeadingGoal, Spin, SpinGoal
+from zenros.msgs.zenros_msgs.chassis import SetIo, SetIoRequest
+from zenros.msgs.zenros_msgs.nav import LocalMoveTarget, LocalMoveTargetGoal
+from zenros.node import Node
+from zenros.tf.quaternion import quaternion_from_yaw
+
+from .link import SERVER_WAIT, RobotLink
+from .robot import Outcome
+
+__all__ = ["LocalLink"]
+
+
+class LocalLink(RobotLink):
+    """Implements `Robot` for a tasks node, local moves and IO included."""
+
+    def __init__(self, node: Node, reconnect: float = 30.0) -> None:
+        super().__init__(node, reconnect)
+        self.drive_client = ActionClient(node, DriveOnHeading, "drive_on_heading")
+        self.spin_client = ActionClient(node, Spin, "spin")
+        self.target_client = ActionClient(node, LocalMoveTarget, "local_move_target")
+        self.io = node.create_client(SetIo, "chassis/set_io")
+
+    def drive(self, distance: float, speed: float, timeout: float,
+              progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:
+        goal = DriveOnHeadingGoal(target=Point(x=distance),
+                                  speed=abs(speed) if distance >= 0 else -abs(speed))
+        return self._run(self.drive_client, goal,
+                         lambda m: progress(m.feedback.distance_traveled), timeout, cancelled,
+                         f"drive {distance:.2f} m")
+
+    def spin(self, angle: float, timeout: float, progress: Callable[[float], None],
+             cancelled: Callable[[], bool]) -> Outcome:
+        return self._run(self.spin_client, SpinGoal(target_yaw=angle),
+                         lambda m: progress(m.feedback.angular_distance_traveled), timeout,
+                         cancelled, f"spin {angle:.2f} rad")
+
+    def local_move_target(self, x: float, y: float, theta: float, frame_id: str,
+                          xy_tolerance: float, yaw_tolerance: float, timeout: float,
+                          start_rotate: bool, target_rotate: bool,
+                          cancelled: Callable[[], bool]) -> Outcome:
+        goal = LocalMoveTargetGoal(xy_tolerance=xy_tolerance, yaw_tolerance=yaw_tolerance,
+                                   time_allowance=Duration.from_seconds(timeout),
+                                   start_rotate_enable=start_rotate,
+                                   target_rotate_enable=target_rotate)
+        goal.pose.header.frame_id = frame_id
+        goal.pose.pose.position.x, goal.pose.pose.position.y = x, y
+        q = goal.pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(theta)
+        return self._run(self.target_client, goal, None, 0.0, cancelled,
+                         f"local move to ({x:.2f}, {y:.2f}, {theta:.2f}) in {frame_id}")
+
+    def set_io(self, port: int, level: int) -> Outcome:
+        try:
+            res = self.io.call(SetIoRequest(board="main", port=port, level=level),
+                               timeout=SERVER_WAIT)
+        except ZenrosError as exc:
+            return Outcome("error", f"set IO out{port}: {exc}")
+        if not res.success:
+            return Outcome("error", f"set IO out{port}: {res.message}")
+        return Outcome("complete", f"out{port} = {level}")
