@@ -8,11 +8,13 @@ from typing import Annotated, Any, Literal
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from .api import Api, Call
+from zenros.services.tasks.maproute import Link, NoRoute, PointEnd, find_route
+
+from .api import Api, ApiError, Call
 from .nav_calls import Name
 from .nav_link import NavLink
 
-__all__ = ["add_connection_routes"]
+__all__ = ["add_connection_routes", "check_route"]
 
 Index = Annotated[int, msgspec.Meta(ge=0, le=10000)]
 
@@ -37,6 +39,27 @@ class ConnectionBody(msgspec.Struct, forbid_unknown_fields=True):
 
 class IdQuery(msgspec.Struct, forbid_unknown_fields=True):
     id: Annotated[str, msgspec.Meta(min_length=1, max_length=64)]
+
+
+async def check_route(link: NavLink, current: str, target: str) -> None:
+    """Refuse (409) a goal on map ``target`` that no route of direct connections reaches
+    from map ``current``, before a task is made (the task checks again when it runs)."""
+    res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
+    known = {(p.map_name, p.path_name, p.index) for p in res.points}
+    links = []
+    for c in res.connections:
+        if len(c.points) == 2:
+            a, b = (PointEnd(p.map_name, p.path_name, p.index) for p in c.points)
+            links.append(Link(c.id, c.type, c.is_available and a in known and b in known,
+                              a, b))
+    try:
+        route = find_route(links, current, target)
+    except NoRoute as exc:
+        raise ApiError(409, f"{exc}: POST /navigation/point_connections links maps") from exc
+    for hop in route:
+        if hop.type != "direct":
+            raise ApiError(409, f"the route from map {current!r} to map {target!r} needs the "
+                                f"{hop.describe()}: the simulated robot has no elevator")
 
 
 def add_connection_routes(api: Api, link: NavLink) -> None:

@@ -15,6 +15,7 @@ from zenros.msgs import zenros_msgs as zm
 from .api import Api, ApiError, Call
 from .core import NavUnavailable
 from .nav_calls import Angle, Coord, NavCalls, OptName
+from .rest_connections import check_route
 
 __all__ = ["add_goal_routes"]
 
@@ -45,22 +46,52 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
     current_map, same_map = calls.current_map, calls.same_map
     loop_ids: list[str] = []
 
+    async def only_path(map_name: str) -> str:
+        res = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
+        if len(res.paths) != 1:
+            names = ", ".join(p.path_name for p in res.paths) or "none"
+            raise ApiError(400, f"give the path: map {map_name!r} has {len(res.paths)} "
+                                f"paths ({names})")
+        return str(res.paths[0].path_name)
+
     async def start_nav_task(call: Call) -> Any:
-        """Go to ``x``, ``y``, ``theta``; returns the started navigation task."""
+        """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
+        connections); returns the started navigation task."""
         b: NavTaskBody = call.body
-        same_map(b.map, b.path, await current_map())
-        task = await run_task("navigation task", [
-            {"type": "nav_action", "x": b.x, "y": b.y, "theta": b.theta}])
+        action: dict[str, Any] = {"type": "nav_action", "x": b.x, "y": b.y,
+                                  "theta": b.theta}
+        current = await current_map()
+        if b.map and b.map != current:  # across maps (§6.7): the task finds the route
+            await check_route(link, current, b.map)
+            action["map"] = b.map
+            nav.path_name = b.path
+        else:
+            same_map(b.map, b.path, current)
+        task = await run_task("navigation task", [action])
         core.state.goal.num_id = -2
         return task
 
     async def move_to_index(call: Call) -> Any:
-        """Go to nav point ``index`` of the current path; returns the started task."""
+        """Go to nav point ``index`` of the current path, or of ``path`` on another
+        ``map`` (across maps through the point connections); returns the started task."""
         q: IndexQuery = call.query
-        same_map(q.map, q.path, await current_map())
-        x, y, th = await point(q.index)
-        task = await run_task("navigation task", [
-            {"type": "nav_action", "x": x, "y": y, "theta": th}])
+        current = await current_map()
+        if q.map and q.map != current:  # across maps (§6.7): the task finds the route
+            res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+                map_name=q.map, path_name=q.path or await only_path(q.map)))
+            if not 0 <= q.index < len(res.points):
+                n = len(res.points)
+                raise ApiError(404, f"nav point {q.index} does not exist: path "
+                                    f"{res.path_name!r} of map {q.map!r} has {n}")
+            await check_route(link, current, q.map)
+            action: dict[str, Any] = {"type": "nav_action", "index": q.index,
+                                      "map": q.map, "path": res.path_name}
+            nav.path_name = res.path_name
+        else:
+            same_map(q.map, q.path, current)
+            x, y, th = await point(q.index)
+            action = {"type": "nav_action", "x": x, "y": y, "theta": th}
+        task = await run_task("navigation task", [action])
         core.state.goal.num_id = q.index
         return task
 
