@@ -23,7 +23,7 @@ Name = Annotated[str, msgspec.Meta(pattern=r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$
 OptName = Annotated[str, msgspec.Meta(pattern=r"^([A-Za-z0-9_][A-Za-z0-9_.\-]{0,63})?$")]
 Coord = Annotated[float, msgspec.Meta(ge=-1e5, le=1e5)]
 Angle = Annotated[float, msgspec.Meta(ge=-100.0, le=100.0)]
-OWN_TASKS = frozenset({"navigation task", "loop task", "charge task"})
+OWN_TASKS = frozenset({"navigation task", "loop task", "charge task", "local move task"})
 _ENC = msgspec.json.Encoder()
 
 

@@ -27,6 +27,8 @@ from .navigator import Navigator
 from .rest_connections import add_connection_routes
 from .rest_extras import add_extra_routes
 from .rest_goals import add_goal_routes
+from .rest_io import IoLink, add_io_routes
+from .rest_local_moves import add_local_move_routes
 from .rest_nav import add_nav_routes
 from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
@@ -108,6 +110,8 @@ class GatewayNode(Node):
             lambda api: add_task_routes(api, self.tasks),
             lambda api: add_nav_routes(api, nav_calls),
             lambda api: add_goal_routes(api, nav_calls),
+            lambda api: add_local_move_routes(api, nav_calls),
+            lambda api: add_io_routes(api, IoLink(self)),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_connection_routes(api, self.nav_link),
             lambda api: add_extra_routes(api, self.link, self.hub,
