@@ -1,0 +1,237 @@
+"""The gateway's §6.10 local moves and §3.8 IO against the simulated robot (chassis at 10x,
+nav, tasks): the robot's ground truth moves as asked, IO set through REST reads back, an
+io_action in a task sets the chassis's output, bad parameters are §1.2 4xx bodies."""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from zenros.msgs.geometry_msgs import Pose2D
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.zenros_msgs import (
+    Obstacle,
+    SetObstacles,
+    SetObstaclesRequest,
+    Teleport,
+    TeleportRequest,
+)
+from zenros.node import Node
+from zenros.services.chassis.node import ChassisNode
+from zenros.services.gateway.node import GatewayNode
+from zenros.services.gateway.testing import running_gateway
+from zenros.services.nav.node import NavNode
+from zenros.services.tasks.node import TasksNode
+from zenros.testing import linked_contexts, wait_for
+from zenros.tf.quaternion import yaw_from_quaternion
+
+POINTS = "2 0 0 0 0.1 0.1 0 first\n1.5 0.5 0 1.57 0.1 0.1 0 second\n"
+DONE = ("COMPLETE", "ERROR", "CANCELLED")
+
+
+class Rig:
+    def __init__(self, gw: GatewayNode, nav: NavNode, chassis: ChassisNode, user: Node) -> None:
+        self.gw, self.nav, self.chassis = gw, nav, chassis
+        self.pose: tuple[float, float, float] | None = None
+        user.create_subscription(Odometry, "sim/ground_truth", self._on_truth)
+        self.teleport = user.create_client(Teleport, "sim/teleport")
+        self.obstacles = user.create_client(SetObstacles, "sim/set_obstacles")
+        self.http = httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
+                                 timeout=20)
+
+    def _on_truth(self, msg: Odometry) -> None:
+        p, q = msg.pose.pose.position, msg.pose.pose.orientation
+        self.pose = (p.x, p.y, yaw_from_quaternion((q.x, q.y, q.z, q.w)))
+
+    def reset(self) -> None:
+        self.http.get("/task/stop")
+        assert wait_for(lambda: self.nav.core.motion.active is None, 10)
+        self.obstacles.call(SetObstaclesRequest(op="clear"), timeout=10)
+        assert self.teleport.call(TeleportRequest(pose=Pose2D()), timeout=10).success
+        assert wait_for(lambda: self.pose is not None and math.hypot(*self.pose[:2]) < 0.02
+                        and abs(self.pose[2]) < 0.02, 10)
+
+    def finish(self, task: dict[str, Any], timeout: float = 40) -> dict[str, Any]:
+        box: list[dict[str, Any]] = []
+
+        def done() -> bool:
+            t = self.http.get("/task", params={"id": task["id"]}).json()
+            box[:] = [t]
+            return t["state"] in DONE
+
+        assert wait_for(done, timeout), box
+        return box[0]
+
+
+@pytest.fixture(scope="module")
+def module_rig() -> Iterator[Rig]:
+    tmp = Path(tempfile.mkdtemp())
+    with linked_contexts(4) as ctxs:
+        nodes: list[Node] = []
+        try:
+            chassis = ChassisNode("chassis", context=ctxs[0],
+                                  parameter_overrides={"speed": 10.0, "seed": 1})
+            nodes.append(chassis)
+            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
+                "use_sim_time": True, "maps_dir": str(tmp / "maps")})
+            nodes.append(nav)
+            nodes.append(TasksNode(context=ctxs[2], parameter_overrides={
+                "data_dir": str(tmp / "tasks"), "use_sim_time": True}))
+            user = Node("user", context=ctxs[3])
+            nodes.append(user)
+            with running_gateway(ctxs[2], tmp, no_token_check=True) as gw:
+                rig = Rig(gw, nav, chassis, user)
+                assert gw.graph.wait_for_service("/tasks/create", 10)
+                assert gw.graph.wait_for_service("/chassis/set_io", 10)
+                assert wait_for(lambda: nav.core.localizer.pose() is not None, 10)
+                r = rig.http.post("/navigation/nav_points", json={
+                    "map_name": nav.core.maps.current, "path_name": "p1",
+                    "path_data": POINTS})
+                assert r.status_code == 200, r.text
+                yield rig
+                rig.http.close()
+        finally:
+            for n in reversed(nodes):
+                n.close()
+
+
+@pytest.fixture
+def rig(module_rig: Rig) -> Rig:
+    module_rig.reset()
+    return module_rig
+
+
+def test_local_move_drives_and_turns(rig: Rig) -> None:
+    r = rig.http.get("/navigation/start_local_move", params={"distance": 0.5, "angle": 1.57})
+    assert r.status_code == 200, r.text
+    task = r.json()
+    assert task["state"] == "WORKING" and task["name"] == "local move task"
+    assert [a["type"] for a in task["sub_tasks"]] == ["local_move_action"]
+    done = rig.finish(task)
+    assert done["state"] == "COMPLETE", done
+    assert rig.pose is not None
+    x, y, th = rig.pose
+    assert abs(x - 0.5) < 0.03 and abs(y) < 0.03, rig.pose
+    assert abs(th - 1.57) < 0.06, rig.pose
+
+
+def test_method_1_turns_first(rig: Rig) -> None:
+    r = rig.http.get("/navigation/start_local_move",
+                     params={"distance": -0.3, "angle": 0.8, "method": 1})
+    assert r.status_code == 200, r.text
+    assert rig.finish(r.json())["state"] == "COMPLETE"
+    assert rig.pose is not None
+    x, y, th = rig.pose
+    assert math.hypot(x + 0.3 * math.cos(0.8), y + 0.3 * math.sin(0.8)) < 0.04, rig.pose
+    assert abs(th - 0.8) < 0.06
+
+
+def test_local_move_stops_before_an_obstacle(rig: Rig) -> None:
+    rig.obstacles.call(SetObstaclesRequest(obstacles=[
+        Obstacle(id="wall", shape="box", x=0.9, y=0.0, size_x=0.2, size_y=1.0)]), timeout=10)
+    r = rig.http.get("/navigation/start_local_move", params={"distance": 1.5})
+    done = rig.finish(r.json())
+    assert done["state"] == "ERROR"
+    result = done["sub_tasks"][0]["result"]
+    assert "collision ahead" in result and "723" in result, result
+    assert rig.pose is not None and rig.pose[0] < 0.7  # stopped short of touching it
+
+
+def test_stop_cancels_a_local_move(rig: Rig) -> None:
+    r = rig.http.get("/navigation/start_local_move", params={"angle": 12.0})
+    task = r.json()
+    assert wait_for(lambda: rig.nav.core.motion.active is not None, 10)
+    assert rig.http.get("/task/stop", params={"id": task["id"]}).status_code == 200
+    assert rig.finish(task)["state"] == "CANCELLED"
+    assert wait_for(lambda: rig.nav.core.motion.active is None, 5)
+
+
+def test_local_move_target_and_index(rig: Rig) -> None:
+    r = rig.http.get("/navigation/start_local_move_target", params={
+        "x": 0.6, "y": 0.3, "theta": -1.0, "frame_id": "base_link", "xy_tolerance": 0.03,
+        "yaw_tolerance": 0.05, "timeout": 60, "start_rotate_enable": "true",
+        "target_rotate_enable": "true"})
+    assert r.status_code == 200, r.text
+    assert r.json()["sub_tasks"][0]["type"] == "local_move_target_action"
+    assert rig.finish(r.json())["state"] == "COMPLETE"
+    assert rig.pose is not None
+    x, y, th = rig.pose
+    assert math.hypot(x - 0.6, y - 0.3) < 0.05 and abs(th + 1.0) < 0.08, rig.pose
+    r = rig.http.get("/navigation/start_local_move_index", params={"index": 1})
+    assert r.status_code == 200, r.text
+    assert rig.finish(r.json())["state"] == "COMPLETE"
+    x, y, th = rig.pose
+    assert math.hypot(x - 1.5, y - 0.5) < 0.08 and abs(th - 1.57) < 0.08, rig.pose
+
+
+def test_io_through_rest(rig: Rig) -> None:
+    http = rig.http
+    assert http.post("/system/io", json={"level": "1", "port": "2"}).json() == {"status": "ok"}
+    assert http.get("/system/io").json() == {"status": "ok", "out1": "0", "out2": "1",
+                                             "out3": "0"}
+    assert rig.chassis.io.snapshot()[0] == [0, 1, 0]
+    assert http.post("/system/io", json={"level": "0", "port": "2"}).status_code == 200
+    assert http.get("/system/io").json()["out2"] == "0"
+    r = http.put("/system/bw_io", json={"level": 1, "port": 7})
+    assert r.status_code == 200, r.text
+    bw = http.get("/system/bw_io").json()
+    assert bw["out"]["7"] == 1 and bw["out"]["0"] == 0 and len(bw["in"]) == 16
+    http.put("/system/bw_io", json={"level": 0, "port": 7})
+
+
+def test_io_action_in_a_task(rig: Rig) -> None:
+    http = rig.http
+    r = http.post("/task", json={"name": "io", "sub_tasks": [
+        {"type": "io_action", "level": "1", "port": "3"}]})
+    assert r.status_code == 200, r.text
+    task = r.json()
+    http.get("/task/start", params={"id": task["id"]})
+    done = rig.finish(task)
+    assert done["state"] == "COMPLETE", done
+    assert http.get("/system/io").json()["out3"] == "1"
+    # navigate to a nav point, move, then set an output: the spec's three actions
+    r = http.get("/navigation/start_nav_local_move_io", params={
+        "index": 0, "distance": 0.2, "angle": 0, "level": "0", "port": "3"})
+    assert r.status_code == 200, r.text
+    assert [a["type"] for a in r.json()["sub_tasks"]] == ["nav_action", "local_move_action",
+                                                         "io_action"]
+    assert rig.finish(r.json(), 60)["state"] == "COMPLETE"
+    assert http.get("/system/io").json()["out3"] == "0"
+    assert rig.pose is not None and math.hypot(rig.pose[0] - 2.2, rig.pose[1]) < 0.2
+
+
+@pytest.mark.parametrize(("method", "path", "kw", "code", "words"), [
+    ("GET", "/navigation/start_local_move", {"params": {"distance": "far"}}, 400,
+     "distance"),
+    ("GET", "/navigation/start_local_move", {"params": {"method": 2}}, 400, "method"),
+    ("GET", "/navigation/start_local_move", {"params": {"distance": "nan"}}, 400,
+     "distance"),
+    ("GET", "/navigation/start_local_move", {"params": {"speed": 1}}, 400, "speed"),
+    ("GET", "/navigation/start_local_move_target", {"params": {"y": 1}}, 400, "x"),
+    ("GET", "/navigation/start_local_move_target",
+     {"params": {"x": 1, "y": 1, "frame_id": "odom"}}, 400, "frame_id"),
+    ("GET", "/navigation/start_nav_and_local_move", {"params": {"index": 9}}, 404,
+     "does not exist"),
+    ("GET", "/navigation/start_nav_local_move_io", {"params": {"index": 0, "port": "1"}},
+     400, "level"),
+    ("POST", "/system/io", {"json": {"level": "1", "port": "4"}}, 400, "port"),
+    ("POST", "/system/io", {"json": {"level": "high", "port": "1"}}, 400, "level"),
+    ("PUT", "/system/bw_io", {"json": {"level": 1, "port": 8}}, 400, "port"),
+])
+def test_bad_parameters(module_rig: Rig, method: str, path: str, kw: dict[str, Any],
+                        code: int, words: str) -> None:
+    r = module_rig.http.request(method, path, **kw)
+    assert r.status_code == code, r.text
+    body = r.json()
+    assert body["status"] == "error" and words in body["description"], body
+
+
+def test_io_action_with_a_bad_port_is_refused(module_rig: Rig) -> None:
+    r = module_rig.http.post("/task", json={"sub_tasks": [
+        {"type": "io_action", "level": "1", "port": "9"}]})
+    assert r.status_code == 400 and "port" in r.json()["description"]
