@@ -1,0 +1,117 @@
+"""local_move_action, local_move_target_action and io_action: parameter checks, the legs a
+local move runs in each method, a resumed move drives only what is left, errors pass on."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from zenros.services.tasks.actiontypes import ActionParamsError, validate_params
+from zenros.services.tasks.behaviours import BEHAVIOURS, Context
+from zenros.services.tasks.robot import Outcome
+
+
+class MoveRobot:
+    """Records the legs and IO sets; each leg reports its progress half way, then ends."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[Any, ...]] = []
+        self.outcome = Outcome("complete")
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def drive(self, distance: float, speed: float, timeout: float,
+              progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:
+        self.calls.append(("drive", round(distance, 6), speed))
+        progress(distance / 2)
+        return self.outcome
+
+    def spin(self, angle: float, timeout: float, progress: Callable[[float], None],
+             cancelled: Callable[[], bool]) -> Outcome:
+        self.calls.append(("spin", round(angle, 6)))
+        progress(angle / 2)
+        return self.outcome
+
+    def local_move_target(self, *args: Any) -> Outcome:
+        self.calls.append(("target", *args[:-1]))
+        return self.outcome
+
+    def set_io(self, port: int, level: int) -> Outcome:
+        self.calls.append(("io", port, level))
+        return self.outcome
+
+
+def run(robot: MoveRobot, doc: dict[str, Any],
+        progress: float = 0.0) -> tuple[Outcome, dict[str, Any]]:
+    params = validate_params(doc)
+    item = {**doc, "progress": progress}
+    ctx = Context(robot, item, lambda: False, lambda: None,  # type: ignore[arg-type]
+                  threading.Event())
+    return BEHAVIOURS[doc["type"]](ctx, params), item
+
+
+def test_method_0_moves_then_turns_and_1_turns_then_moves() -> None:
+    robot = MoveRobot()
+    out, item = run(robot, {"type": "local_move_action", "distance": 0.5, "angle": 1.57})
+    assert out.name == "complete" and item["progress"] == 1.0
+    assert robot.calls == [("drive", 0.5, 0.3), ("spin", 1.57)]
+    robot.calls.clear()
+    run(robot, {"type": "local_move_action", "distance": -0.2, "angle": -1.0, "method": 1})
+    assert robot.calls == [("spin", -1.0), ("drive", -0.2, 0.3)]
+    robot.calls.clear()
+    out, _ = run(robot, {"type": "local_move_action", "angle": 0.5})
+    assert robot.calls == [("spin", 0.5)]
+    robot.calls.clear()
+    out, _ = run(robot, {"type": "local_move_action"})
+    assert out.name == "complete" and robot.calls == []
+
+
+def test_a_resumed_move_drives_what_is_left() -> None:
+    robot = MoveRobot()
+    run(robot, {"type": "local_move_action", "distance": 1.0, "angle": 2.0}, progress=0.75)
+    assert robot.calls == [("spin", 1.0)]  # drive done, half the turn done
+    robot.calls.clear()
+    run(robot, {"type": "local_move_action", "distance": 1.0, "angle": 2.0}, progress=0.25)
+    assert robot.calls == [("drive", 0.5, 0.3), ("spin", 2.0)]
+
+
+def test_a_failed_leg_ends_the_action() -> None:
+    robot = MoveRobot()
+    robot.outcome = Outcome("error", "drive 0.50 m: aborted (error 723: collision ahead)")
+    out, _ = run(robot, {"type": "local_move_action", "distance": 0.5, "angle": 1.0})
+    assert out.name == "error" and "collision ahead" in out.reason
+    assert robot.calls == [("drive", 0.5, 0.3)]
+
+
+def test_target_and_io_actions() -> None:
+    robot = MoveRobot()
+    out, _ = run(robot, {"type": "local_move_target_action", "x": 1, "y": 2, "theta": 0.5,
+                         "frame_id": "base_link", "start_rotate_enable": False})
+    assert out.name == "complete"
+    assert robot.calls == [("target", 1.0, 2.0, 0.5, "base_link", 0.05, 0.05, 0.0, False,
+                            True)]
+    robot.calls.clear()
+    run(robot, {"type": "io_action", "level": "1", "port": "3"})
+    assert robot.calls == [("io", 3, 1)]
+
+
+@pytest.mark.parametrize("doc", [
+    {"type": "local_move_action", "method": 2},
+    {"type": "local_move_action", "distance": "1"},
+    {"type": "local_move_action", "distance": 100},
+    {"type": "local_move_action", "angle": float("inf")},
+    {"type": "local_move_target_action", "x": 1},
+    {"type": "local_move_target_action", "x": 1, "y": 1, "frame_id": "odom"},
+    {"type": "local_move_target_action", "x": 1, "y": 1, "xy_tolerance": 0},
+    {"type": "io_action", "level": "2", "port": "1"},
+    {"type": "io_action", "level": "1", "port": "0"},
+    {"type": "io_action", "level": 1, "port": "1"},
+    {"type": "io_action", "level": "1"},
+])
+def test_bad_parameters_are_named(doc: dict[str, Any]) -> None:
+    with pytest.raises(ActionParamsError, match=doc["type"]):
+        validate_params(doc)
