@@ -40,5 +40,11 @@ setup(
             optional=True,  # without it the planner runs its Python reference (docs/nav-planner.md)
             extra_compile_args=["-O2", "-ffp-contract=off"],
         ),
+        Extension(
+            "zenros.services.chassis._march",
+            sources=["services/chassis/_march.c"],
+            optional=True,  # without it the laser runs its numpy reference (docs/chassis.md)
+            extra_compile_args=["-O2"],
+        ),
     ]
 )
