@@ -65,7 +65,7 @@ class RobotLink:
         self.connections = node.create_client(ListPointConnections, "list_point_connections")
         self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
         self._pose: tuple[float, float, float] | None = None
-        node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self._on_pose)
+        self._pose_sub: Any = None  # robot_pose, only while a map switch relocalises
         self.tts = node.create_publisher(String, "tts", QOS_LATCHED)
         self.battery: float | None = None
         self.charging = False
@@ -85,6 +85,15 @@ class RobotLink:
         return self.node.now().to_sec()
 
     def pose(self) -> tuple[float, float, float] | None:
+        """The latest ``robot_pose``: subscribed on the first call (waiting up to
+        SERVER_WAIT for a sample) until the next `relocalise` ends."""
+        if self._pose_sub is None:
+            self._pose = None
+            self._pose_sub = self.node.create_subscription(PoseWithCovarianceStamped,
+                                                           "robot_pose", self._on_pose)
+            end = time.monotonic() + SERVER_WAIT
+            while self._pose is None and time.monotonic() < end:
+                threading.Event().wait(POLL)
         return self._pose
 
     def current_map(self) -> str:
@@ -111,15 +120,20 @@ class RobotLink:
     def relocalise(self, x: float, y: float, theta: float) -> Outcome:
         msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))
         msg.pose.pose = _pose(x, y, theta).pose
-        self.initialpose.publish(msg)
-        end = time.monotonic() + SERVER_WAIT
-        while time.monotonic() < end:
-            p = self._pose
-            if p is not None and math.hypot(p[0] - x, p[1] - y) <= RELOCALISED[0] \
-                    and abs(math.remainder(p[2] - theta, math.tau)) <= RELOCALISED[1]:
-                return Outcome("complete", f"relocalised at ({x:.2f}, {y:.2f}, {theta:.2f})")
-            threading.Event().wait(POLL)
-            self.initialpose.publish(msg)  # until nav has it (a new link may drop the first)
+        self.pose()
+        try:
+            end = time.monotonic() + SERVER_WAIT
+            while time.monotonic() < end:
+                self.initialpose.publish(msg)  # until nav has it (a new link may drop one)
+                threading.Event().wait(POLL)
+                p = self._pose
+                if p is not None and math.hypot(p[0] - x, p[1] - y) <= RELOCALISED[0] \
+                        and abs(math.remainder(p[2] - theta, math.tau)) <= RELOCALISED[1]:
+                    return Outcome("complete",
+                                   f"relocalised at ({x:.2f}, {y:.2f}, {theta:.2f})")
+        finally:
+            self.node.destroy(self._pose_sub)
+            self._pose_sub = None
         return Outcome("error", f"nav did not take the initial pose ({x:.2f}, {y:.2f}, "
                                 f"{theta:.2f}) within {SERVER_WAIT:g} s")
 
