@@ -53,7 +53,7 @@ def _finite(*values: float) -> bool:
 
 
 def _seconds(d: Duration) -> float:
-    return max(0.0, d.to_sec())
+    return max(0.0, float(d.to_sec()))
 
 
 class BehaviorActions(ActionBase):
