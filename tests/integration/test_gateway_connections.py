@@ -206,3 +206,25 @@ def test_goes_to_a_point_on_another_map(rig: Rig) -> None:
     assert rig.http.get("/task", params={"id": back}).json()["state"] == "COMPLETE"
     assert rig.http.get("/navigation/current_map").json()["name"] == "office"
     assert rig.near(1.0, -0.5)
+
+
+def test_switch_map_action_relocalises_at_start_index(rig: Rig) -> None:
+    """Runs last: it leaves the robot's estimate at office2's desk wherever the robot is."""
+    task = rig.http.post("/action", json={"type": "switch_map_action", "map": "office2",
+                                          "path": "p1", "start_index": 1}).json()
+    assert rig.http.get("/task/start", params={"id": task["id"]}).status_code == 200
+    assert wait_for(lambda: rig.http.get("/task", params={"id": task["id"]}).json()["state"]
+                    in ("COMPLETE", "ERROR"), 20)
+    assert rig.http.get("/task", params={"id": task["id"]}).json()["state"] == "COMPLETE"
+    assert rig.http.get("/navigation/current_map").json()["name"] == "office2"
+    pose = rig.nav.core.localizer.pose()
+    assert pose is not None and math.hypot(pose.x - 2.0, pose.y - 1.5) < 0.05
+    assert abs(pose.theta - 1.57) < 0.05
+    bad = rig.http.post("/action", json={"type": "switch_map_action", "map": "office",
+                                         "path": "p1", "start_index": 9}).json()
+    rig.http.get("/task/start", params={"id": bad["id"]})
+    assert wait_for(lambda: rig.http.get("/task", params={"id": bad["id"]}).json()["state"]
+                    == "ERROR", 20)
+    sub = rig.http.get("/task", params={"id": bad["id"]}).json()["sub_tasks"][0]
+    assert "no nav point 9" in sub["result"]
+    assert rig.http.get("/navigation/current_map").json()["name"] == "office2"
