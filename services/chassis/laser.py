@@ -8,12 +8,20 @@ to the ray's exact entry into the first solid cell it crosses after its last fre
 (a cell-by-cell walk over that half cell). A ray clipping only the corner of a lone cell by less than half a
 cell may miss it.
 Obstacles are intersected exactly (circles and boxes); the nearer hit wins.
+
+The map part runs compiled when ``_march.c`` is built (``pip install`` builds it where a C
+compiler is present): an exact cell-by-cell traversal of each beam (Amanatides & Woo), which
+never misses a corner. The numpy march here is the reference and the fallback; set
+``ZENROS_CHASSIS_PURE=1`` to use it anyway.
 """
 
 from __future__ import annotations
 
+import importlib
 import math
+import os
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 from scipy.ndimage import distance_transform_edt
@@ -27,6 +35,20 @@ _COARSE_STEPS = 20
 _MARGIN = np.float32(math.sqrt(2))  # a cell's diagonal: a step never jumps over a solid cell
 _MIN_STEP = np.float32(0.5)  # cells
 _ENTRY_CROSSINGS = 2  # cell boundaries a ray crosses in half a cell, at most
+
+
+def _load_compiled() -> ModuleType | None:
+    """The compiled march (``_march``), or None: not built, or ``ZENROS_CHASSIS_PURE`` set."""
+    if os.environ.get("ZENROS_CHASSIS_PURE", "") not in ("", "0"):
+        return None
+    try:
+        return importlib.import_module(f"{__package__}._march")
+    except ImportError:
+        return None
+
+
+compiled = _load_compiled()
+"""The compiled march module, or None (the numpy reference runs)."""
 
 
 @dataclass(frozen=True)
@@ -97,7 +119,11 @@ class Laser:
         cfg = self.config
         ang = self._angles + theta
         dx64, dy64 = np.cos(ang), np.sin(ang)
-        out = self._march(x, y, dx64.astype(np.float32), dy64.astype(np.float32))
+        march = compiled
+        if march is not None:
+            out = self._march_compiled(march, x, y, dx64, dy64)
+        else:
+            out = self._march(x, y, dx64.astype(np.float32), dy64.astype(np.float32))
         if self.world.obstacles:
             hits = ray_hits(list(self.world.obstacles.values()), x, y, dx64, dy64)
             np.minimum(out, hits.astype(np.float32), out=out)
@@ -106,6 +132,24 @@ class Laser:
             out[finite] += self.rng.normal(0.0, cfg.noise, int(finite.sum())).astype(np.float32)
         out[(out < cfg.range_min) | (out > cfg.range_max)] = np.inf
         return out
+
+    def _march_compiled(self, march: ModuleType, x: float, y: float, dx: np.ndarray,
+                        dy: np.ndarray) -> np.ndarray:
+        """`_march` by the compiled exact traversal (float64 unit directions)."""
+        w = self.world
+        out = np.empty(dx.size, dtype=np.float32)
+        march.march(self._kind, self._stride, self._kind.size // self._stride,
+                       (x - w.ox) / w.res + 1.0, (y - w.oy) / w.res + 1.0,
+                       np.ascontiguousarray(dx, dtype=np.float64),
+                       np.ascontiguousarray(dy, dtype=np.float64),
+                       float(self._limit), w.res, out)
+        return out
+
+    def _free_at(self, px: float, py: float) -> bool:
+        """True when (px, py), in cells of the padded grid, is in a free cell of the map."""
+        if not (0 <= px < self._stride and 0 <= py < self._kind.size // self._stride):
+            return False  # also false for nan
+        return bool(self._kind[int(py) * self._stride + int(px)] == 0)
 
     def _cells(self, t: np.ndarray, dx: np.ndarray, dy: np.ndarray, px: np.float32,
                py: np.float32) -> np.ndarray:
@@ -123,7 +167,7 @@ class Laser:
         w = self.world
         px = np.float32((x - w.ox) / w.res + 1.0)
         py = np.float32((y - w.oy) / w.res + 1.0)
-        if self._kind[self._cells(np.zeros(1, np.float32), dx[:1], dy[:1], px, py)[0]] != 0:
+        if not self._free_at(float(px), float(py)):
             return np.full(dx.size, np.inf, dtype=np.float32)  # inside a wall or off the map
         # phase 1: every beam marches a fixed number of safe steps along the distance field
         t = np.zeros(dx.size, dtype=np.float32)
