@@ -11,6 +11,9 @@ preempts whatever nav was doing (see `action_base`).
 from __future__ import annotations
 
 import math
+import threading
+import time
+from collections.abc import Callable
 from typing import Any
 
 from zenros.errors import GoalRejectedError
@@ -39,6 +42,7 @@ from .local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
 
 __all__ = ["BehaviorActions"]
 
+STOP_WAIT = 2.0  # wall seconds a canceled move waits for the robot to stop
 SPIN_CODES = MoveCodes(SpinResult.TIMEOUT, SpinResult.TF_ERROR, SpinResult.COLLISION_AHEAD)
 BACKUP_CODES = MoveCodes(BackUpResult.TIMEOUT, BackUpResult.TF_ERROR,
                          BackUpResult.COLLISION_AHEAD)
@@ -96,9 +100,8 @@ class BehaviorActions(ActionBase):
         goal: SpinGoal = gh.request
         speed = self.core.config.nav.spin_speed
         b = SpinInPlace(goal.target_yaw, speed, _seconds(goal.time_allowance), SPIN_CODES)
-        out = self._run("spin", gh, b, None,
-                        lambda _: SpinFeedback(angular_distance_traveled=b.turned))
-        return self._finish(gh, out, b, SpinResult())
+        return self._go(gh, "spin", b, None,
+                        lambda _: SpinFeedback(angular_distance_traveled=b.turned), SpinResult())
 
     def execute_backup(self, gh: Any) -> BackUpResult:
         goal: BackUpGoal = gh.request
@@ -147,8 +150,7 @@ class BehaviorActions(ActionBase):
                 current_pose=self._current_pose(),
                 distance_remaining=b.distance_remaining(self.core.localizer.pose()))
 
-        out = self._run("local_move_target", gh, b, b.goal, feedback)
-        return self._finish(gh, out, b, result)
+        return self._go(gh, "local_move_target", b, b.goal, feedback, result)
 
     # ------------------------------------------------------------------ helpers
 
@@ -169,16 +171,38 @@ class BehaviorActions(ActionBase):
         b = DriveOnHeading(distance, speed, _seconds(goal.time_allowance), codes,
                            self.core.config.nav.collision_radius,
                            check_collisions=not goal.disable_collision_checks)
-        out = self._run(action, gh, b, None,
-                        lambda _: feedback_type(distance_traveled=b.traveled))
-        return self._finish(gh, out, b, result)
+        return self._go(gh, action, b, None,
+                        lambda _: feedback_type(distance_traveled=b.traveled), result)
 
-    def _finish(self, gh: Any, out: str, b: Behavior, result: Any) -> Any:
+    def _go(self, gh: Any, action: str, b: Behavior, goal: Any,
+            feedback: Callable[[Behavior], Any], result: Any) -> Any:
+        """Run ``b``; a canceled or preempted goal gets one last feedback first, so the
+        client knows how far the robot got (a resumed local move drives only the rest)."""
+        out = self._run(action, gh, b, goal, feedback)
+        if out != "done":
+            if out == "canceled":
+                self._settled_pose(b)
+            try:
+                gh.publish_feedback(feedback(b))
+            except Exception:  # feedback is best effort
+                self.logger.debug("last feedback for %s failed", action, exc_info=True)
         result = self._settle(gh, out, b, result)
         t0 = getattr(b, "t0", None)
         if t0 is not None:
             result.total_elapsed_time = Duration.from_seconds(max(0.0, self._seconds() - t0))
         return result
+
+    def _settled_pose(self, b: Behavior) -> None:
+        """Wait (2 s at most) for the robot to stop, then let ``b`` measure its pose."""
+        end = time.monotonic() + STOP_WAIT
+        while time.monotonic() < end:
+            v, w = self.core.speed
+            if abs(v) < 0.005 and abs(w) < 0.01:
+                break
+            threading.Event().wait(0.02)
+        pose = self.core.localizer.pose()
+        if pose is not None and isinstance(b, (DriveOnHeading, SpinInPlace)):
+            b.measure(pose)
 
     def _invalid(self, gh: Any, result: Any, code: int, msg: str) -> Any:
         result.error_code, result.error_msg = code, msg

@@ -63,6 +63,9 @@ class _Timed(Behavior):
     def elapsed(self, now: float) -> float:
         return 0.0 if self.t0 is None else max(0.0, now - self.t0)
 
+    def measure(self, pose: Pose2) -> None:
+        """Update how far the robot got from ``pose`` (after a cancel, once it stopped)."""
+
 
 class DriveOnHeading(_Timed):
     """Drive straight ``distance`` metres (negative: backwards) at ``speed`` m/s (> 0),
@@ -79,12 +82,15 @@ class DriveOnHeading(_Timed):
         self.tolerance = tolerance
         self.traveled = 0.0
 
+    def measure(self, pose: Pose2) -> None:
+        if self.start is not None:
+            self.traveled = abs((self.start.inverse() * pose).x)
+
     def tick(self, s: Sense) -> tuple[float, float]:
         if not self._check(s):
             return 0.0, 0.0
         assert s.pose is not None and self.start is not None
-        local = self.start.inverse() * s.pose
-        self.traveled = abs(local.x)
+        self.measure(s.pose)
         left = abs(self.distance) - self.traveled
         if left <= self.tolerance:
             return self.finish(True)
@@ -114,13 +120,16 @@ class SpinInPlace(_Timed):
         self.turned = 0.0
         self._last: float | None = None
 
+    def measure(self, pose: Pose2) -> None:
+        if self._last is not None:
+            self.turned += abs(angle_diff(pose.theta, self._last))
+        self._last = pose.theta
+
     def tick(self, s: Sense) -> tuple[float, float]:
         if not self._check(s):
             return 0.0, 0.0
         assert s.pose is not None
-        if self._last is not None:
-            self.turned += abs(angle_diff(s.pose.theta, self._last))
-        self._last = s.pose.theta
+        self.measure(s.pose)
         cmd = self.control.tick(s)
         if self.control.done:
             return self.finish(True)

@@ -235,3 +235,16 @@ def test_io_action_with_a_bad_port_is_refused(module_rig: Rig) -> None:
     r = module_rig.http.post("/task", json={"sub_tasks": [
         {"type": "io_action", "level": "1", "port": "9"}]})
     assert r.status_code == 400 and "port" in r.json()["description"]
+
+
+def test_pause_and_resume_drive_only_what_is_left(rig: Rig) -> None:
+    r = rig.http.get("/navigation/start_local_move", params={"distance": 1.2, "angle": 0.5})
+    task = r.json()
+    assert wait_for(lambda: rig.pose is not None and rig.pose[0] > 0.4, 20)
+    assert rig.http.get("/task/pause", params={"id": task["id"]}).json()["state"] == "PAUSED"
+    assert wait_for(lambda: rig.nav.core.motion.active is None, 5)
+    assert rig.pose is not None and rig.pose[0] < 1.0
+    assert rig.http.get("/task/resume", params={"id": task["id"]}).status_code == 200
+    assert rig.finish(task)["state"] == "COMPLETE"
+    x, y, th = rig.pose
+    assert abs(x - 1.2) < 0.04 and abs(y) < 0.03 and abs(th - 0.5) < 0.06, rig.pose
