@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from zenros.services.tasks.maproute import Link, NoRoute, PointEnd, find_route
+from zenros.services.tasks.maproute import NoRoute, find_route, links_of
 
 from .api import Api, ApiError, Call
 from .nav_calls import Name
@@ -45,15 +45,8 @@ async def check_route(link: NavLink, current: str, target: str) -> None:
     """Refuse (409) a goal on map ``target`` that no route of direct connections reaches
     from map ``current``, before a task is made (the task checks again when it runs)."""
     res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
-    known = {(p.map_name, p.path_name, p.index) for p in res.points}
-    links = []
-    for c in res.connections:
-        if len(c.points) == 2:
-            a, b = (PointEnd(p.map_name, p.path_name, p.index) for p in c.points)
-            links.append(Link(c.id, c.type, c.is_available and a in known and b in known,
-                              a, b))
     try:
-        route = find_route(links, current, target)
+        route = find_route(links_of(res.points, res.connections), current, target)
     except NoRoute as exc:
         raise ApiError(409, f"{exc}: POST /navigation/point_connections links maps") from exc
     for hop in route:

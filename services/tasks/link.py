@@ -40,7 +40,7 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
-from .maproute import Link, PointEnd
+from .maproute import Link, links_of
 from .robot import Feedback, Outcome
 
 __all__ = ["RobotLink"]
@@ -108,14 +108,7 @@ class RobotLink:
             res = self.connections.call(ListPointConnectionsRequest(), timeout=SERVER_WAIT)
         except ZenrosError as exc:
             raise LookupError(f"cannot read the point connections: {exc}") from exc
-        known = {(p.map_name, p.path_name, p.index) for p in res.points}
-        out = []
-        for c in res.connections:
-            if len(c.points) != 2:
-                continue
-            a, b = (PointEnd(p.map_name, p.path_name, p.index) for p in c.points)
-            out.append(Link(c.id, c.type, c.is_available and a in known and b in known, a, b))
-        return out
+        return links_of(res.points, res.connections)
 
     def relocalise(self, x: float, y: float, theta: float) -> Outcome:
         msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))

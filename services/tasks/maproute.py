@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import heapq
 from collections.abc import Iterable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
-__all__ = ["Hop", "Link", "NoRoute", "PointEnd", "find_route"]
+__all__ = ["Hop", "Link", "NoRoute", "PointEnd", "find_route", "links_of"]
 
 
 class PointEnd(NamedTuple):
@@ -48,6 +48,20 @@ class Hop(NamedTuple):
     def describe(self) -> str:
         return f"{self.type} connection {self.id} ({self.leave.label()} -> " \
                f"{self.enter.label()})"
+
+
+def links_of(points: Iterable[Any], connections: Iterable[Any]) -> list[Link]:
+    """`Link`s from nav's ``list_point_connections`` answer (its ``points`` and
+    ``connections``): a connection whose point no longer exists is unavailable."""
+    known = {(p.map_name, p.path_name, p.index) for p in points}
+    out = []
+    for c in connections:
+        if len(c.points) != 2:
+            continue
+        a, b = (PointEnd(p.map_name, p.path_name, p.index) for p in c.points)
+        out.append(Link(c.id, c.type, bool(c.is_available) and a in known and b in known,
+                        a, b))
+    return out
 
 
 class NoRoute(LookupError):

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from zenros.services.tasks.maproute import Link, NoRoute, PointEnd, find_route
+from zenros.services.tasks.maproute import Link, NoRoute, PointEnd, find_route, links_of
 
 
 def link(ident: str, a: str, b: str, kind: str = "direct", available: bool = True) -> Link:
@@ -50,3 +50,18 @@ def test_unavailable_and_same_map_links_are_skipped() -> None:
 def test_ties_go_to_the_first_stored_connection() -> None:
     links = [link("first", "a", "b"), link("second", "a", "b")]
     assert [h.id for h in find_route(links, "a", "b")] == ["first"]
+
+
+def test_links_of_marks_connections_to_missing_points_unavailable() -> None:
+    from types import SimpleNamespace as NS
+
+    def pt(m: str, i: int) -> NS:
+        return NS(map_name=m, path_name="p", index=i)
+    points = [pt("a", 0), pt("b", 0)]
+    conns = [NS(id="ok", type="direct", is_available=True, points=[pt("a", 0), pt("b", 0)]),
+             NS(id="gone", type="direct", is_available=True, points=[pt("a", 0), pt("b", 7)]),
+             NS(id="off", type="elevator", is_available=False,
+                points=[pt("a", 0), pt("b", 0)]),
+             NS(id="odd", type="direct", is_available=True, points=[pt("a", 0)])]
+    assert [(x.id, x.available) for x in links_of(points, conns)] == [
+        ("ok", True), ("gone", False), ("off", False)]
