@@ -79,10 +79,10 @@ class NavCalls:
         return str(res.name)
 
     def same_map(self, map_name: str, path: str, current: str) -> None:
-        """Refuse a goal on another map; make ``path`` the current path."""
+        """A goal on the current map: make ``path`` the current path (a goal on another
+        map is the callers' cross-map case; one that reaches here is a bug, a 400)."""
         if map_name and map_name != current:
-            raise ApiError(400, f"map {map_name!r} is not the current map {current!r}: "
-                                "cross-map navigation is not supported; switch_map first")
+            raise ApiError(400, f"map {map_name!r} is not the current map {current!r}")
         if path and path != self.nav.path_name:
             self.nav.path_name = path
 
