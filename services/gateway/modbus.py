@@ -8,6 +8,7 @@ ILLEGAL_VALUE / DEVICE_FAILURE exception codes rather than ever reaching the rob
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from typing import Any
 
 from pymodbus.constants import ExcCodes
@@ -43,11 +44,13 @@ def _pack_bits(bits: list[bool]) -> list[int]:
 class ModbusFront:
     """Serves unit id 1 (and any other: one robot, one device) on ``host:port``."""
 
-    def __init__(self, core: Core, logger: logging.Logger) -> None:
+    def __init__(self, core: Core, logger: logging.Logger,
+                 io_bits: Callable[[], tuple[list[int], list[int]]] | None = None) -> None:
         self.core = core
         self.logger = logger
+        self.io_bits = io_bits  # the extension IO board's (inputs, outputs), for DI 7-30
         self._ir = input_registers(core.status)
-        self._di = _pack_bits(discrete_inputs(core.status))
+        self._di = _pack_bits(discrete_inputs(core.status, *self._io()))
         core.status_listeners.append(self._on_status)
         self.device = SimDevice(id=0, action=self._on_request, simdata=(
             [SimData(65000, count=16, values=False, datatype=DataType.BITS)],  # no coils in §14
@@ -58,7 +61,10 @@ class ModbusFront:
 
     def _on_status(self, st: GalileoStatus) -> None:
         self._ir = input_registers(st)
-        self._di = _pack_bits(discrete_inputs(st))
+        self._di = _pack_bits(discrete_inputs(st, *self._io()))
+
+    def _io(self) -> tuple[list[int], list[int]]:
+        return self.io_bits() if self.io_bits is not None else ([], [])
 
     async def start(self, host: str, port: int) -> int:
         """Listen; returns the bound port."""

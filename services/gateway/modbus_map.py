@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import struct
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from zenros.msgs.galileo_msgs import GalileoStatus
@@ -51,10 +52,14 @@ def _i16(v: int) -> int:
     return max(-32768, min(32767, int(v))) & 0xFFFF
 
 
-def discrete_inputs(st: GalileoStatus) -> list[bool]:
-    """Doc addresses 1-30 (IO bits are 0: the simulated robot has no IO board)."""
+def discrete_inputs(st: GalileoStatus, ext_inputs: Sequence[int] = (),
+                    ext_outputs: Sequence[int] = ()) -> list[bool]:
+    """Doc addresses 1-30: six status bits, the extension IO board's inputs 0-15 (7-22)
+    and outputs 0-7 (23-30); IO bits the chassis has not reported read 0."""
     bits = [st.navStatus == 1, st.mapStatus == 1, st.gcStatus == 1, st.gbaStatus == 1,
             st.loopStatus == 1, st.busyStatus == 1]
+    bits += [bool(v) for v in list(ext_inputs)[:16]] + [False] * (16 - min(16, len(ext_inputs)))
+    bits += [bool(v) for v in list(ext_outputs)[:8]] + [False] * (8 - min(8, len(ext_outputs)))
     return bits + [False] * (DI_COUNT - len(bits))
 
 

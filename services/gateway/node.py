@@ -105,13 +105,14 @@ class GatewayNode(Node):
         self.core.nav = self.navigator
         self.nav_link = NavLink(self)
         self.core.services["maps"] = self.nav_link.maps
+        self.io = IoLink(self)
         nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
         self.api = build_api(self.core, max_body, self.logger, [
             lambda api: add_task_routes(api, self.tasks),
             lambda api: add_nav_routes(api, nav_calls),
             lambda api: add_goal_routes(api, nav_calls),
             lambda api: add_local_move_routes(api, nav_calls),
-            lambda api: add_io_routes(api, IoLink(self)),
+            lambda api: add_io_routes(api, self.io),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_connection_routes(api, self.nav_link),
             lambda api: add_extra_routes(api, self.link, self.hub,
@@ -134,7 +135,7 @@ class GatewayNode(Node):
             ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0),
             ws_max_size=self.declare_parameter("ws_max_frame", 1 << 20))
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
-        self.modbus = ModbusFront(self.core, self.logger)
+        self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
         self.native = NativeCommands(self.core, self.logger, self.runner.loop)

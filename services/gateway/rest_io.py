@@ -43,6 +43,11 @@ class IoLink:
     def _on_state(self, msg: IoState) -> None:
         self.state = msg
 
+    def ext_bits(self) -> tuple[list[int], list[int]]:
+        """The extension board's (inputs, outputs), empty before the chassis reports."""
+        st = self.state
+        return ([], []) if st is None else (list(st.ext_inputs), list(st.ext_outputs))
+
     def current(self) -> IoState:
         if self.state is None:
             raise ApiError(503, "no IO state: the chassis is not running (nothing on "

@@ -12,6 +12,7 @@ from typing import Any
 
 import httpx
 import pytest
+from pymodbus.client import ModbusTcpClient
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import (
@@ -181,6 +182,17 @@ def test_io_through_rest(rig: Rig) -> None:
     assert r.status_code == 200, r.text
     bw = http.get("/system/bw_io").json()
     assert bw["out"]["7"] == 1 and bw["out"]["0"] == 0 and len(bw["in"]) == 16
+    # Modbus discrete inputs 23-30 are the extension board's outputs 0-7 (§14.1)
+    client = ModbusTcpClient("127.0.0.1", port=rig.gw.modbus_port)
+    try:
+        assert client.connect()
+
+        def output_7() -> bool:
+            bits = client.read_discrete_inputs(0, count=30, device_id=1).bits
+            return bool(bits[29]) and not any(bits[6:29])
+        assert wait_for(output_7, 5)
+    finally:
+        client.close()
     http.put("/system/bw_io", json={"level": 0, "port": 7})
 
 
