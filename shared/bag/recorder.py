@@ -26,6 +26,7 @@ __all__ = ["RecordOptions", "Recorder"]
 
 FIFO_CAPACITY = 256  # samples buffered per subscriber before Zenoh pushes back (reliable)
 QOS_UNKNOWN = "rel+10"
+BATCH = 64  # samples a pump hands to the sink at once at most (fewer when it catches up)
 
 
 @dataclass
@@ -150,10 +151,25 @@ class Recorder:
 
     def _pump(self, sub: Any, fixed_key: str | None) -> None:
         """Drain one subscriber (``fixed_key``: the key of a one-topic subscriber, whose
-        samples need no key lookup)."""
-        routes, add, now = self._routes, self.sink.add, time.time_ns
+        samples need no key lookup).
+
+        Each sample becomes one ``(channel, log_time, publish_time, data)`` tuple in a local
+        batch; the batch goes to the sink (one lock, no packing here) when it is full or when
+        Zenoh has no further sample ready, so nothing waits in it while the pump sleeps.
+        """
+        routes, now, hand_off = self._routes, time.time_ns, self.sink.add_batch
+        try_recv, recv = sub.handler.try_recv, sub.handler.recv
+        batch: list[tuple[int, int, int, bytes]] = []
+        append = batch.append
         try:
-            for sample in sub.handler:  # ends when the subscriber is undeclared
+            while True:
+                sample = try_recv()
+                if sample is None:  # caught up: hand over, then sleep until the next one
+                    if batch:
+                        hand_off(batch)
+                        batch = []
+                        append = batch.append
+                    sample = recv()  # raises ZError once the subscriber is undeclared
                 log_time = now()
                 key = fixed_key if fixed_key is not None else str(sample.key_expr)
                 route = routes.get(key)
@@ -174,9 +190,16 @@ class Recorder:
                         self.dropped += 1
                         continue
                     data = converted
-                add(route.channel, log_time, publish, data)
+                append((route.channel, log_time, publish, data))
+                if len(batch) >= BATCH:
+                    hand_off(batch)
+                    batch = []
+                    append = batch.append
         except zenoh.ZError:  # the channel closed under us at shutdown
-            return
+            pass
+        finally:
+            if batch:
+                hand_off(batch)
 
     def _route(self, key: str, enc: str) -> _Route | None:
         """The slow path for a key (or encoding) not seen before: make its channel."""

@@ -1,21 +1,25 @@
-"""`BagSink`: thread-safe message intake that chunks in the caller's thread and compresses,
-writes and splits files in a writer thread."""
+"""`BagSink`: thread-safe message intake in batches; a writer thread packs, compresses,
+writes and splits files."""
 
 from __future__ import annotations
 
 import queue
 import threading
 from dataclasses import dataclass
+from operator import itemgetter
 from pathlib import Path
 from typing import Any
 
-from .writer import ChunkBuffer, McapFile, compress
+from .writer import RECORD_OVERHEAD, ChunkBuffer, McapFile, compress
 
 __all__ = ["CHUNK_SIZE", "FLUSH_INTERVAL", "BagSink", "ChannelInfo", "SplitPolicy"]
 
 CHUNK_SIZE = 1024 * 1024  # bytes of messages per chunk (before compression)
 FLUSH_INTERVAL = 1.0  # seconds: a chunk is closed and written at least this often
 QUEUE_CHUNKS = 32  # chunks waiting for the writer thread before `add` blocks (back-pressure)
+
+Item = tuple[int, int, int, bytes]  # channel, log time, publish time (ns), data
+_data = itemgetter(3)
 
 
 @dataclass(frozen=True)
@@ -44,9 +48,10 @@ class ChannelInfo:
 class BagSink:
     """Takes messages from any thread; writes ``<directory>/<name>_<i>.mcap`` files.
 
-    `add` packs the message into the open chunk under a lock (no encoding work). A full
-    chunk, or one open for `FLUSH_INTERVAL`, goes to the writer thread, which compresses it,
-    appends it and flushes it to the OS. So a recorder killed with SIGKILL loses at most the
+    `add_batch` appends a list of messages to the open chunk under a lock (one lock and a
+    size count per batch, no packing). A full chunk, or one open for `FLUSH_INTERVAL`, goes
+    to the writer thread, which packs its messages into MCAP records (numbering each
+    channel's messages in order), compresses the chunk, appends it and flushes it to the OS. So a recorder killed with SIGKILL loses at most the
     open chunk: `CHUNK_SIZE` bytes or `FLUSH_INTERVAL` seconds of messages, whichever is less
     (plus the few chunks queued for the writer thread if the disk is slower than the input).
     """
@@ -65,9 +70,11 @@ class BagSink:
         self.channels: dict[int, ChannelInfo] = {}
         self.counts: dict[int, int] = {}
         self._schemas: dict[tuple[str, str, bytes], int] = {}
-        self._seq: list[int] = [0]
+        self._seq: dict[int, int] = {}  # channel -> last sequence number (writer thread)
+        self._count = 0  # messages taken
         self._lock = threading.Lock()
-        self._chunk = ChunkBuffer()
+        self._open: list[list[Item]] = []  # the open chunk's batches
+        self._open_bytes = 0
         self._queue: queue.Queue[Any] = queue.Queue(QUEUE_CHUNKS)
         self._file_start = -1
         self._error: BaseException | None = None
@@ -96,25 +103,29 @@ class BagSink:
                                schema_name, schema_encoding, schema_data, dict(metadata or {}))
             self.channels[info.id] = info
             self.counts[info.id] = 0
-            self._seq.append(0)
             self._queue.put(("channel", info))
             return info.id
 
     def add(self, channel: int, log_time: int, publish_time: int, data: bytes) -> None:
-        """Append one message (the hot path: a few appends under a lock)."""
+        """Append one message."""
+        self.add_batch([(channel, log_time, publish_time, data)])
+
+    def add_batch(self, items: list[Item]) -> None:
+        """Append messages ``(channel, log_time, publish_time, data)`` in their order (the
+        hot path: one lock per batch). The list is the sink's from now on."""
+        size = sum(map(len, map(_data, items))) + RECORD_OVERHEAD * len(items)
         with self._lock:
-            seq = self._seq[channel] + 1
-            self._seq[channel] = seq
-            chunk = self._chunk
-            chunk.add(channel, seq, log_time, publish_time, data)
-            if len(chunk.buf) >= self.chunk_size:
+            self._open.append(items)
+            self._count += len(items)
+            self._open_bytes += size
+            if self._open_bytes >= self.chunk_size:
                 self._hand_over()
 
     def _hand_over(self) -> None:
         """Send the open chunk to the writer thread (called with the lock held)."""
-        chunk, self._chunk = self._chunk, ChunkBuffer()
-        if chunk.index:
-            self._queue.put(("chunk", chunk))
+        if self._open:
+            batches, self._open, self._open_bytes = self._open, [], 0
+            self._queue.put(("chunk", batches))
 
     def flush(self) -> None:
         """Close the open chunk now (it is written shortly after)."""
@@ -123,7 +134,8 @@ class BagSink:
 
     @property
     def message_count(self) -> int:
-        return sum(self._seq)
+        """Messages taken so far (written, or on their way to disk)."""
+        return self._count
 
     # ------------------------------------------------------------------ writer thread
 
@@ -151,12 +163,25 @@ class BagSink:
                     if self._file is not None:  # else the next file declares it
                         self._declare(self._file, item)
                     continue
-                self._write_chunk(item)
+                self._write_batches(item)
         except BaseException as exc:  # noqa: BLE001 (reported by close(); the disk may be full)
             self._error = exc
             while True:  # keep draining so producers never block forever
                 if self._queue.get()[0] == "stop":
                     return
+
+    def _write_batches(self, batches: list[list[Item]]) -> None:
+        """Pack batches into chunks of `chunk_size` bytes and write them."""
+        chunk = ChunkBuffer()
+        for items in batches:
+            i = 0
+            while i < len(items):
+                i = chunk.add_many(items, self._seq, i, self.chunk_size)
+                if len(chunk.buf) >= self.chunk_size:
+                    self._write_chunk(chunk)
+                    chunk = ChunkBuffer()
+        if chunk.index:
+            self._write_chunk(chunk)
 
     def _write_chunk(self, chunk: ChunkBuffer) -> None:
         if self._file is None:  # split: the next file opens with its first chunk

@@ -32,13 +32,14 @@ from mcap.records import (
     SummaryOffset,
 )
 
-__all__ = ["COMPRESSIONS", "ChunkBuffer", "McapFile", "compress"]
+__all__ = ["COMPRESSIONS", "RECORD_OVERHEAD", "ChunkBuffer", "McapFile", "compress"]
 
 MAGIC = b"\x89MCAP0\r\n"
 LIBRARY = "zenros-bag"
 COMPRESSIONS = ("zstd", "lz4", "none")
 
 _MSG_HEAD = struct.Struct("<BQHIQQ")  # opcode, record length, channel, sequence, log, publish
+RECORD_OVERHEAD = _MSG_HEAD.size  # bytes of a Message record besides its data
 _INDEX_HEAD = struct.Struct("<BQHI")  # opcode, record length, channel, records length
 
 
@@ -78,6 +79,41 @@ class ChunkBuffer:
         buf += _MSG_HEAD.pack(5, 22 + len(data), channel, sequence & 0xFFFFFFFF, log_time,
                               publish_time)
         buf += data
+
+    def add_many(self, items: list[tuple[int, int, int, bytes]], seqs: dict[int, int],
+                 start: int = 0, limit: int = 0) -> int:
+        """`add` for ``(channel, log_time, publish_time, data)`` items from ``items[start]`` on,
+        numbering each channel's messages on from ``seqs[channel]`` (updated); stops once the
+        chunk holds ``limit`` bytes (0: no limit). Returns the index of the first item left."""
+        buf, index, head = self.buf, self.index, _MSG_HEAD.pack
+        limit = limit or sys.maxsize
+        last = -1
+        idx = array("Q")
+        seq = 0
+        i = start
+        try:
+            for i in range(start, len(items)):  # noqa: B007 (i is the result)
+                channel, log_time, publish_time, data = items[i]
+                if channel != last:  # runs of one channel need no lookups
+                    if last >= 0:
+                        seqs[last] = seq
+                    last = channel
+                    seq = seqs.get(channel, 0)
+                    got = index.get(channel)
+                    if got is None:
+                        got = index[channel] = array("Q")
+                    idx = got
+                seq += 1
+                idx.append(log_time)
+                idx.append(len(buf))
+                buf += head(5, 22 + len(data), channel, seq & 0xFFFFFFFF, log_time, publish_time)
+                buf += data
+                if len(buf) >= limit:
+                    return i + 1
+            return len(items)
+        finally:
+            if last >= 0:
+                seqs[last] = seq
 
     def __len__(self) -> int:
         return len(self.buf)
