@@ -21,6 +21,7 @@ from .schema import message_encoding, schema_for, schema_of_type
 from .sink import CHUNK_SIZE, FLUSH_INTERVAL, BagSink, SplitPolicy
 from .stamp import stamp_reader
 from .transcode import TRANSCODED, to_json
+from .writer import MESSAGE_HEAD
 
 __all__ = ["RecordOptions", "Recorder"]
 
@@ -59,11 +60,12 @@ class RecordOptions:
 class _Route:
     """Where samples of one key and encoding go: a channel, and how to read their stamp."""
 
-    __slots__ = ("channel", "encoding", "stamp", "transcode")
+    __slots__ = ("channel", "encoding", "seq", "stamp", "transcode")
 
     def __init__(self, channel: int, encoding: str, stamp: Callable[[bytes], int] | None,
                  transcode: Callable[[bytes], bytes | None] | None = None) -> None:
         self.channel = channel
+        self.seq = 0  # the channel's last message number (only its key's pump counts)
         self.encoding = zenoh.Encoding(encoding)  # compared with samples' as is (no str())
         self.stamp = stamp
         self.transcode = transcode
@@ -153,21 +155,24 @@ class Recorder:
         """Drain one subscriber (``fixed_key``: the key of a one-topic subscriber, whose
         samples need no key lookup).
 
-        Each sample becomes one ``(channel, log_time, publish_time, data)`` tuple in a local
-        batch; the batch goes to the sink (one lock, no packing here) when it is full or when
-        Zenoh has no further sample ready, so nothing waits in it while the pump sleeps.
+        Each sample becomes a packed Message record head and its payload as received, in a
+        local batch; the batch goes to the sink (one lock) when it is full or when Zenoh has
+        no further sample ready, so nothing waits in it while the pump sleeps. A channel
+        belongs to one key, so to one pump, which numbers its messages.
         """
         routes, now, hand_off = self._routes, time.time_ns, self.sink.add_batch
+        head = MESSAGE_HEAD.pack
         try_recv, recv = sub.handler.try_recv, sub.handler.recv
-        batch: list[tuple[int, int, int, bytes]] = []
+        batch: list[bytes] = []
         append = batch.append
+        size = 0  # bytes of the batch's records, less 9 (opcode and length) each
         try:
             while True:
                 sample = try_recv()
                 if sample is None:  # caught up: hand over, then sleep until the next one
                     if batch:
-                        hand_off(batch)
-                        batch = []
+                        hand_off(batch, size + 9 * (len(batch) // 2))
+                        batch, size = [], 0
                         append = batch.append
                     sample = recv()  # raises ZError once the subscriber is undeclared
                 log_time = now()
@@ -190,10 +195,14 @@ class Recorder:
                         self.dropped += 1
                         continue
                     data = converted
-                append((route.channel, log_time, publish, data))
-                if len(batch) >= BATCH:
-                    hand_off(batch)
-                    batch = []
+                seq = route.seq = route.seq + 1
+                length = 22 + len(data)
+                size += length
+                append(head(5, length, route.channel, seq & 0xFFFFFFFF, log_time, publish))
+                append(data)
+                if len(batch) >= 2 * BATCH:
+                    hand_off(batch, size + 9 * BATCH)
+                    batch, size = [], 0
                     append = batch.append
         except zenoh.ZError:  # the channel closed under us at shutdown
             pass

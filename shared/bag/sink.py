@@ -6,20 +6,19 @@ from __future__ import annotations
 import queue
 import threading
 from dataclasses import dataclass
-from operator import itemgetter
+from itertools import chain
 from pathlib import Path
 from typing import Any
 
-from .writer import RECORD_OVERHEAD, ChunkBuffer, McapFile, compress
+import numpy as np
+
+from .writer import HEAD_DTYPE, MESSAGE_HEAD, ChunkBuffer, McapFile, compress
 
 __all__ = ["CHUNK_SIZE", "FLUSH_INTERVAL", "BagSink", "ChannelInfo", "SplitPolicy"]
 
 CHUNK_SIZE = 1024 * 1024  # bytes of messages per chunk (before compression)
 FLUSH_INTERVAL = 1.0  # seconds: a chunk is closed and written at least this often
 QUEUE_CHUNKS = 32  # chunks waiting for the writer thread before `add` blocks (back-pressure)
-
-Item = tuple[int, int, int, bytes]  # channel, log time, publish time (ns), data
-_data = itemgetter(3)
 
 
 @dataclass(frozen=True)
@@ -48,10 +47,10 @@ class ChannelInfo:
 class BagSink:
     """Takes messages from any thread; writes ``<directory>/<name>_<i>.mcap`` files.
 
-    `add_batch` appends a list of messages to the open chunk under a lock (one lock and a
-    size count per batch, no packing). A full chunk, or one open for `FLUSH_INTERVAL`, goes
-    to the writer thread, which packs its messages into MCAP records (numbering each
-    channel's messages in order), compresses the chunk, appends it and flushes it to the OS. So a recorder killed with SIGKILL loses at most the
+    `add_batch` appends a list of packed Message records to the open chunk under a lock
+    (one lock and a size count per batch). A full chunk, or one open for `FLUSH_INTERVAL`,
+    goes to the writer thread, which joins and indexes it, compresses it, appends it and
+    flushes it to the OS. So a recorder killed with SIGKILL loses at most the
     open chunk: `CHUNK_SIZE` bytes or `FLUSH_INTERVAL` seconds of messages, whichever is less
     (plus the few chunks queued for the writer thread if the disk is slower than the input).
     """
@@ -70,10 +69,10 @@ class BagSink:
         self.channels: dict[int, ChannelInfo] = {}
         self.counts: dict[int, int] = {}
         self._schemas: dict[tuple[str, str, bytes], int] = {}
-        self._seq: dict[int, int] = {}  # channel -> last sequence number (writer thread)
+        self._seq: dict[int, int] = {}  # channel -> last sequence number given by `add`
         self._count = 0  # messages taken
         self._lock = threading.Lock()
-        self._open: list[list[Item]] = []  # the open chunk's batches
+        self._open: list[list[bytes]] = []  # the open chunk's batches of record parts
         self._open_bytes = 0
         self._queue: queue.Queue[Any] = queue.Queue(QUEUE_CHUNKS)
         self._file_start = -1
@@ -107,16 +106,22 @@ class BagSink:
             return info.id
 
     def add(self, channel: int, log_time: int, publish_time: int, data: bytes) -> None:
-        """Append one message."""
-        self.add_batch([(channel, log_time, publish_time, data)])
-
-    def add_batch(self, items: list[Item]) -> None:
-        """Append messages ``(channel, log_time, publish_time, data)`` in their order (the
-        hot path: one lock per batch). The list is the sink's from now on."""
-        size = sum(map(len, map(_data, items))) + RECORD_OVERHEAD * len(items)
+        """Append one message, numbered after the last one `add` gave ``channel``."""
         with self._lock:
-            self._open.append(items)
-            self._count += len(items)
+            seq = self._seq[channel] = self._seq.get(channel, 0) + 1
+        self.add_batch([MESSAGE_HEAD.pack(5, 22 + len(data), channel, seq & 0xFFFFFFFF,
+                                          log_time, publish_time), data])
+
+    def add_batch(self, parts: list[bytes], size: int = -1) -> None:
+        """Append Message records given as their parts, in order: head (`MESSAGE_HEAD`
+        packed: channel, sequence, log and publish time), data, head, data... (the hot path:
+        one lock per batch). Whoever packs a channel's heads numbers its messages. The list
+        is the sink's from now on. ``size``: its bytes, if the caller counted them."""
+        if size < 0:
+            size = sum(map(len, parts))
+        with self._lock:
+            self._open.append(parts)
+            self._count += len(parts) // 2
             self._open_bytes += size
             if self._open_bytes >= self.chunk_size:
                 self._hand_over()
@@ -170,18 +175,19 @@ class BagSink:
                 if self._queue.get()[0] == "stop":
                     return
 
-    def _write_batches(self, batches: list[list[Item]]) -> None:
-        """Pack batches into chunks of `chunk_size` bytes and write them."""
-        chunk = ChunkBuffer()
-        for items in batches:
-            i = 0
-            while i < len(items):
-                i = chunk.add_many(items, self._seq, i, self.chunk_size)
-                if len(chunk.buf) >= self.chunk_size:
-                    self._write_chunk(chunk)
-                    chunk = ChunkBuffer()
-        if chunk.index:
-            self._write_chunk(chunk)
+    def _write_batches(self, batches: list[list[bytes]]) -> None:
+        """Write batches of record parts as chunks of `chunk_size` bytes (the last one may be
+        smaller; a chunk closes with the record that fills it)."""
+        parts = list(chain.from_iterable(batches))
+        heads = np.frombuffer(b"".join(parts[0::2]), HEAD_DTYPE)
+        ends = np.cumsum(heads["length"] + 9)  # where each record ends
+        start, n = 0, len(ends)
+        while start < n:
+            base = int(ends[start - 1]) if start else 0
+            stop = min(n, int(np.searchsorted(ends, base + self.chunk_size)) + 1)
+            self._write_chunk(ChunkBuffer.of_records(parts[2 * start:2 * stop],
+                                                     heads[start:stop]))
+            start = stop
 
     def _write_chunk(self, chunk: ChunkBuffer) -> None:
         if self._file is None:  # split: the next file opens with its first chunk
@@ -189,13 +195,13 @@ class BagSink:
             for info in list(self.channels.values()):
                 self._declare(self._file, info)
         f = self._file
-        first = min(idx[0] for idx in chunk.index.values())
+        first = min(int(idx[0]) for idx in chunk.index.values())
         if self._file_start < 0:
             self._file_start = first
         f.write_chunk(chunk)
         for channel, idx in chunk.index.items():
             self.counts[channel] = self.counts.get(channel, 0) + len(idx) // 2
-        last = max(idx[-2] for idx in chunk.index.values())
+        last = max(int(idx[-2]) for idx in chunk.index.values())
         split = self.split
         if ((split.max_bytes and f.size >= split.max_bytes)
                 or (split.max_seconds and last - self._file_start >= split.max_seconds * 1e9)):

@@ -13,7 +13,7 @@ import zlib
 from array import array
 from collections import defaultdict
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
 import numpy as np
 from mcap.data_stream import RecordBuilder
@@ -32,14 +32,19 @@ from mcap.records import (
     SummaryOffset,
 )
 
-__all__ = ["COMPRESSIONS", "RECORD_OVERHEAD", "ChunkBuffer", "McapFile", "compress"]
+__all__ = ["COMPRESSIONS", "HEAD_DTYPE", "MESSAGE_HEAD", "RECORD_OVERHEAD", "ChunkBuffer", "McapFile", "compress"]
 
 MAGIC = b"\x89MCAP0\r\n"
 LIBRARY = "zenros-bag"
 COMPRESSIONS = ("zstd", "lz4", "none")
 
 _MSG_HEAD = struct.Struct("<BQHIQQ")  # opcode, record length, channel, sequence, log, publish
+MESSAGE_HEAD = _MSG_HEAD  # pack(5, 22 + len(data), channel, sequence, log_time, publish_time)
 RECORD_OVERHEAD = _MSG_HEAD.size  # bytes of a Message record besides its data
+# The fields of packed Message record heads, to read many at once.
+HEAD_DTYPE = np.dtype({"names": ["length", "channel", "log_time"],
+                       "formats": ["<u8", "<u2", "<u8"], "offsets": [1, 9, 15],
+                       "itemsize": _MSG_HEAD.size})
 _INDEX_HEAD = struct.Struct("<BQHI")  # opcode, record length, channel, records length
 
 
@@ -65,12 +70,13 @@ class ChunkBuffer:
     __slots__ = ("buf", "index")
 
     def __init__(self) -> None:
-        self.buf = bytearray()
-        self.index: dict[int, array[int]] = {}
+        self.buf: bytearray | bytes = bytearray()  # bytes: made by `of_records`, final
+        self.index: dict[int, array[int] | np.ndarray[Any, Any]] = {}
 
     def add(self, channel: int, sequence: int, log_time: int, publish_time: int,
             data: bytes) -> None:
         buf = self.buf
+        assert isinstance(buf, bytearray), "a chunk made by of_records is final"
         idx = self.index.get(channel)
         if idx is None:
             idx = self.index[channel] = array("Q")
@@ -80,46 +86,39 @@ class ChunkBuffer:
                               publish_time)
         buf += data
 
-    def add_many(self, items: list[tuple[int, int, int, bytes]], seqs: dict[int, int],
-                 start: int = 0, limit: int = 0) -> int:
-        """`add` for ``(channel, log_time, publish_time, data)`` items from ``items[start]`` on,
-        numbering each channel's messages on from ``seqs[channel]`` (updated); stops once the
-        chunk holds ``limit`` bytes (0: no limit). Returns the index of the first item left."""
-        buf, index, head = self.buf, self.index, _MSG_HEAD.pack
-        limit = limit or sys.maxsize
-        last = -1
-        idx = array("Q")
-        seq = 0
-        i = start
-        try:
-            for i in range(start, len(items)):  # noqa: B007 (i is the result)
-                channel, log_time, publish_time, data = items[i]
-                if channel != last:  # runs of one channel need no lookups
-                    if last >= 0:
-                        seqs[last] = seq
-                    last = channel
-                    seq = seqs.get(channel, 0)
-                    got = index.get(channel)
-                    if got is None:
-                        got = index[channel] = array("Q")
-                    idx = got
-                seq += 1
-                idx.append(log_time)
-                idx.append(len(buf))
-                buf += head(5, 22 + len(data), channel, seq & 0xFFFFFFFF, log_time, publish_time)
-                buf += data
-                if len(buf) >= limit:
-                    return i + 1
-            return len(items)
-        finally:
-            if last >= 0:
-                seqs[last] = seq
+    @classmethod
+    def of_records(cls, parts: list[bytes], heads: np.ndarray[Any, Any] | None = None
+                   ) -> ChunkBuffer:
+        """A chunk of Message records given as their parts: head (`MESSAGE_HEAD` packed),
+        data, head, data... (no per-message Python work: joined, and indexed with numpy).
+        ``heads``: the heads already read as `HEAD_DTYPE`, if the caller has them."""
+        chunk = cls()
+        if len(parts) < 2:
+            return chunk
+        chunk.buf = b"".join(parts)
+        if heads is None:
+            heads = np.frombuffer(b"".join(parts[0::2]), HEAD_DTYPE)
+        records = heads["length"] + 9  # opcode and length fields, then the record
+        offsets = np.cumsum(records) - records
+        channels, log_times = heads["channel"], heads["log_time"]
+        first = int(channels[0])
+        single = bool((channels == first).all())
+        for channel in [first] if single else np.unique(channels).tolist():
+            pick = slice(None) if single else channels == channel
+            picked = log_times[pick]
+            pairs = np.empty((len(picked), 2), "<u8")
+            pairs[:, 0] = picked
+            pairs[:, 1] = offsets[pick]
+            chunk.index[channel] = pairs.reshape(-1)
+        return chunk
 
     def __len__(self) -> int:
         return len(self.buf)
 
 
-def _index_bytes(idx: array[int]) -> bytes:
+def _index_bytes(idx: array[int] | np.ndarray[Any, Any]) -> bytes:
+    if isinstance(idx, np.ndarray):
+        return idx.astype("<u8", copy=False).tobytes()
     if sys.byteorder != "little":  # MCAP is little-endian
         idx = array("Q", idx)
         idx.byteswap()

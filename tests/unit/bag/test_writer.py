@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from mcap.reader import make_reader
 from zenros.bag import BagSink, SplitPolicy, bag_files, bag_info, iter_messages
-from zenros.bag.writer import McapFile
+from zenros.bag.writer import MESSAGE_HEAD, ChunkBuffer, McapFile
 
 from .conftest import T0, twist, write_file
 
@@ -90,3 +90,47 @@ def test_sink_sequences_count_per_channel(tmp_path: Path) -> None:
     assert sink.message_count == 4
     seqs = [(m.channel.topic, m.sequence) for m in iter_messages(bag_files(tmp_path / "bag"))]
     assert sorted(seqs) == [("/a", 1), ("/a", 2), ("/a", 3), ("/b", 1)]
+
+
+def _records(n: int) -> tuple[ChunkBuffer, list[bytes]]:
+    """The same ``n`` messages on two interleaved channels, added one by one and as parts."""
+    chunk, parts = ChunkBuffer(), []
+    for i in range(n):
+        channel, data = (1 if i % 3 else 2), twist(i) + b" " * (i % 7)
+        chunk.add(channel, i + 1, T0 + i, T0 - i, data)
+        parts += [MESSAGE_HEAD.pack(5, 22 + len(data), channel, i + 1, T0 + i, T0 - i), data]
+    return chunk, parts
+
+
+def test_chunk_of_records_matches_one_by_one() -> None:
+    chunk, parts = _records(50)
+    packed = ChunkBuffer.of_records(parts)
+    assert bytes(packed.buf) == bytes(chunk.buf)
+    assert set(packed.index) == {1, 2}
+    for channel, idx in chunk.index.items():
+        assert list(packed.index[channel]) == list(idx)  # (log time, offset) pairs
+    single = ChunkBuffer.of_records(parts[2:4] + parts[4:6])  # one channel: the fast path
+    assert list(single.index) == [1] and len(single.index[1]) == 4
+    assert ChunkBuffer.of_records([]).index == {}
+
+
+def test_sink_batches_split_into_chunks(tmp_path: Path) -> None:
+    """`add_batch` batches larger than a chunk are cut at the record that fills it; message
+    indexes, counts and order survive."""
+    _, parts = _records(300)
+    sink = BagSink(tmp_path / "bag", "bag", compression="none", chunk_size=2000)
+    for channel in (1, 2):
+        sink.add_channel(f"/c{channel}", "json", "", "", b"")
+    for i in range(0, len(parts), 128):
+        sink.add_batch(parts[i:i + 128])
+    assert sink.message_count == 300
+    sink.close()
+    (path,) = bag_files(tmp_path / "bag")
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and summary.statistics is not None
+    assert summary.statistics.channel_message_counts == {1: 200, 2: 100}
+    assert len(summary.chunk_indexes) >= 300 * 60 // 2000
+    assert all(c.uncompressed_size < 2000 + 100 for c in summary.chunk_indexes)
+    got = [(m.log_time, m.sequence, m.publish_time) for m in iter_messages([path])]
+    assert got == [(T0 + i, i + 1, T0 - i) for i in range(300)]
