@@ -44,6 +44,9 @@ class IdQuery(msgspec.Struct, forbid_unknown_fields=True):
 async def check_route(link: NavLink, current: str, target: str) -> None:
     """Refuse (409) a goal on map ``target`` that no route of direct connections reaches
     from map ``current``, before a task is made (the task checks again when it runs)."""
+    names, _ = await link.maps()
+    if names and target not in names:
+        raise ApiError(404, f"unknown map {target!r}; known maps: {', '.join(names)}")
     res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
     try:
         route = find_route(links_of(res.points, res.connections), current, target)

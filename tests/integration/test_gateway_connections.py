@@ -161,6 +161,10 @@ def test_no_route_or_an_elevator_is_refused(rig: Rig) -> None:
           "needs the elevator connection")
     error(rig.http.get("/navigation/move_to_index", params={**go, "index": 7}), 404,
           "nav point 7 does not exist")
+    error(rig.http.post("/navigation/start_nav_task", json={"x": 1, "y": 1, "map": "nope"}),
+          404, "unknown map 'nope'; known maps: office, office2")
+    error(rig.http.get("/navigation/move_to_index", params={**go, "map": "nope"}), 404,
+          "unknown map 'nope'")
     # a nav_action made directly fails the same way when it runs, before the robot moves
     task = rig.http.post("/action", json={"type": "nav_action", "x": 1.0, "y": 1.0,
                                           "map": "office2"}).json()
