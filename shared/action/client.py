@@ -28,7 +28,14 @@ from ..names import Token
 from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
 from .inbox import Inbox
-from .transport import encoding_for, parse_error, query_once, status_subscriber
+from .transport import (
+    RESULT_ON_GOAL,
+    encoding_for,
+    parse_error,
+    query_once,
+    query_replies,
+    status_subscriber,
+)
 from .types import (
     ZERO_UUID,
     GoalStatus,
@@ -70,6 +77,7 @@ class ActionClient:
         self._status = codec_for(GoalStatusArray)
         self._enc = {"send_goal": encoding_for(wire.SendGoalRequest),
                      "get_result": encoding_for(wire.GetResultRequest)}
+        self._result_enc = encoding_for(wire.GetResultResponse)
         self._keys = {p: ctx.keys.action(self.name, p)
                       for p in ("send_goal", "cancel_goal", "get_result", "feedback", "status")}
         self._lock = threading.Lock()
@@ -131,10 +139,34 @@ class ActionClient:
         with self._lock:
             self._handles[handle._key] = handle
         handle._future.add_done_callback(lambda _f: self._forget(handle))
-        self._get("send_goal", data, self.send_timeout,
-                  lambda reply: self._on_send_reply(handle, reply))
-        self._request_result(handle)  # pipelined: the server holds it until the goal ends
+        self._send(handle, data)
         return handle
+
+    def _send(self, h: ClientGoalHandle, data: bytes) -> None:
+        """One query for the goal and its result: the server replies the acceptance at once
+        and (asked by the attachment) the result when the goal ends. A goal still running
+        when the query times out (``send_timeout``) gets its result by get_result requests."""
+        state = {"answered": False, "result": False}
+
+        def on_reply(reply: zenoh.Reply) -> None:
+            ok = reply.ok
+            if ok is not None and ok.encoding == self._result_enc:
+                state["result"] = True
+                self._on_result_reply(h, reply, False)
+            elif not state["answered"]:
+                state["answered"] = True
+                self._on_send_reply(h, reply)
+            # else: the query timed out after the acceptance; on_final asks for the result
+
+        def on_final() -> None:
+            if not state["answered"]:
+                state["answered"] = True
+                self._on_send_reply(h, None)
+            elif not state["result"] and h.accepted and not h.done:
+                self._request_result_soon(h)
+
+        query_replies(self._ctx.session, self._keys["send_goal"], data, self._enc["send_goal"],
+                      self.send_timeout, on_reply, on_final, RESULT_ON_GOAL)
 
     def _forget(self, handle: ClientGoalHandle) -> None:
         with self._lock:

@@ -24,7 +24,7 @@ from .policies import GoalPolicy
 from .runner import GoalRunner
 from .states import GoalEvent
 from .status import StatusPublisher
-from .transport import answer, answer_err, decode_query, encoding_for
+from .transport import RESULT_ON_GOAL, answer, answer_err, decode_query, encoding_for
 from .types import (
     ZERO_UUID,
     CancelCode,
@@ -155,9 +155,10 @@ class ActionServer:
 
     def _on_query(self, query: zenoh.Query) -> None:
         """Route one request; whatever it does, it is answered and the server keeps serving.
-        A send_goal or cancel_goal query is finalized here; a get_result one may wait for
-        its goal's end (then `_deliver` answers it)."""
+        A request is finalized here unless its handler holds it: a get_result (or a send_goal
+        that asked for its result) waiting for its goal's end, which `_deliver` answers."""
         part = ""
+        held = False
         try:
             key = str(query.key_expr)
             part = self._parts.get(key, "")
@@ -167,7 +168,7 @@ class ActionServer:
                 self._reply_err(query, "BadRequest", wildcard_refusal(
                     f"action {self.name}", self._key("<request>"), query))
             elif handler is not None:
-                handler(query)
+                held = handler(query) is True
             else:
                 self._reply_err(query, "BadRequest", f"action {self.name}: no request "
                                 f"{key.rsplit('/', 1)[-1]!r}; valid: "
@@ -181,7 +182,7 @@ class ActionServer:
             except zenoh.ZError:  # already answered or finalized
                 pass
         finally:
-            if part != "get_result":
+            if not held:
                 query.drop()  # type: ignore[no-untyped-call]
 
     def _reply_err(self, query: zenoh.Query, kind: str, message: str) -> None:
@@ -191,7 +192,8 @@ class ActionServer:
 
     # ------------------------------------------------------------------ send_goal
 
-    def _on_send_goal(self, query: zenoh.Query) -> None:
+    def _on_send_goal(self, query: zenoh.Query) -> bool | None:
+        """Admit a goal; True if ``query`` is held to carry the goal's result too."""
         req = decode_query(query, self._sg_req, f"action {self.name} send_goal")
         if isinstance(req, str):
             return self._reply_err(query, "BadRequest", req)
@@ -218,8 +220,18 @@ class ActionServer:
                 return self._respond(query, False, reason)
             handle.stamp = handle._info.stamp = self._node.now()
             launch = self._runner.accept(handle, plan)
-            self._respond(query, True, "", handle)  # answer first, then run the goal
+            # Answer first, then run the goal. A client that asked for the result on this
+            # query (the attachment) gets the acceptance now and the result as a second reply,
+            # sent by whichever thread ends the goal: one query per goal instead of two.
+            hold = _wants_result(query)
+            self._respond(query, True, "", handle, finalize=not hold)
+            if hold:
+                if handle._result is None:
+                    handle._waiters.append(query)
+                else:  # the plan already ended it (a queue that dropped it)
+                    self._answer_result(query, handle)
             self._runner.launch(launch)
+            return hold
 
     def _ask_goal_callback(self, goal: Any) -> str:
         """'' to accept, else the rejection reason."""
@@ -237,11 +249,15 @@ class ActionServer:
         return "rejected by the goal callback"
 
     def _respond(self, query: zenoh.Query, accepted: bool, reason: str,
-                 handle: Handle | None = None) -> None:
+                 handle: Handle | None = None, finalize: bool = True) -> None:
         res = self._wire.SendGoalResponse(accepted=accepted, reason=reason)
         if accepted and handle is not None:
             res.stamp = handle.stamp
-        answer(query, self._sg_res.encode(res), self._enc[self._wire.SendGoalResponse])
+        data, enc = self._sg_res.encode(res), self._enc[self._wire.SendGoalResponse]
+        if finalize:
+            answer(query, data, enc)
+        else:
+            query.reply(query.key_expr, data, encoding=enc)
 
     # ------------------------------------------------------------------ cancel_goal
 
@@ -284,7 +300,7 @@ class ActionServer:
 
     # ------------------------------------------------------------------ get_result
 
-    def _on_get_result(self, query: zenoh.Query) -> None:
+    def _on_get_result(self, query: zenoh.Query) -> bool | None:
         req = decode_query(query, self._gr_req, f"action {self.name} get_result")
         if isinstance(req, str):
             return self._reply_err(query, "BadRequest", req)
@@ -295,7 +311,7 @@ class ActionServer:
             h = self._table.lookup(gid.bytes)
             if h is not None and h._result is None:
                 h._waiters.append(query)  # answered when the goal's result is set
-                return
+                return True
             data = None if h is None else self._result_payload(h)
         if data is not None:
             answer(query, data, self._enc[self._wire.GetResultResponse])
@@ -307,6 +323,9 @@ class ActionServer:
     def _result_payload(self, h: Handle) -> bytes:
         res = self._wire.GetResultResponse(status=int(h._status), result=h._result)
         return self._gr_res.encode(res)
+
+    def _answer_result(self, query: zenoh.Query, h: Handle) -> None:
+        answer(query, self._result_payload(h), self._enc[self._wire.GetResultResponse])
 
     def _deliver(self, h: Handle) -> None:
         """Answer the result requests waiting on ``h`` (its result was just set)."""
@@ -354,3 +373,9 @@ class ActionServer:
 
     def __repr__(self) -> str:
         return f"<ActionServer {self.name} [{self.action_type.name}] policy={self.policy}>"
+
+
+def _wants_result(query: zenoh.Query) -> bool:
+    """True if a send_goal asks for its result on the same query (`RESULT_ON_GOAL`)."""
+    att = query.attachment
+    return att is not None and att.to_bytes() == RESULT_ON_GOAL

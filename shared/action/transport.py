@@ -25,11 +25,16 @@ __all__ = [
     "error_payload",
     "parse_error",
     "query_once",
+    "query_replies",
     "status_publisher",
     "status_subscriber",
 ]
 
 M = TypeVar("M", bound=Message)
+
+RESULT_ON_GOAL = b"result"
+"""The send_goal attachment that asks the server to answer the goal's result on the same
+query, as a second reply after the acceptance (a zenros addition; see docs/actions.md)."""
 
 
 @cache
@@ -124,3 +129,18 @@ def query_once(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh
     session.get(key, zenoh.handlers.Callback(once, lambda: once(None), indirect=False),
                 payload=payload, encoding=encoding, target=zenoh.QueryTarget.BEST_MATCHING,
                 timeout=timeout)
+
+
+def query_replies(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh.Encoding,
+                  timeout: float, on_reply: Callable[[zenoh.Reply], None],
+                  on_final: Callable[[], None], attachment: bytes | None = None) -> None:
+    """A non-blocking query whose every reply is handed to ``on_reply`` as it arrives (no
+    consolidation: a server may answer more than once, e.g. acceptance then result), then
+    ``on_final()`` once the query ended (the server dropped it, or ``timeout``).
+
+    Both run on a Zenoh network thread, with the rules of `query_once`.
+    """
+    session.get(key, zenoh.handlers.Callback(on_reply, on_final, indirect=False),
+                payload=payload, encoding=encoding, target=zenoh.QueryTarget.BEST_MATCHING,
+                consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout,
+                attachment=attachment)

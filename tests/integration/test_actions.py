@@ -25,6 +25,7 @@ from zenros.action import (
 from zenros.action.transport import status_subscriber
 from zenros.action.types import GoalStatusArray, uuid_msg
 from zenros.codec import codec_for
+from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.example_interfaces import (
     Fibonacci,
@@ -33,6 +34,7 @@ from zenros.msgs.example_interfaces import (
     FibonacciResult,
 )
 from zenros.msgs.geometry_msgs import Twist
+from zenros.session import SessionOptions
 from zenros.testing import Collector, wait_for
 
 Handle: TypeAlias = ServerGoalHandle[FibonacciGoal]
@@ -496,3 +498,47 @@ def test_node_factory_methods_make_action_endpoints(make_node: Any) -> None:
     client = client_node.create_action_client(Fibonacci, "fib")
     assert client.wait_for_server(5)
     assert client.send_goal(FibonacciGoal(order=2)).result.sequence == [0, 1]
+
+
+# ------------------------------------------------------------------ one query per goal
+
+
+def test_acceptance_arrives_before_the_end_through_a_router(router: str, prefix: str) -> None:
+    """The goal's query carries the acceptance at once and the result as a second reply when
+    the goal ends, also with a router relaying both."""
+    ctxs = [Context(SessionOptions(connect=[router]), prefix=prefix) for _ in range(2)]
+    nodes = [Node("server", context=ctxs[1]), Node("client", context=ctxs[0])]
+    try:
+        rec = Recorder()
+        ActionServer(nodes[0], Fibonacci, "fibonacci", rec)
+        client = ActionClient(nodes[1], Fibonacci, "fibonacci")
+        assert client.wait_for_server(10)
+        h = client.send_goal_async(goal(5))
+        assert h.wait_accepted(10) is True
+        assert wait_for(lambda: rec.started == [5], 10) and not h.done
+        rec.release(5)
+        out = h.result(10)
+        assert out.succeeded and out.result.sequence == [5]
+    finally:
+        for n in nodes:
+            n.close()
+        for c in ctxs:
+            c.close()
+
+
+def test_a_goal_outliving_send_timeout_gets_its_result_by_request(
+        make_node: Callable[..., Node]) -> None:
+    """The goal's query ends after ``send_timeout``; a longer goal's result then comes by
+    get_result requests, which the server holds until the goal ends."""
+    rec = Recorder()
+    ActionServer(make_node("server", 1), Fibonacci, "fibonacci", rec)
+    client = ActionClient(make_node("client", 0), Fibonacci, "fibonacci", send_timeout=0.5)
+    assert client.wait_for_server(10)
+    asked: list[uuid.UUID] = []
+    request = client._request_result
+    client._request_result = lambda h: (asked.append(h.goal_id), request(h))  # type: ignore[method-assign]
+    h = client.send_goal_async(goal(3))
+    assert h.wait_accepted(10) is True
+    assert wait_for(lambda: asked == [h.goal_id], 10) and not h.done
+    rec.release(3)
+    assert h.result(10).result.sequence == [3]
