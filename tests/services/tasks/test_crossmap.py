@@ -102,3 +102,22 @@ def test_a_missing_goal_point_fails_before_moving() -> None:
 def test_carry_over_keeps_the_offset(robot: Any, expected: tuple[float, ...]) -> None:
     got = carry_over((1.0, 0.0, 0.0), (5.0, 5.0, math.pi / 2), robot)
     assert got == pytest.approx(expected)
+
+
+def test_a_pause_preempts_and_a_resume_starts_from_the_map_it_is_on() -> None:
+    robot = MapRobot([link("1", ("a", 0), ("b", 0)), link("2", ("b", 1), ("c", 0))])
+    calls: list[str] = []
+
+    def paused_on_b(p: dict[str, Any]) -> Outcome:
+        calls.append(robot.map)
+        return Outcome("preempted") if robot.map == "b" else Outcome("complete")
+
+    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+                          paused_on_b, print)
+    assert out.name == "preempted" and "direct connection 2" in out.reason
+    assert calls == ["a", "b"] and robot.map == "b"
+    robot.log.clear()
+    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "b",  # type: ignore[arg-type]
+                          leg_of(robot), print)
+    assert out.name == "complete"
+    assert [e[0] for e in robot.log] == ["nav", "switch", "relocalise", "nav"]
