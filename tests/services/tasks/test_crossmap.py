@@ -53,7 +53,7 @@ def leg_of(robot: MapRobot) -> Any:
     def leg(p: dict[str, Any]) -> Outcome:
         robot.log.append(("nav", robot.map, p.get("index", (p.get("x"), p.get("y")))))
         if "x" in p:  # it stops 0.1 m past the point, along the point's heading
-            th = p["theta"]
+            th = p.get("theta", 0.0)
             robot.here = (p["x"] + 0.1 * math.cos(th), p["y"] + 0.1 * math.sin(th), th)
         return Outcome("complete", "arrived")
     return leg
