@@ -181,9 +181,11 @@ class ChassisNode(Node):
                                 " stopping")
 
     def _publish(self) -> None:
+        # a message nobody subscribes to is not built (publish would drop it unencoded);
+        # latched publishers always count a subscriber, so their cache stays filled
         cfg, sim, k = self.cfg, self.sim, self._steps
         stamp = self.stamp()
-        if self.clock_pub is not None:
+        if self.clock_pub is not None and self.clock_pub.subscription_count:
             self.clock_pub.publish(Clock(clock=stamp))
         if k % cfg.odom_every == 0:
             odom = sim.odometry
@@ -193,10 +195,11 @@ class ChassisNode(Node):
             if self.tf is not None:
                 self.tf.send_transform(messages.transform(
                     stamp, cfg.odom_frame, cfg.base_frame, odom.pose))
-            self.truth_pub.publish(messages.odometry(
-                stamp, cfg.map_frame, cfg.base_frame, sim.truth, sim.drive.linear,
-                sim.drive.angular))
-        if k % cfg.scan_every == 0:
+            if self.truth_pub.subscription_count:
+                self.truth_pub.publish(messages.odometry(
+                    stamp, cfg.map_frame, cfg.base_frame, sim.truth, sim.drive.linear,
+                    sim.drive.angular))
+        if k % cfg.scan_every == 0 and self.scan_pub.subscription_count:
             self.scan_pub.publish(messages.laser_scan(
                 stamp, cfg.laser_frame, sim.laser.config, sim.scan(), 1.0 / cfg.scan_rate))
         flags = self._flags()
