@@ -16,6 +16,7 @@ from typing import Any
 from urllib.parse import parse_qsl
 
 import msgspec
+from starlette.requests import Request
 from starlette.responses import Response
 from starlette.types import Receive, Scope, Send
 
@@ -54,6 +55,7 @@ class Call:
     token: str | None
     path: str = ""
     path_params: dict[str, str] = field(default_factory=dict)
+    request: Request | None = None   # only for ``raw_body`` endpoints
 
 
 Handler = Callable[[Call], Awaitable[Any]]
@@ -72,6 +74,7 @@ class Endpoint:
     public: bool = False
     implemented: bool = True
     media_type: str = "application/json"
+    raw_body: bool = False   # the handler reads the body (a multipart upload) itself
     summary: str = ""
     description: str = ""
 
@@ -184,7 +187,7 @@ class Api:
         query: dict[str, Any] = dict(parse_qsl(raw_query, keep_blank_values=True))
         token = query.pop("token", None)
         body: dict[str, Any] | None = None
-        if method_has_body(scope["method"]):
+        if method_has_body(scope["method"]) and not ep.raw_body:
             body = await self._read_json(scope, receive)
             if body is not None and token is None and isinstance(body.get("token"), str):
                 token = body["token"]
@@ -201,7 +204,8 @@ class Api:
         elif body and ep.implemented:
             raise ApiError(400, f"{ep.method} {ep.path} takes no body fields; "
                                 f"got {', '.join(sorted(body))}")
-        return await ep.handler(Call(q, b, token, scope["path"], params))
+        request = Request(scope, receive) if ep.raw_body else None
+        return await ep.handler(Call(q, b, token, scope["path"], params, request))
 
     def _convert(self, data: dict[str, Any], tp: type[Any] | None, where: str,
                  strict: bool) -> Any:
