@@ -34,6 +34,10 @@ __all__ = [
     "AddPointConnection",
     "AddPointConnectionRequest",
     "AddPointConnectionResponse",
+    "ComputeCoveragePath",
+    "ComputeCoveragePathRequest",
+    "ComputeCoveragePathResponse",
+    "CoverageHole",
     "ConnectionPoint",
     "DeleteNavPoints",
     "DeleteNavPointsRequest",
@@ -682,3 +686,41 @@ class LocalMoveTargetFeedback(Message):
 
 LocalMoveTarget = define_action("zenros_msgs/LocalMoveTarget", LocalMoveTargetGoal,
                                 LocalMoveTargetResult, LocalMoveTargetFeedback)
+
+
+class CoverageHole(Message):
+    """An area a coverage path leaves out (a closed polygon, z ignored)."""
+
+    __msgtype__ = "zenros_msgs/CoverageHole"
+    points: list[Point] = msgspec.field(default_factory=list)
+
+
+class ComputeCoveragePathRequest(Message):
+    """A boustrophedon coverage path over ``border`` minus ``holes`` (computed, not driven).
+
+    ``swath_angle`` in degrees (< 0: the angle needing the fewest swaths), ``op_width``
+    (> 0), ``turn_radius`` and ``headland_width`` (>= 0) in metres. See services/nav/
+    coverage.py and docs/nav.md. A bad field is refused with a reason naming it.
+    """
+
+    __msgtype__ = "zenros_msgs/ComputeCoveragePathRequest"
+    swath_angle: float = 0.0
+    op_width: float = 1.0
+    turn_radius: float = 0.0
+    headland_width: float = 0.0
+    border: list[Point] = msgspec.field(default_factory=list)
+    holes: list[CoverageHole] = msgspec.field(default_factory=list)
+
+
+class ComputeCoveragePathResponse(Message):
+    """``path``: swath segment ends in driving order; ``swath_angle`` the angle used."""
+
+    __msgtype__ = "zenros_msgs/ComputeCoveragePathResponse"
+    path: list[Point] = msgspec.field(default_factory=list)
+    swath_angle: float = 0.0
+    swaths: int = 0
+    segments: int = 0
+
+
+ComputeCoveragePath = define_service("zenros_msgs/ComputeCoveragePath",
+                                     ComputeCoveragePathRequest, ComputeCoveragePathResponse)
