@@ -49,6 +49,7 @@ from .convert import (
     yaw_from_quaternion,
 )
 from .core import NavCore
+from .coverage_srv import handle_compute_coverage_path
 from .docking import Dock
 from .localizer import MODES
 from .loop import ControlLoop
@@ -158,6 +159,8 @@ class NavNode(Node):
             (navmsgs.AddPointConnection, "add_point_connection", conn.handle_add),
             (navmsgs.DeletePointConnection, "delete_point_connection", conn.handle_delete),
             (navmsgs.SetChargePose, "set_charge_pose", rec.handle_set_charge_pose),
+            (navmsgs.ComputeCoveragePath, "compute_coverage_path",
+             handle_compute_coverage_path),
             (ClearEntireCostmap, "global_costmap/clear_entirely_global_costmap",
              self.handle_clear_costmap),
         ):
