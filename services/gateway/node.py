@@ -25,6 +25,7 @@ from .nav_calls import NavCalls
 from .nav_link import NavLink
 from .navigator import Navigator
 from .rest_connections import add_connection_routes
+from .rest_coverage import add_coverage_routes
 from .rest_extras import add_extra_routes
 from .rest_goals import add_goal_routes
 from .rest_io import IoLink, add_io_routes
@@ -115,6 +116,7 @@ class GatewayNode(Node):
             lambda api: add_io_routes(api, self.io),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_connection_routes(api, self.nav_link),
+            lambda api: add_coverage_routes(api, self),
             lambda api: add_extra_routes(api, self.link, self.hub,
                                          ParameterClient(self.context, node=self.fqn))])
         self.rosbridge: RosbridgeServer | None = None
