@@ -9,8 +9,10 @@ field minus its holes, then order the swaths into a back-and-forth route.
   points of a line within a distance of a segment is one interval).
 - Swaths: the region's extent across the swath direction is split into
   ``ceil(extent / op_width)`` evenly spaced swaths (spacing <= ``op_width``), the outer ones
-  ``op_width / 2`` inside the headland, so every point of the region is within
-  ``op_width / 2`` of a swath. A swath crossed by a hole becomes several segments.
+  ``op_width / 2`` inside the headland, so every point of the region at least
+  ``op_width / 2`` from its edges is within ``op_width / 2`` of a swath (the tips of corners
+  that are not square to the swaths are left out, as in any swath planner). A swath crossed
+  by a hole becomes several segments.
 - Order: segments of neighbouring swaths that overlap one to one form a cell; each cell is
   driven back and forth, cells one after the other (the nearest next). Turns and moves
   between cells are straight connections from one segment's end to the next one's start
@@ -82,10 +84,10 @@ def _polygon(points: Sequence[Sequence[float]], what: str) -> np.ndarray:
         arr = arr[keep]
     if len(arr) < 3:
         raise CoverageError(f"{what} needs at least 3 distinct points, got {len(arr)}")
-    if abs(_area(arr)) <= _EPS:
-        raise CoverageError(f"{what} has no area (its points are on one line)")
     if _self_intersects(arr):
         raise CoverageError(f"{what} intersects itself")
+    if abs(_area(arr)) <= _EPS:
+        raise CoverageError(f"{what} has no area (its points are on one line)")
     return arr
 
 
