@@ -1,12 +1,13 @@
 """Laser: a 2-D scan ray-cast against the world, in C where built, else in numpy (reference).
 
-The numpy reference is vectorised over beams (float32 ray marching). Each beam first marches a fixed number of steps along the map's distance field (a step is
-the distance to the nearest solid cell, less a cell's diagonal so it never jumps over one,
-and at least half a cell); the few beams still going, those grazing a wall, are then
-sampled every half cell in one array operation. A beam that lands in a solid cell ranges
-to the ray's exact entry into the first solid cell it crosses after its last free sample
-(a cell-by-cell walk over that half cell). A ray clipping only the corner of a lone cell by
-less than half a cell may miss it.
+The numpy reference is vectorised over beams (float32 ray marching). Each beam first
+marches a fixed number of steps along the map's distance field (a step is the distance to
+the nearest solid cell, less a cell's diagonal so it never jumps over one, and at least
+half a cell); the few beams still going, those grazing a wall, are then sampled every half
+cell in one array operation. A beam that lands in a solid cell ranges to the ray's exact
+entry into the first solid cell it crosses after its last free sample (a cell-by-cell walk
+over that half cell). A ray clipping only the corner of a lone cell by less than half a
+cell may miss it.
 Obstacles are intersected exactly (circles and boxes); the nearer hit wins.
 
 The map part runs compiled when ``_march.c`` is built (``pip install`` builds it where a C
