@@ -10,11 +10,13 @@ from typing import Any
 
 import uvicorn
 from starlette.types import ASGIApp
+from zenros.home import data_dir
 from zenros.node import Node
 from zenros.param_client import ParameterClient
 
 from .app import HttpApp, build_api
 from .config import default_config_path, load_config
+from .fs_sandbox import FileRoot
 from .core import Core, make_identity
 from .dashboard import dashboard_app
 from .discovery import Discovery
@@ -27,17 +29,20 @@ from .navigator import Navigator
 from .rest_connections import add_connection_routes
 from .rest_coverage import add_coverage_routes
 from .rest_extras import add_extra_routes
+from .rest_fs import add_fs_routes
 from .rest_goals import add_goal_routes
 from .rest_io import IoLink, add_io_routes
 from .rest_local_moves import add_local_move_routes
 from .rest_nav import add_nav_routes
 from .rest_records import add_record_routes
 from .rest_tasks import add_task_routes
+from .rest_tts import add_tts_routes
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .serial_bridge import SerialBridge
 from .settings import Settings
+from .speech import AudioStore, Speech
 from .tasks_link import TasksLink
 from .topic_hub import TopicHub
 from .ws import ws_app
@@ -71,6 +76,8 @@ class GatewayNode(Node):
             -1 turns it off; docs/rosbridge.md).
         foxglove_port: the Foxglove server (needs zenros[foxglove]; default -1: off;
             docs/foxglove.md).
+        fs_root: the folder the /fs API works in (default $ZENROS_HOME; docs/gateway.md).
+        fs_max_upload: largest /fs upload in bytes (default 32 MiB).
     """
 
     node_name = "gateway"
@@ -92,7 +99,8 @@ class GatewayNode(Node):
         deadman = self.declare_parameter("deadman_timeout", 0.5)
         self.data_dir = Path(self.declare_parameter("data_dir", "") or self._default_dir())
         self.host = host
-        config = load_config(Path(config_file) if config_file else default_config_path(),
+        config_path = Path(config_file) if config_file else default_config_path()
+        config = load_config(config_path,
                              {"no_token_check": True} if no_check else None)
         self.core = Core(config, Settings(self.data_dir / "settings.json"),
                          make_identity(self.namespace, version, rest_port), deadman)
@@ -107,6 +115,11 @@ class GatewayNode(Node):
         self.nav_link = NavLink(self)
         self.core.services["maps"] = self.nav_link.maps
         self.io = IoLink(self)
+        self.files = FileRoot(
+            data_dir(self.declare_parameter("fs_root", "")), [config_path],
+            self.declare_parameter("fs_max_upload", 32 * 1024 * 1024))
+        self.speech = Speech(lambda: self.now().nanoseconds / 1e9)
+        self.audio = AudioStore(self.data_dir / "audio.json")
         nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
         self.api = build_api(self.core, max_body, self.logger, [
             lambda api: add_task_routes(api, self.tasks),
@@ -118,7 +131,9 @@ class GatewayNode(Node):
             lambda api: add_connection_routes(api, self.nav_link),
             lambda api: add_coverage_routes(api, self),
             lambda api: add_extra_routes(api, self.link, self.hub,
-                                         ParameterClient(self.context, node=self.fqn))])
+                                         ParameterClient(self.context, node=self.fqn)),
+            lambda api: add_fs_routes(api, self.files),
+            lambda api: add_tts_routes(api, self.link, self.speech, self.audio)])
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:

@@ -1,5 +1,5 @@
-"""REST extras the simulated robot honours truthfully: log, TTS as text, topic snapshots,
-self-test, ROS parameters (§3.1, §3.5, §3.7), and navigation reload (§6.1)."""
+"""REST extras the simulated robot honours truthfully: log, topic snapshots, self-test and
+ROS parameters (§3.1, §3.5); TTS is in rest_tts."""
 
 from __future__ import annotations
 
@@ -16,7 +16,6 @@ from zenros.errors import (
     ZenrosError,
     ZenrosTimeout,
 )
-from zenros.msgs.std_msgs import String
 from zenros.param_client import ParameterClient
 
 from .api import Api, ApiError, Call
@@ -26,10 +25,6 @@ from .topic_hub import Slot, TopicError, TopicHub
 __all__ = ["add_extra_routes"]
 
 TOPIC_WAIT = 3.0
-
-
-class TtsQuery(msgspec.Struct, forbid_unknown_fields=True):
-    text: Annotated[str, msgspec.Meta(min_length=1, max_length=2000)]
 
 
 class TopicQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -64,11 +59,6 @@ def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: Parameter
     async def log(call: Call) -> Any:
         """The recent system log (``/rosout``), oldest first."""
         return {"log": "\n".join(link.log)}
-
-    async def tts(call: Call) -> Any:
-        """Speak ``text``: the simulated robot publishes it on ``tts`` (std_msgs/String)."""
-        link.tts_pub.publish(String(data=call.query.text))
-        return {"status": "ok"}
 
     async def topic(call: Call) -> Any:
         """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
@@ -112,7 +102,6 @@ def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: Parameter
 
     api.add("GET", "/system/log", log)
     api.add("GET", "/system/schedule_manager", schedule_manager)
-    api.add("GET", "/system/tts", tts, query=TtsQuery)
     api.add("GET", "/system/topic", topic, query=TopicQuery)
     api.add("GET", "/system/self_test", self_test)
     api.add("GET", "/system/ros_params", get_param, query=ParamQuery)
