@@ -128,3 +128,12 @@ def test_nan_and_too_many_points_are_refused(rig: Rig) -> None:
     assert r.json()["status"] == "error"
     r = rig.post(border=[[0, 0, 0], [1, 0, 0], [1, 1, 0]], op_width=0.5)
     assert r.status_code == 200 and r.json()["path"]  # the service survived it all
+
+
+def test_without_nav_the_endpoint_answers_503(tmp_path: Path) -> None:
+    with linked_contexts(1) as ctxs, running_gateway(ctxs[0], tmp_path,
+                                                     no_token_check=True) as gw:
+        r = httpx.post(f"http://127.0.0.1:{gw.rest_port}/api/v1/navigation/coverage_path",
+                       json={"border": BORDER, "op_width": 1.0}, timeout=20)
+        assert r.status_code == 503, r.text
+        assert "nav service is not running" in r.json()["description"]
