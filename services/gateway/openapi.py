@@ -51,6 +51,9 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
         components.update(defs)
         op["requestBody"] = {"required": True,
                              "content": {"application/json": {"schema": schema}}}
+    if ep.raw_body:   # a multipart upload; the handler's docstring names the fields
+        op["requestBody"] = {"required": True, "content": {"multipart/form-data": {
+            "schema": {"type": "object", "additionalProperties": True}}}}
     err = {"description": "error (§1.2 body)",
            "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
     if not ep.implemented:
@@ -63,7 +66,7 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
                                  "400": err}
     if not ep.public:
         responses["401"] = err
-    if ep.body is not None:
+    if ep.body is not None or ep.raw_body:
         responses["413"] = err
     responses["default"] = {**err, "description": "any other refusal (404, 409, 503, ...), "
                                                  "with the §1.2 body"}
