@@ -4,6 +4,7 @@ and notices (through liveliness) a server that dies mid-goal."""
 from __future__ import annotations
 
 import threading
+import time
 import uuid
 import weakref
 from collections.abc import Callable
@@ -111,8 +112,41 @@ class ActionClient:
 
     def send_goal(self, goal: Any, feedback_callback: Callable[[Any], Any] | None = None,
                   timeout: float | None = None) -> GoalResult:
-        """Send ``goal`` and block until it ends; see `ClientGoalHandle.result` for errors."""
-        return self.send_goal_async(goal, feedback_callback).result(timeout)
+        """Send ``goal`` and block until it ends; see `ClientGoalHandle.result` for errors.
+
+        The calling thread reads the goal's replies itself (acceptance, then result) from a
+        Zenoh channel, as a service call does: no Python runs on Zenoh's threads for them.
+        """
+        start = time.monotonic()
+        h, data = self._new_goal(goal, feedback_callback)
+        wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
+        replies = self._ctx.session.get(
+            self._keys["send_goal"], payload=data, encoding=self._enc["send_goal"],
+            target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
+            timeout=wait, attachment=RESULT_ON_GOAL)
+        answered = False
+        for reply in replies:
+            ok = reply.ok
+            if ok is not None and ok.encoding == self._result_enc:
+                self._on_result_reply(h, reply, False)
+                break
+            if not answered:
+                answered = True
+                self._on_send_reply(h, reply, wait)
+        else:  # the query ended without the result
+            if not answered:
+                self._on_send_reply(h, None, wait)
+            elif h.accepted and not h.done:
+                self._request_result(h)  # a long goal: ask for its result
+        if timeout is None:
+            return h.result()
+        try:
+            return h.result(max(0.0, timeout - (time.monotonic() - start)))
+        except ZenrosTimeout:
+            if h.done:  # the goal failed with a timeout of its own (no answer)
+                raise
+            raise ZenrosTimeout(f"goal {h.goal_id} on {self.name} did not end within "
+                                f"{timeout:g} s (status {h._status.name})") from None
 
     def send_goal_async(self, goal: Any,
                         feedback_callback: Callable[[Any], Any] | None = None) -> ClientGoalHandle:
@@ -125,6 +159,13 @@ class ActionClient:
         Raises:
             EncodeError: ``goal`` is not the action's Goal type.
         """
+        handle, data = self._new_goal(goal, feedback_callback)
+        self._send(handle, data)
+        return handle
+
+    def _new_goal(self, goal: Any, feedback_callback: Callable[[Any], Any] | None,
+                  ) -> tuple[ClientGoalHandle, bytes]:
+        """A registered handle for a new goal and its encoded send_goal request."""
         if type(goal) is not self.action_type.Goal:
             raise EncodeError(f"action {self.name} takes {codec_for(self.action_type.Goal).type_name}"
                               f" goals, got {type(goal).__name__}")
@@ -139,8 +180,7 @@ class ActionClient:
         with self._lock:
             self._handles[handle._key] = handle
         handle._future.add_done_callback(lambda _f: self._forget(handle))
-        self._send(handle, data)
-        return handle
+        return handle, data
 
     def _send(self, h: ClientGoalHandle, data: bytes) -> None:
         """One query for the goal and its result: the server replies the acceptance at once
@@ -176,7 +216,8 @@ class ActionClient:
              done: Callable[[zenoh.Reply | None], None]) -> None:
         query_once(self._ctx.session, self._keys[part], payload, self._enc[part], timeout, done)
 
-    def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None) -> None:
+    def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
+                       waited: float | None = None) -> None:
         if reply is None:
             h._fail(None, ActionServerUnavailableError(
                 f"no action server answered goal {h.goal_id} on {self.name}"))
@@ -185,8 +226,9 @@ class ActionClient:
             assert reply.err is not None
             kind, message = parse_error(reply.err.payload.to_bytes())
             if kind == "Timeout":
+                waited = self.send_timeout if waited is None else waited
                 h._fail(None, ZenrosTimeout(f"action {self.name} did not answer goal {h.goal_id} "
-                                            f"within {self.send_timeout:g} s"))
+                                            f"within {waited:g} s"))
             else:
                 h._fail(GoalStatus.REJECTED, GoalRejectedError(
                     f"action {self.name} refused goal {h.goal_id}: {message}"), message)

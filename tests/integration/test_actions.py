@@ -12,7 +12,7 @@ from typing import Any, TypeAlias
 
 import pytest
 import zenoh
-from zenros import EncodeError, GoalRejectedError, Node
+from zenros import EncodeError, GoalRejectedError, Node, ZenrosTimeout
 from zenros.action import (
     ActionClient,
     ActionServer,
@@ -542,3 +542,28 @@ def test_a_goal_outliving_send_timeout_gets_its_result_by_request(
     assert wait_for(lambda: asked == [h.goal_id], 10) and not h.done
     rec.release(3)
     assert h.result(10).result.sequence == [3]
+
+
+def test_blocking_send_goal_reads_its_replies_and_outlives_send_timeout(
+        make_node: Callable[..., Node]) -> None:
+    """`send_goal` reads acceptance and result on the calling thread; a goal running past
+    ``send_timeout`` still ends there (by get_result), and a shorter ``timeout`` raises."""
+    rec = Recorder()
+    ActionServer(make_node("server", 1), Fibonacci, "fibonacci", rec, policy="parallel")
+    client = ActionClient(make_node("client", 0), Fibonacci, "fibonacci", send_timeout=0.5)
+    assert client.wait_for_server(10)
+    rec.release(1)
+    assert client.send_goal(goal(1), timeout=10).result.sequence == [1]
+    asked: list[uuid.UUID] = []
+    request = client._request_result
+    client._request_result = lambda h: (asked.append(h.goal_id), request(h))  # type: ignore[method-assign]
+    out: list[Any] = []
+    t = threading.Thread(target=lambda: out.append(client.send_goal(goal(2), timeout=20)))
+    t.start()
+    assert wait_for(lambda: len(asked) == 1, 10) and not out
+    rec.release(2)
+    t.join(10)
+    assert out and out[0].succeeded and out[0].result.sequence == [2]
+    with pytest.raises(ZenrosTimeout, match="did not end within 0.2 s"):
+        client.send_goal(goal(3), timeout=0.2)
+    rec.release(3)
