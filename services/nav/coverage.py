@@ -117,12 +117,15 @@ def _edges_cross(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray
 def _self_intersects(poly: np.ndarray) -> bool:
     n = len(poly)
     p0, p1 = poly, np.roll(poly, -1, axis=0)
+    lo, hi = np.minimum(p0, p1), np.maximum(p0, p1)
     idx = np.arange(n)
-    for start in range(0, n, 256):
-        i = idx[start:start + 256, None]
-        hit = _edges_cross(p0[i], p1[i], p0[None, :], p1[None, :])
-        adjacent = (np.abs(i - idx[None, :]) <= 1) | (np.abs(i - idx[None, :]) == n - 1)
-        if np.any(hit & ~adjacent):
+    for start in range(0, n, 64):  # a run of edges against the edges near its bounding box
+        i = idx[start:start + 64]
+        near = np.all((lo <= hi[i].max(axis=0)) & (hi >= lo[i].min(axis=0)), axis=1)
+        j = idx[near][None, :]
+        hit = _edges_cross(p0[i, None], p1[i, None], p0[j], p1[j])
+        gap = np.abs(i[:, None] - j)
+        if np.any(hit & (gap > 1) & (gap != n - 1)):
             return True
     return False
 

@@ -184,3 +184,12 @@ def test_turn_radius_is_accepted_and_turns_are_straight_connections() -> None:
     a = plan_coverage(validate_field(RECT), 1.0, turn_radius=0.0)
     b = plan_coverage(validate_field(RECT), 1.0, turn_radius=0.5)
     assert np.array_equal(a.path, b.path)
+
+
+def test_large_border_is_checked_quickly_and_a_far_crossing_is_found() -> None:
+    ring = [[50 * math.cos(t), 50 * math.sin(t)]
+            for t in np.linspace(0, 2 * math.pi, 9000, endpoint=False)]
+    assert len(validate_field(ring).border) == 9000
+    ring[4500] = [60.0, 0.0]  # the far side's vertex pulled across the first edges
+    with pytest.raises(CoverageError, match="intersects itself"):
+        validate_field(ring)
