@@ -183,7 +183,7 @@ class FileRoot:
 
     def remove_many(self, paths: Iterable[str]) -> None:
         """Delete files and folders; all are checked before the first is deleted."""
-        targets = []
+        targets: list[Path] = []
         for path in paths:
             full = self._changeable(path)
             if not self._exists(full):

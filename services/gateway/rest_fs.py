@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import msgspec
 from starlette.datastructures import UploadFile
+from starlette.formparsers import MultiPartException
 from starlette.requests import Request
 from starlette.responses import FileResponse
 from starlette.types import Message, Receive
@@ -88,11 +89,10 @@ def add_fs_routes(api: Api, root: FileRoot) -> None:
         under its own name; an existing file is replaced. Token in the query string.
         """
         assert call.request is not None
-        for name, value in call.request.headers.items():
-            if name == "content-length" and value.isdigit() and int(value) > (
-                    root.max_upload + slack):
-                raise ApiError(413, f"upload too large: {value} bytes "
-                                    f"(limit {root.max_upload})")
+        declared = call.request.headers.get("content-length", "")
+        if declared.isdigit() and int(declared) > root.max_upload + slack:
+            raise ApiError(413, f"upload too large: {declared} bytes "
+                                f"(limit {root.max_upload})")
         ctype = call.request.headers.get("content-type", "")
         if not ctype.startswith("multipart/form-data"):
             raise ApiError(400, "upload a multipart/form-data body with a `file` field")
@@ -109,12 +109,12 @@ def add_fs_routes(api: Api, root: FileRoot) -> None:
                     raise ApiError(400, "the form has no `file` field with a file in it")
                 if not isinstance(path, str) or not path:
                     raise ApiError(400, "missing `path` (form field or query parameter)")
-                full = await _fs(lambda: root.upload_target(path, upload_file.filename or ""))
-                size = await _fs(lambda: root.write(full, upload_file.file))
-        except ApiError:
-            raise
-        except Exception as exc:  # the multipart parser's refusals (malformed, too many)
-            raise ApiError(400, f"malformed multipart body: {exc}") from exc
+                where: str = path
+                data = upload_file.file
+                full = await _fs(lambda: root.upload_target(where, upload_file.filename or ""))
+                size = await _fs(lambda: root.write(full, data))
+        except MultiPartException as exc:  # the parser's refusals (malformed, too many parts)
+            raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
         return {"status": "ok", "path": root.relative(full), "size": size}
 
     async def rename(call: Call) -> Any:

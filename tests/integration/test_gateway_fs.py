@@ -136,6 +136,8 @@ def test_bad_requests(gw: GatewayNode, http: httpx.Client, tmp_path: Path) -> No
     _refused(http.post("/fs/file_api", content=b"--b\r\ngarbage",
                        params={"path": "slamdb"},
                        headers={"content-type": "multipart/form-data; boundary=b"}), 400, "")
+    _refused(http.post("/fs/file_api", data={"path": "slamdb"},
+                       files=[("file", ("a", b"1")), ("file", ("b", b"2"))]), 400, "multipart")
     # wrong types and missing fields
     _refused(http.post("/fs/delete", json={"delete": "slamdb"}), 400, "delete")
     _refused(http.post("/fs/copy", json={"from": 3, "to": "x"}), 400, "from")
