@@ -7,14 +7,14 @@ from typing import Annotated, Any
 import msgspec
 from zenros.msgs.std_msgs import String
 
-from .api import Api, Call
+from .api import Api, ApiError, Call
 from .link import RobotLink
-from .speech import AudioStore, Speech
+from .speech import MAX_ALIASES, AudioStore, Speech
 
 __all__ = ["add_tts_routes"]
 
 Phrase = Annotated[str, msgspec.Meta(min_length=1, max_length=2000)]
-AliasTable = Annotated[dict[Phrase, Phrase], msgspec.Meta(max_length=1000)]
+AliasTable = Annotated[dict[Phrase, Phrase], msgspec.Meta(max_length=MAX_ALIASES)]
 
 
 class TtsQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -59,7 +59,10 @@ def add_tts_routes(api: Api, link: RobotLink, speech: Speech, store: AudioStore)
 
     async def put_alias(call: Call) -> Any:
         """Add or change the given aliases; returns the whole table."""
-        return store.update_aliases(call.body)
+        try:
+            return store.update_aliases(call.body)
+        except ValueError as exc:
+            raise ApiError(400, str(exc)) from exc
 
     async def get_volume(call: Call) -> Any:
         """Speaker volume ``value`` (0-100; kept, though the simulated robot is silent)."""

@@ -16,10 +16,11 @@ from pathlib import Path
 
 import msgspec
 
-__all__ = ["CHARS_PER_SECOND", "AudioSettings", "AudioStore", "Speech"]
+__all__ = ["CHARS_PER_SECOND", "MAX_ALIASES", "AudioSettings", "AudioStore", "Speech"]
 
 CHARS_PER_SECOND = 15.0
 """Speaking rate of the model: about 150 words per minute."""
+MAX_ALIASES = 1000
 
 
 class Speech:
@@ -85,7 +86,10 @@ class AudioStore:
             self._save()
 
     def update_aliases(self, table: Mapping[str, str]) -> dict[str, str]:
+        """Add or change the given aliases; ValueError past `MAX_ALIASES` in all."""
         with self._lock:
+            if len(self.current.alias.keys() | table.keys()) > MAX_ALIASES:
+                raise ValueError(f"the alias table would hold over {MAX_ALIASES} entries")
             self.current.alias.update(table)
             self._save()
             return dict(self.current.alias)

@@ -30,6 +30,9 @@ def test_audio_store_persists(tmp_path: Path) -> None:
     store.replace_aliases({"hello": "hello there"})
     assert store.update_aliases({"bye": "goodbye"}) == {"hello": "hello there", "bye": "goodbye"}
     assert store.apply_alias("hello") == "hello there" and store.apply_alias("hi") == "hi"
+    with pytest.raises(ValueError, match="over 1000"):
+        store.update_aliases({f"k{i}": "v" for i in range(999)})
+    assert len(store.aliases()) == 2   # refused whole
     store.set_volume(80)
     with pytest.raises(ValueError, match="0-100"):
         store.set_volume(101)
