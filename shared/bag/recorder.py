@@ -60,7 +60,7 @@ class RecordOptions:
 class _Route:
     """Where samples of one key and encoding go: a channel, and how to read their stamp."""
 
-    __slots__ = ("channel", "encoding", "seq", "stamp", "transcode")
+    __slots__ = ("channel", "encoding", "plain", "seq", "stamp", "transcode")
 
     def __init__(self, channel: int, encoding: str, stamp: Callable[[bytes], int] | None,
                  transcode: Callable[[bytes], bytes | None] | None = None) -> None:
@@ -69,6 +69,7 @@ class _Route:
         self.encoding = zenoh.Encoding(encoding)  # compared with samples' as is (no str())
         self.stamp = stamp
         self.transcode = transcode
+        self.plain = stamp is None and transcode is None  # the source timestamp, bytes as is
 
 
 class Recorder:
@@ -166,6 +167,7 @@ class Recorder:
         batch: list[bytes] = []
         append = batch.append
         size = 0  # bytes of the batch's records, less 9 (opcode and length) each
+        full = 2 * BATCH  # a head and a payload per message
         try:
             while True:
                 sample = try_recv()
@@ -185,22 +187,27 @@ class Recorder:
                     if route is None:
                         continue
                 data = sample.payload.to_bytes()
-                publish = route.stamp(data) if route.stamp is not None else 0
-                if not publish:
+                if route.plain:  # no header stamp to read, nothing to transcode
                     ts = sample.timestamp
                     publish = ts.get_time_as_ntp64().as_nanos() if ts is not None else log_time
-                if route.transcode is not None:  # only with bulk_json
-                    converted = route.transcode(data)
-                    if converted is None:
-                        self.dropped += 1
-                        continue
-                    data = converted
+                else:
+                    publish = route.stamp(data) if route.stamp is not None else 0
+                    if not publish:
+                        ts = sample.timestamp
+                        publish = (ts.get_time_as_ntp64().as_nanos() if ts is not None
+                                   else log_time)
+                    if route.transcode is not None:  # only with bulk_json
+                        converted = route.transcode(data)
+                        if converted is None:
+                            self.dropped += 1
+                            continue
+                        data = converted
                 seq = route.seq = route.seq + 1
                 length = 22 + len(data)
                 size += length
                 append(head(5, length, route.channel, seq & 0xFFFFFFFF, log_time, publish))
                 append(data)
-                if len(batch) >= 2 * BATCH:
+                if len(batch) >= full:
                     hand_off(batch, size + 9 * BATCH)
                     batch, size = [], 0
                     append = batch.append
