@@ -14,10 +14,13 @@ field minus its holes, then order the swaths into a back-and-forth route.
   that are not square to the swaths are left out, as in any swath planner). A swath crossed
   by a hole becomes several segments.
 - Order: segments of neighbouring swaths that overlap one to one form a cell; each cell is
-  driven back and forth, cells one after the other (the nearest next). Turns and moves
-  between cells are straight connections from one segment's end to the next one's start
-  (the robot turns on the spot); ``turn_radius`` is validated and reported, not used to
-  shape the turns. A move between cells may cross a hole: driving it is the navigator's job.
+  driven back and forth, cells one after the other (the nearest next).
+- Turns within a cell: ``turn_radius`` 0 joins a swath's end straight to the next one's
+  start (the robot turns on the spot); ``turn_radius`` r > 0 inserts a sampled turn whose
+  radius is never below r beyond the swath ends (`turn_points`: a U of two quarter circles
+  when the swaths are >= 2r apart, else an omega turn), so it needs a headland at least
+  that deep to stay inside the border. A move from one cell to the next is a straight
+  connection that may cross a hole: driving it is the navigator's job.
 - ``swath_angle`` < 0: the angle that needs the fewest swaths (the field's narrowest
   extent, trying every border edge direction and every 5 degrees; ties go to the longest
   edge).
@@ -40,6 +43,7 @@ MAX_PATH_POINTS = 100_000
 MAX_WORK = 50_000_000
 """Swaths times edges: beyond this the request is refused (op_width too small)."""
 _EPS = 1e-9
+Point = tuple[float, float]
 
 
 class CoverageError(ValueError):
@@ -56,7 +60,8 @@ class Field:
 
 @dataclass(frozen=True)
 class CoveragePlan:
-    """The route (an (n, 2) array of segment ends, in driving order) and how it was made."""
+    """The route (an (n, 2) array of segment ends, in driving order) and how it was made:
+    the angle used (degrees), the swaths with something to drive, and the segments."""
 
     path: np.ndarray
     swath_angle: float
@@ -287,13 +292,21 @@ def plan_coverage(field: Field, op_width: float, swath_angle: float = 0.0,
         if headland_width > 0:
             keep = _subtract(keep, _near_edges(e0, e1, y, headland_width))
         rows.append([(a, b) for a, b in keep if b - a > _EPS])
-    route = _order(rows, ys)
-    if len(route) > MAX_PATH_POINTS:
-        raise CoverageError(f"the path would have {len(route)} points "
-                            f"(limit {MAX_PATH_POINTS}): raise op_width")
+    driven, turns = _order(rows, ys)
+    route: list[Point] = []
+    for k, (a, b) in enumerate(driven):
+        if k and turns[k - 1] and turn_radius > 0:
+            prev = driven[k - 1]
+            route += turn_points(prev[1], a, turn_radius,
+                                 1.0 if prev[1][0] >= prev[0][0] else -1.0)
+        route += [a, b]
+        if len(route) > MAX_PATH_POINTS:
+            raise CoverageError(f"the path would have over {MAX_PATH_POINTS} points: "
+                                f"raise op_width")
     xy = np.asarray(route, dtype=float).reshape(-1, 2)
     xy = _rotate(xy, -angle) if len(xy) else xy
-    return CoveragePlan(xy, math.degrees(angle), count, len(xy) // 2)
+    swaths = sum(1 for row in rows if row)  # lines the holes or headland left nothing of
+    return CoveragePlan(xy, math.degrees(angle), swaths, len(driven))
 
 
 # ---------------------------------------------------------------- ordering
@@ -323,10 +336,13 @@ def _cells(rows: list[list[tuple[float, float]]]) -> list[list[tuple[int, int]]]
 
 
 def _order(rows: list[list[tuple[float, float]]], ys: list[float]
-           ) -> list[tuple[float, float]]:
-    route: list[tuple[float, float]] = []
+           ) -> tuple[list[tuple[Point, Point]], list[bool]]:
+    """Driven segments in order, and for each but the last whether a turn within its cell
+    (to the next swath, the other way) follows it."""
+    driven: list[tuple[Point, Point]] = []
+    turns: list[bool] = []
     todo = _cells(rows)
-    pos: tuple[float, float] | None = None
+    pos: Point | None = None
     while todo:
         if pos is None:
             pick, reverse = 0, False
@@ -344,9 +360,60 @@ def _order(rows: list[list[tuple[float, float]]], ys: list[float]
         r, s = seq[0]
         a, b = rows[r][s]
         forward = pos is None or abs(a - pos[0]) <= abs(b - pos[0])
-        for r, s in seq:
+        for k, (r, s) in enumerate(seq):
             a, b = rows[r][s]
-            route += [(a, ys[r]), (b, ys[r])] if forward else [(b, ys[r]), (a, ys[r])]
+            if driven:
+                turns.append(k > 0)  # within the cell: a turn; else a move to a new cell
+            driven.append(((a, ys[r]), (b, ys[r])) if forward else ((b, ys[r]), (a, ys[r])))
             forward = not forward
-        pos = route[-1]
-    return route
+        pos = driven[-1][1]
+    return driven, turns
+
+
+# ---------------------------------------------------------------- turns
+
+def _arc(center: Point, radius: float, start: float, stop: float, step: float
+         ) -> list[Point]:
+    """Points of an arc from angle ``start`` to ``stop`` (the first left out)."""
+    n = max(2, math.ceil(abs(stop - start) / step))
+    return [(center[0] + radius * math.cos(t), center[1] + radius * math.sin(t))
+            for t in np.linspace(start, stop, n + 1)[1:].tolist()]
+
+
+def turn_points(end: Point, start: Point, radius: float, heading: float,
+                step: float = math.radians(10)) -> list[Point]:
+    """The points strictly between swath end ``end`` (driven towards ``heading``, +1 or -1
+    along x) and the next swath's ``start`` (driven back) of a turn whose radius is never
+    below ``radius``.
+
+    Both swaths are first extended to the outer of the two ends. A spacing ``d`` >= 2r
+    turns with two quarter circles and a straight between them (a U); a smaller one with an
+    omega (bulb) turn: out, round a circle tangent to both, and in. The turn reaches r (U)
+    or r + sqrt(4r^2 - (d/2 + r)^2) (omega) past the outer end.
+    """
+    sy = 1.0 if start[1] >= end[1] else -1.0
+    outer = max(heading * end[0], heading * start[0]) * heading
+    d = abs(start[1] - end[1])
+    r = radius
+
+    def world(x: float, y: float) -> Point:
+        return (outer + heading * x, end[1] + sy * y)
+
+    local: list[Point] = []
+    if d >= 2 * r:
+        local += _arc((0.0, r), r, -math.pi / 2, 0.0, step)
+        if d > 2 * r + _EPS:
+            local.append((r, d - r))
+        local += _arc((0.0, d - r), r, 0.0, math.pi / 2, step)[:-1]
+    else:
+        x2 = math.sqrt(4 * r * r - (d / 2 + r) ** 2)
+        phi = math.atan2(d / 2 + r, x2)
+        local += _arc((0.0, -r), r, math.pi / 2, phi, step)
+        local += _arc((x2, d / 2), r, math.pi + phi, 3 * math.pi - phi, step)
+        local += _arc((0.0, d + r), r, -phi, -math.pi / 2, step)[:-1]
+    pts = [world(x, y) for x, y in local]
+    if abs(outer - end[0]) > _EPS:
+        pts.insert(0, (outer, end[1]))
+    if abs(outer - start[0]) > _EPS:
+        pts.append((outer, start[1]))
+    return pts

@@ -87,10 +87,12 @@ def test_endpoint_returns_the_path(rig: Rig) -> None:
     assert len(rows) == 20 and len(path) // 2 > 20  # the hole split some swaths
 
     auto = rig.post(border=[[0, 0, 0], [2, 0, 0], [2, 12, 0], [0, 12, 0]], op_width=0.5,
-                    swath_angle=-1, headland_width=0.25, turn_radius=0.3).json()
+                    swath_angle=-1, headland_width=0.25).json()
     assert auto["swath_angle"] == pytest.approx(90.0) and auto["swaths"] == 3
     for x, y, _ in auto["path"]:
         assert 0.25 - 1e-9 <= x <= 1.75 + 1e-9 and 0.25 - 1e-9 <= y <= 11.75 + 1e-9
+    turned = rig.post(border=BORDER, op_width=2.0, turn_radius=0.5).json()["path"]
+    assert len(turned) > 10 and max(p[0] for p in turned) == pytest.approx(10.5, abs=0.01)
 
 
 @pytest.mark.parametrize(("body", "words"), [

@@ -180,10 +180,34 @@ def test_bad_numbers_and_limits_are_refused() -> None:
     assert isinstance(field, Field)
 
 
-def test_turn_radius_is_accepted_and_turns_are_straight_connections() -> None:
-    a = plan_coverage(validate_field(RECT), 1.0, turn_radius=0.0)
-    b = plan_coverage(validate_field(RECT), 1.0, turn_radius=0.5)
-    assert np.array_equal(a.path, b.path)
+def radii(points: np.ndarray) -> np.ndarray:
+    """Circumradius of every three consecutive points (inf where they are in line)."""
+    a, b, c = points[:-2], points[1:-1], points[2:]
+    ab, bc, ca = (np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1),
+                  np.linalg.norm(a - c, axis=1))
+    cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    with np.errstate(divide="ignore"):
+        return np.asarray(np.where(cross < 1e-12, np.inf, ab * bc * ca / (2 * cross)))
+
+
+@pytest.mark.parametrize(("radius", "reach"), [
+    (0.4, 0.4),  # spacing 1 >= 2r: a U of two quarter circles
+    (1.0, 1.0 + math.sqrt(4 - 1.5 ** 2)),  # spacing 1 < 2r: an omega turn
+])
+def test_turns_keep_the_turn_radius(radius: float, reach: float) -> None:
+    field = validate_field(RECT)
+    plain = plan_coverage(field, 1.0)
+    plan = plan_coverage(field, 1.0, turn_radius=radius)
+    assert plan.segments == plain.segments == 6
+    # the swaths are all there, in the same order, the turns in between
+    it = iter(map(tuple, plan.path.round(9).tolist()))
+    assert all(p in it for p in map(tuple, plain.path.round(9).tolist()))
+    assert radii(plan.path).min() >= radius - 1e-6
+    outside = plan.path[(plan.path[:, 0] < 0) | (plan.path[:, 0] > 10)]
+    assert len(outside) >= 5 * 8  # every one of the five turns is sampled
+    assert np.abs(outside[:, 0] - 5).max() == pytest.approx(5 + reach, abs=0.01)  # sampled
+    steps = np.linalg.norm(np.diff(plan.path, axis=0), axis=1)
+    assert steps.max() == pytest.approx(10.0)  # the swaths: nothing jumps
 
 
 def test_large_border_is_checked_quickly_and_a_far_crossing_is_found() -> None:
