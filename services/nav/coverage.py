@@ -347,11 +347,13 @@ def _order(rows: list[list[tuple[float, float]]], ys: list[float]
         if pos is None:
             pick, reverse = 0, False
         else:
+            here = pos
+
             def dist(c: list[tuple[int, int]], at: int) -> float:
                 r, s = c[at]
                 a, b = rows[r][s]
-                return min(math.hypot(a - pos[0], ys[r] - pos[1]),
-                           math.hypot(b - pos[0], ys[r] - pos[1]))
+                return min(math.hypot(a - here[0], ys[r] - here[1]),
+                           math.hypot(b - here[0], ys[r] - here[1]))
             options = [(dist(c, 0), i, False) for i, c in enumerate(todo)]
             options += [(dist(c, -1), i, True) for i, c in enumerate(todo)]
             _, pick, reverse = min(options)
