@@ -10,7 +10,6 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from ..errors import ActionError
 from ..executor import Executor
 from ..message import ActionType
 from .goal_handle import ServerGoalHandle
@@ -104,25 +103,6 @@ class GoalRunner:
             self._retire(h, self._result_type())
 
     # ------------------------------------------------------------------ execution
-
-    @property
-    def is_async(self) -> bool:
-        return self._is_async
-
-    def hand_off(self, fn: Callable[[], None]) -> bool:
-        """Run ``fn`` on a worker; False if the pool is closed (the server is closing)."""
-        try:
-            self._workers.submit(fn)
-        except ActionError:
-            return False
-        return True
-
-    def run_here(self, h: Handle) -> None:
-        """Run a launched plain goal on the calling thread (see `ActionServer._serve`)."""
-        try:
-            self._complete(h, self._run_sync(h))
-        except Exception:
-            self._logger.exception("action %s: goal %s failed", self.name, h.goal_id)
 
     def launch(self, handles: list[Handle]) -> None:
         for h in handles:

@@ -126,7 +126,6 @@ class ActionServer:
         self._parts = {key(p): p for p in self._handlers}  # exact keys only: no wildcards
         self._queryable: Any = s.declare_queryable(
             key("*"), zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True)
-        self._take: Handle | None = None  # a goal the serving thread runs itself (see _serve)
         self._serve_thread = threading.Thread(target=self._serve, daemon=True,
                                               name=f"zenros-action:{self.name}")
         self._serve_thread.start()
@@ -139,19 +138,9 @@ class ActionServer:
         return self._ctx.keys.action(self.name, part)
 
     def _serve(self) -> None:
-        """Serve requests in arrival order, one thread at a time. A thread that has just
-        accepted a goal with a plain execute callback hands the requests to a worker and runs
-        the goal itself: no thread hop between acceptance and execution (leader/followers)."""
-        self._serve_thread = threading.current_thread()
         try:
             for query in self._queryable.handler:  # ends when the queryable is undeclared
                 self._on_query(query)
-                h, self._take = self._take, None
-                if h is not None:
-                    handed = self._runner.hand_off(self._serve)
-                    self._runner.run_here(h)
-                    if handed:
-                        return
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
         except BaseException as exc:
@@ -241,10 +230,7 @@ class ActionServer:
                     handle._waiters.append(query)
                 else:  # the plan already ended it (a queue that dropped it)
                     self._answer_result(query, handle)
-            if len(launch) == 1 and not self._runner.is_async:
-                self._take = launch[0]  # `_serve` runs it on this thread
-            else:
-                self._runner.launch(launch)
+            self._runner.launch(launch)
             return hold
 
     def _ask_goal_callback(self, goal: Any) -> str:
