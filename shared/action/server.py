@@ -196,17 +196,20 @@ class ActionServer:
         """Admit a goal; True if ``query`` is held to carry the goal's result too."""
         req = decode_query(query, self._sg_req, f"action {self.name} send_goal")
         if isinstance(req, str):
-            return self._reply_err(query, "BadRequest", req)
+            self._reply_err(query, "BadRequest", req)
+            return None
         gid = uuid_from_msg(req.goal_id)
         if gid == ZERO_UUID:
-            return self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
-                                   "goal_id must be a non-zero UUID")
+            self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
+                            "goal_id must be a non-zero UUID")
+            return None
         handle: Handle = ServerGoalHandle(self, gid, req.goal)
         with self._lock:  # registered at once: a get_result right behind it will wait
             fresh = not self._closing and self._table.add_pending(handle)
         if not fresh:
             why = "server is shutting down" if self._closing else f"duplicate goal id {gid}"
-            return self._respond(query, False, why)
+            self._respond(query, False, why)
+            return None
         reason = self._ask_goal_callback(req.goal)
         with self._lock:
             if not reason and self._closing:
@@ -217,7 +220,8 @@ class ActionServer:
                 self._table.remove(handle)
                 for w in handle._waiters:
                     self._reply_err(w, "GoalRejected", reason)
-                return self._respond(query, False, reason)
+                self._respond(query, False, reason)
+                return None
             handle.stamp = handle._info.stamp = self._node.now()
             launch = self._runner.accept(handle, plan)
             # Answer first, then run the goal. A client that asked for the result on this
@@ -303,7 +307,8 @@ class ActionServer:
     def _on_get_result(self, query: zenoh.Query) -> bool | None:
         req = decode_query(query, self._gr_req, f"action {self.name} get_result")
         if isinstance(req, str):
-            return self._reply_err(query, "BadRequest", req)
+            self._reply_err(query, "BadRequest", req)
+            return None
         gid = uuid_from_msg(req.goal_id)
         with self._lock:
             if self._table.expire(time.monotonic()):
@@ -315,10 +320,11 @@ class ActionServer:
             data = None if h is None else self._result_payload(h)
         if data is not None:
             answer(query, data, self._enc[self._wire.GetResultResponse])
-            return
+            return None
         self._reply_err(query, "UnknownGoal", (
             f"action {self.name}: unknown goal id {gid}: it was never accepted by this server, "
             f"or its result expired (results are kept {self._table.result_timeout:g} s)"))
+        return None
 
     def _result_payload(self, h: Handle) -> bytes:
         res = self._wire.GetResultResponse(status=int(h._status), result=h._result)
