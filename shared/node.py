@@ -26,7 +26,7 @@ from .names import Remapper, join, resolve, validate_namespace, validate_node_na
 from .param_backend import attach_parameter_backend
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
-from .pubsub import Publisher, Subscription
+from .pubsub import Publisher, Subscription, SubscriptionCallback
 from .qos import QOS_SENSOR, QoSProfile, as_profile
 from .rpc import Client, Service
 from .timer import Timer
@@ -168,7 +168,7 @@ class Node:
         self,
         msg_type: type[M],
         topic: str,
-        callback: Callable[[M], Any],
+        callback: SubscriptionCallback[M],
         qos: QoSProfile | int = 10,
         *,
         callback_group: CallbackGroup | None = None,

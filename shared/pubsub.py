@@ -22,9 +22,11 @@ from .message import Message
 from .qos import QoSProfile, Reliability
 
 if TYPE_CHECKING:
+    from typing_extensions import TypeIs
+
     from .context import Context
 
-__all__ = ["MessageInfo", "Publisher", "Subscription"]
+__all__ = ["MessageInfo", "Publisher", "Subscription", "SubscriptionCallback"]
 
 M = TypeVar("M", bound=Message)
 
@@ -196,7 +198,11 @@ class MessageInfo:
                 f"from_intra_process={self.from_intra_process})")
 
 
-def _takes_info(callback: Callable[..., Any]) -> bool:
+SubscriptionCallback = Callable[[M], Any] | Callable[[M, MessageInfo], Any]
+"""``callback(msg)``, or ``callback(msg, info)`` to get each message's `MessageInfo` too."""
+
+
+def _takes_info(callback: SubscriptionCallback[M]) -> TypeIs[Callable[[M, MessageInfo], Any]]:
     """True for ``callback(msg, info)``: two or more positional parameters."""
     try:
         params = inspect.signature(callback).parameters.values()
@@ -234,7 +240,7 @@ class Subscription(Generic[M]):
         node: str,
         msg_type: type[M],
         topic: str,
-        callback: Callable[[M], Any],
+        callback: SubscriptionCallback[M],
         qos: QoSProfile,
         logger: logging.Logger,
         group: CallbackGroup | None = None,
@@ -250,15 +256,19 @@ class Subscription(Generic[M]):
         self._codec = codec_for(msg_type)
         self._decode = self._codec._decode
         self._encoding = zenoh.Encoding(self._codec.mime).with_schema(self._codec.type_name)
-        self._info = _takes_info(callback)
-        if self._info:
-            callback = _with_info(callback)
+        call: Callable[[Any], Any]  # of a message, or of a (message, info) pair
+        if _takes_info(callback):
+            self._info = True
+            call = _with_info(callback)
+        else:
+            self._info = False
+            call = callback
         # A plain sync callback with no group is called straight from the receive loop.
-        self._direct = (callback if group is None and not inspect.iscoroutinefunction(callback)
+        self._direct = (call if group is None and not inspect.iscoroutinefunction(call)
                         else None)
         self._callback_errors = ErrorLog(logger)
         self._dispatch = make_dispatch(
-            callback, executor=ctx.executor, logger=logger, what=f"subscription {topic}",
+            call, executor=ctx.executor, logger=logger, what=f"subscription {topic}",
             group=group, depth=qos.depth, errors=self._callback_errors,
         )
         self._sub: Any
