@@ -45,12 +45,12 @@ class ParameterDescriptions:
         try:
             body = json.dumps(describe(self._params))
             query.reply(query.key_expr, body.encode(), encoding=zenoh.Encoding.APPLICATION_JSON)
-        except Exception:  # noqa: BLE001 -- a failed reply must never end the serving thread
+        except Exception:  # noqa: BLE001, S110 -- a failed reply must never end the serving thread
             pass
 
     def close(self) -> None:
         try:
-            self._queryable.undeclare()
+            self._queryable.undeclare()  # type: ignore[no-untyped-call]  # zenoh stub: unannotated
         except zenoh.ZError:
             pass
 

@@ -77,7 +77,7 @@ class _Out:
         return self.latched or bool(self.pub.matching_status.matching)
 
     def close(self) -> None:
-        self.token.undeclare()
+        self.token.undeclare()  # type: ignore[no-untyped-call]  # zenoh stub: unannotated
         self.pub.undeclare()
 
 

@@ -80,6 +80,7 @@ class ChunkBuffer:
         idx = self.index.get(channel)
         if idx is None:
             idx = self.index[channel] = array("Q")
+        assert isinstance(idx, array), "numpy indexes come from of_records: final"
         idx.append(log_time)
         idx.append(len(buf))
         buf += _MSG_HEAD.pack(5, 22 + len(data), channel, sequence & 0xFFFFFFFF, log_time,

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MapError
+from ..message import Int8Array
 from ..msgs.builtin_interfaces import Time
 from ..msgs.geometry_msgs import Point, Pose, Quaternion
 from ..msgs.nav_msgs import MapMetaData, OccupancyGrid
@@ -86,7 +87,8 @@ class GridMap:
             header=Header(stamp=t, frame_id=frame_id),
             info=MapMetaData(map_load_time=t, resolution=self.resolution,
                              width=self.width, height=self.height, origin=pose),
-            data=np.ascontiguousarray(self.grid, dtype=np.int8).reshape(-1).copy(),
+            data=np.ascontiguousarray(self.grid, dtype=np.int8).reshape(-1).copy()
+            .view(Int8Array),
         )
 
     @classmethod
