@@ -158,7 +158,7 @@ class Laser:
         fy += py
         fx = t * dx
         fx += px
-        iy = fy.astype(np.int32)
+        iy: np.ndarray = fy.astype(np.int32)
         iy *= self._stride
         iy += fx.astype(np.int32)
         return iy
@@ -180,7 +180,7 @@ class Laser:
         active = np.nonzero((s > 0) & (t < self._limit))[0]
         if active.size:
             t0 = t[active]
-            n = int(math.ceil((float(self._limit) - float(t0.min())) / _MIN_STEP)) + 1
+            n = math.ceil((float(self._limit) - float(t0.min())) / _MIN_STEP) + 1
             tt = self._fine[:n] + t0[:, None]
             fx = tt * dx[active, None]
             fx += px

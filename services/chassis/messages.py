@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from zenros.message import Float64Array, to_array
+from zenros.message import Float32Array, Float64Array, to_array
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import (
     Point,
@@ -28,21 +28,22 @@ from .laser import LaserConfig
 
 __all__ = ["battery_state", "covariance", "laser_scan", "odometry", "transform", "yaw_quaternion"]
 
-_ZERO_COV = to_array(Float64Array, [0.0] * 36)
+_ZERO_COV: Float64Array = to_array(Float64Array, [0.0] * 36)
 
 
 def yaw_quaternion(theta: float) -> Quaternion:
     return Quaternion(z=math.sin(theta / 2), w=math.cos(theta / 2))
 
 
-def covariance(values: list[float]) -> np.ndarray:
+def covariance(values: list[float]) -> Float64Array:
     """A 6x6 covariance as the flat float64 array the messages carry."""
-    arr: np.ndarray = to_array(Float64Array, values)
+    arr: Float64Array = to_array(Float64Array, values)
     return arr
 
 
 def odometry(stamp: Time, frame: str, child: str, pose: Pose2, linear: float, angular: float,
-             pose_cov: np.ndarray | None = None, twist_cov: np.ndarray | None = None) -> Odometry:
+             pose_cov: Float64Array | None = None, twist_cov: Float64Array | None = None
+             ) -> Odometry:
     """``nav_msgs/Odometry``: the pose of ``child`` in ``frame``; the twist in ``child``."""
     return Odometry(
         header=Header(stamp=stamp, frame_id=frame),
@@ -66,11 +67,12 @@ def transform(stamp: Time, parent: str, child: str, pose: Pose2, z: float = 0.0
 
 def laser_scan(stamp: Time, frame: str, config: LaserConfig, ranges: np.ndarray,
                scan_time: float) -> LaserScan:
+    scan_ranges: Float32Array = to_array(Float32Array, ranges)  # a view: float32 already
     return LaserScan(
         header=Header(stamp=stamp, frame_id=frame),
         angle_min=config.angle_min, angle_max=config.angle_max,
         angle_increment=config.angle_increment, time_increment=0.0, scan_time=scan_time,
-        range_min=config.range_min, range_max=config.range_max, ranges=ranges,
+        range_min=config.range_min, range_max=config.range_max, ranges=scan_ranges,
     )
 
 

@@ -62,7 +62,7 @@ class ChassisNode(Node):
         self.pacer = Pacer(self.dt, cfg.speed)
         self._dt_ns = round(self.dt * _NS)
         self._start_ns = time.time_ns()
-        self._lock = threading.RLock()
+        self._sim_lock = threading.RLock()
         self._steps = 0
         self._state_sent: tuple[bool, ...] | None = None
         self._bad_cmds = 0
@@ -109,14 +109,14 @@ class ChassisNode(Node):
     # ------------------------------------------------------------------ inputs
 
     def on_cmd_vel(self, msg: Twist) -> None:
-        with self._lock:
+        with self._sim_lock:
             try:
                 self.sim.drive.command(msg.linear.x, msg.angular.z, self.sim.time)
             except CommandError as exc:
                 self.logger.warning("cmd_vel refused, stopping: %s", exc)
 
     def handle_teleport(self, req: TeleportRequest) -> TeleportResponse:
-        with self._lock:
+        with self._sim_lock:
             why = self.sim.teleport(Pose2(req.pose.x, req.pose.y, req.pose.theta))
         if why:
             return TeleportResponse(success=False, message=why)
@@ -125,13 +125,13 @@ class ChassisNode(Node):
         return TeleportResponse(success=True, message="")
 
     def handle_set_obstacles(self, req: SetObstaclesRequest) -> SetObstaclesResponse:
-        with self._lock:
+        with self._sim_lock:
             why = apply_request(self.sim, req)
             now = to_msgs(self.sim.world.obstacles.values())
         return SetObstaclesResponse(success=not why, message=why, obstacles=now)
 
     def handle_set_estop(self, req: SetBoolRequest) -> SetBoolResponse:
-        with self._lock:
+        with self._sim_lock:
             self.sim.drive.set_estop(bool(req.data))
         self.logger.warning("e-stop %s", "ENGAGED" if req.data else "released")
         return SetBoolResponse(success=True,
@@ -162,7 +162,7 @@ class ChassisNode(Node):
                 delay = self.pacer.delay()
                 if delay > 0 and self._stop.wait(delay):
                     break
-                with self._lock:
+                with self._sim_lock:
                     self._check_bad_cmds()
                     self.sim.step(self.dt)
                     self._steps += 1

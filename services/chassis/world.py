@@ -30,7 +30,8 @@ class World:
         self.map = grid_map
         self.res = float(grid_map.resolution)
         self.ox, self.oy = float(grid_map.origin[0]), float(grid_map.origin[1])
-        self.height, self.width = grid_map.grid.shape
+        self.height: int = grid_map.grid.shape[0]
+        self.width: int = grid_map.grid.shape[1]
         self.solid = np.ascontiguousarray(grid_map.grid >= OCCUPIED_AT)
         # metres from each cell centre to the nearest solid cell centre (0 on solid cells)
         if self.solid.any():
