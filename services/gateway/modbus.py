@@ -76,7 +76,7 @@ class ModbusFront:
 
     async def stop(self) -> None:
         if self.server is not None:
-            await self.server.shutdown()  # type: ignore[no-untyped-call]
+            await self.server.shutdown()
 
     async def _on_request(self, fc: int, start: int, address: int, count: int,
                           registers: list[int], set_values: Any) -> ExcCodes | None:

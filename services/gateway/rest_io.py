@@ -10,7 +10,7 @@ from typing import Annotated, Any, Literal
 
 import msgspec
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
-from zenros.msgs.zenros_msgs.chassis import IoState, SetIo, SetIoRequest
+from zenros.msgs.zenros_msgs.chassis import IoState, SetIo, SetIoRequest, SetIoResponse
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 
@@ -56,7 +56,7 @@ class IoLink:
 
     async def set(self, board: str, port: int, level: int) -> IoState:
         try:
-            res = await self.client.call_async(
+            res: SetIoResponse = await self.client.call_async(
                 SetIoRequest(board=board, port=port, level=level), self.timeout)
         except ServiceUnavailableError:
             raise ApiError(503, "the chassis is not running (no chassis/set_io)") from None

@@ -18,7 +18,7 @@ from typing import Any
 from .maproute import Hop, NoRoute, find_route
 from .robot import Outcome, Robot
 
-__all__ = ["navigate_across", "carry_over"]
+__all__ = ["carry_over", "navigate_across"]
 
 Pose = tuple[float, float, float]
 Leg = Callable[[dict[str, Any]], Outcome]
@@ -58,8 +58,9 @@ def navigate_across(robot: Robot, params: dict[str, Any], current: str, leg: Leg
     try:
         if "index" in params:  # the goal point must exist before the robot sets off
             robot.nav_point(int(params["index"]), target, str(params.get("path", "")))
-        ends = [(robot.nav_point(h.leave.index, h.leave.map, h.leave.path),
-                 robot.nav_point(h.enter.index, h.enter.map, h.enter.path)) for h in route]
+        ends = [(robot.nav_point(h.leave.point_index, h.leave.map, h.leave.path),
+                 robot.nav_point(h.enter.point_index, h.enter.map, h.enter.path))
+                for h in route]
     except LookupError as exc:
         return Outcome("error", f"route to map {target!r}: {exc}")
     timeout = float(params.get("timeout", 0.0))

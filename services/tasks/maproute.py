@@ -17,14 +17,15 @@ __all__ = ["Hop", "Link", "NoRoute", "PointEnd", "find_route", "links_of"]
 
 
 class PointEnd(NamedTuple):
-    """One nav point: map, path, index."""
+    """One nav point: map, path, the point's index in the path (not named ``index``: that
+    would shadow ``tuple.index``)."""
 
     map: str
     path: str
-    index: int
+    point_index: int
 
     def label(self) -> str:
-        return f"{self.map}/{self.path}[{self.index}]"
+        return f"{self.map}/{self.path}[{self.point_index}]"
 
 
 class Link(NamedTuple):
