@@ -16,7 +16,7 @@ import logging
 import math
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Protocol, TypeVar
 
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration, Time
@@ -27,9 +27,19 @@ from .convert import pose2_from_msg, pose_stamped
 from .core import NavCore
 from .se2 import Pose2
 
-__all__ = ["FEEDBACK_PERIOD", "ActionBase", "Ledger"]
+__all__ = ["FEEDBACK_PERIOD", "ActionBase", "ActionOutcome", "Ledger"]
 
 FEEDBACK_PERIOD = 0.1  # wall seconds between feedback messages
+
+
+class ActionOutcome(Protocol):
+    """What every nav action result carries: Nav2's error code and message."""
+
+    error_code: int
+    error_msg: str
+
+
+OutcomeT = TypeVar("OutcomeT", bound=ActionOutcome)
 
 
 class Ledger:
@@ -96,14 +106,14 @@ class ActionBase:
                 if feedback is not None:
                     try:
                         gh.publish_feedback(feedback(b))
-                    except Exception:  # noqa: BLE001 - feedback is best effort
+                    except Exception:  # feedback is best effort
                         self.logger.debug("feedback for %s failed", action, exc_info=True)
             return "done"
         finally:
             if led.current is not None and led.current[1] is b:
                 led.current = None
 
-    def _settle(self, gh: Any, outcome: str, b: Behavior, result: Any) -> Any:
+    def _settle(self, gh: Any, outcome: str, b: Behavior, result: OutcomeT) -> OutcomeT:
         if outcome == "canceled":
             gh.canceled()
             self.ledger.last_outcome = (4, 0, "canceled")

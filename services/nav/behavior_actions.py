@@ -14,7 +14,7 @@ import math
 import threading
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Protocol, TypeVar
 
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration
@@ -35,12 +35,22 @@ from zenros.msgs.zenros_msgs.nav import (
     LocalMoveTargetResult,
 )
 
-from .action_base import ActionBase
+from .action_base import ActionBase, ActionOutcome
 from .behavior import Behavior
 from .convert import pose2_from_msg
 from .local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
 
 __all__ = ["BehaviorActions"]
+
+
+class TimedOutcome(ActionOutcome, Protocol):
+    """A local move's result: an outcome and the time the move took."""
+
+    total_elapsed_time: Duration
+
+
+OutcomeT = TypeVar("OutcomeT", bound=ActionOutcome)
+TimedT = TypeVar("TimedT", bound=TimedOutcome)
 
 STOP_WAIT = 2.0  # wall seconds a canceled move waits for the robot to stop
 SPIN_CODES = MoveCodes(SpinResult.TIMEOUT, SpinResult.TF_ERROR, SpinResult.COLLISION_AHEAD)
@@ -166,7 +176,7 @@ class BehaviorActions(ActionBase):
         return ""
 
     def _straight(self, gh: Any, action: str, distance: float, goal: Any, codes: MoveCodes,
-                  result: Any, feedback_type: Any) -> Any:
+                  result: TimedT, feedback_type: Any) -> TimedT:
         speed = min(abs(goal.speed), self.core.config.controller.max_linear_vel)
         b = DriveOnHeading(distance, speed, _seconds(goal.time_allowance), codes,
                            self.core.config.nav.collision_radius,
@@ -175,7 +185,7 @@ class BehaviorActions(ActionBase):
                         lambda _: feedback_type(distance_traveled=b.traveled), result)
 
     def _go(self, gh: Any, action: str, b: Behavior, goal: Any,
-            feedback: Callable[[Behavior], Any], result: Any) -> Any:
+            feedback: Callable[[Behavior], Any], result: TimedT) -> TimedT:
         """Run ``b``; a canceled or preempted goal gets one last feedback first, so the
         client knows how far the robot got (a resumed local move drives only the rest)."""
         out = self._run(action, gh, b, goal, feedback)
@@ -204,7 +214,7 @@ class BehaviorActions(ActionBase):
         if pose is not None and isinstance(b, (DriveOnHeading, SpinInPlace)):
             b.measure(pose)
 
-    def _invalid(self, gh: Any, result: Any, code: int, msg: str) -> Any:
+    def _invalid(self, gh: Any, result: OutcomeT, code: int, msg: str) -> OutcomeT:
         result.error_code, result.error_msg = code, msg
         gh.abort()
         self.ledger.last_outcome = (3, code, msg)

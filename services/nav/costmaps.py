@@ -14,8 +14,8 @@ import threading
 from typing import Any
 
 import numpy as np
-
 from zenros.maps import GridMap
+from zenros.message import Int8Array
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import Point, Pose
 from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid
@@ -138,4 +138,4 @@ class Costmaps:
             header=Header(stamp=stamp, frame_id=frame_id),
             info=MapMetaData(map_load_time=stamp, resolution=res, width=n, height=n,
                              origin=origin),
-            data=cost_to_occupancy(win).ravel())
+            data=cost_to_occupancy(win).ravel().view(Int8Array))

@@ -102,8 +102,9 @@ def _area(poly: np.ndarray) -> float:
 
 
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return ((a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1])
-            - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0]))
+    cross: np.ndarray = ((a[..., 0] - o[..., 0]) * (b[..., 1] - o[..., 1])
+                         - (a[..., 1] - o[..., 1]) * (b[..., 0] - o[..., 0]))
+    return cross
 
 
 def _edges_cross(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray
@@ -116,7 +117,8 @@ def _edges_cross(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray
              & (np.minimum(b0[..., 0], b1[..., 0]) <= np.maximum(a0[..., 0], a1[..., 0]))
              & (np.minimum(a0[..., 1], a1[..., 1]) <= np.maximum(b0[..., 1], b1[..., 1]))
              & (np.minimum(b0[..., 1], b1[..., 1]) <= np.maximum(a0[..., 1], a1[..., 1])))
-    return (d1 * d2 <= 0) & (d3 * d4 <= 0) & (~collinear | boxes)
+    crossing: np.ndarray = (d1 * d2 <= 0) & (d3 * d4 <= 0) & (~collinear | boxes)
+    return crossing
 
 
 def _self_intersects(poly: np.ndarray) -> bool:
@@ -171,7 +173,8 @@ def validate_field(border: Sequence[Sequence[float]],
 def _rotate(poly: np.ndarray, angle: float) -> np.ndarray:
     """Rotate by ``-angle`` so swaths at ``angle`` run along x."""
     c, s = math.cos(angle), math.sin(angle)
-    return poly @ np.array([[c, -s], [s, c]])
+    rotated: np.ndarray = poly @ np.array([[c, -s], [s, c]])
+    return rotated
 
 
 def _crossings(poly: np.ndarray, y: float) -> list[tuple[float, float]]:
@@ -349,13 +352,13 @@ def _order(rows: list[list[tuple[float, float]]], ys: list[float]
         else:
             here = pos
 
-            def dist(c: list[tuple[int, int]], at: int) -> float:
+            def dist(c: list[tuple[int, int]], at: int, here: Point) -> float:
                 r, s = c[at]
                 a, b = rows[r][s]
                 return min(math.hypot(a - here[0], ys[r] - here[1]),
                            math.hypot(b - here[0], ys[r] - here[1]))
-            options = [(dist(c, 0), i, False) for i, c in enumerate(todo)]
-            options += [(dist(c, -1), i, True) for i, c in enumerate(todo)]
+            options = [(dist(c, 0, here), i, False) for i, c in enumerate(todo)]
+            options += [(dist(c, -1, here), i, True) for i, c in enumerate(todo)]
             _, pick, reverse = min(options)
         cell = todo.pop(pick)
         seq = cell[::-1] if reverse else cell

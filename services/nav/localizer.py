@@ -46,7 +46,7 @@ class Localizer:
     def set_mode(self, mode: str) -> None:
         if mode not in MODES:
             raise ValueError(f"unknown localization mode {mode!r}; valid: {', '.join(MODES)}")
-        self.mode = mode  # type: ignore[assignment]
+        self.mode = mode
         if mode == "scan_match":
             self.localized = True
 

@@ -15,7 +15,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 import msgspec
-
 from zenros.errors import MapError
 from zenros.maps import (
     GridMap,
@@ -138,10 +137,12 @@ class MapStore:
                 self._nav[name] = data
             return data
 
-    def update_nav_data(self, name: str, change: Callable[[MapNavData], None]) -> MapNavData:
+    def update_nav_data(self, name: str, change: Callable[[MapNavData], object]
+                        ) -> MapNavData:
         """Apply ``change`` to a copy of the map's nav data, persist it, and return it.
 
         ``change`` may raise (ValueError, MapError) to refuse; nothing is written then.
+        What it returns is ignored.
         """
         with self._lock:
             data = msgspec.structs.replace(self.nav_data(name))

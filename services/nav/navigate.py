@@ -18,7 +18,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
 from zenros.msgs.nav2_msgs import FollowPathResult as FollowCodes
 
 from .behavior import Behavior, NavParams, NavTools, Sense
@@ -203,9 +202,9 @@ class Navigate(Behavior):
         self.distance_remaining = out.distance_remaining
         self._update_waypoints()
         if out.state == "goal_reached":
-            for w in self.waypoints:
-                if w.status == PENDING:
-                    w.status = COMPLETED
+            for wp in self.waypoints:
+                if wp.status == PENDING:
+                    wp.status = COMPLETED
             self.distance_remaining = 0.0
             return self.finish(True)
         v, w = out.v, out.w

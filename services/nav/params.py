@@ -125,7 +125,7 @@ def declare_nav_config(node: _Declares) -> NavConfig:
     return NavConfig(
         nav=nav, controller=controller, costmap=costmap, planner=planner, dock=dock,
         planner_tolerance=planner_tolerance,
-        localization=mode,  # type: ignore[arg-type]
+        localization=mode,
         costmap_update_rate=f("costmap_update_rate", 2.0, "obstacle updates per second"),
         local_costmap_size=f("local_costmap_size", 3.0, "m", positive=True),
         scan_match_rate=f("scan_match_rate", 5.0, "scan matches per second (scan_match mode)"),

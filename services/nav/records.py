@@ -95,7 +95,7 @@ class Records:
 
     def handle_list_paths(self, req: ListPathsRequest) -> ListPathsResponse:
         names = [self.maps.resolve(req.map_name)] if req.map_name else self.store.names()
-        refs = []
+        refs: list[PathRef] = []
         for m in names:
             try:
                 paths = self.store.nav_data(m).paths

@@ -29,7 +29,7 @@ class Pose2(NamedTuple):
     y: float = 0.0
     theta: float = 0.0
 
-    def __mul__(self, other: object) -> Pose2:  # type: ignore[override]
+    def __mul__(self, other: object) -> Pose2:
         if not isinstance(other, Pose2):
             return NotImplemented
         c, s = math.cos(self.theta), math.sin(self.theta)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+from zenros.message import Int8Array
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import Point, Pose, Quaternion
 from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid
@@ -279,5 +280,5 @@ class Costmap2D:
                     orientation=Quaternion(w=1.0),
                 ),
             ),
-            data=cost_to_occupancy(self._master).ravel(),
+            data=cost_to_occupancy(self._master).ravel().view(Int8Array),
         )
