@@ -128,9 +128,11 @@ def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
         assert nav_points.wait_for_service(TIMEOUT)
         res = nav_points.call(SetNavPointsRequest(path_name="tour", points=POINTS), TIMEOUT)
         assert [p.name for p in res.points] == ["Lab", "Corridor end"]
-        legs = [{"type": "nav_action", "x": x, "y": 0.0, "theta": 0.0}
-                for x in (20.0, 6.0) * 4]  # long enough that a loaded machine pauses it mid-run
-        r.task = task_call(r.ctx, "create", body={"name": "corridor patrol", "sub_tasks": legs})
+        legs = [{"type": "nav_action", "x": x, "y": 0.0, "theta": 0.0} for x in (20.0, 6.0)]
+        # A looping patrol runs until the page stops it: a loaded machine (slow page, slow
+        # clicks) cannot let it complete before the pause lands.
+        r.task = task_call(r.ctx, "create", body={"name": "corridor patrol", "sub_tasks": legs,
+                                                  "loop_flag": True})
         driver = r.open_browser(home / "chromium")
         driver.get(f"http://127.0.0.1:{r.rest_port}/")
         yield r
