@@ -103,15 +103,21 @@ class ActionBase:
                         newer = led.arrivals.get(action, 0) > arrivals
                     self.core.motion.halt(b, "preempted by a new goal" if newer else "canceled")
                     return "preempted" if newer else "canceled"
-                if feedback is not None:
-                    try:
-                        gh.publish_feedback(feedback(b))
-                    except Exception:  # feedback is best effort
-                        self.logger.debug("feedback for %s failed", action, exc_info=True)
+                self._feedback(action, gh, b, feedback)
+            self._feedback(action, gh, b, feedback)  # the last one says where the goal ended
             return "done"
         finally:
             if led.current is not None and led.current[1] is b:
                 led.current = None
+
+    def _feedback(self, action: str, gh: Any, b: Behavior,
+                  feedback: Callable[[Behavior], Any] | None) -> None:
+        if feedback is None:
+            return
+        try:
+            gh.publish_feedback(feedback(b))
+        except Exception:  # feedback is best effort
+            self.logger.debug("feedback for %s failed", action, exc_info=True)
 
     def _settle(self, gh: Any, outcome: str, b: Behavior, result: OutcomeT) -> OutcomeT:
         if outcome == "canceled":

@@ -186,16 +186,14 @@ class BehaviorActions(ActionBase):
 
     def _go(self, gh: Any, action: str, b: Behavior, goal: Any,
             feedback: Callable[[Behavior], Any], result: TimedT) -> TimedT:
-        """Run ``b``; a canceled or preempted goal gets one last feedback first, so the
-        client knows how far the robot got (a resumed local move drives only the rest)."""
+        """Run ``b``; a canceled or preempted goal gets one last feedback too, once the robot
+        stopped, so the client knows how far it got (a resumed local move drives only the
+        rest). A goal that ended gets its last feedback from `_run`."""
         out = self._run(action, gh, b, goal, feedback)
         if out != "done":
             if out == "canceled":
                 self._settled_pose(b)
-            try:
-                gh.publish_feedback(feedback(b))
-            except Exception:  # feedback is best effort
-                self.logger.debug("last feedback for %s failed", action, exc_info=True)
+            self._feedback(action, gh, b, feedback)
         result = self._settle(gh, out, b, result)
         t0 = getattr(b, "t0", None)
         if t0 is not None:
