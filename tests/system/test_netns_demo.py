@@ -21,7 +21,7 @@ import pytest
 from zenros.testing import wait_for
 
 # The first test also pays for starting ~20 processes on 3 hosts (the module's fixture).
-pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(150)]
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240)]
 
 ROOT = Path(__file__).resolve().parents[2]
 DEMO = ROOT / "deploy" / "demo" / "demo.sh"
@@ -352,11 +352,18 @@ def _off(pose: dict[str, float], goal: tuple[float, float]) -> float:
 def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
         demo: Demo, rest: Rest) -> None:
     # Both robots are up behind their gateways: the tasks service and nav answer.
+    seen: dict[int, object] = {}
+
     def ready(port: int) -> bool:
         status, doc = rest.call(port, "GET", "/navigation/pose")
-        return status == 200 and _off(doc, (0.0, 0.0)) < 0.5 and \
-            rest.call(port, "GET", "/task")[0] == 200
-    assert wait_for(lambda: ready(R1_PORT) and ready(R2_PORT), 60, interval=0.5)
+        seen[port] = (status, doc)
+        if not (status == 200 and _off(doc, (0.0, 0.0)) < 0.5):
+            return False
+        status, doc = rest.call(port, "GET", "/task")
+        seen[port] = ("/task", status, doc)
+        return status == 200
+    # Two robots and a station start on two cores (with a CPU hog beside them in CI's check).
+    assert wait_for(lambda: ready(R1_PORT) and ready(R2_PORT), 90, interval=0.5), seen
 
     # robot1 runs a two-leg task (created and started through its gateway) and is moving.
     task = rest.ok(R1_PORT, "POST", "/task", {
