@@ -66,6 +66,12 @@ def publisher(ctx_pair: list[Context]) -> Iterator[Node]:
     yield node
     node.close()
 
+def _known(ctx: Context, topic: str) -> None:
+    """Wait until the player's session knows the test's subscription: the player waits for a
+    route only to subscribers its graph already knows (a loaded machine is slow to tell it)."""
+    assert wait_for(lambda: any(t.node.endswith("bag_source")
+                                for t in ctx.graph.subscribers(topic)), 10)
+
 
 def test_records_a_mixed_set_losslessly(ctx_pair: list[Context], publisher: Node,
                                         tmp_path: Path) -> None:
@@ -223,6 +229,7 @@ def test_play_reproduces_sequence_and_timing(ctx_pair: list[Context], publisher:
     got: Collector[tuple[float, float]] = Collector()
     sub = publisher.create_subscription(
         Twist, "/cmd_vel", lambda m: got((time.perf_counter(), m.linear.x)))
+    _known(ctx_pair[1], "/cmd_vel")
     player = Player(ctx_pair[1], bag_files(bag), PlayOptions(rate=1.0))
     try:
         assert player.play() == n
@@ -251,6 +258,8 @@ def test_play_rate_start_topics_and_clock(ctx_pair: list[Context], publisher: No
     clocks: Collector[Clock] = Collector()
     publisher.create_subscription(Twist, "/cmd_vel", got)
     publisher.create_subscription(Clock, "/clock", clocks)
+    _known(ctx_pair[1], "/cmd_vel")
+    _known(ctx_pair[1], "/clock")
     node = Node("player", context=ctx_pair[1])
     player = Player(ctx_pair[1], bag_files(bag),
                     PlayOptions(rate=4.0, start=span / 2, topics=["/cmd_vel"], clock=True),
@@ -276,6 +285,7 @@ def test_pause_and_step(ctx_pair: list[Context], publisher: Node, tmp_path: Path
     _record_schedule(ctx_pair[1], publisher, bag, 50)
     got: Collector[Twist] = Collector()
     publisher.create_subscription(Twist, "/cmd_vel", got)
+    _known(ctx_pair[1], "/cmd_vel")
     player = Player(ctx_pair[1], bag_files(bag))
     player.pause()
     t = threading.Thread(target=player.play)
@@ -317,6 +327,7 @@ def test_bulk_json_for_viewers_and_back(ctx_pair: list[Context], publisher: Node
         assert isinstance(obj["ranges"], list) and len(obj["ranges"]) == 360
     got: Collector[LaserScan] = Collector()
     sub = publisher.create_subscription(LaserScan, "/scan", got)
+    _known(ctx_pair[1], "/scan")
     player = Player(ctx_pair[1], bag_files(bag), PlayOptions(rate=10.0))
     try:
         player.play()
