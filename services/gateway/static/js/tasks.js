@@ -44,49 +44,77 @@ export class TaskPanel {
     this.render();
   }
 
+  // Rows are kept per task and updated in place: a status update (many a second while a
+  // task runs) must not replace the button under the user's pointer, or the click is lost.
   render() {
     const list = this.list;
-    list.replaceChildren();
     this.empty.hidden = this.tasks.size > 0;
+    this.rows = this.rows || new Map();
+    let i = 0;
     for (const t of this.tasks.values()) {
-      const li = document.createElement("li");
-      li.dataset.id = t.id;
-      li.dataset.state = t.state;
-      const head = document.createElement("div");
-      head.className = "row";
-      const title = document.createElement("span");
-      title.className = "name";
-      title.textContent = t.name || t.id;
-      title.title = t.name || t.id;
-      const badge = document.createElement("span");
-      badge.className = `badge ${t.state}`;
-      badge.textContent = t.state;
-      head.append(title, badge);
-      const foot = document.createElement("div");
-      foot.className = "row";
-      const bar = document.createElement("div");
-      bar.className = "progress";
-      const fill = document.createElement("span");
-      const p = t.progress || 0;
-      fill.style.width = `${Math.round(Math.max(0, Math.min(1, p > 1 ? p / 100 : p)) * 100)}%`;
-      bar.append(fill);
-      foot.append(bar);
-      const buttons = t.state === "WORKING" ? [["pause", "Pause"], ["stop", "Stop"]]
-        : t.state === "PAUSED" ? [["resume", "Resume"], ["stop", "Stop"]]
-        : [["start", "Start"]];
-      for (const [call, label] of buttons) {
-        const b = document.createElement("button");
-        b.type = "button";
-        b.textContent = label;
-        b.dataset.call = call;
-        b.addEventListener("click", () => this.call(call, t.id)
-          .then((doc) => { if (doc && doc.id) this.onStatus({ ...doc, task: JSON.stringify(doc) }); })
-          .catch((err) => this.onError(err.message)));
-        foot.append(b);
+      let li = this.rows.get(t.id);
+      if (!li) {
+        li = this.build(t.id);
+        this.rows.set(t.id, li);
       }
-      li.classList.add("task");
-      li.append(head, foot);
-      list.append(li);
+      this.update(li, t);
+      if (list.children[i] !== li) list.insertBefore(li, list.children[i] || null);
+      i += 1;
+    }
+    for (const [id, li] of this.rows) {
+      if (!this.tasks.has(id)) {
+        li.remove();
+        this.rows.delete(id);
+      }
+    }
+  }
+
+  build(id) {
+    const li = document.createElement("li");
+    li.dataset.id = id;
+    li.classList.add("task");
+    const head = document.createElement("div");
+    head.className = "row";
+    const title = document.createElement("span");
+    title.className = "name";
+    const badge = document.createElement("span");
+    head.append(title, badge);
+    const foot = document.createElement("div");
+    foot.className = "row";
+    const bar = document.createElement("div");
+    bar.className = "progress";
+    bar.append(document.createElement("span"));
+    foot.append(bar);
+    li.append(head, foot);
+    return li;
+  }
+
+  update(li, t) {
+    li.dataset.state = t.state;
+    const [head, foot] = li.children;
+    const [title, badge] = head.children;
+    title.textContent = t.name || t.id;
+    title.title = t.name || t.id;
+    badge.className = `badge ${t.state}`;
+    badge.textContent = t.state;
+    const p = t.progress || 0;
+    foot.firstChild.firstChild.style.width =
+      `${Math.round(Math.max(0, Math.min(1, p > 1 ? p / 100 : p)) * 100)}%`;
+    if (li.dataset.buttons === t.state) return; // same buttons: keep them
+    li.dataset.buttons = t.state;
+    for (const old of foot.querySelectorAll("button")) old.remove();
+    const buttons = t.state === "WORKING" ? [["pause", "Pause"], ["stop", "Stop"]]
+      : t.state === "PAUSED" ? [["resume", "Resume"], ["stop", "Stop"]]
+      : [["start", "Start"]];
+    for (const [call, label] of buttons) {
+      const b = document.createElement("button");
+      b.type = "button";
+      b.textContent = label;
+      b.dataset.call = call;
+      b.addEventListener("click", () => this.call(call, t.id)
+        .then((doc) => { if (doc && doc.id) this.onStatus({ ...doc, task: JSON.stringify(doc) }); })
+        .catch((err) => this.onError(err.message)));
+      foot.append(b);
     }
   }
 }
