@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
-import os
 import threading
 from pathlib import Path
 from typing import Annotated, Any
 
 import msgspec
+
+from .json_file import load_struct, save_struct
 
 __all__ = ["RobotSettings", "Settings", "SettingsPatch"]
 
@@ -63,12 +63,7 @@ class Settings:
     def __init__(self, path: Path | None) -> None:
         self.path = path
         self._lock = threading.Lock()
-        self.current = RobotSettings()
-        if path is not None and path.exists():
-            try:
-                self.current = msgspec.json.decode(path.read_bytes(), type=RobotSettings)
-            except msgspec.MsgspecError as exc:
-                raise ValueError(f"{path}: {exc}") from exc
+        self.current = load_struct(path, RobotSettings)
 
     def as_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = msgspec.to_builtins(self.current)
@@ -91,9 +86,4 @@ class Settings:
             self._save()
 
     def _save(self) -> None:
-        if self.path is None:
-            return
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.path.with_suffix(".tmp")
-        tmp.write_text(json.dumps(msgspec.to_builtins(self.current), indent=1))
-        os.replace(tmp, self.path)
+        save_struct(self.path, self.current)

@@ -8,13 +8,13 @@ volume in one JSON file, written atomically on every change.
 
 from __future__ import annotations
 
-import json
-import os
 import threading
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import msgspec
+
+from .json_file import load_struct, save_struct
 
 __all__ = ["CHARS_PER_SECOND", "MAX_ALIASES", "AudioSettings", "AudioStore", "Speech"]
 
@@ -64,12 +64,7 @@ class AudioStore:
     def __init__(self, path: Path | None) -> None:
         self.path = path
         self._lock = threading.Lock()
-        self.current = AudioSettings()
-        if path is not None and path.exists():
-            try:
-                self.current = msgspec.json.decode(path.read_bytes(), type=AudioSettings)
-            except msgspec.MsgspecError as exc:
-                raise ValueError(f"{path}: {exc}") from exc
+        self.current = load_struct(path, AudioSettings)
 
     def apply_alias(self, text: str) -> str:
         """The text to speak: the alias of ``text`` when it has one (whole-text match)."""
@@ -102,10 +97,4 @@ class AudioStore:
             self._save()
 
     def _save(self) -> None:
-        if self.path is None:
-            return
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.path.with_suffix(".tmp")
-        tmp.write_text(json.dumps(msgspec.to_builtins(self.current), indent=1,
-                                  ensure_ascii=False))
-        os.replace(tmp, self.path)
+        save_struct(self.path, self.current)
