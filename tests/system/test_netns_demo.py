@@ -121,7 +121,10 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
         pytest.skip(reason)
     prefix = "zr" + secrets.token_hex(3)
     state = tmp_path_factory.mktemp("netns-demo")
-    env = {**os.environ, "ZR_PREFIX": prefix, "ZR_STATE": str(state),
+    # Not this process's ZENOH_RUNTIME: the first session a test opened here set zenros's
+    # default into os.environ, and the demo is to run with the runtime demo.sh chooses.
+    inherited = {k: v for k, v in os.environ.items() if k != "ZENOH_RUNTIME"}
+    env = {**inherited, "ZR_PREFIX": prefix, "ZR_STATE": str(state),
            "PYTHON": sys.executable, "ZR_WAIT": "100"}
     d = Demo(prefix, state, env)
     try:
@@ -210,7 +213,9 @@ def test_link_outage_plain_resumes_cached_recovers_everything(demo: Demo) -> Non
     # robot2 was not touched: nothing lost, no stall (see ZENOH_RUNTIME in demo.sh).
     for topic in (r2, r2c):
         assert after[topic]["lost"] == 0, after[topic]
-        assert after[topic]["max_gap"] < 6.0, after[topic]  # seconds on a loaded box
+        # Seconds on a loaded box (0.07-0.25 s measured beside 4 CPU hogs), while a stall of
+        # the station's receive threads holds robot2 for most of the outage (4.2 s of 5).
+        assert after[topic]["max_gap"] < 3.0, after[topic]
 
 
 def test_random_loss_cached_topic_loses_nothing(demo: Demo) -> None:
