@@ -116,27 +116,42 @@ class ActionClient:
 
         The calling thread reads the goal's replies itself (acceptance, then result) from a
         Zenoh channel, as a service call does: no Python runs on Zenoh's threads for them.
+        A goal that is accepted and ends within the query (``send_timeout``), with no feedback
+        callback, needs no handle: nobody else can see it, and its result is returned as it
+        comes. Anything else (feedback, a rejection, an error, a longer goal) goes through a
+        registered `ClientGoalHandle`.
         """
         start = time.monotonic()
-        h, data = self._new_goal(goal, feedback_callback)
+        gid, data = self._encode_goal(goal)
         wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
+        h = None if feedback_callback is None else self._register(gid, goal, feedback_callback)
         replies = self._ctx.session.get(
             self._keys["send_goal"], payload=data, encoding=self._enc["send_goal"],
             target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
             timeout=wait, attachment=RESULT_ON_GOAL)
-        answered = False
+        first: zenoh.Reply | None = None  # the acceptance (or the refusal)
         for reply in replies:
             ok = reply.ok
             if ok is not None and ok.encoding == self._result_enc:
+                if h is None and first is not None:  # the server holds it: it was accepted
+                    done = self._quick_result(gid, ok)
+                    if done is not None:
+                        return done
+                if h is None:  # replay the acceptance to a handle made now
+                    h = self._register(gid, goal, None)
+                    if first is not None:
+                        self._on_send_reply(h, first, wait)
                 self._on_result_reply(h, reply, False)
                 break
-            if not answered:
-                answered = True
-                self._on_send_reply(h, reply, wait)
+            if first is None:
+                first = reply
+                if h is not None:
+                    self._on_send_reply(h, reply, wait)
         else:  # the query ended without the result
-            if not answered:
-                self._on_send_reply(h, None, wait)
-            elif h.accepted and not h.done:
+            if h is None or first is None:  # the answer (if any) is not yet on a handle
+                h = h or self._register(gid, goal, None)
+                self._on_send_reply(h, first, wait)
+            if h.accepted and not h.done:
                 self._request_result(h)  # a long goal: ask for its result
         if timeout is None:
             return h.result()
@@ -147,6 +162,14 @@ class ActionClient:
                 raise
             raise ZenrosTimeout(f"goal {h.goal_id} on {self.name} did not end within "
                                 f"{timeout:g} s (status {h._status.name})") from None
+
+    def _quick_result(self, gid: uuid.UUID, ok: zenoh.Sample) -> GoalResult | None:
+        """The result a held send_goal query carried, or None if it does not decode."""
+        try:
+            res = self._gr_res.decode(ok.payload.to_bytes())
+        except CodecError:
+            return None  # the handle path reports it
+        return GoalResult(gid, _status(res.status), res.result)
 
     def send_goal_async(self, goal: Any,
                         feedback_callback: Callable[[Any], Any] | None = None) -> ClientGoalHandle:
@@ -166,13 +189,23 @@ class ActionClient:
     def _new_goal(self, goal: Any, feedback_callback: Callable[[Any], Any] | None,
                   ) -> tuple[ClientGoalHandle, bytes]:
         """A registered handle for a new goal and its encoded send_goal request."""
+        gid, data = self._encode_goal(goal)
+        return self._register(gid, goal, feedback_callback), data
+
+    def _encode_goal(self, goal: Any) -> tuple[uuid.UUID, bytes]:
+        """A fresh goal id and the encoded send_goal request (checks type and client)."""
         if type(goal) is not self.action_type.Goal:
             raise EncodeError(f"action {self.name} takes {codec_for(self.action_type.Goal).type_name}"
                               f" goals, got {type(goal).__name__}")
         if self.closed:
             raise ActionError(f"action client {self.name} is closed")
         gid = uuid.uuid4()
-        data = self._sg_req.encode(self._wire.SendGoalRequest(goal_id=uuid_msg(gid), goal=goal))
+        return gid, self._sg_req.encode(self._wire.SendGoalRequest(goal_id=uuid_msg(gid),
+                                                                   goal=goal))
+
+    def _register(self, gid: uuid.UUID, goal: Any,
+                  feedback_callback: Callable[[Any], Any] | None) -> ClientGoalHandle:
+        """A handle for goal ``gid``, known to this client until the goal ends."""
         dispatch = None if feedback_callback is None else make_dispatch(
             feedback_callback, executor=self._ctx.executor, logger=self.logger,
             what=f"feedback of {self.name}", depth=100)
@@ -180,7 +213,7 @@ class ActionClient:
         with self._lock:
             self._handles[handle._key] = handle
         handle._future.add_done_callback(lambda _f: self._forget(handle))
-        return handle, data
+        return handle
 
     def _send(self, h: ClientGoalHandle, data: bytes) -> None:
         """One query for the goal and its result: the server replies the acceptance at once

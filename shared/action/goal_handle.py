@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from ..msgs.builtin_interfaces import Time
 from .states import GoalEvent
-from .types import GoalInfo, GoalStatus, uuid_msg
+from .types import UUID, GoalInfo, GoalStatus, uuid_msg
 
 if TYPE_CHECKING:
     import zenoh
@@ -31,16 +31,19 @@ class ServerGoalHandle(Generic[G]):
         stamp: when the server accepted the goal (its node clock).
     """
 
-    def __init__(self, server: ActionServer, goal_id: uuid.UUID, request: G) -> None:
+    def __init__(self, server: ActionServer, goal_id: uuid.UUID, request: G,
+                 goal_id_msg: UUID | None = None) -> None:
         self.goal_id = goal_id
         self.request = request
         self.stamp = Time()
         self._server = server
         self._status = GoalStatus.UNKNOWN
-        self._cancel = threading.Event()
+        self._cancel_requested = False  # set under the server's lock
+        self._cancel_event: threading.Event | None = None  # made for wait_for_cancel only
         # server bookkeeping, guarded by the server's lock
         self._key = goal_id.bytes
-        self._info = GoalInfo(goal_id=uuid_msg(goal_id))  # stamp set on acceptance
+        # stamp set on acceptance; the wire id as received, when the server has it
+        self._info = GoalInfo(goal_id=goal_id_msg or uuid_msg(goal_id))
         self._result: Any = None
         self._waiters: list[zenoh.Query] = []
         self._finished_at = 0.0
@@ -66,12 +69,26 @@ class ServerGoalHandle(Generic[G]):
     @property
     def is_cancel_requested(self) -> bool:
         """True once a client canceled the goal or a newer goal preempted it."""
-        return self._cancel.is_set()
+        return self._cancel_requested
 
     def wait_for_cancel(self, timeout: float | None = None) -> bool:
         """Block until a cancel is requested (True) or ``timeout`` passes (False): an
         interruptible sleep for blocking execute callbacks."""
-        return self._cancel.wait(timeout)
+        event = self._cancel_event
+        if event is None:
+            with self._server._lock:  # the lock `_request_cancel` is called under
+                event = self._cancel_event
+                if event is None:
+                    event = self._cancel_event = threading.Event()
+                    if self._cancel_requested:
+                        event.set()
+        return event.wait(timeout)
+
+    def _request_cancel(self) -> None:
+        """Note a cancel request (called under the server's lock); wakes `wait_for_cancel`."""
+        self._cancel_requested = True
+        if self._cancel_event is not None:
+            self._cancel_event.set()
 
     def publish_feedback(self, feedback: Any) -> None:
         """Send feedback for this goal; raises `EncodeError` for another type than the

@@ -96,7 +96,7 @@ class GoalRunner:
         that was only waiting ends CANCELED at once."""
         if h._status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
             h._status = transition(h._status, GoalEvent.CANCEL_GOAL)
-            h._cancel.set()
+            h._request_cancel()
             self._status.mark()
         if self.sched.withdraw(h._key):
             h._status = transition(h._status, GoalEvent.CANCELED)

@@ -203,7 +203,7 @@ class ActionServer:
             self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
                             "goal_id must be a non-zero UUID")
             return None
-        handle: Handle = ServerGoalHandle(self, gid, req.goal)
+        handle: Handle = ServerGoalHandle(self, gid, req.goal, req.goal_id)
         with self._lock:  # registered at once: a get_result right behind it will wait
             fresh = not self._closing and self._table.add_pending(handle)
         if not fresh:

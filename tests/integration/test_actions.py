@@ -567,3 +567,50 @@ def test_blocking_send_goal_reads_its_replies_and_outlives_send_timeout(
     with pytest.raises(ZenrosTimeout, match="did not end within 0.2 s"):
         client.send_goal(goal(3), timeout=0.2)
     rec.release(3)
+
+
+def test_a_quick_blocking_goal_needs_no_handle_and_keeps_its_end_state(pair: Any) -> None:
+    """Accepted and ended within the query, a goal sent with `send_goal` (no feedback callback)
+    is returned as its result reply says, and the client keeps no handle for it."""
+    outcomes = {1: "succeed", 2: "abort", 3: None}
+
+    def execute(h: Handle) -> FibonacciResult:
+        end = outcomes[h.request.order]
+        if end is not None:
+            getattr(h, end)()
+        return FibonacciResult(sequence=[h.request.order])
+
+    _, client = pair(execute, policy="parallel")
+    made: list[Any] = []
+    register = client._register
+    client._register = lambda *a: made.append(a) or register(*a)  # type: ignore[method-assign]
+    ok, aborted, unended = (client.send_goal(goal(n), timeout=10) for n in (1, 2, 3))
+    assert ok.succeeded and ok.result.sequence == [1]
+    assert aborted.status is GoalStatus.ABORTED and aborted.result.sequence == [2]
+    assert unended.status is GoalStatus.ABORTED and unended.result.sequence == [3]
+    assert len({ok.goal_id, aborted.goal_id, unended.goal_id}) == 3
+    assert made == [] and client._handles == {}
+    # With a feedback callback the goal has a handle (feedback is routed by it), same result.
+    seen: list[Any] = []
+    assert client.send_goal(goal(1), seen.append, timeout=10).succeeded
+    assert len(made) == 1
+
+
+def test_wait_for_cancel_sees_a_cancel_that_came_before_it(pair: Any) -> None:
+    """The cancel event is made on the first wait: a cancel already requested is seen at once."""
+    started, waited = threading.Event(), threading.Event()
+
+    def execute(h: Handle) -> FibonacciResult:
+        started.set()
+        assert wait_for(lambda: h.is_cancel_requested, 10)
+        assert h.wait_for_cancel(0)  # no event existed when the cancel came
+        waited.set()
+        h.canceled()
+        return FibonacciResult(sequence=[-1])
+
+    _, client = pair(execute)
+    handle = client.send_goal_async(goal(1))
+    assert started.wait(10)
+    assert handle.cancel()
+    out = handle.result(10)
+    assert waited.is_set() and out.status is GoalStatus.CANCELED
