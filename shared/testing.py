@@ -26,6 +26,7 @@ __all__ = [
     "free_port",
     "linked_contexts",
     "loopback_options",
+    "roslibpy_connect",
     "start_process",
     "unique_prefix",
     "wait_for",
@@ -216,6 +217,31 @@ class Proc:
         if self.popen.stdout is not None:
             self.popen.stdout.close()
         return self.popen.returncode
+
+
+def roslibpy_connect(host: str, port: int, timeout: float = 10.0) -> Any:
+    """A connected ``roslibpy.Ros`` (roslibpy is a test dependency, imported here).
+
+    roslibpy 2.1's ``Ros.run`` can miss its own connection: ``on_ready`` checks for the
+    protocol and then adds a "ready" listener, while the reactor thread may set the protocol
+    and emit "ready" between the two (seen under a CPU hog). A client that is connected when
+    ``run`` times out is therefore taken; one that is not still fails as roslibpy says.
+    """
+    import roslibpy
+
+    ros = roslibpy.Ros(host, port)
+    try:
+        ros.run(timeout)
+    except roslibpy.core.RosTimeoutError:
+        if not wait_for(lambda: ros.is_connected, 1.0):
+            # roslibpy would keep reconnecting in the background for the rest of the process.
+            stop = getattr(ros.factory, "stopTrying", None)
+            if stop is not None:
+                from twisted.internet import reactor
+
+                reactor.callFromThread(stop)
+            raise
+    return ros
 
 
 def start_process(*args: str, env: dict[str, str] | None = None) -> Proc:

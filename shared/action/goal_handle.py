@@ -26,27 +26,38 @@ class ServerGoalHandle(Generic[G]):
     `succeed`, `abort` or `canceled`, and returns the result message.
 
     Attributes:
-        goal_id: the client-chosen UUID.
         request: the goal message.
         stamp: when the server accepted the goal (its node clock).
     """
 
-    def __init__(self, server: ActionServer, goal_id: uuid.UUID, request: G,
+    def __init__(self, server: ActionServer, goal_id: uuid.UUID | bytes, request: G,
                  goal_id_msg: UUID | None = None) -> None:
-        self.goal_id = goal_id
+        # The id as 16 bytes (the server's key); the UUID object is made when first read.
+        self._key = goal_id.bytes if isinstance(goal_id, uuid.UUID) else bytes(goal_id)
+        self._goal_id = goal_id if isinstance(goal_id, uuid.UUID) else None
         self.request = request
         self.stamp = Time()
         self._server = server
         self._status = GoalStatus.UNKNOWN
         self._cancel_requested = False  # set under the server's lock
         self._cancel_event: threading.Event | None = None  # made for wait_for_cancel only
-        # server bookkeeping, guarded by the server's lock
-        self._key = goal_id.bytes
+        # server bookkeeping, guarded by the server's lock;
         # stamp set on acceptance; the wire id as received, when the server has it
-        self._info = GoalInfo(goal_id=goal_id_msg or uuid_msg(goal_id))
+        self._info = GoalInfo(goal_id=goal_id_msg or uuid_msg(self.goal_id))
         self._result: Any = None
         self._waiters: list[zenoh.Query] = []
         self._finished_at = 0.0
+
+    @property
+    def goal_id(self) -> uuid.UUID:
+        """The client-chosen UUID."""
+        gid = self._goal_id
+        if gid is None:
+            gid = self._goal_id = uuid.UUID(bytes=self._key)
+        return gid
+
+    def __str__(self) -> str:
+        return str(self.goal_id)
 
     @property
     def goal(self) -> G:

@@ -85,7 +85,7 @@ class GoalRunner:
         launch = []
         for key in plan.start:
             h = active[key]
-            h._status = transition(h._status, GoalEvent.EXECUTE, h.goal_id)
+            h._status = transition(h._status, GoalEvent.EXECUTE, h)
             launch.append(h)
         if plan.preempt or plan.drop or plan.start:
             self._status.mark()
@@ -134,7 +134,7 @@ class GoalRunner:
     def end(self, h: Handle, event: GoalEvent) -> None:
         """succeed(), abort() or canceled() from the execute callback."""
         with self.lock:
-            h._status = transition(h._status, event, h.goal_id)
+            h._status = transition(h._status, event, h)
             self._status.mark()
 
     def _complete(self, h: Handle, result: Any) -> None:

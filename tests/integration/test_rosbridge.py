@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 import roslibpy
-from roslibpy.core import ServiceException
+from roslibpy.core import RosTimeoutError, ServiceException
 from websockets.sync.client import connect
 from zenros.context import Context
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse
@@ -25,7 +25,7 @@ from zenros.node import Node
 from zenros.rpc import Client
 from zenros.services.gateway.rosbridge import RosbridgeServer
 from zenros.services.master.node import MasterNode
-from zenros.testing import Collector, wait_for
+from zenros.testing import Collector, free_port, roslibpy_connect, wait_for
 
 TIMEOUT = 10.0
 
@@ -54,8 +54,7 @@ def robot(ctx_pair: list[Context]) -> Iterator[Node]:
 
 @pytest.fixture
 def ros(server: RosbridgeServer) -> Iterator[roslibpy.Ros]:
-    client = roslibpy.Ros("127.0.0.1", server.port)
-    client.run(TIMEOUT)
+    client = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
     yield client
     client.close()
 
@@ -114,8 +113,7 @@ def test_advertise_and_publish_reach_zenros(server: RosbridgeServer, ros: roslib
 
 
 def test_two_clients_talk_through_the_bridge(server: RosbridgeServer, ros: roslibpy.Ros) -> None:
-    other = roslibpy.Ros("127.0.0.1", server.port)
-    other.run(TIMEOUT)
+    other = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
     try:
         got: Collector[dict[str, Any]] = Collector()
         roslibpy.Topic(other, "/relay", "std_msgs/String").subscribe(got)
@@ -490,8 +488,7 @@ def test_resubscribe_after_the_server_restarts(bridge_node: Node, robot: Node) -
     first = RosbridgeServer(bridge_node, port=0)
     first.start_in_thread()
     port = first.port
-    ros = roslibpy.Ros("127.0.0.1", port)
-    ros.run(TIMEOUT)
+    ros = roslibpy_connect("127.0.0.1", port, TIMEOUT)
     try:
         pub = robot.create_publisher(String, "/again")
         got: Collector[dict[str, Any]] = Collector()
@@ -540,3 +537,24 @@ def test_roslibjs_2_frames(server: RosbridgeServer, robot: Node) -> None:
         assert recv_json(ws) == {"op": "publish", "topic": "/news", "msg": {"data": "extra"}}
         ws.send(json.dumps({"op": "unsubscribe", "id": sid, "topic": "/news"}))
         assert wait_for(lambda: not robot.graph.subscribers("/news"), TIMEOUT)
+
+
+def test_roslibpy_connect_takes_a_connection_that_run_missed(
+        server: RosbridgeServer, monkeypatch: pytest.MonkeyPatch) -> None:
+    """roslibpy's `run` can time out on a connection its reactor made meanwhile (a race in
+    its ready check); the helper then takes the connected client, and still fails on none."""
+    real_run = roslibpy.Ros.run
+
+    def run_missing_ready(self: roslibpy.Ros, timeout: float = 10) -> None:
+        real_run(self, timeout)
+        raise RosTimeoutError("Failed to connect to ROS")  # what the race looks like
+
+    monkeypatch.setattr(roslibpy.Ros, "run", run_missing_ready)
+    ros = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
+    try:
+        assert ros.is_connected and "/rosapi/topics" in ros.get_services()
+    finally:
+        ros.close()
+    monkeypatch.setattr(roslibpy.Ros, "run", real_run)
+    with pytest.raises(RosTimeoutError):
+        roslibpy_connect("127.0.0.1", free_port(), 1.0)

@@ -14,7 +14,7 @@ from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.testing import running_gateway
-from zenros.testing import wait_for
+from zenros.testing import roslibpy_connect, wait_for
 
 
 @pytest.fixture
@@ -43,8 +43,7 @@ def test_roslibpy_on_the_gateway(gateway: GatewayNode, ctx_pair: list[Context]) 
     robot = Node("chassis", namespace="/robot1", context=ctx_pair[1])
     try:
         pub = robot.create_publisher(String, "state_text")
-        ros = roslibpy.Ros("127.0.0.1", gateway.rosbridge.port)
-        ros.run(10)
+        ros = roslibpy_connect("127.0.0.1", gateway.rosbridge.port)
         try:
             got: list[dict[str, str]] = []
             roslibpy.Topic(ros, "/robot1/state_text", "std_msgs/String").subscribe(got.append)

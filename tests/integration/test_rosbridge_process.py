@@ -12,7 +12,7 @@ import roslibpy
 from zenros.context import Context
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.testing import Proc, free_port, wait_for
+from zenros.testing import Proc, free_port, roslibpy_connect, wait_for
 
 pytestmark = pytest.mark.system
 
@@ -31,8 +31,7 @@ def test_rosbridge_process(router: str, prefix: str, observer: Context,
     talker = Node("talker", context=observer)
     try:
         pub = talker.create_publisher(String, "/chatter")
-        ros = roslibpy.Ros("127.0.0.1", port)
-        ros.run(10)
+        ros = roslibpy_connect("127.0.0.1", port)
         try:
             assert wait_for(lambda: "/talker" in ros.get_nodes(), 10)
             got: list[dict[str, str]] = []
