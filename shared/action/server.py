@@ -26,7 +26,6 @@ from .states import GoalEvent
 from .status import StatusPublisher
 from .transport import RESULT_ON_GOAL, answer, answer_err, decode_query, encoding_for
 from .types import (
-    UUID,
     ZERO_UUID,
     CancelCode,
     CancelGoalRequest,
@@ -200,10 +199,10 @@ class ActionServer:
         if isinstance(req, str):
             self._reply_err(query, "BadRequest", req)
             return None
-        key = _goal_key(req.goal_id)
-        if key is None:
+        key = bytes(req.goal_id.uuid)  # the codec checked 16 numbers of 0-255
+        if key == _ZERO_KEY:
             self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
-                            "goal_id must be a non-zero UUID (16 bytes)")
+                            "goal_id must be a non-zero UUID")
             return None
         handle: Handle = ServerGoalHandle(self, key, req.goal, req.goal_id)
         with self._lock:  # registered at once: a get_result right behind it will wait
@@ -383,18 +382,6 @@ class ActionServer:
 
     def __repr__(self) -> str:
         return f"<ActionServer {self.name} [{self.action_type.name}] policy={self.policy}>"
-
-
-def _goal_key(msg: UUID) -> bytes | None:
-    """The 16 bytes of a goal id from the wire; None if it is not a non-zero UUID."""
-    raw = msg.uuid
-    if len(raw) != 16:
-        return None
-    try:
-        key = bytes(raw)
-    except (ValueError, TypeError):  # an element outside 0-255
-        return None
-    return None if key == _ZERO_KEY else key
 
 
 def _wants_result(query: zenoh.Query) -> bool:
