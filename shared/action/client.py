@@ -31,6 +31,7 @@ from .client_goal import ClientGoalHandle, GoalResult
 from .inbox import Inbox
 from .transport import (
     RESULT_ON_GOAL,
+    accepted_stamp,
     encoding_for,
     parse_error,
     query_once,
@@ -81,6 +82,7 @@ class ActionClient:
         self._result_enc = encoding_for(wire.GetResultResponse)
         self._keys = {p: ctx.keys.action(self.name, p)
                       for p in ("send_goal", "cancel_goal", "get_result", "feedback", "status")}
+        self._send_key = zenoh.KeyExpr(self._keys["send_goal"])  # parsed once, not per goal
         self._lock = threading.Lock()
         self._handles: dict[bytes, ClientGoalHandle] = {}
         self._throttle = Throttle(5.0)
@@ -126,14 +128,17 @@ class ActionClient:
         wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
         h = None if feedback_callback is None else self._register(gid, goal, feedback_callback)
         replies = self._ctx.session.get(
-            self._keys["send_goal"], payload=data, encoding=self._enc["send_goal"],
+            self._send_key, payload=data, encoding=self._enc["send_goal"],
             target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
             timeout=wait, attachment=RESULT_ON_GOAL)
         first: zenoh.Reply | None = None  # the acceptance (or the refusal)
         for reply in replies:
             ok = reply.ok
             if ok is not None and ok.encoding == self._result_enc:
-                if h is None and first is not None:  # the server holds it: it was accepted
+                # the server held the query (it accepted the goal): the acceptance came first,
+                # or rides on this result (a goal that ended before it was sent)
+                stamp = None if first is not None else accepted_stamp(ok)
+                if h is None and (first is not None or stamp is not None):
                     done = self._quick_result(gid, ok)
                     if done is not None:
                         return done
@@ -141,6 +146,8 @@ class ActionClient:
                     h = self._register(gid, goal, None)
                     if first is not None:
                         self._on_send_reply(h, first, wait)
+                if stamp is not None:
+                    self._accept(h, stamp, reply)
                 self._on_result_reply(h, reply, False)
                 break
             if first is None:
@@ -225,6 +232,11 @@ class ActionClient:
             ok = reply.ok
             if ok is not None and ok.encoding == self._result_enc:
                 state["result"] = True
+                if not state["answered"]:
+                    stamp = accepted_stamp(ok)
+                    if stamp is not None:  # the acceptance rides on the result
+                        state["answered"] = True
+                        self._accept(h, stamp, reply)
                 self._on_result_reply(h, reply, False)
             elif not state["answered"]:
                 state["answered"] = True
@@ -238,7 +250,7 @@ class ActionClient:
             elif not state["result"] and h.accepted and not h.done:
                 self._request_result_soon(h)
 
-        query_replies(self._ctx.session, self._keys["send_goal"], data, self._enc["send_goal"],
+        query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
                       self.send_timeout, on_reply, on_final, RESULT_ON_GOAL)
 
     def _forget(self, handle: ClientGoalHandle) -> None:
@@ -248,6 +260,11 @@ class ActionClient:
     def _get(self, part: str, payload: bytes, timeout: float,
              done: Callable[[zenoh.Reply | None], None]) -> None:
         query_once(self._ctx.session, self._keys[part], payload, self._enc[part], timeout, done)
+
+    def _accept(self, h: ClientGoalHandle, stamp: Time, reply: zenoh.Reply) -> None:
+        """The acceptance a result reply carried (its result follows at once)."""
+        rid = reply.replier_id
+        h._set_accepted(True, stamp, "", str(rid.zid) if rid else "")
 
     def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
                        waited: float | None = None) -> None:

@@ -46,6 +46,7 @@ class ServerGoalHandle(Generic[G]):
         self._info = GoalInfo(goal_id=goal_id_msg or uuid_msg(self.goal_id))
         self._result: Any = None
         self._waiters: list[zenoh.Query] = []
+        self._owed: zenoh.Query | None = None  # a send_goal query still owed its acceptance
         self._finished_at = 0.0
 
     @property

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Hashable
 from dataclasses import dataclass
-from typing import Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 __all__ = ["POLICY_KINDS", "GoalPolicy", "Plan", "Scheduler"]
 
@@ -92,6 +92,9 @@ class Plan(Generic[K]):
     reject: str = ""
 
 
+_NOTHING: Plan[Any] = Plan()
+
+
 class Scheduler(Generic[K]):
     """Running and waiting goals under one `GoalPolicy`."""
 
@@ -137,6 +140,8 @@ class Scheduler(Generic[K]):
         if goal in self.running:
             self.running.remove(goal)
         self._preempted.discard(goal)
+        if not self.waiting:
+            return _NOTHING
         start: list[K] = []
         while self.waiting and self._has_room():
             nxt = self.waiting.popleft()

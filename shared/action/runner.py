@@ -63,6 +63,11 @@ class GoalRunner:
         self._purge_armed = False
         self.closed = False
 
+    @property
+    def on_workers(self) -> bool:
+        """True if goals run on threads (a plain execute callback), False on the event loop."""
+        return not self._is_async
+
     # ------------------------------------------------------------------ admission (locked)
 
     def accept(self, h: Handle, plan: Plan[bytes]) -> list[Handle]:
@@ -74,6 +79,8 @@ class GoalRunner:
         return self._apply(plan)
 
     def _apply(self, plan: Plan[bytes]) -> list[Handle]:
+        if not (plan.preempt or plan.drop or plan.start):
+            return []
         active = self.table.active
         for key in plan.preempt:
             self.request_cancel(active[key])
@@ -87,8 +94,7 @@ class GoalRunner:
             h = active[key]
             h._status = transition(h._status, GoalEvent.EXECUTE, h)
             launch.append(h)
-        if plan.preempt or plan.drop or plan.start:
-            self._status.mark()
+        self._status.mark()
         return launch
 
     def request_cancel(self, h: Handle) -> None:
@@ -109,7 +115,11 @@ class GoalRunner:
             if self._is_async:
                 self._executor.submit(self._run_async(h))
             else:
-                self._workers.submit(lambda h=h: self._complete(h, self._run_sync(h)))  # type: ignore[misc]
+                self._workers.submit(lambda h=h: self.run(h))  # type: ignore[misc]
+
+    def run(self, h: Handle) -> None:
+        """Run a launched goal with a plain execute callback on the calling thread."""
+        self._complete(h, self._run_sync(h))
 
     def _run_sync(self, h: Handle) -> Any:
         try:

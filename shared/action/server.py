@@ -20,11 +20,19 @@ from ..message import ActionType
 from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
+from .leaders import RequestThreads
 from .policies import GoalPolicy
 from .runner import GoalRunner
 from .states import GoalEvent
 from .status import StatusPublisher
-from .transport import RESULT_ON_GOAL, answer, answer_err, decode_query, encoding_for
+from .transport import (
+    RESULT_ON_GOAL,
+    accepted_attachment,
+    answer,
+    answer_err,
+    decode_query,
+    encoding_for,
+)
 from .types import (
     ZERO_UUID,
     CancelCode,
@@ -119,17 +127,21 @@ class ActionServer:
         self._fb_pub: Any = s.declare_publisher(
             key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
             congestion_control=zenoh.CongestionControl.BLOCK)
-        # One queryable for the three request keys, served from a channel by one thread: the
-        # requests are handled in arrival order (a client may send get_result right behind
-        # send_goal), and Zenoh queues them without taking the GIL (as services do).
+        # One queryable for the three request keys, served from a channel by one thread at a
+        # time: the requests are handled in arrival order (a client may send get_result right
+        # behind send_goal), and Zenoh queues them without taking the GIL (as services do).
+        # A goal with a plain execute callback runs on the thread that accepted it; one still
+        # running after DETACH_DELAY hands the channel to another request thread (leaders.py).
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
         self._parts = {key(p): p for p in self._handlers}  # exact keys only: no wildcards
         self._queryable: Any = s.declare_queryable(
             key("*"), zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True)
-        self._serve_thread = threading.Thread(target=self._serve, daemon=True,
-                                              name=f"zenros-action:{self.name}")
-        self._serve_thread.start()
+        self._job: Handle | None = None  # the goal the leading request thread runs next
+        self._threads = RequestThreads(f"zenros-action:{self.name}", self._queryable.handler,
+                                       self._on_request, self._runner.run, self._settle,
+                                       self._on_failure, self.logger)
+        self._threads.start()
         self._status.flush(force=True)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
@@ -138,16 +150,17 @@ class ActionServer:
     def _key(self, part: str) -> str:
         return self._ctx.keys.action(self.name, part)
 
-    def _serve(self) -> None:
-        try:
-            for query in self._queryable.handler:  # ends when the queryable is undeclared
-                self._on_query(query)
-        except zenoh.ZError:  # the channel closed under us at shutdown
-            return
-        except BaseException as exc:
-            if not is_session_failure(exc):
-                raise
-            self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
+    def _on_request(self, query: zenoh.Query) -> Handle | None:
+        """Handle one request (on the leading request thread); return the goal this thread
+        runs now, if the request started one."""
+        self._on_query(query)
+        h, self._job = self._job, None
+        return h
+
+    def _on_failure(self, exc: BaseException) -> None:
+        if not is_session_failure(exc):
+            raise exc
+        self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     @property
     def errors(self) -> int:
@@ -226,17 +239,26 @@ class ActionServer:
                 return None
             handle.stamp = handle._info.stamp = self._node.now()
             launch = self._runner.accept(handle, plan)
-            # Answer first, then run the goal. A client that asked for the result on this
-            # query (the attachment) gets the acceptance now and the result as a second reply,
-            # sent by whichever thread ends the goal: one query per goal instead of two.
-            # (Launching first measured slower: the woken worker takes the GIL from the reply.)
-            hold = _wants_result(query)
-            self._respond(query, True, "", handle, finalize=not hold)
-            if hold:
-                if handle._result is None:
-                    handle._waiters.append(query)
-                else:  # the plan already ended it (a queue that dropped it)
-                    self._answer_result(query, handle)
+            hold = _wants_result(query)  # the client asked for the result on this query too
+            if (self._runner.on_workers and handle in launch
+                    and len(self._runner.sched.running) == 1):
+                # The only running goal runs on this thread, right after this request (a
+                # burst of goals still goes to workers: see leaders.py).
+                launch.remove(handle)
+                self._job = handle
+            if hold and self._job is handle:
+                # Its acceptance is held back: it rides on the result reply if the goal ends
+                # within DETACH_DELAY (one message instead of two), else it is sent when the
+                # goal is detached; feedback sends it first.
+                handle._owed = query
+                handle._waiters.append(query)
+            else:
+                self._respond(query, True, "", handle, finalize=not hold)
+                if hold:
+                    if handle._result is None:
+                        handle._waiters.append(query)
+                    else:  # the plan already ended it (a queue that dropped it)
+                        self._answer_result(query, handle)
             self._runner.launch(launch)
             return hold
 
@@ -254,6 +276,16 @@ class ActionServer:
         if verdict is GoalResponse.ACCEPT or verdict is True:
             return ""
         return "rejected by the goal callback"
+
+    def _settle(self, h: Handle) -> None:
+        """Locked: send ``h``'s acceptance if it still owes it."""
+        query, h._owed = h._owed, None
+        if query is not None:
+            try:
+                self._respond(query, True, "", h, finalize=False)
+            except zenoh.ZError as exc:  # the query is gone (its client closed, timed out)
+                self.logger.debug("action %s: acceptance of goal %s not sent: %s", self.name,
+                                  h.goal_id, exc)
 
     def _respond(self, query: zenoh.Query, accepted: bool, reason: str,
                  handle: Handle | None = None, finalize: bool = True) -> None:
@@ -337,10 +369,14 @@ class ActionServer:
         answer(query, self._result_payload(h), self._enc[self._wire.GetResultResponse])
 
     def _deliver(self, h: Handle) -> None:
-        """Answer the result requests waiting on ``h`` (its result was just set)."""
+        """Answer the result requests waiting on ``h`` (its result was just set). A send_goal
+        query still owed its acceptance gets one reply: the result, with the acceptance in
+        its attachment."""
         data = self._result_payload(h)
+        enc = self._enc[self._wire.GetResultResponse]
+        owed, h._owed = h._owed, None
         for w in h._waiters:
-            answer(w, data, self._enc[self._wire.GetResultResponse])
+            answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
 
     # ------------------------------------------------------------------ goal handle calls
 
@@ -359,6 +395,7 @@ class ActionServer:
                 raise GoalStateError(f"cannot publish feedback for goal {h.goal_id}: it is "
                                      f"{h._status.name}")
             if not self.closed:
+                self._settle(h)  # the client hears of the goal before its feedback
                 self._fb_pub.put(data)
 
     # ------------------------------------------------------------------ lifecycle
@@ -375,8 +412,7 @@ class ActionServer:
             self.closed = True
         self._token.undeclare()
         self._queryable.undeclare()
-        if self._serve_thread is not threading.current_thread():
-            self._serve_thread.join(2.0)
+        self._threads.join(2.0)
         self._fb_pub.undeclare()
         self._status.close()
 

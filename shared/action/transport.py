@@ -15,9 +15,12 @@ from zenoh import ext as zext
 from ..codec import Codec, codec_for, split_encoding
 from ..errors import CodecError
 from ..message import Message
+from ..msgs.builtin_interfaces import Time
 from ..rpc import error_payload
 
 __all__ = [
+    "accepted_attachment",
+    "accepted_stamp",
     "answer",
     "answer_err",
     "decode_query",
@@ -36,6 +39,29 @@ RESULT_ON_GOAL = b"result"
 """The send_goal attachment that asks the server to answer the goal's result on the same
 query, as a second reply after the acceptance (a zenros addition; see docs/actions.md)."""
 
+_ACCEPTED = b"accepted "
+
+
+def accepted_attachment(stamp: Time) -> bytes:
+    """The attachment of a result reply that also carries the goal's acceptance (a goal that
+    ended before its acceptance was sent): ``accepted <sec> <nanosec>``."""
+    return b"%s%d %d" % (_ACCEPTED, stamp.sec, stamp.nanosec)
+
+
+def accepted_stamp(sample: zenoh.Sample) -> Time | None:
+    """The acceptance stamp a result reply carries, or None if it carries none."""
+    att = sample.attachment
+    if att is None:
+        return None
+    raw = att.to_bytes()
+    if not raw.startswith(_ACCEPTED):
+        return None
+    try:
+        sec, nanosec = raw[len(_ACCEPTED):].split()
+        return Time(sec=int(sec), nanosec=int(nanosec))
+    except ValueError:  # malformed: the result still counts, the stamp stays unknown
+        return Time()
+
 
 @cache
 def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:
@@ -44,10 +70,11 @@ def encoding_for(msg_type: type[Message]) -> zenoh.Encoding:
     return zenoh.Encoding(codec.mime).with_schema(codec.type_name)
 
 
-def answer(query: zenoh.Query, data: bytes, encoding: zenoh.Encoding) -> None:
+def answer(query: zenoh.Query, data: bytes, encoding: zenoh.Encoding,
+           attachment: bytes | None = None) -> None:
     """Reply and finalize at once: Zenoh sends a query's replies only when it is dropped, so
     a reply followed by more work in the same callback would wait for that work."""
-    query.reply(query.key_expr, data, encoding=encoding)
+    query.reply(query.key_expr, data, encoding=encoding, attachment=attachment)
     query.drop()  # type: ignore[no-untyped-call]
 
 
@@ -131,7 +158,7 @@ def query_once(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh
                 timeout=timeout)
 
 
-def query_replies(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh.Encoding,
+def query_replies(session: zenoh.Session, key: str | zenoh.KeyExpr, payload: bytes, encoding: zenoh.Encoding,
                   timeout: float, on_reply: Callable[[zenoh.Reply], None],
                   on_final: Callable[[], None], attachment: bytes | None = None) -> None:
     """A non-blocking query whose every reply is handed to ``on_reply`` as it arrives (no

@@ -614,3 +614,65 @@ def test_wait_for_cancel_sees_a_cancel_that_came_before_it(pair: Any) -> None:
     assert handle.cancel()
     out = handle.result(10)
     assert waited.is_set() and out.status is GoalStatus.CANCELED
+
+
+def test_a_short_goal_answers_acceptance_and_result_in_one_reply(pair: Any) -> None:
+    """A goal that ends on the thread that accepted it, within the detach delay, answers its
+    query with one reply: the result, carrying the acceptance stamp in its attachment. Both
+    client paths take it as accepted and ended."""
+    from zenros.action.transport import RESULT_ON_GOAL, accepted_stamp
+
+    server, client = pair(fibonacci, policy="parallel")
+    wire = wire_types(Fibonacci)
+    gid = uuid.uuid4()
+    req = codec_for(wire.SendGoalRequest).encode(
+        wire.SendGoalRequest(goal_id=uuid_msg(gid), goal=goal(1)))
+    session = client._ctx.session
+    replies = list(session.get(client._keys["send_goal"], payload=req, attachment=RESULT_ON_GOAL,
+                               consolidation=zenoh.ConsolidationMode.NONE, timeout=10))
+    assert len(replies) == 1
+    ok = replies[0].ok
+    assert ok is not None and str(ok.encoding).endswith("Fibonacci_GetResult_Response")
+    stamp = accepted_stamp(ok)
+    assert stamp is not None and stamp.nanoseconds > 0
+    res = codec_for(wire.GetResultResponse).decode(ok.payload.to_bytes())
+    assert res.status == GoalStatus.SUCCEEDED and res.result.sequence == [0, 1]
+    # The async path: accepted (with the stamp), then ended.
+    h = client.send_goal_async(goal(1))
+    out = h.result(10)
+    assert out.succeeded and h.accepted is True and h.stamp.nanoseconds > 0
+    assert server.errors == 0
+
+
+def test_a_goal_still_running_is_accepted_and_requests_go_on(pair: Any) -> None:
+    """A goal that runs past the detach delay gets its acceptance then, and the server keeps
+    answering requests (a second goal, a cancel) while the goal runs on the thread that took
+    it."""
+    rec = Recorder()
+    server, client = pair(rec, policy="parallel")
+    first = client.send_goal_async(goal(1))
+    assert first.wait_accepted(10) is True and not first.done
+    second = client.send_goal_async(goal(2))
+    assert second.wait_accepted(10) is True
+    assert wait_for(lambda: sorted(rec.started) == [1, 2], 10)
+    assert first.cancel()
+    assert first.result(10).status is GoalStatus.CANCELED
+    rec.release(2)
+    assert second.result(10).result.sequence == [2]
+    threads = {t.name for t in threading.enumerate()}
+    assert any(n.startswith(f"zenros-action:{server.name}") for n in threads)
+
+
+def test_feedback_of_a_goal_on_the_accepting_thread_follows_its_acceptance(pair: Any) -> None:
+    """A goal that sends feedback at once sends its held-back acceptance first."""
+    seen: list[bool | None] = []
+    _, client = pair(fibonacci)
+    holder: list[Any] = []
+
+    def on_feedback(msg: Any) -> None:
+        seen.append(holder[0].accepted if holder else None)
+
+    h = client.send_goal_async(goal(4), on_feedback)
+    holder.append(h)
+    assert h.result(10).succeeded
+    assert h.accepted is True and len(seen) == 3
