@@ -623,6 +623,7 @@ def test_a_short_goal_answers_acceptance_and_result_in_one_reply(pair: Any) -> N
     from zenros.action.transport import RESULT_ON_GOAL, accepted_stamp
 
     server, client = pair(fibonacci, policy="parallel")
+    server._threads._delay = 30.0  # no detach, however loaded the machine (default 2 ms)
     wire = wire_types(Fibonacci)
     gid = uuid.uuid4()
     req = codec_for(wire.SendGoalRequest).encode(
