@@ -64,6 +64,7 @@ class Context:
         self._topics: dict[str, LocalTopic] = {}
         self._graph: Graph | None = None
         self._eids = itertools.count(1)
+        self._served: dict[str, int] = {}  # request keys a queryable of this session serves
         self._closables: list[Any] = []
         self._on_failure: list[Callable[[BaseException], None]] = []
         self.failure: BaseException | None = None
@@ -71,6 +72,32 @@ class Context:
 
     def next_eid(self) -> int:
         return next(self._eids)
+
+    def serve_here(self, *keys: str) -> Callable[[], None]:
+        """Note that this session serves requests on ``keys`` (services, action requests);
+        returns the function that takes the note back. See `destination`."""
+        with self._lock:
+            for k in keys:
+                self._served[k] = self._served.get(k, 0) + 1
+
+        def forget() -> None:
+            with self._lock:
+                for k in keys:
+                    n = self._served.get(k, 0) - 1
+                    if n > 0:
+                        self._served[k] = n
+                    else:
+                        self._served.pop(k, None)
+
+        return forget
+
+    def destination(self, key: str | zenoh.KeyExpr) -> zenoh.Locality:
+        """Where a request on ``key`` must go so that exactly one server runs it: this
+        session's own server if it has one, else anywhere. Zenoh 1.10 delivers a
+        BEST_MATCHING query to the session's own complete queryable *and* to a remote one
+        (measured: every query), so a caller beside a server would run a non-idempotent
+        request (a parameter delete, a goal) twice."""
+        return zenoh.Locality.SESSION_LOCAL if str(key) in self._served else zenoh.Locality.ANY
 
     def local_topic(self, fqn: str) -> LocalTopic:
         with self._lock:

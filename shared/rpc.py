@@ -110,6 +110,7 @@ class Service:
         self._token = ctx.session.liveliness().declare_token(
             ctx.keys.entity_token("srv", node, name, srv_type.name, "", ctx.zid, ctx.next_eid())
         )
+        self._unserve = ctx.serve_here(self.key)
         self.closed = False
 
     def _serve_queue(self) -> None:
@@ -231,6 +232,7 @@ class Service:
         if self.closed:
             return
         self.closed = True
+        self._unserve()
         self._token.undeclare()  # type: ignore[no-untyped-call]
         self._queryable.undeclare()  # type: ignore[no-untyped-call]
         if self._serve_thread is not threading.current_thread():
@@ -290,6 +292,7 @@ class Client:
         replies = self._ctx.session.get(
             self.key, payload=data, encoding=self._req_encoding, timeout=timeout,
             target=zenoh.QueryTarget.BEST_MATCHING,
+            allowed_destination=self._ctx.destination(self.key),
         )
         for reply in replies:
             return self._result(reply, timeout)
@@ -333,6 +336,7 @@ class Client:
             self.key, zenoh.handlers.Callback(on_reply, on_done), payload=data,
             encoding=self._req_encoding, timeout=timeout,
             target=zenoh.QueryTarget.BEST_MATCHING,
+            allowed_destination=self._ctx.destination(self.key),
         )
         return await fut
 

@@ -21,7 +21,8 @@ _ENC = encoding_for(CancelGoalRequest)
 
 
 def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.UUID,
-                   stamp: Time, timeout: float) -> list[uuid.UUID]:
+                   stamp: Time, timeout: float,
+                   destination: zenoh.Locality = zenoh.Locality.ANY) -> list[uuid.UUID]:
     """Send one ``action_msgs/CancelGoal`` request (ROS 2 semantics: a zero ``goal_id`` names
     every goal, a non-zero ``stamp`` adds every goal accepted at or before it) and return the
     goals now canceling. Blocks; call it from your own thread, not a Zenoh callback.
@@ -39,7 +40,7 @@ def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.
         replies.append(reply)
         done.set()
 
-    query_once(session, key, _REQ.encode(req), _ENC, timeout, on_reply)
+    query_once(session, key, _REQ.encode(req), _ENC, timeout, on_reply, destination)
     if not done.wait(timeout + 1.0):
         raise ZenrosTimeout(f"action {action} did not answer cancel within {timeout:g} s")
     reply = replies[0]

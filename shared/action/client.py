@@ -130,7 +130,8 @@ class ActionClient:
         replies = self._ctx.session.get(
             self._send_key, payload=data, encoding=self._enc["send_goal"],
             target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
-            timeout=wait, attachment=RESULT_ON_GOAL)
+            timeout=wait, attachment=RESULT_ON_GOAL,
+            allowed_destination=self._ctx.destination(self._send_key))
         first: zenoh.Reply | None = None  # the acceptance (or the refusal)
         for reply in replies:
             ok = reply.ok
@@ -251,7 +252,8 @@ class ActionClient:
                 self._request_result_soon(h)
 
         query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
-                      self.send_timeout, on_reply, on_final, RESULT_ON_GOAL)
+                      self.send_timeout, on_reply, on_final, RESULT_ON_GOAL,
+                      self._ctx.destination(self._send_key))
 
     def _forget(self, handle: ClientGoalHandle) -> None:
         with self._lock:
@@ -259,7 +261,9 @@ class ActionClient:
 
     def _get(self, part: str, payload: bytes, timeout: float,
              done: Callable[[zenoh.Reply | None], None]) -> None:
-        query_once(self._ctx.session, self._keys[part], payload, self._enc[part], timeout, done)
+        key = self._keys[part]
+        query_once(self._ctx.session, key, payload, self._enc[part], timeout, done,
+                   self._ctx.destination(key))
 
     def _accept(self, h: ClientGoalHandle, stamp: Time, reply: zenoh.Reply) -> None:
         """The acceptance a result reply carried (its result follows at once)."""
@@ -424,8 +428,9 @@ class ActionClient:
         return self._cancel(ZERO_UUID, stamp, timeout)
 
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
-        return request_cancel(self._ctx.session, self._keys["cancel_goal"], self.name, goal_id,
-                              stamp, timeout)
+        key = self._keys["cancel_goal"]
+        return request_cancel(self._ctx.session, key, self.name, goal_id, stamp, timeout,
+                              self._ctx.destination(key))
 
     # ------------------------------------------------------------------ lifecycle
 

@@ -142,6 +142,7 @@ class ActionServer:
                                        self._on_request, self._runner.run, self._settle,
                                        self._on_failure, self.logger)
         self._threads.start()
+        self._unserve = ctx.serve_here(*self._parts)
         self._status.flush(force=True)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
@@ -410,6 +411,7 @@ class ActionServer:
         self._runner.shutdown(self.shutdown_timeout)
         with self._lock:
             self.closed = True
+        self._unserve()
         self._token.undeclare()
         self._queryable.undeclare()
         self._threads.join(2.0)

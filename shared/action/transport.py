@@ -134,7 +134,8 @@ def status_subscriber(session: zenoh.Session, key: str,
 
 
 def query_once(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh.Encoding,
-               timeout: float, done: Callable[[zenoh.Reply | None], None]) -> None:
+               timeout: float, done: Callable[[zenoh.Reply | None], None],
+               destination: zenoh.Locality = zenoh.Locality.ANY) -> None:
     """A non-blocking query to the best-matching queryable: ``done(reply)`` runs once, with
     the first reply, or with None when the query ends without one (no server).
 
@@ -155,12 +156,14 @@ def query_once(session: zenoh.Session, key: str, payload: bytes, encoding: zenoh
 
     session.get(key, zenoh.handlers.Callback(once, lambda: once(None), indirect=False),
                 payload=payload, encoding=encoding, target=zenoh.QueryTarget.BEST_MATCHING,
-                timeout=timeout)
+                timeout=timeout, allowed_destination=destination)
 
 
-def query_replies(session: zenoh.Session, key: str | zenoh.KeyExpr, payload: bytes, encoding: zenoh.Encoding,
-                  timeout: float, on_reply: Callable[[zenoh.Reply], None],
-                  on_final: Callable[[], None], attachment: bytes | None = None) -> None:
+def query_replies(session: zenoh.Session, key: str | zenoh.KeyExpr, payload: bytes,
+                  encoding: zenoh.Encoding, timeout: float,
+                  on_reply: Callable[[zenoh.Reply], None], on_final: Callable[[], None],
+                  attachment: bytes | None = None,
+                  destination: zenoh.Locality = zenoh.Locality.ANY) -> None:
     """A non-blocking query whose every reply is handed to ``on_reply`` as it arrives (no
     consolidation: a server may answer more than once, e.g. acceptance then result), then
     ``on_final()`` once the query ended (the server dropped it, or ``timeout``).
@@ -170,4 +173,4 @@ def query_replies(session: zenoh.Session, key: str | zenoh.KeyExpr, payload: byt
     session.get(key, zenoh.handlers.Callback(on_reply, on_final, indirect=False),
                 payload=payload, encoding=encoding, target=zenoh.QueryTarget.BEST_MATCHING,
                 consolidation=zenoh.ConsolidationMode.NONE, timeout=timeout,
-                attachment=attachment)
+                attachment=attachment, allowed_destination=destination)

@@ -677,3 +677,27 @@ def test_feedback_of_a_goal_on_the_accepting_thread_follows_its_acceptance(pair:
     holder.append(h)
     assert h.result(10).succeeded
     assert h.accepted is True and len(seen) == 3
+
+
+def test_a_client_beside_a_server_sends_each_goal_to_one_server(
+        make_node: Callable[..., Node]) -> None:
+    """As for services: a goal from a session that also serves the action runs there only,
+    not on the remote server as well (Zenoh's BEST_MATCHING reaches both)."""
+    ran: list[str] = []
+
+    def serve(who: str) -> Callable[[Handle], FibonacciResult]:
+        def execute(h: Handle) -> FibonacciResult:
+            ran.append(who)
+            h.succeed()
+            return FibonacciResult(sequence=[0])
+        return execute
+
+    ActionServer(make_node("remote", 1), Fibonacci, "/fib", serve("remote"))
+    ActionServer(make_node("local", 0), Fibonacci, "/fib", serve("local"))
+    client = ActionClient(make_node("client", 0), Fibonacci, "/fib")
+    assert client.wait_for_server(10)
+    for _ in range(10):
+        assert client.send_goal(goal(1), timeout=10).succeeded
+    assert client.send_goal_async(goal(1)).result(10).succeeded
+    assert ran == ["local"] * 11
+    assert client.cancel_all_goals() == []

@@ -144,3 +144,32 @@ def test_request_of_the_wrong_type_is_refused_locally(nodes: Any) -> None:
     client = caller.create_client(AddTwoInts, "add")
     with pytest.raises(EncodeError, match="example_interfaces/AddTwoIntsRequest"):
         client.call(TriggerRequest())
+
+
+def test_a_caller_beside_a_server_runs_one_request_on_one_server(make_node: Any) -> None:
+    """Zenoh 1.10 delivers a BEST_MATCHING query both to the caller's own session and to a
+    remote server; a call must run once (a delete done twice answers "not set"). The caller's
+    own server answers; without one, exactly one remote server does."""
+    hits: list[str] = []
+
+    def serve(who: str) -> Any:
+        return lambda r: (hits.append(who), AddTwoIntsResponse(sum=r.a + r.b))[1]
+
+    remote = make_node("remote", 1)
+    local = make_node("local", 0)
+    remote.create_service(AddTwoInts, "/add", serve("remote"))
+    caller = make_node("caller", 0)
+    client = caller.create_client(AddTwoInts, "/add")
+    assert client.wait_for_service(5)
+    assert client.call(AddTwoIntsRequest(a=1, b=2)).sum == 3
+    assert hits == ["remote"]
+    srv = local.create_service(AddTwoInts, "/add", serve("local"))
+    hits.clear()
+    for i in range(20):
+        assert client.call(AddTwoIntsRequest(a=i, b=1)).sum == i + 1
+    assert asyncio.run(client.call_async(AddTwoIntsRequest(a=1, b=1))).sum == 2
+    assert hits == ["local"] * 21
+    srv.close()
+    hits.clear()
+    assert client.call(AddTwoIntsRequest(a=1, b=2)).sum == 3
+    assert hits == ["remote"]
