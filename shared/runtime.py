@@ -112,7 +112,10 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
         with _failing_on_panics(ctx):
             try:
                 node.logger.info("started (pid %d, session %s)", os.getpid(), ctx.zid)
-                stop.wait()
+                # With a timeout: a signal taken by one of Zenoh's threads only flags the
+                # main thread, whose handler runs when it wakes (a bare wait never would).
+                while not stop.wait(0.5):
+                    pass
                 if ctx.failure is None:
                     node.logger.info("shutting down")
             finally:

@@ -121,7 +121,8 @@ def record(args: argparse.Namespace) -> int:
                     f"Subscribed to topic '{t}' ({ty})", flush=True))
                 print(f"Recording to {options.directory} (Ctrl-C stops)", flush=True)
                 try:
-                    stop.wait()
+                    while not stop.wait(0.5):  # wakes to run a signal another thread took
+                        pass
                 finally:
                     rec.close()
             counts = rec.counts()

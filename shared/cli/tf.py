@@ -215,7 +215,8 @@ def _static(ctx: Context, args: argparse.Namespace, link: TransformStamped) -> i
         print(f"publishing static transform {link.header.frame_id} -> {link.child_frame_id}: "
               f"translation ({v.x:g}, {v.y:g}, {v.z:g}), rotation ({q.x:g}, {q.y:g}, {q.z:g}, "
               f"{q.w:g}) as {node.fqn}; Ctrl-C to stop", flush=True)
-        threading.Event().wait()
+        while True:  # wakes to run a signal (Ctrl-C) that one of Zenoh's threads took
+            time.sleep(0.5)
     except KeyboardInterrupt:
         pass
     finally:
