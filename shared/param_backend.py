@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import os
 import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -16,9 +17,15 @@ if TYPE_CHECKING:
     from .node import Node
     from .param_client import ParamEvent
 
-__all__ = ["MasterBackend", "attach_parameter_backend"]
+__all__ = ["MASTER_IN_LAUNCH", "MASTER_JOIN_WAIT", "MasterBackend", "attach_parameter_backend"]
 
 _UNREACHABLE = (ServiceUnavailableError, ZenrosTimeout)
+
+MASTER_IN_LAUNCH = "ZENROS_MASTER_IN_LAUNCH"
+"""Set by launch for the nodes it starts after a master of its own: master is up (launch
+waited for it), and the node's fresh session only has to learn its services."""
+MASTER_JOIN_WAIT = 3.0
+"""How long such a node waits for master's services before its first parameter read."""
 
 
 class MasterBackend:
@@ -203,7 +210,10 @@ def attach_parameter_backend(node: Node) -> MasterBackend:
     Returns:
         The backend (closed with the node).
     """
-    backend = MasterBackend(node, ParameterClient(node.context, node=node.fqn))
+    client = ParameterClient(node.context, node=node.fqn)
+    if os.environ.get(MASTER_IN_LAUNCH) and not client.master_available():
+        client.wait_for_master(MASTER_JOIN_WAIT)
+    backend = MasterBackend(node, client)
     node.parameters.backend = backend
     node.add_waitable(backend)
     backend.resync()

@@ -15,6 +15,7 @@ from dataclasses import replace
 
 from ..context import Context
 from ..errors import StartupError
+from ..param_backend import MASTER_IN_LAUNCH
 from ..param_client import ParameterClient
 from ..router import router_reachable
 from ..session import DEFAULT_ROUTER, SessionOptions
@@ -94,9 +95,12 @@ class ZenohLaunch:
         elif spec.ros_args and self._master_in_launch and not self._master_waited:
             self._master_waited = True  # once: a node started later or respawned just joins
             await self._wait_for_master()
-        if "ZENROS_CONNECT" in spec.env or "ZENROS_CONNECT" in os.environ:
-            return spec
-        return replace(spec, env={**spec.env, "ZENROS_CONNECT": self.endpoint})
+        env = dict(spec.env)
+        if spec.ros_args and self._master_in_launch and not is_master(spec):
+            env[MASTER_IN_LAUNCH] = "1"  # the node waits briefly for master's services
+        if "ZENROS_CONNECT" not in spec.env and "ZENROS_CONNECT" not in os.environ:
+            env["ZENROS_CONNECT"] = self.endpoint
+        return spec if env == spec.env else replace(spec, env=env)
 
     async def _wait_for_master(self) -> None:
         """Hold the nodes after master until its parameter services are up (MASTER_WAIT s at

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import textwrap
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -20,7 +21,7 @@ from zenros.errors import (
 )
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.param_backend import attach_parameter_backend
+from zenros.param_backend import MASTER_IN_LAUNCH, attach_parameter_backend
 from zenros.param_client import ParameterClient, ParamEvent
 from zenros.param_protocol import DELETE_PARAM, DeleteParam, DeleteParamRequest
 from zenros.rpc import Client
@@ -283,3 +284,38 @@ def test_nodes_work_without_master_and_catch_up_when_it_returns(
         assert wait_for(lambda: client.lookup("/planner/gain") == (True, 3.0), 5)
     finally:
         master.close()
+
+
+def test_a_node_launched_after_master_waits_for_its_services_before_reading(
+    ctx_pair: list[Context], tmp_path: Path, caplog: pytest.LogCaptureFixture,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Launch started master first and says so; the node's own session may not know master's
+    services yet at its first read: it waits for them instead of warning and reading nothing."""
+    with ParamStore(tmp_path / "params.db") as store:
+        store.set("/planner/speed", 2.5)
+    monkeypatch.setenv(MASTER_IN_LAUNCH, "1")
+
+    class Unattached(Planner):
+        uses_parameter_server = False
+
+    node = Unattached("planner", context=ctx_pair[1])
+    attached = threading.Event()
+
+    def attach() -> None:
+        attach_parameter_backend(node)
+        attached.set()
+
+    with caplog.at_level(logging.WARNING, logger="zenros"):
+        worker = threading.Thread(target=attach, daemon=True)
+        worker.start()
+        assert not attached.wait(0.2)  # no master in the graph yet: it waits
+        master = start_master(ctx_pair[0], tmp_path)
+        try:
+            assert attached.wait(10)
+            assert node.get_parameter("speed") == 2.5
+        finally:
+            worker.join(5)
+            node.close()
+            master.close()
+    assert "parameter server unreachable" not in caplog.text

@@ -7,6 +7,22 @@ from typing import Any
 
 from zenros.context import Context
 from zenros.param_describe import fetch_descriptions
+from zenros.testing import wait_for
+
+
+def served(ctx: Context, node_fqn: str) -> dict[str, Any]:
+    """The descriptions once the other session has learned the node's queryable (a node just
+    made on one session is not yet routed to from the other; a get then finds no server)."""
+    found: list[dict[str, Any]] = []
+
+    def answered() -> bool:
+        got = fetch_descriptions(ctx, node_fqn, timeout=0.5)
+        if got is not None:
+            found.append(got)
+        return bool(found)
+
+    assert wait_for(answered, timeout=10.0), f"{node_fqn} never answered its descriptions"
+    return found[0]
 
 
 def test_a_node_describes_what_it_declared(
@@ -15,8 +31,7 @@ def test_a_node_describes_what_it_declared(
     node = make_node("talker", side=0)
     node.declare_parameter("rate", 2.0, description="publish rate in Hz")
     node.declare_parameter("frame", "map", read_only=True)
-    found = fetch_descriptions(ctx_pair[1], "/talker")
-    assert found is not None
+    found = served(ctx_pair[1], "/talker")
     assert found["rate"] == {"type": "float", "description": "publish rate in Hz",
                              "read_only": False}
     assert found["frame"]["type"] == "str" and found["frame"]["read_only"] is True
@@ -31,6 +46,6 @@ def test_a_closed_node_stops_answering(
     make_node: Callable[..., Any], ctx_pair: list[Context]
 ) -> None:
     node = make_node("gone", side=0)
-    assert fetch_descriptions(ctx_pair[1], "/gone") is not None
+    served(ctx_pair[1], "/gone")
     node.close()
     assert fetch_descriptions(ctx_pair[1], "/gone", timeout=0.5) is None
