@@ -303,7 +303,12 @@ async def test_a_process_that_cannot_start_stops_the_launch(
     assert await h.result() == 3
     assert "cannot start ghost" in h.screen_err.getvalue()
     assert h.first("exit", "first")[1].returncode is not None  # stopped, maybe mid-startup
-    assert h.sup.states["first"].stop_signal == signal.SIGINT
+    # asked with SIGINT first. A SIGINT that lands while the interpreter is still starting
+    # (before Python's own handler is in place) can be lost, as with any Python program;
+    # then SIGTERM follows after the timeout, as it should.
+    seen = [(round(t, 3), e.kind, e.detail, e.returncode) for t, e in h.events
+            if e.label == "first"]
+    assert h.first("signal", "first")[1].detail == "SIGINT", seen
     assert h.sup.states["never"].starts == 0
 
 
