@@ -119,8 +119,14 @@ from zenros.testing import loopback_options
 
 port, prefix, finish = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "finish"
 
+def say(line):
+    # one write per line: a goal can arrive (on a Zenoh thread) while "serving" is printed,
+    # and print() writes its arguments and the newline one by one
+    sys.stdout.write(line + "\\n")
+    sys.stdout.flush()
+
 def execute(handle):
-    print("goal", handle.request.pose.pose.position.x, flush=True)
+    say(f"goal {handle.request.pose.pose.position.x}")
     while not (finish or handle.is_cancel_requested):
         threading.Event().wait(0.01)
     if handle.is_cancel_requested:
@@ -131,7 +137,7 @@ def execute(handle):
 
 node = Node("nav", context=Context(loopback_options(connect=[port]), prefix=prefix))
 ActionServer(node, NavigateToPose, "navigate_to_pose", execute)
-print("serving", flush=True)
+say("serving")
 sys.stdin.readline()
 """
 
