@@ -91,13 +91,13 @@ class Context:
 
         return forget
 
-    def destination(self, key: str | zenoh.KeyExpr) -> zenoh.Locality:
+    def destination(self, key: str) -> zenoh.Locality:
         """Where a request on ``key`` must go so that exactly one server runs it: this
         session's own server if it has one, else anywhere. Zenoh 1.10 delivers a
         BEST_MATCHING query to the session's own complete queryable *and* to a remote one
         (measured: every query), so a caller beside a server would run a non-idempotent
         request (a parameter delete, a goal) twice."""
-        return zenoh.Locality.SESSION_LOCAL if str(key) in self._served else zenoh.Locality.ANY
+        return zenoh.Locality.SESSION_LOCAL if key in self._served else zenoh.Locality.ANY
 
     def local_topic(self, fqn: str) -> LocalTopic:
         with self._lock:

@@ -211,8 +211,8 @@ def attach_parameter_backend(node: Node) -> MasterBackend:
         The backend (closed with the node).
     """
     client = ParameterClient(node.context, node=node.fqn)
-    if os.environ.get(MASTER_IN_LAUNCH) and not client.master_available():
-        client.wait_for_master(MASTER_JOIN_WAIT)
+    if os.environ.get(MASTER_IN_LAUNCH):
+        client.wait_for_master(MASTER_JOIN_WAIT)  # at once when its services are known
     backend = MasterBackend(node, client)
     node.parameters.backend = backend
     node.add_waitable(backend)

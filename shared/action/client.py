@@ -131,7 +131,7 @@ class ActionClient:
             self._send_key, payload=data, encoding=self._enc["send_goal"],
             target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
             timeout=wait, attachment=RESULT_ON_GOAL,
-            allowed_destination=self._ctx.destination(self._send_key))
+            allowed_destination=self._ctx.destination(self._keys["send_goal"]))
         first: zenoh.Reply | None = None  # the acceptance (or the refusal)
         for reply in replies:
             ok = reply.ok
@@ -253,7 +253,7 @@ class ActionClient:
 
         query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
                       self.send_timeout, on_reply, on_final, RESULT_ON_GOAL,
-                      self._ctx.destination(self._send_key))
+                      self._ctx.destination(self._keys["send_goal"]))
 
     def _forget(self, handle: ClientGoalHandle) -> None:
         with self._lock:
