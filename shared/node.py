@@ -217,16 +217,19 @@ class Node:
         return ActionClient(self, action_type, name, **kwargs)
 
     def create_timer(self, period: float, callback: Callable[[], Any], *,
-                     callback_group: CallbackGroup | None = None) -> Timer:
-        """Call ``callback()`` every ``period`` seconds of this node's clock."""
-        timer = Timer(period, callback, self._clock, self.context.executor, self.logger,
-                      callback_group, gate=self._setup_gate)
+                     callback_group: CallbackGroup | None = None,
+                     clock: Clock | None = None) -> Timer:
+        """Call ``callback()`` every ``period`` seconds of this node's clock, or of ``clock``
+        (rclpy's ``clock=``): ``SteadyClock()`` ticks in wall time whatever ``use_sim_time``
+        says, for what outside clients see (rates of status streams, serial frames)."""
+        timer = Timer(period, callback, clock or self._clock, self.context.executor,
+                      self.logger, callback_group, gate=self._setup_gate)
         with self._lock:
             self._timers.append(timer)
         return timer
 
-    def create_rate(self, hz: float) -> Rate:
-        return Rate(hz, self._clock)
+    def create_rate(self, hz: float, clock: Clock | None = None) -> Rate:
+        return Rate(hz, clock or self._clock)
 
     def destroy(self, endpoint: Any) -> None:
         """Close one endpoint created by this node."""

@@ -1,8 +1,9 @@
 """`RobotLink`: the gateway's zenros side: robot topics into `Core`, commands out.
 
 Subscribes ``odom``, ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
-(relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz, the
-dead-man speed command on ``cmd_vel`` and native commands on ``galileo/cmds``.
+(relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
+time (also under ``use_sim_time``), the dead-man speed command on ``cmd_vel`` and native
+commands on ``galileo/cmds``.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
+from zenros.clock import SteadyClock
 from zenros.errors import UnknownTypeError
 from zenros.message import lookup_type
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoStatus
@@ -64,8 +66,11 @@ class RobotLink:
             node.create_subscription(chassis_state, "chassis/state", self.on_chassis, 10)
         core.native = self.publish_native
         node.create_subscription(GalileoNativeCmds, "galileo/cmds", self.on_cmds, 50)
-        node.create_timer(1.0 / rate, self.on_status_tick)
-        node.create_timer(0.05, self.on_deadman_tick)
+        # Wall time whatever the node's clock: outside clients (the status WebSocket, Modbus,
+        # the serial bridge) see 30 Hz at any sim speed, and the dead-man timeout is theirs.
+        wall = SteadyClock()
+        node.create_timer(1.0 / rate, self.on_status_tick, clock=wall)
+        node.create_timer(0.05, self.on_deadman_tick, clock=wall)
 
     # ------------------------------------------------------------------ in
 
