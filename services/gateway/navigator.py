@@ -202,6 +202,25 @@ class Navigator:
         if code != 200:
             raise ValueError(f"task {ident}: {name} refused: {message}")
 
+    def open(self) -> None:
+        """Navigation on (navStatus 1): ``/navigation/start``, native ``m 00``."""
+        self.stopped = False
+        self.core.state.nav_open = True
+
+    async def stop(self) -> None:
+        """Navigation off (navStatus 0, kept through nav's status updates until `open` or a
+        new goal): cancel the goal and the running task (``/navigation/stop``, ``m 04``).
+
+        Raises:
+            NavUnavailable: the goal could not be canceled (navigation is off all the same).
+        """
+        try:
+            if self.available():
+                await self.cancel()
+        finally:
+            self.stopped = True
+            self.core.state.nav_open = False
+
     async def cancel(self) -> None:
         """Cancel the goal: the running task when there is one, else the direct goal."""
         self._paused = None

@@ -80,8 +80,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
                 publish_initialpose(x, y, th)
         finally:
             core.state.busy = False
-        nav.stopped = False
-        core.state.nav_open = True
+        nav.open()
         return {"result": True, "description": "navigation started"}
 
     async def reload(call: Call) -> Any:
@@ -97,13 +96,10 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
 
     async def stop(call: Call) -> Any:
         """Stop navigation: cancel the goal; navStatus goes to 0."""
-        if nav.available():
-            try:
-                await nav.cancel()
-            except NavUnavailable as exc:
-                raise ApiError(503, str(exc)) from exc
-        nav.stopped = True
-        core.state.nav_open = False
+        try:
+            await nav.stop()
+        except NavUnavailable as exc:
+            raise ApiError(503, str(exc)) from exc
         return {"result": True, "description": "navigation stopped"}
 
     # ------------------------------------------------------------------ queries
