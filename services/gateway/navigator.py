@@ -188,19 +188,19 @@ class Navigator:
         """The id of a task of the tasks service in one of ``states``, or ""."""
         if self.tasks is None:
             return ""
-        code, _, text = await self.tasks("get", "", "")
-        if code != 200:
+        reply = await self.tasks("get", "", "")
+        if reply.code != 200:
             return ""
-        for t in msgspec.json.decode(text):
+        for t in msgspec.json.decode(reply.body):
             if isinstance(t, dict) and t.get("state") in states:
                 return str(t.get("id", ""))
         return ""
 
     async def _task_step(self, name: str, ident: str) -> None:
         assert self.tasks is not None
-        code, message, _ = await self.tasks(name, ident, "")
-        if code != 200:
-            raise ValueError(f"task {ident}: {name} refused: {message}")
+        reply = await self.tasks(name, ident, "")
+        if reply.code != 200:
+            raise ValueError(f"task {ident}: {name} refused: {reply.message}")
 
     def open(self) -> None:
         """Navigation on (navStatus 1): ``/navigation/start``, native ``m 00``."""

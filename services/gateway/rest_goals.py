@@ -111,7 +111,7 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
         try:
             path = await nav.current_path()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         except ValueError as exc:
             raise ApiError(409, str(exc)) from exc
         res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
@@ -161,7 +161,7 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
         try:
             await nav.stop_charge()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         return {"status": "ok", "task": task}
 
     async def get_charge_pose(call: Call) -> Any:

@@ -66,7 +66,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
         q: StartQuery = call.query
         if not nav.available():
-            raise ApiError(503, "navigation is not available: the nav service is not running")
+            raise core.presence.error("nav", "navigation is not available")
         core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
         try:
             if q.map and q.map != await current_map():
@@ -99,7 +99,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         try:
             await nav.stop()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         return {"result": True, "description": "navigation stopped"}
 
     # ------------------------------------------------------------------ queries
@@ -114,7 +114,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         try:
             path = await nav.current_path()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         except ValueError:
             path = ""
         return {"map": await current_map(), "path": path}
@@ -152,7 +152,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
             raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
                                 f"the loaded map ({current!r}): switch_map first")
         if link.grid is None:
-            raise ApiError(503, "no map received from the nav service yet")
+            raise core.presence.error("nav", "no map received from the nav service yet")
         return link.grid
 
     async def map_png(call: Call) -> Any:

@@ -347,6 +347,9 @@ def test_patrol_with_no_wait_visits_every_nav_point(rig: Rig) -> None:
     """``POST /navigation/loop_task {"wait_time": 0}`` over three nav points drives on from
     each to the next (issue 21 item 9: it had not reached the second one 90 s later)."""
     h = rig.http
+    assert h.post("/navigation/init_pose", json={"x": 0, "y": 0, "z": 0}).status_code == 200
+    assert wait_for(lambda: abs(rig.gw.core.status.currentPosX) < 0.05
+                    and abs(rig.gw.core.status.currentPosY) < 0.05, 10)  # map = world again
     current = h.get("/navigation/current_map").json()["name"]
     r = h.post("/navigation/nav_points", json={"map_name": current, "path_name": "tri",
                                                "path_data": TRIANGLE})
