@@ -136,7 +136,7 @@ class GatewayNode(Node):
             lambda api: add_io_routes(api, self.io),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_connection_routes(api, self.nav_link),
-            lambda api: add_coverage_routes(api, self),
+            lambda api: add_coverage_routes(api, self, self.core.presence),
             lambda api: add_extra_routes(api, self.link, self.hub,
                                          ParameterClient(self.context, node=self.fqn)),
             lambda api: add_fs_routes(api, self.files),
