@@ -232,7 +232,7 @@ def plain_class(ros_name: str) -> type[Message]:
             if t.kind == "single":
                 spec.append((f.name, scalar, scalar()))
                 continue
-            if ch == "B" and t.base != "uint8" or (t.base == "uint8" and t.kind != "sequence"):
+            if ch == "B":  # byte, char and uint8 arrays and sequences
                 tp = bytes
                 default = bytes(t.size if t.kind == "array" else 0)
                 spec.append((f.name, tp, default))
