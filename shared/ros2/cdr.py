@@ -86,7 +86,7 @@ def _w_prims(b: bytearray, v: Any, ch: str, size: int, kind: str, bound: int, wh
         return
     _pad(b, size)
     if isinstance(v, np.ndarray):
-        b += np.ascontiguousarray(v, dtype="<" + _NP[ch]).tobytes()
+        b += memoryview(np.ascontiguousarray(v, dtype="<" + _NP[ch])).cast("B")
     elif isinstance(v, (bytes, bytearray, memoryview)) and size == 1:
         b += v
     else:
