@@ -9,7 +9,7 @@ import time
 
 import numpy as np
 import pytest
-from zenros.codec import from_builtins
+from zenros.codec import codec_for, from_builtins
 from zenros.errors import DecodeError, EncodeError
 from zenros.msgs.geometry_msgs import PoseWithCovariance, Twist, Vector3
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
@@ -136,17 +136,17 @@ def test_plain_classes_for_action_parts() -> None:
 
 
 def test_speed() -> None:
-    """A guard against a pathologically slow codec (measured unloaded: Twist 5.5 us, a 720-ray
-    LaserScan 25 us, Odometry 70 us per encode + decode); the best of 5 rounds, generous
-    budgets, so that a loaded machine still passes."""
-    for msg, budget_us in ((Twist(linear=Vector3(x=1.0)), 100.0),
-                           (LaserScan(ranges=np.ones(720, dtype=np.float32)), 400.0),
-                           (_sample(Odometry), 800.0)):
-        codec = cdr_codec(type(msg))
-        n, best = 500, float("inf")
-        for _ in range(5):
-            t0 = time.perf_counter()
-            for _ in range(n):
-                codec.decode(codec.encode(msg))
-            best = min(best, (time.perf_counter() - t0) / n * 1e6)
-        assert best < budget_us, f"{type(msg).__name__}: {best:.1f} us per round trip"
+    """CDR stays within 3x of zenros's own JSON/MessagePack codec on the same messages, timed
+    interleaved in the same run, so that load on the machine cancels out (measured unloaded:
+    Twist 5.5 us vs 3.7, a 720-ray LaserScan 25 vs 58, Odometry 70 vs 47 per encode + decode)."""
+    for msg in (Twist(linear=Vector3(x=1.0)), LaserScan(ranges=np.ones(720, dtype=np.float32)),
+                _sample(Odometry)):
+        cdr, native = cdr_codec(type(msg)), codec_for(type(msg))
+        best = {"cdr": float("inf"), "native": float("inf")}
+        for _ in range(7):
+            for name, c in (("cdr", cdr), ("native", native)):
+                t0 = time.perf_counter()
+                for _ in range(300):
+                    c.decode(c.encode(msg))
+                best[name] = min(best[name], time.perf_counter() - t0)
+        assert best["cdr"] < 3 * best["native"], (type(msg).__name__, best)
