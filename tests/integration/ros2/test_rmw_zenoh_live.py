@@ -97,7 +97,7 @@ def test_rmw_zenoh_client_calls_a_zenros_service(bridged: tuple[Node, RmwZenohBr
                                    domain_id=7, router_port=port, timeout=10.0)
     try:
         resp = None
-        for _ in range(20):
+        for _ in range(3):
             resp = client.call(data=True)
             if resp is not None:
                 break

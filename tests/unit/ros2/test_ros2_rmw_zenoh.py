@@ -135,3 +135,21 @@ def test_action_endpoints() -> None:
     key = data_key(0, ep["feedback"][0], ep["feedback"][1])
     assert key.startswith("0/fibonacci/_action/feedback/"
                           "example_interfaces::action::dds_::Fibonacci_FeedbackMessage_/RIHS01_")
+
+
+def test_type_names() -> None:
+    from zenros.errors import UnknownTypeError
+    from zenros.ros2.typenames import dds_to_ros, ros_to_dds, ros_to_zenros, zenros_to_ros
+
+    assert zenros_to_ros("geometry_msgs/Twist") == "geometry_msgs/msg/Twist"
+    assert zenros_to_ros("std_srvs/SetBool", "srv") == "std_srvs/srv/SetBool"
+    assert ros_to_dds("geometry_msgs/msg/Twist") == "geometry_msgs::msg::dds_::Twist_"
+    assert ros_to_dds("std_srvs/srv/SetBool_Request") == "std_srvs::srv::dds_::SetBool_Request_"
+    assert dds_to_ros("test_msgs::action::dds_::Fibonacci_SendGoal_") == (
+        "test_msgs/action/Fibonacci_SendGoal")
+    assert ros_to_zenros("nav_msgs/msg/Odometry") == "nav_msgs/Odometry"
+    for bad in ("Twist", "geometry_msgs/Twist", "a/b/c/d"):
+        with pytest.raises(UnknownTypeError):
+            ros_to_dds(bad)
+    with pytest.raises(UnknownTypeError):
+        dds_to_ros("geometry_msgs::msg::Twist")
