@@ -91,7 +91,7 @@ class RmwZenohBridge(Node):
         self.zid = str(ctx.zid)
         self.problems = _Once(self.logger)
         self._eids = itertools.count(1)
-        self._lock = threading.Lock()
+        self._graph_lock = threading.Lock()
         self._events: queue.Queue[tuple[str, zenoh.SampleKind, str] | None] = queue.Queue()
         self._zenros: dict[tuple[str, str], set[str]] = defaultdict(set)  # (kind, name) -> tokens
         self._ros: dict[tuple[str, str], set[str]] = defaultdict(set)
@@ -125,7 +125,7 @@ class RmwZenohBridge(Node):
                 return
             side, kind, key = ev
             try:
-                with self._lock:
+                with self._graph_lock:
                     if side == "z":
                         self._on_zenros_token(kind, key)
                     else:
@@ -200,7 +200,7 @@ class RmwZenohBridge(Node):
             self._lv_ros.undeclare()
             self._events.put(None)
             self._worker.join(5)
-            with self._lock:
+            with self._graph_lock:
                 for b in [*self.outbound.values(), *self.inbound.values(),
                           *self.services.values()]:
                     b.close()
