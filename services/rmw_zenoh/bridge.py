@@ -1,0 +1,348 @@
+"""Mirror zenros topics and services into rmw_zenoh's layout and ROS 2 topics into zenros.
+
+One Zenoh session (the node's) speaks both layouts. Loops are cut twice: entities whose
+token carries the bridge's own session id are never bridged, and every raw subscriber the
+bridge declares takes only remote samples (``Locality.REMOTE``), so what it put one way
+never comes back the other.
+
+- zenros -> ROS 2: for each zenros topic with a publisher elsewhere and a ROS 2 definition,
+  a Zenoh publisher on the rmw_zenoh data key (CDR, with the 33-byte attachment) and its
+  ``MP`` token; for each zenros service, a complete queryable and its ``SS`` token, which
+  calls the zenros service and replies echoing the request's sequence number and GID.
+- ROS 2 -> zenros: for each ``MP`` token of another session, a zenros publisher under the
+  ROS name (the bridge node shows in ``zenros node list`` as its publisher).
+
+Bad input: a sample that does not decode is dropped, counted, and logged once per sender; a
+type zenros does not know or whose hash differs is logged once per topic and skipped.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import queue
+import re
+import threading
+import time
+from collections import defaultdict
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any
+
+import zenoh
+
+from zenros.codec import codec_for
+from zenros.errors import CodecError, ZenrosError
+from zenros.message import lookup_service, lookup_type
+from zenros.node import Node
+from zenros.qos import Durability as ZDurability
+from zenros.qos import QoSProfile
+from zenros.qos import Reliability as ZReliability
+from zenros.ros2.cdr import cdr_codec
+from zenros.ros2.registry import ros_name_of, zenros_class_of
+from zenros.ros2.rmw_zenoh import (
+    Attachment,
+    Durability,
+    Entity,
+    EntityKind,
+    Qos,
+    Reliability,
+    RmwZenohError,
+    data_key,
+    type_part,
+)
+from zenros.ros2.typenames import dds_to_ros
+
+__all__ = ["RmwZenohBridge"]
+
+CDR = zenoh.Encoding("application/cdr")
+
+
+class _Once:
+    """Log a problem once per key; count every occurrence."""
+
+    def __init__(self, logger: Any) -> None:
+        self.logger = logger
+        self.seen: set[str] = set()
+        self.counts: dict[str, int] = defaultdict(int)
+
+    def __call__(self, key: str, fmt: str, *args: Any) -> None:
+        self.counts[key] += 1
+        if key not in self.seen:
+            self.seen.add(key)
+            self.logger.warning(fmt, *args)
+
+
+class RmwZenohBridge(Node):
+    """Parameters: ``domain_id`` (default ``ROS_DOMAIN_ID`` or 0), ``allow`` and ``deny``
+    (regular expressions on names; deny wins), ``services`` (bridge zenros services, default
+    true)."""
+
+    node_name = "rmw_zenoh_bridge"
+
+    def setup(self) -> None:
+        self.domain = int(self.declare_parameter(
+            "domain_id", int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)))
+        self.allow = re.compile(str(self.declare_parameter("allow", ".*")))
+        deny = str(self.declare_parameter("deny", ""))
+        self.deny = re.compile(deny) if deny else None
+        self.bridge_services = bool(self.declare_parameter("services", True))
+        ctx = self.context
+        self.session = ctx.session
+        self.zid = str(ctx.zid)
+        self.problems = _Once(self.logger)
+        self._eids = itertools.count(1)
+        self._graph_lock = threading.Lock()
+        self._events: queue.Queue[tuple[str, zenoh.SampleKind, str] | None] = queue.Queue()
+        self._zenros: dict[tuple[str, str], set[str]] = defaultdict(set)  # (kind, name) -> tokens
+        self._ros: dict[tuple[str, str], set[str]] = defaultdict(set)
+        self.outbound: dict[str, _Outbound] = {}
+        self.inbound: dict[tuple[str, str], _Inbound] = {}
+        self.services: dict[str, _ServiceOut] = {}
+        self._pool = ThreadPoolExecutor(4, thread_name_prefix="rmw-zenoh-srv")
+        self._node_entity = Entity(self.domain, self.zid, 0, 0, EntityKind.NODE,
+                                   self.namespace, self.name)
+        lv = self.session.liveliness()
+        self._node_token = lv.declare_token(self._node_entity.token())
+        self._worker = threading.Thread(target=self._run, name="rmw-zenoh-bridge", daemon=True)
+        self._worker.start()
+        self._lv_zenros = lv.declare_subscriber(
+            ctx.keys.alive_all(), lambda s: self._events.put(("z", s.kind, str(s.key_expr))),
+            history=True)
+        self._lv_ros = lv.declare_subscriber(
+            f"@ros2_lv/{self.domain}/**",
+            lambda s: self._events.put(("r", s.kind, str(s.key_expr))), history=True)
+        self.logger.info("bridging zenros and rmw_zenoh on ROS domain %d", self.domain)
+
+    # ------------------------------------------------------------ graph events
+
+    def _wanted(self, name: str) -> bool:
+        return bool(self.allow.fullmatch(name)) and not (self.deny and self.deny.fullmatch(name))
+
+    def _run(self) -> None:
+        while True:
+            ev = self._events.get()
+            if ev is None:
+                return
+            side, kind, key = ev
+            try:
+                with self._graph_lock:
+                    if side == "z":
+                        self._on_zenros_token(kind, key)
+                    else:
+                        self._on_ros_token(kind, key)
+            except (ZenrosError, ValueError, zenoh.ZError) as exc:
+                self.problems(f"token {key}", "cannot bridge %s: %s", key, exc)
+
+    def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:
+        tok = self.context.keys.parse_token(key)
+        if tok is None or tok.zid == self.zid or tok.kind not in ("pub", "srv"):
+            return
+        slot = (tok.kind, tok.name)
+        if kind == zenoh.SampleKind.DELETE:
+            self._zenros[slot].discard(key)
+            if not self._zenros[slot]:
+                if tok.kind == "pub" and tok.name in self.outbound:
+                    self.outbound.pop(tok.name).close()
+                elif tok.kind == "srv" and tok.name in self.services:
+                    self.services.pop(tok.name).close()
+            return
+        self._zenros[slot].add(key)
+        if not self._wanted(tok.name):
+            return
+        if tok.kind == "pub" and tok.name not in self.outbound:
+            cls = lookup_type(tok.type)
+            self.outbound[tok.name] = _Outbound(self, tok.name, cls, "+tl" in tok.qos)
+            self.logger.info("zenros %s (%s) -> rmw_zenoh", tok.name, tok.type)
+        elif tok.kind == "srv" and self.bridge_services and tok.name not in self.services:
+            self.services[tok.name] = _ServiceOut(self, tok.name, tok.type)
+            self.logger.info("zenros service %s (%s) -> rmw_zenoh", tok.name, tok.type)
+
+    def _on_ros_token(self, kind: zenoh.SampleKind, key: str) -> None:
+        try:
+            ent = Entity.parse(key)
+        except RmwZenohError as exc:
+            self.problems(f"token {key}", "ignoring a malformed rmw_zenoh token: %s", exc)
+            return
+        if ent.zid == self.zid or ent.kind is not EntityKind.PUBLISHER:
+            return
+        slot = (ent.topic, ent.dds_type)
+        if kind == zenoh.SampleKind.DELETE:
+            self._ros[slot].discard(key)
+            if not self._ros[slot] and slot in self.inbound:
+                self.inbound.pop(slot).close()
+            return
+        self._ros[slot].add(key)
+        if slot in self.inbound or not self._wanted(ent.topic):
+            return
+        ros_type = dds_to_ros(ent.dds_type)
+        cls = zenros_class_of(ros_type)
+        if cls is None:
+            self.problems(f"type {ros_type}", "ROS 2 topic %s has type %s, which zenros does not "
+                          "know: not bridged", ent.topic, ros_type)
+            return
+        _, ours = type_part(ros_type)
+        if ours != ent.type_hash:
+            self.problems(f"hash {ros_type}", "ROS 2 topic %s: type %s has hash %s there, %s in "
+                          "zenros (another version of the type): not bridged", ent.topic,
+                          ros_type, ent.type_hash, ours)
+            return
+        self.inbound[slot] = _Inbound(self, ent.topic, cls, ent.qos)
+        self.logger.info("rmw_zenoh %s (%s) -> zenros", ent.topic, ros_type)
+
+    def entity(self, kind: EntityKind, name: str, ros_type: str, qos: Qos) -> Entity:
+        dds, h = type_part(ros_type)
+        return Entity(self.domain, self.zid, 0, next(self._eids), kind, self.namespace, self.name,
+                      topic=name, dds_type=dds, type_hash=h, qos=qos)
+
+    def close(self) -> None:
+        if getattr(self, "_worker", None) is not None:
+            self._lv_zenros.undeclare()
+            self._lv_ros.undeclare()
+            self._events.put(None)
+            self._worker.join(5)
+            with self._graph_lock:
+                for b in [*self.outbound.values(), *self.inbound.values(),
+                          *self.services.values()]:
+                    b.close()
+                self.outbound.clear()
+                self.inbound.clear()
+                self.services.clear()
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            self._node_token.undeclare()
+        super().close()
+
+
+class _Outbound:
+    """A zenros topic published on its rmw_zenoh key."""
+
+    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Any], latched: bool) -> None:
+        self.bridge = bridge
+        self.native = codec_for(cls)
+        self.cdr = cdr_codec(cls)
+        ros_type = ros_name_of(cls)
+        s = bridge.session
+        qos = Qos(depth=10, durability=Durability.TRANSIENT_LOCAL if latched else Durability.VOLATILE)
+        ent = bridge.entity(EntityKind.PUBLISHER, topic, ros_type, qos)
+        self.gid = ent.gid
+        self.seq = 0
+        self.pub = s.declare_publisher(data_key(bridge.domain, topic, ros_type), encoding=CDR,
+                                       allowed_destination=zenoh.Locality.REMOTE)
+        self.token = s.liveliness().declare_token(ent.token())
+        ctx = bridge.context
+        self.sub_token = s.liveliness().declare_token(ctx.keys.entity_token(
+            "sub", bridge.fqn, topic, self.native.type_name, "rel+10", ctx.zid, ctx.next_eid()))
+        self.topic = topic
+        self.sub = s.declare_subscriber(ctx.keys.topic(topic), self._on_sample,
+                                        allowed_origin=zenoh.Locality.REMOTE)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        try:
+            data = self.cdr.encode(self.native.decode(sample.payload.to_bytes()))
+        except CodecError as exc:
+            sender = str(sample.source_info.source_id) if getattr(sample, "source_info", None) \
+                else "unknown"
+            self.bridge.problems(f"bad {self.topic} {sender}", "dropping a sample on %s that "
+                                 "does not convert: %s", self.topic, exc)
+            return
+        self.seq += 1
+        self.pub.put(data, attachment=Attachment(self.seq, time.time_ns(), self.gid).encode())
+
+    def close(self) -> None:
+        self.sub.undeclare()
+        self.sub_token.undeclare()
+        self.token.undeclare()
+        self.pub.undeclare()
+
+
+class _Inbound:
+    """An rmw_zenoh topic republished in zenros under its ROS name."""
+
+    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Any], qos: Qos) -> None:
+        self.bridge = bridge
+        self.topic = topic
+        self.cdr = cdr_codec(cls)
+        ros_type = ros_name_of(cls)
+        zqos = QoSProfile(
+            depth=max(1, min(qos.depth, 1000)),
+            reliability=(ZReliability.BEST_EFFORT if qos.reliability is Reliability.BEST_EFFORT
+                         else ZReliability.RELIABLE),
+            durability=(ZDurability.TRANSIENT_LOCAL if qos.durability is Durability.TRANSIENT_LOCAL
+                        else ZDurability.VOLATILE))
+        self.pub = bridge.create_publisher(cls, topic, zqos)
+        s = bridge.session
+        ent = bridge.entity(EntityKind.SUBSCRIPTION, topic, ros_type, qos)
+        self.token = s.liveliness().declare_token(ent.token())
+        self.sub = s.declare_subscriber(data_key(bridge.domain, topic, ros_type), self._on_sample,
+                                        allowed_origin=zenoh.Locality.REMOTE)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        try:
+            msg = self.cdr.decode(sample.payload.to_bytes())
+        except CodecError as exc:
+            sender = "unknown"
+            if sample.attachment is not None:
+                try:
+                    sender = Attachment.decode(sample.attachment.to_bytes()).gid.hex()
+                except RmwZenohError:
+                    pass
+            self.bridge.problems(f"bad {self.topic} {sender}", "dropping a sample on %s from %s: "
+                                 "%s", self.topic, sender, exc)
+            return
+        self.pub.publish(msg)
+
+    def close(self) -> None:
+        self.sub.undeclare()
+        self.token.undeclare()
+        self.bridge.destroy(self.pub)
+
+
+class _ServiceOut:
+    """A zenros service answering rmw_zenoh clients on its service key."""
+
+    def __init__(self, bridge: RmwZenohBridge, name: str, type_name: str) -> None:
+        self.bridge = bridge
+        self.name = name
+        srv = lookup_service(type_name)
+        pkg, _, short = srv.name.partition("/")
+        ros_type = f"{pkg}/srv/{short}"
+        self.req = cdr_codec(srv.Request)
+        self.resp = cdr_codec(srv.Response)
+        self.client = bridge.create_client(srv, name)
+        s = bridge.session
+        ent = bridge.entity(EntityKind.SERVICE, name, ros_type, Qos(depth=10))
+        self.token = s.liveliness().declare_token(ent.token())
+        self.queryable = s.declare_queryable(data_key(bridge.domain, name, ros_type),
+                                             self._on_query, complete=True)
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        try:
+            if query.attachment is None:
+                raise RmwZenohError("request without an attachment")
+            att = Attachment.decode(query.attachment.to_bytes())
+            if query.payload is None:
+                raise RmwZenohError("request without a payload")
+            request = self.req.decode(query.payload.to_bytes())
+        except (CodecError, RmwZenohError) as exc:
+            self.bridge.problems(f"bad request {self.name}", "refusing a request to %s: %s",
+                                 self.name, exc)
+            query.reply_err(str(exc))
+            return
+        self.bridge._pool.submit(self._answer, query, att, request)
+
+    def _answer(self, query: zenoh.Query, att: Attachment, request: Any) -> None:
+        try:
+            try:
+                response = self.client.call(request, timeout=10.0)
+                data = self.resp.encode(response)
+            except (ZenrosError, TimeoutError) as exc:
+                query.reply_err(f"{self.name}: {exc}")
+                return
+            query.reply(query.key_expr, data, encoding=CDR, attachment=Attachment(
+                att.sequence_number, time.time_ns(), att.gid).encode())
+        finally:
+            query.drop()  # the final reply: the client's get completes now
+
+    def close(self) -> None:
+        self.queryable.undeclare()
+        self.token.undeclare()
+        self.bridge.destroy(self.client)
