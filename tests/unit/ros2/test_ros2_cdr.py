@@ -1,11 +1,10 @@
 """zenros's CDR codec on its own: round trips, malformed input (always `DecodeError`, never a
-crash), encode errors, both byte orders, and speed."""
+crash), encode errors and both byte orders (speed: bench/ros2_cdr.py)."""
 
 from __future__ import annotations
 
 import random
 import struct
-import time
 
 import numpy as np
 import pytest
@@ -67,7 +66,6 @@ def test_corrupted_bytes_decode_or_raise_decode_error(cls: type) -> None:
 
 def test_hostile_counts_fail_fast() -> None:
     # a sequence claiming 4 billion elements, a string claiming 4 GB
-    t0 = time.perf_counter()
     for cls in (JointState, LaserScan, String):
         codec = cdr_codec(cls)
         msg = codec.encode(cls())
@@ -78,7 +76,6 @@ def test_hostile_counts_fail_fast() -> None:
                 codec.decode(bytes(data))
             except DecodeError as exc:
                 assert "expected" in str(exc)
-    assert time.perf_counter() - t0 < 1.0
 
 
 @pytest.mark.parametrize("head", [b"", b"\x00", b"\x00\x07\x00\x00",
@@ -133,20 +130,3 @@ def test_plain_classes_for_action_parts() -> None:
     data = codec.encode(msg)
     assert data == b"\x00\x01\x00\x00" + bytes(range(16)) + b"\x00\x00\x00\x00"
     assert codec.decode(data) == msg
-
-
-def test_speed() -> None:
-    """CDR stays within 3x of zenros's own JSON/MessagePack codec on the same messages, timed
-    interleaved in the same run, so that load on the machine cancels out (measured unloaded:
-    Twist 5.5 us vs 3.7, a 720-ray LaserScan 25 vs 58, Odometry 70 vs 47 per encode + decode)."""
-    for msg in (Twist(linear=Vector3(x=1.0)), LaserScan(ranges=np.ones(720, dtype=np.float32)),
-                _sample(Odometry)):
-        cdr, native = cdr_codec(type(msg)), codec_for(type(msg))
-        best = {"cdr": float("inf"), "native": float("inf")}
-        for _ in range(7):
-            for name, c in (("cdr", cdr), ("native", native)):
-                t0 = time.perf_counter()
-                for _ in range(300):
-                    c.decode(c.encode(msg))
-                best[name] = min(best[name], time.perf_counter() - t0)
-        assert best["cdr"] < 3 * best["native"], (type(msg).__name__, best)
