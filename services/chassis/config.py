@@ -15,11 +15,11 @@ import numpy as np
 from msgspec import Meta
 from zenros.errors import InvalidParameterValueError
 from zenros.maps import load_map, load_poses
+from zenros.se2 import Pose2
 
 from .battery import Battery, BatteryConfig
 from .dock import Dock
 from .drive import Drive, DriveLimits
-from .kinematics import Pose2
 from .laser import Laser, LaserConfig
 from .odometry import Odometry
 from .sim import Simulation, start_pose

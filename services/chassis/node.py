@@ -27,13 +27,13 @@ from zenros.msgs.zenros_msgs import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
+from zenros.se2 import Pose2
 from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
 from . import messages
 from .config import ChassisParameters, chassis_config
 from .drive import CommandError
 from .ioports import IoError, IoPorts
-from .kinematics import Pose2
 from .obstacle_requests import apply_request, to_msgs
 from .pacer import Pacer
 

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from zenros.se2 import Pose2, angle_diff
 
 from .pathtrack import PathTracker
-from .se2 import Pose2, angle_diff
 
 __all__ = ["ControlOutput", "ControllerParams", "PurePursuit", "cost_to_distance", "curvature"]
 

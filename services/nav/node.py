@@ -31,7 +31,8 @@ from zenros.msgs.zenros_msgs.chassis import ChassisState
 from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
-from zenros.tf import TransformBroadcaster
+from zenros.se2 import Pose2
+from zenros.tf import TransformBroadcaster, yaw_from_msg
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
 from .action_base import Ledger
@@ -44,7 +45,6 @@ from .convert import (
     pose2_from_msg,
     pose_with_covariance,
     transform_stamped,
-    yaw_from_quaternion,
 )
 from .core import NavCore
 from .coverage_srv import handle_compute_coverage_path
@@ -52,7 +52,6 @@ from .docking import Dock
 from .loop import ControlLoop
 from .params import DEMO_MAP, NavParameters, nav_config
 from .routines import RoutineActions
-from .se2 import Pose2
 from .status import nav_status
 
 __all__ = ["NavNode"]
@@ -222,7 +221,7 @@ class NavNode(Node):
             if t.header.frame_id.lstrip("/") == "base_link":
                 tr, q = t.transform.translation, t.transform.rotation
                 self.core.scan_mounts[t.child_frame_id.lstrip("/")] = Pose2(
-                    tr.x, tr.y, yaw_from_quaternion(q))
+                    tr.x, tr.y, yaw_from_msg(q))
 
     def _on_localization_param(self, p: Parameter) -> None:
         self.core.localizer.set_mode(str(p.value))

@@ -8,13 +8,13 @@ import pytest
 from zenros.errors import InvalidParameterValueError, MapError
 from zenros.param_config import declare_parameters
 from zenros.params import Parameters
+from zenros.se2 import Pose2
 from zenros.services.chassis.config import (
     DEMO_MAP,
     ChassisConfig,
     ChassisParameters,
     chassis_config,
 )
-from zenros.services.chassis.kinematics import Pose2
 
 
 def declare_config(values: dict[str, object]) -> ChassisConfig:

@@ -7,13 +7,13 @@ import math
 
 import numpy as np
 import pytest
+from zenros.se2 import Pose2, angle_diff
 from zenros.services.nav.controller import (
     ControllerParams,
     PurePursuit,
     cost_to_distance,
     curvature,
 )
-from zenros.services.nav.se2 import Pose2, angle_diff
 
 DT = 0.05
 
