@@ -17,9 +17,12 @@ from zenros.node import Node
 from zenros.param_config import parameter_specs
 from zenros.services.chassis.config import ChassisParameters
 from zenros.services.chassis.node import ChassisNode
+from zenros.services.master.node import MasterNode, MasterParameters
 from zenros.services.nav.core import NavConfig
 from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import NavParameters, nav_config
+from zenros.services.tasks.node import TasksNode, TasksParameters
+from zenros.services.tf.node import TfNode, TfParameters
 from zenros.testing import free_port, loopback_options, unique_prefix
 
 PORT = free_port()
@@ -66,6 +69,16 @@ def test_nav_declares_its_config(ctxs: list[Context], tmp_path: Path) -> None:
 def test_chassis_declares_its_config(ctxs: list[Context]) -> None:
     with ChassisNode("chassis", context=ctxs[0]) as chassis:
         agree(chassis, ChassisParameters, read_only=True)
+
+
+@pytest.mark.parametrize(("cls", "config"), [
+    (TfNode, TfParameters), (MasterNode, MasterParameters), (TasksNode, TasksParameters)])
+def test_tf_master_and_tasks_declare_their_config(
+        ctxs: list[Context], tmp_path: Path, cls: type[Node], config: type[msgspec.Struct],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("ZENROS_HOME", str(tmp_path))  # data_dir's default, so it stays ""
+    with cls(context=ctxs[0]) as node:
+        agree(node, config, read_only=False)
 
 
 def test_param_describe_shows_the_limits(ctxs: list[Context], tmp_path: Path) -> None:
