@@ -110,7 +110,7 @@ class NavParameters(msgspec.Struct, kw_only=True):
     dock_max_retries: Count = 3
     use_battery_status: Annotated[bool, Meta(description="docked = charging starts")] = True
     # localisation
-    localization: Annotated[Mode, Meta(description="ground_truth, odometry or scan_match")] = (
+    localization: Annotated[Mode, Meta(description="where the robot pose comes from")] = (
         "ground_truth")
     scan_match_rate: Annotated[NonNegative, Meta(
         description="scan matches per second (scan_match mode)")] = 5.0
