@@ -32,6 +32,7 @@ from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
 from zenros.node import Node
+from zenros.se2 import Pose2
 from zenros.services.nav.collision import first_collision
 from zenros.services.nav.controller import PurePursuit
 from zenros.services.nav.convert import pose_stamped
@@ -41,7 +42,6 @@ from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import DEMO_MAP
 from zenros.services.nav.planner import PlannerParams
 from zenros.services.nav.planning import GlobalPlanner
-from zenros.services.nav.se2 import Pose2
 from zenros.maps import load_map
 from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wait_for
 

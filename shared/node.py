@@ -13,6 +13,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Protocol, Self, TypeVar
 
+import msgspec
+
 from .clock import Clock, ManualClock, Rate, SystemClock, Time
 from .context import Context
 from .errors import NodeClosedError
@@ -25,6 +27,7 @@ from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
 from .param_backend import attach_parameter_backend
+from .param_config import declare_parameters
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .pubsub import Publisher, Subscription, SubscriptionCallback
@@ -43,6 +46,7 @@ class Closable(Protocol):
 
 M = TypeVar("M", bound=Message)
 W = TypeVar("W", bound=Closable)
+C = TypeVar("C", bound=msgspec.Struct)
 
 
 def _snake(name: str) -> str:
@@ -255,6 +259,12 @@ class Node:
         """Declare a parameter; the default fixes its type. Returns the current value."""
         return self.parameters.declare(name, default, description=description,
                                        read_only=read_only)
+
+    def declare_parameters(self, config: type[C], *, read_only: bool = False) -> C:
+        """Declare one parameter per field of the msgspec Struct ``config`` (its defaults,
+        limits and descriptions) and return the current values as a ``config``; unless the
+        Struct is frozen, the instance follows later changes (`zenros.param_config`)."""
+        return declare_parameters(self.parameters, config, read_only=read_only)
 
     def get_parameter(self, name: str) -> Any:
         return self.parameters.get(name)

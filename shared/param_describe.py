@@ -2,7 +2,8 @@
 
 A node serves one queryable, ``<prefix>/paramdesc/<node fqn>``, that replies a JSON object
 ``{"rate": {"type": "float", "description": "...", "read_only": false}, ...}`` built from its
-declared parameters at query time (ROS 2's ``describe_parameters``, without a graph entry).
+declared parameters at query time (a parameter declared with limits, see
+`zenros.param_config`, adds ``"constraints": {"gt": 0.0}``) (ROS 2's ``describe_parameters``, without a graph entry).
 The CLI reads it to refuse ``zenros param set /talker/rate fast`` before storing a value the
 node would reject.
 """
@@ -26,11 +27,14 @@ _TYPE_NAMES = {bool: "bool", int: "int", float: "float", str: "str", bytes: "byt
 
 def describe(params: Parameters) -> dict[str, dict[str, Any]]:
     """The declared parameters as plain data."""
-    return {
-        p.name: {"type": _TYPE_NAMES.get(p.type, p.type.__name__),
-                 "description": p.description, "read_only": p.read_only}
-        for p in params.describe()
-    }
+    out: dict[str, dict[str, Any]] = {}
+    for p in params.describe():
+        entry: dict[str, Any] = {"type": _TYPE_NAMES.get(p.type, p.type.__name__),
+                                 "description": p.description, "read_only": p.read_only}
+        if p.constraints:
+            entry["constraints"] = dict(p.constraints)
+        out[p.name] = entry
+    return out
 
 
 class ParameterDescriptions:

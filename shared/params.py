@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -41,6 +41,9 @@ class Parameter:
     type: type
     description: str = ""
     read_only: bool = False
+    constraints: dict[str, Any] = field(default_factory=dict)
+    """Limits a value must meet (``gt``, ``ge``, ``lt``, ``le``, ``choices``, ``min_length``,
+    ``max_length``; see `zenros.param_config`); empty for a parameter declared without."""
 
 
 @dataclass
@@ -171,8 +174,12 @@ class Parameters:
         self._lock = threading.RLock()
 
     def declare(self, name: str, default: Any, *, description: str = "",
-                read_only: bool = False) -> Any:
-        """Declare ``name`` with ``default`` (which fixes the type) and return its value."""
+                read_only: bool = False, constraints: dict[str, Any] | None = None) -> Any:
+        """Declare ``name`` with ``default`` (which fixes the type) and return its value.
+
+        ``constraints`` are only recorded (described, and checked by the validator that
+        `zenros.param_config.declare_parameters` adds); this method does not check them.
+        """
         if not name or any(c in name for c in " */$?#"):
             raise ParameterError(f"invalid parameter name {name!r}")
         if not isinstance(default, _TYPES):
@@ -191,7 +198,8 @@ class Parameters:
                 found, remote = self.backend.fetch(name)
                 if found:
                     value = coerce(name, kind, remote)
-            self._params[name] = Parameter(name, value, kind, description, read_only)
+            self._params[name] = Parameter(name, value, kind, description, read_only,
+                                           dict(constraints or {}))
             return value
 
     def has(self, name: str) -> bool:
@@ -218,7 +226,7 @@ class Parameters:
             p = self._get(name)
             if p.read_only:
                 raise ParameterError(f"parameter {name!r} is read-only")
-            new = Parameter(p.name, coerce(name, p.type, value), p.type, p.description)
+            new = replace(p, value=coerce(name, p.type, value), constraints=dict(p.constraints))
             for validate in self._validators:
                 result = validate([new])
                 if not result.successful:

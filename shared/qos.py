@@ -57,6 +57,21 @@ class QoSProfile:
         base = "rel" if self.reliability == Reliability.RELIABLE else "be"
         return base + ("+tl" if self.latched else "") + f"+{self.depth}"
 
+    @classmethod
+    def from_tag(cls, tag: str) -> QoSProfile:
+        """The profile a `tag` stands for (``rel+tl+1``: reliable, latched, depth 1).
+
+        Lenient, as tags come from other processes: a part it does not know is ignored, and a
+        missing or bad depth is the default 10.
+        """
+        parts = tag.split("+")
+        depth = int(parts[-1]) if parts[-1].isdigit() and int(parts[-1]) >= 1 else 10
+        return cls(depth=depth,
+                   reliability=Reliability.BEST_EFFORT if parts[0] == "be"
+                   else Reliability.RELIABLE,
+                   durability=Durability.TRANSIENT_LOCAL if "tl" in parts[1:]
+                   else Durability.VOLATILE)
+
 
 QOS_DEFAULT = QoSProfile()
 QOS_SENSOR = QoSProfile(depth=5, reliability=Reliability.BEST_EFFORT)

@@ -1,4 +1,5 @@
-"""ChassisConfig: the chassis parameters, declared on the node, checked, and built into a
+"""`ChassisParameters`: the chassis's parameters, their only defaults, limits and descriptions;
+`chassis_config` checks their combinations into a `ChassisConfig`, which builds the
 `Simulation`."""
 
 from __future__ import annotations
@@ -7,29 +8,85 @@ import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import Annotated
 
+import msgspec
 import numpy as np
+from msgspec import Meta
 from zenros.errors import InvalidParameterValueError
 from zenros.maps import load_map, load_poses
+from zenros.se2 import Pose2
 
 from .battery import Battery, BatteryConfig
 from .dock import Dock
 from .drive import Drive, DriveLimits
-from .kinematics import Pose2
 from .laser import Laser, LaserConfig
 from .odometry import Odometry
 from .sim import Simulation, start_pose
 from .world import World
 
-__all__ = ["DEMO_MAP", "ChassisConfig", "declare_config"]
+__all__ = ["DEMO_MAP", "ChassisConfig", "ChassisParameters", "chassis_config"]
 
 DEMO_MAP = Path(__file__).resolve().parents[2] / "deploy" / "maps" / "office" / "office.yaml"
 
 
-class _Declares(Protocol):
-    def declare_parameter(self, name: str, default: object, *, description: str = "",
-                          read_only: bool = False) -> object: ...
+Positive = Annotated[float, Meta(gt=0)]
+NonNegative = Annotated[float, Meta(ge=0)]
+PoseList = Annotated[list[float], Meta(max_length=3,
+                                       description="[x, y, theta] in map; [] = the map's")]
+
+
+class ChassisParameters(msgspec.Struct, kw_only=True):
+    """Every chassis parameter (declared read-only: the simulation is built once)."""
+
+    map: Annotated[str, Meta(description="map_server YAML of the world (default: the demo "
+                                         "office)")] = ""
+    speed: Annotated[NonNegative, Meta(
+        description="sim seconds per wall second; 0 = as fast as possible")] = 1.0
+    publish_clock: Annotated[bool, Meta(
+        description="publish /clock and stamp with sim time")] = True
+    publish_tf: Annotated[bool, Meta(description="publish odom -> base_link on /tf")] = True
+    rate: Annotated[Positive, Meta(
+        description="physics steps (and odom, TF) per sim second")] = 50.0
+    scan_rate: Annotated[Positive, Meta(description="scans per sim second")] = 10.0
+    max_linear_velocity: NonNegative = 1.0
+    max_reverse_velocity: NonNegative = 0.3
+    max_angular_velocity: NonNegative = 1.5
+    max_linear_acceleration: NonNegative = 1.0
+    max_linear_deceleration: NonNegative = 2.0
+    max_angular_acceleration: NonNegative = 3.0
+    cmd_timeout: Annotated[NonNegative, Meta(
+        description="dead-man: stop after this long without cmd_vel")] = 0.5
+    scan_beams: int = 360
+    range_min: NonNegative = 0.05
+    range_max: Positive = 12.0
+    scan_fov: NonNegative = 2 * math.pi
+    range_noise: Annotated[NonNegative, Meta(
+        description="std dev of laser range noise (m)")] = 0.0
+    battery_capacity: NonNegative = 20.0
+    battery_voltage: NonNegative = 24.0
+    battery_idle_current: NonNegative = 2.0
+    battery_motion_current: NonNegative = 6.0
+    battery_turn_current: NonNegative = 2.0
+    battery_charge_current: NonNegative = 10.0
+    battery_initial: Annotated[float, Meta(ge=0, le=1,
+                                           description="state of charge at start")] = 0.9
+    robot_radius: Annotated[Positive, Meta(description="the round body's radius (m)")] = 0.2
+    odom_noise: Annotated[NonNegative, Meta(
+        description="relative std dev of the odometry's speeds")] = 0.0
+    laser_x: float = 0.1
+    laser_y: float = 0.0
+    laser_yaw: float = 0.0
+    laser_z: float = 0.2
+    start_pose: PoseList = msgspec.field(default_factory=list)
+    dock_pose: PoseList = msgspec.field(default_factory=list)
+    dock_tolerance: NonNegative = 0.05
+    dock_yaw_tolerance: NonNegative = 0.1
+    seed: Annotated[int, Meta(description="random seed for noise; 0 = random")] = 0
+    map_frame: str = "map"
+    odom_frame: str = "odom"
+    base_frame: str = "base_link"
+    laser_frame: str = "laser"
 
 
 @dataclass(frozen=True)
@@ -96,85 +153,54 @@ class ChassisConfig:
         )
 
 
-def _pose(name: str, value: object) -> Pose2 | None:
-    if value in ([], None):
+def _pose(name: str, value: list[float]) -> Pose2 | None:
+    if not value:
         return None
-    if (not isinstance(value, list) or len(value) not in (2, 3)
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                       and math.isfinite(v) for v in value)):
+    if len(value) not in (2, 3) or not all(math.isfinite(v) for v in value):
         raise InvalidParameterValueError(
-            f"parameter {name!r}: expected [x, y] or [x, y, theta] (finite numbers), got {value!r}")
-    return Pose2(*(float(v) for v in value)) if len(value) == 3 else Pose2(
-        float(value[0]), float(value[1]), 0.0)
+            f"parameter {name!r}: expected [x, y] or [x, y, theta] (finite numbers), "
+            f"got {value!r}")
+    x, y, *theta = value
+    return Pose2(x, y, theta[0] if theta else 0.0)
 
 
-def declare_config(node: _Declares) -> ChassisConfig:
-    """Declare every chassis parameter on ``node`` and return them checked.
+def chassis_config(p: ChassisParameters) -> ChassisConfig:
+    """The configuration from the parameters, with their combinations checked.
 
     Raises:
-        InvalidParameterValueError: a value out of range (names the parameter).
+        InvalidParameterValueError: parameters that do not go together (names them).
     """
-    def p(name: str, default: object, description: str = "") -> object:
-        return node.declare_parameter(name, default, description=description, read_only=True)
-
-    def f(name: str, default: float, description: str = "", *, positive: bool = False,
-          nonneg: bool = True) -> float:
-        v = float(p(name, float(default), description))  # type: ignore[arg-type]
-        if not math.isfinite(v) or (positive and v <= 0) or (nonneg and v < 0):
-            want = " > 0" if positive else " >= 0" if nonneg else ""
-            raise InvalidParameterValueError(
-                f"parameter {name!r}: expected a finite number{want}, got {v}")
-        return v
-
-    map_path = str(p("map", "", "map_server YAML of the world (default: the demo office)"))
-    speed = f("speed", 1.0, "sim seconds per wall second; 0 = as fast as possible")
-    range_min, range_max = f("range_min", 0.05), f("range_max", 12.0, positive=True)
-    if range_min >= range_max:
+    if p.range_min >= p.range_max:
         raise InvalidParameterValueError(
-            f"parameters 'range_min' ({range_min:g}) and 'range_max' ({range_max:g}): "
+            f"parameters 'range_min' ({p.range_min:g}) and 'range_max' ({p.range_max:g}): "
             "range_min must be below range_max")
-    publish_clock = bool(p("publish_clock", True, "publish /clock and stamp with sim time"))
-    if not publish_clock and speed != 1.0:
+    if not p.publish_clock and p.speed != 1.0:
         raise InvalidParameterValueError(
-            f"parameter 'speed' is {speed:g} but publish_clock is false: without /clock other "
+            f"parameter 'speed' is {p.speed:g} but publish_clock is false: without /clock other "
             "nodes cannot follow a sim that runs faster or slower than real time")
-    rate = f("rate", 50.0, "physics steps (and odom, TF) per sim second", positive=True)
-    scan_rate = f("scan_rate", 10.0, "scans per sim second", positive=True)
     try:
         limits = DriveLimits(
-            max_linear=f("max_linear_velocity", 1.0), max_reverse=f("max_reverse_velocity", 0.3),
-            max_angular=f("max_angular_velocity", 1.5),
-            max_linear_accel=f("max_linear_acceleration", 1.0),
-            max_linear_decel=f("max_linear_deceleration", 2.0),
-            max_angular_accel=f("max_angular_acceleration", 3.0),
-            cmd_timeout=f("cmd_timeout", 0.5, "dead-man: stop after this long without cmd_vel"))
-        laser = LaserConfig(
-            beams=int(p("scan_beams", 360)), range_min=range_min,  # type: ignore[call-overload]
-            range_max=range_max, fov=f("scan_fov", 2 * math.pi),
-            noise=f("range_noise", 0.0, "std dev of laser range noise (m)"))
+            max_linear=p.max_linear_velocity, max_reverse=p.max_reverse_velocity,
+            max_angular=p.max_angular_velocity, max_linear_accel=p.max_linear_acceleration,
+            max_linear_decel=p.max_linear_deceleration,
+            max_angular_accel=p.max_angular_acceleration, cmd_timeout=p.cmd_timeout)
+        laser = LaserConfig(beams=p.scan_beams, range_min=p.range_min, range_max=p.range_max,
+                            fov=p.scan_fov, noise=p.range_noise)
         battery = BatteryConfig(
-            capacity=f("battery_capacity", 20.0), voltage=f("battery_voltage", 24.0),
-            idle_current=f("battery_idle_current", 2.0),
-            motion_current=f("battery_motion_current", 6.0),
-            turn_current=f("battery_turn_current", 2.0),
-            charge_current=f("battery_charge_current", 10.0),
-            initial=f("battery_initial", 0.9, "state of charge at start, 0..1"))
+            capacity=p.battery_capacity, voltage=p.battery_voltage,
+            idle_current=p.battery_idle_current, motion_current=p.battery_motion_current,
+            turn_current=p.battery_turn_current, charge_current=p.battery_charge_current,
+            initial=p.battery_initial)
     except ValueError as exc:
         raise InvalidParameterValueError(str(exc)) from exc
-    radius = f("robot_radius", 0.2, "the round body's radius (m)", positive=True)
-    odom_noise = f("odom_noise", 0.0, "relative std dev of the odometry's speeds")
     return ChassisConfig(
-        map_path=Path(map_path) if map_path else DEMO_MAP,
-        speed=speed, publish_clock=publish_clock,
-        publish_tf=bool(p("publish_tf", True, "publish odom -> base_link on /tf")),
-        rate=rate, scan_rate=scan_rate, robot_radius=radius, limits=limits, laser=laser,
-        laser_mount=Pose2(f("laser_x", 0.1, nonneg=False), f("laser_y", 0.0, nonneg=False),
-                          f("laser_yaw", 0.0, nonneg=False)),
-        laser_z=f("laser_z", 0.2, nonneg=False), battery=battery, odom_noise=odom_noise,
-        start=_pose("start_pose", p("start_pose", [], "[x, y, theta] in map; [] = the map's")),
-        dock=_pose("dock_pose", p("dock_pose", [], "[x, y, theta] in map; [] = the map's")),
-        dock_tolerance=f("dock_tolerance", 0.05), dock_yaw_tolerance=f("dock_yaw_tolerance", 0.1),
-        seed=int(p("seed", 0, "random seed for noise; 0 = random")),  # type: ignore[call-overload]
-        map_frame=str(p("map_frame", "map")), odom_frame=str(p("odom_frame", "odom")),
-        base_frame=str(p("base_frame", "base_link")), laser_frame=str(p("laser_frame", "laser")),
+        map_path=Path(p.map) if p.map else DEMO_MAP,
+        speed=p.speed, publish_clock=p.publish_clock, publish_tf=p.publish_tf,
+        rate=p.rate, scan_rate=p.scan_rate, robot_radius=p.robot_radius, limits=limits,
+        laser=laser, laser_mount=Pose2(p.laser_x, p.laser_y, p.laser_yaw), laser_z=p.laser_z,
+        battery=battery, odom_noise=p.odom_noise,
+        start=_pose("start_pose", p.start_pose), dock=_pose("dock_pose", p.dock_pose),
+        dock_tolerance=p.dock_tolerance, dock_yaw_tolerance=p.dock_yaw_tolerance, seed=p.seed,
+        map_frame=p.map_frame, odom_frame=p.odom_frame, base_frame=p.base_frame,
+        laser_frame=p.laser_frame,
     )

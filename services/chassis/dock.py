@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .kinematics import Pose2, wrap
+from zenros.se2 import Pose2, wrap_angle
 
 __all__ = ["Dock"]
 
@@ -24,4 +24,4 @@ class Dock:
 
     def docked(self, pose: Pose2) -> bool:
         return (math.hypot(pose.x - self.pose.x, pose.y - self.pose.y) <= self.tolerance
-                and abs(wrap(pose.theta - self.pose.theta)) <= self.yaw_tolerance)
+                and abs(wrap_angle(pose.theta - self.pose.theta)) <= self.yaw_tolerance)

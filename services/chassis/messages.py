@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from zenros.message import Float32Array, Float64Array, to_array
@@ -11,7 +10,6 @@ from zenros.msgs.geometry_msgs import (
     Point,
     Pose,
     PoseWithCovariance,
-    Quaternion,
     Transform,
     TransformStamped,
     Twist,
@@ -21,18 +19,15 @@ from zenros.msgs.geometry_msgs import (
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import Header
+from zenros.se2 import Pose2
+from zenros.tf.convert import yaw_to_msg
 
 from .battery import Battery
-from .kinematics import Pose2
 from .laser import LaserConfig
 
-__all__ = ["battery_state", "covariance", "laser_scan", "odometry", "transform", "yaw_quaternion"]
+__all__ = ["battery_state", "covariance", "laser_scan", "odometry", "transform"]
 
 _ZERO_COV: Float64Array = to_array(Float64Array, [0.0] * 36)
-
-
-def yaw_quaternion(theta: float) -> Quaternion:
-    return Quaternion(z=math.sin(theta / 2), w=math.cos(theta / 2))
 
 
 def covariance(values: list[float]) -> Float64Array:
@@ -49,7 +44,7 @@ def odometry(stamp: Time, frame: str, child: str, pose: Pose2, linear: float, an
         header=Header(stamp=stamp, frame_id=frame),
         child_frame_id=child,
         pose=PoseWithCovariance(
-            pose=Pose(position=Point(x=pose.x, y=pose.y), orientation=yaw_quaternion(pose.theta)),
+            pose=Pose(position=Point(x=pose.x, y=pose.y), orientation=yaw_to_msg(pose.theta)),
             covariance=_ZERO_COV if pose_cov is None else pose_cov),
         twist=TwistWithCovariance(
             twist=Twist(linear=Vector3(x=linear), angular=Vector3(z=angular)),
@@ -62,7 +57,7 @@ def transform(stamp: Time, parent: str, child: str, pose: Pose2, z: float = 0.0
     return TransformStamped(
         header=Header(stamp=stamp, frame_id=parent), child_frame_id=child,
         transform=Transform(translation=Vector3(x=pose.x, y=pose.y, z=z),
-                            rotation=yaw_quaternion(pose.theta)))
+                            rotation=yaw_to_msg(pose.theta)))
 
 
 def laser_scan(stamp: Time, frame: str, config: LaserConfig, ranges: np.ndarray,

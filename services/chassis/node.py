@@ -27,13 +27,13 @@ from zenros.msgs.zenros_msgs import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
+from zenros.se2 import Pose2
 from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
 from . import messages
-from .config import declare_config
+from .config import ChassisParameters, chassis_config
 from .drive import CommandError
 from .ioports import IoError, IoPorts
-from .kinematics import Pose2
 from .obstacle_requests import apply_request, to_msgs
 from .pacer import Pacer
 
@@ -49,13 +49,13 @@ class ChassisNode(Node):
     ``scan``, ``battery_state``, ``chassis/state``, ``sim/ground_truth`` and ``/clock``;
     takes ``cmd_vel``; serves ``sim/teleport``, ``sim/set_obstacles`` and
     ``chassis/set_estop``; IO ports on ``chassis/io`` (latched) and ``chassis/set_io``
-    (`IoPorts`). Parameters: see `declare_config` and docs/chassis.md.
+    (`IoPorts`). Parameters: `ChassisParameters` and docs/chassis.md.
     """
 
     node_name = "chassis"
 
     def setup(self) -> None:
-        cfg = declare_config(self)
+        cfg = chassis_config(self.declare_parameters(ChassisParameters, read_only=True))
         self.cfg = cfg
         self.sim = cfg.build(self.logger)
         self.dt = 1.0 / cfg.rate

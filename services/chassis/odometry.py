@@ -9,8 +9,9 @@ odometry never sees it, as in a kidnapped-robot test).
 from __future__ import annotations
 
 import numpy as np
+from zenros.se2 import Pose2
 
-from .kinematics import Pose2, integrate
+from .kinematics import integrate
 
 __all__ = ["Odometry"]
 

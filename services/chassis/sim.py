@@ -13,11 +13,12 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
+from zenros.se2 import Pose2
 
 from .battery import Battery
 from .dock import Dock
 from .drive import Drive
-from .kinematics import Pose2, integrate
+from .kinematics import integrate
 from .laser import Laser
 from .obstacles import Obstacle
 from .odometry import Odometry
@@ -88,13 +89,13 @@ class Simulation:
 
     def scan(self) -> np.ndarray:
         """The laser's ranges from where it is now."""
-        p = self.truth.compose(self.laser_mount)
+        p = self.truth * self.laser_mount
         return self.laser.ranges(p.x, p.y, p.theta)
 
     @property
     def odom_in_map(self) -> Pose2:
         """The ``odom`` frame's pose in ``map`` as the simulator knows it (truth ∘ odom⁻¹)."""
-        return self.truth.compose(self.odometry.pose.inverse())
+        return self.truth * self.odometry.pose.inverse()
 
     # ---------------------------------------------------------------- requests
 

@@ -24,9 +24,9 @@ from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
+from zenros.tf.convert import yaw_from_msg
 
 from .core import Core
-from .status import yaw_of
 
 __all__ = ["RobotLink"]
 
@@ -116,7 +116,7 @@ class RobotLink:
         p = msg.pose.pose
         o = p.orientation
         s = self.core.state
-        s.pose = (p.position.x, p.position.y, yaw_of(o.x, o.y, o.z, o.w))
+        s.pose = (p.position.x, p.position.y, yaw_from_msg(o))
         s.pose_time = time.monotonic()
 
     def on_cmd_vel(self, msg: Twist) -> None:

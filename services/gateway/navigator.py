@@ -16,7 +16,7 @@ from typing import Any
 import msgspec
 from zenros.action import ActionClient
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosError, ZenrosTimeout
-from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, Quaternion
+from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped
 from zenros.msgs.nav2_msgs import (
     DockRobot,
     DockRobotGoal,
@@ -38,6 +38,7 @@ from zenros.msgs.zenros_msgs import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
+from zenros.tf.convert import yaw_to_msg
 
 from .core import Core, NavUnavailable
 from .rest_tasks import TaskCaller
@@ -56,7 +57,7 @@ _GOAL = {0: (0, -1), 1: (1, 0), 2: (0, 1), 3: (3, 2), 4: (0, -1)}
 def pose_stamped(x: float, y: float, theta: float) -> PoseStamped:
     return PoseStamped(header=Header(frame_id="map"), pose=Pose(
         position=Point(x=x, y=y),
-        orientation=Quaternion(z=math.sin(theta / 2), w=math.cos(theta / 2))))
+        orientation=yaw_to_msg(theta)))
 
 
 class Navigator:

@@ -2,20 +2,14 @@
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoStamp, GalileoStatus
 
-__all__ = ["GoalState", "RobotState", "compose_status", "system_status_name", "yaw_of"]
+__all__ = ["GoalState", "RobotState", "compose_status", "system_status_name"]
 
 POSE_STALE = 2.0  # seconds without a map pose before localisation counts as lost
-
-
-def yaw_of(qx: float, qy: float, qz: float, qw: float) -> float:
-    """The yaw (rad) of a quaternion."""
-    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
 
 
 @dataclass

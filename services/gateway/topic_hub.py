@@ -87,7 +87,7 @@ class TopicHub:
             cls = lookup_type(types[0])
         except UnknownTypeError as exc:
             raise TopicError(str(exc)) from exc
-        latched = any("+tl" in t.qos for t in graph.publishers(topic))
+        latched = any(QoSProfile.from_tag(t.qos).latched for t in graph.publishers(topic))
         return cls, latched
 
     def attach(self, topic: str, slot: Slot) -> None:

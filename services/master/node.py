@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
+import msgspec
+from msgspec import Meta
 from zenros.home import data_dir
 from zenros.node import Node
 
@@ -10,36 +14,44 @@ from .param_store import ParamStore
 from .registry_server import RegistryServer
 from .replica import Replicator
 
-__all__ = ["DB_NAME", "MasterNode", "data_dir"]
+__all__ = ["DB_NAME", "MasterNode", "MasterParameters", "data_dir"]
 
 DB_NAME = "params.db"
+
+
+class MasterParameters(msgspec.Struct, kw_only=True):
+    """The master's own parameters (from the command line or a params file, never a master)."""
+
+    data_dir: Annotated[str, Meta(description="where params.db lives (default $ZENROS_HOME "
+                                              "or ~/.zenros)")] = ""
+    sync_period: Annotated[float, Meta(ge=0, description="seconds between anti-entropy pulls "
+                                                         "from other replicas (0: only on "
+                                                         "events)")] = 5.0
+    sync_timeout: Annotated[float, Meta(ge=0, description="how long a pull waits for replicas "
+                                                          "to answer (s)")] = 2.0
+    registry_grace: Annotated[float, Meta(ge=0, description="seconds a vanished liveliness "
+                                                            "token is kept")] = 2.0
 
 
 class MasterNode(Node):
     """The parameter server and the registry of the computation graph.
 
-    Parameters:
-        data_dir: where ``params.db`` lives (default ``$ZENROS_HOME`` or ``~/.zenros``).
-        sync_period: seconds between anti-entropy pulls from other replicas (0: only on
-            events).
-        sync_timeout: how long a pull waits for replicas to answer.
-        registry_grace: seconds a vanished liveliness token is kept (flaps are ignored).
+    Parameters: `MasterParameters`.
     """
 
     node_name = "master"
     uses_parameter_server = False  # the master's own parameters never come from a master
 
     def setup(self) -> None:
-        directory = data_dir(self.declare_parameter("data_dir", ""))
-        period = self.declare_parameter("sync_period", 5.0)
-        timeout = self.declare_parameter("sync_timeout", 2.0)
-        grace = self.declare_parameter("registry_grace", 2.0)
-        self.store = ParamStore(directory / DB_NAME)
+        p = self.declare_parameters(MasterParameters)
+        self.store = ParamStore(data_dir(p.data_dir) / DB_NAME)
         self.logger.info("parameters in %s (%d names, replica %s)", self.store.path,
                          len(self.store.names()), self.store.source)
-        self.replicator = Replicator(self, self.store, period=period, timeout=timeout)
+        self.replicator = Replicator(self, self.store, period=p.sync_period,
+                                     timeout=p.sync_timeout)
         self.params = ParamServer(self, self.store)
-        self.registry = RegistryServer(self, grace)
+        # flaps shorter than the grace are ignored
+        self.registry = RegistryServer(self, p.registry_grace)
 
     def close(self) -> None:
         for part in ("registry", "params", "replicator"):

@@ -24,12 +24,12 @@ from zenros.msgs.nav2_msgs import (
     NavigateToPoseResult,
     WaypointStatus,
 )
+from zenros.se2 import Pose2
 
 from .action_base import ActionBase
 from .behavior import Behavior
 from .convert import path_from_msg, path_to_msg
 from .navigate import Codes, Navigate
-from .se2 import Pose2
 
 __all__ = ["NavActions"]
 

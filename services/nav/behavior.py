@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
+from zenros.se2 import Pose2
 
 from .planning import PlanWorker
-from .se2 import Pose2
 
 __all__ = ["Behavior", "NavParams", "NavTools", "Sense"]
 

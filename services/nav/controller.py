@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from zenros.se2 import Pose2, angle_diff
 
 from .pathtrack import PathTracker
-from .se2 import Pose2, angle_diff
 
 __all__ = ["ControlOutput", "ControllerParams", "PurePursuit", "cost_to_distance", "curvature"]
 
@@ -27,20 +27,21 @@ State = Literal["following", "rotating_to_path", "rotating_to_goal", "goal_reach
 
 @dataclass(frozen=True)
 class ControllerParams:
-    """RPP parameters (Nav2 defaults unless noted) and the goal checker's tolerances."""
+    """RPP parameters and the goal checker's tolerances; the defaults are the nav service's
+    (`zenros.services.nav.params.NavParameters`, a test holds them equal)."""
 
     max_linear_vel: float = 0.5
-    max_angular_vel: float = 1.8
+    max_angular_vel: float = 1.5
     lookahead_dist: float = 0.6
     min_lookahead_dist: float = 0.3
     max_lookahead_dist: float = 0.9
     lookahead_time: float = 1.5
     use_velocity_scaled_lookahead_dist: bool = False
     use_rotate_to_heading: bool = True
-    rotate_to_heading_angular_vel: float = 1.8
+    rotate_to_heading_angular_vel: float = 1.0
     rotate_to_heading_min_angle: float = 0.785
-    max_angular_accel: float = 3.2
-    max_linear_accel: float = 2.5
+    max_angular_accel: float = 3.0
+    max_linear_accel: float = 1.0
     min_approach_linear_velocity: float = 0.05
     approach_velocity_scaling_dist: float = 0.6
     use_regulated_linear_velocity_scaling: bool = True
@@ -51,8 +52,8 @@ class ControllerParams:
     cost_scaling_gain: float = 1.0
     inflation_cost_scaling_factor: float = 3.0
     inscribed_radius: float = 0.22
-    xy_goal_tolerance: float = 0.25
-    yaw_goal_tolerance: float = 0.25
+    xy_goal_tolerance: float = 0.15
+    yaw_goal_tolerance: float = 0.15
 
     def check(self) -> None:
         """Raise ValueError for a non-positive speed, lookahead or tolerance."""

@@ -13,15 +13,15 @@ from zenros.msgs.geometry_msgs import (
     Pose2D,
     PoseStamped,
     PoseWithCovarianceStamped,
-    Quaternion,
     Transform,
     TransformStamped,
     Vector3,
 )
 from zenros.msgs.nav_msgs import Path
 from zenros.msgs.std_msgs import Header
+from zenros.se2 import Pose2
+from zenros.tf.convert import yaw_from_msg, yaw_to_msg
 
-from .se2 import Pose2
 
 __all__ = [
     "path_from_msg",
@@ -32,18 +32,8 @@ __all__ = [
     "pose2_to_pose2d",
     "pose_stamped",
     "pose_with_covariance",
-    "quaternion_from_yaw",
     "transform_stamped",
-    "yaw_from_quaternion",
 ]
-
-
-def yaw_from_quaternion(q: Quaternion) -> float:
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def quaternion_from_yaw(yaw: float) -> Quaternion:
-    return Quaternion(z=math.sin(yaw / 2.0), w=math.cos(yaw / 2.0))
 
 
 def pose2_from_msg(pose: Pose) -> Pose2:
@@ -54,11 +44,11 @@ def pose2_from_msg(pose: Pose) -> Pose2:
         raise ValueError(f"pose has a non-finite value: {values}")
     if q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w < 1e-12:
         raise ValueError("pose orientation is a zero quaternion")
-    return Pose2(pose.position.x, pose.position.y, yaw_from_quaternion(q))
+    return Pose2(pose.position.x, pose.position.y, yaw_from_msg(q))
 
 
 def pose2_to_msg(p: Pose2) -> Pose:
-    return Pose(position=Point(x=p.x, y=p.y), orientation=quaternion_from_yaw(p.theta))
+    return Pose(position=Point(x=p.x, y=p.y), orientation=yaw_to_msg(p.theta))
 
 
 def pose2_from_pose2d(p: Pose2D) -> Pose2:
@@ -91,7 +81,7 @@ def transform_stamped(p: Pose2, stamp: Time, parent: str, child: str) -> Transfo
     return TransformStamped(
         header=Header(stamp=stamp, frame_id=parent), child_frame_id=child,
         transform=Transform(translation=Vector3(x=p.x, y=p.y),
-                            rotation=quaternion_from_yaw(p.theta)))
+                            rotation=yaw_to_msg(p.theta)))
 
 
 def path_to_msg(xy: np.ndarray, stamp: Time, frame_id: str = "map",

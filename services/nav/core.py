@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from zenros.maps import GridMap
+from zenros.se2 import Pose2
 
 from .behavior import Behavior, NavParams, Sense
 from .controller import ControllerParams
@@ -31,7 +32,6 @@ from .planner import PlannerParams
 from .planning import GlobalPlanner, PlanWorker
 from .records import Records
 from .scanmatch import ScanMatcher
-from .se2 import Pose2
 
 __all__ = ["NavConfig", "NavCore"]
 

@@ -20,11 +20,11 @@ from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import Point, Pose
 from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid
 from zenros.msgs.std_msgs import Header
+from zenros.se2 import Pose2
 
 from .costmap import LETHAL_OBSTACLE, NO_INFORMATION, Costmap2D, CostmapParams, cost_to_occupancy
 from .mapdata import MapNavData
 from .planning import CostSnapshot
-from .se2 import Pose2
 
 __all__ = ["Costmaps"]
 

@@ -17,10 +17,10 @@ from dataclasses import dataclass
 from zenros.msgs.nav2_msgs import DockRobotFeedback as DockState
 from zenros.msgs.nav2_msgs import DockRobotResult as DockCodes
 from zenros.msgs.nav2_msgs import UndockRobotResult as UndockCodes
+from zenros.se2 import Pose2, angle_diff
 
 from .behavior import Behavior, Sense
 from .navigate import Navigate
-from .se2 import Pose2, angle_diff
 
 __all__ = ["Dock", "DockParams", "Undock", "staging_pose"]
 

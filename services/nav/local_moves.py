@@ -14,10 +14,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from zenros.se2 import Pose2, angle_diff
+
 from .behavior import Behavior, Sense
 from .collision import first_collision
 from .recovery import Spin as SpinControl
-from .se2 import Pose2, angle_diff
 
 __all__ = ["DriveOnHeading", "LocalMoveTarget", "MoveCodes", "SpinInPlace"]
 

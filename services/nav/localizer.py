@@ -20,7 +20,7 @@ import threading
 from collections import deque
 from typing import Literal
 
-from .se2 import Pose2, angle_diff
+from zenros.se2 import Pose2, angle_diff
 
 __all__ = ["MODES", "Localizer", "Mode"]
 

@@ -19,13 +19,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from zenros.msgs.nav2_msgs import FollowPathResult as FollowCodes
+from zenros.se2 import Pose2
 
 from .behavior import Behavior, NavParams, NavTools, Sense
 from .collision import arc_poses, first_collision
 from .controller import ControllerParams, PurePursuit
 from .planning import PlanOutcome
 from .recovery import Recovery, recovery_cycle
-from .se2 import Pose2
 
 __all__ = ["Codes", "Navigate", "WaypointState"]
 

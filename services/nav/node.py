@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from zenros.home import data_dir
@@ -31,9 +29,10 @@ from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
 from zenros.node import Node
-from zenros.params import Parameter, SetParametersResult
+from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
-from zenros.tf import TransformBroadcaster
+from zenros.se2 import Pose2
+from zenros.tf import TransformBroadcaster, yaw_from_msg
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
 from .action_base import Ledger
@@ -46,16 +45,13 @@ from .convert import (
     pose2_from_msg,
     pose_with_covariance,
     transform_stamped,
-    yaw_from_quaternion,
 )
 from .core import NavCore
 from .coverage_srv import handle_compute_coverage_path
 from .docking import Dock
-from .localizer import MODES
 from .loop import ControlLoop
-from .params import DEMO_MAP, declare_nav_config
+from .params import DEMO_MAP, NavParameters, nav_config
 from .routines import RoutineActions
-from .se2 import Pose2
 from .status import nav_status
 
 __all__ = ["NavNode"]
@@ -71,36 +67,19 @@ class NavNode(Node):
     node_name = "nav"
 
     def setup(self) -> None:
-        cfg = declare_nav_config(self)
-        map_param = str(self.declare_parameter("map", "", description="map_server YAML to "
-                                               "start with (default: the demo office)"))
-        maps_dir = str(self.declare_parameter("maps_dir", "", description="maps folder "
-                                              "(default: $ZENROS_HOME/maps)"))
-        rate = self.declare_parameter("controller_frequency", 20.0)
-        pose_rate = self.declare_parameter("pose_publish_rate", 10.0)
-        global_rate = self.declare_parameter("global_costmap_publish_rate", 1.0)
-        local_rate = self.declare_parameter("local_costmap_publish_rate", 2.0)
-        for name, v in (("controller_frequency", rate), ("pose_publish_rate", pose_rate),
-                        ("global_costmap_publish_rate", global_rate),
-                        ("local_costmap_publish_rate", local_rate)):
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"parameter {name!r} must be a positive number, got {v!r}")
-        self.autocharge = AutoCharge(
-            bool(self.declare_parameter("auto_charge", False,
-                                        description="dock when the battery runs low")),
-            float(self.declare_parameter("go_charge_percentage", 0.2,
-                                         description="battery fraction that sends it to dock")))
+        p = self.params = self.declare_parameters(NavParameters)
+        cfg = nav_config(p)
+        self.autocharge = AutoCharge(p.auto_charge, p.go_charge_percentage)
         self.on_parameter_change(lambda p: setattr(self.autocharge, "enabled", bool(p.value)),
                                  "auto_charge")
         self.on_parameter_change(lambda p: setattr(self.autocharge, "threshold", float(p.value)),
                                  "go_charge_percentage")
         self.on_parameter_change(self._on_localization_param, "localization")
-        self.add_on_set_parameters_callback(self._check_live_params)
 
         self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
-        self.core = NavCore(cfg, data_dir(maps_dir) / "maps" if not maps_dir else maps_dir,
+        self.core = NavCore(cfg, p.maps_dir or data_dir() / "maps",
                             on_plan=self._publish_plan, on_map=self._publish_map)
-        self.core.maps.start(map_param or DEMO_MAP)
+        self.core.maps.start(p.map or DEMO_MAP)
         self.ledger = Ledger()
         self.actions = NavActions(self.core, self.now, self.logger, self.ledger)
         self.routines = RoutineActions(self.core, self.now, self.logger, self.ledger)
@@ -125,11 +104,12 @@ class NavNode(Node):
 
         self._serve_maps()
         self._serve_actions()
-        self.control = ControlLoop(self.get_clock(), 1.0 / rate, self.on_control, self.logger)
+        self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,
+                                   self.on_control, self.logger)
         self.control.start()
-        self.create_timer(1.0 / pose_rate, self.on_pose_timer)
-        self.create_timer(1.0 / global_rate, self.on_global_costmap_timer)
-        self.create_timer(1.0 / local_rate, self.on_local_costmap_timer)
+        self.create_timer(1.0 / p.pose_publish_rate, self.on_pose_timer)
+        self.create_timer(1.0 / p.global_costmap_publish_rate, self.on_global_costmap_timer)
+        self.create_timer(1.0 / p.local_costmap_publish_rate, self.on_local_costmap_timer)
         self.create_timer(0.5, self.on_status_timer)
 
     # ------------------------------------------------------------------ endpoints
@@ -241,19 +221,10 @@ class NavNode(Node):
             if t.header.frame_id.lstrip("/") == "base_link":
                 tr, q = t.transform.translation, t.transform.rotation
                 self.core.scan_mounts[t.child_frame_id.lstrip("/")] = Pose2(
-                    tr.x, tr.y, yaw_from_quaternion(q))
+                    tr.x, tr.y, yaw_from_msg(q))
 
     def _on_localization_param(self, p: Parameter) -> None:
         self.core.localizer.set_mode(str(p.value))
-
-    def _check_live_params(self, params: list[Parameter]) -> SetParametersResult:
-        for p in params:
-            if p.name == "localization" and p.value not in MODES:
-                return SetParametersResult(False, f"localization must be one of "
-                                                  f"{', '.join(MODES)}, got {p.value!r}")
-            if p.name == "go_charge_percentage" and not 0.0 <= float(p.value) <= 1.0:
-                return SetParametersResult(False, "go_charge_percentage must be within 0..1")
-        return SetParametersResult(True)
 
     # ------------------------------------------------------------------ timers
 

@@ -1,133 +1,166 @@
-"""declare_nav_config: nav's parameters, declared on the node with their defaults, checked,
-and built into a `NavConfig` (docs/nav.md lists them)."""
+"""`NavParameters`: nav's parameters, their only defaults, limits and descriptions (docs/nav.md
+lists them), and `nav_config`, which builds the core's `NavConfig` from them."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Annotated
 
-from zenros.errors import InvalidParameterValueError
+import msgspec
+from msgspec import Meta
 
 from .behavior import NavParams
 from .controller import ControllerParams
 from .core import NavConfig
 from .costmap import CostmapParams, ObstacleParams
 from .docking import DockParams
-from .localizer import MODES
+from .localizer import Mode
 from .planner import PlannerParams
+from .planner.plan import MAX_COST_WEIGHT
 
-__all__ = ["DEMO_MAP", "declare_nav_config"]
+__all__ = ["DEMO_MAP", "NavParameters", "nav_config"]
 
 DEMO_MAP = Path(__file__).resolve().parents[2] / "deploy" / "maps" / "office" / "office.yaml"
 
+Positive = Annotated[float, Meta(gt=0)]
+NonNegative = Annotated[float, Meta(ge=0)]
+Count = Annotated[int, Meta(ge=0)]
 
-class _Declares(Protocol):
-    def declare_parameter(self, name: str, default: Any, *, description: str = "",
-                          read_only: bool = False) -> Any: ...
+
+class NavParameters(msgspec.Struct, kw_only=True):
+    """Every parameter the nav node declares (``node.declare_parameters(NavParameters)``).
+
+    The values live-changeable today (``localization``, ``auto_charge``,
+    ``go_charge_percentage``) follow changes; the others are read at start.
+    """
+
+    # maps and rates of the node
+    map: Annotated[str, Meta(description="map_server YAML to start with (default: the demo "
+                                         "office)")] = ""
+    maps_dir: Annotated[str, Meta(description="maps folder (default: $ZENROS_HOME/maps)")] = ""
+    controller_frequency: Annotated[Positive, Meta(description="control steps per second")] = 20.0
+    pose_publish_rate: Annotated[Positive, Meta(description="robot_pose and map -> odom per "
+                                                            "second")] = 10.0
+    global_costmap_publish_rate: Annotated[Positive, Meta(description="per second")] = 1.0
+    local_costmap_publish_rate: Annotated[Positive, Meta(description="per second")] = 2.0
+    auto_charge: Annotated[bool, Meta(description="dock when the battery runs low")] = False
+    go_charge_percentage: Annotated[float, Meta(
+        ge=0, le=1, description="battery fraction that sends it to dock")] = 0.2
+    # costmaps
+    robot_radius: Annotated[Positive, Meta(
+        description="inscribed radius (m) for costmaps and collisions")] = 0.22
+    inflation_radius: Annotated[Positive, Meta(description="inflation radius (m)")] = 0.7
+    cost_scaling_factor: Annotated[Positive, Meta(description="inflation decay")] = 3.0
+    obstacle_max_range: Annotated[NonNegative, Meta(description="scan marking range (m)")] = 2.5
+    raytrace_max_range: Annotated[NonNegative, Meta(description="scan clearing range (m)")] = 3.0
+    costmap_update_rate: Annotated[NonNegative, Meta(
+        description="obstacle updates per second")] = 2.0
+    local_costmap_size: Annotated[Positive, Meta(description="m")] = 3.0
+    # planner
+    cost_travel_multiplier: Annotated[float, Meta(
+        ge=0, le=MAX_COST_WEIGHT, description="Smac 2D's cost weight")] = 2.0
+    allow_unknown: Annotated[bool, Meta(description="plan through unknown cells")] = True
+    max_planning_time: Annotated[NonNegative, Meta(
+        description="seconds per plan (0: no limit)")] = 2.0
+    planner_tolerance: Annotated[NonNegative, Meta(
+        description="m: an occupied goal moves to the nearest free cell this close")] = 0.25
+    # controller (Regulated Pure Pursuit) and goal checker
+    max_linear_vel: Annotated[Positive, Meta(description="m/s")] = 0.5
+    max_angular_vel: Annotated[Positive, Meta(description="rad/s")] = 1.5
+    lookahead_dist: Annotated[Positive, Meta(description="m")] = 0.6
+    min_lookahead_dist: Annotated[Positive, Meta(description="m")] = 0.3
+    max_lookahead_dist: Annotated[Positive, Meta(description="m")] = 0.9
+    lookahead_time: Annotated[NonNegative, Meta(description="s")] = 1.5
+    use_velocity_scaled_lookahead_dist: bool = False
+    use_rotate_to_heading: bool = True
+    rotate_to_heading_angular_vel: Annotated[Positive, Meta(description="rad/s")] = 1.0
+    rotate_to_heading_min_angle: Annotated[NonNegative, Meta(description="rad")] = 0.785
+    max_linear_accel: Annotated[Positive, Meta(description="m/s^2")] = 1.0
+    max_angular_accel: Annotated[Positive, Meta(description="rad/s^2")] = 3.0
+    min_approach_linear_velocity: Annotated[NonNegative, Meta(description="m/s")] = 0.05
+    approach_velocity_scaling_dist: Annotated[NonNegative, Meta(description="m")] = 0.6
+    regulated_linear_scaling_min_radius: Annotated[Positive, Meta(description="m")] = 0.9
+    regulated_linear_scaling_min_speed: Annotated[NonNegative, Meta(description="m/s")] = 0.25
+    cost_scaling_dist: Annotated[NonNegative, Meta(description="m")] = 0.6
+    cost_scaling_gain: NonNegative = 1.0
+    xy_goal_tolerance: Annotated[Positive, Meta(description="m")] = 0.15
+    yaw_goal_tolerance: Annotated[Positive, Meta(description="rad")] = 0.15
+    # behaviour: collisions, replanning, recoveries
+    collision_radius: Annotated[Positive, Meta(
+        description="m: the body's radius for the scan check")] = 0.2
+    collision_horizon: Annotated[Positive, Meta(
+        description="s of the commanded arc checked")] = 1.0
+    replan_period: Annotated[NonNegative, Meta(
+        description="s between replans (0: plan once)")] = 1.0
+    blocked_wait: Annotated[NonNegative, Meta(description="s stopped before a recovery")] = 1.5
+    progress_timeout: Annotated[Positive, Meta(
+        description="s without progress before a recovery")] = 10.0
+    max_recoveries: Annotated[Count, Meta(description="recoveries before a goal fails")] = 6
+    plan_retries: Annotated[Count, Meta(
+        description="failed plans (after clearing) before a goal fails")] = 1
+    backup_distance: Annotated[NonNegative, Meta(description="m")] = 0.25
+    spin_angle: Annotated[NonNegative, Meta(description="rad")] = 1.57
+    wait_duration: Annotated[NonNegative, Meta(description="s")] = 2.0
+    navigation_timeout: Annotated[NonNegative, Meta(
+        description="s before a goal fails with TIMEOUT (0: no limit)")] = 0.0
+    # docking
+    staging_x_offset: Annotated[Positive, Meta(description="m in front of the dock")] = 0.7
+    docking_threshold: Annotated[Positive, Meta(description="m")] = 0.05
+    wait_charge_timeout: Annotated[Positive, Meta(description="s")] = 5.0
+    dock_max_retries: Count = 3
+    use_battery_status: Annotated[bool, Meta(description="docked = charging starts")] = True
+    # localisation
+    localization: Annotated[Mode, Meta(description="where the robot pose comes from")] = (
+        "ground_truth")
+    scan_match_rate: Annotated[NonNegative, Meta(
+        description="scan matches per second (scan_match mode)")] = 5.0
+    scan_match_gain: Annotated[NonNegative, Meta(
+        description="fraction of each match's correction applied")] = 0.5
 
 
-def declare_nav_config(node: _Declares) -> NavConfig:
-    """Declare the parameters and return them as a checked `NavConfig`.
+def nav_config(p: NavParameters) -> NavConfig:
+    """The core's configuration from the parameters.
 
     Raises:
-        InvalidParameterValueError: a value out of range (names the parameter).
+        ValueError: a combination the controller refuses (`ControllerParams.check`).
     """
-    def f(name: str, default: float, desc: str = "", *, minimum: float | None = 0.0,
-          positive: bool = False) -> float:
-        v = node.declare_parameter(name, float(default), description=desc)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-                or (positive and v <= 0) or (minimum is not None and v < minimum):
-            bound = "> 0" if positive else f">= {minimum}"
-            raise InvalidParameterValueError(f"parameter {name!r}: expected a finite number "
-                                             f"{bound}, got {v!r}")
-        return float(v)
-
-    def b(name: str, default: bool, desc: str = "") -> bool:
-        return bool(node.declare_parameter(name, default, description=desc))
-
-    def i(name: str, default: int, desc: str = "") -> int:
-        v = node.declare_parameter(name, default, description=desc)
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise InvalidParameterValueError(f"parameter {name!r}: expected an int >= 0, "
-                                             f"got {v!r}")
-        return v
-
-    robot_radius = f("robot_radius", 0.22, "inscribed radius (m) for costmaps and collisions",
-                     positive=True)
-    csf = f("cost_scaling_factor", 3.0, "inflation decay", positive=True)
-    costmap = CostmapParams(
-        robot_radius=robot_radius,
-        inflation_radius=f("inflation_radius", 0.7, "inflation radius (m)", positive=True),
-        cost_scaling_factor=csf,
-        obstacle=ObstacleParams(
-            obstacle_max_range=f("obstacle_max_range", 2.5, "scan marking range (m)"),
-            raytrace_max_range=f("raytrace_max_range", 3.0, "scan clearing range (m)")))
-    planner = PlannerParams(
-        cost_weight=f("cost_travel_multiplier", 2.0, "Smac 2D's cost weight"),
-        allow_unknown=b("allow_unknown", True, "plan through unknown cells"),
-        timeout=f("max_planning_time", 2.0, "seconds per plan (0: no limit)"))
-    planner_tolerance = f("planner_tolerance", 0.25, "m: an occupied goal moves to the nearest "
-                                                     "free cell this close")
     controller = ControllerParams(
-        max_linear_vel=f("max_linear_vel", 0.5, "m/s", positive=True),
-        max_angular_vel=f("max_angular_vel", 1.5, "rad/s", positive=True),
-        lookahead_dist=f("lookahead_dist", 0.6, "m", positive=True),
-        min_lookahead_dist=f("min_lookahead_dist", 0.3, "m", positive=True),
-        max_lookahead_dist=f("max_lookahead_dist", 0.9, "m", positive=True),
-        lookahead_time=f("lookahead_time", 1.5, "s"),
-        use_velocity_scaled_lookahead_dist=b("use_velocity_scaled_lookahead_dist", False),
-        use_rotate_to_heading=b("use_rotate_to_heading", True),
-        rotate_to_heading_angular_vel=f("rotate_to_heading_angular_vel", 1.0, "rad/s",
-                                        positive=True),
-        rotate_to_heading_min_angle=f("rotate_to_heading_min_angle", 0.785, "rad"),
-        max_linear_accel=f("max_linear_accel", 1.0, "m/s^2", positive=True),
-        max_angular_accel=f("max_angular_accel", 3.0, "rad/s^2", positive=True),
-        min_approach_linear_velocity=f("min_approach_linear_velocity", 0.05, "m/s"),
-        approach_velocity_scaling_dist=f("approach_velocity_scaling_dist", 0.6, "m"),
-        regulated_linear_scaling_min_radius=f("regulated_linear_scaling_min_radius", 0.9, "m",
-                                              positive=True),
-        regulated_linear_scaling_min_speed=f("regulated_linear_scaling_min_speed", 0.25, "m/s"),
-        cost_scaling_dist=f("cost_scaling_dist", 0.6, "m"),
-        cost_scaling_gain=f("cost_scaling_gain", 1.0),
-        inflation_cost_scaling_factor=csf, inscribed_radius=robot_radius,
-        xy_goal_tolerance=f("xy_goal_tolerance", 0.15, "m", positive=True),
-        yaw_goal_tolerance=f("yaw_goal_tolerance", 0.15, "rad", positive=True))
+        max_linear_vel=p.max_linear_vel, max_angular_vel=p.max_angular_vel,
+        lookahead_dist=p.lookahead_dist, min_lookahead_dist=p.min_lookahead_dist,
+        max_lookahead_dist=p.max_lookahead_dist, lookahead_time=p.lookahead_time,
+        use_velocity_scaled_lookahead_dist=p.use_velocity_scaled_lookahead_dist,
+        use_rotate_to_heading=p.use_rotate_to_heading,
+        rotate_to_heading_angular_vel=p.rotate_to_heading_angular_vel,
+        rotate_to_heading_min_angle=p.rotate_to_heading_min_angle,
+        max_linear_accel=p.max_linear_accel, max_angular_accel=p.max_angular_accel,
+        min_approach_linear_velocity=p.min_approach_linear_velocity,
+        approach_velocity_scaling_dist=p.approach_velocity_scaling_dist,
+        regulated_linear_scaling_min_radius=p.regulated_linear_scaling_min_radius,
+        regulated_linear_scaling_min_speed=p.regulated_linear_scaling_min_speed,
+        cost_scaling_dist=p.cost_scaling_dist, cost_scaling_gain=p.cost_scaling_gain,
+        inflation_cost_scaling_factor=p.cost_scaling_factor, inscribed_radius=p.robot_radius,
+        xy_goal_tolerance=p.xy_goal_tolerance, yaw_goal_tolerance=p.yaw_goal_tolerance)
     controller.check()
-    nav = NavParams(
-        robot_radius=robot_radius,
-        collision_radius=f("collision_radius", 0.2, "m: the body's radius for the scan check",
-                           positive=True),
-        collision_horizon=f("collision_horizon", 1.0, "s of the commanded arc checked",
-                            positive=True),
-        replan_period=f("replan_period", 1.0, "s between replans (0: plan once)"),
-        blocked_wait=f("blocked_wait", 1.5, "s stopped before a recovery"),
-        progress_timeout=f("progress_timeout", 10.0, "s without progress before a recovery",
-                           positive=True),
-        max_recoveries=i("max_recoveries", 6, "recoveries before a goal fails"),
-        plan_retries=i("plan_retries", 1, "failed plans (after clearing) before a goal fails"),
-        backup_distance=f("backup_distance", 0.25, "m"),
-        spin_angle=f("spin_angle", 1.57, "rad"),
-        wait_duration=f("wait_duration", 2.0, "s"),
-        navigation_timeout=f("navigation_timeout", 0.0, "s before a goal fails with TIMEOUT "
-                                                         "(0: no limit)"))
-    dock = DockParams(
-        staging_offset=f("staging_x_offset", 0.7, "m in front of the dock", positive=True),
-        docking_threshold=f("docking_threshold", 0.05, "m", positive=True),
-        wait_charge_timeout=f("wait_charge_timeout", 5.0, "s", positive=True),
-        max_retries=i("dock_max_retries", 3),
-        use_battery_status=b("use_battery_status", True, "docked = charging starts"))
-    mode = str(node.declare_parameter("localization", "ground_truth",
-                                      description="ground_truth, odometry or scan_match"))
-    if mode not in MODES:
-        raise InvalidParameterValueError(f"parameter 'localization': expected one of "
-                                         f"{', '.join(MODES)}, got {mode!r}")
     return NavConfig(
-        nav=nav, controller=controller, costmap=costmap, planner=planner, dock=dock,
-        planner_tolerance=planner_tolerance,
-        localization=mode,
-        costmap_update_rate=f("costmap_update_rate", 2.0, "obstacle updates per second"),
-        local_costmap_size=f("local_costmap_size", 3.0, "m", positive=True),
-        scan_match_rate=f("scan_match_rate", 5.0, "scan matches per second (scan_match mode)"),
-        scan_match_gain=f("scan_match_gain", 0.5, "fraction of each match's correction "
-                                                  "applied"))
+        nav=NavParams(
+            robot_radius=p.robot_radius, collision_radius=p.collision_radius,
+            collision_horizon=p.collision_horizon, replan_period=p.replan_period,
+            blocked_wait=p.blocked_wait, progress_timeout=p.progress_timeout,
+            max_recoveries=p.max_recoveries, plan_retries=p.plan_retries,
+            backup_distance=p.backup_distance, spin_angle=p.spin_angle,
+            wait_duration=p.wait_duration, navigation_timeout=p.navigation_timeout),
+        controller=controller,
+        costmap=CostmapParams(
+            robot_radius=p.robot_radius, inflation_radius=p.inflation_radius,
+            cost_scaling_factor=p.cost_scaling_factor,
+            obstacle=ObstacleParams(obstacle_max_range=p.obstacle_max_range,
+                                    raytrace_max_range=p.raytrace_max_range)),
+        planner=PlannerParams(cost_weight=p.cost_travel_multiplier,
+                              allow_unknown=p.allow_unknown, timeout=p.max_planning_time),
+        dock=DockParams(
+            staging_offset=p.staging_x_offset, docking_threshold=p.docking_threshold,
+            wait_charge_timeout=p.wait_charge_timeout, max_retries=p.dock_max_retries,
+            use_battery_status=p.use_battery_status),
+        planner_tolerance=p.planner_tolerance, localization=p.localization,
+        costmap_update_rate=p.costmap_update_rate, local_costmap_size=p.local_costmap_size,
+        scan_match_rate=p.scan_match_rate, scan_match_gain=p.scan_match_gain)

@@ -10,10 +10,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from zenros.msgs.zenros_msgs.nav import PatrolResult
+from zenros.se2 import Pose2
 
 from .behavior import Behavior, Sense
 from .navigate import Navigate
-from .se2 import Pose2
 
 __all__ = ["Patrol"]
 

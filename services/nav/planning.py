@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as Codes
+from zenros.se2 import Pose2
 
 from .planner import PlannerParams, PlanningError, plan
-from .se2 import Pose2
 
 __all__ = ["CostSnapshot", "GlobalPlanner", "PlanOutcome", "PlanWorker"]
 

@@ -42,6 +42,7 @@ from zenros.msgs.zenros_msgs.nav import (
     SetVirtualWallsRequest,
     SetVirtualWallsResponse,
 )
+from zenros.se2 import Pose2
 
 from .mapdata import (
     MapNavData,
@@ -54,7 +55,6 @@ from .mapdata import (
     check_wall,
 )
 from .mapserver import MapServer
-from .se2 import Pose2
 
 __all__ = ["Records"]
 

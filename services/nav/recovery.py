@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import math
 
+from zenros.se2 import Pose2, angle_diff
+
 from .behavior import Sense
 from .collision import first_collision
-from .se2 import Pose2, angle_diff
 
 __all__ = ["BackUp", "Recovery", "Spin", "Wait", "recovery_cycle"]
 

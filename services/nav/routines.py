@@ -20,12 +20,12 @@ from zenros.msgs.nav2_msgs import (
     WaypointStatus,
 )
 from zenros.msgs.zenros_msgs.nav import PatrolFeedback, PatrolGoal, PatrolResult
+from zenros.se2 import Pose2
 
 from .action_base import ActionBase
 from .behavior import Behavior
 from .docking import Dock, Undock
 from .patrol import Patrol
-from .se2 import Pose2
 
 __all__ = ["RoutineActions"]
 

@@ -17,8 +17,8 @@ import numpy as np
 from scipy import ndimage
 
 from zenros.maps import GridMap
+from zenros.se2 import Pose2
 
-from .se2 import Pose2
 
 __all__ = ["MatchParams", "ScanMatcher"]
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs.nav import NavStatus
+from zenros.se2 import Pose2
 
 from .action_base import Ledger
 from .convert import pose2_to_pose2d
@@ -12,7 +13,6 @@ from .core import NavCore
 from .docking import Dock, Undock
 from .navigate import Navigate
 from .patrol import Patrol
-from .se2 import Pose2
 
 __all__ = ["nav_status"]
 

@@ -15,6 +15,8 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from zenros.se2 import wrap_angle
+
 from .maproute import Hop, NoRoute, find_route
 from .robot import Outcome, Robot
 
@@ -33,8 +35,7 @@ def carry_over(leave: Pose, enter: Pose, robot: Pose | None) -> Pose:
     c, s = math.cos(leave[2]), math.sin(leave[2])
     lx, ly = c * dx + s * dy, -s * dx + c * dy  # the offset in leave's frame
     c2, s2 = math.cos(enter[2]), math.sin(enter[2])
-    theta = enter[2] + (robot[2] - leave[2])
-    theta = math.atan2(math.sin(theta), math.cos(theta))
+    theta = wrap_angle(enter[2] + (robot[2] - leave[2]))
     return enter[0] + c2 * lx - s2 * ly, enter[1] + s2 * lx + c2 * ly, theta
 
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
-from typing import Any
+from typing import Annotated, Any
 
 import msgspec
+from msgspec import Meta
 from zenros.home import data_dir
 from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse, TaskStatus
 from zenros.node import Node
@@ -18,7 +19,7 @@ from .local_link import LocalLink
 from .manager import TaskManager
 from .store import TaskStore
 
-__all__ = ["DB_NAME", "TasksNode"]
+__all__ = ["DB_NAME", "TasksNode", "TasksParameters"]
 
 DB_NAME = "tasks.db"
 _enc = msgspec.json.Encoder()
@@ -28,29 +29,38 @@ def _nothing() -> None:
     pass
 
 
+class TasksParameters(msgspec.Struct, kw_only=True):
+    """The tasks node's parameters."""
+
+    data_dir: Annotated[str, Meta(description="where tasks.db lives (default $ZENROS_HOME "
+                                              "or ~/.zenros)")] = ""
+    resume_on_start: Annotated[bool, Meta(
+        description="a task that was WORKING when the service stopped runs again at start "
+                    "(false: it waits PAUSED for a resume)")] = False
+    introspection: Annotated[bool, Meta(
+        description="publish the running task's state machine for zenros smach")] = True
+    reconnect_timeout: Annotated[float, Meta(
+        ge=0, description="seconds a nav or dock goal waits for its server to come back (a "
+                          "link flap, a respawn) before the action ends in ERROR; the goal "
+                          "is then sent again")] = 30.0
+
+
 class TasksNode(Node):
     """The robot API's tasks and actions (specs/robot-api.md §8-§9) as a service.
 
-    Parameters:
-        data_dir: where ``tasks.db`` lives (default ``$ZENROS_HOME`` or ``~/.zenros``).
-        resume_on_start: a task that was WORKING when the service stopped runs again at
-            start (default: it waits PAUSED for a resume).
-        introspection: publish the running task's state machine for ``zenros smach``.
-        reconnect_timeout: seconds a nav or dock goal waits for its server to come back
-            (a link flap, a respawn) before the action ends in ERROR; the goal is then sent
-            again.
+    Parameters: `TasksParameters`.
     """
 
     node_name = "tasks"
 
     def setup(self) -> None:
-        directory = data_dir(self.declare_parameter("data_dir", ""))
-        resume = self.declare_parameter("resume_on_start", False)
-        self.introspection = self.declare_parameter("introspection", True)
+        p = self.declare_parameters(TasksParameters)
+        directory, resume = data_dir(p.data_dir), p.resume_on_start
+        self.introspection = p.introspection
         self.smach_server: IntrospectionServer | None = None
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
         self.store = TaskStore(directory / DB_NAME)
-        self.link = LocalLink(self, self.declare_parameter("reconnect_timeout", 30.0))
+        self.link = LocalLink(self, p.reconnect_timeout)
         self.manager = TaskManager(self.store, self.link, self.publish_status,
                                    self.introspect if self.introspection else None,
                                    resume_on_start=resume)

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Annotated, Any
+
+import msgspec
+from msgspec import Meta
 from zenros.msgs.geometry_msgs import TransformStamped
 from zenros.msgs.tf_srvs import CanTransform, Frames, LookupTransform
 from zenros.node import Node
@@ -13,7 +17,20 @@ from .server import TfServer
 from .static import parse_static_transforms
 from .tap import TfTap
 
-__all__ = ["TfNode"]
+__all__ = ["TfNode", "TfParameters"]
+
+
+class TfParameters(msgspec.Struct, kw_only=True):
+    """The tf node's parameters; ``static_transforms`` may change at run time."""
+
+    static_transforms: Annotated[list[Any], Meta(
+        description="links to publish, each 'x y z yaw pitch roll parent child', 'x y z qx qy "
+                    "qz qw parent child' or a mapping; setting it adds or replaces links")] = (
+        msgspec.field(default_factory=list))
+    cache_time: Annotated[float, Meta(ge=0, description="seconds of history kept per "
+                                                        "dynamic link")] = 10.0
+    stats_window: Annotated[float, Meta(gt=0, description="seconds of arrivals the rate and "
+                                                          "delay figures cover")] = 10.0
 
 
 class TfNode(Node):
@@ -24,24 +41,17 @@ class TfNode(Node):
     ``~/frames`` (zenros_tf/Frames); publishes the static transforms it is given on
     ``/tf_static``.
 
-    Parameters:
-        static_transforms: links to publish, each ``"x y z yaw pitch roll parent child"``,
-            ``"x y z qx qy qz qw parent child"`` or a mapping (see `parse_static_transforms`);
-            setting it at run time adds or replaces links.
-        cache_time: seconds of history kept per dynamic link (default 10).
-        stats_window: seconds of arrivals the rate and delay figures cover (default 10).
+    Parameters: `TfParameters` (static links in the forms `parse_static_transforms` reads).
     """
 
     node_name = "tf"
 
     def setup(self) -> None:
-        cache_time = self.declare_parameter("cache_time", 10.0)
-        window = self.declare_parameter("stats_window", 10.0)
-        statics = parse_static_transforms(
-            self.declare_parameter("static_transforms", []), self.now()
-        )
-        self.buffer = Buffer(cache_time)
-        self.server = TfServer(self.buffer, FrameMonitor(window), self.get_clock(), self.logger)
+        p = self.declare_parameters(TfParameters)
+        statics = parse_static_transforms(p.static_transforms, self.now())
+        self.buffer = Buffer(p.cache_time)
+        self.server = TfServer(self.buffer, FrameMonitor(p.stats_window), self.get_clock(),
+                               self.logger)
         self.create_service(LookupTransform, "~/lookup_transform", self.server.lookup_transform)
         self.create_service(CanTransform, "~/can_transform", self.server.can_transform)
         self.create_service(Frames, "~/frames", self.server.frames)

@@ -17,6 +17,7 @@ from ..clock import Time
 from ..context import Context
 from ..msgs.rosgraph_msgs import Clock as ClockMsg
 from ..node import Node
+from ..qos import QoSProfile, Reliability
 from .reader import BagMessage, iter_messages, open_summary
 from .transcode import TRANSCODED, from_json
 
@@ -43,19 +44,14 @@ class PlayOptions:
     clock: bool = False
 
 
-def _qos(tag: str) -> tuple[bool, bool, int]:
-    """(reliable, latched, depth) from a liveliness QoS tag such as ``rel+tl+1``."""
-    parts = tag.split("+")
-    depth = int(parts[-1]) if parts and parts[-1].isdigit() else 10
-    return parts[0] != "be", "tl" in parts, depth
-
-
 class _Out:
     """The Zenoh publisher of one recorded channel (latched topics get a cache again)."""
 
     def __init__(self, ctx: Context, node: str, topic: str, encoding: str, type_name: str,
                  qos: str) -> None:
-        reliable, latched, depth = _qos(qos)
+        profile = QoSProfile.from_tag(qos)
+        reliable, latched, depth = (profile.reliability == Reliability.RELIABLE,
+                                    profile.latched, profile.depth)
         key = ctx.keys.topic(topic)
         enc = zenoh.Encoding(encoding)
         cc = zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP

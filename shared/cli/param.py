@@ -1,9 +1,11 @@
-"""`zenros param list|get|set|delete|dump|load`: the master's parameters (as ``rosparam``)."""
+"""`zenros param list|get|set|delete|dump|load`: the master's parameters (as ``rosparam``);
+`zenros param describe NODE`: what a node declared (types, limits, descriptions)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -12,6 +14,7 @@ import yaml
 from ..context import Context
 from ..errors import ParameterError
 from ..param_client import ParameterClient
+from ..param_config import check_value, describe_constraints
 from ..param_describe import fetch_descriptions
 from ..param_protocol import local_param_name
 from ..params import coerce
@@ -19,7 +22,8 @@ from .common import CliError, add_common, open_context, print_data
 
 
 def register(sub: Any) -> None:
-    p = sub.add_parser("param", help="parameters on master: list, get, set, delete, dump, load")
+    p = sub.add_parser("param", help="parameters on master: list, get, set, delete, dump, "
+                       "load; describe a node's declarations")
     verbs = p.add_subparsers(dest="verb", required=True)
     v = verbs.add_parser("list", help="list parameter names")
     v.add_argument("under", nargs="?", default="/", metavar="NAMESPACE",
@@ -43,16 +47,23 @@ def register(sub: Any) -> None:
     v = verbs.add_parser("load", help="set the parameters of a ROS 2 (or rosparam) YAML file")
     v.add_argument("file")
     v.add_argument("namespace", nargs="?", default="/", help="where names land (default /)")
+    v = verbs.add_parser("describe", help="a node's declared parameters: type, limits, "
+                         "read-only, description (asks the node, not master)")
+    v.add_argument("node", help="the node's full name, e.g. /nav")
+    v.add_argument("names", nargs="*", metavar="NAME", help="only these parameters")
+    v.add_argument("--json", action="store_true", help="print JSON instead of a table")
     for verb in verbs.choices.values():
         add_common(verb)
         verb.add_argument("--timeout", type=float, default=5.0,
-                          help="seconds to wait for master (default 5)")
+                          help="seconds to wait for master, or for the node (default 5)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     ctx = open_context(args, settle=False, required=True)
     try:
+        if args.verb == "describe":
+            return _describe(ctx, args)
         client = ParameterClient(ctx, timeout=max(args.timeout, 1.0))
         if not client.wait_for_master(args.timeout):
             raise CliError(f"no master reachable within {args.timeout:g} s (prefix "
@@ -77,6 +88,35 @@ def _get(client: ParameterClient, args: argparse.Namespace) -> int:
         print_data(value, True)
     else:
         print_data(value, False, separator=False)
+    return 0
+
+
+def _describe(ctx: Context, args: argparse.Namespace) -> int:
+    node = "/" + args.node.strip("/")
+    deadline = time.monotonic() + args.timeout
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    found = fetch_descriptions(ctx, node, timeout=0.5)
+    while found is None and time.monotonic() < deadline:  # a new session learns routes late
+        time.sleep(0.1)
+        found = fetch_descriptions(ctx, node, timeout=0.5)
+    if found is None:
+        raise CliError(f"node {node} did not answer within {args.timeout:g} s (is it running? "
+                       "`zenros node list` shows the nodes)")
+    unknown = [n for n in args.names if n not in found]
+    if unknown:
+        raise CliError(f"{node} declares no parameter {', '.join(map(repr, unknown))}; it "
+                       f"declares: {', '.join(sorted(found))}")
+    chosen = {n: found[n] for n in sorted(args.names or found)}
+    if args.json:
+        print_data(chosen, True)
+        return 0
+    width = max(map(len, chosen), default=0)
+    for name, d in chosen.items():
+        limits = describe_constraints(d.get("constraints") or {})
+        flags = ", ".join(x for x in (str(d.get("type")), limits,
+                                      "read-only" if d.get("read_only") else "") if x)
+        text = str(d.get("description") or "")
+        print(f"{name:<{width}}  {flags}" + (f"  -- {text}" if text else ""))
     return 0
 
 
@@ -113,12 +153,16 @@ def _check_declared(ctx: Context, full: str, value: Any) -> None:
         if kind is None:
             continue
         try:
-            coerce(local, kind, value)
+            value = coerce(local, kind, value)
         except ParameterError:
             raise CliError(
                 f"{node} declared {local!r} as {declared['type']}; {value!r} is "
                 f"{type(value).__name__} (--force stores it anyway)"
             ) from None
+        constraints = declared.get("constraints")
+        why = check_value(value, constraints) if isinstance(constraints, dict) else None
+        if why is not None:
+            raise CliError(f"{node} refuses {local!r}: {why} (--force stores it anyway)")
 
 
 def _delete(client: ParameterClient, args: argparse.Namespace) -> int:

@@ -17,6 +17,7 @@ from zenoh import ext as zext
 
 from ..codec import from_builtins
 from ..names import resolve
+from ..qos import QoSProfile
 from .common import (
     CliError,
     ToolNode,
@@ -153,7 +154,7 @@ def _echo(ctx: Any, args: argparse.Namespace) -> int:
 
     ctx.graph.settle(quiet=0.2, timeout=1.0)
     publishers = ctx.graph.publishers(topic)
-    latched = any("+tl" in t.qos for t in publishers)
+    latched = any(QoSProfile.from_tag(t.qos).latched for t in publishers)
     sub = _subscribe(ctx, topic, on_sample, history=latched)
     if not publishers:
         _say(f"no publisher on {topic} yet; waiting for one"

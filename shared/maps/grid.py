@@ -16,9 +16,10 @@ import numpy as np
 from ..errors import MapError
 from ..message import Int8Array
 from ..msgs.builtin_interfaces import Time
-from ..msgs.geometry_msgs import Point, Pose, Quaternion
+from ..msgs.geometry_msgs import Point, Pose
 from ..msgs.nav_msgs import MapMetaData, OccupancyGrid
 from ..msgs.std_msgs import Header
+from ..tf.convert import yaw_from_msg, yaw_to_msg
 from .convert import grid_to_pixels, pixels_to_grid
 from .image import encode_image, read_image, write_image
 from .meta import MapMeta, Mode, read_meta, write_meta
@@ -81,7 +82,7 @@ class GridMap:
         """This map as a ``nav_msgs/OccupancyGrid`` (the cells are copied)."""
         ox, oy, yaw = self.origin
         pose = Pose(position=Point(x=ox, y=oy),
-                    orientation=Quaternion(z=math.sin(yaw / 2), w=math.cos(yaw / 2)))
+                    orientation=yaw_to_msg(yaw))
         t = stamp if stamp is not None else Time()
         return OccupancyGrid(
             header=Header(stamp=t, frame_id=frame_id),
@@ -101,7 +102,7 @@ class GridMap:
         if not (math.isfinite(msg.info.resolution) and msg.info.resolution > 0):
             raise MapError(f"OccupancyGrid: resolution must be positive, got {msg.info.resolution}")
         q = msg.info.origin.orientation
-        yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+        yaw = yaw_from_msg(q)
         p = msg.info.origin.position
         return cls(data.reshape(h, w).copy(), float(msg.info.resolution), (p.x, p.y, yaw))
 

@@ -32,6 +32,8 @@ from .convert import (
     transform_from_msg,
     transform_stamped,
     transform_to_msg,
+    yaw_from_msg,
+    yaw_to_msg,
 )
 from .listener import DEFAULT_AUTHORITY, ClockJumpGuard, TransformListener
 from .matrix import (
@@ -154,5 +156,7 @@ __all__ = [
     "transform_stamped",
     "transform_to_msg",
     "transform_vectors",
+    "yaw_from_msg",
     "yaw_from_quaternion",
+    "yaw_to_msg",
 ]

@@ -13,7 +13,7 @@ from ..msgs.geometry_msgs import (
 )
 from ..msgs.std_msgs import Header
 from .matrix import Array, transform_from_matrix, transform_matrix
-from .quaternion import Quat, Vec3
+from .quaternion import Quat, Vec3, quaternion_from_yaw, yaw_from_quaternion
 from .rigid import Tf
 
 __all__ = [
@@ -32,6 +32,8 @@ __all__ = [
     "transform_to_pose",
     "vector_from_msg",
     "vector_to_msg",
+    "yaw_from_msg",
+    "yaw_to_msg",
 ]
 
 
@@ -43,6 +45,16 @@ def quaternion_from_msg(q: Quaternion) -> Quat:
 def quaternion_to_msg(q: Quat) -> Quaternion:
     """A Quaternion message from ``(x, y, z, w)``."""
     return Quaternion(x=q[0], y=q[1], z=q[2], w=q[3])
+
+
+def yaw_from_msg(q: Quaternion) -> float:
+    """The heading (rotation about Z) of a Quaternion message, in (-π, π]."""
+    return yaw_from_quaternion((q.x, q.y, q.z, q.w))
+
+
+def yaw_to_msg(yaw: float) -> Quaternion:
+    """The Quaternion message of a rotation by ``yaw`` radians about Z."""
+    return quaternion_to_msg(quaternion_from_yaw(yaw))
 
 
 def vector_from_msg(v: Vector3 | Point) -> Vec3:

@@ -55,10 +55,10 @@ from zenros.msgs.zenros_msgs import (
     VirtualWall,
 )
 from zenros.node import Node
+from zenros.se2 import Pose2
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.nav.convert import pose_stamped
 from zenros.services.nav.node import NavNode
-from zenros.services.nav.se2 import Pose2
 from zenros.testing import linked_contexts, wait_for
 
 SPEED = 10.0

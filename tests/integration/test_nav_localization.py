@@ -14,10 +14,10 @@ from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.nav_msgs import Odometry
 from zenros.node import Node
+from zenros.se2 import Pose2
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.nav.convert import pose_stamped, pose_with_covariance
 from zenros.services.nav.node import NavNode
-from zenros.services.nav.se2 import Pose2
 from zenros.testing import linked_contexts, wait_for
 
 ODOM_NOISE = 0.3

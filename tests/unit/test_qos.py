@@ -95,3 +95,20 @@ def test_enum_values_are_strings() -> None:
     assert Reliability("best_effort") is Reliability.BEST_EFFORT
     assert Durability("transient_local") is Durability.TRANSIENT_LOCAL
     assert Reliability.RELIABLE == "reliable"
+
+
+@pytest.mark.parametrize("profile", [QOS_DEFAULT, QOS_SENSOR, QOS_LATCHED,
+                                     QoSProfile(depth=7, reliability=Reliability.BEST_EFFORT,
+                                                durability=Durability.TRANSIENT_LOCAL)])
+def test_a_tag_gives_back_its_profile(profile: QoSProfile) -> None:
+    assert QoSProfile.from_tag(profile.tag) == profile
+
+
+@pytest.mark.parametrize(("tag", "expected"), [
+    ("", QOS_DEFAULT), ("rel", QOS_DEFAULT),
+    ("be+x", QoSProfile(reliability=Reliability.BEST_EFFORT)),
+    ("rel+tl+0", QoSProfile(durability=Durability.TRANSIENT_LOCAL)),
+    ("tl+3", QoSProfile(depth=3)),
+])
+def test_a_garbled_tag_falls_back_to_defaults(tag: str, expected: QoSProfile) -> None:
+    assert QoSProfile.from_tag(tag) == expected

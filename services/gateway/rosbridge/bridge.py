@@ -37,8 +37,10 @@ class Sink(Protocol):
 def qos_for_publishers(tags: list[str]) -> QoSProfile:
     """A subscription profile that hears every publisher: latched if any is, best effort
     only if all are."""
-    latched = any("+tl" in t for t in tags)
-    best_effort = bool(tags) and all(t.startswith("be") for t in tags)
+    profiles = [QoSProfile.from_tag(t) for t in tags]
+    latched = any(p.latched for p in profiles)
+    best_effort = bool(profiles) and all(p.reliability == Reliability.BEST_EFFORT
+                                         for p in profiles)
     return QoSProfile(
         depth=10,
         reliability=Reliability.BEST_EFFORT if best_effort else Reliability.RELIABLE,

@@ -36,13 +36,13 @@ __all__ = ["Costmap2D", "CostmapParams"]
 
 @dataclass(frozen=True, slots=True)
 class CostmapParams:
-    """Costmap parameters; the defaults are Nav2's (nav2_params.yaml uses inflation_radius
-    0.7, cost_scaling_factor 3.0 and track_unknown_space true for the global costmap)."""
+    """Costmap parameters; the defaults are the nav service's (nav2_params.yaml's
+    inflation_radius 0.7 and cost_scaling_factor 3.0; the plugin's own are 0.55 and 10.0)."""
 
     robot_radius: float = 0.22
     """The inscribed radius of a circular robot (Nav2's ``robot_radius``)."""
-    inflation_radius: float = 0.55
-    cost_scaling_factor: float = 10.0
+    inflation_radius: float = 0.7
+    cost_scaling_factor: float = 3.0
     inflate_unknown: bool = False
     inflate_around_unknown: bool = False
     track_unknown_space: bool = False

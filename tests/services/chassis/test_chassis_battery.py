@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from zenros.se2 import Pose2
 from zenros.services.chassis.battery import Battery, BatteryConfig
 from zenros.services.chassis.dock import Dock
-from zenros.services.chassis.kinematics import Pose2
 
 CFG = BatteryConfig(capacity=10.0, idle_current=1.0, motion_current=4.0, turn_current=2.0,
                     charge_current=5.0, initial=0.5)

@@ -9,10 +9,10 @@ import pytest
 from zenros.maps import GridMap
 from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.msgs.zenros_msgs import SetObstaclesRequest
+from zenros.se2 import Pose2
 from zenros.services.chassis.battery import Battery, BatteryConfig
 from zenros.services.chassis.dock import Dock
 from zenros.services.chassis.drive import Drive, DriveLimits
-from zenros.services.chassis.kinematics import Pose2
 from zenros.services.chassis.laser import Laser, LaserConfig
 from zenros.services.chassis.obstacle_requests import apply_request
 from zenros.services.chassis.obstacles import Obstacle

@@ -10,6 +10,7 @@ import numpy as np
 from zenros.maps import GridMap
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as PlanCodes
 from zenros.msgs.nav2_msgs import DockRobotResult, FollowPathResult
+from zenros.se2 import Pose2
 from zenros.services.nav.autocharge import AutoCharge
 from zenros.services.nav.behavior import Behavior, NavParams, Sense
 from zenros.services.nav.collision import points_in_frame
@@ -22,7 +23,6 @@ from zenros.services.nav.navigate import Navigate
 from zenros.services.nav.patrol import Patrol
 from zenros.services.nav.planner import PlannerParams
 from zenros.services.nav.planning import GlobalPlanner, PlanWorker
-from zenros.services.nav.se2 import Pose2
 
 DT = 0.05
 

@@ -7,13 +7,13 @@ import math
 
 import numpy as np
 import pytest
+from zenros.se2 import Pose2, angle_diff
 from zenros.services.nav.controller import (
     ControllerParams,
     PurePursuit,
     cost_to_distance,
     curvature,
 )
-from zenros.services.nav.se2 import Pose2, angle_diff
 
 DT = 0.05
 
@@ -103,7 +103,7 @@ def test_acceleration_is_limited() -> None:
     pp = PurePursuit()
     pp.set_path(np.column_stack([np.linspace(0, 5, 101), np.zeros(101)]), None)
     out = pp.compute(Pose2(), 0.05)
-    assert out.v == pytest.approx(2.5 * 0.05)
+    assert out.v == pytest.approx(pp.params.max_linear_accel * 0.05)  # 1.0 m/s^2, nav's default
 
 
 def test_bad_parameters_and_paths_are_refused() -> None:

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 from zenros.msgs.nav2_msgs import BackUpResult, DriveOnHeadingResult, SpinResult
+from zenros.se2 import Pose2, angle_diff
 from zenros.services.nav.behavior import Behavior, Sense
 from zenros.services.nav.behavior_actions import (
     BACKUP_CODES,
@@ -18,7 +19,6 @@ from zenros.services.nav.behavior_actions import (
 )
 from zenros.services.nav.collision import points_in_frame
 from zenros.services.nav.local_moves import DriveOnHeading, LocalMoveTarget, SpinInPlace
-from zenros.services.nav.se2 import Pose2, angle_diff
 
 DT = 0.05
 

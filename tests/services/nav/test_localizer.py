@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from zenros.se2 import Pose2
 from zenros.services.nav.localizer import Localizer
-from zenros.services.nav.se2 import Pose2
 
 S = 1_000_000_000
 

@@ -9,11 +9,11 @@ import time
 import numpy as np
 import pytest
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as Codes
+from zenros.se2 import Pose2
 from zenros.services.nav.costmap import CostmapParams
 from zenros.services.nav.costmaps import Costmaps
 from zenros.services.nav.planner import PlannerParams
 from zenros.services.nav.planning import GlobalPlanner, PlanWorker
-from zenros.services.nav.se2 import Pose2
 from zenros.maps import GridMap
 
 

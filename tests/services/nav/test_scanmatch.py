@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 from zenros.maps import GridMap, load_map
+from zenros.se2 import Pose2
 from zenros.services.nav.localizer import Localizer
 from zenros.services.nav.params import DEMO_MAP
 from zenros.services.nav.scanmatch import ScanMatcher
-from zenros.services.nav.se2 import Pose2
 
 
 def cast(grid: GridMap, pose: Pose2, n: int = 360, rmax: float = 8.0) -> np.ndarray:

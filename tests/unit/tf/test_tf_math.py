@@ -50,7 +50,13 @@ from zenros.tf import (
     transform_vectors,
     yaw_from_quaternion,
 )
-from zenros.tf.convert import pose_to_transform, transform_to_pose, vector_from_msg
+from zenros.tf.convert import (
+    pose_to_transform,
+    transform_to_pose,
+    vector_from_msg,
+    yaw_from_msg,
+    yaw_to_msg,
+)
 from zenros.tf.rigid import (
     distance,
     rotation_distance,
@@ -160,6 +166,14 @@ def test_euler_gimbal_lock_gives_same_rotation(pitch: float) -> None:
 def test_yaw_helpers() -> None:
     assert yaw_from_quaternion(quaternion_from_yaw(2.5)) == pytest.approx(2.5)
     assert yaw_from_quaternion(quaternion_from_euler(0.0, 0.0, -3.0)) == pytest.approx(-3.0)
+
+
+def test_yaw_message_helpers() -> None:
+    q = yaw_to_msg(2.5)
+    assert (q.x, q.y, q.z, q.w) == quaternion_from_yaw(2.5)
+    assert yaw_from_msg(q) == yaw_from_quaternion((q.x, q.y, q.z, q.w)) == pytest.approx(2.5)
+    assert yaw_from_msg(Quaternion()) == 0.0  # the identity
+    assert yaw_from_msg(Quaternion(z=1.0, w=0.0)) == pytest.approx(math.pi)
 
 
 def test_slerp_endpoints_midpoint_and_short_arc() -> None:
