@@ -30,7 +30,7 @@ except ImportError:  # pragma: no cover - the wheels are optional
 
 needs_wheels = pytest.mark.skipif(
     not HAVE_RCLPY,
-    reason="ROS 2 wheels not installed (pip install -e '.[ros2-ref]', see docs/ros2.md)",
+    reason="ROS 2 wheels not installed (pip install -e '.[ros2]', see docs/ros2.md)",
 )
 
 

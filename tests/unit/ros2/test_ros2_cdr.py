@@ -8,7 +8,8 @@ import struct
 
 import numpy as np
 import pytest
-from zenros.codec import codec_for, from_builtins
+from zenros.action.types import UUID
+from zenros.codec import from_builtins
 from zenros.errors import DecodeError, EncodeError
 from zenros.msgs.geometry_msgs import PoseWithCovariance, Twist, Vector3
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
@@ -125,8 +126,10 @@ def test_zenros_only_types_get_a_derived_definition() -> None:
 
 def test_plain_classes_for_action_parts() -> None:
     codec = cdr_codec_for_name("example_interfaces/action/Fibonacci_SendGoal_Request")
-    uuid = cdr_codec_for_name("unique_identifier_msgs/msg/UUID").type
-    msg = codec.type(goal_id=uuid(uuid=bytes(range(16))))  # type: ignore[call-arg]
+    # zenros's own UUID class (zenros.action.types, imported above so the test does not depend
+    # on what other tests imported first) holds the 16 bytes as a list of numbers, as ROS does
+    assert cdr_codec_for_name("unique_identifier_msgs/msg/UUID").type is UUID
+    msg = codec.type(goal_id=UUID(uuid=list(range(16))))  # type: ignore[call-arg]
     data = codec.encode(msg)
     assert data == b"\x00\x01\x00\x00" + bytes(range(16)) + b"\x00\x00\x00\x00"
     assert codec.decode(data) == msg
