@@ -15,6 +15,7 @@ from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
 from .convert import encode_message, long_type, publish_frame
+from .opaque import OpaqueTopics
 from .rosapi import Rosapi
 
 if TYPE_CHECKING:
@@ -97,7 +98,21 @@ class Bridge:
         self._clients: dict[tuple[str, str], Client] = {}
         self._action_clients: dict[tuple[str, str], Any] = {}
         self.params = ParameterClient(node.context, timeout=2.5)
-        self.rosapi = Rosapi(node.graph, self.params, node.now)
+        self.opaque = OpaqueTopics()
+        self.rosapi = Rosapi(node.graph, self.params, node.now, local=self._local_names)
+
+    def _local_names(self) -> tuple[dict[str, str], dict[str, str]]:
+        """Topics and services only rosbridge clients see (unregistered types), for rosapi."""
+        return self.opaque.advertised_topics(), self.opaque.service_types()
+
+    @staticmethod
+    def known(type_name: str, lookup: Callable[[str], Any] = lookup_type) -> bool:
+        """Whether zenros has a definition for ``type_name``."""
+        try:
+            lookup(type_name)
+        except UnknownTypeError:
+            return False
+        return True
 
     # ------------------------------------------------------------------ types
 
@@ -139,6 +154,7 @@ class Bridge:
         feed.sinks.add(sink)
 
     def detach(self, topic: str, sink: Sink) -> None:
+        self.opaque.detach(topic, sink)
         feed = self.feeds.get(topic)
         if feed is None:
             return
