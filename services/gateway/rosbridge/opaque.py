@@ -10,6 +10,7 @@ back, all without a zenros endpoint (no zenros node sees them).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -41,6 +42,8 @@ class OpaqueTopics:
     def __init__(self) -> None:
         self.topics: dict[str, OpaqueTopic] = {}
         self.services: dict[str, OpaqueService] = {}
+        self.hooks: dict[str, Callable[[Any], None]] = {}
+        """Topics the bridge itself reads (tf_republisher.py): called with each message."""
 
     def _topic(self, topic: str, type_name: str) -> OpaqueTopic:
         entry = self.topics.get(topic)
@@ -71,7 +74,11 @@ class OpaqueTopics:
             del self.topics[topic]
 
     def publish(self, topic: str, msg: Any) -> None:
-        """Hand ``msg`` (a JSON object, unchecked) to every client subscribed to ``topic``."""
+        """Hand ``msg`` (a JSON object, unchecked) to every client subscribed to ``topic``
+        (and to the bridge's own reader of it, if any)."""
+        hook = self.hooks.get(topic)
+        if hook is not None:
+            hook(msg)
         entry = self.topics.get(topic)
         if entry is None:
             return

@@ -16,6 +16,7 @@ from .bridge import BridgeError
 from .convert import message_from_json, request_args, to_json
 from .frames import OpError, frame_int, frame_name, frame_text, frame_type, legacy_id
 from .opaque import OpaqueService
+from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 from .rosapi import Rosapi, RosapiError
 
 if TYPE_CHECKING:
@@ -67,6 +68,8 @@ class ServiceOps:
             opaque = self.bridge.opaque.services.get(service)
             if opaque is not None:  # a client serves it, in a type zenros does not know
                 values = await opaque.owner.forward_unchecked(service, args)
+            elif service == TF_REPUBLISH_SERVICE:
+                values = self.bridge.tf_republisher.republish_tfs(args)
             elif Rosapi.handles(service):
                 if not isinstance(args, dict):
                     raise OpError("rosapi services take an object of named args")
