@@ -171,8 +171,11 @@ class ServiceOps:
         fut, service = entry
         if fut.done():
             return
-        if frame.get("result", True) is False:
-            values = frame.get("values")
+        values = frame.get("values")
+        # As the reference servers (ROS 1 and 2), response values are the response, whatever
+        # ``result`` says (roslibpy sends a handler's False return as result: false); a
+        # failure without values (roslibjs 2) or with a reason (a string) fails the call
+        if frame.get("result", True) is False and not (isinstance(values, dict) and values):
             fut.set_exception(ServiceError(service, values if isinstance(values, str)
                                            else "the rosbridge client's handler failed"))
         else:
