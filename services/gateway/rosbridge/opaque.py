@@ -86,6 +86,11 @@ class OpaqueTopics:
         for sink in tuple(entry.sinks):
             sink.deliver(topic, frame)
 
+    def listeners(self, topic: str) -> int:
+        """How many clients subscribe to ``topic``."""
+        entry = self.topics.get(topic)
+        return len(entry.sinks) if entry is not None else 0
+
     def advertised_topics(self) -> dict[str, str]:
         """Topics some client advertised, with their types in the long form (for rosapi)."""
         return {n: long_type(e.type_name) for n, e in self.topics.items() if e.advertisers}

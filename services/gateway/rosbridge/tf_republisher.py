@@ -63,7 +63,7 @@ class Stream:
     """One subscription: looks its frames up at ``rate`` and emits what moved."""
 
     def __init__(self, buffer: Buffer, request: dict[str, Any], emit: Emit,
-                 alive: Callable[[], bool]) -> None:
+                 alive: Callable[[], bool], listeners: Callable[[], int]) -> None:
         frames = request.get("source_frames") or []
         if not isinstance(frames, list) or not all(isinstance(f, str) for f in frames):
             raise OpError("source_frames must be a list of frame names")
@@ -79,6 +79,7 @@ class Stream:
         self._buffer = buffer
         self._emit = emit
         self._alive = alive
+        self._listeners = listeners
         self._last: dict[str, tuple[float, ...]] = {}
         self.task: asyncio.Task[None] | None = None
 
@@ -106,8 +107,14 @@ class Stream:
             self._emit({"transforms": out})
 
     async def run(self) -> None:
+        heard = 0
         while self._alive():
-            self.step()
+            n = self._listeners()
+            if n > heard:  # a new listener gets every frame once, as the reference sends
+                self._last.clear()
+            heard = n
+            if n:
+                self.step()
             await asyncio.sleep(self.period)
 
 
@@ -155,7 +162,8 @@ class TFRepublisher:
                 seen[0] = loop.time()
             return loop.time() - seen[0] < timeout
 
-        stream = Stream(self.buffer, args, lambda msg: opaque.publish(topic, msg), alive)
+        stream = Stream(self.buffer, args, lambda msg: opaque.publish(topic, msg), alive,
+                        lambda: opaque.listeners(topic))
         opaque.advertise(topic, "tf2_web_republisher/TFArray", self)
         self._start(stream)
         assert stream.task is not None
@@ -188,7 +196,7 @@ class TFRepublisher:
                 seen[0] = loop.time()
             return loop.time() - seen[0] < FEEDBACK_GRACE
 
-        stream = Stream(self.buffer, goal, emit, alive)
+        stream = Stream(self.buffer, goal, emit, alive, lambda: opaque.listeners(feedback_topic))
         old = self._goals.pop(goal_id, None)
         if old is not None and old.task is not None:
             old.task.cancel()
