@@ -133,3 +133,39 @@ def test_a_topic_of_an_unknown_type_is_carried_between_clients(
         assert wait_for(lambda: not server.bridge.opaque.topics, TIMEOUT)
     finally:
         other.close()
+
+
+def test_a_ros1_action_of_an_unknown_type_between_clients(server: RosbridgeServer,
+                                                          ros: roslibpy.Ros) -> None:
+    """roslibpy's SimpleActionServer and ActionClient (actionlib over topics) on two
+    connections, in a type zenros does not know; a cancel without a stamp gets the
+    reference's default (roslibpy's server reads it)."""
+    from roslibpy.ros1.actionlib import ActionClient, Goal, GoalStatus, SimpleActionServer
+
+    action_server = SimpleActionServer(ros, "/count_action", "actionlib/TestAction")
+
+    def execute(goal: dict[str, Any]) -> None:
+        if goal["goal"] < 0:
+            while not action_server.is_preempt_requested():
+                wait_for(action_server.is_preempt_requested, 0.1)
+            action_server.set_preempted()
+        else:
+            action_server.set_succeeded({"result": goal["goal"] * 2})
+
+    action_server.start(execute)
+    other = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
+    try:
+        client = ActionClient(other, "/count_action", "actionlib/TestAction")
+        done = Goal(client, {"goal": 21})
+        done.send()
+        assert done.wait(TIMEOUT)["result"] == 42
+        assert done.status["status"] == GoalStatus.SUCCEEDED
+        stopped = Goal(client, {"goal": -1})
+        stopped.send()
+        assert wait_for(lambda: stopped.status["status"] == GoalStatus.ACTIVE, TIMEOUT)
+        stopped.cancel()
+        assert stopped.wait(TIMEOUT)["result"] == 0
+        assert stopped.status["status"] == GoalStatus.PREEMPTED
+        client.dispose()
+    finally:
+        other.close()

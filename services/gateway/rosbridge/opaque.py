@@ -14,9 +14,48 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from zenros.message import normalize_type_name
+
 from .convert import dumps, long_type, publish_frame
 
-__all__ = ["OpaqueService", "OpaqueTopic", "OpaqueTopics"]
+__all__ = ["ROS1_DEFAULTS", "OpaqueService", "OpaqueTopic", "OpaqueTopics"]
+
+_STAMP = {"secs": 0, "nsecs": 0}
+_HEADER = {"seq": 0, "stamp": _STAMP, "frame_id": ""}
+_GOAL_ID = {"stamp": _STAMP, "id": ""}
+_STATUS = {"goal_id": _GOAL_ID, "status": 0, "text": ""}
+
+
+def _action(goal: dict[str, Any], result: dict[str, Any],
+            feedback: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    return {"Goal": {"header": _HEADER, "goal_id": _GOAL_ID, "goal": goal},
+            "Result": {"header": _HEADER, "status": _STATUS, "result": result},
+            "Feedback": {"header": _HEADER, "status": _STATUS, "feedback": feedback}}
+
+
+ROS1_DEFAULTS: dict[str, dict[str, Any]] = {
+    "actionlib_msgs/GoalID": _GOAL_ID,
+    "actionlib_msgs/GoalStatus": _STATUS,
+    "actionlib_msgs/GoalStatusArray": {"header": _HEADER, "status_list": []},
+    **{f"actionlib/TestAction{k}": v for k, v in _action(
+        {"goal": 0}, {"result": 0}, {"feedback": 0}).items()},
+    **{f"actionlib_tutorials/FibonacciAction{k}": v for k, v in _action(
+        {"order": 0}, {"sequence": []}, {"sequence": []}).items()},
+}
+"""The default values of a few ROS 1 types that cross unchecked, filled in where a client
+left a field out, as the reference (which knows the types) does: actionlib_msgs, and the
+actionlib test and tutorial actions (actionlib/TestAction, actionlib_tutorials/Fibonacci).
+roslibjs cancels with ``{}``, roslibpy with ``{"id": ...}``, and roslibpy's SimpleActionServer
+ends a preempted goal without a ``result``; their peers read those fields."""
+
+
+def _filled(defaults: Any, msg: Any) -> Any:
+    if not isinstance(defaults, dict) or not isinstance(msg, dict):
+        return msg
+    out = {k: v for k, v in defaults.items() if k not in msg}
+    for k, v in msg.items():
+        out[k] = _filled(defaults.get(k), v)
+    return out
 
 
 @dataclass
@@ -82,6 +121,9 @@ class OpaqueTopics:
         entry = self.topics.get(topic)
         if entry is None:
             return
+        defaults = ROS1_DEFAULTS.get(normalize_type_name(entry.type_name))
+        if defaults is not None:
+            msg = _filled(defaults, msg)
         frame = publish_frame(topic, dumps(msg if msg is not None else {}))
         for sink in tuple(entry.sinks):
             sink.deliver(topic, frame)
