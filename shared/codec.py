@@ -241,13 +241,56 @@ def from_builtins(obj: Any, msg_type: type[M]) -> M:
     talk to older receivers), a field name that the type does not have is an error here:
     a typo on a command line must not silently send zeros.
     """
-    unknown = _unknown_fields(mi.type_info(msg_type), obj, "$")
+    info = mi.type_info(msg_type)
+    obj = _ros1_names(info, obj)
+    unknown = _unknown_fields(info, obj, "$")
     if unknown:
         raise DecodeError(f"expected {codec_for(msg_type).type_name}: " + "; ".join(unknown))
     try:
         return msgspec.convert(obj, msg_type, dec_hook=_dec, strict=False)
     except msgspec.ValidationError as exc:
         raise DecodeError(f"expected {codec_for(msg_type).type_name}: {exc}") from exc
+
+
+_TIME_TYPES = ("builtin_interfaces/Time", "builtin_interfaces/Duration")
+_ROS1_TIME_NAMES = {"secs": "sec", "nsecs": "nanosec"}
+
+
+def _ros1_names(t: mi.Type, obj: Any) -> Any:
+    """``obj`` in ROS 2 spelling: ROS 1's ``secs``/``nsecs`` renamed ``sec``/``nanosec`` in
+    every builtin_interfaces/Time and Duration it holds (the reference rosbridge accepts
+    both), and ROS 1's ``std_msgs/Header.seq`` (gone in ROS 2) dropped; ``obj`` itself when
+    it has none of them (no copy)."""
+    if isinstance(t, mi.StructType) and isinstance(obj, dict):
+        msgtype = getattr(t.cls, "__msgtype__", None)
+        if msgtype == "std_msgs/Header" and "seq" in obj:
+            obj = {k: v for k, v in obj.items() if k != "seq"}
+        if msgtype in _TIME_TYPES:
+            if not any(k in obj for k in _ROS1_TIME_NAMES):
+                return obj
+            return {_ROS1_TIME_NAMES.get(k, k) if _ROS1_TIME_NAMES.get(k, k) not in obj else k: v
+                    for k, v in obj.items()}
+        fields = {f.encode_name: f.type for f in t.fields}
+        out = obj
+        for k, v in obj.items():
+            ft = fields.get(k)
+            if ft is None or not isinstance(v, (dict, list)):
+                continue
+            nv = _ros1_names(ft, v)
+            if nv is not v:
+                if out is obj:
+                    out = dict(obj)
+                out[k] = nv
+        return out
+    if (isinstance(t, (mi.ListType, mi.VarTupleType)) and isinstance(obj, list)
+            and isinstance(t.item_type, (mi.StructType, mi.UnionType))):
+        items = [_ros1_names(t.item_type, v) for v in obj]
+        return items if any(a is not b for a, b in zip(items, obj, strict=True)) else obj
+    if isinstance(t, mi.UnionType):
+        structs = [u for u in t.types if isinstance(u, mi.StructType)]
+        if len(structs) == 1:
+            return _ros1_names(structs[0], obj)
+    return obj
 
 
 def _unknown_fields(t: mi.Type, obj: Any, path: str) -> list[str]:

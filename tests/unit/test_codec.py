@@ -526,3 +526,22 @@ def test_from_builtins_refuses_unknown_fields_with_their_path() -> None:
         from_builtins({"transforms": [{"child_frame_id": "a"}, {"child": "b"}]}, TFMessage)
     # the wire stays lenient: a newer sender's extra field is skipped there
     assert codec_for(Twist).decode(b'{"linear": {"x": 1.0}, "extra": 1}').linear.x == 1.0
+
+
+def test_from_builtins_takes_ros1_time_names_and_header_seq() -> None:
+    """ROS 1 clients (roslibpy's Time/Header) write secs/nsecs and Header.seq; the JSON
+    doors take them as the reference rosbridge does (sec/nanosec, seq dropped)."""
+    from zenros.codec import from_builtins
+    from zenros.message import lookup_type
+    from zenros.msgs.builtin_interfaces import Duration, Time
+
+    stamped = lookup_type("geometry_msgs/PointStamped")
+    msg = from_builtins({"header": {"seq": 7, "stamp": {"secs": 3, "nsecs": 5},
+                                    "frame_id": "base"}, "point": {"y": 1.0}}, stamped)
+    assert msg.header.stamp == Time(sec=3, nanosec=5)
+    assert msg.header.frame_id == "base"
+    path = from_builtins({"poses": [{"header": {"stamp": {"secs": 1}}}]},
+                         lookup_type("nav_msgs/Path"))
+    assert path.poses[0].header.stamp == Time(sec=1, nanosec=0)
+    assert from_builtins({"secs": 2, "nsecs": 9}, Duration) == Duration(sec=2, nanosec=9)
+    assert from_builtins({"sec": 2, "nanosec": 9}, Time) == Time(sec=2, nanosec=9)

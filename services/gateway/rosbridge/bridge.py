@@ -15,7 +15,10 @@ from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
 from .convert import encode_message, long_type, publish_frame
+from .opaque import OpaqueTopics
 from .rosapi import Rosapi
+from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
+from .tf_republisher import TFRepublisher
 
 if TYPE_CHECKING:
     from zenros.pubsub import Publisher, Subscription
@@ -99,7 +102,24 @@ class Bridge:
         self._clients: dict[tuple[str, str], Client] = {}
         self._action_clients: dict[tuple[str, str], Any] = {}
         self.params = ParameterClient(node.context, timeout=2.5)
-        self.rosapi = Rosapi(node.graph, self.params, node.now)
+        self.opaque = OpaqueTopics()
+        self.tf_republisher = TFRepublisher(self)
+        self.rosapi = Rosapi(node.graph, self.params, node.now, local=self._local_names)
+
+    def _local_names(self) -> tuple[dict[str, str], dict[str, str]]:
+        """Topics and services only rosbridge clients see (unregistered types), for rosapi."""
+        services = self.opaque.service_types()
+        services[TF_REPUBLISH_SERVICE] = "tf2_web_republisher/srv/RepublishTFs"
+        return self.opaque.advertised_topics(), services
+
+    @staticmethod
+    def known(type_name: str, lookup: Callable[[str], Any] = lookup_type) -> bool:
+        """Whether zenros has a definition for ``type_name``."""
+        try:
+            lookup(type_name)
+        except UnknownTypeError:
+            return False
+        return True
 
     # ------------------------------------------------------------------ types
 
@@ -141,6 +161,7 @@ class Bridge:
         feed.sinks.add(sink)
 
     def detach(self, topic: str, sink: Sink) -> None:
+        self.opaque.detach(topic, sink)
         feed = self.feeds.get(topic)
         if feed is None:
             return
@@ -209,6 +230,7 @@ class Bridge:
         self.node.destroy(endpoint)
 
     def close(self) -> None:
+        self.tf_republisher.close()
         for topic in list(self.feeds):
             feed = self.feeds.pop(topic)
             self.node.destroy(feed.sub)

@@ -186,6 +186,8 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         for topic in list(self.advertised):
             self.bridge.unadvertise(topic, self)
         self.advertised.clear()
+        for topic in [t for t, e in self.bridge.opaque.topics.items() if self in e.advertisers]:
+            self.bridge.opaque.unadvertise(topic, self)
         for action in list(self.served_actions):
             self.stop_served_action(action)
         for service in list(self.services):

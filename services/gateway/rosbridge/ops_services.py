@@ -14,7 +14,9 @@ from zenros.message import Message, ServiceType, lookup_service
 
 from .bridge import BridgeError
 from .convert import message_from_json, request_args, to_json
-from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
+from .frames import OpError, frame_int, frame_name, frame_text, frame_type, legacy_id
+from .opaque import OpaqueService
+from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 from .rosapi import Rosapi, RosapiError
 
 if TYPE_CHECKING:
@@ -63,7 +65,12 @@ class ServiceOps:
                             frame: dict[str, Any]) -> None:
         args = frame.get("args") or {}
         try:
-            if Rosapi.handles(service):
+            opaque = self.bridge.opaque.services.get(service)
+            if opaque is not None:  # a client serves it, in a type zenros does not know
+                values = await opaque.owner.forward_unchecked(service, args)
+            elif service == TF_REPUBLISH_SERVICE:
+                values = self.bridge.tf_republisher.republish_tfs(args)
+            elif Rosapi.handles(service):
                 if not isinstance(args, dict):
                     raise OpError("rosapi services take an object of named args")
                 values = await asyncio.to_thread(self.bridge.rosapi.call, service, args)
@@ -100,14 +107,41 @@ class ServiceOps:
 
     def op_advertise_service(self, frame: dict[str, Any]) -> None:
         service = frame_name(frame, "service")
+        type_name = frame_text(frame, "type")
+        if not self.bridge.known(type_name, lookup_service):
+            other = self.bridge.opaque.services.get(service)
+            if other is not None and other.owner is self and other.type_name == type_name:
+                return  # a replay after reconnect
+            if service in self.services:
+                self._stop_service(service)
+            if other is not None and other.owner is not self:
+                other.owner._stop_service(service)  # advertising again replaces the server
+            self.bridge.opaque.services[service] = OpaqueService(type_name, self)
+            self.services[service] = None
+            return
         srv_type = frame_type(frame, "type", lookup_service)
-        old = self.services.get(service)
-        if old is not None:
-            if old.srv_type is srv_type:
+        if service in self.services:
+            old = self.services[service]
+            if old is not None and old.srv_type is srv_type:
                 return  # a replay after reconnect
             self._stop_service(service)
         self.services[service] = self.bridge.serve(srv_type, service,
                                                    self._forwarder(service, srv_type))
+
+    async def forward_unchecked(self, service: str, args: Any) -> Any:
+        """Call this client's ``service`` (of a type zenros does not know) with ``args`` as
+        they came, on the loop; its answer's values, unchecked."""
+        cid = f"service_request:{service}:{next(self._request_ids)}"
+        fut: concurrent.futures.Future[Any] = concurrent.futures.Future()
+        self.pending[cid] = (fut, service)
+        self.send({"op": "call_service", "id": cid, "service": service, "args": args})
+        try:
+            return await asyncio.wait_for(asyncio.wrap_future(fut), CLIENT_SERVICE_TIMEOUT)
+        except TimeoutError:
+            raise ServiceError(service, f"the rosbridge client did not answer within "
+                               f"{CLIENT_SERVICE_TIMEOUT:g} s") from None
+        finally:
+            self.pending.pop(cid, None)
 
     def _forwarder(self, service: str, srv_type: ServiceType) -> Callable[..., Any]:
         loop = self.bridge.loop
@@ -137,8 +171,11 @@ class ServiceOps:
         fut, service = entry
         if fut.done():
             return
-        if frame.get("result", True) is False:
-            values = frame.get("values")
+        values = frame.get("values")
+        # As the reference servers (ROS 1 and 2), response values are the response, whatever
+        # ``result`` says (roslibpy sends a handler's False return as result: false); a
+        # failure without values (roslibjs 2) or with a reason (a string) fails the call
+        if frame.get("result", True) is False and not (isinstance(values, dict) and values):
             fut.set_exception(ServiceError(service, values if isinstance(values, str)
                                            else "the rosbridge client's handler failed"))
         else:
@@ -148,10 +185,15 @@ class ServiceOps:
         self._stop_service(frame_name(frame, "service"))
 
     def _stop_service(self, service: str) -> None:
-        srv = self.services.pop(service, None)
-        if srv is None:
+        if service not in self.services:
             return
-        self.bridge.release(srv)
+        srv = self.services.pop(service)
+        if srv is None:  # an unchecked service (opaque.py)
+            entry = self.bridge.opaque.services.get(service)
+            if entry is not None and entry.owner is self:
+                del self.bridge.opaque.services[service]
+        else:
+            self.bridge.release(srv)
         for cid, (fut, name) in list(self.pending.items()):
             if name == service and not fut.done():
                 fut.set_exception(ServiceError(service, "the service was unadvertised"))

@@ -27,7 +27,11 @@ class TopicOps:
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
-        msg_type = self.bridge.topic_type(topic, frame_text(frame, "type"))
+        type_name = frame_text(frame, "type")
+        if not self.bridge.known(type_name):  # carried between rosbridge clients, unchecked
+            self.bridge.opaque.advertise(topic, type_name, self)
+            return
+        msg_type = self.bridge.topic_type(topic, type_name)
         if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
             return  # a replay after reconnect, or a second advertise: nothing to do
         self.bridge.advertise(topic, msg_type, self, bool(frame.get("latch", False)),
@@ -36,12 +40,16 @@ class TopicOps:
 
     def op_unadvertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
+        self.bridge.opaque.unadvertise(topic, self)
         if topic in self.advertised:
             self.advertised.discard(topic)
             self.bridge.unadvertise(topic, self)
 
     def op_publish(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
+        if topic not in self.advertised and topic in self.bridge.opaque.topics:
+            self.bridge.opaque.publish(topic, frame.get("msg"))
+            return
         if topic not in self.advertised:
             entry = self.bridge.publishers.get(topic)
             known = self.bridge.node.graph.topics().get(topic)
@@ -63,11 +71,17 @@ class TopicOps:
         opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
                           queue_length=frame_int(frame, "queue_length"),
                           fragment_size=frame_int(frame, "fragment_size"))
+        opaque = self.bridge.opaque.topics.get(topic)
         if topic not in self.subs:
-            msg_type = self.bridge.topic_type(topic, type_name or None)
-            self.bridge.attach(topic, msg_type, self)
+            if type_name and not self.bridge.known(type_name):  # unchecked, between clients
+                self.bridge.opaque.attach(topic, type_name, self)
+            elif not type_name and opaque is not None and topic not in self.bridge.feeds:
+                self.bridge.opaque.attach(topic, opaque.type_name, self)
+            else:
+                msg_type = self.bridge.topic_type(topic, type_name or None)
+                self.bridge.attach(topic, msg_type, self)
             self.subs[topic] = {}
-        elif type_name:
+        elif type_name and topic in self.bridge.feeds:
             feed = self.bridge.feeds[topic]
             if self.bridge.topic_type(topic, type_name) is not feed.msg_type:
                 raise OpError(f"{topic} is already subscribed with type {feed.type_name}")

@@ -75,8 +75,11 @@ class Rosapi:
     """Answers rosapi requests: ``call(service, args) -> values``."""
 
     def __init__(self, graph: GraphView, params: ParamStore, now: Callable[[], Time],
-                 distro: str = "zenros") -> None:
+                 distro: str = "zenros",
+                 local: Callable[[], tuple[dict[str, str], dict[str, str]]] | None = None
+                 ) -> None:
         self._graph = graph
+        self._local = local or (lambda: ({}, {}))
         self._params = params
         self._now = now
         self._distro = distro
@@ -104,22 +107,28 @@ class Rosapi:
 
     # ------------------------------------------------------------------ graph
 
+    def _all_topics(self) -> dict[str, str]:
+        """The graph's topics and those only rosbridge clients see, with one type each."""
+        out = {n: long_type(ts[0]) if ts else "" for n, ts in self._graph.topics().items()}
+        for name, type_name in self._local()[0].items():
+            out.setdefault(name, type_name)
+        return out
+
     def _topics(self, args: dict[str, Any]) -> dict[str, Any]:
-        topics = self._graph.topics()
-        return {"topics": list(topics), "types": [long_type(t[0]) if t else ""
-                                                  for t in topics.values()]}
+        topics = self._all_topics()
+        return {"topics": list(topics), "types": list(topics.values())}
 
     def _topic_type(self, args: dict[str, Any]) -> dict[str, Any]:
-        types = self._graph.topics().get(_slash(_str(args, "topic")))
-        return {"type": long_type(types[0]) if types else ""}
+        return {"type": self._all_topics().get(_slash(_str(args, "topic")), "")}
 
     def _topics_for_type(self, args: dict[str, Any]) -> dict[str, Any]:
         want = long_type(_str(args, "type"))
-        return {"topics": [n for n, ts in self._graph.topics().items()
-                           if any(long_type(t) == want for t in ts)]}
+        return {"topics": [n for n, t in self._all_topics().items() if t == want]}
 
     def _all_services(self) -> dict[str, str]:
         out = {n: long_type(ts[0], "srv") for n, ts in self._graph.services().items() if ts}
+        for name, type_name in self._local()[1].items():
+            out.setdefault(name, type_name)
         out.update({PREFIX + n: f"rosapi/srv/{_camel(n)}" for n in ROSAPI})
         return dict(sorted(out.items()))
 
@@ -175,7 +184,8 @@ class Rosapi:
             return {"value": json.dumps(value), "successful": True, "reason": ""}
         if isinstance(default, str) and default:
             return {"value": default, "successful": True, "reason": ""}
-        return {"value": "", "successful": False, "reason": f"parameter {name} is not set"}
+        # as rosapi: the value is JSON text even then ("null"; roslibpy's Param.get() -> None)
+        return {"value": "null", "successful": False, "reason": f"parameter {name} is not set"}
 
     def _set_param(self, args: dict[str, Any]) -> dict[str, Any]:
         name = param_name(_str(args, "name"))
