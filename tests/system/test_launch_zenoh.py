@@ -105,7 +105,7 @@ def test_start_waits_for_master_once_and_stop_is_quiet(tmp_path: Path) -> None:
         "nodes:\n  - module: zenros.services.master\n  - module: zenros.examples.talker\n"
         "  - module: zenros.examples.listener\n")
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "quiet.yaml"),
-                 "--data-dir", str(tmp_path / "home")],
+                 "--data-dir", str(tmp_path / "home"), "--verbose"],
                 env={"ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}",
                      "ZENROS_PREFIX": unique_prefix(), "ZENROS_HOME": str(tmp_path / "home")})
     try:
