@@ -250,7 +250,8 @@ class Supervisor:
         A required process stops the launch (exit code 3); any other one stays down.
         """
         spec = state.spec
-        why = self._last_line(state)
+        # Its own error line is on the screen already: once is enough.
+        why = "exit code 3, its error is above" if spec.output == "screen" else self._last_line(state)
         if spec.required:
             self._startup_failed = True
             self.stop(f"required process {spec.label} could not start ({why}); "
@@ -263,9 +264,10 @@ class Supervisor:
     def _respawn_delay(self, state: ProcessState, ran: float) -> float | None:
         """Seconds before the next start, or None when a crash loop is given up.
 
-        A failed run shorter than ``crash_window`` is a quick failure: the waits double from
-        ``crash_delay`` (1, 2, 4, 8 s), and after ``crash_limit`` in a row the process stays
-        down with one summary line.
+        A failed run shorter than ``crash_window`` is a quick failure. The first is restarted
+        as any run (after ``respawn_delay``, at least ``crash_delay`` if it ran less than
+        that); from the second in a row the waits double from ``crash_delay`` (1, 2, 4 s),
+        and after ``crash_limit`` in a row the process stays down with one summary line.
         """
         cfg, spec = self.config, state.spec
         quick = state.returncode != 0 and ran < cfg.crash_window
@@ -279,8 +281,8 @@ class Supervisor:
         delay = spec.respawn_delay
         if ran < cfg.crash_delay:
             delay = max(delay, cfg.crash_delay)
-        if quick:
-            delay = max(delay, cfg.crash_delay * 2 ** (state.quick_failures - 1))
+        if state.quick_failures > 1:  # a single crash is restarted as before
+            delay = max(delay, cfg.crash_delay * 2 ** (state.quick_failures - 2))
         return delay
 
     @staticmethod

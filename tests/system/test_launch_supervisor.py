@@ -356,8 +356,8 @@ async def test_a_required_configuration_failure_stops_the_launch(
     assert await h.result() == 3
     assert h.kinds("chassis").count("start") == 1
     stops = [e.detail for _, e in h.events if e.kind == "stop"]
-    assert any("required process chassis could not start (chassis: startup failed: "
-               "parameter 'map': no such file)" in d for d in stops), stops
+    assert any("required process chassis could not start (exit code 3, its error is above)"
+               in d for d in stops), stops
     assert _lines(h.screen_err.getvalue(), "chassis").count("startup failed: parameter 'map'") == 1
 
 
@@ -372,7 +372,7 @@ async def test_a_crash_loop_backs_off_and_gives_up(harness: Callable[..., Harnes
     starts = [t for t, e in h.events if e.kind == "start"]
     waits = [b - a for a, b in zip(exits, starts[1:], strict=False)]
     assert len(waits) == 3
-    assert waits[0] >= 0.2 and waits[1] >= 0.4 and waits[2] >= 0.8, waits  # doubling
+    assert waits[1] >= 0.2 and waits[2] >= 0.4, waits  # doubling from the second failure
     gave_up = [e.detail for _, e in h.events if e.kind == "gave_up"]
     assert gave_up == ["gateway failed 4 times in a row, each within 5 s of starting; not "
                        "restarting it. Last error: ModuleNotFoundError: No module named "
