@@ -16,10 +16,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import LaunchError, StartupError
+from ..exits import EXIT_STARTUP
 from .args import describe
 from .loader import declared_args, load_launch
 from .model import LaunchDescription, ProcessSpec
-from ..exits import EXIT_STARTUP
 from .supervisor import BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
 
 __all__ = ["LaunchHooks", "LaunchOptions", "add_arguments", "default_data_dir", "main", "run"]

@@ -374,9 +374,9 @@ async def test_a_crash_loop_backs_off_and_gives_up(harness: Callable[..., Harnes
     assert len(waits) == 3
     assert waits[1] >= 0.2 and waits[2] >= 0.4, waits  # doubling from the second failure
     gave_up = [e.detail for _, e in h.events if e.kind == "gave_up"]
-    assert gave_up == ["gateway failed 4 times in a row, each within 5 s of starting; not "
-                       "restarting it. Last error: ModuleNotFoundError: No module named "
-                       "'websockets'"], gave_up
+    assert gave_up == [("gateway failed 4 times in a row, each within 5 s of starting; not "
+                        "restarting it. Last error: ModuleNotFoundError: No module named "
+                        "'websockets'")], gave_up
     assert h.screen_err.getvalue().count("[launch] gateway failed 4 times") == 1
     assert await h.result() == 1  # nothing left to run: the launch ends
 
@@ -432,7 +432,8 @@ async def test_a_quiet_screen_keeps_info_chatter_in_the_log(harness: Callable[..
     assert "[listener] a plain print" in screen
     assert "[launch] started listener" in h.screen_err.getvalue()
     log = (tmp_path / "logs" / "listener.log").read_text()
-    assert len(re.findall(r"I heard: \[hello world \d+\]", log)) == 50 and "]: details" in log and "]: on stderr" in log
+    assert len(re.findall(r"I heard: \[hello world \d+\]", log)) == 50
+    assert "]: details" in log and "]: on stderr" in log
 
 
 async def test_hooks_before_start_and_wait_ready(harness: Callable[..., Harness]) -> None:
