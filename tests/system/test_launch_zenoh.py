@@ -153,17 +153,19 @@ def _launch(tmp_path: Path, text: str) -> Proc:
                      "ZENROS_PREFIX": unique_prefix()})
 
 
+@pytest.mark.timeout(150)
 def test_ready_is_printed_once_the_node_is_set_up(tmp_path: Path) -> None:
     script = _stand_in(tmp_path, "slow", fail=False)
     proc = _launch(tmp_path, f"nodes:\n  - {{cmd: [{sys.executable}, {script}], name: slow,"
                              " ros_args: true}\n")
     try:
-        assert proc.wait_line("[launch] slow is ready", 30), proc.output
+        assert proc.wait_line("[launch] slow is ready", 60), proc.output
         assert (tmp_path / "slow-set-up").exists(), proc.output  # setup had completed
     finally:
         proc.stop(timeout=20)
 
 
+@pytest.mark.timeout(150)
 def test_a_node_refusing_its_configuration_is_never_ready_nor_restarted(
     tmp_path: Path,
 ) -> None:
@@ -172,8 +174,8 @@ def test_a_node_refusing_its_configuration_is_never_ready_nor_restarted(
                              " ros_args: true, respawn: true}\n"
                              "  - {module: zenros.examples.listener}\n")
     try:
-        assert proc.wait_line("[launch] bad could not start", 30), proc.output
-        assert proc.wait_line("[launch] listener is ready", 30), proc.output
+        assert proc.wait_line("[launch] bad could not start", 60), proc.output
+        assert proc.wait_line("[launch] listener is ready", 60), proc.output
         time.sleep(1.5)  # past a respawn's 1 s: nothing comes back
         out = proc.output
         assert "bad is ready" not in out, out
