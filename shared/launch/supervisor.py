@@ -5,6 +5,11 @@ and a terminal's Ctrl-C reaches only the launcher, which then stops everything i
 SIGINT to all, SIGTERM after ``sigterm_timeout`` to those still running, SIGKILL after
 ``sigkill_timeout``. A further `Supervisor.stop` call skips to the next step at once.
 
+A process that exits with code 3 (startup failed: its configuration) is not restarted; a
+respawn process failing quickly again and again backs off and is given up after
+``crash_limit`` runs, with one summary line. A required process that cannot be run (either
+case) stops the launch.
+
 A process *ended cleanly* if its last run exited with code 0, or, after our SIGINT, died of
 SIGINT (return code -2) or exited 130. `Supervisor.run` returns 0 when every process ended
 cleanly, 1 when one did not (a crash, or it needed SIGTERM or SIGKILL), and 3 when a process
