@@ -17,6 +17,7 @@ from .clock import Clock, ManualClock, Rate, SystemClock, Time
 from .context import Context
 from .errors import NodeClosedError
 from .executor import CallbackGroup
+from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
 from .message import ActionType, Message, ServiceType
@@ -51,6 +52,11 @@ def _snake(name: str) -> str:
 
 class Node:
     """A ROS-style node. Subclasses override `setup()`, which runs at the end of __init__.
+
+    No callback of an endpoint created during ``setup()`` (subscriptions, services, timers,
+    action servers, also those helper objects create) runs before ``setup()`` has returned:
+    what arrives meanwhile is held (a subscription keeps its QoS depth) and delivered after,
+    so a callback never meets an attribute that setup() has not set yet.
 
     Args:
         name: the node's base name (default: ``node_name`` class attribute, or the class name
@@ -94,11 +100,15 @@ class Node:
             overrides.update(load_params_file(Path(f), self.fqn))
         overrides.update(parameter_overrides or {})
         self.parameters = Parameters(self.fqn, overrides)
+        self._setup_gate: DeliveryGate | None = None  # closed while setup() runs
         try:
             if self.uses_parameter_server:
                 attach_parameter_backend(self)
             self._start()
+            gate = self._setup_gate = DeliveryGate()
             self.setup()
+            self._setup_gate = None
+            gate.open()
             self._announce()
         except BaseException:
             self.close()
@@ -182,7 +192,7 @@ class Node:
     ) -> Subscription[M]:
         """Call ``callback(msg)`` for each message; sync callbacks run on Zenoh's thread."""
         sub = Subscription(self.context, self.fqn, msg_type, self.resolve_name(topic), callback,
-                           as_profile(qos), self.logger, callback_group)
+                           as_profile(qos), self.logger, callback_group, self._setup_gate)
         self._warn_type_conflict(sub.topic, sub._codec.type_name)
         s: Subscription[M] = self.add_waitable(sub)
         return s
@@ -190,7 +200,7 @@ class Node:
     def create_service(self, srv_type: ServiceType, name: str, handler: Callable[..., Any], *,
                        callback_group: CallbackGroup | None = None) -> Service:
         srv = Service(self.context, self.fqn, srv_type, self.resolve_name(name, "service"),
-                      handler, self.logger, callback_group)
+                      handler, self.logger, callback_group, self._setup_gate)
         s: Service = self.add_waitable(srv)
         return s
 
@@ -214,16 +224,19 @@ class Node:
         return ActionClient(self, action_type, name, **kwargs)
 
     def create_timer(self, period: float, callback: Callable[[], Any], *,
-                     callback_group: CallbackGroup | None = None) -> Timer:
-        """Call ``callback()`` every ``period`` seconds of this node's clock."""
-        timer = Timer(period, callback, self._clock, self.context.executor, self.logger,
-                      callback_group)
+                     callback_group: CallbackGroup | None = None,
+                     clock: Clock | None = None) -> Timer:
+        """Call ``callback()`` every ``period`` seconds of this node's clock, or of ``clock``
+        (rclpy's ``clock=``): ``SteadyClock()`` ticks in wall time whatever ``use_sim_time``
+        says, for what outside clients see (rates of status streams, serial frames)."""
+        timer = Timer(period, callback, clock or self._clock, self.context.executor,
+                      self.logger, callback_group, gate=self._setup_gate)
         with self._lock:
             self._timers.append(timer)
         return timer
 
-    def create_rate(self, hz: float) -> Rate:
-        return Rate(hz, self._clock)
+    def create_rate(self, hz: float, clock: Clock | None = None) -> Rate:
+        return Rate(hz, clock or self._clock)
 
     def destroy(self, endpoint: Any) -> None:
         """Close one endpoint created by this node."""
@@ -323,8 +336,11 @@ class Node:
             if self._closed:
                 return
             self._closed = True
+            gate, self._setup_gate = self._setup_gate, None
             endpoints, self._endpoints = self._endpoints, []
             timers, self._timers = self._timers, []
+        if gate is not None:  # closed from (or after a failure in) setup(): drop what is held
+            gate.abandon()
         for t in timers:
             t.cancel()
         handler = getattr(self, "_rosout_handler", None)

@@ -17,6 +17,7 @@ from .codec import codec_for
 from .context import is_session_failure
 from .errors import CodecError, EncodeError
 from .executor import CallbackGroup
+from .gate import DeliveryGate, Held
 from .log import ErrorLog, Throttle
 from .message import Message
 from .qos import QoSProfile, Reliability
@@ -232,6 +233,8 @@ class Subscription(Generic[M]):
     A sample that fails to decode, or carries another type, is logged (rate-limited per
     sender) and counted in ``errors``; the callback never sees it and the node keeps running.
     A callback with two parameters, ``callback(msg, info)``, also gets a `MessageInfo`.
+    With a closed ``gate`` (its node's setup() is running), messages are held, the last
+    ``qos.depth``, and delivered in order when the gate opens.
     """
 
     def __init__(
@@ -244,6 +247,7 @@ class Subscription(Generic[M]):
         qos: QoSProfile,
         logger: logging.Logger,
         group: CallbackGroup | None = None,
+        gate: DeliveryGate | None = None,
     ) -> None:
         self.msg_type = msg_type
         self.topic = topic
@@ -271,6 +275,9 @@ class Subscription(Generic[M]):
             call, executor=ctx.executor, logger=logger, what=f"subscription {topic}",
             group=group, depth=qos.depth, errors=self._callback_errors,
         )
+        if gate is not None and not gate.is_open:
+            self._dispatch = Held(gate, self._dispatch, qos.depth)
+            self._direct = None
         self._sub: Any
         if qos.latched:
             self._sub = zext.declare_advanced_subscriber(

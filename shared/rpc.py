@@ -25,6 +25,7 @@ from .errors import (
     ZenrosTimeout,
 )
 from .executor import CallbackGroup
+from .gate import DeliveryGate
 from .log import ErrorLog
 from .message import Message, ServiceType, normalize_type_name
 
@@ -81,6 +82,7 @@ class Service:
         handler: Callable[..., Any],
         logger: logging.Logger,
         group: CallbackGroup | None = None,
+        gate: DeliveryGate | None = None,
     ) -> None:
         self.srv_type = srv_type
         self.name = name
@@ -88,6 +90,7 @@ class Service:
         self._ctx = ctx
         self._logger = logger
         self._group = group
+        self._gate = gate
         self._req = codec_for(srv_type.Request)
         self._res = codec_for(srv_type.Response)
         self._res_encoding = zenoh.Encoding(self._res.mime).with_schema(self._res.type_name)
@@ -114,6 +117,11 @@ class Service:
         self.closed = False
 
     def _serve_queue(self) -> None:
+        gate = self._gate
+        if gate is not None:  # requests wait in Zenoh's queue until the node's setup() returned
+            gate.wait()
+            if gate.abandoned:
+                return
         try:
             for query in self._queryable.handler:  # ends when the queryable is undeclared
                 try:

@@ -10,6 +10,7 @@ from typing import Any
 
 from .clock import Clock, Duration, Time
 from .executor import CallbackGroup, Executor
+from .gate import DeliveryGate
 
 __all__ = ["Timer"]
 
@@ -31,6 +32,7 @@ class Timer:
         logger: logging.Logger,
         group: CallbackGroup | None = None,
         autostart: bool = True,
+        gate: DeliveryGate | None = None,
     ) -> None:
         if not period > 0:
             raise ValueError(f"timer period must be positive, got {period}")
@@ -40,6 +42,7 @@ class Timer:
         self._executor = executor
         self._logger = logger
         self._group = group
+        self._gate = gate  # ticks before the node's setup() returned are skipped
         self._is_async = inspect.iscoroutinefunction(callback)
         self._future: Any = None
         self._canceled = True
@@ -80,6 +83,8 @@ class Timer:
                 due = due + self.period * behind
 
     async def _fire(self) -> None:
+        if self._gate is not None and not self._gate.is_open:
+            return
         self.calls += 1
         try:
             if self._is_async:

@@ -33,10 +33,12 @@ _JSON_HEADERS = [(b"content-type", b"application/json")]
 class ApiError(Exception):
     """A request the API refuses: ``status_code`` and the §1.2 ``description``."""
 
-    def __init__(self, status_code: int, description: str) -> None:
+    def __init__(self, status_code: int, description: str,
+                 retry_after: int | None = None) -> None:
         super().__init__(description)
         self.status_code = status_code
         self.description = description
+        self.retry_after = retry_after  # s: sent as Retry-After (a backend still starting)
 
 
 def error_body(description: str, result_style: bool = False) -> dict[str, Any]:
@@ -168,7 +170,9 @@ class Api:
             result = await self._serve(ep, scope, receive, params)
         except ApiError as exc:
             style = ep.result_style if ep is not None else False
-            await _send_json(send, exc.status_code, error_body(exc.description, style))
+            extra = [] if exc.retry_after is None else [
+                (b"retry-after", str(exc.retry_after).encode())]
+            await _send_json(send, exc.status_code, error_body(exc.description, style), extra)
             return
         except Exception as exc:  # a handler bug: a clear 500, logged, never a traceback out
             self.logger.exception("%s %s failed", method, scope["path"])
@@ -259,8 +263,10 @@ def method_has_body(method: str) -> bool:
     return method in ("POST", "PUT", "PATCH")
 
 
-async def _send_json(send: Send, status: int, content: Any) -> None:
+async def _send_json(send: Send, status: int, content: Any,
+                     headers: list[tuple[bytes, bytes]] | None = None) -> None:
     body = _ENC.encode(content)
     await send({"type": "http.response.start", "status": status,
-                "headers": [*_JSON_HEADERS, (b"content-length", str(len(body)).encode())]})
+                "headers": [*_JSON_HEADERS, (b"content-length", str(len(body)).encode()),
+                            *(headers or [])]})
     await send({"type": "http.response.body", "body": body})

@@ -15,6 +15,7 @@ from zenros.msgs.galileo_msgs import GalileoStatus
 
 from .config import GatewayConfig
 from .deadman import DeadMan
+from .presence import Presence
 from .settings import Settings
 from .status import RobotState, compose_status
 from .tokens import TokenStore
@@ -56,6 +57,8 @@ class NavPort(Protocol):
     Each raises `NavUnavailable` when nav is not there, ValueError for a bad argument.
     """
 
+    def open(self) -> None: ...
+    async def stop(self) -> None: ...
     async def goto_pose(self, x: float, y: float, theta: float) -> None: ...
     async def goto_index(self, index: int) -> None: ...
     async def cancel(self) -> None: ...
@@ -73,7 +76,7 @@ class Core:
     """
 
     def __init__(self, config: GatewayConfig, settings: Settings, identity: Identity,
-                 deadman_timeout: float = 0.5) -> None:
+                 deadman_timeout: float = 0.5, startup_grace: float = 30.0) -> None:
         self.config = config
         self.settings = settings
         self.identity = identity
@@ -87,6 +90,7 @@ class Core:
         # optional backends: "maps" -> async () -> (map names, current map)
         self.services: dict[str, Any] = {}
         self.nav: NavPort | None = None
+        self.presence = Presence(startup_grace)  # which backends are starting, up, gone
         self._lock = threading.Lock()
 
     def refresh(self, stamp_ns: int | None = None) -> GalileoStatus:

@@ -1,8 +1,9 @@
 """`RobotLink`: the gateway's zenros side: robot topics into `Core`, commands out.
 
 Subscribes ``odom``, ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
-(relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz, the
-dead-man speed command on ``cmd_vel`` and native commands on ``galileo/cmds``.
+(relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
+time (also under ``use_sim_time``), the dead-man speed command on ``cmd_vel`` and native
+commands on ``galileo/cmds``.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any
 
+from zenros.clock import SteadyClock
 from zenros.errors import UnknownTypeError
 from zenros.message import lookup_type
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoStatus
@@ -41,6 +43,11 @@ class RobotLink:
         self.node = node
         self.core = core
         self._control_at = 0.0
+        # State first, endpoints after: their callbacks read it (and a node built outside
+        # setup() has no delivery gate to hold them).
+        self.seen: dict[str, float] = {}      # topic -> time.monotonic() of its last message
+        self.log: deque[str] = deque(maxlen=500)
+        self.on_native: Callable[[bytes], Any] | None = None
         self.status_pub = node.create_publisher(GalileoStatus, "galileo/status", 10)
         self.cmd_vel_pub = node.create_publisher(Twist, "cmd_vel", 10)
         self.cmds_pub = node.create_publisher(GalileoNativeCmds, "galileo/cmds", 10)
@@ -51,8 +58,6 @@ class RobotLink:
         node.create_subscription(LaserScan, "scan", self.on_scan, _SENSOR)
         node.create_subscription(Log, "/rosout", self.on_log, 100)
         self.tts_pub = node.create_publisher(String, "tts", QOS_LATCHED)
-        self.seen: dict[str, float] = {}      # topic -> time.monotonic() of its last message
-        self.log: deque[str] = deque(maxlen=500)
         try:
             chassis_state: Any = lookup_type("zenros_msgs/ChassisState")
         except UnknownTypeError:
@@ -60,10 +65,12 @@ class RobotLink:
         if chassis_state is not None:
             node.create_subscription(chassis_state, "chassis/state", self.on_chassis, 10)
         core.native = self.publish_native
-        self.on_native: Callable[[bytes], Any] | None = None
         node.create_subscription(GalileoNativeCmds, "galileo/cmds", self.on_cmds, 50)
-        node.create_timer(1.0 / rate, self.on_status_tick)
-        node.create_timer(0.05, self.on_deadman_tick)
+        # Wall time whatever the node's clock: outside clients (the status WebSocket, Modbus,
+        # the serial bridge) see 30 Hz at any sim speed, and the dead-man timeout is theirs.
+        wall = SteadyClock()
+        node.create_timer(1.0 / rate, self.on_status_tick, clock=wall)
+        node.create_timer(0.05, self.on_deadman_tick, clock=wall)
 
     # ------------------------------------------------------------------ in
 

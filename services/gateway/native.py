@@ -50,12 +50,12 @@ class NativeCommands:
         op, args = data[0], data[1:]
         s = self.core.state
         if op == ord("m") and args[:1] == b"\x00":
-            self.core.navigation()
-            s.nav_open = True
+            self.core.navigation().open()
             return True
         if op == ord("m") and args[:1] == b"\x04":
+            # as /navigation/stop: navStatus stays 0 through nav's next status updates
             if self.core.nav is not None:
-                self._start(data, self.core.nav.cancel())
+                self._start(data, self.core.nav.stop())
             s.nav_open = False
             return True
         if op == ord("g") and len(args) == 1:

@@ -37,11 +37,11 @@ class NavCalls:
         self.tasks = tasks
 
     async def task_call(self, name: str, ident: str = "", body: Any = None) -> Any:
-        code, message, text = await self.tasks(name, ident, "" if body is None
-                                               else _ENC.encode(body).decode())
-        if code != 200:
-            raise ApiError(code, message or f"tasks/{name} failed ({code})")
-        return msgspec.json.decode(text)
+        reply = await self.tasks(name, ident, "" if body is None
+                                 else _ENC.encode(body).decode())
+        if reply.code != 200:
+            raise reply.error(name)
+        return msgspec.json.decode(reply.body)
 
     async def run_task(self, name: str, sub_tasks: list[dict[str, Any]], loop: bool = False
                        ) -> dict[str, Any]:
@@ -70,7 +70,7 @@ class NavCalls:
         try:
             return await self.nav.nav_point(index)
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise self.core.presence.error("nav", str(exc)) from exc
         except ValueError as exc:
             raise ApiError(404 if "does not exist" in str(exc) else 409, str(exc)) from exc
 

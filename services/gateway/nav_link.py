@@ -15,6 +15,7 @@ from zenros.qos import QOS_LATCHED
 from zenros.rpc import Client
 
 from .api import ApiError
+from .presence import Presence
 
 __all__ = ["NavLink"]
 
@@ -44,8 +45,9 @@ SERVICES: dict[str, ServiceType] = {
 class NavLink:
     """`await call(name, request)`; the current map grid from ``map`` (latched)."""
 
-    def __init__(self, node: Node, timeout: float = 10.0) -> None:
+    def __init__(self, node: Node, presence: Presence, timeout: float = 10.0) -> None:
         self.timeout = timeout
+        self.presence = presence
         self._clients: dict[str, Client] = {
             name: node.create_client(srv, name) for name, srv in SERVICES.items()}
         self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
@@ -68,8 +70,7 @@ class NavLink:
         try:
             return await client.call_async(request, self.timeout)
         except ServiceUnavailableError:
-            raise ApiError(503, f"the nav service is not running (no server for "
-                                f"{client.name})") from None
+            raise self.presence.error("nav", f"no server for {client.name}") from None
         except ZenrosTimeout:
             raise ApiError(504, f"the nav service did not answer {client.name} within "
                                 f"{self.timeout:g} s") from None

@@ -188,19 +188,38 @@ class Navigator:
         """The id of a task of the tasks service in one of ``states``, or ""."""
         if self.tasks is None:
             return ""
-        code, _, text = await self.tasks("get", "", "")
-        if code != 200:
+        reply = await self.tasks("get", "", "")
+        if reply.code != 200:
             return ""
-        for t in msgspec.json.decode(text):
+        for t in msgspec.json.decode(reply.body):
             if isinstance(t, dict) and t.get("state") in states:
                 return str(t.get("id", ""))
         return ""
 
     async def _task_step(self, name: str, ident: str) -> None:
         assert self.tasks is not None
-        code, message, _ = await self.tasks(name, ident, "")
-        if code != 200:
-            raise ValueError(f"task {ident}: {name} refused: {message}")
+        reply = await self.tasks(name, ident, "")
+        if reply.code != 200:
+            raise ValueError(f"task {ident}: {name} refused: {reply.message}")
+
+    def open(self) -> None:
+        """Navigation on (navStatus 1): ``/navigation/start``, native ``m 00``."""
+        self.stopped = False
+        self.core.state.nav_open = True
+
+    async def stop(self) -> None:
+        """Navigation off (navStatus 0, kept through nav's status updates until `open` or a
+        new goal): cancel the goal and the running task (``/navigation/stop``, ``m 04``).
+
+        Raises:
+            NavUnavailable: the goal could not be canceled (navigation is off all the same).
+        """
+        try:
+            if self.available():
+                await self.cancel()
+        finally:
+            self.stopped = True
+            self.core.state.nav_open = False
 
     async def cancel(self) -> None:
         """Cancel the goal: the running task when there is one, else the direct goal."""

@@ -62,6 +62,8 @@ class GatewayNode(Node):
         api_version: the API version reported in /system/info and discovery.
         status_rate: GalileoStatus rate in Hz (default 30).
         deadman_timeout: seconds a speed command holds (default 0.5).
+        startup_grace: seconds after start during which a backend (nav, tasks) not seen yet
+            counts as starting: its 503s carry Retry-After (default 30).
         ws_ping_interval, ws_ping_timeout: the topic WebSocket pings every interval and
             closes a connection whose pong is later than the timeout (5 s, 10 s).
         ws_max_frame: largest WebSocket frame a client may send (1 MiB; larger: close 1009).
@@ -103,16 +105,21 @@ class GatewayNode(Node):
         config = load_config(config_path,
                              {"no_token_check": True} if no_check else None)
         self.core = Core(config, Settings(self.data_dir / "settings.json"),
-                         make_identity(self.namespace, version, rest_port), deadman)
+                         make_identity(self.namespace, version, rest_port), deadman,
+                         self.declare_parameter("startup_grace", 30.0))
         self.link = RobotLink(self, self.core, rate)
         self.runner = AsyncRunner()
         self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
-        self.tasks = TasksLink(self)
+        self.tasks = TasksLink(self, self.core.presence)
         self.hub = TopicHub(self)
         self.navigator = Navigator(self, self.core)
         self.navigator.tasks = self.tasks
         self.core.nav = self.navigator
-        self.nav_link = NavLink(self)
+        self.nav_link = NavLink(self, self.core.presence)
+        presence = self.core.presence
+        presence.watch("nav", self.navigator.available)
+        presence.watch("tasks", self.tasks.available)
+        self._unlisten = self.context.graph.add_listener(lambda ev, tok: presence.refresh())
         self.core.services["maps"] = self.nav_link.maps
         self.io = IoLink(self)
         self.files = FileRoot(
@@ -129,7 +136,7 @@ class GatewayNode(Node):
             lambda api: add_io_routes(api, self.io),
             lambda api: add_record_routes(api, self.nav_link),
             lambda api: add_connection_routes(api, self.nav_link),
-            lambda api: add_coverage_routes(api, self),
+            lambda api: add_coverage_routes(api, self, self.core.presence),
             lambda api: add_extra_routes(api, self.link, self.hub,
                                          ParameterClient(self.context, node=self.fqn)),
             lambda api: add_fs_routes(api, self.files),
@@ -201,6 +208,9 @@ class GatewayNode(Node):
         return bound
 
     def close(self) -> None:
+        unlisten = getattr(self, "_unlisten", None)
+        if unlisten is not None:
+            unlisten()
         foxglove = getattr(self, "foxglove", None)
         if foxglove is not None:
             foxglove.stop()

@@ -18,6 +18,7 @@ from zenros.node import Node
 
 from .api import Api, ApiError, Call
 from .nav_calls import Coord
+from .presence import Presence
 
 __all__ = ["CoverageBody", "add_coverage_routes"]
 
@@ -43,7 +44,8 @@ def _points(poly: list[list[float]]) -> list[Point]:
     return [Point(x=p[0], y=p[1], z=p[2] if len(p) > 2 else 0.0) for p in poly]
 
 
-def add_coverage_routes(api: Api, node: Node, timeout: float = 30.0) -> None:
+def add_coverage_routes(api: Api, node: Node, presence: Presence,
+                        timeout: float = 30.0) -> None:
     """Route the coverage-path operation through a client of nav's service."""
     client = node.create_client(ComputeCoveragePath, "compute_coverage_path")
 
@@ -63,8 +65,7 @@ def add_coverage_routes(api: Api, node: Node, timeout: float = 30.0) -> None:
         try:
             res = await client.call_async(req, timeout)
         except ServiceUnavailableError:
-            raise ApiError(503, "the nav service is not running (no server for "
-                                f"{client.name})") from None
+            raise presence.error("nav", f"no server for {client.name}") from None
         except ZenrosTimeout:
             raise ApiError(504, f"the nav service did not answer {client.name} within "
                                 f"{timeout:g} s") from None

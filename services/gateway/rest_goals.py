@@ -111,7 +111,7 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
         try:
             path = await nav.current_path()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         except ValueError as exc:
             raise ApiError(409, str(exc)) from exc
         res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
@@ -148,12 +148,20 @@ def add_goal_routes(api: Api, calls: NavCalls) -> None:
             {"type": "charge_action", "x": p.x, "y": p.y, "theta": p.theta}])
 
     async def stop_charge(call: Call) -> Any:
-        """Stop charging: stops the charge task and undocks."""
-        task = await task_call("stop")
+        """Stop charging, whatever the task state: stops the running task (the charge task,
+        while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
+        task = None
+        running = [t for t in await task_call("get") if t.get("state") in ("WORKING", "PAUSED")]
+        if running:
+            try:
+                task = await task_call("stop", running[0]["id"])
+            except ApiError as exc:
+                if exc.status_code != 409:  # 409: it ended meanwhile, nothing left to stop
+                    raise
         try:
             await nav.stop_charge()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         return {"status": "ok", "task": task}
 
     async def get_charge_pose(call: Call) -> Any:

@@ -66,7 +66,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
         q: StartQuery = call.query
         if not nav.available():
-            raise ApiError(503, "navigation is not available: the nav service is not running")
+            raise core.presence.error("nav", "navigation is not available")
         core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
         try:
             if q.map and q.map != await current_map():
@@ -80,8 +80,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
                 publish_initialpose(x, y, th)
         finally:
             core.state.busy = False
-        nav.stopped = False
-        core.state.nav_open = True
+        nav.open()
         return {"result": True, "description": "navigation started"}
 
     async def reload(call: Call) -> Any:
@@ -97,13 +96,10 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
 
     async def stop(call: Call) -> Any:
         """Stop navigation: cancel the goal; navStatus goes to 0."""
-        if nav.available():
-            try:
-                await nav.cancel()
-            except NavUnavailable as exc:
-                raise ApiError(503, str(exc)) from exc
-        nav.stopped = True
-        core.state.nav_open = False
+        try:
+            await nav.stop()
+        except NavUnavailable as exc:
+            raise core.presence.error("nav", str(exc)) from exc
         return {"result": True, "description": "navigation stopped"}
 
     # ------------------------------------------------------------------ queries
@@ -118,7 +114,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
         try:
             path = await nav.current_path()
         except NavUnavailable as exc:
-            raise ApiError(503, str(exc)) from exc
+            raise core.presence.error("nav", str(exc)) from exc
         except ValueError:
             path = ""
         return {"map": await current_map(), "path": path}
@@ -156,7 +152,7 @@ def add_nav_routes(api: Api, calls: NavCalls) -> None:
             raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
                                 f"the loaded map ({current!r}): switch_map first")
         if link.grid is None:
-            raise ApiError(503, "no map received from the nav service yet")
+            raise core.presence.error("nav", "no map received from the nav service yet")
         return link.grid
 
     async def map_png(call: Call) -> Any:

@@ -3,16 +3,31 @@
 from __future__ import annotations
 
 from collections.abc import Awaitable, Callable
-from typing import Annotated, Any
+from typing import Annotated, Any, NamedTuple
 
 import msgspec
 
 from .api import Api, ApiError, Call
 
-__all__ = ["TaskCaller", "add_task_routes"]
+__all__ = ["TaskCaller", "TaskReply", "add_task_routes"]
 
-# name, id, JSON body text -> (HTTP code, message, JSON body text)
-TaskCaller = Callable[[str, str, str], Awaitable[tuple[int, str, str]]]
+
+class TaskReply(NamedTuple):
+    """What a tasks call answered: HTTP code, message, JSON body text, and (a 503 while the
+    tasks service is starting) the seconds after which to retry."""
+
+    code: int
+    message: str
+    body: str
+    retry_after: int | None = None
+
+    def error(self, name: str) -> ApiError:
+        return ApiError(self.code, self.message or f"tasks/{name} failed ({self.code})",
+                        self.retry_after)
+
+
+# name, id, JSON body text -> TaskReply
+TaskCaller = Callable[[str, str, str], Awaitable[TaskReply]]
 Id = Annotated[str, msgspec.Meta(max_length=64)]
 _ENC = msgspec.json.Encoder()
 
@@ -34,11 +49,10 @@ def add_task_routes(api: Api, tasks: TaskCaller) -> None:
     """Route the task and action operations to ``tasks`` (the tasks service)."""
 
     async def forward(name: str, ident: str = "", body: Any = None) -> Any:
-        code, message, text = await tasks(name, ident, "" if body is None
-                                           else _ENC.encode(body).decode())
-        if code != 200:
-            raise ApiError(code, message or f"tasks/{name} failed ({code})")
-        return msgspec.Raw(text.encode())
+        reply = await tasks(name, ident, "" if body is None else _ENC.encode(body).decode())
+        if reply.code != 200:
+            raise reply.error(name)
+        return msgspec.Raw(reply.body.encode())
 
     def raw_body(call: Call) -> Any:
         return call.body if isinstance(call.body, dict) else msgspec.to_builtins(call.body)

@@ -7,14 +7,18 @@ from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
 from zenros.node import Node
 from zenros.rpc import Client
 
+from .presence import Presence
+from .rest_tasks import TaskReply
+
 __all__ = ["TasksLink"]
 
 
 class TasksLink:
-    """``await link(name, id, body)`` → (HTTP code, message, JSON body text)."""
+    """``await link(name, id, body)`` → `TaskReply` (HTTP code, message, JSON body text)."""
 
-    def __init__(self, node: Node, timeout: float = 10.0) -> None:
+    def __init__(self, node: Node, presence: Presence, timeout: float = 10.0) -> None:
         self.node = node
+        self.presence = presence
         self.timeout = timeout
         self._clients: dict[str, Client] = {}
 
@@ -24,14 +28,20 @@ class TasksLink:
             client = self._clients[name] = self.node.create_client(TaskCall, f"tasks/{name}")
         return client
 
-    async def __call__(self, name: str, ident: str, body: str) -> tuple[int, str, str]:
+    def available(self) -> bool:
+        """Whether the tasks service serves (its ``tasks/get``)."""
+        return self._client("get").service_is_ready()
+
+    async def __call__(self, name: str, ident: str, body: str) -> TaskReply:
         client = self._client(name)
         try:
             res = await client.call_async(TaskCallRequest(id=ident, body=body), self.timeout)
         except ServiceUnavailableError:
-            return 503, f"the tasks service is not running (no server for {client.name})", ""
+            err = self.presence.error("tasks", f"no server for {client.name}")
+            return TaskReply(503, err.description, "", err.retry_after)
         except ZenrosTimeout:
-            return 504, f"the tasks service did not answer within {self.timeout:g} s", ""
+            return TaskReply(504, f"the tasks service did not answer within "
+                                  f"{self.timeout:g} s", "")
         except ServiceError as exc:
-            return 502, f"the tasks service failed: {exc}", ""
-        return res.code, res.message, res.body
+            return TaskReply(502, f"the tasks service failed: {exc}", "")
+        return TaskReply(res.code, res.message, res.body)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import zenoh
 
 from ..callbacks import make_dispatch
-from ..codec import codec_for
+from ..codec import codec_for, split_encoding
 from ..errors import (
     ActionError,
     ActionServerUnavailableError,
@@ -23,7 +23,7 @@ from ..errors import (
     ZenrosTimeout,
 )
 from ..log import Throttle
-from ..message import ActionType
+from ..message import ActionType, normalize_type_name
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
 from .cancel import request_cancel
@@ -80,6 +80,7 @@ class ActionClient:
         self._enc = {"send_goal": encoding_for(wire.SendGoalRequest),
                      "get_result": encoding_for(wire.GetResultRequest)}
         self._result_enc = encoding_for(wire.GetResultResponse)
+        self._fb_enc = encoding_for(wire.FeedbackMessage)
         self._keys = {p: ctx.keys.action(self.name, p)
                       for p in ("send_goal", "cancel_goal", "get_result", "feedback", "status")}
         self._send_key = zenoh.KeyExpr(self._keys["send_goal"])  # parsed once, not per goal
@@ -383,10 +384,16 @@ class ActionClient:
     # ------------------------------------------------------------------ topics
 
     def _on_feedback(self, sample: zenoh.Sample) -> None:
+        if sample.encoding != self._fb_enc:  # another type (a wrong publisher) says so here
+            schema = split_encoding(str(sample.encoding))[1]
+            if schema and normalize_type_name(schema) != self._fb.type_name:
+                self._bad_sample("feedback", f"type mismatch: expected {self._fb.type_name}, "
+                                             f"got {schema}", sample)
+                return
         try:
             msg = self._fb.decode(sample.payload.to_bytes())
         except CodecError as exc:
-            self._bad_sample("feedback", exc)
+            self._bad_sample("feedback", exc, sample)
             return
         h = self._handles.get(bytes(msg.goal_id.uuid))
         if h is not None and h._on_feedback is not None:
@@ -413,9 +420,20 @@ class ActionClient:
                 if h is not None:
                     h._advance(GoalStatus(st.status))
 
-    def _bad_sample(self, part: str, exc: Exception) -> None:
+    def _bad_sample(self, part: str, exc: Exception | str,
+                    sample: zenoh.Sample | None = None) -> None:
         if self._throttle.allow(part):
-            self.logger.error("action %s: cannot decode %s: %s", self.name, part, exc)
+            self.logger.error("action %s: cannot decode %s%s: %s", self.name, part,
+                              self._sender(sample), exc)
+
+    def _sender(self, sample: zenoh.Sample | None) -> str:
+        """`` from <nodes>`` behind a sample's session (who published a bad sample)."""
+        ts = None if sample is None else sample.timestamp
+        if ts is None:
+            return ""
+        zid = str(ts.get_id())
+        nodes = self._graph.nodes_of_zid(zid)
+        return f" from {', '.join(nodes) if nodes else f'session {zid}'}"
 
     # ------------------------------------------------------------------ cancel
 

@@ -132,6 +132,7 @@ class ActionServer:
         # behind send_goal), and Zenoh queues them without taking the GIL (as services do).
         # A goal with a plain execute callback runs on the thread that accepted it; one still
         # running after DETACH_DELAY hands the channel to another request thread (leaders.py).
+        self._gate = getattr(node, "_setup_gate", None)  # requests wait until setup() returned
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
         self._parts = {key(p): p for p in self._handlers}  # exact keys only: no wildcards
@@ -154,6 +155,9 @@ class ActionServer:
     def _on_request(self, query: zenoh.Query) -> Handle | None:
         """Handle one request (on the leading request thread); return the goal this thread
         runs now, if the request started one."""
+        gate = self._gate
+        if gate is not None and not gate.is_open:
+            gate.wait()
         self._on_query(query)
         h, self._job = self._job, None
         return h

@@ -138,4 +138,5 @@ def test_without_nav_the_endpoint_answers_503(tmp_path: Path) -> None:
         r = httpx.post(f"http://127.0.0.1:{gw.rest_port}/api/v1/navigation/coverage_path",
                        json={"border": BORDER, "op_width": 1.0}, timeout=20)
         assert r.status_code == 503, r.text
-        assert "nav service is not running" in r.json()["description"]
+        assert "nav service is starting" in r.json()["description"]  # just after start
+        assert r.headers["retry-after"] == "2"

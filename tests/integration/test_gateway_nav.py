@@ -23,7 +23,7 @@ from zenros.action import ActionClient
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav2_msgs import NavigateToPose
 from zenros.msgs.nav_msgs import Odometry
-from zenros.msgs.zenros_msgs import Teleport, TeleportRequest
+from zenros.msgs.zenros_msgs import SetChargePose, SetChargePoseRequest, Teleport, TeleportRequest
 from zenros.node import Node
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.gateway.node import GatewayNode
@@ -338,3 +338,55 @@ def test_put_speed_moves_the_robot_and_the_deadman_stops_it(rig: Rig) -> None:
         time.sleep(0.05)  # the client's own pacing, not a wait for a result
     assert wait_for(lambda: math.dist(rig.truth[-1], start) > 0.2, 5)
     assert wait_for(lambda: rig.speed < 1e-3, 5)  # silence: the robot stops by itself
+
+
+TRIANGLE = "1.5 0 0 0 0.1 0.1 0 a\n3 0 0 0 0.1 0.1 0 b\n3 1 0 1.57 0.1 0.1 0 c\n"
+
+
+def test_patrol_with_no_wait_visits_every_nav_point(rig: Rig) -> None:
+    """``POST /navigation/loop_task {"wait_time": 0}`` over three nav points drives on from
+    each to the next (issue 21 item 9: it had not reached the second one 90 s later)."""
+    h = rig.http
+    assert h.post("/navigation/init_pose", json={"x": 0, "y": 0, "z": 0}).status_code == 200
+    assert wait_for(lambda: abs(rig.gw.core.status.currentPosX) < 0.05
+                    and abs(rig.gw.core.status.currentPosY) < 0.05, 10)  # map = world again
+    current = h.get("/navigation/current_map").json()["name"]
+    r = h.post("/navigation/nav_points", json={"map_name": current, "path_name": "tri",
+                                               "path_data": TRIANGLE})
+    assert r.status_code == 200, r.text
+    assert h.get("/navigation/start", params={"path": "tri"}).json()["result"] is True
+    try:
+        loop = h.post("/navigation/loop_task", json={"wait_time": 0}).json()
+        assert len(loop["sub_tasks"]) == 3, loop
+        for x, y in ((1.5, 0.0), (3.0, 0.0), (3.0, 1.0), (1.5, 0.0)):
+            assert wait_for(lambda: rig.near(x, y, 0.35), 40), (x, y, rig.truth[-1:],
+                                                               h.get("/task").json())
+    finally:
+        h.delete("/navigation/loop_task")
+        h.get("/navigation/start", params={"path": "p1"})
+
+
+def test_stop_charge_after_docking_undocks(rig: Rig) -> None:
+    """Once docked the charge task is COMPLETE; ``stop_charge`` still stops charging (issue
+    21 item 9: it answered 409 "no task is running")."""
+    h = rig.http
+    dock = (22.0, -8.78, -math.pi / 2)  # the demo world's dock (poses.yaml)
+    setter = rig.user.create_client(SetChargePose, "set_charge_pose")  # another test moved it
+    assert setter.call(SetChargePoseRequest(pose=Pose2D(x=dock[0], y=dock[1], theta=dock[2])),
+                       timeout=10).pose.x == dock[0]
+    assert rig.teleport.call(TeleportRequest(pose=Pose2D(x=dock[0], y=dock[1] + 1.0,
+                                                         theta=dock[2])), timeout=10).success
+    assert wait_for(lambda: rig.near(dock[0], dock[1] + 1.0, 0.02), 10)
+    assert h.post("/navigation/init_pose", json={"x": dock[0], "y": dock[1] + 1.0,
+                                                 "z": dock[2]}).status_code == 200
+    assert wait_for(lambda: abs(rig.gw.core.status.currentPosY - dock[1] - 1.0) < 0.05, 10)
+    task = h.get("/navigation/go_charge").json()
+    assert task["sub_tasks"][0]["type"] == "charge_action", task
+    assert wait_for(lambda: h.get("/task", params={"id": task["id"]}).json()["state"]
+                    == "COMPLETE", 40), (h.get("/task", params={"id": task["id"]}).json(),
+                                         rig.truth[-1], rig.gw.core.status)
+    assert wait_for(lambda: rig.gw.core.status.chargeStatus in (1, 2), 10)
+    r = h.get("/navigation/stop_charge")
+    assert r.status_code == 200, r.text
+    assert r.json() == {"status": "ok", "task": None}
+    assert wait_for(lambda: rig.gw.core.status.chargeStatus == 0, 20)

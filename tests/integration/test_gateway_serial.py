@@ -6,12 +6,15 @@ from __future__ import annotations
 import json
 import socket
 import struct
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 import serial
 from zenros.context import Context
+from zenros.msgs.zenros_msgs import NavStatus
+from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.serial_frame import HEADER, STATUS_FRAME_LEN, command_frame
 from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.testing import wait_for
@@ -92,3 +95,31 @@ def test_discovery_broadcast_on_loopback(ctx_pair: list[Context], tmp_path: Path
             assert set(first) == {"id", "port", "mac", "version"}
             assert first["port"] == gw.rest_port and len(first["mac"]) == 17
             assert all(c in "0123456789ABCDEF" for c in first["id"])
+
+
+def test_m_04_stops_navigation_and_it_stays_stopped(
+        ctx_pair: list[Context], tmp_path: Path, modem: NullModem, make_node: Any) -> None:
+    """``m 04`` brings navStatus to 0 and nav's next status updates do not undo it (issue 21
+    item 9: nav_status was still 1 30 s later); ``m 00`` opens navigation again."""
+    nav_side = make_node("fake_nav", 1)
+    status = nav_side.create_publisher(NavStatus, "nav/status", QOS_LATCHED)
+
+    def update(distance: float) -> Callable[[], bool]:
+        status.publish(NavStatus(state="idle", target_distance=distance))
+        return lambda: gw.core.state.goal.distance == distance
+
+    with running_gateway(ctx_pair[0], tmp_path, serial_port=modem.a) as gw, \
+            serial.Serial(modem.b, 115200, timeout=2) as ctl:
+        assert wait_for(update(1.5), 5) and gw.core.refresh().navStatus == 1
+        ctl.write(command_frame(b"m\x04"))
+        assert wait_for(lambda: gw.navigator.stopped, 5)
+        assert wait_for(update(2.5), 5)  # nav's status update arrived after the stop
+        assert gw.core.refresh().navStatus == 0
+        assert wait_for(lambda: nav_status_of(read_frame(ctl)) == 0, 5)
+        ctl.write(command_frame(b"m\x00"))
+        assert wait_for(lambda: not gw.navigator.stopped, 5)
+        assert wait_for(update(3.5), 5) and gw.core.refresh().navStatus == 1
+
+
+def nav_status_of(frame: bytes) -> int:
+    return int(struct.unpack("<7if2if i4fI3fi", frame[4:-1])[0])

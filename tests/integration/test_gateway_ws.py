@@ -5,6 +5,8 @@ from __future__ import annotations
 import asyncio
 import json
 import socket
+import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -12,8 +14,10 @@ import httpx
 import pytest
 import websockets
 from websockets.asyncio.client import connect
+from zenros.clock import Time
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import Twist
+from zenros.msgs.rosgraph_msgs import Clock
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.node import GatewayNode
@@ -186,3 +190,36 @@ async def test_oversized_frame_closes_only_that_client(gw: GatewayNode) -> None:
         await other.send(json.dumps({"linear": {"x": 0.0}}))
         pong = await other.ping()
         await asyncio.wait_for(pong, 3)
+
+
+async def test_status_rate_is_wall_time_under_fast_sim_time(
+        ctx_pair: list[Context], tmp_path: Path, make_node: object) -> None:
+    """At use_sim_time with /clock running 10x, the status stream stays at 30 Hz of wall
+    time (issue 21 item 5: it followed sim time, 299 Hz)."""
+    sim = make_node("sim_clock", 1)  # type: ignore[operator]
+    clock_pub = sim.create_publisher(Clock, "/clock", 10)
+    stop = threading.Event()
+
+    def run_clock() -> None:  # 10x: 10 ms of sim time per ms of wall time
+        start = time.monotonic()
+        while not stop.wait(0.005):
+            clock_pub.publish(Clock(clock=Time.from_nanoseconds(
+                int((time.monotonic() - start) * 10 * 1e9))))
+
+    ticker = threading.Thread(target=run_clock, daemon=True)
+    ticker.start()
+    try:
+        with running_gateway(ctx_pair[0], tmp_path, use_sim_time=True) as gw:
+            assert wait_for(lambda: gw.get_clock().now().nanoseconds > 0, 5)
+            async with connect(f"ws://127.0.0.1:{gw.ws_port}/galileo/status"
+                               f"?token={await asyncio.to_thread(token_of, gw)}") as ws:
+                await asyncio.wait_for(ws.recv(), 3)
+                start, frames = time.monotonic(), 0
+                while time.monotonic() - start < 1.5:
+                    await asyncio.wait_for(ws.recv(), 3)
+                    frames += 1
+                rate = frames / (time.monotonic() - start)
+            assert 10 < rate < 50, f"{rate:.0f} Hz of wall time"
+    finally:
+        stop.set()
+        ticker.join(2)
