@@ -113,6 +113,7 @@ class Node:
             self.setup()
             self._setup_gate = None
             gate.open()
+            self._announce()
         except BaseException:
             self.close()
             raise
@@ -120,10 +121,6 @@ class Node:
     def _start(self) -> None:
         ctx = self.context
         self.start_ns = time.time_ns()
-        self._token = ctx.session.liveliness().declare_token(
-            ctx.keys.node_token(self.fqn, ctx.zid, socket.gethostname(), os.getpid(),
-                                self.start_ns)
-        )
         self.add_waitable(ParameterDescriptions(ctx, self.fqn, self.parameters))
         self._clock: Clock = SystemClock()
         if self.parameters.declare("use_sim_time", False):
@@ -133,6 +130,16 @@ class Node:
         self._rosout = self.create_publisher(Log, "/rosout", 100)
         self._rosout_handler = RosoutHandler(self.fqn, self._rosout.publish, self._clock.now)
         self.logger.addHandler(self._rosout_handler)
+
+    def _announce(self) -> None:
+        """Declare the node's liveliness token once `setup` has completed: a node is in the
+        graph (and ``zenros launch`` reports it ready) only when it is set up, so one that
+        refuses its configuration never shows as up."""
+        ctx = self.context
+        self._token = ctx.session.liveliness().declare_token(
+            ctx.keys.node_token(self.fqn, ctx.zid, socket.gethostname(), os.getpid(),
+                                self.start_ns)
+        )
 
     def setup(self) -> None:
         """Declare parameters and create endpoints. Override in subclasses."""

@@ -101,10 +101,11 @@ start_host() {
     [ -e "$STATE/$h.pid" ] && kill -0 "$(cat "$STATE/$h.pid")" 2>/dev/null \
         && die "$h is already running (pid $(cat "$STATE/$h.pid"))"
     # setsid: its own process group, so a terminal's Ctrl-C does not reach it; `ip netns exec`
-    # and `env` exec, so the pid is the launcher's.
+    # and `env` exec, so the pid is the launcher's. --verbose: the host's log keeps the INFO
+    # records too (the report reads the monitor's heartbeat_report lines from it).
     host_env "$h"
     setsid ip netns exec "$(ns "$h")" env "${HOST_ENV[@]}" \
-        "$PY" -m zenros.cli launch "$ROOT/deploy/launch/$file" "$@" \
+        "$PY" -m zenros.cli launch "$ROOT/deploy/launch/$file" --verbose "$@" \
         >"$STATE/$h.log" 2>&1 </dev/null &
     echo $! >"$STATE/$h.pid"
     say "started $file on $h (pid $!), log $STATE/$h.log"

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import LaunchError, StartupError
+from ..exits import EXIT_STARTUP
+from .args import describe
 from .loader import declared_args, load_launch
 from .model import LaunchDescription, ProcessSpec
-from ..exits import EXIT_STARTUP
 from .supervisor import BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
 
 __all__ = ["LaunchHooks", "LaunchOptions", "add_arguments", "default_data_dir", "main", "run"]
@@ -35,6 +36,7 @@ class LaunchOptions:
     no_router: bool = False
     sigterm_timeout: float = 5.0
     sigkill_timeout: float = 5.0
+    verbose: bool = False
 
 
 @dataclass(frozen=True)
@@ -84,6 +86,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="seconds between SIGTERM and SIGKILL at shutdown (default 5)",
     )
     parser.add_argument(
+        "-v", "--verbose", action="store_true",
+        help="print the processes' INFO and DEBUG log lines too (default: only in their logs)",
+    )
+    parser.add_argument(
         "--show-args", action="store_true", help="list the file's arguments and exit"
     )
     parser.add_argument(
@@ -122,6 +128,7 @@ def main(argv: Sequence[str] | None = None, hooks: LaunchHooks | None = None) ->
         file=ns.file, args=launch_args, data_dir=data_dir,
         run_dir=data_dir / "logs" / run_id, no_router=ns.no_router,
         sigterm_timeout=ns.sigterm_timeout, sigkill_timeout=ns.sigkill_timeout,
+        verbose=ns.verbose,
     )
     try:
         description = load_launch(options.file, options.args)
@@ -146,6 +153,7 @@ async def run(description: LaunchDescription, options: LaunchOptions, hooks: Lau
             log_dir=options.run_dir,
             sigterm_timeout=options.sigterm_timeout,
             sigkill_timeout=options.sigkill_timeout,
+            quiet=not options.verbose,
             before_start=hooks.before_start,
             wait_ready=hooks.wait_ready,
             on_event=hooks.on_event,
@@ -206,5 +214,7 @@ def _show_args(file: Path) -> int:
         print(f"{file} declares no arguments")
     for d in decls:
         default = "(required)" if d.default is None else f"(default: {d.default!r})"
-        print(f"{d.name} {default}" + (f": {d.description}" if d.description else ""))
+        kind = describe(d)
+        kind = f" [{kind}]" if kind else ""
+        print(f"{d.name} {default}{kind}" + (f": {d.description}" if d.description else ""))
     return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,6 +14,8 @@ from ..names import join, validate_namespace
 from .substitution import Scope, parse_bool, substitute
 
 __all__ = ["Context"]
+
+_ARG = re.compile(r"\$\(\s*arg\s+([A-Za-z_][A-Za-z0-9_]*)\s*\)")
 
 
 @dataclass
@@ -69,7 +72,7 @@ class Context:
         path = Path(os.path.expanduser(self.text(raw, where)))
         path = path if path.is_absolute() else self.scope.file.parent / path
         if not path.exists():
-            raise self.fail(where, f"no such file: {path}")
+            raise self.fail(where, f"no such file: {path}{self.origin(raw)}")
         return path
 
     def namespace_for(self, raw: Any, where: str) -> str:
@@ -80,7 +83,14 @@ class Context:
                 return validate_namespace(ns)
             return validate_namespace(join(self.namespace, ns.strip("/"))) if ns else self.namespace
         except InvalidNameError as exc:
-            raise self.fail(where, str(exc)) from exc
+            first = str(exc).splitlines()[0]
+            raise self.fail(where, f"{first}{self.origin(raw)}") from exc
+
+    def origin(self, raw: Any) -> str:
+        """`` (from robot:=2bad)`` for the arguments a field's raw text uses, or ``""``: an
+        error in a value built from arguments names the argument to change."""
+        used = [m.group(1) for m in _ARG.finditer(str(raw)) if m.group(1) in self.scope.args]
+        return f" (from {', '.join(f'{n}:={self.scope.args[n]}' for n in used)})" if used else ""
 
     def environment(self, raw: Any, where: str) -> dict[str, str]:
         m = self.mapping(raw, where)

@@ -14,13 +14,16 @@ import yaml
 
 from ..errors import InvalidNameError, LaunchError
 from ..names import Remapper, validate_node_name
+from .args import check_value
 from .context import Context
-from .model import ArgDecl, LaunchDescription, Output, ProcessSpec
+from .model import ARG_TYPES, ArgDecl, ArgType, LaunchDescription, Output, ProcessSpec
 from .substitution import Scope, parse_bool, substitute, substitute_value
 
 __all__ = ["declared_args", "load_launch"]
 
-FILE_KEYS = ("args", "env", "nodes", "include", "group")
+FILE_KEYS = ("args", "env", "nodes", "include", "group", "checks")
+ARG_KEYS = ("default", "description", "type", "choices", "min", "above", "max")
+CHECK_KEYS = ("fail_if", "error")
 GROUP_KEYS = ("namespace", "env", "nodes", "include", "group", "if", "unless")
 INCLUDE_KEYS = ("file", "args", "namespace", "if", "unless")
 NODE_KEYS = (
@@ -87,9 +90,58 @@ def _declarations(doc: dict[str, Any], ctx: Context) -> list[ArgDecl]:
             decls.append(ArgDecl(name, _scalar(spec)))
             continue
         spec = ctx.mapping(spec, where)
-        ctx.keys(spec, ("default", "description"), where)
-        decls.append(ArgDecl(name, _scalar(spec.get("default")), str(spec.get("description", ""))))
+        ctx.keys(spec, ARG_KEYS, where)
+        kind = str(spec.get("type", "str"))
+        if kind not in ARG_TYPES:
+            raise ctx.fail(f"{where}.type", f"expected one of {', '.join(ARG_TYPES)}, got {kind!r}")
+        choices = ctx.items(spec.get("choices"), f"{where}.choices")
+        decls.append(ArgDecl(
+            name, _scalar(spec.get("default")), str(spec.get("description", "")),
+            type=_arg_type(kind),
+            choices=tuple(str(_scalar(c)) for c in choices),
+            min=_bound(spec, "min", ctx, where),
+            above=_bound(spec, "above", ctx, where),
+            max=_bound(spec, "max", ctx, where),
+        ))
     return decls
+
+
+def _arg_type(kind: str) -> ArgType:
+    for t in ARG_TYPES:
+        if t == kind:
+            return t
+    return "str"
+
+
+def _bound(spec: dict[str, Any], key: str, ctx: Context, where: str) -> float | None:
+    raw = spec.get(key)
+    if raw is None:
+        return None
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+        raise ctx.fail(f"{where}.{key}", f"expected a number, got {raw!r}")
+    return float(raw)
+
+
+def _checked(decl: ArgDecl, value: str, given: bool, ctx: Context) -> str:
+    """The value checked against its declaration; the error names ``name:=value``."""
+    try:
+        return check_value(decl, value)
+    except ValueError as exc:
+        where = f"{decl.name}:={value}" if given else f"args.{decl.name} (default {value!r})"
+        raise ctx.fail(where, str(exc)) from exc
+
+
+def _checks(raw: Any, ctx: Context) -> None:
+    """The file's ``checks``: the first whose ``fail_if`` is true stops the launch with its
+    ``error`` (after substitution), e.g. a combination of arguments that cannot work."""
+    for i, item in enumerate(ctx.items(raw, "checks")):
+        where = f"checks[{i}]"
+        entry = ctx.mapping(item, where)
+        ctx.keys(entry, CHECK_KEYS, where)
+        if "fail_if" not in entry or "error" not in entry:
+            raise ctx.fail(where, "a check needs fail_if and error")
+        if parse_bool(entry["fail_if"], ctx.scope, f"{where}.fail_if"):
+            raise ctx.fail("", ctx.text(entry["error"], f"{where}.error"))
 
 
 def _scalar(raw: Any) -> str | None:
@@ -117,16 +169,18 @@ def _load_file(
     values: dict[str, str] = {}
     for d in decls:
         if d.name in given:
-            values[d.name] = given[d.name]
+            values[d.name] = _checked(d, given[d.name], True, ctx)
         elif d.default is not None:
             scope = Scope(file, values, ctx.scope.environ)
-            values[d.name] = substitute(d.default, scope, f"args.{d.name}")
+            default = substitute(d.default, scope, f"args.{d.name}")
+            values[d.name] = _checked(d, default, False, ctx)
         else:
             why = f"argument {d.name!r} is required; pass {d.name}:=VALUE"
             raise ctx.fail(f"args.{d.name}", why)
     ctx.scope = Scope(file, values, ctx.scope.environ)
     if top:
         out.declared = decls
+    _checks(doc.get("checks"), ctx)
     if "env" in doc:
         ctx.env = ctx.environment(doc["env"], "env")
     _body(doc, ctx, out, "")
@@ -218,8 +272,6 @@ def _node(raw: Any, ctx: Context, where: str) -> ProcessSpec | None:
         raise ctx.fail(where, "remap and params need ros_args: true (cmd nodes get no ROS flags)")
     respawn = parse_bool(entry.get("respawn", False), ctx.scope, f"{where}.respawn")
     required = parse_bool(entry.get("required", False), ctx.scope, f"{where}.required")
-    if respawn and required:
-        raise ctx.fail(where, "a process cannot be both respawn and required")
     output = ctx.text(entry.get("output", "screen"), f"{where}.output")
     if output not in ("screen", "log"):
         raise ctx.fail(f"{where}.output", f"expected screen or log, got {output!r}")

@@ -12,7 +12,9 @@ import yaml
 from ..names import join
 
 __all__ = [
+    "ARG_TYPES",
     "ArgDecl",
+    "ArgType",
     "LaunchDescription",
     "Output",
     "ProcessSpec",
@@ -24,13 +26,33 @@ __all__ = [
 Output = Literal["screen", "log"]
 
 
+ArgType = Literal["str", "bool", "int", "float", "file"]
+ARG_TYPES: tuple[ArgType, ...] = ("str", "bool", "int", "float", "file")
+
+
 @dataclass(frozen=True)
 class ArgDecl:
-    """A declared launch argument; one without a default must be given (``name:=value``)."""
+    """A declared launch argument; one without a default must be given (``name:=value``).
+
+    Attributes:
+        type: what the value must be (`zenros.launch.args.check_value`): ``str`` (anything),
+            ``bool`` (true/false/yes/no/on/off/1/0, normalized to true or false), ``int``,
+            ``float`` (finite), ``file`` (an existing file or device, relative to the
+            launcher's directory, made absolute).
+        choices: the only values allowed (none: any).
+        min: lowest allowed number (int and float).
+        above: the number must be greater than this.
+        max: highest allowed number.
+    """
 
     name: str
     default: str | None = None
     description: str = ""
+    type: ArgType = "str"
+    choices: tuple[str, ...] = ()
+    min: float | None = None
+    above: float | None = None
+    max: float | None = None
 
 
 @dataclass(frozen=True)
@@ -50,7 +72,10 @@ class ProcessSpec:
         cwd: working directory (None: the launcher's).
         respawn: restart the process whenever it exits (unless the launch is stopping).
         respawn_delay: seconds to wait before a restart.
-        required: when the process exits, the whole launch stops.
+        required: the launch cannot run without it. Without ``respawn``, the launch stops
+            when it exits; with ``respawn``, it is restarted after a crash and the launch
+            stops only when it cannot be run: a startup failure (exit code 3) or a crash
+            loop given up.
         output: ``screen`` prints its lines prefixed with ``[label]``; ``log`` only writes the
             log file (always written).
         origin: where it was declared (``file.yaml: nodes[0]``), for messages.

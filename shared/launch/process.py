@@ -13,7 +13,8 @@ __all__ = ["Event", "ProcessState", "describe_exit"]
 
 @dataclass(frozen=True)
 class Event:
-    """Something the supervisor did or saw: start, exit, ready, not_ready, signal, stop, error."""
+    """Something the supervisor did or saw: start, exit, ready, not_ready, signal, stop, error,
+    startup_failed (exit code 3: its configuration; not restarted), gave_up (a crash loop)."""
 
     kind: str
     label: str = ""
@@ -49,6 +50,11 @@ class ProcessState:
     stop_signal: int | None = None
     ready: bool | None = None
     started_at: float = 0.0
+    quick_failures: int = 0
+    """Failed runs in a row that each ended within ``crash_window`` of their start."""
+    last_error: str = ""
+    """The last line the current (or last) run wrote on stderr, else on stdout."""
+    last_stdout: str = ""
     tasks: list[asyncio.Task[None]] = field(default_factory=list)
     ready_task: asyncio.Task[None] | None = None
 

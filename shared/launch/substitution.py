@@ -1,4 +1,5 @@
-"""Launch-file substitutions: ``$(arg x)``, ``$(env X [default])``, ``$(optenv ...)``, ``$(dirname)``."""
+"""Launch-file substitutions: ``$(arg x)``, ``$(env X [default])``, ``$(optenv ...)``,
+``$(dirname)`` and ``$(expr ...)`` (`expr`: comparisons and logic over the arguments)."""
 
 from __future__ import annotations
 
@@ -12,11 +13,12 @@ from typing import Any
 import yaml
 
 from ..errors import LaunchError
+from .expr import ExprError, evaluate
 
-__all__ = ["Scope", "parse_bool", "substitute", "substitute_value"]
+__all__ = ["Scope", "parse_bool", "spans", "substitute", "substitute_value"]
 
-_PATTERN = re.compile(r"\$\(([^()]*)\)")
-_KINDS = "arg NAME, env NAME [DEFAULT], optenv NAME [DEFAULT], dirname"
+_KINDS = "arg NAME, env NAME [DEFAULT], optenv NAME [DEFAULT], dirname, expr EXPRESSION"
+_QUOTE = re.compile(r"'[^']*'|\"[^\"]*\"")
 
 
 @dataclass(frozen=True)
@@ -52,16 +54,62 @@ def _one(scope: Scope, body: str, where: str) -> str:
         )
     if kind == "dirname" and not words:
         return str(scope.file.parent)
+    if kind == "expr" and words:
+        try:
+            return evaluate(rest, scope.args)
+        except ExprError as exc:
+            raise scope.fail(where, f"$({body.strip()}): {exc}") from exc
     raise scope.fail(where, f"unknown substitution $({body}); valid: {_KINDS}")
+
+
+def spans(text: str) -> list[tuple[int, int]]:
+    """Where each ``$(...)`` of ``text`` starts and ends; parentheses inside balance (as in
+    ``$(expr not (a or b))``) and quoted strings inside are skipped. An unclosed ``$(`` is
+    left as text."""
+    out: list[tuple[int, int]] = []
+    pos = 0
+    while (start := text.find("$(", pos)) >= 0:
+        depth, i = 0, start + 1
+        end = -1
+        while i < len(text):
+            ch = text[i]
+            if ch in "'\"" and (m := _QUOTE.match(text, i)) is not None:
+                i = m.end()
+                continue
+            if ch == "(":
+                depth += 1
+            elif ch == ")":
+                depth -= 1
+                if depth == 0:
+                    end = i + 1
+                    break
+            i += 1
+        if end < 0:
+            break
+        out.append((start, end))
+        pos = end
+    return out
 
 
 def substitute(text: str, scope: Scope, where: str) -> str:
     """Replace every ``$(...)`` in ``text``.
 
     Raises:
-        LaunchError: an unknown substitution, argument or unset variable (names file and key).
+        LaunchError: an unknown substitution, argument or unset variable, or a bad
+            expression (names file and key).
     """
-    return _PATTERN.sub(lambda m: _one(scope, m.group(1), where), text)
+    parts, pos = [], 0
+    for start, end in spans(text):
+        parts += [text[pos:start], _one(scope, text[start + 2:end - 1], where)]
+        pos = end
+    return "".join([*parts, text[pos:]])
+
+
+def _whole(text: str) -> bool:
+    """Whether ``text`` is exactly one substitution (surrounding blanks aside)."""
+    stripped = text.strip()
+    found = spans(stripped)
+    return len(found) == 1 and found[0] == (0, len(stripped))
 
 
 def substitute_value(raw: Any, scope: Scope, where: str) -> Any:
@@ -72,7 +120,7 @@ def substitute_value(raw: Any, scope: Scope, where: str) -> Any:
     """
     if isinstance(raw, str):
         text = substitute(raw, scope, where)
-        if text != raw and _PATTERN.fullmatch(raw.strip()):
+        if text != raw and _whole(raw):
             try:
                 return yaml.safe_load(text) if text.strip() else text
             except yaml.YAMLError:

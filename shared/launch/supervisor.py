@@ -5,6 +5,11 @@ and a terminal's Ctrl-C reaches only the launcher, which then stops everything i
 SIGINT to all, SIGTERM after ``sigterm_timeout`` to those still running, SIGKILL after
 ``sigkill_timeout``. A further `Supervisor.stop` call skips to the next step at once.
 
+A process that exits with code 3 (startup failed: its configuration) is not restarted; a
+respawn process failing quickly again and again backs off and is given up after
+``crash_limit`` runs, with one summary line. A required process that cannot be run (either
+case) stops the launch.
+
 A process *ended cleanly* if its last run exited with code 0, or, after our SIGINT, died of
 SIGINT (return code -2) or exited 130. `Supervisor.run` returns 0 when every process ended
 cleanly, 1 when one did not (a crash, or it needed SIGTERM or SIGKILL), and 3 when a process
@@ -51,7 +56,13 @@ class SupervisorConfig:
         log_dir: this run's directory: ``<label>.log`` per process, ``launch.log``, params.
         sigterm_timeout: seconds after SIGINT before SIGTERM.
         sigkill_timeout: seconds after SIGTERM before SIGKILL.
-        crash_delay: a process that ran less than this is respawned after at least this long.
+        crash_delay: a process that ran less than this is respawned after at least this long;
+            also the first wait of a crash loop's backoff (doubled at each further failure).
+        crash_window: a failed run (exit code not 0) shorter than this is a *quick failure*.
+        crash_limit: after this many quick failures in a row a respawn process is given up
+            (one summary line); a run that lasts ``crash_window`` resets the count.
+        quiet: keep `is_chatter` lines (INFO and DEBUG log records) off the screen; they
+            still go to the process's log file.
         screen: where prefixed stdout lines go (default ``sys.stdout``).
         screen_err: where prefixed stderr lines and launcher messages go (``sys.stderr``).
         before_start: hook run before every (re)start; returns the spec to run (it may add
@@ -68,6 +79,9 @@ class SupervisorConfig:
     sigterm_timeout: float = 5.0
     sigkill_timeout: float = 5.0
     crash_delay: float = 1.0
+    crash_window: float = 10.0
+    crash_limit: int = 5
+    quiet: bool = False
     screen: TextIO | None = None
     screen_err: TextIO | None = None
     before_start: BeforeStart | None = None
@@ -160,15 +174,24 @@ class Supervisor:
                 self._stopping.set()
             return False
         state.process, state.returncode, state.stop_signal, state.ready = proc, None, None, None
+        state.last_error = state.last_stdout = ""
         state.starts += 1
         state.started_at = time.monotonic()
         on_screen = spec.output == "screen"
         screen = (self.config.screen or sys.stdout) if on_screen else None
         screen_err = (self.config.screen_err or sys.stderr) if on_screen else None
         assert proc.stdout is not None and proc.stderr is not None
+        quiet = self.config.quiet
+
+        def on_stdout(line: bytes) -> None:
+            state.last_stdout = line.decode(errors="replace").strip()
+
+        def on_stderr(line: bytes) -> None:
+            state.last_error = line.decode(errors="replace").strip()
+
         state.tasks = [
-            asyncio.create_task(pump(proc.stdout, label, log, screen)),
-            asyncio.create_task(pump(proc.stderr, label, log, screen_err)),
+            asyncio.create_task(pump(proc.stdout, label, log, screen, quiet, on_stdout)),
+            asyncio.create_task(pump(proc.stderr, label, log, screen_err, quiet, on_stderr)),
         ]
         self._logs[label] = log
         self._say(Event("start", label, proc.pid, detail=shlex.join(argv)))
@@ -205,20 +228,72 @@ class Supervisor:
                 log.close()
             if self._stopping.is_set():
                 return
-            if spec.required:
-                self.stop(f"required process {spec.label} ended ({describe_exit(state.returncode)})")
+            rc = state.returncode
+            if rc == EXIT_STARTUP:
+                self._startup_failure(state)
+                return
+            if spec.required and not spec.respawn:
+                self.stop(f"required process {spec.label} ended ({describe_exit(rc)})")
                 return
             if not spec.respawn:
                 return
-            delay = spec.respawn_delay
-            if ran < self.config.crash_delay:
-                delay = max(delay, self.config.crash_delay)
+            delay = self._respawn_delay(state, ran)
+            if delay is None:
+                if spec.required:
+                    self.stop(f"required process {spec.label} keeps failing; the launch stops")
+                return
             try:
                 await asyncio.wait_for(self._stopping.wait(), delay)
                 return
             except TimeoutError:
                 pass
             await self._spawn(state)
+
+    def _startup_failure(self, state: ProcessState) -> None:
+        """Exit code 3: the process refused its configuration; running it again cannot help.
+
+        A required process stops the launch (exit code 3); any other one stays down.
+        """
+        spec = state.spec
+        # Its own error line is on the screen already: once is enough.
+        why = "exit code 3, its error is above" if spec.output == "screen" else self._last_line(state)
+        if spec.required:
+            self._startup_failed = True
+            self.stop(f"required process {spec.label} could not start ({why}); "
+                      "the launch stops: fix its configuration")
+            return
+        after = "; not restarting it" if spec.respawn else ""
+        self._say(Event("startup_failed", spec.label, detail=(
+            f"{spec.label} could not start ({why}){after}: fix its configuration")))
+
+    def _respawn_delay(self, state: ProcessState, ran: float) -> float | None:
+        """Seconds before the next start, or None when a crash loop is given up.
+
+        A failed run shorter than ``crash_window`` is a quick failure. The first is restarted
+        as any run (after ``respawn_delay``, at least ``crash_delay`` if it ran less than
+        that); from the second in a row the waits double from ``crash_delay`` (1, 2, 4 s),
+        and after ``crash_limit`` in a row the process stays down with one summary line.
+        """
+        cfg, spec = self.config, state.spec
+        quick = state.returncode != 0 and ran < cfg.crash_window
+        state.quick_failures = state.quick_failures + 1 if quick else 0
+        if state.quick_failures >= cfg.crash_limit:
+            self._say(Event("gave_up", spec.label, detail=(
+                f"{spec.label} failed {state.quick_failures} times in a row, each within "
+                f"{cfg.crash_window:g} s of starting; not restarting it. Last error: "
+                f"{self._last_line(state)}")))
+            return None
+        delay = spec.respawn_delay
+        if ran < cfg.crash_delay:
+            delay = max(delay, cfg.crash_delay)
+        if state.quick_failures > 1:  # a single crash is restarted as before
+            delay = max(delay, cfg.crash_delay * 2 ** (state.quick_failures - 2))
+        return delay
+
+    @staticmethod
+    def _last_line(state: ProcessState) -> str:
+        line = state.last_error or state.last_stdout
+        return line or describe_exit(state.returncode)
 
     async def _drain(self, state: ProcessState) -> None:
         """Let the output pumps reach EOF (a leftover grandchild may hold the pipe: 1 s)."""

@@ -24,7 +24,7 @@ from .model import ProcessSpec
 
 __all__ = ["ZenohLaunch", "is_master", "router_endpoint"]
 
-READY_TIMEOUT = 20.0
+READY_TIMEOUT = 60.0  # a node is ready once set up: nav loading its map on a busy host takes a while
 READY_SLICE = 0.25
 MASTER_WAIT = 5.0
 MASTER_MODULE = "zenros.services.master"

@@ -312,6 +312,130 @@ async def test_a_process_that_cannot_start_stops_the_launch(
     assert h.sup.states["never"].starts == 0
 
 
+CONFIG_FAILURE = """
+    import sys
+    print("chassis: startup failed: parameter 'map': no such file", file=sys.stderr)
+    sys.exit(3)
+"""
+CRASH = """
+    import sys
+    print("starting", flush=True)
+    raise ModuleNotFoundError("No module named 'websockets'")
+"""
+
+
+def _lines(screen: str, label: str) -> str:
+    """The process's own lines of a screen (the launcher's start line echoes its code)."""
+    return "".join(ln for ln in screen.splitlines(keepends=True) if ln.startswith(f"[{label}] "))
+
+
+async def test_a_configuration_failure_is_not_restarted(harness: Callable[..., Harness]) -> None:
+    """Exit code 3 (startup failed: its configuration) stops that process for good, with its
+    error on the terminal once; the rest of the launch goes on."""
+    h = harness([ProcessSpec("chassis", py(CONFIG_FAILURE), respawn=True),
+                 ProcessSpec("other", py(SLEEP))])
+    h.start()
+    await h.until(lambda: "startup_failed" in h.kinds("chassis"))
+    await h.until(lambda: "[other] ready" in h.screen.getvalue())
+    await asyncio.sleep(1.5)  # past the 1 s respawn of a quick exit: nothing comes back
+    assert h.kinds("chassis").count("start") == 1
+    err = _lines(h.screen_err.getvalue(), "chassis")
+    assert err.count("startup failed: parameter 'map'") == 1, err
+    line = h.first("startup_failed", "chassis")[1].detail
+    assert "chassis could not start" in line and "not restarting it" in line
+    h.sup.stop()
+    assert await h.result() == 1  # chassis did not end cleanly
+
+
+async def test_a_required_configuration_failure_stops_the_launch(
+    harness: Callable[..., Harness]
+) -> None:
+    h = harness([ProcessSpec("other", py(SLEEP)),
+                 ProcessSpec("chassis", py(CONFIG_FAILURE), respawn=True, required=True)])
+    h.start()
+    assert await h.result() == 3
+    assert h.kinds("chassis").count("start") == 1
+    stops = [e.detail for _, e in h.events if e.kind == "stop"]
+    assert any("required process chassis could not start (exit code 3, its error is above)"
+               in d for d in stops), stops
+    assert _lines(h.screen_err.getvalue(), "chassis").count("startup failed: parameter 'map'") == 1
+
+
+async def test_a_crash_loop_backs_off_and_gives_up(harness: Callable[..., Harness]) -> None:
+    h = harness([ProcessSpec("gateway", py(CRASH), respawn=True)],
+                crash_delay=0.2, crash_limit=4, crash_window=5.0)
+    h.start()
+    await h.until(lambda: "gave_up" in h.kinds("gateway"), 20)
+    await asyncio.sleep(0.5)
+    assert h.kinds("gateway").count("start") == 4
+    exits = [t for t, e in h.events if e.kind == "exit"]
+    starts = [t for t, e in h.events if e.kind == "start"]
+    waits = [b - a for a, b in zip(exits, starts[1:], strict=False)]
+    assert len(waits) == 3
+    assert waits[1] >= 0.2 and waits[2] >= 0.4, waits  # doubling from the second failure
+    gave_up = [e.detail for _, e in h.events if e.kind == "gave_up"]
+    assert gave_up == [("gateway failed 4 times in a row, each within 5 s of starting; not "
+                        "restarting it. Last error: ModuleNotFoundError: No module named "
+                        "'websockets'")], gave_up
+    assert h.screen_err.getvalue().count("[launch] gateway failed 4 times") == 1
+    assert await h.result() == 1  # nothing left to run: the launch ends
+
+
+async def test_a_required_crash_loop_stops_the_launch(harness: Callable[..., Harness]) -> None:
+    h = harness([ProcessSpec("other", py(SLEEP)),
+                 ProcessSpec("gateway", py(CRASH), respawn=True, required=True)],
+                crash_delay=0.05, crash_limit=3)
+    h.start()
+    assert await h.result() == 1
+    assert h.kinds("gateway").count("start") == 3
+    assert any("required process gateway keeps failing" in e.detail
+               for _, e in h.events if e.kind == "stop")
+
+
+async def test_a_run_that_lasts_resets_the_crash_count(harness: Callable[..., Harness],
+                                                     tmp_path: Path) -> None:
+    """Only quick failures in a row count: a process that ran a while is restarted again."""
+    count = tmp_path / "runs"
+    h = harness([ProcessSpec("flaky", py(f"""
+        import pathlib, sys, time
+        f = pathlib.Path({str(count)!r})
+        n = int(f.read_text()) if f.exists() else 0
+        f.write_text(str(n + 1))
+        time.sleep(0.6 if n % 2 else 0)  # every other run lasts past the crash window
+        sys.exit(1)
+    """), respawn=True)], crash_delay=0.05, crash_limit=2, crash_window=0.5)
+    h.start()
+    await h.until(lambda: h.kinds("flaky").count("start") >= 6, 20)
+    assert "gave_up" not in h.kinds("flaky")
+    h.sup.stop()
+    await h.result()
+
+
+async def test_a_quiet_screen_keeps_info_chatter_in_the_log(harness: Callable[..., Harness],
+                                                          tmp_path: Path) -> None:
+    h = harness([ProcessSpec("listener", py("""
+        import sys
+        for i in range(50):
+            print(f"[INFO] [1764770000.{i:03d}] [/listener]: I heard: [hello world {i}]")
+        print("[DEBUG] [1764770000.100] [/listener]: details")
+        print("[WARNING] [1764770000.200] [/listener]: odd message", file=sys.stderr)
+        print("[ERROR] [1764770000.300] [/listener]: bad message", file=sys.stderr)
+        print("a plain print")
+        print("[INFO] [1764770000.400] [/listener]: on stderr", file=sys.stderr)
+    """))], quiet=True)
+    h.start()
+    assert await h.result() == 0
+    screen = _lines(h.screen.getvalue() + h.screen_err.getvalue(), "listener")
+    assert "I heard" not in screen and "details" not in screen and "on stderr" not in screen
+    assert "[listener] [WARNING] [1764770000.200] [/listener]: odd message" in screen
+    assert "[listener] [ERROR] [1764770000.300] [/listener]: bad message" in screen
+    assert "[listener] a plain print" in screen
+    assert "[launch] started listener" in h.screen_err.getvalue()
+    log = (tmp_path / "logs" / "listener.log").read_text()
+    assert len(re.findall(r"I heard: \[hello world \d+\]", log)) == 50
+    assert "]: details" in log and "]: on stderr" in log
+
+
 async def test_hooks_before_start_and_wait_ready(harness: Callable[..., Harness]) -> None:
     calls: list[str] = []
 

@@ -105,7 +105,7 @@ def test_start_waits_for_master_once_and_stop_is_quiet(tmp_path: Path) -> None:
         "nodes:\n  - module: zenros.services.master\n  - module: zenros.examples.talker\n"
         "  - module: zenros.examples.listener\n")
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "quiet.yaml"),
-                 "--data-dir", str(tmp_path / "home")],
+                 "--data-dir", str(tmp_path / "home"), "--verbose"],
                 env={"ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}",
                      "ZENROS_PREFIX": unique_prefix(), "ZENROS_HOME": str(tmp_path / "home")})
     try:
@@ -120,3 +120,66 @@ def test_start_waits_for_master_once_and_stop_is_quiet(tmp_path: Path) -> None:
         assert talker_end is not None and talker_end.start() < out.index("SIGINT to master")
     finally:
         proc.stop()
+
+
+STAND_IN = """
+import pathlib, sys, time
+from zenros import Node, run
+from zenros.errors import InvalidParameterValueError
+
+class StandIn(Node):
+    def setup(self) -> None:
+        time.sleep(1.0)  # a setup that takes a while (a map to load)
+        if {fail!r}:
+            raise InvalidParameterValueError("parameter 'map': cannot read map YAML")
+        pathlib.Path({marker!r}).touch()
+
+run(StandIn)
+"""
+
+
+def _stand_in(tmp_path: Path, name: str, fail: bool) -> Path:
+    marker = tmp_path / f"{name}-set-up"
+    script = tmp_path / f"{name}.py"
+    script.write_text(STAND_IN.format(fail=fail, marker=str(marker)))
+    return script
+
+
+def _launch(tmp_path: Path, text: str) -> Proc:
+    (tmp_path / "l.yaml").write_text(text)
+    return Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "l.yaml"),
+                 "--data-dir", str(tmp_path / "home")],
+                env={"ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}",
+                     "ZENROS_PREFIX": unique_prefix()})
+
+
+@pytest.mark.timeout(150)
+def test_ready_is_printed_once_the_node_is_set_up(tmp_path: Path) -> None:
+    script = _stand_in(tmp_path, "slow", fail=False)
+    proc = _launch(tmp_path, f"nodes:\n  - {{cmd: [{sys.executable}, {script}], name: slow,"
+                             " ros_args: true}\n")
+    try:
+        assert proc.wait_line("[launch] slow is ready", 60), proc.output
+        assert (tmp_path / "slow-set-up").exists(), proc.output  # setup had completed
+    finally:
+        proc.stop(timeout=20)
+
+
+@pytest.mark.timeout(150)
+def test_a_node_refusing_its_configuration_is_never_ready_nor_restarted(
+    tmp_path: Path,
+) -> None:
+    script = _stand_in(tmp_path, "bad", fail=True)
+    proc = _launch(tmp_path, f"nodes:\n  - {{cmd: [{sys.executable}, {script}], name: bad,"
+                             " ros_args: true, respawn: true}\n"
+                             "  - {module: zenros.examples.listener}\n")
+    try:
+        assert proc.wait_line("[launch] bad could not start", 60), proc.output
+        assert proc.wait_line("[launch] listener is ready", 60), proc.output
+        time.sleep(1.5)  # past a respawn's 1 s: nothing comes back
+        out = proc.output
+        assert "bad is ready" not in out, out
+        assert out.count("[launch] started bad") == 1, out
+        assert out.count("startup failed: parameter 'map': cannot read map YAML") == 1, out
+    finally:
+        proc.stop(timeout=20)

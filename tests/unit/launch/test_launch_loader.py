@@ -232,7 +232,6 @@ def test_supervision_fields(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("node", "match"),
     [
-        ("{cmd: a, respawn: true, required: true}", "cannot be both respawn and required"),
         ("{cmd: a, respawn_delay: -1}", r"respawn_delay: expected a number of seconds >= 0"),
         ("{cmd: a, respawn_delay: soon}", r"respawn_delay: expected a number of seconds >= 0"),
         ("{cmd: a, respawn: maybe}", r"nodes\[0\].respawn: expected true or false, got 'maybe'"),
