@@ -69,11 +69,16 @@ for name in sorted(names):
             importlib.import_module(name)
         except Exception as exc:
             failed[name] = f"{type(exc).__name__}: {exc}"
+from pathlib import Path
 from zenros.launch.files import find_launch_file
+from zenros.launch.loader import load_launch
 from zenros.services.chassis.config import DEMO_MAP as chassis_map
 from zenros.services.nav.params import DEMO_MAP as nav_map
+sim = find_launch_file("sim.yaml")
+maps = [p["map"] for spec in load_launch(sim).processes for p in spec.params
+        if isinstance(p, dict) and "map" in p]  # sim.yaml's $(dirname)/../maps/...
 print(json.dumps({"zenros": zenros.__file__, "modules": len(names), "failed": failed,
-                  "sim": str(find_launch_file("sim.yaml")),
+                  "sim": str(sim), "sim_maps": [m for m in maps if Path(m).is_file()],
                   "maps": [str(p) for p in (chassis_map, nav_map) if p.is_file()]}))
 """
 
@@ -129,18 +134,14 @@ def _check_imports(inst: Install, outside: Path, editable: bool) -> None:
     home = inst.src if editable else inst.venv
     assert found["zenros"].startswith(str(home)), found["zenros"]
     assert found["sim"].startswith(str(home)), found["sim"]
-    assert len(found["maps"]) == 2, f"the demo map is missing: {found}"
+    assert len(found["maps"]) == 2, f"the demo map is missing: {found}"  # services' default
+    assert len(found["sim_maps"]) == 2, f"sim.yaml's map is missing: {found}"  # chassis, nav
 
 
 class Launch:
     """``zenros launch`` of the fresh venv on free ports; stopped by its PIDs in teardown."""
 
     def __init__(self, inst: Install, file: str, cwd: Path, home: Path) -> None:
-        self.discovery = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.discovery.bind(("127.0.0.1", 0))
-        self.discovery.settimeout(0.5)
-        self.ports = {name: 0 for name in BOUND}
-        self.ports["discovery_port"] = self.discovery.getsockname()[1]
         self.home = home
         env = {**inst.env, "ZENROS_HOME": str(home), "ZENROS_PREFIX": unique_prefix(),
                "ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}"}
@@ -149,6 +150,11 @@ class Launch:
         assert r.returncode == 0, r.stderr
         self.labels = {line.split(":", 1)[0] for line in r.stdout.splitlines() if ":" in line}
         assert {"master", "chassis", "nav", "tasks", "gateway"} <= self.labels, r.stdout
+        self.discovery = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.discovery.bind(("127.0.0.1", 0))
+        self.discovery.settimeout(0.5)
+        self.ports = {name: 0 for name in BOUND}
+        self.ports["discovery_port"] = self.discovery.getsockname()[1]
         argv = [str(inst.bin / "zenros"), "launch", file,
                 *(f"{name}:={port}" for name, port in self.ports.items())]
         self.log = home.parent / "launch-output.txt"
