@@ -115,7 +115,7 @@ def _install(tmp: Path, editable: bool) -> Install:
     shutil.copytree(ROOT, src, ignore=NOT_CLONED, symlinks=True)
     venv = tmp / "venv"
     inst = Install(venv, src, _user_env(venv))
-    r = inst.run(sys.executable, "-m", "venv", str(venv), cwd=tmp)
+    r = inst.run(sys.executable, "-m", "venv", str(venv), cwd=tmp, timeout=300)  # slow box: minutes
     assert r.returncode == 0, r.stderr
     r = inst.run(str(inst.bin / "pip"), "install", "-q", *(["-e"] if editable else []), str(src),
                  cwd=src if editable else tmp, timeout=300)
@@ -124,7 +124,7 @@ def _install(tmp: Path, editable: bool) -> Install:
 
 
 def _check_imports(inst: Install, outside: Path, editable: bool) -> None:
-    r = inst.run(str(inst.bin / "python"), "-c", IMPORT_ALL, cwd=outside, timeout=120)
+    r = inst.run(str(inst.bin / "python"), "-c", IMPORT_ALL, cwd=outside, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     found = json.loads(r.stdout.strip().splitlines()[-1])
     assert found["modules"] > 200, found
