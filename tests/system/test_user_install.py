@@ -315,7 +315,7 @@ def _run_sim(launch: Launch) -> None:
     _check_running(launch)
 
 
-@pytest.mark.timeout(420)
+@pytest.mark.timeout(600)
 def test_readme_command_1_gives_a_working_robot(tmp_path: Path, launches: list[Launch]) -> None:
     """``pip install -e .`` (no extras) and ``zenros launch deploy/launch/sim.yaml``."""
     inst = _install(tmp_path, editable=True)
@@ -326,7 +326,7 @@ def test_readme_command_1_gives_a_working_robot(tmp_path: Path, launches: list[L
     _run_sim(launches[-1])
 
 
-@pytest.mark.timeout(420)
+@pytest.mark.timeout(600)
 def test_a_plain_install_runs_the_sim_by_name_from_anywhere(
     tmp_path: Path, launches: list[Launch]
 ) -> None:
