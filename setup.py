@@ -1,7 +1,9 @@
 """The build steps pyproject.toml does not state: package discovery and the TF C module.
 
 Packages are found under shared/ and services/ (pyproject maps them to zenros and
-zenros.services), so a new subpackage is installed without editing a list.
+zenros.services), so a new subpackage is installed without editing a list. ``zenros.deploy``
+is deploy/ as data: its launch files and the demo map (pyproject's package-data), so an
+installed zenros carries them where a checkout has them (``zenros.launch.files``).
 
 ``optional=True``: without a C compiler the install still succeeds and zenros.tf runs the
 same code in Python (see docs/tf.md, "The compiled hot paths").
@@ -11,8 +13,9 @@ from setuptools import Extension, find_packages, setup
 
 
 def _packages() -> list[str]:
-    """Every package under shared/ (as zenros.*) and services/ (as zenros.services.*)."""
-    found = ["zenros", "zenros.services"]
+    """Every package under shared/ (as zenros.*) and services/ (as zenros.services.*), and
+    deploy/ (zenros.deploy, data only)."""
+    found = ["zenros", "zenros.services", "zenros.deploy"]
     found += [f"zenros.{p}" for p in find_packages("shared")]
     found += [f"zenros.services.{p}" for p in find_packages("services")]
     return found

@@ -17,7 +17,8 @@ from pathlib import Path
 
 from ..errors import LaunchError, StartupError
 from ..exits import EXIT_STARTUP
-from .args import describe
+from .args import describe as describe_arg
+from .files import describe, find_launch_file, launch_dir, launch_files
 from .loader import declared_args, load_launch
 from .model import LaunchDescription, ProcessSpec
 from .supervisor import BeforeStart, Event, Supervisor, SupervisorConfig, WaitReady
@@ -68,7 +69,10 @@ def default_data_dir() -> Path:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The flags of ``zenros launch`` (shared with the ``zenros`` dispatcher)."""
-    parser.add_argument("file", type=Path, help="the launch file (YAML)")
+    parser.add_argument(
+        "file", type=Path, nargs="?",
+        help="the launch file (YAML): a path, or the name of one zenros carries (see --list)",
+    )
     parser.add_argument(
         "launch_args", nargs="*", metavar="name:=value", help="values for the file's args"
     )
@@ -88,6 +92,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "-v", "--verbose", action="store_true",
         help="print the processes' INFO and DEBUG log lines too (default: only in their logs)",
+    )
+    parser.add_argument(
+        "--list", dest="list_files", action="store_true",
+        help="list the launch files zenros carries and exit",
     )
     parser.add_argument(
         "--show-args", action="store_true", help="list the file's arguments and exit"
@@ -120,6 +128,17 @@ def main(argv: Sequence[str] | None = None, hooks: LaunchHooks | None = None) ->
         launch_args = _parse_args(ns.launch_args, parser)
     except SystemExit as exc:
         return exc.code if isinstance(exc.code, int) else 2
+    if ns.list_files:
+        return _list_files()
+    if ns.file is None:
+        parser.print_usage(sys.stderr)
+        print("zenros launch: give a launch file (a path, or a name from --list)", file=sys.stderr)
+        return 2
+    try:
+        ns.file = find_launch_file(ns.file)
+    except LaunchError as exc:
+        print(f"zenros launch: {exc}", file=sys.stderr)
+        return EXIT_STARTUP
     if ns.show_args:
         return _show_args(ns.file)
     data_dir = (ns.data_dir or default_data_dir()).expanduser()
@@ -204,6 +223,19 @@ def _link_latest(run_dir: Path) -> None:
         return
 
 
+def _list_files() -> int:
+    """``--list``: each launch file zenros carries, with the first sentence of its header."""
+    files = launch_files()
+    if not files:
+        print(f"zenros launch: no launch files in {launch_dir()}", file=sys.stderr)
+        return EXIT_STARTUP
+    print(f"launch files in {launch_dir()} (run one with `zenros launch NAME`):")
+    width = max(len(f.name) for f in files)
+    for f in files:
+        print(f"  {f.name:<{width}}  {describe(f)}".rstrip())
+    return 0
+
+
 def _show_args(file: Path) -> int:
     try:
         decls = declared_args(file)
@@ -214,7 +246,7 @@ def _show_args(file: Path) -> int:
         print(f"{file} declares no arguments")
     for d in decls:
         default = "(required)" if d.default is None else f"(default: {d.default!r})"
-        kind = describe(d)
+        kind = describe_arg(d)
         kind = f" [{kind}]" if kind else ""
         print(f"{d.name} {default}{kind}" + (f": {d.description}" if d.description else ""))
     return 0

@@ -1,4 +1,5 @@
-"""A plain (non-editable) ``pip install .`` installs every module of shared/ and services/.
+"""A plain (non-editable) ``pip install .`` installs every module of shared/ and services/, and
+deploy/'s launch files and demo map (as ``zenros/deploy``).
 
 The working tree is copied first (the build writes into its source), installed with
 ``--no-deps --target`` into a scratch directory (the venv's packages serve the
@@ -19,6 +20,7 @@ pytestmark = pytest.mark.system
 
 ROOT = Path(__file__).resolve().parents[2]
 TREES = {"shared": "zenros", "services": "zenros/services"}
+DATA = ("deploy/launch/*.yaml", "deploy/maps/office/*")  # installed under zenros/
 
 
 def _sources() -> set[str]:
@@ -39,7 +41,7 @@ def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> No
     src.mkdir()
     for name in ("pyproject.toml", "setup.py", "README.md"):
         shutil.copy2(ROOT / name, src / name)
-    for tree in TREES:
+    for tree in (*TREES, "deploy"):
         shutil.copytree(ROOT / tree, src / tree,
                         ignore=shutil.ignore_patterns("__pycache__", "*.so", "*.pyc"))
     r = subprocess.run(
@@ -51,6 +53,10 @@ def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> No
     installed = {p.relative_to(target).as_posix() for p in (target / "zenros").rglob("*.py")}
     missing = sorted(_sources() - installed)
     assert not missing, f"not installed by `pip install .`: {missing}"
+    data = {p.relative_to(ROOT).as_posix() for pattern in DATA for p in ROOT.glob(pattern)}
+    assert "deploy/launch/sim.yaml" in data and "deploy/maps/office/office.yaml" in data
+    absent = sorted(d for d in data if not (target / "zenros" / d).is_file())
+    assert not absent, f"not installed by `pip install .`: {absent}"
     services = sorted(p.parent.name for p in (ROOT / "services").glob("*/__init__.py"))
     code = (
         "import importlib, importlib.util, sys, zenros\n"

@@ -8,9 +8,14 @@ import threading
 import time
 from typing import Any
 
-import foxglove
-from foxglove import Channel, Schema
-from foxglove.websocket import Capability, ChannelView, Client, ClientChannel, WebSocketServer
+try:
+    import foxglove
+    from foxglove import Channel, Schema
+    from foxglove.websocket import Capability, ChannelView, Client, ClientChannel, WebSocketServer
+except ModuleNotFoundError as exc:  # the optional extra is not installed
+    raise ModuleNotFoundError(
+        f"{__name__} needs foxglove-sdk, the extra zenros[foxglove]: pip install 'zenros[foxglove]'"
+        f" ({exc})", name=exc.name) from exc
 from zenros.errors import StartupError, UnknownTypeError, ZenrosError
 from zenros.message import Message, lookup_type
 from zenros.names import Token
