@@ -2,7 +2,7 @@
 
 Tests that need the real door (uvicorn on a socket, the robot's topics) get a gateway of their
 own (``gw``/``http``); pure request-validation cases share one gateway per module and call its
-ASGI app in process (``app``: starlette's TestClient, no socket), which answers exactly as
+ASGI app in process (``app``: `AsgiClient`, httpx's ASGI transport, no socket), which answers exactly as
 the socket does (the same `HttpApp`)."""
 
 from __future__ import annotations
@@ -19,8 +19,7 @@ from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.spec_routes import SPEC_OPERATIONS
-from zenros.services.gateway.testing import running_gateway
-from starlette.testclient import TestClient
+from zenros.services.gateway.testing import AsgiClient, running_gateway
 from zenros.testing import Collector, linked_contexts, wait_for
 
 
@@ -36,7 +35,7 @@ def http(gw: GatewayNode) -> Iterator[httpx.Client]:
         yield c
 
 
-def _login(client: httpx.Client) -> str:
+def _login(client: httpx.Client | AsgiClient) -> str:
     r = client.get("/token", params={"username": "admin", "password": "admin"})
     assert r.status_code == 200
     body = r.json()
@@ -58,14 +57,13 @@ def module_gw(tmp_path_factory: pytest.TempPathFactory) -> Iterator[GatewayNode]
 
 
 @pytest.fixture(scope="module")
-def app(module_gw: GatewayNode) -> Iterator[TestClient]:
+def app(module_gw: GatewayNode) -> AsgiClient:
     """The shared gateway's REST app called in process (ASGI), under ``/api/v1``."""
-    with TestClient(module_gw.http, base_url="http://127.0.0.1/api/v1") as c:
-        yield c
+    return AsgiClient(module_gw.http, "/api/v1")
 
 
 @pytest.fixture(scope="module")
-def app_token(app: TestClient) -> str:
+def app_token(app: AsgiClient) -> str:
     return _login(app)
 
 
@@ -164,14 +162,14 @@ def test_config_get_post_delete(http: httpx.Client, token: str) -> None:
     (b"{\"speed_angle\": -1e400}", ["out of range"]),
     (b'{"speed_x": ' + b"[" * 3000 + b"]" * 3000 + b"}", ["malformed JSON", "deep"]),
 ])
-def test_bad_bodies_get_4xx(app: TestClient, app_token: str, body: bytes,
+def test_bad_bodies_get_4xx(app: AsgiClient, app_token: str, body: bytes,
                             words: list[str]) -> None:
     r = app.put("/system/speed", params={"token": app_token}, content=body,
                 headers={"content-type": "application/json"})
     assert_error(r, 400, *words)
 
 
-def test_bad_queries_oversize_and_unknown_paths(app: TestClient, app_token: str) -> None:
+def test_bad_queries_oversize_and_unknown_paths(app: AsgiClient, app_token: str) -> None:
     http, t = app, {"token": app_token}
     assert_error(http.get("/system/status", params={**t, "x": "1"}), 400, "unknown query", "x")
     assert_error(http.post("/system/config", params=t, content=b"{" + b" " * 70000 + b"}",
