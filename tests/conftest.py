@@ -1,4 +1,23 @@
-"""Shared fixtures: isolated Zenoh sessions on loopback, a router process, node factories."""
+"""Shared fixtures: isolated Zenoh sessions on loopback, a router process, node factories.
+
+How a test uses them, and how the suite runs in parallel (pytest-xdist, ``-n`` and
+``--dist loadgroup`` in pyproject's addopts; see tests/README.md):
+
+- ``prefix``: a fresh key prefix per test. Every rig below is shared between tests, so a test
+  is isolated from the others by its prefix (and free ports), never by a fresh process.
+- ``router``: the endpoint of a Zenoh router process shared by every test of one xdist worker
+  (started at the first test that asks for it, restarted if a test ended it). A test that
+  needs a router of its own (to stop, restart or configure it) starts one with ``Proc``.
+- ``observer``: a session of the test's own on the shared ``router``, on the test's ``prefix``.
+- ``ctx_pair`` / ``make_node``: two meshed sessions on loopback for one test (function scope).
+- ``procs``: child processes a test starts, stopped at teardown.
+
+xdist groups: a test whose module has a module- or class-scoped fixture (a rig built once per
+module: a sim, a robot, a gateway) is put in the xdist group of its module, so the rig is built
+on one worker only, once. Tests that must not run beside each other (whole sims, network
+namespaces, a browser) share ``pytest.mark.xdist_group("sim")``. Add the mark to a new test
+of that kind; other tests need nothing.
+"""
 
 from __future__ import annotations
 
@@ -40,17 +59,39 @@ def make_node(ctx_pair: list[Context]) -> Iterator[Callable[..., Any]]:
         n.close()
 
 
-@pytest.fixture
-def router() -> Iterator[str]:
-    """A real Zenoh router process on a free loopback port; yields its endpoint."""
-    port = free_port()
-    endpoint = f"tcp/127.0.0.1:{port}"
-    proc = Proc([sys.executable, "-m", "zenros.router", "-l", endpoint])
+class _SharedRouter:
+    """One router process per test session (per xdist worker), restarted when it died."""
+
+    def __init__(self) -> None:
+        self.proc: Proc | None = None
+        self.endpoint = ""
+
+    def get(self) -> str:
+        if self.proc is None or self.proc.popen.poll() is not None:
+            self.endpoint = f"tcp/127.0.0.1:{free_port()}"
+            self.proc = Proc([sys.executable, "-m", "zenros.router", "-l", self.endpoint])
+            assert self.proc.wait_line("router listening", 15), self.proc.output
+        return self.endpoint
+
+    def close(self) -> None:
+        if self.proc is not None:
+            self.proc.stop()
+
+
+@pytest.fixture(scope="session")
+def _shared_router() -> Iterator[_SharedRouter]:
+    shared = _SharedRouter()
     try:
-        assert proc.wait_line("router listening", 15), proc.output
-        yield endpoint
+        yield shared
     finally:
-        proc.stop()
+        shared.close()
+
+
+@pytest.fixture
+def router(_shared_router: _SharedRouter) -> str:
+    """The endpoint of a real Zenoh router process on a free loopback port, shared by the
+    tests of one worker (they are kept apart by their ``prefix``)."""
+    return _shared_router.get()
 
 
 @pytest.fixture
@@ -70,6 +111,20 @@ def procs() -> Iterator[list[Proc]]:
     yield started
     for p in started:
         p.stop()
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the groups
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """A test using a module- or class-scoped fixture joins its module's xdist group."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is not None:
+            continue
+        info = getattr(item, "_fixtureinfo", None)
+        if info is None:
+            continue
+        if any(d.scope in ("module", "class", "package")
+               for defs in info.name2fixturedefs.values() for d in defs):
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
 
 
 __all__ = ["wait_for"]

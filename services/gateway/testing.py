@@ -2,19 +2,23 @@
 
 from __future__ import annotations
 
+import asyncio
 import os
 import select
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from zenros.context import Context
 
 from .node import GatewayNode
 
-__all__ = ["NullModem", "running_gateway"]
+if TYPE_CHECKING:
+    import httpx
+
+__all__ = ["AsgiClient", "NullModem", "running_gateway"]
 
 
 @contextmanager
@@ -63,3 +67,36 @@ class NullModem:
         self._thread.join(2)
         for fd in (self.a_master, self.b_master, *self._slaves):
             os.close(fd)
+
+
+class AsgiClient:
+    """A synchronous HTTP client that calls an ASGI app in process (no socket, no server):
+    ``AsgiClient(node.http, "/api/v1").get("/token", params=...)`` answers as the gateway's
+    REST port would, since it is the same app. Each request runs on a loop of its own."""
+
+    def __init__(self, app: Any, base_path: str = "", timeout: float = 10.0) -> None:
+        self.app, self.base_url, self.timeout = app, f"http://127.0.0.1{base_path}", timeout
+
+    def request(self, method: str, url: str, **kw: Any) -> httpx.Response:
+        import httpx  # the test extra's; imported here so the module needs it only in use
+
+        async def call() -> httpx.Response:
+            async with httpx.AsyncClient(transport=httpx.ASGITransport(app=self.app),
+                                         base_url=self.base_url, timeout=self.timeout) as c:
+                r = await c.request(method, url, **kw)
+                await r.aread()
+                return r
+
+        return asyncio.run(call())
+
+    def get(self, url: str, **kw: Any) -> httpx.Response:
+        return self.request("GET", url, **kw)
+
+    def put(self, url: str, **kw: Any) -> httpx.Response:
+        return self.request("PUT", url, **kw)
+
+    def post(self, url: str, **kw: Any) -> httpx.Response:
+        return self.request("POST", url, **kw)
+
+    def delete(self, url: str, **kw: Any) -> httpx.Response:
+        return self.request("DELETE", url, **kw)

@@ -134,26 +134,37 @@ def _length(pts: np.ndarray) -> float:
 
 
 class PlanWorker:
-    """Plans on a background thread; one request at a time, the newest wins."""
+    """Plans on a background thread; one request at a time, the newest wins.
 
-    def __init__(self, planner: GlobalPlanner, source: object) -> None:
+    With ``threaded=False`` there is no thread: `submit` plans at once, in the caller, and
+    the outcome is ready at the next `poll` (deterministic, for driving behaviours tick by
+    tick in tests and simulations without wall-clock waits)."""
+
+    def __init__(self, planner: GlobalPlanner, source: object, *, threaded: bool = True) -> None:
         self.planner = planner
         self.source = source  # callable returning a CostSnapshot
+        self.threaded = threaded
         self._cond = threading.Condition()
         self._pending: tuple[int, Pose2, list[Pose2]] | None = None
         self._results: dict[int, PlanOutcome] = {}
         self._seq = 0
         self._stop = False
-        self._thread = threading.Thread(target=self._run, name="nav-planner", daemon=True)
-        self._thread.start()
+        self._thread: threading.Thread | None = None
+        if threaded:
+            self._thread = threading.Thread(target=self._run, name="nav-planner", daemon=True)
+            self._thread.start()
 
     def submit(self, start: Pose2, goals: list[Pose2]) -> int:
         """Queue a request (replacing one not started yet); returns its ticket."""
         with self._cond:
             self._seq += 1
-            self._pending = (self._seq, start, list(goals))
-            self._cond.notify_all()
-            return self._seq
+            ticket = self._seq
+            if self.threaded:
+                self._pending = (ticket, start, list(goals))
+                self._cond.notify_all()
+                return ticket
+        self._store(ticket, self._plan(start, list(goals)))
+        return ticket
 
     def poll(self, ticket: int) -> PlanOutcome | None:
         """The outcome of ``ticket`` once it is ready (then forgotten)."""
@@ -170,18 +181,24 @@ class PlanWorker:
                 assert self._pending is not None
                 ticket, start, goals = self._pending
                 self._pending = None
-            try:
-                snap = self.source()  # type: ignore[operator]
-                out = self.planner.plan(snap, start, goals)
-            except Exception as exc:  # noqa: BLE001 - a planner bug must not kill the thread
-                out = PlanOutcome(None, Codes.UNKNOWN, f"planner failed: {exc!r}")
-            with self._cond:
-                self._results = {k: v for k, v in self._results.items() if k > ticket - 8}
-                self._results[ticket] = out
-                self._cond.notify_all()
+            self._store(ticket, self._plan(start, goals))
+
+    def _plan(self, start: Pose2, goals: list[Pose2]) -> PlanOutcome:
+        try:
+            snap = self.source()  # type: ignore[operator]
+            return self.planner.plan(snap, start, goals)
+        except Exception as exc:  # noqa: BLE001 - a planner bug must not kill the thread
+            return PlanOutcome(None, Codes.UNKNOWN, f"planner failed: {exc!r}")
+
+    def _store(self, ticket: int, out: PlanOutcome) -> None:
+        with self._cond:
+            self._results = {k: v for k, v in self._results.items() if k > ticket - 8}
+            self._results[ticket] = out
+            self._cond.notify_all()
 
     def close(self) -> None:
         with self._cond:
             self._stop = True
             self._cond.notify_all()
-        self._thread.join(2.0)
+        if self._thread is not None:
+            self._thread.join(2.0)

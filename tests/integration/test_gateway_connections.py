@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import math
 import re
-import tempfile
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import httpx
@@ -63,8 +61,8 @@ class Rig:
 
 
 @pytest.fixture(scope="module")
-def rig() -> Iterator[Rig]:
-    tmp = Path(tempfile.mkdtemp())
+def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
     with linked_contexts(4) as ctxs:
         nodes: list[Node] = []
         try:

@@ -5,9 +5,7 @@ io_action in a task sets the chassis's output, bad parameters are §1.2 4xx bodi
 from __future__ import annotations
 
 import math
-import tempfile
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import httpx
@@ -70,8 +68,8 @@ class Rig:
 
 
 @pytest.fixture(scope="module")
-def module_rig() -> Iterator[Rig]:
-    tmp = Path(tempfile.mkdtemp())
+def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
     with linked_contexts(4) as ctxs:
         nodes: list[Node] = []
         try:

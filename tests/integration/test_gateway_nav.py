@@ -8,10 +8,8 @@ import io
 import json
 import logging
 import math
-import tempfile
 import time
 from collections.abc import Iterator
-from pathlib import Path
 
 import httpx
 import pytest
@@ -67,8 +65,8 @@ class Rig:
 
 
 @pytest.fixture(scope="module")
-def module_rig() -> Iterator[Rig]:
-    tmp = Path(tempfile.mkdtemp())
+def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
     with linked_contexts(4) as ctxs:
         nodes: list[Node] = []
         try:

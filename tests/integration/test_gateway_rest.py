@@ -1,4 +1,9 @@
-"""The gateway's REST API through a real uvicorn and httpx: token, system, errors, 501s."""
+"""The gateway's REST API: token, system, errors, 501s.
+
+Tests that need the real door (uvicorn on a socket, the robot's topics) get a gateway of their
+own (``gw``/``http``); pure request-validation cases share one gateway per module and call its
+ASGI app in process (``app``: `AsgiClient`, httpx's ASGI transport, no socket), which answers exactly as
+the socket does (the same `HttpApp`)."""
 
 from __future__ import annotations
 
@@ -14,8 +19,8 @@ from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.spec_routes import SPEC_OPERATIONS
-from zenros.services.gateway.testing import running_gateway
-from zenros.testing import Collector, wait_for
+from zenros.services.gateway.testing import AsgiClient, running_gateway
+from zenros.testing import Collector, linked_contexts, wait_for
 
 
 @pytest.fixture
@@ -30,13 +35,36 @@ def http(gw: GatewayNode) -> Iterator[httpx.Client]:
         yield c
 
 
-@pytest.fixture
-def token(http: httpx.Client) -> str:
-    r = http.get("/token", params={"username": "admin", "password": "admin"})
+def _login(client: httpx.Client | AsgiClient) -> str:
+    r = client.get("/token", params={"username": "admin", "password": "admin"})
     assert r.status_code == 200
     body = r.json()
     assert body["result"] is True and len(body["token"]) == 32
     return str(body["token"])
+
+
+@pytest.fixture
+def token(http: httpx.Client) -> str:
+    return _login(http)
+
+
+@pytest.fixture(scope="module")
+def module_gw(tmp_path_factory: pytest.TempPathFactory) -> Iterator[GatewayNode]:
+    """One gateway for the module's request-validation cases (they change no state)."""
+    with linked_contexts(1) as (ctx,), running_gateway(
+            ctx, tmp_path_factory.mktemp("gw")) as node:
+        yield node
+
+
+@pytest.fixture(scope="module")
+def app(module_gw: GatewayNode) -> AsgiClient:
+    """The shared gateway's REST app called in process (ASGI), under ``/api/v1``."""
+    return AsgiClient(module_gw.http, "/api/v1")
+
+
+@pytest.fixture(scope="module")
+def app_token(app: AsgiClient) -> str:
+    return _login(app)
 
 
 def assert_error(r: httpx.Response, code: int, *words: str) -> None:
@@ -134,15 +162,15 @@ def test_config_get_post_delete(http: httpx.Client, token: str) -> None:
     (b"{\"speed_angle\": -1e400}", ["out of range"]),
     (b'{"speed_x": ' + b"[" * 3000 + b"]" * 3000 + b"}", ["malformed JSON", "deep"]),
 ])
-def test_bad_bodies_get_4xx(http: httpx.Client, token: str, body: bytes,
+def test_bad_bodies_get_4xx(app: AsgiClient, app_token: str, body: bytes,
                             words: list[str]) -> None:
-    r = http.put("/system/speed", params={"token": token}, content=body,
-                 headers={"content-type": "application/json"})
+    r = app.put("/system/speed", params={"token": app_token}, content=body,
+                headers={"content-type": "application/json"})
     assert_error(r, 400, *words)
 
 
-def test_bad_queries_oversize_and_unknown_paths(http: httpx.Client, token: str) -> None:
-    t = {"token": token}
+def test_bad_queries_oversize_and_unknown_paths(app: AsgiClient, app_token: str) -> None:
+    http, t = app, {"token": app_token}
     assert_error(http.get("/system/status", params={**t, "x": "1"}), 400, "unknown query", "x")
     assert_error(http.post("/system/config", params=t, content=b"{" + b" " * 70000 + b"}",
                            headers={"content-type": "application/json"}), 413, "too large")

@@ -6,7 +6,6 @@ local_move_target reaches a pose given in base_link; malformed goals are rejecte
 from __future__ import annotations
 
 import math
-import tempfile
 from collections.abc import Iterator
 from typing import Any
 
@@ -67,14 +66,14 @@ class Rig:
 
 
 @pytest.fixture(scope="module")
-def module_rig() -> Iterator[Rig]:
+def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
     with linked_contexts(3) as ctxs:
         nodes: list[Node] = []
         try:
             nodes.append(ChassisNode("chassis", context=ctxs[0],
                                      parameter_overrides={"speed": 10.0}))
             nav = NavNode("nav", context=ctxs[1], parameter_overrides={
-                "use_sim_time": True, "maps_dir": tempfile.mkdtemp()})
+                "use_sim_time": True, "maps_dir": str(tmp_path_factory.mktemp("maps"))})
             nodes.append(nav)
             user = Node("user", context=ctxs[2])
             nodes.append(user)

@@ -32,7 +32,7 @@ from zenros.testing import Proc, free_port, unique_prefix, wait_for
 
 # The module's first test also pays for starting five processes and Chromium, which takes up
 # to a minute on a loaded 2-core machine: more than the suite's 60 s per test.
-pytestmark = [pytest.mark.system, pytest.mark.timeout(180)]
+pytestmark = [pytest.mark.system, pytest.mark.timeout(180), pytest.mark.xdist_group("sim")]
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")

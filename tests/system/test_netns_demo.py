@@ -21,7 +21,8 @@ import pytest
 from zenros.testing import wait_for
 
 # The first test also pays for starting ~20 processes on 3 hosts (the module's fixture).
-pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240)]
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240),
+              pytest.mark.xdist_group("sim")]
 
 ROOT = Path(__file__).resolve().parents[2]
 DEMO = ROOT / "deploy" / "demo" / "demo.sh"

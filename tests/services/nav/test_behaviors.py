@@ -38,8 +38,9 @@ class Tools:
         self.costmaps = Costmaps(CostmapParams(robot_radius=0.2, inflation_radius=0.5,
                                                cost_scaling_factor=3.0))
         self.costmaps.set_map(GridMap(g, 0.05, (0.0, 0.0, 0.0)))
+        # synchronous: a plan is ready at the next tick, so no wall-clock wait per tick
         self.worker = PlanWorker(GlobalPlanner(PlannerParams(), 0.2, goal_tolerance=0.05),
-                                 self.costmaps.snapshot)
+                                 self.costmaps.snapshot, threaded=False)
         self.plans: list[np.ndarray] = []
         self.cleared = 0
 
@@ -67,9 +68,10 @@ class World:
         self.docked = False
         self.max_travel = 0.0
 
-    def run(self, b: Behavior, seconds: float, wall_wait: float = 0.002) -> None:
-        """Tick until the behaviour ends (planner results arrive on another thread: each
-        tick waits a little wall time, as the real control loop would)."""
+    def run(self, b: Behavior, seconds: float, wall_wait: float = 0.0) -> None:
+        """Tick until the behaviour ends (the Tools' planner is synchronous, so a tick needs
+        no wall time; ``wall_wait`` > 0 sleeps that long per tick, as a threaded planner's
+        control loop would)."""
         import time
 
         for _ in range(int(seconds / DT)):
@@ -84,7 +86,8 @@ class World:
                               self.pose.y + v * DT * math.sin(th), self.pose.theta + w * DT)
             self.max_travel = max(self.max_travel, abs(v))
             self.t += DT
-            time.sleep(wall_wait)
+            if wall_wait:
+                time.sleep(wall_wait)
 
 
 def nav(tools: Tools, goal: Pose2, **kw: object) -> Navigate:
@@ -175,7 +178,7 @@ def test_dock_drives_on_and_waits_for_charge() -> None:
         b2 = Dock(dock, DockParams(), lambda goal: nav(tools, goal))
         original = world2.run
 
-        def run_charging(beh: Behavior, seconds: float, wall_wait: float = 0.002) -> None:
+        def run_charging(beh: Behavior, seconds: float, wall_wait: float = 0.0) -> None:
             world2.charging = False
             original(beh, seconds, wall_wait)
 

@@ -76,3 +76,25 @@ def test_worker_answers_the_newest_request() -> None:
         assert math.isfinite(out.planning_time)
     finally:
         worker.close()
+
+
+def test_unthreaded_worker_plans_in_the_caller_and_answers_at_the_next_poll() -> None:
+    cm = room()
+    worker = PlanWorker(GlobalPlanner(PlannerParams(), 0.2), cm.snapshot, threaded=False)
+    try:
+        assert worker._thread is None
+        first = worker.submit(Pose2(1.0, 1.0), [Pose2(2.0, 1.0)])
+        last = worker.submit(Pose2(1.0, 1.0), [Pose2(8.0, 1.0)])
+        out = worker.poll(last)  # ready at once: no thread, no wait
+        assert out is not None and out.ok and out.xy is not None
+        assert out.xy[-1] == pytest.approx([8.0, 1.0])
+        assert worker.poll(last) is None  # forgotten once polled
+        earlier = worker.poll(first)
+        assert earlier is not None and earlier.ok
+        # a planner failure is an outcome, not an exception in the caller
+        bad = PlanWorker(GlobalPlanner(PlannerParams(), 0.2), lambda: 1 / 0, threaded=False)
+        out = bad.poll(bad.submit(Pose2(1.0, 1.0), [Pose2(2.0, 1.0)]))
+        assert out is not None and not out.ok and "planner failed" in out.error_msg
+        bad.close()
+    finally:
+        worker.close()
