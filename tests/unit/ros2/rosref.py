@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 from zenros.ros2.idl import EMPTY_FIELD, PRIMITIVES, FieldType
-from zenros.ros2.registry import definition
+from zenros.ros2.registry import definition, zenros_class_of
 
 SHARE = Path(sys.prefix) / "share"
 
@@ -130,9 +130,17 @@ def _one(t: FieldType, rnd: random.Random, empty: bool) -> Any:
     return _scalar(t.base, rnd)
 
 
+# Fields whose zenros class narrows the ROS range (zenros refuses other values at decode)
+NARROWED = {("action_msgs/msg/GoalStatus", "status"): (0, 6)}
+
+
 def values_of(ros_name: str, rnd: random.Random, empty: bool = False) -> dict[str, Any]:
-    return {f.name: 0 if f == EMPTY_FIELD else value_of(f.type, rnd, empty)
-            for f in definition(ros_name).fields}
+    values = {f.name: 0 if f == EMPTY_FIELD else value_of(f.type, rnd, empty)
+              for f in definition(ros_name).fields}
+    for (name, field), (lo, hi) in NARROWED.items():
+        if name == ros_name and not empty:
+            values[field] = rnd.randint(lo, hi)
+    return values
 
 
 def ros_message(ros_name: str, values: dict[str, Any]) -> Any:
@@ -158,7 +166,9 @@ def zenros_values(ros_name: str, values: dict[str, Any]) -> dict[str, Any]:
     for f in definition(ros_name).fields:
         v = values[f.name]
         t = f.type
-        if t.is_nested:
+        if t.is_nested and zenros_class_of(t.base) is not None:
+            pass  # a zenros class (UUID, Time...) takes the plain values as they are
+        elif t.is_nested:
             v = zenros_values(t.base, v) if t.kind == "single" else [
                 zenros_values(t.base, x) for x in v]
         elif t.kind != "single" and PRIMITIVES.get(t.base, ("",))[0] == "B":
