@@ -14,6 +14,7 @@ from zenros.node import Node
 from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
+from .actionlib import ActionlibBridge
 from .convert import encode_message, long_type, publish_frame
 from .opaque import OpaqueTopics
 from .rosapi import Rosapi
@@ -104,6 +105,9 @@ class Bridge:
         self.params = ParameterClient(node.context, timeout=2.5)
         self.opaque = OpaqueTopics()
         self.tf_republisher = TFRepublisher(self)
+        self.background: set[asyncio.Task[Any]] = set()
+        """Tasks the bridge runs for no one client (actionlib.py), kept until done."""
+        self.actionlib = ActionlibBridge(self)
         self.rosapi = Rosapi(node.graph, self.params, node.now, local=self._local_names)
 
     def _local_names(self) -> tuple[dict[str, str], dict[str, str]]:
@@ -231,6 +235,7 @@ class Bridge:
 
     def close(self) -> None:
         self.tf_republisher.close()
+        self.actionlib.close()
         for topic in list(self.feeds):
             feed = self.feeds.pop(topic)
             self.node.destroy(feed.sub)

@@ -30,6 +30,7 @@ class TopicOps:
         type_name = frame_text(frame, "type")
         if not self.bridge.known(type_name):  # carried between rosbridge clients, unchecked
             self.bridge.opaque.advertise(topic, type_name, self)
+            self.bridge.actionlib.advertised(topic, type_name)
             return
         msg_type = self.bridge.topic_type(topic, type_name)
         if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
@@ -75,6 +76,7 @@ class TopicOps:
         if topic not in self.subs:
             if type_name and not self.bridge.known(type_name):  # unchecked, between clients
                 self.bridge.opaque.attach(topic, type_name, self)
+                self.bridge.actionlib.subscribed(topic, type_name, self)
             elif not type_name and opaque is not None and topic not in self.bridge.feeds:
                 self.bridge.opaque.attach(topic, opaque.type_name, self)
             else:
