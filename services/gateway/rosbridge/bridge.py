@@ -15,6 +15,7 @@ from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
 from .actionlib import ActionlibBridge
+from .cbor import cbor_frame, cbor_raw_frame
 from .convert import encode_message, long_type, publish_frame
 from .opaque import OpaqueTopics
 from .rosapi import Rosapi
@@ -25,17 +26,21 @@ if TYPE_CHECKING:
     from zenros.pubsub import Publisher, Subscription
     from zenros.rpc import Client
 
-__all__ = ["Bridge", "BridgeError", "Sink", "qos_for_publishers"]
+__all__ = ["Bridge", "BridgeError", "Encode", "Sink", "qos_for_publishers"]
 
 
 class BridgeError(ValueError):
     """A request the bridge refuses (unknown type, type conflict, no such topic)."""
 
 
-class Sink(Protocol):
-    """A client that receives topic frames."""
+Encode = Callable[[str], bytes]
+"""The message of a topic frame in another format (``cbor``, ``cbor-raw``), encoded once."""
 
-    def deliver(self, topic: str, frame: bytes) -> None: ...
+
+class Sink(Protocol):
+    """A client that receives topic frames (``encode``: the same message as CBOR)."""
+
+    def deliver(self, topic: str, frame: bytes, encode: Encode | None = None) -> None: ...
 
 
 def qos_for_publishers(tags: list[str]) -> QoSProfile:
@@ -62,7 +67,8 @@ class TopicFeed:
         self.sinks: set[Sink] = set()
         self._loop = bridge.loop
         self._lock = threading.Lock()
-        self._pending: list[bytes] = []
+        self._pending: list[tuple[bytes, Message]] = []
+        self._now = bridge.node.now
         self._scheduled = False
         tags = [t.qos for t in bridge.node.graph.publishers(topic)]
         self.sub: Subscription[Any] = bridge.node.create_subscription(
@@ -71,7 +77,7 @@ class TopicFeed:
     def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
         frame = publish_frame(self.topic, encode_message(msg))
         with self._lock:
-            self._pending.append(frame)
+            self._pending.append((frame, msg))
             if self._scheduled:
                 return
             self._scheduled = True
@@ -84,9 +90,24 @@ class TopicFeed:
         with self._lock:
             frames, self._pending = self._pending, []
             self._scheduled = False
-        for sink in tuple(self.sinks):
-            for frame in frames:
-                sink.deliver(self.topic, frame)
+        sinks = tuple(self.sinks)
+        for frame, msg in frames:
+            encode = self._encoder(msg)
+            for sink in sinks:
+                sink.deliver(self.topic, frame, encode)
+
+    def _encoder(self, msg: Message) -> Encode:
+        """Encodes ``msg`` as ``cbor`` or ``cbor-raw`` on first demand, once per format."""
+        done: dict[str, bytes] = {}
+
+        def encode(fmt: str) -> bytes:
+            frame = done.get(fmt)
+            if frame is None:
+                frame = done[fmt] = (cbor_raw_frame(self.topic, msg, self._now())
+                                     if fmt == "cbor-raw" else cbor_frame(self.topic, msg))
+            return frame
+
+        return encode
 
 
 class Bridge:

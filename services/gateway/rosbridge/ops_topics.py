@@ -11,7 +11,10 @@ if TYPE_CHECKING:
     from .bridge import Bridge
     from .outbox import Outbox
 
-__all__ = ["TopicOps"]
+__all__ = ["CBOR", "TopicOps"]
+
+CBOR = ("cbor", "cbor-raw")
+"""The ``compression`` values sent as binary CBOR frames (cbor.py)."""
 
 
 class TopicOps:
@@ -21,9 +24,10 @@ class TopicOps:
     outbox: Outbox
     advertised: set[str]
     subs: dict[str, dict[Any, SubOptions]]
+    compression: dict[str, str]
 
     if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
-        def deliver(self, topic: str, frame: bytes) -> None: ...
+        def deliver(self, topic: str, frame: bytes, encode: Any = None) -> None: ...
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
@@ -69,9 +73,11 @@ class TopicOps:
         type_name = frame.get("type")
         if type_name is not None and not isinstance(type_name, str):
             raise OpError("Expected 'type' to be a string")
+        compression = frame.get("compression")  # png, and anything else, is sent as JSON
         opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
                           queue_length=frame_int(frame, "queue_length"),
-                          fragment_size=frame_int(frame, "fragment_size"))
+                          fragment_size=frame_int(frame, "fragment_size"),
+                          compression=compression if compression in CBOR else "none")
         opaque = self.bridge.opaque.topics.get(topic)
         if topic not in self.subs:
             if type_name and not self.bridge.known(type_name):  # unchecked, between clients
@@ -96,6 +102,12 @@ class TopicOps:
         self.outbox.configure(topic, min(o.throttle_rate for o in opts),
                               max(o.queue_length for o in opts),
                               min(fragments) if fragments else 0)
+        wanted = {o.compression for o in opts}  # as the reference: cbor-raw, then cbor wins
+        fmt = "cbor-raw" if "cbor-raw" in wanted else "cbor" if "cbor" in wanted else None
+        if fmt is None:
+            self.compression.pop(topic, None)
+        else:
+            self.compression[topic] = fmt
 
     def op_unsubscribe(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
@@ -113,6 +125,7 @@ class TopicOps:
 
     def _drop_subscription(self, topic: str) -> None:
         self.subs.pop(topic, None)
+        self.compression.pop(topic, None)
         self.outbox.remove(topic)
         self.bridge.detach(topic, self)
 
