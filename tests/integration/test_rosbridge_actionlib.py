@@ -131,3 +131,56 @@ def test_roslibpy_simple_action_server_serves_a_zenros_action(
         assert done.wait(TIMEOUT)
     finally:
         caller.close()
+
+
+def test_a_goal_that_does_not_fit_is_rejected_and_the_connection_stays(
+        ctx_pair: list[Context], server: RosbridgeServer, ros: roslibpy.Ros) -> None:
+    fib = fibonacci_server(ctx_pair[1], 0.02)
+    try:
+        assert wait_for(lambda: server.node.graph.actions().get("/fibonacci"), TIMEOUT)
+        client = ActionClient(ros, "/fibonacci", ROS1_TYPE)
+        bad = Goal(client, roslibpy.Message({"order": 3, "no_such_field": 1}))
+        bad.send()
+        assert wait_for(lambda: bad.status is not None
+                        and bad.status["status"] == GoalStatus.REJECTED, TIMEOUT)
+        good = Goal(client, roslibpy.Message({"order": 3}))
+        good.send()
+        assert good.wait(TIMEOUT)["sequence"] == [0, 1, 1, 2]
+        client.dispose()
+    finally:
+        fib.close()
+
+
+def test_a_ros1_server_without_a_zenros_type_stays_between_clients(
+        server: RosbridgeServer, ros: roslibpy.Ros) -> None:
+    SimpleActionServer(ros, "/ros1_test", "actionlib/TestAction")
+    assert wait_for(lambda: "/ros1_test/goal" in server.bridge.opaque.topics, TIMEOUT)
+    assert "/ros1_test" not in server.bridge.actionlib.served
+    assert not server.node.graph.actions().get("/ros1_test")
+
+
+def test_a_zenros_cancel_preempts_the_ros1_server_goal(
+        ctx_pair: list[Context], server: RosbridgeServer, ros: roslibpy.Ros) -> None:
+    action_server = SimpleActionServer(ros, "/ros1_slow", ROS1_TYPE)
+    started = threading.Event()
+
+    def execute(goal: dict[str, Any]) -> None:
+        started.set()
+        deadline = time.monotonic() + TIMEOUT
+        while not action_server.is_preempt_requested() and time.monotonic() < deadline:
+            action_server.send_feedback({"sequence": [0, 1]})
+            time.sleep(0.02)
+        action_server.set_preempted()
+
+    action_server.start(execute)
+    caller = Node("caller", context=ctx_pair[1])
+    try:
+        client = caller.create_action_client(Fibonacci, "/ros1_slow")
+        assert client.wait_for_server(TIMEOUT)
+        handle = client.send_goal_async(FibonacciGoal(order=60))
+        assert started.wait(TIMEOUT)
+        assert handle.cancel()
+        result = handle.result(TIMEOUT)
+        assert result.status is Ros2Status.CANCELED
+    finally:
+        caller.close()

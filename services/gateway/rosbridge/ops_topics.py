@@ -53,6 +53,8 @@ class TopicOps:
     def op_publish(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
         if topic not in self.advertised and topic in self.bridge.opaque.topics:
+            if topic not in self.bridge.opaque.hooks:  # the zenros action may have come since
+                self.bridge.actionlib.advertised(topic, self.bridge.opaque.topics[topic].type_name)
             self.bridge.opaque.publish(topic, frame.get("msg"))
             return
         if topic not in self.advertised:
