@@ -85,7 +85,7 @@ def ros2_outcome(status: Any, cancel_requested: bool) -> GoalStatus:
 
 def _base(type_name: str, suffix: str) -> str | None:
     """``pkg/NameActionGoal`` → ``pkg/Name`` (None if ``type_name`` is not such a type)."""
-    name = normalize_type_name(type_name)
+    name: str = normalize_type_name(type_name)
     tail = "Action" + suffix
     if "/" not in name or not name.endswith(tail) or len(name.split("/", 1)[1]) <= len(tail):
         return None
@@ -193,7 +193,8 @@ class ActionProxy:
         """A client's ``<name>/goal`` (on the bridge's loop)."""
         if not isinstance(msg, dict):
             raise OpError(f"{self.name}/goal: expected an object")
-        goal_id = msg.get("goal_id") if isinstance(msg.get("goal_id"), dict) else {}
+        given = msg.get("goal_id")
+        goal_id: dict[str, Any] = given if isinstance(given, dict) else {}
         gid = goal_id.get("id")
         stamp = goal_id.get("stamp")
         if not isinstance(gid, str) or not gid:  # actionlib makes one up, so does the bridge
@@ -214,7 +215,11 @@ class ActionProxy:
         def on_feedback(fb: Any) -> None:  # on the action client's feedback thread
             loop.call_soon_threadsafe(self._feedback, entry, to_json(fb.feedback))
 
-        entry.handle = client.send_goal_async(goal, on_feedback)
+        try:
+            entry.handle = client.send_goal_async(goal, on_feedback)
+        except (ZenrosError, ValueError, TypeError) as exc:
+            self._end(entry, REJECTED, str(exc), to_json(self.action_type.Result()))
+            raise OpError(f"{self.name}/goal: {exc}") from None
         self.publish_status()
         task = loop.create_task(self._await_result(entry))
         self.bridge.background.add(task)
@@ -281,7 +286,7 @@ class _ServedGoal:
     future: concurrent.futures.Future[tuple[int, Any]]
 
 
-class ServedAction:
+class Ros1Server:
     """A ROS 1 action server of a rosbridge client (roslibpy ``SimpleActionServer``), served
     as a zenros action."""
 
@@ -376,7 +381,7 @@ class ActionlibBridge:
     def __init__(self, bridge: Bridge) -> None:
         self.bridge = bridge
         self.proxies: dict[str, ActionProxy] = {}
-        self.served: dict[str, ServedAction] = {}
+        self.served: dict[str, Ros1Server] = {}
 
     def advertised(self, topic: str, type_name: str) -> None:
         """A client advertised ``topic`` with an unregistered type: a ROS 1 action client of a
@@ -421,14 +426,14 @@ class ActionlibBridge:
         action_type = zenros_action_type(ros1)
         if action_type is None:
             return
-        served = self.served[name] = ServedAction(self.bridge, name, action_type, owner)
+        served = self.served[name] = Ros1Server(self.bridge, name, action_type, owner)
         hooks = self.bridge.opaque.hooks
         hooks[name + "/feedback"] = served.on_feedback
         hooks[name + "/result"] = served.on_result
         served.task = self.bridge.loop.create_task(served.run())
         served.task.add_done_callback(lambda _: self._drop_served(name, served))
 
-    def _drop_served(self, name: str, served: ServedAction) -> None:
+    def _drop_served(self, name: str, served: Ros1Server) -> None:
         if self.served.get(name) is served:
             del self.served[name]
             for part in ("/feedback", "/result"):

@@ -15,7 +15,6 @@ A topic of a type zenros does not know (opaque.py) is sent as the CBOR of its JS
 
 from __future__ import annotations
 
-from functools import cache
 from typing import Any
 
 import cbor2
@@ -45,9 +44,14 @@ class BinaryFrame(bytes):
     """A frame sent as a binary WebSocket message (CBOR), not as text."""
 
 
-@cache
-def _definition(cls: type[Message]) -> MsgDef:
-    return definition(ros_name_of(cls))
+_DEFINITIONS: dict[type, MsgDef] = {}
+
+
+def _definition(cls: type) -> MsgDef:
+    d = _DEFINITIONS.get(cls)
+    if d is None:
+        d = _DEFINITIONS[cls] = definition(ros_name_of(cls))
+    return d
 
 
 def cbor_values(msg: Message) -> dict[str, Any]:

@@ -13,8 +13,8 @@ from websockets.exceptions import ConnectionClosed
 from zenros.node import Node
 
 from .bridge import Bridge
-from .client import ClientProtocol
 from .cbor import BinaryFrame
+from .client import ClientProtocol
 from .fragments import fragment
 
 __all__ = ["CONGESTED_BYTES", "DEFAULT_PORT", "RosbridgeServer"]
