@@ -392,6 +392,9 @@ class ActionlibBridge:
         name = topic[: -len("/goal")]
         if name in self.proxies or name in self.served:
             return  # already bridged, or served by a rosbridge client: it stays between clients
+        entry = self.bridge.opaque.topics.get(topic)
+        if entry is not None and entry.sinks:
+            return  # a rosbridge client serves it (it reads the goals): between clients
         types = self.bridge.node.graph.actions().get(name)
         if not types:
             return
