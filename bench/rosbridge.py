@@ -217,6 +217,67 @@ def measure(impl: str, n: int, duration: float, rate: float) -> dict[str, float]
             "p50_us": result["p50_us"], "p99_us": result["p99_us"]}
 
 
+def map_message(side: int) -> Any:
+    """A ``side`` x ``side`` OccupancyGrid as maps are: free space, walls and unknown cells."""
+    import numpy as np
+    from zenros.message import Int8Array, to_array
+    from zenros.msgs.nav_msgs import OccupancyGrid
+
+    rng = np.random.default_rng(7)
+    cells = np.full((side, side), -1, dtype=np.int8)
+    inner = slice(side // 8, side - side // 8)
+    cells[inner, inner] = 0
+    walls = rng.random((side, side)) < 0.05
+    cells[walls & (cells == 0)] = 100
+    msg = OccupancyGrid(data=to_array(Int8Array, cells.reshape(-1)))
+    msg.header.frame_id = "map"
+    msg.info.width = msg.info.height = side
+    msg.info.resolution = 0.05
+    return msg
+
+
+def measure_cbor(side: int = 1448) -> dict[str, Any]:
+    """Bytes of one ~2 MB map (``side``² cells) as rosbridge sends it as JSON and as CBOR,
+    to two WebSocket clients of one server in the same run."""
+    from websockets.sync.client import connect
+    from zenros.context import Context
+    from zenros.msgs.nav_msgs import OccupancyGrid
+    from zenros.node import Node
+    from zenros.testing import loopback_options
+
+    port, zport, prefix = free_port(), free_port(), unique_prefix()
+    server = Child(os.path.abspath(__file__), "--role", "rosbridge", "--port", str(port),
+                   "--zport", str(zport), "--prefix", prefix)
+    ctx = Context(loopback_options(connect=[zport]), prefix=prefix)
+    node = Node("bench_map", context=ctx)
+    sizes: dict[str, int] = {}
+    try:
+        pub = node.create_publisher(OccupancyGrid, "/bench_map")
+        msg = map_message(side)
+        url = f"ws://127.0.0.1:{port}/"
+        with connect(url, max_size=None) as js, connect(url, max_size=None) as cb:
+            for ws, compression in ((js, "none"), (cb, "cbor")):
+                ws.send(json.dumps({"op": "subscribe", "topic": "/bench_map",
+                                    "type": "nav_msgs/OccupancyGrid",
+                                    "compression": compression}))
+            deadline = time.monotonic() + 30
+            while len(sizes) < 2 and time.monotonic() < deadline:
+                pub.publish(msg)
+                for ws, key in ((js, "json"), (cb, "cbor")):
+                    with contextlib.suppress(TimeoutError):
+                        while True:
+                            sizes[key] = len(ws.recv(timeout=0.5 if key not in sizes else 0.05,
+                                                     decode=False))
+    finally:
+        node.close()
+        ctx.close()
+        server.stop()
+    return {"map_cells": side * side, "map_json_bytes": sizes.get("json"),
+            "map_cbor_bytes": sizes.get("cbor"),
+            "cbor_bytes_ratio": round(sizes["json"] / sizes["cbor"], 3)
+            if len(sizes) == 2 else None}
+
+
 def main() -> None:
     ap = bench_parser(__doc__, ["relay", "rosbridge", "clients"], repeats=1)
     ap.add_argument("--zport", type=int, default=0)
@@ -224,6 +285,8 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--latency-rate", type=float, default=500.0,
                     help="messages/s for the latency runs (throughput runs publish flat out)")
+    ap.add_argument("--only", choices=["cbor", "throughput"], default=None,
+                    help="run one part: the map's CBOR size, or the Twist throughput")
     args = ap.parse_args()
     if args.role == "relay":
         child_relay(args.port)
@@ -234,8 +297,8 @@ def main() -> None:
     if args.role == "clients":
         child_clients(args.port, args.n)
         return
-    metrics: dict[str, Any] = {}
-    for n in (1, 10):
+    metrics: dict[str, Any] = measure_cbor() if args.only != "throughput" else {}
+    for n in (1, 10) if args.only != "cbor" else ():
         # The relay's publisher is held back by TCP when the relay falls behind, so flat out
         # it offers what the relay path sustains; rosbridge (which never holds a publisher
         # back) is offered that same rate.
@@ -254,7 +317,8 @@ def main() -> None:
         metrics[f"offered_{n}_msgs_s"] = round(offered)
         metrics[f"relay_ratio_{n}"] = round(
             metrics[f"rosbridge_{n}_msgs_s"] / metrics[f"relay_{n}_msgs_s"], 3)
-    metrics["relay_ratio"] = min(metrics["relay_ratio_1"], metrics["relay_ratio_10"])
+    if args.only != "cbor":
+        metrics["relay_ratio"] = min(metrics["relay_ratio_1"], metrics["relay_ratio_10"])
     emit("rosbridge", metrics, duration_s=args.duration, latency_rate=args.latency_rate)
 
 if __name__ == "__main__":

@@ -14,6 +14,8 @@ from zenros.node import Node
 from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
+from .actionlib import ActionlibBridge
+from .cbor import cbor_frame, cbor_raw_frame
 from .convert import encode_message, long_type, publish_frame
 from .opaque import OpaqueTopics
 from .rosapi import Rosapi
@@ -24,17 +26,21 @@ if TYPE_CHECKING:
     from zenros.pubsub import Publisher, Subscription
     from zenros.rpc import Client
 
-__all__ = ["Bridge", "BridgeError", "Sink", "qos_for_publishers"]
+__all__ = ["Bridge", "BridgeError", "Encode", "Sink", "qos_for_publishers"]
 
 
 class BridgeError(ValueError):
     """A request the bridge refuses (unknown type, type conflict, no such topic)."""
 
 
-class Sink(Protocol):
-    """A client that receives topic frames."""
+Encode = Callable[[str], bytes]
+"""The message of a topic frame in another format (``cbor``, ``cbor-raw``), encoded once."""
 
-    def deliver(self, topic: str, frame: bytes) -> None: ...
+
+class Sink(Protocol):
+    """A client that receives topic frames (``encode``: the same message as CBOR)."""
+
+    def deliver(self, topic: str, frame: bytes, encode: Encode | None = None) -> None: ...
 
 
 def qos_for_publishers(tags: list[str]) -> QoSProfile:
@@ -61,7 +67,8 @@ class TopicFeed:
         self.sinks: set[Sink] = set()
         self._loop = bridge.loop
         self._lock = threading.Lock()
-        self._pending: list[bytes] = []
+        self._pending: list[tuple[bytes, Message]] = []
+        self._now = bridge.node.now
         self._scheduled = False
         tags = [t.qos for t in bridge.node.graph.publishers(topic)]
         self.sub: Subscription[Any] = bridge.node.create_subscription(
@@ -70,7 +77,7 @@ class TopicFeed:
     def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
         frame = publish_frame(self.topic, encode_message(msg))
         with self._lock:
-            self._pending.append(frame)
+            self._pending.append((frame, msg))
             if self._scheduled:
                 return
             self._scheduled = True
@@ -83,9 +90,24 @@ class TopicFeed:
         with self._lock:
             frames, self._pending = self._pending, []
             self._scheduled = False
-        for sink in tuple(self.sinks):
-            for frame in frames:
-                sink.deliver(self.topic, frame)
+        sinks = tuple(self.sinks)
+        for frame, msg in frames:
+            encode = self._encoder(msg)
+            for sink in sinks:
+                sink.deliver(self.topic, frame, encode)
+
+    def _encoder(self, msg: Message) -> Encode:
+        """Encodes ``msg`` as ``cbor`` or ``cbor-raw`` on first demand, once per format."""
+        done: dict[str, bytes] = {}
+
+        def encode(fmt: str) -> bytes:
+            frame = done.get(fmt)
+            if frame is None:
+                frame = done[fmt] = (cbor_raw_frame(self.topic, msg, self._now())
+                                     if fmt == "cbor-raw" else cbor_frame(self.topic, msg))
+            return frame
+
+        return encode
 
 
 class Bridge:
@@ -104,6 +126,9 @@ class Bridge:
         self.params = ParameterClient(node.context, timeout=2.5)
         self.opaque = OpaqueTopics()
         self.tf_republisher = TFRepublisher(self)
+        self.background: set[asyncio.Task[Any]] = set()
+        """Tasks the bridge runs for no one client (actionlib.py), kept until done."""
+        self.actionlib = ActionlibBridge(self)
         self.rosapi = Rosapi(node.graph, self.params, node.now, local=self._local_names)
 
     def _local_names(self) -> tuple[dict[str, str], dict[str, str]]:
@@ -231,6 +256,7 @@ class Bridge:
 
     def close(self) -> None:
         self.tf_republisher.close()
+        self.actionlib.close()
         for topic in list(self.feeds):
             feed = self.feeds.pop(topic)
             self.node.destroy(feed.sub)

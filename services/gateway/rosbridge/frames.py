@@ -26,6 +26,7 @@ class SubOptions:
     throttle_rate: float = 0
     queue_length: int = 0
     fragment_size: int = 0
+    compression: str = "none"
 
 
 def frame_name(frame: dict[str, Any], key: str) -> str:

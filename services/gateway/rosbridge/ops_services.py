@@ -16,8 +16,8 @@ from .bridge import BridgeError
 from .convert import message_from_json, request_args, to_json
 from .frames import OpError, frame_int, frame_name, frame_text, frame_type, legacy_id
 from .opaque import OpaqueService
-from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 from .rosapi import Rosapi, RosapiError
+from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 
 if TYPE_CHECKING:
     from .bridge import Bridge

@@ -11,7 +11,10 @@ if TYPE_CHECKING:
     from .bridge import Bridge
     from .outbox import Outbox
 
-__all__ = ["TopicOps"]
+__all__ = ["CBOR", "TopicOps"]
+
+CBOR = ("cbor", "cbor-raw")
+"""The ``compression`` values sent as binary CBOR frames (cbor.py)."""
 
 
 class TopicOps:
@@ -21,15 +24,17 @@ class TopicOps:
     outbox: Outbox
     advertised: set[str]
     subs: dict[str, dict[Any, SubOptions]]
+    compression: dict[str, str]
 
     if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
-        def deliver(self, topic: str, frame: bytes) -> None: ...
+        def deliver(self, topic: str, frame: bytes, encode: Any = None) -> None: ...
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
         type_name = frame_text(frame, "type")
         if not self.bridge.known(type_name):  # carried between rosbridge clients, unchecked
             self.bridge.opaque.advertise(topic, type_name, self)
+            self.bridge.actionlib.advertised(topic, type_name)
             return
         msg_type = self.bridge.topic_type(topic, type_name)
         if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
@@ -48,6 +53,8 @@ class TopicOps:
     def op_publish(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
         if topic not in self.advertised and topic in self.bridge.opaque.topics:
+            if topic not in self.bridge.opaque.hooks:  # the zenros action may have come since
+                self.bridge.actionlib.advertised(topic, self.bridge.opaque.topics[topic].type_name)
             self.bridge.opaque.publish(topic, frame.get("msg"))
             return
         if topic not in self.advertised:
@@ -68,13 +75,16 @@ class TopicOps:
         type_name = frame.get("type")
         if type_name is not None and not isinstance(type_name, str):
             raise OpError("Expected 'type' to be a string")
+        compression = frame.get("compression")  # png, and anything else, is sent as JSON
         opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
                           queue_length=frame_int(frame, "queue_length"),
-                          fragment_size=frame_int(frame, "fragment_size"))
+                          fragment_size=frame_int(frame, "fragment_size"),
+                          compression=compression if compression in CBOR else "none")
         opaque = self.bridge.opaque.topics.get(topic)
         if topic not in self.subs:
             if type_name and not self.bridge.known(type_name):  # unchecked, between clients
                 self.bridge.opaque.attach(topic, type_name, self)
+                self.bridge.actionlib.subscribed(topic, type_name, self)
             elif not type_name and opaque is not None and topic not in self.bridge.feeds:
                 self.bridge.opaque.attach(topic, opaque.type_name, self)
             else:
@@ -94,6 +104,12 @@ class TopicOps:
         self.outbox.configure(topic, min(o.throttle_rate for o in opts),
                               max(o.queue_length for o in opts),
                               min(fragments) if fragments else 0)
+        wanted = {o.compression for o in opts}  # as the reference: cbor-raw, then cbor wins
+        fmt = "cbor-raw" if "cbor-raw" in wanted else "cbor" if "cbor" in wanted else None
+        if fmt is None:
+            self.compression.pop(topic, None)
+        else:
+            self.compression[topic] = fmt
 
     def op_unsubscribe(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
@@ -111,6 +127,7 @@ class TopicOps:
 
     def _drop_subscription(self, topic: str) -> None:
         self.subs.pop(topic, None)
+        self.compression.pop(topic, None)
         self.outbox.remove(topic)
         self.bridge.detach(topic, self)
 

@@ -13,6 +13,7 @@ from websockets.exceptions import ConnectionClosed
 from zenros.node import Node
 
 from .bridge import Bridge
+from .cbor import BinaryFrame
 from .client import ClientProtocol
 from .fragments import fragment
 
@@ -113,11 +114,12 @@ class RosbridgeServer:
                 wake.clear()
                 frames, due = client.outbox.take()
                 for frame, size in frames:
-                    for part in fragment(frame, size) if size else (frame,):
+                    text = not isinstance(frame, BinaryFrame)  # CBOR goes binary, whole
+                    for part in fragment(frame, size) if size and text else (frame,):
                         if _congested(ws):  # ws.send waits until the socket drains
-                            await ws.send(part, text=True)
+                            await ws.send(part, text=text)
                         else:  # written at once, no task switch per frame
-                            broadcast((ws,), part, text=True)
+                            broadcast((ws,), part, text=text)
                 if frames:
                     continue
                 if due is None:

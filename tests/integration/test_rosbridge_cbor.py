@@ -1,0 +1,145 @@
+"""CBOR subscriptions (``compression: "cbor"`` and ``"cbor-raw"``): binary frames in the
+reference server's format, read by a real WebSocket client decoding CBOR with cbor2."""
+
+from __future__ import annotations
+
+import json
+import struct
+from collections.abc import Iterator
+from typing import Any
+
+import cbor2
+import numpy as np
+import pytest
+from websockets.sync.client import ClientConnection, connect
+from zenros.context import Context
+from zenros.message import Int8Array, to_array
+from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
+from zenros.node import Node
+from zenros.ros2 import cdr_codec
+from zenros.services.gateway.rosbridge import RosbridgeServer
+from zenros.testing import wait_for
+
+TIMEOUT = 10.0
+
+
+@pytest.fixture
+def server(ctx_pair: list[Context]) -> Iterator[RosbridgeServer]:
+    node = Node("rosbridge", context=ctx_pair[0])
+    srv = RosbridgeServer(node, port=0)
+    srv.start_in_thread()
+    yield srv
+    srv.stop_in_thread()
+    node.close()
+
+
+@pytest.fixture
+def robot(ctx_pair: list[Context]) -> Iterator[Node]:
+    node = Node("robot", context=ctx_pair[1])
+    yield node
+    node.close()
+
+
+def ws_of(server: RosbridgeServer) -> ClientConnection:
+    return connect(f"ws://127.0.0.1:{server.port}/", open_timeout=TIMEOUT)
+
+
+def first_frame(ws: ClientConnection, publish: Any) -> str | bytes:
+    """Publish until the subscription's first frame arrives (it may miss the first ones)."""
+    got: list[str | bytes] = []
+
+    def poll() -> bool:
+        publish()
+        try:
+            got.append(ws.recv(timeout=0.1))
+        except TimeoutError:
+            return False
+        return True
+
+    assert wait_for(poll, TIMEOUT)
+    return got[0]
+
+
+def grid() -> OccupancyGrid:
+    msg = OccupancyGrid(data=to_array(Int8Array, np.arange(-1, 99, dtype=np.int8)))
+    msg.header.frame_id = "map"
+    msg.info.width, msg.info.height, msg.info.resolution = 10, 10, 0.05
+    return msg
+
+
+def test_cbor_sends_binary_frames_with_typed_arrays(server: RosbridgeServer,
+                                                     robot: Node) -> None:
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    odoms = robot.create_publisher(Odometry, "/odom")
+    odom = Odometry()
+    odom.pose.pose.position.x = 1.5
+    odom.pose.covariance[0] = 0.25
+    with ws_of(server) as ws:
+        ws.send(json.dumps({"op": "subscribe", "topic": "/map", "type": "nav_msgs/OccupancyGrid",
+                            "compression": "cbor"}))
+        frame = first_frame(ws, lambda: maps.publish(grid()))
+        assert isinstance(frame, bytes)  # a binary frame
+        out = cbor2.loads(frame)
+        assert out["op"] == "publish" and out["topic"] == "/map"
+        msg = out["msg"]
+        assert msg["header"]["frame_id"] == "map"
+        assert msg["header"]["stamp"].keys() == {"sec", "nanosec"}
+        assert msg["info"]["width"] == 10 and msg["info"]["resolution"] == 0.05
+        data = msg["data"]
+        assert isinstance(data, cbor2.CBORTag) and data.tag == 72  # int8, RFC 8746
+        assert list(struct.unpack("100b", data.value)) == list(range(-1, 99))
+
+        ws.send(json.dumps({"op": "unsubscribe", "topic": "/map"}))
+        ws.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry",
+                            "compression": "cbor"}))
+        frame = first_frame(ws, lambda: odoms.publish(odom))
+        while cbor2.loads(frame)["topic"] != "/odom":  # a /map frame still under way
+            frame = ws.recv(timeout=TIMEOUT)
+        pose = cbor2.loads(frame)["msg"]["pose"]
+        assert pose["pose"]["position"]["x"] == 1.5
+        cov = pose["covariance"]
+        assert cov.tag == 86 and struct.unpack("<36d", cov.value)[0] == 0.25  # float64
+
+
+def test_cbor_raw_sends_the_cdr_bytes_and_a_time(server: RosbridgeServer,
+                                                 robot: Node) -> None:
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    with ws_of(server) as ws:
+        ws.send(json.dumps({"op": "subscribe", "topic": "/map", "type": "nav_msgs/OccupancyGrid",
+                            "compression": "cbor-raw"}))
+        frame = first_frame(ws, lambda: maps.publish(grid()))
+        assert isinstance(frame, bytes)
+        out = cbor2.loads(frame)
+        assert out["op"] == "publish" and out["topic"] == "/map"
+        assert out["msg"].keys() == {"secs", "nsecs", "bytes"}
+        assert out["msg"]["secs"] > 0
+        msg = cdr_codec(OccupancyGrid).decode(out["msg"]["bytes"])
+        assert msg.header.frame_id == "map" and msg.info.width == 10
+        assert list(msg.data) == list(range(-1, 99))
+
+
+def test_json_and_cbor_subscribers_of_one_topic_each_get_theirs(server: RosbridgeServer,
+                                                                robot: Node) -> None:
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    with ws_of(server) as plain, ws_of(server) as binary:
+        plain.send(json.dumps({"op": "subscribe", "topic": "/map",
+                               "type": "nav_msgs/OccupancyGrid"}))
+        binary.send(json.dumps({"op": "subscribe", "topic": "/map",
+                                "type": "nav_msgs/OccupancyGrid", "compression": "cbor"}))
+        assert wait_for(lambda: len(server.bridge.feeds.get("/map", None).sinks) == 2
+                        if "/map" in server.bridge.feeds else False, TIMEOUT)
+        text = first_frame(plain, lambda: maps.publish(grid()))
+        assert isinstance(text, str) and json.loads(text)["msg"]["data"][:3] == [-1, 0, 1]
+        assert isinstance(binary.recv(timeout=TIMEOUT), bytes)
+
+
+def test_a_topic_of_an_unknown_type_is_sent_as_cbor_of_its_json(server: RosbridgeServer) -> None:
+    with ws_of(server) as pub, ws_of(server) as sub:
+        sub.send(json.dumps({"op": "subscribe", "topic": "/floats", "type": "rospy_tutorials/Floats",
+                             "compression": "cbor"}))
+        pub.send(json.dumps({"op": "advertise", "topic": "/floats",
+                             "type": "rospy_tutorials/Floats"}))
+        frame = first_frame(sub, lambda: pub.send(json.dumps(
+            {"op": "publish", "topic": "/floats", "msg": {"data": [1.5, 2.5]}})))
+        assert cbor2.loads(frame) == {"op": "publish", "topic": "/floats",
+                                      "msg": {"data": [1.5, 2.5]}}
