@@ -6,10 +6,8 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Iterator
 from typing import Any
 
-import pytest
 import roslibpy
 from roslibpy.ros1.actionlib import ActionClient, Goal, GoalStatus, SimpleActionServer
 from zenros.action import GoalStatus as Ros2Status
@@ -18,27 +16,10 @@ from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal
 from zenros.node import Node
 from zenros.services.gateway.rosbridge import RosbridgeServer
 from zenros.services.gateway.rosbridge.actionlib import ros1_status, zenros_action_type
-from zenros.testing import roslibpy_connect, wait_for
+from zenros.testing import wait_for
 
 TIMEOUT = 10.0
 ROS1_TYPE = "actionlib_tutorials/FibonacciAction"
-
-
-@pytest.fixture
-def server(ctx_pair: list[Context]) -> Iterator[RosbridgeServer]:
-    node = Node("rosbridge", context=ctx_pair[0])
-    srv = RosbridgeServer(node, port=0)
-    srv.start_in_thread()
-    yield srv
-    srv.stop_in_thread()
-    node.close()
-
-
-@pytest.fixture
-def ros(server: RosbridgeServer) -> Iterator[roslibpy.Ros]:
-    client = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
-    yield client
-    client.close()
 
 
 def fibonacci_server(ctx: Context, period: float) -> Node:

@@ -5,14 +5,11 @@ from __future__ import annotations
 
 import json
 import struct
-from collections.abc import Iterator
 from typing import Any
 
 import cbor2
 import numpy as np
-import pytest
 from websockets.sync.client import ClientConnection, connect
-from zenros.context import Context
 from zenros.message import Int8Array, to_array
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.node import Node
@@ -21,23 +18,6 @@ from zenros.services.gateway.rosbridge import RosbridgeServer
 from zenros.testing import wait_for
 
 TIMEOUT = 10.0
-
-
-@pytest.fixture
-def server(ctx_pair: list[Context]) -> Iterator[RosbridgeServer]:
-    node = Node("rosbridge", context=ctx_pair[0])
-    srv = RosbridgeServer(node, port=0)
-    srv.start_in_thread()
-    yield srv
-    srv.stop_in_thread()
-    node.close()
-
-
-@pytest.fixture
-def robot(ctx_pair: list[Context]) -> Iterator[Node]:
-    node = Node("robot", context=ctx_pair[1])
-    yield node
-    node.close()
 
 
 def ws_of(server: RosbridgeServer) -> ClientConnection:

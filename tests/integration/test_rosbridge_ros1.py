@@ -4,7 +4,6 @@ definition for, carried between rosbridge clients unchecked."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -18,30 +17,6 @@ from zenros.services.master.node import MasterNode
 from zenros.testing import Collector, roslibpy_connect, wait_for
 
 TIMEOUT = 10.0
-
-
-@pytest.fixture
-def server(ctx_pair: list[Context]) -> Iterator[RosbridgeServer]:
-    node = Node("rosbridge", context=ctx_pair[0])
-    srv = RosbridgeServer(node, port=0)
-    srv.start_in_thread()
-    yield srv
-    srv.stop_in_thread()
-    node.close()
-
-
-@pytest.fixture
-def robot(ctx_pair: list[Context]) -> Iterator[Node]:
-    node = Node("robot", context=ctx_pair[1])
-    yield node
-    node.close()
-
-
-@pytest.fixture
-def ros(server: RosbridgeServer) -> Iterator[roslibpy.Ros]:
-    client = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
-    yield client
-    client.close()
 
 
 def test_ros1_header_with_seq_and_secs_nsecs_is_published(server: RosbridgeServer,

@@ -10,31 +10,21 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-import roslibpy
 from roslibpy.tf import TFClient
 from websockets.sync.client import connect
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import TransformStamped
 from zenros.node import Node
 from zenros.services.gateway.rosbridge import RosbridgeServer
-from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 from zenros.testing import Collector, roslibpy_connect, wait_for
+from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
 TIMEOUT = 10.0
 
 
 @pytest.fixture
-def server(ctx_pair: list[Context]) -> Iterator[RosbridgeServer]:
-    node = Node("rosbridge", context=ctx_pair[0])
-    srv = RosbridgeServer(node, port=0)
-    srv.start_in_thread()
-    yield srv
-    srv.stop_in_thread()
-    node.close()
-
-
-@pytest.fixture
 def robot(ctx_pair: list[Context]) -> Iterator[Node]:
+    """The robot side, with a static world -> turtle1 (as roslibjs's setup_examples.launch)."""
     node = Node("robot", context=ctx_pair[1])
     StaticTransformBroadcaster(node).send_transform(link("world", "turtle1", 1.0, 2.0))
     yield node
