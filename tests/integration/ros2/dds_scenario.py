@@ -151,8 +151,9 @@ def main(case: str) -> dict[str, Any]:
             dp = DomainParticipant(0)
             w = DataWriter(dp, Topic(dp, "rt/bad", dds_type("std_msgs/msg/String")))
             assert wait_for(lambda: w.get_matched_subscriptions(), 20)
-            for _ in range(5):
-                ddspy_write(w._ref, b"\x00\x01\x00\x00\xff\xff\xff\x7f")  # a count past the end
+            # what DDS accepts (a well-formed string) but is not UTF-8: zenros cannot decode it
+            bad = b"\x00\x01\x00\x00\x03\x00\x00\x00\xff\xfe\x00\x00"
+            res["bad_written"] = [ddspy_write(w._ref, bad) for _ in range(5)]
             ok = b"\x00\x01\x00\x00\x03\x00\x00\x00ok\x00\x00"
             res["good_after"] = wait_for(lambda: (ddspy_write(w._ref, ok), len(got2) > 0)[1], 20,
                                          interval=0.1)

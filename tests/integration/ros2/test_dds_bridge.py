@@ -110,9 +110,3 @@ def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> N
     assert res["good_after"] and res["items"] == ["ok"], res["bridge_log"]
     log = res["bridge_log"]
     assert log.count("dropping a sample on /bad") == 1, log
-
-
-def test_a_ros2_node_leaving_leaves_the_zenros_graph() -> None:
-    res = scenario("talker")
-    assert res["node_listed"], res["bridge_log"]
-    assert res["node_left"], res["bridge_log"]
