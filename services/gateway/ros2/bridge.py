@@ -1,0 +1,274 @@
+"""`Ros2DdsBridge`: ROS 2 topics on a DDS domain in the zenros graph and zenros topics in
+ROS 2, found by DDS discovery (DCPSPublication/DCPSSubscription) and zenros liveliness.
+
+- ROS 2 -> zenros: for each DDS writer on ``rt/<name>`` of another participant whose type
+  zenros knows (``pkg::msg::dds_::Name_``, same RIHS01 hash when the writer says it), a DDS
+  reader with the writer's QoS and a zenros publisher on ``/<name>``; gone with the last writer.
+- zenros -> ROS 2: for each zenros publisher of another session whose type has a ROS 2
+  definition, a zenros subscriber (remote samples only) and a DDS writer on ``rt/<name>``.
+- never loops: this participant's own writers and readers are not discovered as others',
+  its readers ignore its own writers (IGNORE_LOCAL), zenros tokens and samples of the bridge's
+  own session are skipped.
+- ROS 2 nodes (``ros_discovery_info``) get a node token each in the zenros graph.
+
+Bad input: a sample that does not decode is dropped, counted and logged once per sender; an
+unknown type or another hash is logged once per topic and the topic is skipped.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import threading
+import uuid
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Any
+
+import zenoh
+from cyclonedds.builtin import (
+    BuiltinDataReader,
+    BuiltinTopicDcpsPublication,
+    BuiltinTopicDcpsSubscription,
+)
+from cyclonedds.core import InstanceState
+from cyclonedds.domain import DomainParticipant
+
+from zenros.errors import UnknownTypeError
+from zenros.message import lookup_type
+from zenros.node import Node
+from zenros.qos import QoSProfile
+from zenros.ros2.registry import definition, ros_name_of, zenros_class_of
+from zenros.ros2.typehash import type_hash
+from zenros.ros2.typenames import dds_to_ros
+
+from .graph import RosNodes
+from .qos import zenros_qos
+from .routes import Inbound, Outbound
+
+__all__ = ["Ros2DdsBridge"]
+
+
+class _Once:
+    """Log a problem once per key; count every occurrence."""
+
+    def __init__(self, logger: Any) -> None:
+        self.logger = logger
+        self.seen: set[str] = set()
+        self.counts: dict[str, int] = defaultdict(int)
+
+    def __call__(self, key: str, fmt: str, *args: Any) -> None:
+        self.counts[key] += 1
+        if key not in self.seen:
+            self.seen.add(key)
+            self.logger.warning(fmt, *args)
+
+
+@dataclass
+class _Writer:
+    """A DDS writer of another participant, as discovery described it."""
+
+    key: uuid.UUID
+    participant: uuid.UUID
+    name: str
+    dds_type: str
+    qos: Any
+    type_hash: str = ""
+    slot: tuple[str, str] = field(default=("", ""))
+
+
+def _user_hash(qos: Any) -> str:
+    from cyclonedds.core import Policy
+    ud = qos[Policy.Userdata]
+    if ud is None:
+        return ""
+    m = re.search(rb"typehash=(RIHS01_[0-9a-f]{64})", ud.data)
+    return m[1].decode() if m else ""
+
+
+class Ros2DdsBridge(Node):
+    """Parameters: ``domain_id`` (default ``ROS_DOMAIN_ID`` or 0), ``allow`` and ``deny``
+    (regular expressions on ROS names; deny wins), ``depth`` (keep-last depth of topics from
+    DDS, whose discovery does not say it)."""
+
+    node_name = "ros2_dds_bridge"
+
+    def setup(self) -> None:
+        self.domain = int(self.declare_parameter(
+            "domain_id", int(os.environ.get("ROS_DOMAIN_ID", "0") or 0),
+            description="DDS domain (ROS_DOMAIN_ID)", read_only=True))
+        self.allow = re.compile(str(self.declare_parameter(
+            "allow", ".*", description="regex on ROS names to bridge", read_only=True)))
+        deny = str(self.declare_parameter(
+            "deny", "/rosout|/parameter_events",
+            description="regex on ROS names never bridged (wins over allow)", read_only=True))
+        self.deny = re.compile(deny) if deny else None
+        self.depth = int(self.declare_parameter(
+            "depth", 10, description="keep-last depth of topics from DDS", read_only=True))
+        ctx = self.context
+        self.zid = str(ctx.zid)
+        self.problems = _Once(self.logger)
+        self.bad_samples: dict[str, int] = defaultdict(int)
+        self.dds_topics: dict[tuple[str, str], Any] = {}
+        self.inbound: dict[str, Inbound] = {}
+        self.outbound: dict[str, Outbound] = {}
+        self._writers: dict[uuid.UUID, _Writer] = {}
+        self._handles: dict[int, _Writer] = {}
+        self._zenros_pubs: dict[str, set[str]] = defaultdict(set)
+        self._events: queue.Queue[tuple[zenoh.SampleKind, str] | None] = queue.Queue()
+        self._graph_lock = threading.Lock()
+        self.participant = DomainParticipant(self.domain)
+        self.guid = self.participant.guid
+        self._pubs = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
+        self._subs = BuiltinDataReader(self.participant, BuiltinTopicDcpsSubscription)
+        self.nodes = RosNodes(self)
+        self._stop = threading.Event()
+        self._worker = threading.Thread(target=self._run, name="ros2-dds-bridge", daemon=True)
+        self._worker.start()
+        self._lv = ctx.session.liveliness().declare_subscriber(
+            ctx.keys.alive_all(), lambda s: self._events.put((s.kind, str(s.key_expr))),
+            history=True)
+        self.logger.info("bridging zenros and ROS 2 on DDS domain %d", self.domain)
+
+    # ------------------------------------------------------------ helpers for the routes
+
+    def wanted(self, name: str) -> bool:
+        return bool(self.allow.fullmatch(name)) and not (self.deny and self.deny.fullmatch(name))
+
+    def bad_sample(self, topic: str, sender: str, exc: Exception) -> None:
+        self.bad_samples[topic] += 1
+        self.problems(f"bad {topic} {sender}", "dropping a sample on %s from %s that does not "
+                      "convert: %s", topic, sender, exc)
+
+    def writer_name(self, handle: int) -> str:
+        w = self._handles.get(handle)
+        if w is None:
+            return ""
+        node = self.nodes.node_of_writer(w.key)
+        return f"ROS 2 node {node}" if node else f"DDS writer {w.key}"
+
+    # ------------------------------------------------------------ discovery
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                ev = self._events.get(timeout=0.05)
+            except queue.Empty:
+                ev = None
+            try:
+                with self._graph_lock:
+                    if ev is not None:
+                        self._on_zenros_token(*ev)
+                    self._poll_dds()
+                    self.nodes.poll()
+            except Exception as exc:  # noqa: BLE001 the worker outlives any one bad event
+                self.problems(f"discovery {type(exc).__name__} {exc}", "discovery: %s: %s",
+                              type(exc).__name__, exc)
+
+    def _poll_dds(self) -> None:
+        for s in self._pubs.take(64):
+            self._on_dds_writer(s)
+        for s in self._subs.take(64):
+            pass  # readers: no route of their own (a zenros publisher makes the DDS writer)
+
+    def _on_dds_writer(self, s: Any) -> None:
+        info = s.sample_info
+        if info.instance_state != InstanceState.Alive or not info.valid_data:
+            w = self._writers.pop(s.key, None)
+            if w is not None:
+                self._handles.pop(info.instance_handle, None)
+                self._writer_left(w)
+            return
+        if s.participant_key == self.guid or s.key in self._writers:
+            return
+        if not s.topic_name.startswith("rt/"):
+            return  # rq/rr (services), ros_discovery_info: not topics
+        w = _Writer(s.key, s.participant_key, "/" + s.topic_name[3:], s.type_name, s.qos,
+                    _user_hash(s.qos))
+        self._writers[s.key] = w
+        self._handles[info.instance_handle] = w
+        self._writer_joined(w)
+
+    def _writer_joined(self, w: _Writer) -> None:
+        if not self.wanted(w.name):
+            return
+        try:
+            ros_type = dds_to_ros(w.dds_type)
+        except UnknownTypeError:
+            self.problems(f"type {w.dds_type}", "DDS topic %s has type %s, not a ROS 2 type: "
+                          "not bridged", w.name, w.dds_type)
+            return
+        cls = zenros_class_of(ros_type)
+        if cls is None:
+            self.problems(f"type {ros_type}", "ROS 2 topic %s has type %s, which zenros does "
+                          "not know: not bridged", w.name, ros_type)
+            return
+        ours = type_hash(ros_type)
+        if w.type_hash and w.type_hash != ours:
+            self.problems(f"hash {w.name} {ros_type}", "ROS 2 topic %s: type %s has hash %s "
+                          "there, %s in zenros (another version of the type): not bridged",
+                          w.name, ros_type, w.type_hash, ours)
+            return
+        w.slot = (w.name, ros_type)
+        route = self.inbound.get(w.name)
+        if route is not None:
+            if ros_name_of(route.cdr.type) != ros_type:
+                self.problems(f"conflict {w.name}", "ROS 2 topic %s is published as %s and %s: "
+                              "only the first is bridged", w.name,
+                              ros_name_of(route.cdr.type), ros_type)
+            return
+        qos = zenros_qos(w.qos, self.depth)
+        self.inbound[w.name] = Inbound(self, w.name, cls, qos)
+        self.logger.info("ROS 2 %s (%s) -> zenros", w.name, ros_type)
+
+    def _writer_left(self, w: _Writer) -> None:
+        if not w.slot[0]:
+            return
+        if any(o.slot == w.slot for o in self._writers.values()):
+            return
+        route = self.inbound.pop(w.name, None)
+        if route is not None:
+            route.close()
+            self.logger.info("ROS 2 %s: no writer left, route closed", w.name)
+
+    def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:
+        tok = self.context.keys.parse_token(key)
+        if tok is None or tok.zid == self.zid or tok.kind != "pub":
+            return
+        name = tok.name
+        if kind == zenoh.SampleKind.DELETE:
+            self._zenros_pubs[name].discard(key)
+            if not self._zenros_pubs[name] and name in self.outbound:
+                self.outbound.pop(name).close()
+                self.logger.info("zenros %s: no publisher left, route closed", name)
+            return
+        self._zenros_pubs[name].add(key)
+        if name in self.outbound or not self.wanted(name):
+            return
+        try:
+            cls = lookup_type(tok.type)
+            definition(ros_name_of(cls))
+        except (UnknownTypeError, ValueError) as exc:
+            self.problems(f"ztype {name}", "zenros topic %s (%s) has no ROS 2 form: %s",
+                          name, tok.type, exc)
+            return
+        self.outbound[name] = Outbound(self, name, cls, QoSProfile.from_tag(tok.qos))
+        self.logger.info("zenros %s (%s) -> ROS 2", name, tok.type)
+
+    # ------------------------------------------------------------ lifecycle
+
+    def close(self) -> None:
+        worker = getattr(self, "_worker", None)
+        if worker is not None:
+            self._lv.undeclare()
+            self._stop.set()
+            worker.join(5)
+            with self._graph_lock:
+                for r in [*self.inbound.values(), *self.outbound.values()]:
+                    r.close()
+                self.inbound.clear()
+                self.outbound.clear()
+                self.nodes.close()
+            self.participant.__del__()
+        super().close()

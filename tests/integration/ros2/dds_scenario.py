@@ -1,0 +1,170 @@
+"""One DDS bridge scenario, run inside a network namespace by test_dds_bridge.py: starts the
+bridge and an rclpy peer as child processes, plays the zenros side itself, and prints one JSON
+line of results. ``python dds_scenario.py CASE``."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from zenros.context import Context
+from zenros.msgs.geometry_msgs import Twist, Vector3
+from zenros.msgs.nav_msgs import OccupancyGrid
+from zenros.msgs.sensor_msgs import LaserScan
+from zenros.msgs.std_msgs import String
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+from zenros.session import SessionOptions
+from zenros.testing import Collector, free_port, unique_prefix, wait_for
+
+HERE = Path(__file__).parent
+PY = sys.executable
+ENV = {**os.environ, "AMENT_PREFIX_PATH": sys.prefix, "ROS_DOMAIN_ID": "0"}
+
+
+class Procs:
+    def __init__(self) -> None:
+        self.procs: list[subprocess.Popen[str]] = []
+
+    def start(self, *args: str, stdout: Any = subprocess.PIPE) -> subprocess.Popen[str]:
+        p = subprocess.Popen([PY, *args], stdout=stdout, stderr=subprocess.PIPE, text=True,
+                             env=ENV, start_new_session=True)
+        self.procs.append(p)
+        return p
+
+    def stop(self, p: subprocess.Popen[str]) -> str:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGINT)
+            try:
+                p.wait(10)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait(5)
+        err = p.stderr.read() if p.stderr else ""
+        return err
+
+    def stop_all(self) -> dict[str, str]:
+        return {str(i): self.stop(p)[-4000:] for i, p in enumerate(self.procs)}
+
+
+def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str, Any]]:
+    """The first n JSON lines (after the ready line) the rclpy peer printed."""
+    import selectors
+    sel = selectors.DefaultSelector()
+    assert p.stdout is not None
+    sel.register(p.stdout, selectors.EVENT_READ)
+    out: list[dict[str, Any]] = []
+    deadline = time.monotonic() + timeout
+    while len(out) < n and time.monotonic() < deadline:
+        if sel.select(deadline - time.monotonic()):
+            line = p.stdout.readline()
+            if not line:
+                break
+            d = json.loads(line)
+            if "ready" not in d:
+                out.append(d)
+    return out
+
+
+def main(case: str) -> dict[str, Any]:
+    port = free_port()
+    prefix = unique_prefix()
+    procs = Procs()
+    res: dict[str, Any] = {"case": case}
+    bridge = procs.start("-m", "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{port}",
+                         "--prefix", prefix, "-p", "domain_id:=0", stdout=subprocess.DEVNULL)
+    ctx = Context(SessionOptions(connect=[f"tcp/127.0.0.1:{port}"]), prefix=prefix)
+    node = Node("zen_side", context=ctx)
+    graph = ctx.graph
+    try:
+        if case in ("talker", "twist_in", "scan", "grid"):
+            kind, cls, topic = {
+                "talker": ("String", String, "/chatter"), "twist_in": ("Twist", Twist, "/cmd_vel"),
+                "scan": ("LaserScan", LaserScan, "/scan"), "grid": ("OccupancyGrid", OccupancyGrid, "/map"),
+            }[case]
+            got: Collector[Any] = Collector()
+            node.create_subscription(cls, topic, got)
+            peer = procs.start(str(HERE / "rclpy_peer.py"), "pub", kind, topic)
+            res["received"] = wait_for(lambda: len(got) >= 3, 30)
+            if got.items:
+                m = got.items[-1]
+                if isinstance(m, String):
+                    res["data"] = m.data
+                elif isinstance(m, Twist):
+                    res["x"], res["z"] = m.linear.x, m.angular.z
+                elif isinstance(m, LaserScan):
+                    res["n"] = len(m.ranges)
+                    res["r5"] = float(m.ranges[5])
+                elif isinstance(m, OccupancyGrid):
+                    res["n"] = len(m.data)
+                    res["w"] = m.info.width
+                    res["d123"] = int(m.data[123])
+            res["node_listed"] = wait_for(lambda: "/peer_pub" in graph.node_names(), 10)
+            res["publisher"] = [p.node for p in graph.publishers(topic)]
+            procs.stop(peer)
+            res["node_left"] = wait_for(lambda: "/peer_pub" not in graph.node_names(), 20)
+            res["route_left"] = wait_for(lambda: not graph.publishers(topic), 20)
+        elif case in ("listener", "twist_out", "latched"):
+            kind, topic = {"listener": ("String", "/chatter2"), "twist_out": ("Twist", "/cmd_vel2"),
+                           "latched": ("String", "/latched")}[case]
+            if case == "latched":
+                pub = node.create_publisher(String, topic, QOS_LATCHED)
+                pub.publish(String(data="the one latched"))
+                # the bridge has made its DDS writer (its zenros subscription is in the graph)
+                res["bridged"] = wait_for(lambda: graph.subscribers(topic), 20)
+                time.sleep(0)  # noqa: the late joiner starts after the bridge holds the sample
+                wait_for(lambda: False, 1.0)
+                peer = procs.start(str(HERE / "rclpy_peer.py"), "sub", kind, topic, "--tl")
+                res["got"] = lines_of(peer, 1, 30)
+            else:
+                pub2: Any = node.create_publisher(String if kind == "String" else Twist, topic)
+                peer = procs.start(str(HERE / "rclpy_peer.py"), "sub", kind, topic)
+                import threading
+                stop = threading.Event()
+
+                def spam() -> None:
+                    i = 0
+                    while not stop.is_set():
+                        i += 1
+                        pub2.publish(String(data=f"zen {i}") if kind == "String"
+                                     else Twist(linear=Vector3(x=0.25), angular=Vector3(z=float(i))))
+                        stop.wait(0.05)
+                t = threading.Thread(target=spam, daemon=True)
+                t.start()
+                res["got"] = lines_of(peer, 3, 30)
+                stop.set()
+                t.join()
+        elif case == "bad":
+            from cyclonedds.domain import DomainParticipant
+            from cyclonedds.pub import DataWriter
+            from cyclonedds.topic import Topic
+            from cyclonedds._clayer import ddspy_write
+            from zenros.services.gateway.ros2.ddstypes import dds_type
+            got2: Collector[Any] = Collector()
+            node.create_subscription(String, "/bad", got2)
+            dp = DomainParticipant(0)
+            w = DataWriter(dp, Topic(dp, "rt/bad", dds_type("std_msgs/msg/String")))
+            assert wait_for(lambda: w.get_matched_subscriptions(), 20)
+            # what DDS accepts (a well-formed string) but is not UTF-8: zenros cannot decode it
+            bad = b"\x00\x01\x00\x00\x03\x00\x00\x00\xff\xfe\x00\x00"
+            res["bad_written"] = [ddspy_write(w._ref, bad) for _ in range(5)]
+            ok = b"\x00\x01\x00\x00\x03\x00\x00\x00ok\x00\x00"
+            res["good_after"] = wait_for(lambda: (ddspy_write(w._ref, ok), len(got2) > 0)[1], 20,
+                                         interval=0.1)
+            res["items"] = [m.data for m in got2.items[:1]]
+    finally:
+        node.close()
+        ctx.close()
+        errs = procs.stop_all()
+        res["bridge_log"] = errs["0"]
+    return res
+
+
+if __name__ == "__main__":
+    print(json.dumps(main(sys.argv[1])), flush=True)

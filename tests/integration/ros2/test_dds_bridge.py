@@ -1,0 +1,121 @@
+"""The ROS 2 DDS bridge against unmodified rclpy (rmw_fastrtps_cpp, ROS 2 Kilted wheels).
+
+Every case runs in a network namespace of its own (``unshare -n``, loopback with multicast):
+dds_scenario.py starts the bridge and an rclpy node there, plays the zenros side, and prints
+one JSON line; no DDS packet leaves on the machine's interfaces.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+pytest.importorskip("cyclonedds", reason="cyclonedds not installed (extra ros2)")
+pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
+
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240)]
+
+HERE = Path(__file__).parent
+NETNS = ("ip link set lo up && ip link set lo multicast on && "
+         "ip route add 224.0.0.0/4 dev lo && exec \"$@\"")
+
+
+def _unavailable() -> str | None:
+    if os.geteuid() != 0:
+        return "needs root for network namespaces (unshare -n)"
+    if not shutil.which("unshare") or not shutil.which("ip"):
+        return "needs unshare and ip (util-linux, iproute2)"
+    probe = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", "true"],
+                           capture_output=True, text=True, check=False)
+    if probe.returncode:
+        return f"cannot make a network namespace: {probe.stderr.strip()}"
+    return None
+
+
+def scenario(case: str) -> dict[str, Any]:
+    reason = _unavailable()
+    if reason:
+        pytest.skip(reason)
+    p = subprocess.Popen(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable,
+                          str(HERE / "dds_scenario.py"), case],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    try:
+        out, err = p.communicate(timeout=200)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, 9)
+            p.wait(5)
+    lines = [ln for ln in out.splitlines() if ln.startswith("{")]
+    assert lines, f"scenario {case} printed nothing; stderr:\n{err[-3000:]}"
+    res: dict[str, Any] = json.loads(lines[-1])
+    return res
+
+
+SEQUENCES = pytest.mark.xfail(
+    reason="types with a sequence do not match yet: cyclonedds logs 'ddsi_xt_type_init_impl with "
+           "invalid type object' (PLAIN_SEQUENCE_SMALL) for the IdlStruct built from the "
+           "definition and its reader matches no rclpy writer (docs/ros2.md, DDS limits)",
+    strict=True)
+
+
+def _inbound(case: str) -> dict[str, Any]:
+    res = scenario(case)
+    assert res["received"], res["bridge_log"]
+    assert res["publisher"] == ["/ros2_dds_bridge"], res
+    assert res["route_left"], res["bridge_log"]  # the rclpy node left: so did the route
+    return res
+
+
+def test_rclpy_talker_reaches_a_zenros_subscriber() -> None:
+    res = _inbound("talker")
+    assert res["data"].startswith("hello "), res
+
+
+def test_rclpy_twist_reaches_zenros() -> None:
+    res = _inbound("twist_in")
+    assert res["x"] == 0.5 and res["z"] >= 1.0, res
+
+
+@SEQUENCES
+def test_rclpy_laserscan_reaches_zenros() -> None:
+    res = _inbound("scan")
+    assert res["n"] == 720 and res["r5"] == 5.0, res
+
+
+@SEQUENCES
+def test_rclpy_large_occupancy_grid_reaches_zenros() -> None:
+    res = _inbound("grid")
+    assert res["w"] == 1000 and res["n"] == 1000 * 1000 and res["d123"] == 23, res
+
+
+def test_zenros_publisher_reaches_an_rclpy_listener() -> None:
+    res = scenario("listener")
+    assert len(res["got"]) == 3, res["bridge_log"]
+    assert all(g["data"].startswith("zen ") for g in res["got"]), res
+
+
+def test_zenros_twist_reaches_rclpy() -> None:
+    res = scenario("twist_out")
+    assert len(res["got"]) == 3, res["bridge_log"]
+    assert all(g["x"] == 0.25 for g in res["got"]), res
+
+
+def test_latched_zenros_topic_reaches_a_late_rclpy_subscriber() -> None:
+    res = scenario("latched")
+    assert res["bridged"], res["bridge_log"]
+    assert res["got"] == [{"data": "the one latched"}], res["bridge_log"]
+
+
+def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> None:
+    res = scenario("bad")
+    assert res["good_after"] and res["items"] == ["ok"], res["bridge_log"]
+    log = res["bridge_log"]
+    assert log.count("dropping a sample on /bad") == 1, log
