@@ -196,8 +196,8 @@ class RmwZenohBridge(Node):
 
     def close(self) -> None:
         if getattr(self, "_worker", None) is not None:
-            self._lv_zenros.undeclare()
-            self._lv_ros.undeclare()
+            self._lv_zenros.undeclare()  # type: ignore[no-untyped-call]
+            self._lv_ros.undeclare()  # type: ignore[no-untyped-call]
             self._events.put(None)
             self._worker.join(5)
             with self._graph_lock:
@@ -208,7 +208,7 @@ class RmwZenohBridge(Node):
                 self.inbound.clear()
                 self.services.clear()
             self._pool.shutdown(wait=False, cancel_futures=True)
-            self._node_token.undeclare()
+            self._node_token.undeclare()  # type: ignore[no-untyped-call]
         super().close()
 
 
@@ -248,10 +248,10 @@ class _Outbound:
         self.pub.put(data, attachment=Attachment(self.seq, time.time_ns(), self.gid).encode())
 
     def close(self) -> None:
-        self.sub.undeclare()
-        self.sub_token.undeclare()
-        self.token.undeclare()
-        self.pub.undeclare()
+        self.sub.undeclare()  # type: ignore[no-untyped-call]
+        self.sub_token.undeclare()  # type: ignore[no-untyped-call]
+        self.token.undeclare()  # type: ignore[no-untyped-call]
+        self.pub.undeclare()  # type: ignore[no-untyped-call]
 
 
 class _Inbound:
@@ -291,8 +291,8 @@ class _Inbound:
         self.pub.publish(msg)
 
     def close(self) -> None:
-        self.sub.undeclare()
-        self.token.undeclare()
+        self.sub.undeclare()  # type: ignore[no-untyped-call]
+        self.token.undeclare()  # type: ignore[no-untyped-call]
         self.bridge.destroy(self.pub)
 
 
@@ -340,9 +340,9 @@ class _ServiceOut:
             query.reply(query.key_expr, data, encoding=CDR, attachment=Attachment(
                 att.sequence_number, time.time_ns(), att.gid).encode())
         finally:
-            query.drop()  # the final reply: the client's get completes now
+            query.drop()  # the final reply: the client's get completes now  # type: ignore[no-untyped-call]
 
     def close(self) -> None:
-        self.queryable.undeclare()
-        self.token.undeclare()
+        self.queryable.undeclare()  # type: ignore[no-untyped-call]
+        self.token.undeclare()  # type: ignore[no-untyped-call]
         self.bridge.destroy(self.client)

@@ -261,7 +261,7 @@ class Ros2DdsBridge(Node):
     def close(self) -> None:
         worker = getattr(self, "_worker", None)
         if worker is not None:
-            self._lv.undeclare()
+            self._lv.undeclare()  # type: ignore[no-untyped-call]
             self._stop.set()
             worker.join(5)
             with self._graph_lock:

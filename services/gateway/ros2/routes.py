@@ -61,7 +61,7 @@ class Inbound:
         self.forwarded = 0
         self.reader = DataReader(bridge.participant, dds_topic(bridge, name, ros_type),
                                  qos=dds_qos(qos, type_hash(ros_type), writer=False),
-                                 listener=Listener(on_data_available=self._on_data))
+                                 listener=Listener(on_data_available=self._on_data))  # type: ignore[no-untyped-call]
         self._on_data(self.reader)  # a transient-local backlog may be there already
 
     def _on_data(self, reader: Any) -> None:
@@ -142,5 +142,5 @@ class Outbound:
 
     def close(self) -> None:
         self.sub.undeclare()
-        self.sub_token.undeclare()
+        self.sub_token.undeclare()  # type: ignore[no-untyped-call]
         self.writer.__del__()
