@@ -10,7 +10,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["ErrorLog", "RosoutHandler", "Throttle", "configure_logging", "level_from_name",
+__all__ = ["ErrorLog", "LogOnce", "RosoutHandler", "Throttle", "configure_logging", "level_from_name",
            "node_logger"]
 
 _LEVELS = {
@@ -139,3 +139,20 @@ class ErrorLog:
         if extra:
             msg += f" ({extra} more suppressed)"
         self._logger.log(level, msg, *args, exc_info=exc_info)
+
+
+class LogOnce:
+    """Logs a warning the first time each key is reported and counts every report (a bridge's
+    "logged once per sender": a broken peer's thousandth bad sample is counted, not logged)."""
+
+    def __init__(self, logger: logging.Logger) -> None:
+        self.logger = logger
+        self.counts: dict[str, int] = {}
+        self._lock = threading.Lock()
+
+    def __call__(self, key: str, fmt: str, *args: Any) -> None:
+        with self._lock:
+            n = self.counts.get(key, 0)
+            self.counts[key] = n + 1
+        if n == 0:
+            self.logger.warning(fmt, *args)

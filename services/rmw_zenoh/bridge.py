@@ -29,9 +29,9 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import zenoh
-
 from zenros.codec import codec_for
 from zenros.errors import CodecError, ZenrosError
+from zenros.log import LogOnce
 from zenros.message import lookup_service, lookup_type
 from zenros.node import Node
 from zenros.qos import Durability as ZDurability
@@ -57,21 +57,6 @@ __all__ = ["RmwZenohBridge"]
 CDR = zenoh.Encoding("application/cdr")
 
 
-class _Once:
-    """Log a problem once per key; count every occurrence."""
-
-    def __init__(self, logger: Any) -> None:
-        self.logger = logger
-        self.seen: set[str] = set()
-        self.counts: dict[str, int] = defaultdict(int)
-
-    def __call__(self, key: str, fmt: str, *args: Any) -> None:
-        self.counts[key] += 1
-        if key not in self.seen:
-            self.seen.add(key)
-            self.logger.warning(fmt, *args)
-
-
 class RmwZenohBridge(Node):
     """Parameters: ``domain_id`` (default ``ROS_DOMAIN_ID`` or 0), ``allow`` and ``deny``
     (regular expressions on names; deny wins), ``services`` (bridge zenros services, default
@@ -89,7 +74,7 @@ class RmwZenohBridge(Node):
         ctx = self.context
         self.session = ctx.session
         self.zid = str(ctx.zid)
-        self.problems = _Once(self.logger)
+        self.problems = LogOnce(self.logger)
         self._eids = itertools.count(1)
         self._graph_lock = threading.Lock()
         self._events: queue.Queue[tuple[str, zenoh.SampleKind, str] | None] = queue.Queue()

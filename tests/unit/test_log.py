@@ -10,7 +10,14 @@ from typing import Any
 
 import pytest
 import zenros.log as zlog
-from zenros.log import RosoutHandler, Throttle, configure_logging, level_from_name, node_logger
+from zenros.log import (
+    LogOnce,
+    RosoutHandler,
+    Throttle,
+    configure_logging,
+    level_from_name,
+    node_logger,
+)
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.rcl_interfaces import Log
 
@@ -225,3 +232,14 @@ def test_throttle_period_zero_allows_everything(fake_time: FakeTime) -> None:
 
 def test_throttle_default_period() -> None:
     assert Throttle().period == 5.0
+
+
+def test_log_once_logs_the_first_report_of_a_key_and_counts_all(
+        caplog: pytest.LogCaptureFixture) -> None:
+    once = LogOnce(logging.getLogger("test.log_once"))
+    with caplog.at_level(logging.WARNING, logger="test.log_once"):
+        for _ in range(3):
+            once("bad a", "bad sample from %s", "a")
+        once("bad b", "bad sample from %s", "b")
+    assert [r.getMessage() for r in caplog.records] == ["bad sample from a", "bad sample from b"]
+    assert once.counts == {"bad a": 3, "bad b": 1}

@@ -34,8 +34,8 @@ from cyclonedds.builtin import (
 )
 from cyclonedds.core import InstanceState
 from cyclonedds.domain import DomainParticipant
-
 from zenros.errors import UnknownTypeError
+from zenros.log import LogOnce
 from zenros.message import lookup_type
 from zenros.node import Node
 from zenros.qos import QoSProfile
@@ -48,21 +48,6 @@ from .qos import zenros_qos
 from .routes import Inbound, Outbound
 
 __all__ = ["Ros2DdsBridge"]
-
-
-class _Once:
-    """Log a problem once per key; count every occurrence."""
-
-    def __init__(self, logger: Any) -> None:
-        self.logger = logger
-        self.seen: set[str] = set()
-        self.counts: dict[str, int] = defaultdict(int)
-
-    def __call__(self, key: str, fmt: str, *args: Any) -> None:
-        self.counts[key] += 1
-        if key not in self.seen:
-            self.seen.add(key)
-            self.logger.warning(fmt, *args)
 
 
 @dataclass
@@ -108,7 +93,7 @@ class Ros2DdsBridge(Node):
             "depth", 10, description="keep-last depth of topics from DDS", read_only=True))
         ctx = self.context
         self.zid = str(ctx.zid)
-        self.problems = _Once(self.logger)
+        self.problems = LogOnce(self.logger)
         self.bad_samples: dict[str, int] = defaultdict(int)
         self.dds_topics: dict[tuple[str, str], Any] = {}
         self.inbound: dict[str, Inbound] = {}
