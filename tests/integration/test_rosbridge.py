@@ -45,18 +45,7 @@ def server(bridge_node: Node) -> Iterator[RosbridgeServer]:
     srv.stop_in_thread()
 
 
-@pytest.fixture
-def robot(ctx_pair: list[Context]) -> Iterator[Node]:
-    node = Node("robot", context=ctx_pair[1])
-    yield node
-    node.close()
-
-
-@pytest.fixture
-def ros(server: RosbridgeServer) -> Iterator[roslibpy.Ros]:
-    client = roslibpy_connect("127.0.0.1", server.port, TIMEOUT)
-    yield client
-    client.close()
+# robot and ros: tests/integration/conftest.py (ros connects to the server above)
 
 
 def raw(server: RosbridgeServer) -> Any:
