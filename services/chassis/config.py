@@ -87,6 +87,12 @@ class ChassisParameters(msgspec.Struct, kw_only=True):
     odom_frame: str = "odom"
     base_frame: str = "base_link"
     laser_frame: str = "laser"
+    world_topic: Annotated[str, Meta(
+        description="a topic the robots of one simulated world share: this chassis publishes "
+                    "its body there and sees the others' in its laser and bumper ('' = alone)"
+    )] = ""
+    world_rate: Annotated[Positive, Meta(
+        description="body messages per sim second on world_topic")] = 10.0
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ from zenros.msgs.zenros_msgs import (
     TeleportRequest,
     TeleportResponse,
 )
+from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.se2 import Pose2
@@ -36,6 +37,7 @@ from .drive import CommandError
 from .ioports import IoError, IoPorts
 from .obstacle_requests import apply_request, to_msgs
 from .pacer import Pacer
+from .shared_world import BODY_PREFIX, SharedWorld
 
 __all__ = ["ChassisNode"]
 
@@ -55,7 +57,8 @@ class ChassisNode(Node):
     node_name = "chassis"
 
     def setup(self) -> None:
-        cfg = chassis_config(self.declare_parameters(ChassisParameters, read_only=True))
+        params = self.declare_parameters(ChassisParameters, read_only=True)
+        cfg = chassis_config(params)
         self.cfg = cfg
         self.sim = cfg.build(self.logger)
         self.dt = 1.0 / cfg.rate
@@ -85,6 +88,12 @@ class ChassisNode(Node):
         self.io_pub.publish(self._io_state())
         self._pose_cov = messages.covariance(self.sim.odometry.pose_covariance())
         self._twist_cov = messages.covariance(self.sim.odometry.twist_covariance())
+        self.shared: SharedWorld | None = None
+        if params.world_topic:
+            self.shared = SharedWorld(self.sim.world, self.namespace, cfg.robot_radius)
+            self._world_every = max(1, round(cfg.rate / params.world_rate))
+            self.body_pub = self.create_publisher(ObstacleMsg, params.world_topic)
+            self.create_subscription(ObstacleMsg, params.world_topic, self.on_body)
         self.static_tf = StaticTransformBroadcaster(self)
         self.static_tf.send_transform(messages.transform(
             self.stamp(), cfg.base_frame, cfg.laser_frame, cfg.laser_mount, cfg.laser_z))
@@ -115,6 +124,12 @@ class ChassisNode(Node):
             except CommandError as exc:
                 self.logger.warning("cmd_vel refused, stopping: %s", exc)
 
+    def on_body(self, msg: ObstacleMsg) -> None:
+        """Another robot's body in the shared world (`SharedWorld`)."""
+        assert self.shared is not None
+        with self._sim_lock:
+            self.shared.on_body(msg)
+
     def handle_teleport(self, req: TeleportRequest) -> TeleportResponse:
         with self._sim_lock:
             why = self.sim.teleport(Pose2(req.pose.x, req.pose.y, req.pose.theta))
@@ -127,7 +142,8 @@ class ChassisNode(Node):
     def handle_set_obstacles(self, req: SetObstaclesRequest) -> SetObstaclesResponse:
         with self._sim_lock:
             why = apply_request(self.sim, req)
-            now = to_msgs(self.sim.world.obstacles.values())
+            now = to_msgs(o for o in self.sim.world.obstacles.values()
+                          if not o.id.startswith(BODY_PREFIX))
         return SetObstaclesResponse(success=not why, message=why, obstacles=now)
 
     def handle_set_estop(self, req: SetBoolRequest) -> SetBoolResponse:
@@ -211,6 +227,9 @@ class ChassisNode(Node):
                 bumper=bumper, docked=docked, charging=charging, cmd_timeout=timeout,
                 speed=cfg.speed, real_time_factor=self.pacer.factor,
                 battery_percentage=sim.battery.percentage))
+        if self.shared is not None and k % self._world_every == 0:
+            self.body_pub.publish(self.shared.body(sim.truth))
+            self.shared.prune()
         if k % cfg.battery_every == 0:
             self.battery_pub.publish(messages.battery_state(
                 stamp, cfg.base_frame, sim.battery, sim.docked))

@@ -4,9 +4,13 @@
     $(expr use_sim_time or speed != 1)
     $(expr robot == 'robot1' and not (rate > 10))
 
+    $(expr 1.0 + (k - 1) * 0.8)
+
 A bare name is the value of an argument; literals are numbers, ``'quoted'`` or ``"quoted"``
-strings, and ``true``/``false``. Operators, loosest first: ``or``, ``and``, ``not``, and one
-comparison (``==``, ``!=``, ``<``, ``<=``, ``>``, ``>=``); parentheses group. Two values that
+strings, and ``true``/``false``. Operators, loosest first: ``or``, ``and``, ``not``, one
+comparison (``==``, ``!=``, ``<``, ``<=``, ``>``, ``>=``), then arithmetic on numbers (``+``
+``-``, then ``*`` ``/`` ``%``, and a leading ``-``); parentheses group. Arithmetic gives a
+number: a whole one is written without a decimal point (``3``, not ``3.0``). Two values that
 are both numbers compare as numbers (``10 == 10.0``), two that are both booleans
 (``true/false/yes/no/on/off/1/0``) as booleans, anything else as text; ``<`` and the other
 orderings need numbers. ``and``, ``or`` and ``not`` need booleans. The result is ``true`` or
@@ -25,9 +29,9 @@ from dataclasses import dataclass
 __all__ = ["ExprError", "evaluate"]
 
 _TOKEN = re.compile(
-    r"\s*(?:(?P<num>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
+    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
     r"|(?P<str>'[^']*'|\"[^\"]*\")"
-    r"|(?P<op>==|!=|<=|>=|<|>|\(|\))"
+    r"|(?P<op>==|!=|<=|>=|<|>|\(|\)|[-+*/%])"
     r"|(?P<name>[A-Za-z_][A-Za-z0-9_]*))"
 )
 _TRUE = ("true", "yes", "on", "1")
@@ -124,11 +128,31 @@ class _Parser:
         return self.compare()
 
     def compare(self) -> str | bool:
-        left = self.atom()
+        left = self.sum()
         if self.peek().kind == "op" and self.peek().text in _COMPARE:
             op = self.take().text
-            return _compare(left, op, self.atom())
+            return _compare(left, op, self.sum())
         return left
+
+    def sum(self) -> str | bool:
+        left = self.product()
+        while self.peek().kind == "op" and self.peek().text in "+-":
+            op = self.take().text
+            left = _arith(left, op, self.product())
+        return left
+
+    def product(self) -> str | bool:
+        left = self.unary()
+        while self.peek().kind == "op" and self.peek().text in "*/%":
+            op = self.take().text
+            left = _arith(left, op, self.unary())
+        return left
+
+    def unary(self) -> str | bool:
+        if self.peek().kind == "op" and self.peek().text in "+-":
+            op = self.take().text
+            return _arith("0", op, self.unary())
+        return self.atom()
 
     def atom(self) -> str | bool:
         tok = self.take()
@@ -158,6 +182,20 @@ def _truth(value: str | bool, op: str) -> bool:
     if b is None:
         raise ExprError(f"'{op}' needs true or false, got {value!r}")
     return b
+
+
+def _arith(a: str | bool, op: str, b: str | bool) -> str:
+    x = None if isinstance(a, bool) else _number(a)
+    y = None if isinstance(b, bool) else _number(b)
+    if x is None or y is None:
+        raise ExprError(f"'{op}' needs two numbers, got {_text(a)!r} and {_text(b)!r}")
+    if op in "/%" and y == 0:
+        raise ExprError(f"'{op}' by zero")
+    value = {"+": x + y, "-": x - y, "*": x * y, "/": x / y if y else 0.0,
+             "%": math.fmod(x, y) if y else 0.0}[op]
+    if not math.isfinite(value):
+        raise ExprError(f"{_text(a)} {op} {_text(b)} is not a finite number")
+    return str(int(value)) if value.is_integer() and abs(value) < 2**53 else repr(value)
 
 
 def _compare(a: str | bool, op: str, b: str | bool) -> bool:

@@ -24,8 +24,10 @@ __all__ = ["declared_args", "load_launch"]
 FILE_KEYS = ("args", "env", "nodes", "include", "group", "checks")
 ARG_KEYS = ("default", "description", "type", "choices", "min", "above", "max")
 CHECK_KEYS = ("fail_if", "error")
-GROUP_KEYS = ("namespace", "env", "nodes", "include", "group", "if", "unless")
-INCLUDE_KEYS = ("file", "args", "namespace", "if", "unless")
+GROUP_KEYS = ("namespace", "env", "nodes", "include", "group", "if", "unless", "foreach")
+INCLUDE_KEYS = ("file", "args", "namespace", "if", "unless", "foreach")
+FOREACH_KEYS = ("var", "count", "start")
+MAX_REPEATS = 1000
 NODE_KEYS = (
     "name", "module", "exec", "cmd", "arguments", "namespace", "remap", "params", "env", "cwd",
     "respawn", "respawn_delay", "required", "output", "ros_args", "if", "unless",
@@ -204,9 +206,48 @@ def _body(doc: dict[str, Any], ctx: Context, out: LaunchDescription, where: str)
                 _group(group, ctx, out, f"{prefix}[{i}]")
 
 
+def _repeats(entry: dict[str, Any], ctx: Context, where: str) -> list[Context]:
+    """The contexts an entry is loaded in: itself, or one per value of its ``foreach``
+    variable (``{var: k, count: N, start: 1}``: ``$(arg k)`` is start .. start + N - 1 in the
+    entry's own keys, as for N robots each in its own namespace)."""
+    if "foreach" not in entry:
+        return [ctx]
+    at = f"{where}.foreach"
+    spec = ctx.mapping(entry["foreach"], at)
+    ctx.keys(spec, FOREACH_KEYS, at)
+    if "var" not in spec or "count" not in spec:
+        raise ctx.fail(at, "foreach needs var and count")
+    var = ctx.text(spec["var"], f"{at}.var")
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", var):
+        raise ctx.fail(f"{at}.var", f"{var!r} is not a name")
+    if var in ctx.scope.args:
+        raise ctx.fail(f"{at}.var", f"{var!r} is already an argument of this file")
+    count, start = (_whole_number(spec.get(k, d), ctx, f"{at}.{k}") for k, d in
+                    (("count", None), ("start", 1)))
+    if not 0 <= count <= MAX_REPEATS:
+        raise ctx.fail(f"{at}.count", f"expected 0 to {MAX_REPEATS}, got {count}")
+    return [replace(ctx, scope=Scope(ctx.scope.file, {**ctx.scope.args, var: str(i)},
+                                     ctx.scope.environ))
+            for i in range(start, start + count)]
+
+
+def _whole_number(raw: Any, ctx: Context, where: str) -> int:
+    text = ctx.text(raw, where)
+    try:
+        return int(text)
+    except ValueError:
+        raise ctx.fail(where, f"expected a whole number, got {text!r}") from None
+
+
 def _group(raw: Any, ctx: Context, out: LaunchDescription, where: str) -> None:
     entry = ctx.mapping(raw, where)
     ctx.keys(entry, GROUP_KEYS, where)
+    for each in _repeats(entry, ctx, where):
+        _group_once(entry, each, out, where)
+
+
+def _group_once(entry: dict[str, Any], ctx: Context, out: LaunchDescription,
+                where: str) -> None:
     if not ctx.enabled(entry, where):
         return
     inner = replace(ctx)
@@ -222,6 +263,12 @@ def _include(raw: Any, ctx: Context, out: LaunchDescription, where: str) -> None
     ctx.keys(entry, INCLUDE_KEYS, where)
     if "file" not in entry:
         raise ctx.fail(where, "an include needs 'file'")
+    for each in _repeats(entry, ctx, where):
+        _include_once(entry, each, out, where)
+
+
+def _include_once(entry: dict[str, Any], ctx: Context, out: LaunchDescription,
+                  where: str) -> None:
     if not ctx.enabled(entry, where):
         return
     file = ctx.path(entry["file"], f"{where}.file").resolve()

@@ -171,3 +171,31 @@ def test_bad_cmd_vel_is_refused_and_the_robot_stops(rig: dict[str, Any],
     assert wait_for(lambda: got["truth"].msg.twist.twist.linear.x == 0.0, 5)
     assert "not a geometry_msgs/Twist" in caplog.text
     assert rig["chassis"]._thread.is_alive()
+
+
+def test_robots_sharing_a_world_see_each_other_and_forget_a_gone_one(make_node: Any) -> None:
+    """Two chassis on one world_topic: each one's laser sees the other's body straight ahead;
+    when one stops, it leaves the other's world."""
+    world = {"world_topic": "/sim/world", "speed": SPEED, "seed": 1}
+    make_node("chassis", 0, cls=ChassisNode, namespace="/robot1",
+              parameter_overrides={**world, "start_pose": [0.0, 0.0, 0.0]})
+    two = make_node("chassis", 0, cls=ChassisNode, namespace="/robot2",
+                    parameter_overrides={**world, "start_pose": [1.5, 0.0, math.pi]})
+    user = make_node("user", 1)
+    scans = {r: Latest() for r in ("robot1", "robot2")}
+    for r, latest in scans.items():
+        user.create_subscription(LaserScan, f"/{r}/scan", latest)
+
+    def ahead(r: str) -> float:
+        msg = scans[r].msg
+        if msg is None:
+            return math.nan
+        i = round((0.0 - msg.angle_min) / msg.angle_increment)
+        return float(msg.ranges[i])
+
+    # the laser is 0.1 m ahead of the centre, the other body's surface 1.5 - 0.2 m away
+    assert wait_for(lambda: abs(ahead("robot1") - 1.2) < 0.05
+                    and abs(ahead("robot2") - 1.2) < 0.05, 20), \
+        (ahead("robot1"), ahead("robot2"))
+    two.close()
+    assert wait_for(lambda: ahead("robot1") > 2.0, 20), ahead("robot1")

@@ -34,6 +34,13 @@ def write(path: Path, text: str) -> Path:
     ("robot != \"robot1\"", "false"),
     ("robot", "robot1"),
     ("1 < 2 and not false", "true"),
+    ("1.0 + (speed - 1) * 0.5", "5.5"),
+    ("speed * 2 - 4", "16"),
+    ("-speed", "-10"),
+    ("speed / 4", "2.5"),
+    ("speed % 3", "1"),
+    ("speed * 2 == 20", "true"),
+    ("-1.5", "-1.5"),
 ])
 def test_expressions(text: str, value: str) -> None:
     assert evaluate(text, {"speed": "10", "flag": "true", "robot": "robot1"}) == value
@@ -50,6 +57,10 @@ def test_expressions(text: str, value: str) -> None:
     ("__import__", "no such argument '__import__'"),
     ("speed; 1", "cannot read"),
     ("speed == 1 == 1", "unexpected '=='"),
+    ("speed / 0", "'/' by zero"),
+    ("'a' + 1", "'\\+' needs two numbers"),
+    ("speed * true", "'\\*' needs two numbers"),
+    ("1e308 * 10", "not a finite number"),
 ])
 def test_bad_expressions(text: str, why: str) -> None:
     with pytest.raises(ExprError, match=why.replace("(", r"\(")):

@@ -332,3 +332,54 @@ def test_cli_print_and_show_args(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert out.startswith("r2/nav: ") and "--ns /r2 --params-file '<inline params>'" in out
     assert main([str(f), "--print"]) == 3
     assert "argument 'map' is required" in capsys.readouterr().err
+
+
+def test_foreach_repeats_an_include_with_its_variable(tmp_path: Path) -> None:
+    write(tmp_path / "robot.yaml", """
+        args:
+          robot: {}
+          x: {default: "0", type: float}
+        group:
+          - namespace: $(arg robot)
+            nodes:
+              - {module: m.chassis, params: {start_x: $(arg x)}}
+    """)
+    f = write(tmp_path / "fleet.yaml", """
+        args:
+          robots: {default: "3", type: int, min: 0}
+        include:
+          - file: robot.yaml
+            foreach: {var: k, count: $(arg robots)}
+            args: {robot: "robot$(arg k)", x: "$(expr (k - 1) * 0.8)"}
+            unless: $(expr k == 2)
+    """)
+    specs = load_launch(f).processes
+    assert [s.label for s in specs] == ["robot1/chassis", "robot3/chassis"]
+    assert [s.params for s in specs] == [({"start_x": 0},), ({"start_x": 1.6},)]
+    assert load_launch(f, {"robots": "0"}).processes == []
+    group = write(tmp_path / "g.yaml", """
+        group:
+          - foreach: {var: i, count: 2, start: 5}
+            namespace: r$(arg i)
+            nodes: [{module: m.x}]
+    """)
+    assert [s.label for s in load_launch(group).processes] == ["r5/x", "r6/x"]
+
+
+@pytest.mark.parametrize(("foreach", "why"), [
+    ("{var: k}", "foreach needs var and count"),
+    ("{var: k, count: many}", "foreach.count: expected a whole number, got 'many'"),
+    ("{var: k, count: 1001}", "foreach.count: expected 0 to 1000, got 1001"),
+    ("{var: 'a b', count: 1}", "foreach.var: 'a b' is not a name"),
+    ("{var: n, count: 1}", "foreach.var: 'n' is already an argument of this file"),
+    ("{var: k, count: 1, step: 2}", "step"),
+])
+def test_bad_foreach_says_where_and_why(tmp_path: Path, foreach: str, why: str) -> None:
+    f = write(tmp_path / "a.yaml", f"""
+        args: {{n: "1"}}
+        group:
+          - foreach: {foreach}
+            nodes: [{{module: m.x}}]
+    """)
+    with pytest.raises(LaunchError, match=why):
+        load_launch(f)

@@ -1,0 +1,74 @@
+"""`SharedWorld`: several simulated robots in one world, each seeing the others.
+
+Each chassis publishes its body (a circle at its true pose) on one topic all the robots of the
+world share, and keeps the bodies the others publish as round obstacles of its own world: its
+laser sees them and its body cannot drive through them, as in a real fleet. A body not heard
+for `STALE` seconds (a robot stopped or gone) leaves the world.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
+from zenros.se2 import Pose2
+
+from .obstacles import Obstacle, ObstacleError
+from .world import World
+
+__all__ = ["BODY_PREFIX", "STALE", "SharedWorld"]
+
+BODY_PREFIX = "robot:"  # obstacle ids of other robots' bodies, apart from requested obstacles
+STALE = 2.0  # seconds (wall clock) without a body's message before it leaves the world
+MAX_RADIUS = 5.0  # m: a larger body is not a robot (a bad message), refused
+
+
+class SharedWorld:
+    """The other robots of the world, as obstacles in ``world``.
+
+    Args:
+        world: this robot's world (its ``obstacles`` get the other bodies).
+        me: this robot's id in the shared world (its namespace, e.g. ``/robot3``).
+        radius: this robot's body radius.
+        clock: a monotonic clock (seconds), for staleness.
+    """
+
+    def __init__(self, world: World, me: str, radius: float,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.world = world
+        self.me = me
+        self.radius = radius
+        self._clock = clock
+        self._heard: dict[str, float] = {}
+        self.refused = 0
+
+    def body(self, truth: Pose2) -> ObstacleMsg:
+        """This robot's body at its true pose, to publish."""
+        return ObstacleMsg(id=self.me, shape="circle", x=truth.x, y=truth.y, theta=truth.theta,
+                           radius=self.radius)
+
+    def on_body(self, msg: ObstacleMsg) -> bool:
+        """Take another robot's body into the world; False for this robot's own or a body
+        that is not a round robot with a finite pose (counted in ``refused``)."""
+        if msg.id == self.me:
+            return False
+        try:
+            if not msg.id or msg.shape != "circle" or not 0 < msg.radius <= MAX_RADIUS:
+                raise ObstacleError(f"not a robot body: {msg.id!r} {msg.shape} r={msg.radius}")
+            ob = Obstacle(BODY_PREFIX + msg.id, "circle", msg.x, msg.y, msg.theta, msg.radius)
+        except ObstacleError:
+            self.refused += 1
+            return False
+        self.world.obstacles[ob.id] = ob
+        self._heard[ob.id] = self._clock()
+        return True
+
+    def prune(self) -> list[str]:
+        """Remove the bodies not heard for `STALE` seconds; return their ids."""
+        now = self._clock()
+        gone = [i for i, t in self._heard.items() if now - t > STALE]
+        for i in gone:
+            del self._heard[i]
+            self.world.obstacles.pop(i, None)
+        return gone
