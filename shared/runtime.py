@@ -22,8 +22,8 @@ from .session import add_session_arguments, options_from_args
 from .shutdown import install_shutdown_listener
 from .signals import handling_signals
 
-__all__ = ["EXIT_SESSION_FAILED", "add_node_arguments",
-           "capture_signals", "main", "run"]
+__all__ = ["EXIT_SESSION_FAILED", "STARTUP_ERRORS", "Build", "add_node_arguments",
+           "capture_signals", "main", "run", "serve"]
 
 
 
@@ -89,25 +89,42 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
     prog = prog or node_cls.node_name or node_cls.__name__
     parser = argparse.ArgumentParser(prog=prog, description=(node_cls.__doc__ or "").strip()
                                      .split("\n")[0] or None)
-    add_session_arguments(parser)
     add_node_arguments(parser)
+    return serve(parser, lambda ctx, args: [node_cls(context=ctx, **node_kwargs(args))], argv)
+
+
+Build = Callable[[Context, argparse.Namespace], list[Node]]
+"""Makes the nodes of a process on its context, from its parsed flags (the first is the one
+that obeys shutdown requests); raising one of `STARTUP_ERRORS` is a startup failure."""
+
+STARTUP_ERRORS = (ZenrosError, ValueError, TypeError, OSError)
+
+
+def serve(parser: argparse.ArgumentParser, build: Build,
+          argv: Sequence[str] | None = None) -> int:
+    """Parse flags (the session's are added here), open the context, build the nodes, serve
+    until SIGINT/SIGTERM, close the nodes in reverse order; return the exit code (`main`)."""
+    prog = parser.prog
+    add_session_arguments(parser)
     args = parser.parse_args(argv)
     configure_logging(args.log_level)
     stop = threading.Event()
     with capture_signals(stop.set):
         ctx: Context | None = None
-        node: Node | None = None
+        nodes: list[Node] = []
         try:
-            kwargs = node_kwargs(args)
             ctx = Context(options_from_args(args), prefix=args.prefix)
-            node = node_cls(context=ctx, **kwargs)
-            install_shutdown_listener(node, stop.set)
-        except (ZenrosError, ValueError, TypeError, OSError) as exc:
+            nodes = build(ctx, args)
+            install_shutdown_listener(nodes[0], stop.set)
+        except STARTUP_ERRORS as exc:
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             sys.stderr.write(f"{prog}: startup failed: {msg}\n")
+            for made in reversed(nodes):
+                made.close()
             if ctx is not None:
                 ctx.close()
             return EXIT_STARTUP
+        node = nodes[0]
         ctx.on_failure(lambda _exc: stop.set())
         with _failing_on_panics(ctx):
             try:
@@ -120,7 +137,8 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
                     node.logger.info("shutting down")
             finally:
                 if ctx.failure is None:  # a broken session cannot undeclare anything
-                    node.close()
+                    for made in reversed(nodes):
+                        made.close()
                 ctx.close()
         if ctx.failure is not None:
             node.logger.critical("exiting with code %d: the Zenoh session failed (%s)",

@@ -16,7 +16,15 @@ from ..errors import InvalidNameError, LaunchError
 from ..names import Remapper, validate_node_name
 from .args import check_value
 from .context import Context
-from .model import ARG_TYPES, ArgDecl, ArgType, LaunchDescription, Output, ProcessSpec
+from .model import (
+    ARG_TYPES,
+    ArgDecl,
+    ArgType,
+    ComponentSpec,
+    LaunchDescription,
+    Output,
+    ProcessSpec,
+)
 from .substitution import Scope, parse_bool, substitute, substitute_value
 
 __all__ = ["declared_args", "load_launch"]
@@ -30,8 +38,11 @@ FOREACH_KEYS = ("var", "count", "start")
 MAX_REPEATS = 1000
 NODE_KEYS = (
     "name", "module", "exec", "cmd", "arguments", "namespace", "remap", "params", "env", "cwd",
-    "respawn", "respawn_delay", "required", "output", "ros_args", "if", "unless",
+    "respawn", "respawn_delay", "required", "output", "ros_args", "if", "unless", "container",
+    "components",
 )
+COMPONENT_KEYS = ("plugin", "name", "namespace", "remap", "params", "if", "unless")
+_PLUGIN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*:[A-Za-z_][A-Za-z0-9_]*\Z")
 _MODULE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*\Z")
 
 
@@ -57,14 +68,15 @@ def load_launch(
         raise LaunchError(f"launch file not found: {path}")
     ctx = _load_file(root, dict(args or {}), Context(Scope(root, environ=env)), out, top=True)
     out.args = dict(ctx.scope.args)
-    seen: dict[str, ProcessSpec] = {}
+    seen: dict[str, str] = {}  # node FQN: where it was declared
     for spec in out.processes:
-        other = seen.setdefault(spec.fqn, spec)
-        if other is not spec:
-            raise LaunchError(
-                f"two processes are named {spec.fqn}: {other.origin} and {spec.origin};"
-                " give one a different name or namespace"
-            )
+        for fqn in (spec.fqn, *(c.fqn for c in spec.components)):
+            if fqn in seen:
+                raise LaunchError(
+                    f"two nodes are named {fqn}: {seen[fqn]} and {spec.origin};"
+                    " give one a different name or namespace"
+                )
+            seen[fqn] = spec.origin
     return out
 
 
@@ -290,11 +302,17 @@ def _node(raw: Any, ctx: Context, where: str) -> ProcessSpec | None:
     ctx.keys(entry, NODE_KEYS, where)
     if not ctx.enabled(entry, where):
         return None
-    kinds = [k for k in ("module", "exec", "cmd") if k in entry]
+    kinds = [k for k in ("module", "exec", "cmd", "container") if k in entry]
     if len(kinds) != 1:
-        raise ctx.fail(where, "give exactly one of module, exec or cmd")
+        raise ctx.fail(where, "give exactly one of module, exec, cmd or container")
     kind = kinds[0]
-    if kind == "module":
+    if ("components" in entry) != (kind == "container"):
+        raise ctx.fail(where, "a container needs components, and only a container has them")
+    if kind == "container":
+        cmd, default_name = [sys.executable, "-m", "zenros.container"], "container"
+        if "name" not in entry:
+            entry = {**entry, "name": entry["container"]}
+    elif kind == "module":
         module = ctx.text(entry["module"], f"{where}.module")
         if not _MODULE.match(module):
             raise ctx.fail(f"{where}.module", f"{module!r} is not a dotted module name")
@@ -323,13 +341,20 @@ def _node(raw: Any, ctx: Context, where: str) -> ProcessSpec | None:
     if output not in ("screen", "log"):
         raise ctx.fail(f"{where}.output", f"expected screen or log, got {output!r}")
     out_kind: Output = "screen" if output == "screen" else "log"
+    namespace = (ctx.namespace_for(entry["namespace"], f"{where}.namespace")
+                 if "namespace" in entry else ctx.namespace)
+    components: tuple[ComponentSpec, ...] = ()
+    if kind == "container":
+        inner = replace(ctx, namespace=namespace)
+        components = tuple(c for i, raw in enumerate(ctx.items(entry["components"],
+                                                               f"{where}.components"))
+                           if (c := _component(raw, inner, f"{where}.components[{i}]")))
+        if not components:
+            raise ctx.fail(f"{where}.components", "a container needs at least one component")
     return ProcessSpec(
         name=name,
         cmd=tuple(cmd),
-        namespace=(
-            ctx.namespace_for(entry["namespace"], f"{where}.namespace")
-            if "namespace" in entry else ctx.namespace
-        ),
+        namespace=namespace,
         ros_args=ros_args,
         remaps=remaps,
         params=params,
@@ -341,6 +366,33 @@ def _node(raw: Any, ctx: Context, where: str) -> ProcessSpec | None:
         required=required,
         output=out_kind,
         origin=f"{ctx.scope.file}: {where}",
+        components=components,
+    )
+
+
+def _component(raw: Any, ctx: Context, where: str) -> ComponentSpec | None:
+    """One ``components`` entry of a container: a node class run inside its process."""
+    entry = ctx.mapping(raw, where)
+    ctx.keys(entry, COMPONENT_KEYS, where)
+    if not ctx.enabled(entry, where):
+        return None
+    for key in ("plugin", "name"):
+        if key not in entry:
+            raise ctx.fail(where, f"a component needs {key!r}")
+    plugin = ctx.text(entry["plugin"], f"{where}.plugin")
+    if not _PLUGIN.match(plugin):
+        raise ctx.fail(f"{where}.plugin", f"{plugin!r} is not package.module:Class")
+    name = ctx.text(entry["name"], f"{where}.name")
+    try:
+        validate_node_name(name)
+    except InvalidNameError as exc:
+        raise ctx.fail(f"{where}.name", str(exc)) from exc
+    return ComponentSpec(
+        plugin=plugin, name=name,
+        namespace=(ctx.namespace_for(entry["namespace"], f"{where}.namespace")
+                   if "namespace" in entry else ctx.namespace),
+        remaps=_remaps(entry.get("remap"), ctx, f"{where}.remap"),
+        params=_params(entry.get("params"), ctx, f"{where}.params"),
     )
 
 

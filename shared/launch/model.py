@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,6 +16,7 @@ __all__ = [
     "ARG_TYPES",
     "ArgDecl",
     "ArgType",
+    "ComponentSpec",
     "LaunchDescription",
     "Output",
     "ProcessSpec",
@@ -56,6 +58,40 @@ class ArgDecl:
 
 
 @dataclass(frozen=True)
+class ComponentSpec:
+    """A node that runs inside a container process (`zenros.container`), as a ROS 2
+    composable node: built on the container's Zenoh session, so the nodes of one process
+    hand messages to each other without serializing them.
+
+    Attributes:
+        plugin: the node class, ``package.module:Class``.
+        name: the node's base name.
+        namespace: the node's absolute namespace.
+        remaps: ``(from, to)`` name remappings.
+        params: parameters in order of precedence (later wins): inline dicts, or paths of
+            ROS 2 params files.
+    """
+
+    plugin: str
+    name: str
+    namespace: str = "/"
+    remaps: tuple[tuple[str, str], ...] = ()
+    params: tuple[Mapping[str, Any] | str, ...] = ()
+
+    @property
+    def fqn(self) -> str:
+        """The node's fully qualified name, e.g. ``/robot1/nav``."""
+        return join(self.namespace, self.name)
+
+    def as_json(self) -> str:
+        """The ``--component`` argument the container reads (`zenros.container`)."""
+        return json.dumps({"plugin": self.plugin, "name": self.name,
+                           "namespace": self.namespace, "remaps": [list(r) for r in self.remaps],
+                           "params": [p if isinstance(p, str) else dict(p)
+                                      for p in self.params]}, separators=(",", ":"))
+
+
+@dataclass(frozen=True)
 class ProcessSpec:
     """One process of a launch: its command line and its supervision policy.
 
@@ -79,6 +115,8 @@ class ProcessSpec:
         output: ``screen`` prints its lines prefixed with ``[label]``; ``log`` only writes the
             log file (always written).
         origin: where it was declared (``file.yaml: nodes[0]``), for messages.
+        components: the nodes a container process runs (`ComponentSpec`); it is ready when
+            all of them are.
     """
 
     name: str
@@ -95,6 +133,7 @@ class ProcessSpec:
     required: bool = False
     output: Output = "screen"
     origin: str = ""
+    components: tuple[ComponentSpec, ...] = ()
 
     @property
     def fqn(self) -> str:
@@ -123,7 +162,8 @@ class ProcessSpec:
             if self.ros_args
             else []
         )
-        return [*self.cmd, *ros, *self.arguments]
+        parts = [a for c in self.components for a in ("--component", c.as_json())]
+        return [*self.cmd, *ros, *parts, *self.arguments]
 
 
 def ros_arguments(

@@ -120,19 +120,22 @@ class ZenohLaunch:
               "anyway", flush=True)
 
     async def wait_ready(self, spec: ProcessSpec) -> bool:
-        """A zenros node is up when its liveliness token is seen; other programs at once."""
+        """A zenros node is up when its liveliness token is seen (a container when each of
+        its components' is); other programs at once."""
         if not spec.ros_args or self.ctx is None:
             return True
         graph = self.ctx.graph
         deadline = time.monotonic() + READY_TIMEOUT
+        waiting = [spec.fqn, *(c.fqn for c in spec.components)]
         # Short waits in a worker thread, so that cancelling this (the process ended, the
         # launch stops) ends the wait within one slice instead of holding the exit 20 s.
-        while True:
+        while waiting:
             left = deadline - time.monotonic()
             if left <= 0:
                 return False
-            if await asyncio.to_thread(graph.wait_for_node, spec.fqn, min(left, READY_SLICE)):
-                return True
+            if await asyncio.to_thread(graph.wait_for_node, waiting[0], min(left, READY_SLICE)):
+                waiting.pop(0)
+        return True
 
 
 def _stop(proc: subprocess.Popen[bytes]) -> None:

@@ -5,12 +5,11 @@ from __future__ import annotations
 import math
 
 import pytest
+from test_chassis_sim import make_sim, run
 from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.se2 import Pose2
 from zenros.services.chassis.shared_world import BODY_PREFIX, STALE, SharedWorld
 from zenros.services.chassis.world import World
-
-from test_chassis_sim import make_sim, run
 
 
 class FakeClock:

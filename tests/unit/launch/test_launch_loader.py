@@ -236,8 +236,8 @@ def test_supervision_fields(tmp_path: Path) -> None:
         ("{cmd: a, respawn_delay: soon}", r"respawn_delay: expected a number of seconds >= 0"),
         ("{cmd: a, respawn: maybe}", r"nodes\[0\].respawn: expected true or false, got 'maybe'"),
         ("{cmd: a, output: file}", r"output: expected screen or log, got 'file'"),
-        ("{cmd: a, module: b}", "give exactly one of module, exec or cmd"),
-        ("{name: x}", "give exactly one of module, exec or cmd"),
+        ("{cmd: a, module: b}", "give exactly one of module, exec, cmd or container"),
+        ("{name: x}", "give exactly one of module, exec, cmd or container"),
         ("{module: 'not a module'}", "is not a dotted module name"),
         ("{cmd: a, name: 9lives}", r"nodes\[0\].name: invalid node name '9lives'"),
         ("{cmd: a, namespce: x}", r"nodes\[0\].namespce: unknown key; valid: name, module"),
@@ -275,7 +275,7 @@ def test_duplicate_names_are_refused(tmp_path: Path) -> None:
         group:
           - {nodes: [{module: b.nav}]}
     """)
-    with pytest.raises(LaunchError, match=r"two processes are named /nav: .*nodes\[0\] and "
+    with pytest.raises(LaunchError, match=r"two nodes are named /nav: .*nodes\[0\] and "
                        r".*group\[0\].nodes\[0\]"):
         load_launch(f)
 
