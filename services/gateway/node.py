@@ -14,38 +14,39 @@ from zenros.home import data_dir
 from zenros.node import Node
 from zenros.param_client import ParameterClient
 
-from .app import HttpApp, build_api
-from .config import default_config_path, load_config
-from .fs_sandbox import FileRoot
-from .core import Core, make_identity
-from .dashboard import dashboard_app
-from .discovery import Discovery
-from .link import RobotLink
-from .modbus import ModbusFront
-from .native import NativeCommands
-from .nav_calls import NavCalls
-from .nav_link import NavLink
-from .navigator import Navigator
-from .rest_connections import add_connection_routes
-from .rest_coverage import add_coverage_routes
-from .rest_extras import add_extra_routes
-from .rest_fs import add_fs_routes
-from .rest_goals import add_goal_routes
-from .rest_io import IoLink, add_io_routes
-from .rest_local_moves import add_local_move_routes
-from .rest_nav import add_nav_routes
-from .rest_records import add_record_routes
-from .rest_tasks import add_task_routes
-from .rest_tts import add_tts_routes
+from .http.app import HttpApp, build_api
+from .http.dashboard import dashboard_app
+from .http.routes.connections import add_connection_routes
+from .http.routes.coverage import add_coverage_routes
+from .http.routes.extras import add_extra_routes
+from .http.routes.fs import add_fs_routes
+from .http.routes.goals import add_goal_routes
+from .http.routes.io import add_io_routes
+from .http.routes.local_moves import add_local_move_routes
+from .http.routes.nav import add_nav_routes
+from .http.routes.records import add_record_routes
+from .http.routes.tasks import add_task_routes
+from .http.routes.tts import add_tts_routes
+from .http.ws import ws_app
+from .modbus.front import ModbusFront
+from .ports.fs_sandbox import FileRoot
+from .ports.io_link import IoLink
+from .ports.link import RobotLink
+from .ports.native import NativeCommands
+from .ports.nav_calls import NavCalls
+from .ports.nav_link import NavLink
+from .ports.navigator import Navigator
+from .ports.tasks_link import TasksLink
+from .ports.topic_hub import TopicHub
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
-from .serial_bridge import SerialBridge
-from .settings import Settings
-from .speech import AudioStore, Speech
-from .tasks_link import TasksLink
-from .topic_hub import TopicHub
-from .ws import ws_app
+from .serial.bridge import SerialBridge
+from .state.config import default_config_path, load_config
+from .state.core import Core, make_identity
+from .state.settings import Settings
+from .state.speech import AudioStore, Speech
+from .udp.discovery import Discovery
 
 __all__ = ["GatewayNode"]
 

@@ -1,7 +1,7 @@
 """Cross-map navigation: a ``nav_action`` whose ``map`` is not the current map (§6.4, §6.7).
 
-The route comes from `maproute.find_route` over the point connections. For each hop the
-robot drives to the connection's point on the current map, nav switches to the next map,
+The route comes from `zenros.maps.maproute.find_route` over the point connections. For each
+hop the robot drives to the connection's point on the current map, nav switches to the next map,
 and the robot is relocalised at the connected point (keeping how far it stopped from the
 point on the old map), then it carries on; the last leg goes to the goal itself. Elevator
 connections cannot be ridden (the simulated robot has no elevator): a route that needs one
@@ -15,9 +15,9 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from zenros.maps.maproute import Hop, NoRoute, find_route
 from zenros.se2 import wrap_angle
 
-from .maproute import Hop, NoRoute, find_route
 from .robot import Outcome, Robot
 
 __all__ = ["carry_over", "navigate_across"]

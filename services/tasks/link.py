@@ -14,6 +14,7 @@ from typing import Any, Final
 
 from zenros.action import ActionClient, GoalStatus
 from zenros.errors import ActionServerUnavailableError, ZenrosError
+from zenros.maps.maproute import Link, links_of
 from zenros.msgs.geometry_msgs import (
     Point,
     Pose,
@@ -40,7 +41,6 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
-from .maproute import Link, links_of
 from .robot import Feedback, Outcome
 
 __all__ = ["RobotLink"]

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Literal, NamedTuple, Protocol
 
-from .maproute import Link
+from zenros.maps.maproute import Link
 
 __all__ = ["Feedback", "Outcome", "Robot"]
 

@@ -25,8 +25,8 @@ from zenros.msgs.zenros_msgs import SetChargePose, SetChargePoseRequest, Telepor
 from zenros.node import Node
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.serial_bridge import SerialBridge
-from zenros.services.gateway.serial_frame import command_frame
+from zenros.services.gateway.serial.bridge import SerialBridge
+from zenros.services.gateway.serial.frame import command_frame
 from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.services.nav.node import NavNode
 from zenros.services.tasks.node import TasksNode

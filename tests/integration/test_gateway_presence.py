@@ -13,7 +13,7 @@ from zenros.context import Context
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseResult
 from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse
 from zenros.node import Node
-from zenros.services.gateway.presence import RETRY_AFTER
+from zenros.services.gateway.state.presence import RETRY_AFTER
 from zenros.services.gateway.testing import running_gateway
 from zenros.testing import wait_for
 

@@ -17,8 +17,8 @@ from zenros.msgs.galileo_msgs import GalileoStatus
 from zenros.msgs.geometry_msgs import Twist
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.sensor_msgs import BatteryState
+from zenros.services.gateway.http.spec_routes import SPEC_OPERATIONS
 from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.spec_routes import SPEC_OPERATIONS
 from zenros.services.gateway.testing import AsgiClient, running_gateway
 from zenros.testing import Collector, linked_contexts, wait_for
 

@@ -15,7 +15,7 @@ import serial
 from zenros.context import Context
 from zenros.msgs.zenros_msgs import NavStatus
 from zenros.qos import QOS_LATCHED
-from zenros.services.gateway.serial_frame import HEADER, STATUS_FRAME_LEN, command_frame
+from zenros.services.gateway.serial.frame import HEADER, STATUS_FRAME_LEN, command_frame
 from zenros.services.gateway.testing import NullModem, running_gateway
 from zenros.testing import wait_for
 

@@ -21,8 +21,7 @@ from zenros.message import Message, lookup_type
 from zenros.names import Token
 from zenros.node import Node
 
-from ..rosbridge.bridge import qos_for_publishers
-from ..rosbridge.convert import encode_message, message_from_json
+from ..rosbridge import encode_message, message_from_json, qos_for_publishers
 from .schema import schema_bytes, schema_name
 
 __all__ = ["DEFAULT_PORT", "FoxgloveBridge"]

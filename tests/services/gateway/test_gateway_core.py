@@ -8,9 +8,7 @@ from pathlib import Path
 
 import msgspec
 import pytest
-from zenros.services.gateway.config import GatewayConfig, load_config
-from zenros.services.gateway.deadman import DeadMan
-from zenros.services.gateway.path_data import (
+from zenros.services.gateway.http.path_data import (
     format_areas,
     format_nav_points,
     format_walls,
@@ -19,15 +17,17 @@ from zenros.services.gateway.path_data import (
     parse_points,
     parse_walls,
 )
-from zenros.services.gateway.settings import Settings, SettingsPatch
-from zenros.services.gateway.status import (
+from zenros.services.gateway.ports.topic_hub import Slot
+from zenros.services.gateway.state.config import GatewayConfig, load_config
+from zenros.services.gateway.state.deadman import DeadMan
+from zenros.services.gateway.state.settings import Settings, SettingsPatch
+from zenros.services.gateway.state.status import (
     GoalState,
     RobotState,
     compose_status,
     system_status_name,
 )
-from zenros.services.gateway.tokens import TokenStore
-from zenros.services.gateway.topic_hub import Slot
+from zenros.services.gateway.state.tokens import TokenStore
 
 
 class Clock:

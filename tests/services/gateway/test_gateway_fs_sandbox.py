@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 import pytest
-from zenros.services.gateway.fs_sandbox import (
+from zenros.services.gateway.ports.fs_sandbox import (
     BadPath,
     Conflict,
     FileRoot,

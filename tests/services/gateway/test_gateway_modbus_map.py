@@ -7,7 +7,7 @@ import math
 import pytest
 from pymodbus.client import ModbusTcpClient
 from zenros.msgs.galileo_msgs import GalileoStatus
-from zenros.services.gateway.modbus_map import (
+from zenros.services.gateway.modbus.tables import (
     DI_COUNT,
     IR_COUNT,
     decode_f32,

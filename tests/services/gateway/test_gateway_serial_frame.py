@@ -6,7 +6,7 @@ import struct
 
 import pytest
 from zenros.msgs.galileo_msgs import GalileoStatus
-from zenros.services.gateway.serial_frame import (
+from zenros.services.gateway.serial.frame import (
     HEADER,
     STATUS_FRAME_LEN,
     CommandParser,

@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 import pytest
-from zenros.services.gateway.spec_routes import SPEC_OPERATIONS
+from zenros.services.gateway.http.spec_routes import SPEC_OPERATIONS
 
 SPEC = Path("/work/shared/specs/robot-api.md")
 _OP = re.compile(r"`((?:GET|POST|PUT|DELETE)(?:/(?:GET|POST|PUT|DELETE))*) "

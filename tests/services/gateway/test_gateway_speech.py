@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from zenros.services.gateway.speech import CHARS_PER_SECOND, AudioStore, Speech
+from zenros.services.gateway.state.speech import CHARS_PER_SECOND, AudioStore, Speech
 
 
 def test_speech_lasts_by_length() -> None:

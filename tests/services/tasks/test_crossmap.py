@@ -6,8 +6,8 @@ import math
 from typing import Any
 
 import pytest
+from zenros.maps.maproute import Link, PointEnd
 from zenros.services.tasks.crossmap import carry_over, navigate_across
-from zenros.services.tasks.maproute import Link, PointEnd
 from zenros.services.tasks.robot import Outcome
 
 POINTS = {("a", "p", 0): (1.0, 0.0, 0.0), ("b", "p", 0): (5.0, 5.0, math.pi / 2),

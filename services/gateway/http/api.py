@@ -1,0 +1,300 @@
+"""`Api`: the /api/v1 dispatcher: routes, token check, body limit and strict msgspec validation.
+
+A small ASGI app instead of a Starlette router: one dict lookup per request (the API has
+about 180 operations), and every error leaves as a §1.2 JSON body with a 4xx code. Handlers
+are ``async def handler(call: Call) -> object``; what they return is encoded as JSON (a
+Starlette `Response` is sent as is).
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from collections.abc import Awaitable, Callable
+from dataclasses import dataclass, field
+from typing import Any
+from urllib.parse import parse_qsl
+
+import msgspec
+from starlette.requests import Request
+from starlette.responses import Response
+from starlette.types import Receive, Scope, Send
+
+from ..errors import (
+    Conflict,
+    Failed,
+    NoAnswer,
+    NotFound,
+    PortError,
+    Refused,
+    TaskError,
+    Unavailable,
+)
+from ..state.tokens import TokenStore
+from .spec_routes import SPEC_OPERATIONS
+
+__all__ = ["PREFIX", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error", "error_body"]
+
+PREFIX = "/api/v1"
+_ENC = msgspec.json.Encoder()
+_JSON_HEADERS = [(b"content-type", b"application/json")]
+
+
+class ApiError(Exception):
+    """A request the API refuses: ``status_code`` and the §1.2 ``description``."""
+
+    def __init__(self, status_code: int, description: str,
+                 retry_after: int | None = None) -> None:
+        super().__init__(description)
+        self.status_code = status_code
+        self.description = description
+        self.retry_after = retry_after  # s: sent as Retry-After (a backend still starting)
+
+
+# The one place a port error (..errors) gets its HTTP status.
+STATUS: dict[type[PortError], int] = {
+    Unavailable: 503, NoAnswer: 504, Failed: 502, Refused: 400, NotFound: 404, Conflict: 409}
+
+
+def api_error(exc: PortError) -> ApiError:
+    """The HTTP answer to a port error: its class's status (a `TaskError`: the tasks
+    service's own code), its detail and Retry-After."""
+    if isinstance(exc, TaskError):
+        code = exc.code
+    else:
+        code = next(STATUS[c] for c in type(exc).__mro__ if c in STATUS)
+    return ApiError(code, exc.detail, exc.retry_after)
+
+
+def error_body(description: str, result_style: bool = False) -> dict[str, Any]:
+    """The §1.2 error body: ``{"status":"error",...}`` or ``{"result":false,...}``."""
+    if result_style:
+        return {"result": False, "description": description}
+    return {"status": "error", "description": description}
+
+
+@dataclass
+class Call:
+    """One request as a handler sees it: validated ``query`` and ``body`` structs."""
+
+    query: Any
+    body: Any
+    token: str | None
+    path: str = ""
+    path_params: dict[str, str] = field(default_factory=dict)
+    request: Request | None = None   # only for ``raw_body`` endpoints
+
+
+Handler = Callable[[Call], Awaitable[Any]]
+
+
+@dataclass
+class Endpoint:
+    """One operation: method, path, handler and the structs its input must match."""
+
+    method: str
+    path: str
+    handler: Handler
+    query: type[Any] | None = None
+    body: type[Any] | None = None
+    result_style: bool = False
+    public: bool = False
+    implemented: bool = True
+    media_type: str = "application/json"
+    raw_body: bool = False   # the handler reads the body (a multipart upload) itself
+    summary: str = ""
+    description: str = ""
+
+
+def _describe(exc: msgspec.ValidationError, where: str) -> str:
+    text = str(exc)
+    # msgspec says "... - at `$.speed_x`"; name the field the way a client wrote it.
+    text = re.sub(r"`\$\.?([^`]*)`", lambda m: f"`{m.group(1) or where}`", text)
+    return f"invalid {where}: {text}"
+
+
+class Api:
+    """The /api/v1 operations. `add` them, then `finish()` routes the spec's remaining ones
+    to 501. The object is an ASGI app for paths under ``/api/v1``."""
+
+    def __init__(self, tokens: TokenStore, max_body: int = 64 * 1024,
+                 logger: logging.Logger | None = None) -> None:
+        self.tokens = tokens
+        self.max_body = max_body
+        self.logger = logger or logging.getLogger("zenros.gateway.api")
+        self.routes: dict[str, dict[str, Endpoint]] = {}
+        self._templated: list[tuple[re.Pattern[str], dict[str, Endpoint]]] = []
+
+    # ------------------------------------------------------------------ building
+
+    def add(self, method: str, path: str, handler: Handler, **kw: Any) -> Endpoint:
+        doc = (handler.__doc__ or "").strip()
+        summary, _, rest = doc.partition("\n")
+        ep = Endpoint(method, path, handler, summary=kw.pop("summary", summary.strip()),
+                      description=rest.strip(), **kw)
+        table = self.routes.setdefault(path, {})
+        if method in table:
+            raise ValueError(f"{method} {path} is routed twice")
+        table[method] = ep
+        if "{" in path:
+            pattern = re.compile("^" + re.sub(r"\{(\w+)\}", r"(?P<\1>[^/]+)", path) + "$")
+            if not any(p.pattern == pattern.pattern for p, _ in self._templated):
+                self._templated.append((pattern, table))
+        return ep
+
+    def route(self, method: str, path: str, **kw: Any) -> Callable[[Handler], Handler]:
+        """Decorator form of `add`."""
+        def deco(fn: Handler) -> Handler:
+            self.add(method, path, fn, **kw)
+            return fn
+        return deco
+
+    def finish(self) -> None:
+        """Route every spec operation not added yet to a 501 ``not implemented`` answer."""
+        for method, path in SPEC_OPERATIONS:
+            if method in self.routes.get(path, {}):
+                continue
+
+            async def not_implemented(call: Call) -> Any:
+                raise ApiError(501, f"not implemented: {call.path}")
+
+            not_implemented.__doc__ = f"Not implemented yet (answers 501): {method} {path}."
+            self.add(method, path, not_implemented, implemented=False, public=True)
+
+    def endpoints(self) -> list[Endpoint]:
+        return [ep for table in self.routes.values() for ep in table.values()]
+
+    # ------------------------------------------------------------------ serving
+
+    def _lookup(self, path: str) -> tuple[dict[str, Endpoint] | None, dict[str, str]]:
+        table = self.routes.get(path)
+        if table is not None:
+            return table, {}
+        for pattern, t in self._templated:
+            m = pattern.match(path)
+            if m:
+                return t, m.groupdict()
+        return None, {}
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        path = scope["path"][len(PREFIX):] or "/"
+        if path != "/" and path.endswith("/") and path not in self.routes:
+            path = path.rstrip("/")
+        table, params = self._lookup(path)
+        method = scope["method"]
+        ep = None if table is None else table.get(method)
+        try:
+            if table is None:
+                raise ApiError(404, f"no such endpoint: {scope['path']}")
+            if ep is None:
+                if method == "HEAD" and "GET" in table:
+                    ep = table["GET"]
+                else:
+                    raise ApiError(405, f"{method} not allowed on {scope['path']}; "
+                                        f"allowed: {', '.join(sorted(table))}")
+            try:
+                result = await self._serve(ep, scope, receive, params)
+            except PortError as port:
+                raise api_error(port) from port
+        except ApiError as exc:
+            style = ep.result_style if ep is not None else False
+            extra = [] if exc.retry_after is None else [
+                (b"retry-after", str(exc.retry_after).encode())]
+            await _send_json(send, exc.status_code, error_body(exc.description, style), extra)
+            return
+        except Exception as exc:  # a handler bug: a clear 500, logged, never a traceback out
+            self.logger.exception("%s %s failed", method, scope["path"])
+            style = ep.result_style if ep is not None else False
+            await _send_json(send, 500, error_body(f"internal error: {type(exc).__name__}: "
+                                                   f"{exc}", style))
+            return
+        if isinstance(result, Response):
+            await result(scope, receive, send)
+            return
+        await _send_json(send, 200, result)
+
+    async def _serve(self, ep: Endpoint, scope: Scope, receive: Receive,
+                     params: dict[str, str]) -> Any:
+        raw_query = scope.get("query_string", b"").decode("latin-1")
+        query: dict[str, Any] = dict(parse_qsl(raw_query, keep_blank_values=True))
+        token = query.pop("token", None)
+        body: dict[str, Any] | None = None
+        if method_has_body(scope["method"]) and not ep.raw_body:
+            body = await self._read_json(scope, receive)
+            if body is not None and token is None and isinstance(body.get("token"), str):
+                token = body["token"]
+            if body is not None:
+                body.pop("token", None)
+        if not ep.public:
+            problem = self.tokens.problem(token)
+            if problem is not None:
+                raise ApiError(401, problem)
+        q = self._convert(query, ep.query, "query", strict=False)
+        b = None
+        if ep.body is not None:
+            b = self._convert(body if body is not None else {}, ep.body, "body", strict=True)
+        elif body and ep.implemented:
+            raise ApiError(400, f"{ep.method} {ep.path} takes no body fields; "
+                                f"got {', '.join(sorted(body))}")
+        request = Request(scope, receive) if ep.raw_body else None
+        return await ep.handler(Call(q, b, token, scope["path"], params, request))
+
+    def _convert(self, data: dict[str, Any], tp: type[Any] | None, where: str,
+                 strict: bool) -> Any:
+        if tp is None:
+            if data and where == "query":
+                raise ApiError(400, f"unknown query parameter(s): {', '.join(sorted(data))}")
+            return None
+        try:
+            return msgspec.convert(data, tp, strict=strict)
+        except msgspec.ValidationError as exc:
+            raise ApiError(400, _describe(exc, where)) from exc
+
+    async def _read_json(self, scope: Scope, receive: Receive) -> dict[str, Any] | None:
+        for name, value in scope.get("headers", []):
+            if name == b"content-length":
+                try:
+                    declared = int(value)
+                except ValueError:
+                    raise ApiError(400, "bad Content-Length header") from None
+                if declared > self.max_body:
+                    raise ApiError(413, f"body too large: {declared} bytes "
+                                        f"(limit {self.max_body})")
+        chunks: list[bytes] = []
+        size = 0
+        while True:
+            message = await receive()
+            if message["type"] == "http.disconnect":
+                raise ApiError(400, "client disconnected")
+            chunk = message.get("body", b"")
+            size += len(chunk)
+            if size > self.max_body:
+                raise ApiError(413, f"body too large: over {self.max_body} bytes")
+            chunks.append(chunk)
+            if not message.get("more_body", False):
+                break
+        raw = b"".join(chunks)
+        if not raw.strip():
+            return None
+        try:
+            data = msgspec.json.decode(raw)
+        except msgspec.DecodeError as exc:
+            raise ApiError(400, f"malformed JSON body: {exc}") from exc
+        except RecursionError as exc:
+            raise ApiError(400, "malformed JSON body: nested too deep") from exc
+        if not isinstance(data, dict):
+            raise ApiError(400, f"the JSON body must be an object, got {type(data).__name__}")
+        return data
+
+
+def method_has_body(method: str) -> bool:
+    return method in ("POST", "PUT", "PATCH")
+
+
+async def _send_json(send: Send, status: int, content: Any,
+                     headers: list[tuple[bytes, bytes]] | None = None) -> None:
+    body = _ENC.encode(content)
+    await send({"type": "http.response.start", "status": status,
+                "headers": [*_JSON_HEADERS, (b"content-length", str(len(body)).encode()),
+                            *(headers or [])]})
+    await send({"type": "http.response.body", "body": body})

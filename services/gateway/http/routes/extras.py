@@ -1,0 +1,108 @@
+"""REST extras the simulated robot honours truthfully: log, topic snapshots, self-test and
+ROS parameters (§3.1, §3.5); TTS is in rest_tts."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import Annotated, Any
+
+import msgspec
+from zenros.errors import (
+    InvalidParameterValueError,
+    ParameterNotFoundError,
+    ServiceError,
+    ServiceUnavailableError,
+    ZenrosError,
+    ZenrosTimeout,
+)
+from zenros.param_client import ParameterClient
+
+from ...ports.link import RobotLink
+from ...ports.topic_hub import Slot, TopicError, TopicHub
+from ..api import Api, ApiError, Call
+
+__all__ = ["add_extra_routes"]
+
+TOPIC_WAIT = 3.0
+
+
+class TopicQuery(msgspec.Struct, forbid_unknown_fields=True):
+    topic_name: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+
+
+class ParamQuery(msgspec.Struct, forbid_unknown_fields=True):
+    param: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+
+
+class ParamBody(msgspec.Struct, forbid_unknown_fields=True):
+    param: Annotated[str, msgspec.Meta(min_length=1, max_length=256)]
+    value: Any
+
+
+async def _params(fn: Callable[[], Any]) -> Any:
+    try:
+        return await asyncio.to_thread(fn)
+    except ParameterNotFoundError as exc:
+        raise ApiError(404, str(exc)) from exc
+    except (ServiceUnavailableError, ZenrosTimeout) as exc:
+        raise ApiError(503, f"the parameter server (master) is not available: {exc}") from exc
+    except (InvalidParameterValueError, ServiceError, ValueError) as exc:
+        raise ApiError(400, str(exc)) from exc
+    except ZenrosError as exc:
+        raise ApiError(400, str(exc)) from exc
+
+
+def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: ParameterClient) -> None:
+    """Route the extra system operations."""
+
+    async def log(call: Call) -> Any:
+        """The recent system log (``/rosout``), oldest first."""
+        return {"log": "\n".join(link.log)}
+
+    async def topic(call: Call) -> Any:
+        """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
+        try:
+            name = hub.resolve(call.query.topic_name)
+        except TopicError as exc:
+            raise ApiError(400, str(exc)) from exc
+        slot = Slot(asyncio.get_running_loop())
+        try:
+            hub.attach(name, slot)
+        except TopicError as exc:
+            raise ApiError(404, str(exc)) from exc
+        try:
+            frame = await asyncio.wait_for(slot.get(), TOPIC_WAIT)
+        except TimeoutError:
+            raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
+        finally:
+            hub.detach(name, slot)
+        return msgspec.Raw(frame.encode())
+
+    async def self_test(call: Call) -> Any:
+        """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
+        return {"motor_driver": link.fresh("odom"), "camera": False,
+                "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
+                "bluetooth": False, "battery": link.fresh("battery_state")}
+
+    async def get_param(call: Call) -> Any:
+        """A parameter (or a namespace as an object) from the parameter server."""
+        name = call.query.param
+        return {"value": await _params(lambda: params.get(name))}
+
+    async def put_param(call: Call) -> Any:
+        """Set a parameter; answers the value stored."""
+        b: ParamBody = call.body
+        await _params(lambda: params.set(b.param, b.value))
+        return {"value": b.value}
+
+    async def schedule_manager(call: Call) -> Any:
+        """The multi-robot schedule manager the robot is connected to: none (empty)."""
+        return {}
+
+    api.add("GET", "/system/log", log)
+    api.add("GET", "/system/schedule_manager", schedule_manager)
+    api.add("GET", "/system/topic", topic, query=TopicQuery)
+    api.add("GET", "/system/self_test", self_test)
+    api.add("GET", "/system/ros_params", get_param, query=ParamQuery)
+    api.add("PUT", "/system/ros_params", put_param, body=ParamBody)

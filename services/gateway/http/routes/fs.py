@@ -1,0 +1,177 @@
+"""REST ``/fs/...`` (§16): the robot's files, confined to the `FileRoot` sandbox."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import Annotated, Any
+
+import msgspec
+from starlette.datastructures import UploadFile
+from starlette.formparsers import MultiPartException
+from starlette.requests import Request
+from starlette.responses import FileResponse
+from starlette.types import Message, Receive
+
+from ...ports.fs_sandbox import FileRoot, FsError
+from ..api import Api, ApiError, Call
+
+__all__ = ["add_fs_routes"]
+
+PathText = Annotated[str, msgspec.Meta(min_length=1, max_length=4096)]
+
+
+class PathQuery(msgspec.Struct, forbid_unknown_fields=True):
+    path: PathText
+
+
+class OptionalPath(msgspec.Struct, forbid_unknown_fields=True):
+    path: PathText | None = None
+
+
+class PathBody(msgspec.Struct, forbid_unknown_fields=True):
+    path: PathText
+
+
+class RenameBody(msgspec.Struct, forbid_unknown_fields=True):
+    """``name``: the current path, ``new_name``: the new one (or a folder to move into)."""
+
+    name: PathText
+    new_name: PathText
+
+
+class FromTo(msgspec.Struct, forbid_unknown_fields=True):
+    """``from``: the source path, ``to``: the new path (or a folder to put it into)."""
+
+    from_: PathText = msgspec.field(name="from")
+    to: PathText
+
+
+class DeleteBody(msgspec.Struct, forbid_unknown_fields=True):
+    delete: Annotated[list[PathText], msgspec.Meta(min_length=1, max_length=1000)]
+
+
+async def _fs(fn: Callable[[], Any]) -> Any:
+    try:
+        return await asyncio.to_thread(fn)
+    except FsError as exc:
+        raise ApiError(exc.status, str(exc)) from exc
+    except OSError as exc:
+        raise ApiError(409, f"the file system refused: {exc.strerror or exc}") from exc
+
+
+def _limited(receive: Receive, limit: int) -> Receive:
+    seen = 0
+
+    async def wrapped() -> Message:
+        nonlocal seen
+        message = await receive()
+        seen += len(message.get("body", b""))
+        if seen > limit:
+            raise ApiError(413, f"upload too large: over {limit} bytes")
+        return message
+    return wrapped
+
+
+def add_fs_routes(api: Api, root: FileRoot) -> None:
+    """Route the §16 file operations on ``root``."""
+    slack = 64 * 1024  # multipart boundaries and the small fields around the file
+
+    async def download(call: Call) -> Any:
+        """Download a file (its bytes, with a guessed content type)."""
+        full = await _fs(lambda: root.file(call.query.path))
+        return FileResponse(full, filename=full.name)
+
+    async def upload(call: Call) -> Any:
+        """Upload a multipart form field ``file`` to ``path`` (form field or query).
+
+        ``path`` names the file, or a folder (existing, or ending in ``/``) to put it in
+        under its own name; an existing file is replaced. Token in the query string.
+        """
+        assert call.request is not None
+        declared = call.request.headers.get("content-length", "")
+        if declared.isdigit() and int(declared) > root.max_upload + slack:
+            raise ApiError(413, f"upload too large: {declared} bytes "
+                                f"(limit {root.max_upload})")
+        ctype = call.request.headers.get("content-type", "")
+        if not ctype.startswith("multipart/form-data"):
+            raise ApiError(400, "upload a multipart/form-data body with a `file` field")
+        request = Request(call.request.scope,
+                          _limited(call.request.receive, root.max_upload + slack))
+        try:
+            async with request.form(max_files=1, max_fields=8) as form:
+                upload_file = form.get("file")
+                path = form.get("path", call.query.path)
+                unknown = sorted(set(form.keys()) - {"file", "path"})
+                if unknown:
+                    raise ApiError(400, f"unknown form field(s): {', '.join(unknown)}")
+                if not isinstance(upload_file, UploadFile):
+                    raise ApiError(400, "the form has no `file` field with a file in it")
+                if not isinstance(path, str) or not path:
+                    raise ApiError(400, "missing `path` (form field or query parameter)")
+                where: str = path
+                data = upload_file.file
+                full = await _fs(lambda: root.upload_target(where, upload_file.filename or ""))
+                size = await _fs(lambda: root.write(full, data))
+        except MultiPartException as exc:  # the parser's refusals (malformed, too many parts)
+            raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
+        return {"status": "ok", "path": root.relative(full), "size": size}
+
+    async def rename(call: Call) -> Any:
+        """Rename or move ``name`` to ``new_name``."""
+        b: RenameBody = call.body
+        new = await _fs(lambda: root.move(b.name, b.new_name))
+        return {"status": "ok", "path": new}
+
+    async def delete_file(call: Call) -> Any:
+        """Delete a file (or a symbolic link)."""
+        await _fs(lambda: root.remove_file(call.query.path))
+        return {"status": "ok"}
+
+    async def list_dir(call: Call) -> Any:
+        """List a folder: ``files`` and ``directories`` (names, sorted)."""
+        return await _fs(lambda: root.list_dir(call.query.path))
+
+    async def make_dir(call: Call) -> Any:
+        """Create a folder (with missing parents)."""
+        await _fs(lambda: root.make_dir(call.body.path))
+        return {"status": "ok"}
+
+    async def delete_dir(call: Call) -> Any:
+        """Delete a folder and everything in it."""
+        await _fs(lambda: root.remove_dir(call.query.path))
+        return {"status": "ok"}
+
+    async def file_info(call: Call) -> Any:
+        """Stat a path: ``mode``, ``size``, ``atime``, ``mtime``, ``ctime``, ``mimetype``."""
+        return await _fs(lambda: root.info(call.query.path))
+
+    async def copy(call: Call) -> Any:
+        """Copy a file or folder ``from`` to ``to``."""
+        b: FromTo = call.body
+        new = await _fs(lambda: root.copy(b.from_, b.to))
+        return {"status": "ok", "path": new}
+
+    async def cut(call: Call) -> Any:
+        """Move a file or folder ``from`` to ``to``."""
+        b: FromTo = call.body
+        new = await _fs(lambda: root.move(b.from_, b.to))
+        return {"status": "ok", "path": new}
+
+    async def delete_many(call: Call) -> Any:
+        """Delete the files and folders listed in ``delete`` (all checked first)."""
+        await _fs(lambda: root.remove_many(call.body.delete))
+        return {"status": "ok"}
+
+    api.add("GET", "/fs/file_api", download, query=PathQuery,
+            media_type="application/octet-stream")
+    api.add("POST", "/fs/file_api", upload, query=OptionalPath, raw_body=True)
+    api.add("PUT", "/fs/file_api", rename, body=RenameBody)
+    api.add("DELETE", "/fs/file_api", delete_file, query=PathQuery)
+    api.add("GET", "/fs/dir_api", list_dir, query=PathQuery)
+    api.add("POST", "/fs/dir_api", make_dir, body=PathBody)
+    api.add("DELETE", "/fs/dir_api", delete_dir, query=PathQuery)
+    api.add("GET", "/fs/get_file_info", file_info, query=PathQuery)
+    api.add("POST", "/fs/copy", copy, body=FromTo)
+    api.add("POST", "/fs/delete", delete_many, body=DeleteBody)
+    api.add("POST", "/fs/cut", cut, body=FromTo)

@@ -1,0 +1,62 @@
+"""REST ``/system/io`` and ``/system/bw_io`` (§3.8): the chassis's IO ports.
+
+The levels come from the chassis's latched ``chassis/io`` (zenros_msgs/IoState); a set goes
+to its ``chassis/set_io`` service, and the answer waits for it (`ports.io_link.IoLink`).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+import msgspec
+
+from ...ports.io_link import IoLink
+from ..api import Api, ApiError, Call
+
+__all__ = ["add_io_routes"]
+
+
+class IoBody(msgspec.Struct, forbid_unknown_fields=True):
+    """``level`` "0"/"1" and ``port`` "1".."3" (the spec's strings; numbers are accepted)."""
+
+    level: Literal["0", "1", 0, 1]
+    port: Literal["1", "2", "3", 1, 2, 3]
+
+
+class BwIoBody(msgspec.Struct, forbid_unknown_fields=True):
+    level: Literal[0, 1]
+    port: Annotated[int, msgspec.Meta(ge=0, le=7)]
+
+
+def add_io_routes(api: Api, io: IoLink) -> None:
+    """Route §3.8's main-board and extension-board IO."""
+
+    async def get_io(call: Call) -> Any:
+        """Main-board outputs: ``out1``..``out3`` as "0" (low) or "1" (high)."""
+        outs = io.current().outputs
+        return {"status": "ok", **{f"out{i + 1}": str(v) for i, v in enumerate(outs)}}
+
+    async def post_io(call: Call) -> Any:
+        """Set main-board output ``port`` ("1".."3") to ``level`` ("0"/"1")."""
+        b: IoBody = call.body
+        await io.set("main", int(b.port), int(b.level))
+        return {"status": "ok"}
+
+    async def get_bw_io(call: Call) -> Any:
+        """The extension IO board: ``in`` (16 inputs) and ``out`` (8 outputs), port -> 0/1."""
+        state = io.current()
+        if not state.ext_outputs:
+            raise ApiError(404, "this robot has no extension IO board")
+        return {"in": {str(i): v for i, v in enumerate(state.ext_inputs)},
+                "out": {str(i): v for i, v in enumerate(state.ext_outputs)}}
+
+    async def put_bw_io(call: Call) -> Any:
+        """Set extension-board output ``port`` (0..7) to ``level`` (0/1)."""
+        b: BwIoBody = call.body
+        await io.set("ext", b.port, b.level)
+        return {"status": "ok"}
+
+    api.add("GET", "/system/io", get_io)
+    api.add("POST", "/system/io", post_io, body=IoBody)
+    api.add("GET", "/system/bw_io", get_bw_io)
+    api.add("PUT", "/system/bw_io", put_bw_io, body=BwIoBody)

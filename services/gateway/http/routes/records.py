@@ -1,0 +1,198 @@
+"""REST ``/navigation/path``, ``nav_points``, ``virtual_wall``, ``skip_area`` (§6.6, §6.8),
+on the nav service's path, nav-point, wall and keep-out services."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Annotated, Any
+
+import msgspec
+from zenros.msgs import zenros_msgs as zm
+
+from ...ports.nav_calls import Name, OptName
+from ...ports.nav_link import NavLink
+from ..api import Api, ApiError, Call
+from ..path_data import (
+    format_areas,
+    format_nav_points,
+    format_points,
+    format_walls,
+    parse_areas,
+    parse_nav_points,
+    parse_points,
+    parse_walls,
+)
+
+__all__ = ["add_record_routes"]
+
+Text = Annotated[str, msgspec.Meta(max_length=1_000_000)]
+
+
+class ListQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: OptName = ""
+    path_name: OptName = ""
+
+
+class PathRefQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+    path_name: Name
+
+
+class PathBody(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+    path_name: Name
+    path_data: Text
+
+
+class WallBody(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+    virtual_wall: Text
+    path_name: OptName = ""
+
+
+class AreaBody(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+    skip_area: Text
+    path_name: OptName = ""
+
+
+class MapRefQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+    path_name: OptName = ""
+
+
+def _parsed(fn: Callable[[str], Any], text: str) -> Any:
+    try:
+        return fn(text)
+    except ValueError as exc:
+        raise ApiError(400, str(exc)) from exc
+
+
+def add_record_routes(api: Api, link: NavLink) -> None:
+    """Route the path, nav-point, virtual-wall and skip-area operations."""
+
+    async def listing(q: ListQuery) -> Any:
+        res = await link.call("list_paths", zm.ListPathsRequest(map_name=q.map_name))
+        if q.map_name:
+            return [p.path_name for p in res.paths]
+        out: dict[str, list[str]] = {}
+        for p in res.paths:
+            out.setdefault(p.map_name, []).append(p.path_name)
+        return out
+
+    async def get_path(call: Call) -> Any:
+        """A path's points (``path_data`` lines ``x y z``), or the path names (§6.6)."""
+        q: ListQuery = call.query
+        if not (q.map_name and q.path_name):
+            return await listing(q)
+        res = await link.call("get_path", zm.GetPathRequest(map_name=q.map_name,
+                                                           path_name=q.path_name))
+        return {"map_name": res.map_name, "path_name": res.path_name,
+                "path_data": format_points(res.points)}
+
+    async def set_path(call: Call) -> Any:
+        """Create or replace a path's points."""
+        b: PathBody = call.body
+        points = _parsed(parse_points, b.path_data)
+        res = await link.call("set_path", zm.SetPathRequest(
+            map_name=b.map_name, path_name=b.path_name, points=points))
+        return {"map_name": res.map_name, "path_name": res.path_name,
+                "path_data": format_points(res.points)}
+
+    async def delete_path(call: Call) -> Any:
+        """Delete a path and its nav points."""
+        q: PathRefQuery = call.query
+        await link.call("delete_path", zm.DeletePathRequest(map_name=q.map_name,
+                                                           path_name=q.path_name))
+        return {"status": "ok"}
+
+    async def get_points(call: Call) -> Any:
+        """A path's nav points (lines ``x y z theta errorX errorY direction [name]``)."""
+        q: ListQuery = call.query
+        if not (q.map_name and q.path_name):
+            return await listing(q)
+        res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+            map_name=q.map_name, path_name=q.path_name))
+        return {"map_name": res.map_name, "path_name": res.path_name,
+                "path_data": format_nav_points(res.points)}
+
+    async def set_points(call: Call) -> Any:
+        """Create or replace a path's nav points."""
+        b: PathBody = call.body
+        points = _parsed(parse_nav_points, b.path_data)
+        res = await link.call("set_nav_points", zm.SetNavPointsRequest(
+            map_name=b.map_name, path_name=b.path_name, points=points))
+        return {"map_name": res.map_name, "path_name": res.path_name,
+                "path_data": format_nav_points(res.points)}
+
+    async def delete_points(call: Call) -> Any:
+        """Delete a path's nav points."""
+        q: PathRefQuery = call.query
+        await link.call("delete_nav_points", zm.DeleteNavPointsRequest(
+            map_name=q.map_name, path_name=q.path_name))
+        return {"status": "ok"}
+
+    async def get_walls(call: Call) -> Any:
+        """The map's virtual walls (``x y`` per line; an empty line between walls)."""
+        q: MapRefQuery = call.query
+        res = await link.call("get_virtual_walls",
+                              zm.GetVirtualWallsRequest(map_name=q.map_name))
+        return {"map_name": q.map_name, "path_name": q.path_name,
+                "virtual_wall": format_walls(res.walls)}
+
+    async def set_walls(call: Call) -> Any:
+        """Replace the map's virtual walls."""
+        b: WallBody = call.body
+        walls = _parsed(parse_walls, b.virtual_wall)
+        await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(
+            map_name=b.map_name, walls=walls))
+        return {"map_name": b.map_name, "path_name": b.path_name,
+                "virtual_wall": format_walls(walls)}
+
+    async def delete_walls(call: Call) -> Any:
+        """Remove the map's virtual walls."""
+        q: MapRefQuery = call.query
+        await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(map_name=q.map_name))
+        return {"status": "ok"}
+
+    async def get_areas(call: Call) -> Any:
+        """The map's forbidden areas (``x1 y1 x2 y2`` rectangles, one per line)."""
+        q: MapRefQuery = call.query
+        res = await link.call("get_forbidden_areas",
+                              zm.GetForbiddenAreasRequest(map_name=q.map_name))
+        return {"map_name": q.map_name, "path_name": q.path_name,
+                "skip_area": format_areas(res.areas)}
+
+    async def set_areas(call: Call) -> Any:
+        """Replace the map's forbidden areas."""
+        b: AreaBody = call.body
+        areas = _parsed(parse_areas, b.skip_area)
+        await link.call("set_forbidden_areas", zm.SetForbiddenAreasRequest(
+            map_name=b.map_name, areas=areas))
+        return {"map_name": b.map_name, "path_name": b.path_name,
+                "skip_area": format_areas(areas)}
+
+    async def delete_areas(call: Call) -> Any:
+        """Remove the map's forbidden areas."""
+        q: MapRefQuery = call.query
+        await link.call("set_forbidden_areas",
+                        zm.SetForbiddenAreasRequest(map_name=q.map_name))
+        return {"status": "ok"}
+
+    for method, path, fn, kw in (
+        ("GET", "/navigation/path", get_path, {"query": ListQuery}),
+        ("POST", "/navigation/path", set_path, {"body": PathBody}),
+        ("PUT", "/navigation/path", set_path, {"body": PathBody}),
+        ("DELETE", "/navigation/path", delete_path, {"query": PathRefQuery}),
+        ("GET", "/navigation/nav_points", get_points, {"query": ListQuery}),
+        ("POST", "/navigation/nav_points", set_points, {"body": PathBody}),
+        ("PUT", "/navigation/nav_points", set_points, {"body": PathBody}),
+        ("DELETE", "/navigation/nav_points", delete_points, {"query": PathRefQuery}),
+        ("GET", "/navigation/virtual_wall", get_walls, {"query": MapRefQuery}),
+        ("POST", "/navigation/virtual_wall", set_walls, {"body": WallBody}),
+        ("DELETE", "/navigation/virtual_wall", delete_walls, {"query": MapRefQuery}),
+        ("GET", "/navigation/skip_area", get_areas, {"query": MapRefQuery}),
+        ("POST", "/navigation/skip_area", set_areas, {"body": AreaBody}),
+        ("DELETE", "/navigation/skip_area", delete_areas, {"query": MapRefQuery}),
+    ):
+        api.add(method, path, fn, **kw)

@@ -1,0 +1,79 @@
+"""`ws_app`: the §11 topic WebSocket (``ws://host:3547/<topic>?token=``) as a Starlette app."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+
+from starlette.applications import Starlette
+from starlette.responses import JSONResponse
+from starlette.routing import WebSocketRoute
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from ..ports.topic_hub import Slot, TopicError, TopicHub
+from ..state.tokens import TokenStore
+from .api import error_body
+
+__all__ = ["ws_app"]
+
+
+def ws_app(hub: TopicHub, tokens: TokenStore) -> Starlette:
+    """Each connection streams its topic as JSON text frames; frames it sends are published
+    on that topic (type-checked; a bad one gets an error frame and the connection stays)."""
+
+    async def endpoint(ws: WebSocket) -> None:
+        problem = tokens.problem(ws.query_params.get("token"))
+        if problem is not None:
+            await ws.send_denial_response(JSONResponse(error_body(problem), 401))
+            return
+        try:
+            topic = hub.resolve(ws.path_params["topic"])
+        except TopicError as exc:
+            await ws.send_denial_response(JSONResponse(error_body(str(exc)), 400))
+            return
+        await ws.accept()
+        slot = Slot(asyncio.get_running_loop())
+        attached = False
+        try:
+            hub.attach(topic, slot)
+            attached = True
+        except TopicError as exc:  # not streamable yet; publishing may still define it
+            await ws.send_text(json.dumps(error_body(str(exc))))
+        sender = asyncio.create_task(_pump(ws, slot))
+        try:
+            while True:
+                message = await ws.receive()
+                if message["type"] == "websocket.disconnect":
+                    break
+                text = message.get("text")
+                if text is None:
+                    await ws.send_text(json.dumps(error_body(
+                        "binary frames are not supported: send JSON text")))
+                    continue
+                try:
+                    hub.publish_json(topic, text)
+                except TopicError as exc:
+                    await ws.send_text(json.dumps(error_body(str(exc))))
+                    continue
+                if not attached:
+                    try:
+                        hub.attach(topic, slot)
+                        attached = True
+                    except TopicError:
+                        pass
+        except (WebSocketDisconnect, RuntimeError):
+            pass
+        finally:
+            sender.cancel()
+            if attached:
+                hub.detach(topic, slot)
+
+    return Starlette(routes=[WebSocketRoute("/{topic:path}", endpoint)])
+
+
+async def _pump(ws: WebSocket, slot: Slot) -> None:
+    try:
+        while True:
+            await ws.send_text(await slot.get())
+    except (WebSocketDisconnect, RuntimeError, OSError):
+        return

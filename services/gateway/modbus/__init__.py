@@ -1,0 +1,1 @@
+"""The §14 Modbus TCP door: the server (`front`) and its register tables (`tables`)."""

@@ -1,0 +1,123 @@
+"""`ModbusFront`: the §14 Modbus TCP server (pymodbus 3.16), live from GalileoStatus.
+
+Reads are served by the pull hook from registers precomputed at every status refresh (a
+read never waits for Zenoh); writes go through `parse_holding_write` and are refused with
+ILLEGAL_VALUE / DEVICE_FAILURE exception codes rather than ever reaching the robot half-done.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from typing import Any
+
+from pymodbus.constants import ExcCodes
+from pymodbus.server import ModbusTcpServer
+from pymodbus.simulator import DataType, SimData, SimDevice
+from zenros.msgs.galileo_msgs import GalileoStatus
+
+from ..state.core import Core, NavUnavailable
+from .tables import (
+    DI_COUNT,
+    HR_COUNT,
+    IR_COUNT,
+    HoldingWrite,
+    discrete_inputs,
+    input_registers,
+    parse_holding_write,
+)
+
+__all__ = ["ModbusFront"]
+
+FC_DI, FC_IR = 2, 4
+FC_HR_WRITES = (6, 16)
+
+
+def _pack_bits(bits: list[bool]) -> list[int]:
+    words = [0] * ((len(bits) + 15) // 16)
+    for i, b in enumerate(bits):
+        if b:
+            words[i // 16] |= 1 << (i % 16)
+    return words
+
+
+class ModbusFront:
+    """Serves unit id 1 (and any other: one robot, one device) on ``host:port``."""
+
+    def __init__(self, core: Core, logger: logging.Logger,
+                 io_bits: Callable[[], tuple[list[int], list[int]]] | None = None) -> None:
+        self.core = core
+        self.logger = logger
+        self.io_bits = io_bits  # the extension IO board's (inputs, outputs), for DI 7-30
+        self._ir = input_registers(core.status)
+        self._di = _pack_bits(discrete_inputs(core.status, *self._io()))
+        core.status_listeners.append(self._on_status)
+        self.device = SimDevice(id=0, action=self._on_request, simdata=(
+            [SimData(65000, count=16, values=False, datatype=DataType.BITS)],  # no coils in §14
+            [SimData(0, count=DI_COUNT, values=False, datatype=DataType.BITS)],
+            [SimData(0, count=HR_COUNT, values=0, datatype=DataType.REGISTERS)],
+            [SimData(0, count=IR_COUNT, values=0, datatype=DataType.REGISTERS)]))
+        self.server: ModbusTcpServer | None = None
+
+    def _on_status(self, st: GalileoStatus) -> None:
+        self._ir = input_registers(st)
+        self._di = _pack_bits(discrete_inputs(st, *self._io()))
+
+    def _io(self) -> tuple[list[int], list[int]]:
+        return self.io_bits() if self.io_bits is not None else ([], [])
+
+    async def start(self, host: str, port: int) -> int:
+        """Listen; returns the bound port."""
+        self.server = ModbusTcpServer(self.device, address=(host, port))
+        await self.server.serve_forever(background=True)
+        transport: Any = self.server.transport
+        bound: int = transport.sockets[0].getsockname()[1] if transport is not None else port
+        return bound
+
+    async def stop(self) -> None:
+        if self.server is not None:
+            await self.server.shutdown()
+
+    async def _on_request(self, fc: int, start: int, address: int, count: int,
+                          registers: list[int], set_values: Any) -> ExcCodes | None:
+        if fc == FC_IR:
+            registers[address:address + count] = self._ir[address:address + count]
+        elif fc == FC_DI:
+            registers[:len(self._di)] = self._di
+        elif fc in FC_HR_WRITES and set_values:
+            values = [int(v) for v in (set_values if isinstance(set_values, list)
+                                       else [set_values])]
+            try:
+                cmd = parse_holding_write(registers, address, values,
+                                          self.core.settings.current.max_control_speed)
+            except ValueError as exc:
+                self.logger.warning("modbus write at %d refused: %s", address + 1, exc)
+                return ExcCodes.ILLEGAL_VALUE
+            return await self._apply(cmd)
+        return None
+
+    async def _apply(self, cmd: HoldingWrite) -> ExcCodes | None:
+        if cmd.speed is not None:
+            self.core.deadman.command(cmd.speed[0], 0.0, cmd.speed[1])
+        try:
+            if cmd.nav_index is not None:
+                nav = self.core.navigation()
+                if cmd.nav_index < 0:
+                    await nav.cancel()
+                else:
+                    await nav.goto_index(cmd.nav_index)
+            if cmd.control is not None:
+                nav = self.core.navigation()
+                await (nav.cancel, nav.pause, nav.resume)[cmd.control]()
+            if cmd.charge is not None:
+                nav = self.core.navigation()
+                await (nav.go_charge() if cmd.charge else nav.stop_charge())
+            if cmd.goal is not None:
+                await self.core.navigation().goto_pose(*cmd.goal)
+        except NavUnavailable as exc:
+            self.logger.warning("modbus command refused: %s", exc)
+            return ExcCodes.DEVICE_FAILURE
+        except ValueError as exc:
+            self.logger.warning("modbus command refused: %s", exc)
+            return ExcCodes.ILLEGAL_VALUE
+        return None

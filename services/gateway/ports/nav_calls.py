@@ -1,0 +1,93 @@
+"""`NavCalls`: what the navigation REST handlers share: the nav service's calls, the tasks
+service's calls, nav points and the initial pose, each refusal a port error."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import msgspec
+from zenros.msgs import zenros_msgs as zm
+from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
+from zenros.msgs.std_msgs import Header
+
+from ..errors import Conflict, NotFound, Refused, TaskError
+from ..state.core import Core, NavUnavailable
+from .nav_link import NavLink
+from .navigator import Navigator, pose_stamped
+from .tasks_link import TaskCaller
+
+__all__ = ["OWN_TASKS", "Angle", "Coord", "Name", "NavCalls", "OptName"]
+
+Name = Annotated[str, msgspec.Meta(pattern=r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$")]
+"""A map or path name: no path separators, no leading dot (path traversal is a 400)."""
+OptName = Annotated[str, msgspec.Meta(pattern=r"^([A-Za-z0-9_][A-Za-z0-9_.\-]{0,63})?$")]
+Coord = Annotated[float, msgspec.Meta(ge=-1e5, le=1e5)]
+Angle = Annotated[float, msgspec.Meta(ge=-100.0, le=100.0)]
+OWN_TASKS = frozenset({"navigation task", "loop task", "charge task", "local move task"})
+_ENC = msgspec.json.Encoder()
+
+
+class NavCalls:
+    """The nav and tasks services as the navigation handlers use them."""
+
+    def __init__(self, core: Core, nav: Navigator, link: NavLink, tasks: TaskCaller) -> None:
+        self.core = core
+        self.nav = nav
+        self.link = link
+        self.tasks = tasks
+
+    async def task_call(self, name: str, ident: str = "", body: Any = None) -> Any:
+        reply = await self.tasks(name, ident, "" if body is None
+                                 else _ENC.encode(body).decode())
+        if reply.code != 200:
+            raise reply.error(name)
+        return msgspec.json.decode(reply.body)
+
+    async def run_task(self, name: str, sub_tasks: list[dict[str, Any]], loop: bool = False
+                       ) -> dict[str, Any]:
+        """Create and start a task; a running navigation task of ours gives way to it (a new
+        goal replaces the old one), any other running task is a 409."""
+        task = await self.task_call("create", "", {"name": name, "sub_tasks": sub_tasks,
+                                                   "loop_flag": loop})
+        try:
+            started: dict[str, Any] = await self.task_call("start", task["id"])
+            return started
+        except TaskError as exc:
+            if exc.code != 409:
+                raise
+            running = [t for t in await self.task_call("get")
+                       if t.get("state") in ("WORKING", "PAUSED")]
+            if not running or any(t.get("name") not in OWN_TASKS for t in running):
+                await self.task_call("delete", task["id"])
+                raise
+            for t in running:
+                await self.task_call("stop", t["id"])
+            restarted: dict[str, Any] = await self.task_call("start", task["id"])
+            return restarted
+
+    async def point(self, index: int) -> tuple[float, float, float]:
+        """Nav point ``index`` of the current path (404 when it does not exist)."""
+        try:
+            return await self.nav.nav_point(index)
+        except NavUnavailable as exc:
+            raise self.core.presence.error("nav", str(exc)) from exc
+        except ValueError as exc:
+            kind = NotFound if "does not exist" in str(exc) else Conflict
+            raise kind(str(exc)) from exc
+
+    async def current_map(self) -> str:
+        res = await self.link.call("map_server/current_map", zm.GetCurrentMapRequest())
+        return str(res.name)
+
+    def same_map(self, map_name: str, path: str, current: str) -> None:
+        """A goal on the current map: make ``path`` the current path (a goal on another
+        map is the callers' cross-map case; one that reaches here is a bug, a 400)."""
+        if map_name and map_name != current:
+            raise Refused(f"map {map_name!r} is not the current map {current!r}")
+        if path and path != self.nav.path_name:
+            self.nav.path_name = path
+
+    def publish_initialpose(self, x: float, y: float, theta: float) -> None:
+        msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))
+        msg.pose.pose = pose_stamped(x, y, theta).pose
+        self.link.initialpose.publish(msg)

@@ -1,0 +1,1 @@
+"""The §13 serial door: the bridge on a serial port (`bridge`) and its frames (`frame`)."""

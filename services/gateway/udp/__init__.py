@@ -1,0 +1,1 @@
+"""The §1.3 UDP door: the discovery broadcast."""
