@@ -399,7 +399,11 @@ class Subscription(Generic[M]):
             self._codec.check_encoding(str(sample.encoding))
             msg = self._codec.decode(sample.payload.to_bytes())
         except CodecError as exc:
-            self._reject(str(exc), self._sender(sample))
+            key = str(sample.key_expr)
+            # Zenoh gives an exact-key subscription only its key; another one would be a
+            # routing fault worth its own line (see docs/wire.md, "Samples of another type")
+            where = f" (the sample's key is {key})" if key != self.key else ""
+            self._reject(f"{exc}{where}", self._sender(sample))
             return
         self._dispatch((msg, MessageInfo.of(sample)) if self._info else msg)
 

@@ -423,8 +423,10 @@ class ActionClient:
     def _bad_sample(self, part: str, exc: Exception | str,
                     sample: zenoh.Sample | None = None) -> None:
         if self._throttle.allow(part):
-            self.logger.error("action %s: cannot decode %s%s: %s", self.name, part,
-                              self._sender(sample), exc)
+            key = "" if sample is None else str(sample.key_expr)
+            where = f" (the sample's key is {key})" if key and key != self._keys[part] else ""
+            self.logger.error("action %s: cannot decode %s%s: %s%s", self.name, part,
+                              self._sender(sample), exc, where)
 
     def _sender(self, sample: zenoh.Sample | None) -> str:
         """`` from <nodes>`` behind a sample's session (who published a bad sample)."""

@@ -1,0 +1,136 @@
+"""`zenros launch fleet.yaml robots:=10`: ten simulated robots in one world on this box, each
+one process (its services composed), isolated from the others: a goal, an e-stop and a TF tree
+reach only their own robot."""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+from zenros.action import ActionClient
+from zenros.context import Context
+from zenros.msgs.geometry_msgs import PoseStamped
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.std_msgs import Header
+from zenros.msgs.std_srvs import SetBool, SetBoolRequest
+from zenros.msgs.zenros_msgs import ChassisState
+from zenros.node import Node
+from zenros.session import SessionOptions
+from zenros.testing import Proc, free_port, unique_prefix, wait_for
+from zenros.tf import Buffer, TransformListener
+
+pytestmark = [pytest.mark.system, pytest.mark.xdist_group("sim"), pytest.mark.timeout(900)]
+
+ROOT = Path(__file__).resolve().parents[2]
+ROBOTS = 10
+SPACING = 2.5  # fleet.yaml: robot k starts at ((k - 1) * 2.5, 0, 0)
+AHEAD = 1.2  # each robot's goal: this far ahead of where it starts
+SERVICES = ("chassis", "nav", "tf", "tasks")
+
+
+@dataclass
+class Fleet:
+    proc: Proc
+    ctx: Context
+    node: Node
+
+
+@pytest.fixture(scope="module")
+def fleet(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Fleet]:
+    home = tmp_path_factory.mktemp("fleet")
+    prefix, endpoint = unique_prefix(), f"tcp/127.0.0.1:{free_port()}"
+    proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
+                 str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={ROBOTS}",
+                 f"data:={home}"],
+                env={"ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix,
+                     "ZENROS_CONNECT": endpoint})
+    ctx: Context | None = None
+    try:
+        for k in range(1, ROBOTS + 1):
+            assert proc.wait_line(f"robot{k}/robot is ready", 240), proc.output
+        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        node = Node("fleet_test", context=ctx)
+        yield Fleet(proc, ctx, node)
+        node.close()
+    finally:
+        if ctx is not None:
+            ctx.close()
+        proc.stop(timeout=60)
+
+
+def keep(into: dict[int, Any], k: int, field: Callable[[Any], Any]) -> Callable[[Any], None]:
+    """A callback that keeps ``field(msg)`` of robot ``k``'s latest message in ``into``."""
+    return lambda msg: into.__setitem__(k, field(msg))
+
+
+def truth(fleet: Fleet) -> dict[int, Any]:
+    """Each robot's latest ground truth (sim/ground_truth), by robot number."""
+    latest: dict[int, Any] = {}
+    for k in range(1, ROBOTS + 1):
+        fleet.node.create_subscription(Odometry, f"/robot{k}/sim/ground_truth",
+                                       keep(latest, k, lambda m: m.pose.pose.position))
+    assert wait_for(lambda: len(latest) == ROBOTS, 30), sorted(latest)
+    return latest
+
+
+def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
+    g = fleet.ctx.graph
+    want = {f"/robot{k}/{s}" for k in range(1, ROBOTS + 1) for s in SERVICES}
+    assert g.wait_for(lambda: want <= set(g.node_names()), 30), want - set(g.node_names())
+    pids = {n.name: n.pid for n in g.nodes() if n.name in want}
+    for k in range(1, ROBOTS + 1):
+        assert len({pids[f"/robot{k}/{s}"] for s in SERVICES}) == 1  # composed
+    assert len(set(pids.values())) == ROBOTS
+
+
+def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
+    where = truth(fleet)
+    starts = {k: (where[k].x, where[k].y) for k in where}
+    for k, (x, y) in starts.items():
+        assert (x, y) == pytest.approx(((k - 1) * SPACING, 0.0), abs=0.05)
+    stopped = 3
+    estop = fleet.node.create_client(SetBool, f"/robot{stopped}/chassis/set_estop")
+    assert estop.call(SetBoolRequest(data=True), timeout=20).success
+    states: dict[int, bool] = {}
+    for k in range(1, ROBOTS + 1):
+        fleet.node.create_subscription(ChassisState, f"/robot{k}/chassis/state",
+                                       keep(states, k, lambda m: m.estop))
+    assert wait_for(lambda: states == {k: k == stopped for k in range(1, ROBOTS + 1)}, 30), \
+        states
+    # every robot but the stopped one drives AHEAD metres; each gets its own goal
+    goals = {}
+    for k in range(1, ROBOTS + 1):
+        if k == stopped:
+            continue
+        client = ActionClient(fleet.node, NavigateToPose, f"/robot{k}/navigate_to_pose")
+        assert client.wait_for_server(30)
+        target = PoseStamped(header=Header(frame_id="map"))
+        target.pose.position.x = starts[k][0] + AHEAD
+        target.pose.orientation.w = 1.0
+        goals[k] = client.send_goal_async(NavigateToPoseGoal(pose=target))
+    results = {k: h.result(180) for k, h in goals.items()}
+    assert all(r.succeeded for r in results.values()), \
+        {k: (r.status.name, r.reason) for k, r in results.items()}
+    assert wait_for(lambda: all(
+        math.hypot(where[k].x - starts[k][0] - AHEAD, where[k].y) < 0.25 for k in goals), 10), \
+        {k: (where[k].x - starts[k][0], where[k].y) for k in goals}
+    assert math.hypot(where[stopped].x - starts[stopped][0],
+                      where[stopped].y - starts[stopped][1]) < 0.02
+    # each robot's TF tree (/robot<k>/tf) puts its base_link where that robot is
+    for k in (1, stopped, ROBOTS):
+        tf_node = Node(f"tf_reader{k}", context=fleet.ctx,
+                       remappings=[f"/tf:=/robot{k}/tf", f"/tf_static:=/robot{k}/tf_static"])
+        try:
+            buffer = Buffer()
+            TransformListener(buffer, tf_node)
+            assert wait_for(lambda: buffer.can_transform("map", "base_link", 0), 20)
+            t = buffer.lookup_transform("map", "base_link", 0).transform.translation
+            assert (t.x, t.y) == pytest.approx((where[k].x, where[k].y), abs=0.1)
+        finally:
+            tf_node.close()
