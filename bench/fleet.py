@@ -1,0 +1,169 @@
+"""Fleet benchmark: N simulated robots on this box (`deploy/launch/fleet.yaml`), at rest and
+driving, against one robot alone and a bare zenoh-python session in the same topology.
+
+Prints one JSON line with:
+
+- ``robots``: how many robots the launch ran (``--robots``, default 10).
+- ``graph_converge_s``: from the launch's start until every robot's chassis, nav, tf and
+  tasks are in the graph.
+- ``idle_cores_per_robot``: CPU time (every thread's, from /proc schedstat) of the robots' processes over
+  ``--window`` seconds at rest, per robot and wall second (target <= 0.06).
+- ``idle_process_ratio``: a zenros node process at rest (an ``add_two_ints_server``, which
+  only waits for requests) / a bare zenoh-python session process at rest, both connected to
+  the launch's router beside the fleet, CPU over the same window (target <= 2.0).
+- ``goal_time_ratio``: every robot driving ``--ahead`` metres at once (from the first goal
+  sent to the last result) / robot1 driving the same distance alone (target <= 1.3).
+- ``reached``: how many of the robots' simultaneous goals succeeded (``10 of 10``).
+- ``compose``: whether each robot was one process (fleet.yaml's ``compose``).
+
+Run: ``python bench/fleet.py [--robots N] [--window S] [--no-compose]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _harness import emit, free_port, unique_prefix
+from zenros.action import ActionClient
+from zenros.context import Context
+from zenros.msgs.geometry_msgs import PoseStamped
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.std_msgs import Header
+from zenros.node import Node
+from zenros.session import SessionOptions
+from zenros.testing import Proc
+
+ROOT = Path(__file__).resolve().parents[1]
+SPACING = 2.5  # fleet.yaml: robot k starts at ((k - 1) * 2.5, 0, 0)
+SERVICES = ("chassis", "nav", "tf", "tasks")
+BARE = """
+import json, sys, zenoh
+c = zenoh.Config()
+c.insert_json5("mode", '"peer"')
+c.insert_json5("connect/endpoints", json.dumps([sys.argv[1]]))
+c.insert_json5("listen/endpoints", '["tcp/127.0.0.1:0"]')
+c.insert_json5("scouting/multicast/enabled", "false")
+c.insert_json5("transport/link/tx/lease", "1000")
+s = zenoh.open(c)
+print("open", flush=True)
+sys.stdin.read()
+"""
+
+
+def cpu_seconds(pid: int) -> float:
+    """CPU seconds of one process, all its threads, to the nanosecond (schedstat), so that
+    a session that is nearly idle still measures (clock ticks are 10 ms)."""
+    total = 0
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            total += int((task / "schedstat").read_text().split()[0])
+        except (OSError, IndexError, ValueError):  # a thread that ended meanwhile
+            continue
+    return total / 1e9
+
+
+def cpu_rates(pids: dict[str, int], window: float) -> dict[str, float]:
+    """Cores each process used over ``window`` wall seconds."""
+    before = {k: cpu_seconds(p) for k, p in pids.items()}
+    t0 = time.monotonic()
+    time.sleep(window)
+    dt = time.monotonic() - t0
+    return {k: (cpu_seconds(p) - before[k]) / dt for k, p in pids.items()}
+
+
+def drive(node: Node, robots: list[int], ahead: float, timeout: float) -> tuple[float, int]:
+    """Send each robot a goal ``ahead`` metres in front of its start; (seconds, succeeded)."""
+    clients = {k: ActionClient(node, NavigateToPose, f"/robot{k}/navigate_to_pose")
+               for k in robots}
+    for c in clients.values():
+        if not c.wait_for_server(60):
+            raise RuntimeError(f"no {c.name} server")
+    t0 = time.monotonic()
+    handles = []
+    for k, c in clients.items():
+        target = PoseStamped(header=Header(frame_id="map"))
+        target.pose.position.x = (k - 1) * SPACING + ahead
+        target.pose.orientation.w = 1.0
+        handles.append(c.send_goal_async(NavigateToPoseGoal(pose=target)))
+    ok = sum(h.result(timeout).succeeded for h in handles)
+    elapsed = time.monotonic() - t0
+    back = {k: ActionClient(node, NavigateToPose, f"/robot{k}/navigate_to_pose") for k in robots}
+    for k, c in back.items():  # home again, for the next run
+        home = PoseStamped(header=Header(frame_id="map"))
+        home.pose.position.x = (k - 1) * SPACING
+        home.pose.orientation.w = 1.0
+        handles.append(c.send_goal_async(NavigateToPoseGoal(pose=home)))
+    for h in handles[len(robots):]:
+        h.result(timeout)
+    for c in [*clients.values(), *back.values()]:
+        c.close()
+    return elapsed, ok
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--robots", type=int, default=10)
+    ap.add_argument("--window", type=float, default=20.0, help="idle measurement (s)")
+    ap.add_argument("--ahead", type=float, default=1.2, help="goal distance (m)")
+    ap.add_argument("--no-compose", dest="compose", action="store_false")
+    args = ap.parse_args()
+    home = Path(tempfile.mkdtemp(prefix="zenros-fleet-"))
+    prefix, endpoint = unique_prefix(), f"tcp/127.0.0.1:{free_port()}"
+    env = {"ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix, "ZENROS_CONNECT": endpoint}
+    t0 = time.monotonic()
+    launch = Proc([sys.executable, "-m", "zenros.cli", "launch",
+                   str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={args.robots}",
+                   f"compose:={'true' if args.compose else 'false'}", f"data:={home}"], env=env)
+    ctx: Context | None = None
+    extra: list[Proc] = []
+    try:
+        if not launch.wait_line("started a Zenoh router", 60):
+            raise RuntimeError(launch.output)
+        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        g = ctx.graph
+        want = {f"/robot{k}/{s}" for k in range(1, args.robots + 1) for s in SERVICES}
+        if not g.wait_for(lambda: want <= set(g.node_names()), 600):
+            raise RuntimeError(f"not in the graph: {sorted(want - set(g.node_names()))}")
+        converge = time.monotonic() - t0
+        robot_pids = {n.name: n.pid for n in g.nodes() if n.name in want}
+        bare = Proc([sys.executable, "-c", BARE, endpoint])
+        idle = Proc([sys.executable, "-m", "zenros.examples.add_two_ints_server", "-e", endpoint,
+                     "--name", "idle_probe"], env=env)
+        extra = [bare, idle]
+        if not bare.wait_line("open", 60) or not g.wait_for_node("/idle_probe", 60):
+            raise RuntimeError(bare.output + idle.output)
+        time.sleep(5)  # both settle: first declarations and liveliness exchanges done
+        pids = {f"pid{p}": p for p in set(robot_pids.values())}
+        rates = cpu_rates({**pids, "bare": bare.popen.pid, "idle": idle.popen.pid}, args.window)
+        robots_cores = sum(v for k, v in rates.items() if k.startswith("pid"))
+        node = Node("fleet_bench", context=ctx)
+        alone, _ = drive(node, [1], args.ahead, 120)
+        together, reached = drive(node, list(range(1, args.robots + 1)), args.ahead, 180)
+        node.close()
+        emit("fleet", {
+            "robots": args.robots, "compose": args.compose,
+            "graph_converge_s": round(converge, 1),
+            "idle_cores_per_robot": round(robots_cores / args.robots, 4),
+            "idle_process_cores": round(rates["idle"], 4),
+            "bare_session_cores": round(rates["bare"], 4),
+            "idle_process_ratio": round(rates["idle"] / max(rates["bare"], 1e-4), 2),
+            "goal_alone_s": round(alone, 2), "goal_together_s": round(together, 2),
+            "goal_time_ratio": round(together / alone, 2),
+            "reached": f"{reached} of {args.robots}",
+            "load_after": round(os.getloadavg()[0], 1),
+        })
+    finally:
+        for p in extra:
+            p.stop()
+        if ctx is not None:
+            ctx.close()
+        launch.stop(timeout=60)
+
+
+if __name__ == "__main__":
+    main()
