@@ -22,6 +22,7 @@ from ..errors import (
     GoalRejectedError,
     ZenrosTimeout,
 )
+from ..keytag import key_tag, misrouted
 from ..log import Throttle
 from ..message import ActionType, normalize_type_name
 from ..msgs.builtin_interfaces import Time
@@ -83,6 +84,7 @@ class ActionClient:
         self._fb_enc = encoding_for(wire.FeedbackMessage)
         self._keys = {p: ctx.keys.action(self.name, p)
                       for p in ("send_goal", "cancel_goal", "get_result", "feedback", "status")}
+        self._tags = {p: key_tag(self._keys[p]) for p in ("feedback", "status")}
         self._send_key = zenoh.KeyExpr(self._keys["send_goal"])  # parsed once, not per goal
         self._lock = threading.Lock()
         self._handles: dict[bytes, ClientGoalHandle] = {}
@@ -384,6 +386,10 @@ class ActionClient:
     # ------------------------------------------------------------------ topics
 
     def _on_feedback(self, sample: zenoh.Sample) -> None:
+        if misrouted(sample.attachment, self._tags["feedback"]):
+            self._bad_sample("feedback", "published on another key (Zenoh misrouted it; "
+                                         "docs/wire.md)", sample)
+            return
         if sample.encoding != self._fb_enc:  # another type (a wrong publisher) says so here
             schema = split_encoding(str(sample.encoding))[1]
             if schema and normalize_type_name(schema) != self._fb.type_name:
@@ -400,6 +406,10 @@ class ActionClient:
             self._inbox.put(lambda: h._feedback(msg))
 
     def _on_status(self, sample: zenoh.Sample) -> None:
+        if misrouted(sample.attachment, self._tags["status"]):
+            self._bad_sample("status", "published on another key (Zenoh misrouted it; "
+                                       "docs/wire.md)", sample)
+            return
         # Decoded when a handle's status is read (`refresh_status`), not here: results and
         # acceptance come by query, so this keeps status arrays off the goal's critical path.
         self._status_raw = sample.payload.to_bytes()
@@ -423,10 +433,8 @@ class ActionClient:
     def _bad_sample(self, part: str, exc: Exception | str,
                     sample: zenoh.Sample | None = None) -> None:
         if self._throttle.allow(part):
-            key = "" if sample is None else str(sample.key_expr)
-            where = f" (the sample's key is {key})" if key and key != self._keys[part] else ""
-            self.logger.error("action %s: cannot decode %s%s: %s%s", self.name, part,
-                              self._sender(sample), exc, where)
+            self.logger.error("action %s: cannot decode %s%s: %s", self.name, part,
+                              self._sender(sample), exc)
 
     def _sender(self, sample: zenoh.Sample | None) -> str:
         """`` from <nodes>`` behind a sample's session (who published a bad sample)."""

@@ -15,6 +15,7 @@ import zenoh
 from ..codec import codec_for
 from ..context import is_session_failure
 from ..errors import EncodeError, GoalRejectedError, GoalStateError
+from ..keytag import key_tag
 from ..log import ErrorLog
 from ..message import ActionType
 from ..rpc import wildcard_refusal
@@ -124,6 +125,7 @@ class ActionServer:
             self._status, self._lock, ctx.executor, self.logger, self._deliver)
         self._closing = False
         self.closed = False
+        self._fb_tag = key_tag(key("feedback"))
         self._fb_pub: Any = s.declare_publisher(
             key("feedback"), encoding=encoding_for(wire.FeedbackMessage),
             congestion_control=zenoh.CongestionControl.BLOCK)
@@ -401,7 +403,7 @@ class ActionServer:
                                      f"{h._status.name}")
             if not self.closed:
                 self._settle(h)  # the client hears of the goal before its feedback
-                self._fb_pub.put(data)
+                self._fb_pub.put(data, attachment=self._fb_tag)
 
     # ------------------------------------------------------------------ lifecycle
 

@@ -11,6 +11,7 @@ import zenoh
 
 from ..codec import codec_for
 from ..executor import Executor
+from ..keytag import key_tag
 from .goal_handle import ServerGoalHandle
 from .transport import status_publisher
 from .types import GoalStatusArray, GoalStatusMsg
@@ -38,6 +39,7 @@ class StatusPublisher:
                  snapshot: Callable[[], list[ServerGoalHandle[Any]]], lock: threading.RLock,
                  delay: float = STATUS_DELAY, interval: float = STATUS_INTERVAL) -> None:
         self._pub: Any = status_publisher(session, key, GoalStatusArray)
+        self._tag = key_tag(key)
         self._codec = codec_for(GoalStatusArray)
         self._executor = executor
         self._snapshot = snapshot
@@ -69,7 +71,7 @@ class StatusPublisher:
             arr = GoalStatusArray(status_list=[
                 GoalStatusMsg(goal_info=h._info, status=int(h._status))
                 for h in self._snapshot()])
-            self._pub.put(self._codec.encode(arr))
+            self._pub.put(self._codec.encode(arr), attachment=self._tag)
 
     def close(self) -> None:
         with self._lock:
