@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from zenros.services.nav.coverage import (
+from zenros.services.nav.planning.coverage import (
     MAX_INPUT_POINTS,
     CoverageError,
     CoveragePlan,

@@ -44,7 +44,7 @@ from zenros.msgs.zenros_msgs.nav import (
 )
 from zenros.se2 import Pose2
 
-from .mapdata import (
+from .navdata import (
     MapNavData,
     StoredPath,
     check_area,
@@ -54,7 +54,7 @@ from .mapdata import (
     check_pose,
     check_wall,
 )
-from .mapserver import MapServer
+from .server import MapServer
 
 __all__ = ["Records"]
 

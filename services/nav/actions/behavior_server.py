@@ -35,10 +35,10 @@ from zenros.msgs.zenros_msgs.nav import (
     LocalMoveTargetResult,
 )
 
-from .action_base import ActionBase, ActionOutcome
-from .behavior import Behavior
+from ..motion.behavior import Behavior
+from ..motion.local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
+from .base import ActionBase, ActionOutcome
 from .convert import pose2_from_msg
-from .local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
 
 __all__ = ["BehaviorActions"]
 
