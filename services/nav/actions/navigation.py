@@ -1,5 +1,5 @@
 """NavActions: navigate_to_pose, navigate_through_poses, follow_path and
-compute_path_to_pose, with Nav2's fields, feedback and error codes (see `action_base`)."""
+compute_path_to_pose, with Nav2's fields, feedback and error codes (see `base`)."""
 
 from __future__ import annotations
 

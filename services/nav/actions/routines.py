@@ -1,5 +1,5 @@
 """RoutineActions: dock_robot, undock_robot, patrol and follow_waypoints (Nav2's docking
-server and waypoint follower, and the robot API's patrol), see `action_base`."""
+server and waypoint follower, and the robot API's patrol), see `base`."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """GlobalPlanner: plans through a list of poses on a costmap snapshot, with error codes.
 
-Wraps the planner package (cost-aware 8-connected A*) for navigation: one search per leg
+Wraps this package's search (cost-aware 8-connected A*) for navigation: one search per leg
 (start → pose 1 → pose 2 ...), concatenated, with the arc length at which each pose is
 reached. A start inside the inflated zone (the robot next to a wall or on its dock) is
 planned out of: the costs within the robot's radius of the start are lowered to 252.
