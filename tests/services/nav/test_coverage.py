@@ -1,4 +1,4 @@
-"""The coverage planner (services/nav/coverage.py), called directly."""
+"""The coverage planner (services/nav/planning/coverage.py), called directly."""
 
 from __future__ import annotations
 
