@@ -38,8 +38,8 @@ setup(
             extra_compile_args=["-O2"],
         ),
         Extension(
-            "zenros.services.nav.planner._astar",
-            sources=["services/nav/planner/_astar.c"],
+            "zenros.services.nav.planning._astar",
+            sources=["services/nav/planning/_astar.c"],
             optional=True,  # without it the planner runs its Python reference (docs/nav-planner.md)
             extra_compile_args=["-O2", "-ffp-contract=off"],
         ),

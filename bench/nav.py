@@ -29,20 +29,20 @@ from pathlib import Path
 import numpy as np
 from zenros.action import ActionClient, GoalStatus
 from zenros.context import Context
+from zenros.maps import load_map
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
 from zenros.node import Node
 from zenros.se2 import Pose2
-from zenros.services.nav.collision import first_collision
-from zenros.services.nav.controller import PurePursuit
-from zenros.services.nav.convert import pose_stamped
-from zenros.services.nav.costmaps import Costmaps
+from zenros.services.nav.actions.convert import pose_stamped
 from zenros.services.nav.core import NavConfig
+from zenros.services.nav.costmap.live import Costmaps
+from zenros.services.nav.motion.collision import first_collision
+from zenros.services.nav.motion.controller import PurePursuit
 from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import DEMO_MAP
-from zenros.services.nav.planner import PlannerParams
-from zenros.services.nav.planning import GlobalPlanner
-from zenros.maps import load_map
+from zenros.services.nav.planning import PlannerParams
+from zenros.services.nav.planning.global_planner import GlobalPlanner
 from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wait_for
 
 sys.path.insert(0, str(Path(__file__).parent))

@@ -7,7 +7,7 @@ Prints one JSON line. Three grids of 10^6 cells (cost 0 free, 254 lethal):
 - ``office``: 100 x 100-cell rooms behind 2-cell walls with one 10-cell door per wall
   side, plus 600 random furniture blocks; start and goal in opposite corner rooms.
 
-On each grid, ours (``zenros.services.nav.planner.plan``, the compiled search when it is
+On each grid, ours (``zenros.services.nav.planning.plan``, the compiled search when it is
 built) and pyastar2d's ``astar_path`` (8-connected, weights 1 and inf) run alternately
 ``--repeats`` times after a warm-up. Times are the calling thread's CPU time
 (``time.thread_time``): on this shared 2-core box the wall clock also counts the time other
@@ -44,8 +44,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 from zenros.services.nav.costmap import Costmap2D, CostmapParams, ObstacleParams, Scan
 from zenros.services.nav.costmap.accel import edt
-from zenros.services.nav.planner import PlannerParams, path_length, plan
-from zenros.services.nav.planner.accel import compiled
+from zenros.services.nav.planning import PlannerParams, path_length, plan
+from zenros.services.nav.planning.accel import compiled
 
 N = 1000
 LETHAL = 254

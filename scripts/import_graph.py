@@ -65,7 +65,7 @@ def imports_of(name: str, path: Path, known: set[str], typing: bool = False) -> 
 
 
 def group(name: str) -> str:
-    """``zenros.services.nav.planner.plan`` -> ``services.nav``; ``zenros.tf.buffer`` -> ``tf``;
+    """``zenros.services.nav.planning.plan`` -> ``services.nav``; ``zenros.tf.buffer`` -> ``tf``;
     top-level modules of ``zenros`` are their own group."""
     parts = name.split(".")[1:]
     if not parts:

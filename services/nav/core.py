@@ -14,24 +14,23 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-
 from zenros.maps import GridMap
 from zenros.se2 import Pose2
 
-from .behavior import Behavior, NavParams, Sense
-from .controller import ControllerParams
 from .costmap import CostmapParams
-from .costmaps import Costmaps
-from .docking import DockParams
-from .localizer import Localizer, Mode
-from .mapserver import MapServer
-from .mapstore import MapStore
-from .motion import Motion
-from .navigate import Codes, Navigate
-from .planner import PlannerParams
-from .planning import GlobalPlanner, PlanWorker
-from .records import Records
-from .scanmatch import ScanMatcher
+from .costmap.live import Costmaps
+from .localization.localizer import Localizer, Mode
+from .localization.scanmatch import ScanMatcher
+from .maps.records import Records
+from .maps.server import MapServer
+from .maps.store import MapStore
+from .motion.active import Motion
+from .motion.behavior import Behavior, NavParams, Sense
+from .motion.controller import ControllerParams
+from .motion.docking import DockParams
+from .motion.navigate import Codes, Navigate
+from .planning import PlannerParams
+from .planning.global_planner import GlobalPlanner, PlanWorker
 
 __all__ = ["NavConfig", "NavCore"]
 

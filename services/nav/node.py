@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-
 from zenros.home import data_dir
 from zenros.maps import GridMap
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
@@ -35,24 +34,24 @@ from zenros.se2 import Pose2
 from zenros.tf import TransformBroadcaster, yaw_from_msg
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
-from .action_base import Ledger
-from .actions import NavActions
-from .autocharge import AutoCharge
-from .behavior_actions import BehaviorActions
-from .connections import Connections
-from .convert import (
+from .actions.base import Ledger
+from .actions.behavior_server import BehaviorActions
+from .actions.convert import (
     path_to_msg,
     pose2_from_msg,
     pose_with_covariance,
     transform_stamped,
 )
+from .actions.coverage import handle_compute_coverage_path
+from .actions.navigation import NavActions
+from .actions.routines import RoutineActions
+from .actions.status import nav_status
 from .core import NavCore
-from .coverage_srv import handle_compute_coverage_path
-from .docking import Dock
-from .loop import ControlLoop
+from .maps.connections import Connections
+from .motion.autocharge import AutoCharge
+from .motion.docking import Dock
+from .motion.loop import ControlLoop
 from .params import DEMO_MAP, NavParameters, nav_config
-from .routines import RoutineActions
-from .status import nav_status
 
 __all__ = ["NavNode"]
 

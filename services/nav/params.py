@@ -9,14 +9,14 @@ from typing import Annotated
 import msgspec
 from msgspec import Meta
 
-from .behavior import NavParams
-from .controller import ControllerParams
 from .core import NavConfig
 from .costmap import CostmapParams, ObstacleParams
-from .docking import DockParams
-from .localizer import Mode
-from .planner import PlannerParams
-from .planner.plan import MAX_COST_WEIGHT
+from .localization.localizer import Mode
+from .motion.behavior import NavParams
+from .motion.controller import ControllerParams
+from .motion.docking import DockParams
+from .planning import PlannerParams
+from .planning.plan import MAX_COST_WEIGHT
 
 __all__ = ["DEMO_MAP", "NavParameters", "nav_config"]
 

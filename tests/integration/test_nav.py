@@ -36,7 +36,8 @@ from zenros.msgs.nav2_msgs import (
     UndockRobotGoal,
     WaypointStatus,
 )
-from zenros.msgs.nav_msgs import Odometry, Path as PathMsg
+from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.nav_msgs import Path as PathMsg
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.zenros_msgs import (
     ChassisState,
@@ -57,7 +58,7 @@ from zenros.msgs.zenros_msgs import (
 from zenros.node import Node
 from zenros.se2 import Pose2
 from zenros.services.chassis.node import ChassisNode
-from zenros.services.nav.convert import pose_stamped
+from zenros.services.nav.actions.convert import pose_stamped
 from zenros.services.nav.node import NavNode
 from zenros.testing import linked_contexts, wait_for
 

@@ -16,7 +16,7 @@ from zenros.msgs.nav_msgs import Odometry
 from zenros.node import Node
 from zenros.se2 import Pose2
 from zenros.services.chassis.node import ChassisNode
-from zenros.services.nav.convert import pose_stamped, pose_with_covariance
+from zenros.services.nav.actions.convert import pose_stamped, pose_with_covariance
 from zenros.services.nav.node import NavNode
 from zenros.testing import linked_contexts, wait_for
 

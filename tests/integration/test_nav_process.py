@@ -17,7 +17,7 @@ from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import ListMaps, ListMapsRequest
 from zenros.node import Node
 from zenros.se2 import Pose2
-from zenros.services.nav.convert import pose_stamped
+from zenros.services.nav.actions.convert import pose_stamped
 from zenros.testing import Proc, wait_for
 
 pytestmark = pytest.mark.system

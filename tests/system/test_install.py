@@ -35,6 +35,16 @@ def _sources() -> set[str]:
     return found
 
 
+def _c_sources() -> set[str]:
+    """Every C extension's source as the module path it must build to (``zenros/.../_x``): an
+    Extension in setup.py whose name no longer follows its file shows here."""
+    found = set()
+    for tree, dest in TREES.items():
+        for c in (ROOT / tree).rglob("*.c"):
+            found.add(f"{dest}/{c.relative_to(ROOT / tree).with_suffix('').as_posix()}")
+    return found
+
+
 @pytest.mark.timeout(400)
 def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> None:
     src, target = tmp_path / "src", tmp_path / "site"
@@ -57,6 +67,9 @@ def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> No
     assert "deploy/launch/sim.yaml" in data and "deploy/maps/office/office.yaml" in data
     absent = sorted(d for d in data if not (target / "zenros" / d).is_file())
     assert not absent, f"not installed by `pip install .`: {absent}"
+    if shutil.which("cc") or shutil.which("gcc"):  # the optional C modules, where they move
+        unbuilt = sorted(c for c in _c_sources() if not list(target.glob(c + ".*.so")))
+        assert not unbuilt, f"C sources setup.py did not build in place: {unbuilt}"
     services = sorted(p.parent.name for p in (ROOT / "services").glob("*/__init__.py"))
     code = (
         "import importlib, importlib.util, sys, zenros\n"

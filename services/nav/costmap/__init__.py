@@ -17,7 +17,9 @@ the origin, so ``costs[my, mx]``)::
 
 Modules: ``values`` (cost constants and the two translation tables), ``geometry``
 (world ↔ cell), ``inflation`` (Nav2's decay), ``obstacle`` (scan marking and clearing),
-``keepout`` (polygons and walls rasterised), ``costmap`` (the layered Costmap2D).
+``keepout`` (polygons and walls rasterised), ``costmap`` (the layered Costmap2D),
+``snapshot`` (`CostSnapshot`, a copy the planner plans on), ``live`` (`Costmaps`: nav's global
+costmap of the current map and the local window). Imports maps (keep-out shapes).
 """
 
 from .costmap import Costmap2D, CostmapParams

@@ -700,7 +700,7 @@ class ComputeCoveragePathRequest(Message):
 
     ``swath_angle`` in degrees (< 0: the angle needing the fewest swaths), ``op_width``
     (> 0), ``turn_radius`` and ``headland_width`` (>= 0) in metres. See services/nav/
-    coverage.py and docs/nav.md. A bad field is refused with a reason naming it.
+    planning/coverage.py and docs/nav.md. A bad field is refused with a reason naming it.
     """
 
     __msgtype__ = "zenros_msgs/ComputeCoveragePathRequest"

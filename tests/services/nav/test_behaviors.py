@@ -11,18 +11,18 @@ from zenros.maps import GridMap
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as PlanCodes
 from zenros.msgs.nav2_msgs import DockRobotResult, FollowPathResult
 from zenros.se2 import Pose2
-from zenros.services.nav.autocharge import AutoCharge
-from zenros.services.nav.behavior import Behavior, NavParams, Sense
-from zenros.services.nav.collision import points_in_frame
-from zenros.services.nav.controller import ControllerParams
 from zenros.services.nav.costmap import CostmapParams
-from zenros.services.nav.costmaps import Costmaps
-from zenros.services.nav.docking import Dock, DockParams, Undock
-from zenros.services.nav.motion import Motion
-from zenros.services.nav.navigate import Navigate
-from zenros.services.nav.patrol import Patrol
-from zenros.services.nav.planner import PlannerParams
-from zenros.services.nav.planning import GlobalPlanner, PlanWorker
+from zenros.services.nav.costmap.live import Costmaps
+from zenros.services.nav.motion.active import Motion
+from zenros.services.nav.motion.autocharge import AutoCharge
+from zenros.services.nav.motion.behavior import Behavior, NavParams, Sense
+from zenros.services.nav.motion.collision import points_in_frame
+from zenros.services.nav.motion.controller import ControllerParams
+from zenros.services.nav.motion.docking import Dock, DockParams, Undock
+from zenros.services.nav.motion.navigate import Navigate
+from zenros.services.nav.motion.patrol import Patrol
+from zenros.services.nav.planning import PlannerParams
+from zenros.services.nav.planning.global_planner import GlobalPlanner, PlanWorker
 
 DT = 0.05
 

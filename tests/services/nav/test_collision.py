@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from zenros.services.nav.collision import arc_poses, first_collision, points_in_frame
+from zenros.services.nav.motion.collision import arc_poses, first_collision, points_in_frame
 
 
 def test_straight_ahead_hits_at_the_right_time() -> None:

@@ -14,9 +14,9 @@ from zenros.msgs.zenros_msgs.nav import (
     NavPoint,
     PointRef,
 )
-from zenros.services.nav.connections import CONNECTIONS_FILE, Connections
-from zenros.services.nav.mapdata import StoredPath
-from zenros.services.nav.mapstore import MapStore
+from zenros.services.nav.maps.connections import CONNECTIONS_FILE, Connections
+from zenros.services.nav.maps.navdata import StoredPath
+from zenros.services.nav.maps.store import MapStore
 from zenros.services.nav.params import DEMO_MAP
 
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 from zenros.se2 import Pose2, angle_diff
-from zenros.services.nav.controller import (
+from zenros.services.nav.motion.controller import (
     ControllerParams,
     PurePursuit,
     cost_to_distance,

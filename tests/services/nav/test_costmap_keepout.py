@@ -7,7 +7,7 @@ import pytest
 from zenros.services.nav.costmap import Costmap2D, CostmapParams
 from zenros.services.nav.costmap.geometry import GridGeometry
 from zenros.services.nav.costmap.keepout import rasterise
-from zenros.services.nav.planner import NoValidPath, plan
+from zenros.services.nav.planning import NoValidPath, plan
 
 RES = 0.05
 PARAMS = CostmapParams(inflation_radius=0.5, cost_scaling_factor=3.0)

@@ -1,4 +1,4 @@
-"""The coverage planner (services/nav/coverage.py), called directly."""
+"""The coverage planner (services/nav/planning/coverage.py), called directly."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from zenros.services.nav.coverage import (
+from zenros.services.nav.planning.coverage import (
     MAX_INPUT_POINTS,
     CoverageError,
     CoveragePlan,

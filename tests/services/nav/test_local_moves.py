@@ -10,15 +10,15 @@ import math
 import numpy as np
 from zenros.msgs.nav2_msgs import BackUpResult, DriveOnHeadingResult, SpinResult
 from zenros.se2 import Pose2, angle_diff
-from zenros.services.nav.behavior import Behavior, Sense
-from zenros.services.nav.behavior_actions import (
+from zenros.services.nav.actions.behavior_server import (
     BACKUP_CODES,
     DRIVE_CODES,
     SPIN_CODES,
     TARGET_CODES,
 )
-from zenros.services.nav.collision import points_in_frame
-from zenros.services.nav.local_moves import DriveOnHeading, LocalMoveTarget, SpinInPlace
+from zenros.services.nav.motion.behavior import Behavior, Sense
+from zenros.services.nav.motion.collision import points_in_frame
+from zenros.services.nav.motion.local_moves import DriveOnHeading, LocalMoveTarget, SpinInPlace
 
 DT = 0.05
 

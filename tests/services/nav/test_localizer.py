@@ -6,7 +6,7 @@ import math
 
 import pytest
 from zenros.se2 import Pose2
-from zenros.services.nav.localizer import Localizer
+from zenros.services.nav.localization.localizer import Localizer
 
 S = 1_000_000_000
 

@@ -10,15 +10,15 @@ from zenros.errors import MapError
 from zenros.maps import GridMap, save_map
 from zenros.msgs.geometry_msgs import Point, Pose2D
 from zenros.msgs.zenros_msgs.nav import NavPoint, VirtualWall
-from zenros.services.nav.mapdata import (
+from zenros.services.nav.maps.navdata import (
     NAV_FILE,
     MapNavData,
     StoredPath,
     check_name,
     read_nav_data,
 )
-from zenros.services.nav.mapserver import MapServer
-from zenros.services.nav.mapstore import MapStore
+from zenros.services.nav.maps.server import MapServer
+from zenros.services.nav.maps.store import MapStore
 from zenros.services.nav.params import DEMO_MAP
 
 

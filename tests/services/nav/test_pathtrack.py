@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from zenros.services.nav.pathtrack import PathTracker
+from zenros.services.nav.motion.pathtrack import PathTracker
 
 
 def test_progress_and_remaining_on_an_l_path() -> None:

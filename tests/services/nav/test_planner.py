@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 from zenros.services.nav.costmap import Costmap2D
-from zenros.services.nav.planner import (
+from zenros.services.nav.planning import (
     GoalOccupied,
     GoalOutsideMap,
     NoValidPath,
@@ -25,9 +25,9 @@ from zenros.services.nav.planner import (
     plan,
     plan_between,
 )
-from zenros.services.nav.planner.accel import compiled
-from zenros.services.nav.planner.astar import FOUND, LIMIT, TIMEOUT, SearchOutcome, search_python
-from zenros.services.nav.planner.plan import cost_multipliers, step_table
+from zenros.services.nav.planning.accel import compiled
+from zenros.services.nav.planning.astar import FOUND, LIMIT, TIMEOUT, SearchOutcome, search_python
+from zenros.services.nav.planning.plan import cost_multipliers, step_table
 
 
 @pytest.fixture(params=["c", "python"])

@@ -8,13 +8,13 @@ import time
 
 import numpy as np
 import pytest
+from zenros.maps import GridMap
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as Codes
 from zenros.se2 import Pose2
 from zenros.services.nav.costmap import CostmapParams
-from zenros.services.nav.costmaps import Costmaps
-from zenros.services.nav.planner import PlannerParams
-from zenros.services.nav.planning import GlobalPlanner, PlanWorker
-from zenros.maps import GridMap
+from zenros.services.nav.costmap.live import Costmaps
+from zenros.services.nav.planning import PlannerParams
+from zenros.services.nav.planning.global_planner import GlobalPlanner, PlanWorker
 
 
 def room() -> Costmaps:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from zenros.maps import GridMap, load_map
 from zenros.se2 import Pose2
-from zenros.services.nav.localizer import Localizer
+from zenros.services.nav.localization.localizer import Localizer
+from zenros.services.nav.localization.scanmatch import ScanMatcher
 from zenros.services.nav.params import DEMO_MAP
-from zenros.services.nav.scanmatch import ScanMatcher
 
 
 def cast(grid: GridMap, pose: Pose2, n: int = 360, rmax: float = 8.0) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Records: the per-map services for paths, nav points, keep-out shapes and the charge pose.
 
 Every request names a map (empty: the current one) and, for paths, a path. Unknown maps
-and paths are refused with the known names; writes are checked (`mapdata.check_*`) and
+and paths are refused with the known names; writes are checked (`navdata.check_*`) and
 persisted before the reply. ``on_keepout_change(map_name)`` runs after walls or areas of
 a map change, so the costmaps can be rebuilt.
 """
@@ -44,7 +44,7 @@ from zenros.msgs.zenros_msgs.nav import (
 )
 from zenros.se2 import Pose2
 
-from .mapdata import (
+from .navdata import (
     MapNavData,
     StoredPath,
     check_area,
@@ -54,7 +54,7 @@ from .mapdata import (
     check_pose,
     check_wall,
 )
-from .mapserver import MapServer
+from .server import MapServer
 
 __all__ = ["Records"]
 

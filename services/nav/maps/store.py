@@ -28,7 +28,7 @@ from zenros.maps import (
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.zenros_msgs.nav import MapInfo
 
-from .mapdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
+from .navdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
 
 __all__ = ["MapStore"]
 

@@ -26,7 +26,7 @@ from zenros.msgs.zenros_msgs.nav import (
     SwitchMapResponse,
 )
 
-from .mapstore import MapStore
+from .store import MapStore
 
 __all__ = ["MapServer"]
 

@@ -1,4 +1,4 @@
-/* zenros.services.nav.planner._astar: 8-connected cost-aware A* on a uint8 cost grid, in C.
+/* zenros.services.nav.planning._astar: 8-connected cost-aware A* on a uint8 cost grid, in C.
  *
  * search(costs, width, height, steps, start, goal, h_straight, h_diag, budget_s, max_expansions)
  *   costs: a C-contiguous buffer of width*height bytes (row-major, index y*width + x);

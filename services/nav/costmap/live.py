@@ -22,9 +22,10 @@ from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid
 from zenros.msgs.std_msgs import Header
 from zenros.se2 import Pose2
 
-from .costmap import LETHAL_OBSTACLE, NO_INFORMATION, Costmap2D, CostmapParams, cost_to_occupancy
-from .mapdata import MapNavData
-from .planning import CostSnapshot
+from ..maps.navdata import MapNavData
+from .costmap import Costmap2D, CostmapParams
+from .snapshot import CostSnapshot
+from .values import LETHAL_OBSTACLE, NO_INFORMATION, cost_to_occupancy
 
 __all__ = ["Costmaps"]
 

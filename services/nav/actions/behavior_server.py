@@ -5,7 +5,7 @@ Goals with non-finite numbers are rejected. Nav2 checks the rest in the server: 
 DriveOnHeading or BackUp goal (sideways target, zero speed, speed and distance of opposite
 signs) ends ABORTED with INVALID_INPUT. Unlike Nav2, a ``time_allowance`` of 0 means no
 limit (Nav2 would time out at once). Like the other nav actions, a new goal on any of them
-preempts whatever nav was doing (see `action_base`).
+preempts whatever nav was doing (see `base`).
 """
 
 from __future__ import annotations
@@ -35,10 +35,10 @@ from zenros.msgs.zenros_msgs.nav import (
     LocalMoveTargetResult,
 )
 
-from .action_base import ActionBase, ActionOutcome
-from .behavior import Behavior
+from ..motion.behavior import Behavior
+from ..motion.local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
+from .base import ActionBase, ActionOutcome
 from .convert import pose2_from_msg
-from .local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
 
 __all__ = ["BehaviorActions"]
 

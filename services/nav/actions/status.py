@@ -7,12 +7,12 @@ from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs.nav import NavStatus
 from zenros.se2 import Pose2
 
-from .action_base import Ledger
+from ..core import NavCore
+from ..motion.docking import Dock, Undock
+from ..motion.navigate import Navigate
+from ..motion.patrol import Patrol
+from .base import Ledger
 from .convert import pose2_to_pose2d
-from .core import NavCore
-from .docking import Dock, Undock
-from .navigate import Navigate
-from .patrol import Patrol
 
 __all__ = ["nav_status"]
 

@@ -23,9 +23,9 @@ from zenros.msgs.builtin_interfaces import Duration, Time
 from zenros.msgs.geometry_msgs import PoseStamped
 from zenros.se2 import Pose2
 
-from .behavior import Behavior
+from ..core import NavCore
+from ..motion.behavior import Behavior
 from .convert import pose2_from_msg, pose_stamped
-from .core import NavCore
 
 __all__ = ["FEEDBACK_PERIOD", "ActionBase", "ActionOutcome", "Ledger"]
 

@@ -19,7 +19,6 @@ from typing import Final
 
 import msgspec
 import msgspec.yaml
-
 from zenros.errors import MapError
 from zenros.msgs.zenros_msgs.nav import (
     AddPointConnectionRequest,
@@ -33,7 +32,7 @@ from zenros.msgs.zenros_msgs.nav import (
     PointRef,
 )
 
-from .mapstore import MapStore
+from .store import MapStore
 
 __all__ = ["CONNECTIONS_FILE", "TYPES", "Connections"]
 

@@ -14,7 +14,7 @@ from typing import Protocol
 import numpy as np
 from zenros.se2 import Pose2
 
-from .planning import PlanWorker
+from ..planning.global_planner import PlanWorker
 
 __all__ = ["Behavior", "NavParams", "NavTools", "Sense"]
 

@@ -1,5 +1,5 @@
 """RoutineActions: dock_robot, undock_robot, patrol and follow_waypoints (Nav2's docking
-server and waypoint follower, and the robot API's patrol), see `action_base`."""
+server and waypoint follower, and the robot API's patrol), see `base`."""
 
 from __future__ import annotations
 
@@ -22,10 +22,10 @@ from zenros.msgs.nav2_msgs import (
 from zenros.msgs.zenros_msgs.nav import PatrolFeedback, PatrolGoal, PatrolResult
 from zenros.se2 import Pose2
 
-from .action_base import ActionBase
-from .behavior import Behavior
-from .docking import Dock, Undock
-from .patrol import Patrol
+from ..motion.behavior import Behavior
+from ..motion.docking import Dock, Undock
+from ..motion.patrol import Patrol
+from .base import ActionBase
 
 __all__ = ["RoutineActions"]
 

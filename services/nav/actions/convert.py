@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import (
     Point,
@@ -21,7 +20,6 @@ from zenros.msgs.nav_msgs import Path
 from zenros.msgs.std_msgs import Header
 from zenros.se2 import Pose2
 from zenros.tf.convert import yaw_from_msg, yaw_to_msg
-
 
 __all__ = [
     "path_from_msg",

@@ -1,6 +1,6 @@
 """GlobalPlanner: plans through a list of poses on a costmap snapshot, with error codes.
 
-Wraps the planner package (cost-aware 8-connected A*) for navigation: one search per leg
+Wraps this package's search (cost-aware 8-connected A*) for navigation: one search per leg
 (start → pose 1 → pose 2 ...), concatenated, with the arc length at which each pose is
 reached. A start inside the inflated zone (the robot next to a wall or on its dock) is
 planned out of: the costs within the robot's radius of the start are lowered to 252.
@@ -16,30 +16,14 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-
 from zenros.msgs.nav2_msgs import ComputePathToPoseResult as Codes
 from zenros.se2 import Pose2
 
-from .planner import PlannerParams, PlanningError, plan
+from ..costmap.snapshot import CostSnapshot
+from .errors import PlanningError
+from .plan import PlannerParams, plan
 
-__all__ = ["CostSnapshot", "GlobalPlanner", "PlanOutcome", "PlanWorker"]
-
-
-@dataclass(frozen=True)
-class CostSnapshot:
-    """A copy of a costmap's master grid and its geometry."""
-
-    costs: np.ndarray
-    resolution: float
-    origin: tuple[float, float]
-
-    def world_to_map(self, x: float, y: float) -> tuple[int, int] | None:
-        if not (math.isfinite(x) and math.isfinite(y)):
-            return None
-        mx = math.floor((x - self.origin[0]) / self.resolution)
-        my = math.floor((y - self.origin[1]) / self.resolution)
-        h, w = self.costs.shape
-        return (mx, my) if 0 <= mx < w and 0 <= my < h else None
+__all__ = ["GlobalPlanner", "PlanOutcome", "PlanWorker"]
 
 
 @dataclass

@@ -1,5 +1,5 @@
 """NavActions: navigate_to_pose, navigate_through_poses, follow_path and
-compute_path_to_pose, with Nav2's fields, feedback and error codes (see `action_base`)."""
+compute_path_to_pose, with Nav2's fields, feedback and error codes (see `base`)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ import math
 from typing import Any
 
 import numpy as np
-
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration
 from zenros.msgs.nav2_msgs import (
@@ -26,10 +25,10 @@ from zenros.msgs.nav2_msgs import (
 )
 from zenros.se2 import Pose2
 
-from .action_base import ActionBase
-from .behavior import Behavior
+from ..motion.behavior import Behavior
+from ..motion.navigate import Codes, Navigate
+from .base import ActionBase
 from .convert import path_from_msg, path_to_msg
-from .navigate import Codes, Navigate
 
 __all__ = ["NavActions"]
 

@@ -1,8 +1,9 @@
-"""The global planner: optimal, cost-aware 8-connected A* on a Nav2 costmap.
+"""Planning: the global planner (optimal, cost-aware 8-connected A* on a Nav2 costmap), the
+navigation planner built on it, and coverage paths.
 
 API (cells ``(mx, my)`` = (column, row) of ``costs[my, mx]``, as in the costmap)::
 
-    from zenros.services.nav.planner import plan, PlannerParams, PlanningError
+    from zenros.services.nav.planning import plan, PlannerParams, PlanningError
 
     try:
         result = plan(costmap.costs, start_cell, goal_cell, PlannerParams(timeout=2.0))
@@ -17,6 +18,11 @@ API (cells ``(mx, my)`` = (column, row) of ``costs[my, mx]``, as in the costmap)
 
 The search is compiled (``_astar.c``) when built, with ``astar.search_python`` as the
 reference; ``ZENROS_NAV_PURE=1`` selects Python. See docs/nav-planner.md.
+
+Modules: ``astar`` (the Python search), ``accel`` (the compiled one, if built), ``plan`` (the
+cost model and `plan`), ``errors``, ``world`` (`plan_between`), ``global_planner``
+(`GlobalPlanner` through several poses with Nav2's error codes, and `PlanWorker`, its thread),
+``coverage`` (`plan_coverage`, boustrophedon). Imports costmap (the snapshot it plans on).
 """
 
 from .errors import (

@@ -15,10 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
-
 from zenros.maps import GridMap
 from zenros.se2 import Pose2
-
 
 __all__ = ["MatchParams", "ScanMatcher"]
 

@@ -21,10 +21,10 @@ import numpy as np
 from zenros.msgs.nav2_msgs import FollowPathResult as FollowCodes
 from zenros.se2 import Pose2
 
+from ..planning.global_planner import PlanOutcome
 from .behavior import Behavior, NavParams, NavTools, Sense
 from .collision import arc_poses, first_collision
 from .controller import ControllerParams, PurePursuit
-from .planning import PlanOutcome
 from .recovery import Recovery, recovery_cycle
 
 __all__ = ["Codes", "Navigate", "WaypointState"]

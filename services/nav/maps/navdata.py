@@ -15,7 +15,6 @@ from pathlib import Path
 
 import msgspec
 import msgspec.yaml
-
 from zenros.errors import MapError
 from zenros.msgs.geometry_msgs import Point, Pose2D
 from zenros.msgs.zenros_msgs.nav import ForbiddenArea, NavPoint, VirtualWall

@@ -16,7 +16,7 @@ from typing import Any, Final
 from .crossmap import navigate_across
 from .robot import Feedback, Outcome, Robot
 
-__all__ = ["BEHAVIOURS", "Context"]
+__all__ = ["BEHAVIORS", "Context"]
 
 POLL: Final = 0.01  # wall seconds between checks while waiting
 
@@ -208,7 +208,7 @@ def _io(ctx: Context, p: dict[str, Any]) -> Outcome:
     return ctx.robot.set_io(int(p["port"]), int(p["level"]))
 
 
-BEHAVIOURS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
+BEHAVIORS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
     "nav_action": _nav,
     "sleep_action": _sleep,
     "charge_action": _charge,

@@ -5,7 +5,7 @@ from __future__ import annotations
 from zenros.msgs.geometry_msgs import Point
 from zenros.msgs.zenros_msgs.nav import ComputeCoveragePathRequest, ComputeCoveragePathResponse
 
-from .coverage import plan_coverage, validate_field
+from ..planning.coverage import plan_coverage, validate_field
 
 __all__ = ["handle_compute_coverage_path"]
 
