@@ -27,7 +27,7 @@ class TopicOps:
     compression: dict[str, str]
 
     if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
-        def deliver(self, topic: str, frame: bytes, encode: Any = None) -> None: ...
+        def deliver(self, topic: str, encode: Any) -> None: ...
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
