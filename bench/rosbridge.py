@@ -280,7 +280,7 @@ def measure_cbor(side: int = 1448) -> dict[str, Any]:
             if len(sizes) == 2 else None}
 
 
-def fairness(duration: float) -> dict[str, Any]:
+def fairness(duration: float, doors: list[str]) -> dict[str, Any]:
     """/odom's p99 delivery age (ms) to 5 clients without and with a 2 MB map at 1 Hz, on
     rosbridge (no prefix), the topic WebSocket (``topicws_``) and Foxglove (``foxglove_``)."""
     try:
@@ -292,7 +292,7 @@ def fairness(duration: float) -> dict[str, Any]:
     gw, ports, zport, prefix = start_gateway(script, has_foxglove)
     out: dict[str, Any] = {}
     try:
-        for door in ("rosbridge", "topicws", "foxglove"):
+        for door in doors:
             if not ports.get(door):
                 continue
             r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration)
@@ -313,6 +313,8 @@ def main() -> None:
     ap.add_argument("--zport", type=int, default=0)
     ap.add_argument("--door", choices=["rosbridge", "topicws", "foxglove"], default="rosbridge")
     ap.add_argument("--foxglove", type=int, default=1)
+    ap.add_argument("--doors", default="rosbridge,topicws,foxglove",
+                    help="the doors whose fairness is measured (comma-separated)")
     ap.add_argument("--fair-duration", type=float, default=10.0,
                     help="seconds of /odom without, then with, the map (fairness)")
     ap.add_argument("--n", type=int, default=1)
@@ -340,7 +342,7 @@ def main() -> None:
         return
     metrics: dict[str, Any] = measure_cbor() if args.only in (None, "cbor") else {}
     if args.only in (None, "fairness"):
-        metrics.update(fairness(args.fair_duration))
+        metrics.update(fairness(args.fair_duration, args.doors.split(",")))
     for n in (1, 10) if args.only in (None, "throughput") else ():
         # The relay's publisher is held back by TCP when the relay falls behind, so flat out
         # it offers what the relay path sustains; rosbridge (which never holds a publisher

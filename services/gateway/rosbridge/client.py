@@ -58,7 +58,8 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self.level = LEVELS["none"]
         self.subs: dict[str, dict[Any, SubOptions]] = {}
         self.compression: dict[str, str] = {}
-        """Topics sent as CBOR (``cbor`` or ``cbor-raw``), the others as JSON (encodings.py)."""
+        """Topics sent compressed (``png``, ``cbor`` or ``cbor-raw``), the others as JSON
+        (encodings.py)."""
         self.advertised: set[str] = set()
         self.services: dict[str, Any] = {}
         self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}

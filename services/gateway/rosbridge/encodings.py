@@ -1,6 +1,6 @@
 """`Encodings`: one topic message as the frames clients ask for, each made once, on demand.
 
-A client subscribes with a ``compression`` (none, ``cbor``, ``cbor-raw``, ``png``); every
+A client subscribes with a ``compression`` (none, ``png``, ``cbor``, ``cbor-raw``); every
 client gets its own format of the same message, and each format is encoded once for all of
 them. A large message (`zenros.json_chunks.is_bulky`) is encoded on the bridge's worker
 thread before it reaches the loop (bridge.py), so a 5 MB JSON text never stalls the loop.
@@ -19,11 +19,13 @@ from zenros.msgs.builtin_interfaces import Time
 
 from .cbor import cbor_frame, cbor_frame_from_json, cbor_raw_frame
 from .convert import encode_message, publish_frame
+from .png import png_frame
 
 __all__ = ["FORMATS", "Encodings"]
 
-FORMATS = ("json", "cbor", "cbor-raw")
-"""What `Encodings` makes: JSON text frames, and the binary CBOR ones (cbor.py)."""
+FORMATS = ("json", "png", "cbor", "cbor-raw")
+"""What `Encodings` makes: JSON text frames, ``png`` frames (png.py) and the binary CBOR
+ones (cbor.py)."""
 
 
 class Encodings:
@@ -67,6 +69,8 @@ class Encodings:
             assert msg is not None
             text = encode_yielding(msg) if self._bulky else encode_message(msg)
             return publish_frame(self.topic, text)
+        if fmt == "png":
+            return png_frame(self("json"))
         if msg is None:
             obj: Any = json.loads(self("json"))
             if fmt in ("cbor", "cbor-raw"):
