@@ -31,6 +31,8 @@ class TopicOps:
     if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
         def deliver(self, topic: str, encode: Any) -> None: ...
 
+        def format_of(self, topic: str) -> str: ...
+
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
         type_name = frame_text(frame, "type")
