@@ -89,9 +89,13 @@ class BulkEncoder:
         self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=1,
                                                            thread_name_prefix=name)
 
-    def submit(self, work: Callable[[], Any]) -> concurrent.futures.Future[Any]:
-        """Run ``work`` on the worker, after everything submitted before it."""
-        return self._pool.submit(work)
+    def submit(self, work: Callable[[], Any]) -> concurrent.futures.Future[Any] | None:
+        """Run ``work`` on the worker, after everything submitted before it (None, and not
+        run, once closed: a late message at shutdown)."""
+        try:
+            return self._pool.submit(work)
+        except RuntimeError:  # closed
+            return None
 
     def close(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)

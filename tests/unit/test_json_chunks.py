@@ -55,7 +55,9 @@ def test_encoding_a_map_leaves_other_threads_running() -> None:
     bulk = BulkEncoder()
     try:
         before = ticks[0]
-        out = bulk.submit(lambda: encode_yielding(grid)).result(60)
+        future = bulk.submit(lambda: encode_yielding(grid))
+        assert future is not None
+        out = future.result(60)
         during = ticks[0] - before
     finally:
         done.set()
@@ -71,7 +73,9 @@ def test_bulk_encoder_keeps_order() -> None:
     try:
         futures = [bulk.submit(lambda i=i: seen.append(i)) for i in range(50)]
         for f in futures:
+            assert f is not None
             f.result(10)
     finally:
         bulk.close()
     assert seen == list(range(50))
+    assert bulk.submit(lambda: None) is None  # closed: a late message is dropped, no error
