@@ -7,13 +7,13 @@ import threading
 
 import numpy as np
 from zenros.codec import json_bytes
-from zenros.json_chunks import CHUNK, BulkEncoder, encode_yielding, is_bulky, json_chunks
+from zenros.json_chunks import BULK_ELEMENTS, CHUNK, BulkEncoder, encode_yielding, is_bulky, json_chunks
 from zenros.message import Float32Array, Int8Array, to_array
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.msgs.sensor_msgs import LaserScan
 
 
-def big_grid(cells: int = 5 * CHUNK + 7) -> OccupancyGrid:
+def big_grid(cells: int = BULK_ELEMENTS + 3 * CHUNK + 7) -> OccupancyGrid:
     data = np.resize(np.array([-1, 0, 100, 0, 0], dtype=np.int8), cells)
     msg = OccupancyGrid(data=to_array(Int8Array, data))
     msg.header.frame_id = "map"
