@@ -7,7 +7,14 @@ import threading
 
 import numpy as np
 from zenros.codec import json_bytes
-from zenros.json_chunks import BULK_ELEMENTS, CHUNK, BulkEncoder, encode_yielding, is_bulky, json_chunks
+from zenros.json_chunks import (
+    BULK_ELEMENTS,
+    CHUNK,
+    BulkEncoder,
+    encode_yielding,
+    is_bulky,
+    json_chunks,
+)
 from zenros.message import Float32Array, Int8Array, to_array
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.msgs.sensor_msgs import LaserScan
