@@ -129,7 +129,7 @@ def child_clients(door: str, port: int, n: int) -> None:
                  for i in range(n)]
         await asyncio.wait_for(asyncio.gather(*(w.wait() for w in warm)), 60)
         print("ready", flush=True)
-        await asyncio.wait_for(asyncio.gather(*tasks), 120)
+        await asyncio.wait(tasks, timeout=120)  # on a starved machine: report what came
         print(json.dumps({key: [a for c in ages for a in c.get(phase, [])]
                           for phase, key in ((PLAIN, "without_map"), (WITH_MAP, "with_map"))}),
               flush=True)
@@ -222,6 +222,7 @@ def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
     out: dict[str, Any] = {}
     for key in ("without_map", "with_map"):
         flat = [a for r in results for a in r[key]]
-        out[key] = {"n": len(flat), "p50_ms": percentile(flat, 50) * 1e3,
-                    "p99_ms": percentile(flat, 99) * 1e3, "max_ms": max(flat) * 1e3}
+        out[key] = {"n": len(flat), "p50_ms": percentile(flat, 50) * 1e3 if flat else None,
+                    "p99_ms": percentile(flat, 99) * 1e3 if flat else None,
+                    "max_ms": max(flat) * 1e3 if flat else None}
     return out

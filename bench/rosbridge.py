@@ -298,9 +298,9 @@ def fairness(duration: float, doors: list[str]) -> dict[str, Any]:
             r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration)
             key = "" if door == "rosbridge" else f"{door}_"
             for phase in ("without_map", "with_map"):
-                out[f"{key}odom_p99_ms_{phase}"] = round(r[phase]["p99_ms"], 2)
-                out[f"{key}odom_p50_ms_{phase}"] = round(r[phase]["p50_ms"], 2)
-                out[f"{key}odom_max_ms_{phase}"] = round(r[phase]["max_ms"], 2)
+                for stat in ("p99", "p50", "max"):
+                    value = r[phase][f"{stat}_ms"]
+                    out[f"{key}odom_{stat}_ms_{phase}"] = None if value is None else round(value, 2)
             out[f"{key}odom_samples"] = r["with_map"]["n"]
     finally:
         gw.stop()
