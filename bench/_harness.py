@@ -44,7 +44,8 @@ class Child:
             text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
         )
         assert self.p.stdout is not None
-        line = self.p.stdout.readline()  # "ready"
+        line = self.p.stdout.readline()  # "ready", perhaps followed by what the child tells
+        self.ready_line = line.strip()
         if not line.startswith("ready"):
             raise RuntimeError(f"child failed: {line}{self.p.stderr.read() if self.p.stderr else ''}")
 

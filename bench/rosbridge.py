@@ -25,6 +25,8 @@ import threading
 import time
 from typing import Any
 
+from _fairness import child_clients as child_fair_clients
+from _fairness import child_gateway, measure_fairness, start_gateway
 from _harness import Child, bench_parser, emit, free_port, percentile, unique_prefix
 
 TOPIC = "/bench_twist"
@@ -278,15 +280,50 @@ def measure_cbor(side: int = 1448) -> dict[str, Any]:
             if len(sizes) == 2 else None}
 
 
+def fairness(duration: float, doors: list[str]) -> dict[str, Any]:
+    """/odom's p99 delivery age (ms) to 5 clients without and with a 2 MB map at 1 Hz, on
+    rosbridge (no prefix), the topic WebSocket (``topicws_``) and Foxglove (``foxglove_``)."""
+    try:
+        import foxglove  # noqa: F401
+        has_foxglove = True
+    except ImportError:
+        has_foxglove = False
+    script = os.path.abspath(__file__)
+    gw, ports, zport, prefix = start_gateway(script, has_foxglove)
+    out: dict[str, Any] = {}
+    try:
+        for door in doors:
+            if not ports.get(door):
+                continue
+            r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration)
+            key = "" if door == "rosbridge" else f"{door}_"
+            for phase in ("without_map", "with_map"):
+                for stat in ("p99", "p50", "max"):
+                    value = r[phase][f"{stat}_ms"]
+                    out[f"{key}odom_{stat}_ms_{phase}"] = None if value is None else round(value, 2)
+            out[f"{key}odom_samples"] = r["with_map"]["n"]
+    finally:
+        gw.stop()
+    return out
+
+
 def main() -> None:
-    ap = bench_parser(__doc__, ["relay", "rosbridge", "clients"], repeats=1)
+    ap = bench_parser(__doc__, ["relay", "rosbridge", "clients", "gateway", "fair_clients"],
+                      repeats=1)
     ap.add_argument("--zport", type=int, default=0)
+    ap.add_argument("--door", choices=["rosbridge", "topicws", "foxglove"], default="rosbridge")
+    ap.add_argument("--foxglove", type=int, default=1)
+    ap.add_argument("--doors", default="rosbridge,topicws,foxglove",
+                    help="the doors whose fairness is measured (comma-separated)")
+    ap.add_argument("--fair-duration", type=float, default=10.0,
+                    help="seconds of /odom without, then with, the map (fairness)")
     ap.add_argument("--n", type=int, default=1)
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--latency-rate", type=float, default=500.0,
                     help="messages/s for the latency runs (throughput runs publish flat out)")
-    ap.add_argument("--only", choices=["cbor", "throughput"], default=None,
-                    help="run one part: the map's CBOR size, or the Twist throughput")
+    ap.add_argument("--only", choices=["cbor", "throughput", "fairness"], default=None,
+                    help="run one part: the map's CBOR size, the Twist throughput, or /odom's "
+                         "delivery age beside a 2 MB map")
     args = ap.parse_args()
     if args.role == "relay":
         child_relay(args.port)
@@ -297,8 +334,16 @@ def main() -> None:
     if args.role == "clients":
         child_clients(args.port, args.n)
         return
-    metrics: dict[str, Any] = measure_cbor() if args.only != "throughput" else {}
-    for n in (1, 10) if args.only != "cbor" else ():
+    if args.role == "gateway":
+        child_gateway(args.zport, args.prefix, bool(args.foxglove))
+        return
+    if args.role == "fair_clients":
+        child_fair_clients(args.door, args.port, args.n)
+        return
+    metrics: dict[str, Any] = measure_cbor() if args.only in (None, "cbor") else {}
+    if args.only in (None, "fairness"):
+        metrics.update(fairness(args.fair_duration, args.doors.split(",")))
+    for n in (1, 10) if args.only in (None, "throughput") else ():
         # The relay's publisher is held back by TCP when the relay falls behind, so flat out
         # it offers what the relay path sustains; rosbridge (which never holds a publisher
         # back) is offered that same rate.
@@ -317,7 +362,7 @@ def main() -> None:
         metrics[f"offered_{n}_msgs_s"] = round(offered)
         metrics[f"relay_ratio_{n}"] = round(
             metrics[f"rosbridge_{n}_msgs_s"] / metrics[f"relay_{n}_msgs_s"], 3)
-    if args.only != "cbor":
+    if args.only in (None, "throughput"):
         metrics["relay_ratio"] = min(metrics["relay_ratio_1"], metrics["relay_ratio_10"])
     emit("rosbridge", metrics, duration_s=args.duration, latency_rate=args.latency_rate)
 

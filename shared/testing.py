@@ -28,6 +28,7 @@ __all__ = [
     "loopback_options",
     "roslibpy_connect",
     "start_process",
+    "store_on_master",
     "unique_prefix",
     "wait_for",
     "wait_for_async",
@@ -242,6 +243,28 @@ def roslibpy_connect(host: str, port: int, timeout: float = 10.0) -> Any:
                 reactor.callFromThread(stop)
             raise
     return ros
+
+
+def store_on_master(home: str | os.PathLike[str], prefix: str, values: dict[str, Any]) -> None:
+    """Parameter values stored before a launch: a master started for this under ``home``
+    (its ZENROS_HOME) keeps them, and nodes read stored values over their launch file's
+    (system tests move the gateway's fixed ports to free ones this way)."""
+    from .param_client import ParameterClient
+
+    listen = f"tcp/127.0.0.1:{free_port()}"
+    master = Proc([sys.executable, "-m", "zenros.services.master", "-l", listen,
+                   "--prefix", prefix], env={"ZENROS_HOME": os.fspath(home)})
+    try:
+        if not master.wait_line("started", 30):
+            raise RuntimeError(f"master did not start:\n{master.output}")
+        with Context(SessionOptions(connect=[listen]), prefix=prefix) as ctx:
+            client = ParameterClient(ctx, timeout=10.0)
+            if not client.wait_for_master(20):
+                raise RuntimeError("master does not answer")
+            for name, value in values.items():
+                client.set(name, value)
+    finally:
+        master.stop()
 
 
 def start_process(*args: str, env: dict[str, str] | None = None) -> Proc:

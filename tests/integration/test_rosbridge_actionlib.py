@@ -165,3 +165,49 @@ def test_a_zenros_cancel_preempts_the_ros1_server_goal(
         assert result.status is Ros2Status.CANCELED
     finally:
         caller.close()
+
+
+def test_the_ros1_tutorial_server_answers_the_ros1_door(ctx_pair: list[Context],
+                                                        server: RosbridgeServer,
+                                                        ros: roslibpy.Ros) -> None:
+    """roslibjs's examples (setup_examples.launch) run ROS 1's actionlib_tutorials server:
+    order 7 is 7 feedbacks and 9 numbers. The sim's ROS 1 door is that node, a rosbridge
+    client; the ROS 2 action /fibonacci beside it keeps its own answer (8 numbers)."""
+    from zenros.examples.actionlib_fibonacci_server import ActionlibFibonacciServer
+
+    fib = fibonacci_server(ctx_pair[1], 0.02)
+    ros1 = ActionlibFibonacciServer(context=ctx_pair[1], parameter_overrides={
+        "url": f"ws://127.0.0.1:{server.port}/", "period": 0.02})
+    caller = Node("caller", context=ctx_pair[1])
+    try:
+        assert wait_for(lambda: server.node.graph.actions().get("/fibonacci"), TIMEOUT)
+        assert wait_for(lambda: "/fibonacci/goal" in server.bridge.opaque.topics, TIMEOUT)
+        client = ActionClient(ros, "/fibonacci", ROS1_TYPE)  # waits for a status array
+        feedback: list[Any] = []
+        goal = Goal(client, roslibpy.Message({"order": 7}))
+        goal.on("feedback", feedback.append)
+        goal.send()
+        result = goal.wait(TIMEOUT)
+        assert result["sequence"] == [0, 1, 1, 2, 3, 5, 8, 13, 21]
+        assert goal.status["status"] == GoalStatus.SUCCEEDED
+        assert [f["sequence"] for f in feedback] == [
+            [0, 1, 1], [0, 1, 1, 2], [0, 1, 1, 2, 3], [0, 1, 1, 2, 3, 5],
+            [0, 1, 1, 2, 3, 5, 8], [0, 1, 1, 2, 3, 5, 8, 13], [0, 1, 1, 2, 3, 5, 8, 13, 21]]
+        assert "/fibonacci" not in server.bridge.actionlib.proxies  # not the ROS 2 action
+
+        slow = Goal(client, roslibpy.Message({"order": 500}))
+        slow.send()
+        assert wait_for(lambda: slow.status and slow.status["status"] == GoalStatus.ACTIVE,
+                        TIMEOUT)
+        slow.cancel()
+        slow.wait(TIMEOUT)
+        assert slow.status["status"] == GoalStatus.PREEMPTED
+        client.dispose()
+
+        zenros_client = caller.create_action_client(Fibonacci, "/fibonacci")
+        handle = zenros_client.send_goal_async(FibonacciGoal(order=7))
+        assert list(handle.result(TIMEOUT).result.sequence) == [0, 1, 1, 2, 3, 5, 8, 13]
+    finally:
+        caller.close()
+        ros1.close()
+        fib.close()

@@ -1,14 +1,20 @@
-"""CBOR subscriptions (``compression: "cbor"`` and ``"cbor-raw"``): binary frames in the
-reference server's format, read by a real WebSocket client decoding CBOR with cbor2."""
+"""Compressed subscriptions and large messages: ``compression: "cbor"`` and ``"cbor-raw"``
+(binary frames in the reference server's format, read by a real WebSocket client decoding
+CBOR with cbor2), ``"png"`` (decoded as roslibjs does), and a large map that does not hold
+up the small messages published after it."""
 
 from __future__ import annotations
 
+import base64
+import io
 import json
+import math
 import struct
 from typing import Any
 
 import cbor2
 import numpy as np
+from PIL import Image
 from websockets.sync.client import ClientConnection, connect
 from zenros.message import Int8Array, to_array
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
@@ -21,7 +27,7 @@ TIMEOUT = 10.0
 
 
 def ws_of(server: RosbridgeServer) -> ClientConnection:
-    return connect(f"ws://127.0.0.1:{server.port}/", open_timeout=TIMEOUT)
+    return connect(f"ws://127.0.0.1:{server.port}/", open_timeout=TIMEOUT, max_size=None)
 
 
 def first_frame(ws: ClientConnection, publish: Any) -> str | bytes:
@@ -123,3 +129,77 @@ def test_a_topic_of_an_unknown_type_is_sent_as_cbor_of_its_json(server: Rosbridg
             {"op": "publish", "topic": "/floats", "msg": {"data": [1.5, 2.5]}})))
         assert cbor2.loads(frame) == {"op": "publish", "topic": "/floats",
                                       "msg": {"data": [1.5, 2.5]}}
+
+
+def unpack_png(frame: str) -> tuple[dict[str, object], tuple[int, int]]:
+    """What roslibjs does with a ``png`` frame: base64, PNG, RGB bytes, JSON (the ``\\n``
+    padding is JSON whitespace)."""
+    obj = json.loads(frame)
+    assert obj.keys() == {"op", "data"} and obj["op"] == "png"
+    with Image.open(io.BytesIO(base64.b64decode(obj["data"]))) as img:
+        assert img.format == "PNG" and img.mode == "RGB"
+        text = img.tobytes()
+        size = img.size
+    return json.loads(text), size
+
+
+def test_png_compression_decodes_to_the_message(server: RosbridgeServer, robot: Node) -> None:
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    with ws_of(server) as plain, ws_of(server) as png:
+        plain.send(json.dumps({"op": "subscribe", "topic": "/map",
+                               "type": "nav_msgs/OccupancyGrid"}))
+        png.send(json.dumps({"op": "subscribe", "topic": "/map",
+                             "type": "nav_msgs/OccupancyGrid", "compression": "png"}))
+        frame = first_frame(png, lambda: maps.publish(grid()))
+        assert isinstance(frame, str)  # a text frame, as the reference sends it
+        decoded, (width, height) = unpack_png(frame)
+        assert decoded["op"] == "publish" and decoded["topic"] == "/map"
+        msg = decoded["msg"]
+        assert isinstance(msg, dict)
+        assert msg["data"] == list(range(-1, 99)) and msg["info"]["width"] == 10
+        reference = json.loads(first_frame(plain, lambda: maps.publish(grid())))
+        assert {**msg, "header": None} == {**reference["msg"], "header": None}
+        # the reference's layout: floor(sqrt(n / 3)) pixels wide, 3 bytes a pixel
+        n = len(json.dumps(decoded, separators=(",", ":")).encode())
+        assert width == math.floor(math.sqrt(n / 3)) and height == math.ceil(n / 3 / width)
+
+
+def big_map(side: int = 1448) -> OccupancyGrid:
+    cells = np.zeros((side, side), dtype=np.int8)
+    cells[::7, :] = 100
+    msg = OccupancyGrid(data=to_array(Int8Array, cells.reshape(-1)))
+    msg.info.width = msg.info.height = side
+    return msg
+
+
+def test_a_small_message_overtakes_a_large_one(server: RosbridgeServer, robot: Node) -> None:
+    """A 2 MB map (5 MB of JSON) published just before an odometry message: the odometry
+    is sent while the map is still being encoded and then sent in fragments."""
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    odoms = robot.create_publisher(Odometry, "/odom")
+    with ws_of(server) as ws:
+        ws.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"}))
+        first_frame(ws, lambda: odoms.publish(Odometry()))
+        ws.send(json.dumps({"op": "subscribe", "topic": "/map", "type": "nav_msgs/OccupancyGrid",
+                            "fragment_size": 100_000}))
+        frame = first_frame(ws, lambda: maps.publish(big_map(50)))  # the map's subscription
+        while json.loads(frame).get("topic") != "/map":  # is in place
+            frame = ws.recv(timeout=TIMEOUT)
+        maps.publish(big_map())
+        odom = Odometry()
+        odom.pose.pose.position.x = 7.0
+        odoms.publish(odom)
+        order: list[str] = []
+        parts: dict[int, str] = {}
+        while True:
+            frame = json.loads(ws.recv(timeout=TIMEOUT))
+            if frame["op"] == "fragment":
+                order.append("fragment")
+                parts[frame["num"]] = frame["data"]
+                if len(parts) == frame["total"]:
+                    break
+            elif frame.get("topic") == "/odom" and frame["msg"]["pose"]["pose"]["position"]["x"]:
+                order.append("odom")
+        assert "odom" in order and order.index("odom") < len(order) - 1, order
+        whole = json.loads("".join(parts[i] for i in range(len(parts))))
+        assert whole["topic"] == "/map" and len(whole["msg"]["data"]) == 1448 * 1448

@@ -28,10 +28,7 @@ from typing import IO
 
 import pytest
 from docs_commands import Block, Command, doc_blocks, doc_pages
-from zenros.context import Context
-from zenros.param_client import ParameterClient
-from zenros.session import SessionOptions
-from zenros.testing import Proc, free_port, unique_prefix
+from zenros.testing import Proc, free_port, store_on_master, unique_prefix
 
 pytestmark = pytest.mark.system
 
@@ -67,8 +64,9 @@ def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
            "ZENROS_CONNECT": endpoint,
            "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
     ports = {name: free_port() for name in GATEWAY_PORTS}
-    _store_on_master(env, {f"/gateway/{k}": v for k, v in ports.items()}
-                     | {"/gateway/discovery_port": -1})
+    # stored before the launch: nodes read stored values over their launch file's
+    store_on_master(env["ZENROS_HOME"], env["ZENROS_PREFIX"],
+                    {f"/gateway/{k}": v for k, v in ports.items()} | {"/gateway/discovery_port": -1})
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
                  str(ROOT / "deploy" / "launch" / "sim.yaml")],
                 env={k: env[k] for k in ("ZENROS_HOME", "ZENROS_PREFIX", "ZENROS_CONNECT")})
@@ -77,23 +75,6 @@ def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
         yield Sim(env, workdir, {GATEWAY_PORTS[k]: v for k, v in ports.items()})
     finally:
         proc.stop(timeout=30)
-
-
-def _store_on_master(env: dict[str, str], values: dict[str, object]) -> None:
-    """Values stored before the launch: master keeps them in ZENROS_HOME, and nodes read
-    stored values over their launch file's."""
-    listen = f"tcp/127.0.0.1:{free_port()}"
-    master = Proc([sys.executable, "-m", "zenros.services.master", "-l", listen,
-                   "--prefix", env["ZENROS_PREFIX"]], env={"ZENROS_HOME": env["ZENROS_HOME"]})
-    try:
-        assert master.wait_line("started", 30), master.output
-        with Context(SessionOptions(connect=[listen]), prefix=env["ZENROS_PREFIX"]) as ctx:
-            client = ParameterClient(ctx, timeout=10.0)
-            assert client.wait_for_master(20)
-            for name, value in values.items():
-                client.set(name, value)
-    finally:
-        master.stop()
 
 
 def _all_ready(proc: Proc, timeout: float) -> bool:

@@ -18,10 +18,9 @@ import pytest
 from zenros.context import Context
 from zenros.msgs.rosgraph_msgs import Clock
 from zenros.node import Node
-from zenros.param_client import ParameterClient
 from zenros.qos import QOS_SENSOR
 from zenros.session import SessionOptions
-from zenros.testing import Proc, free_port, unique_prefix, wait_for
+from zenros.testing import Proc, free_port, store_on_master, unique_prefix, wait_for
 
 pytestmark = pytest.mark.system
 
@@ -29,26 +28,11 @@ ROOT = Path(__file__).resolve().parents[2]
 GATEWAY_PORTS = ("rest_port", "ws_port", "modbus_port", "rosbridge_port")
 
 
-def _store_on_master(home: Path, prefix: str, values: dict[str, object]) -> None:
-    listen = f"tcp/127.0.0.1:{free_port()}"
-    master = Proc([sys.executable, "-m", "zenros.services.master", "-l", listen,
-                   "--prefix", prefix], env={"ZENROS_HOME": str(home)})
-    try:
-        assert master.wait_line("started", 30), master.output
-        with Context(SessionOptions(connect=[listen]), prefix=prefix) as ctx:
-            client = ParameterClient(ctx, timeout=10.0)
-            assert client.wait_for_master(20)
-            for name, value in values.items():
-                client.set(name, value)
-    finally:
-        master.stop()
-
-
 @pytest.fixture
 def sim_at_10x(tmp_path: Path) -> Iterator[tuple[Proc, str, str]]:
     home, prefix = tmp_path / "home", unique_prefix()
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    _store_on_master(home, prefix, {f"/gateway/{k}": free_port() for k in GATEWAY_PORTS}
+    store_on_master(home, prefix, {f"/gateway/{k}": free_port() for k in GATEWAY_PORTS}
                      | {"/gateway/discovery_port": -1})
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
                  str(ROOT / "deploy" / "launch" / "sim.yaml"), "speed:=10"],

@@ -1,5 +1,10 @@
 """`FoxgloveBridge`: every typed topic of the graph as a Foxglove channel, fed by a zenros
-subscription while a Foxglove client subscribes; client-published channels go to zenros."""
+subscription while a Foxglove client subscribes; client-published channels go to zenros.
+
+A large message (a map) is encoded on a worker thread, a slice at a time
+(`zenros.json_chunks`): Zenoh's thread, which brings the small topics' messages too, hands
+it over and returns, and the SDK's sender (Rust, per client) keeps sending meanwhile.
+"""
 
 from __future__ import annotations
 
@@ -17,6 +22,7 @@ except ModuleNotFoundError as exc:  # the optional extra is not installed
         f"{__name__} needs foxglove-sdk, the extra zenros[foxglove]: pip install 'zenros[foxglove]'"
         f" ({exc})", name=exc.name) from exc
 from zenros.errors import StartupError, UnknownTypeError, ZenrosError
+from zenros.json_chunks import BulkEncoder, encode_yielding, is_bulky
 from zenros.message import Message, lookup_type
 from zenros.names import Token
 from zenros.node import Node
@@ -51,6 +57,7 @@ class FoxgloveBridge:
         self._client_pubs: dict[tuple[int, int], Any] = {}
         self._server: WebSocketServer | None = None
         self._unlisten: Any = None
+        self._bulk = BulkEncoder("foxglove-encode")
 
     def start(self) -> None:
         """Start the server and advertise the graph's topics (and follow it from then on).
@@ -125,10 +132,31 @@ class FoxgloveBridge:
                 del self._subs[channel.id]
                 self.node.destroy(entry[0])
 
-    @staticmethod
-    def _logger_for(chan: Channel) -> Any:
-        def log(msg: Message) -> None:
-            chan.log(encode_message(msg), log_time=time.time_ns())
+    def _logger_for(self, chan: Channel) -> Any:
+        in_worker = [0]  # this channel's messages on the bulk encoder: later ones follow them
+        lock = threading.Lock()
+
+        def log_now(data: bytes, stamp: int) -> None:
+            chan.log(data, log_time=stamp)
+
+        def off_thread(msg: Message, stamp: int, bulky: bool) -> None:
+            try:
+                data = encode_yielding(msg) if bulky else encode_message(msg)
+            finally:
+                with lock:
+                    in_worker[0] -= 1
+            log_now(data, stamp)
+
+        def log(msg: Message) -> None:  # on Zenoh's thread
+            stamp, bulky = time.time_ns(), is_bulky(msg)
+            with lock:
+                offload = bulky or in_worker[0] > 0
+                if offload:
+                    in_worker[0] += 1
+            if offload:
+                self._bulk.submit(lambda: off_thread(msg, stamp, bulky))
+            else:
+                log_now(encode_message(msg), stamp)
 
         return log
 
@@ -161,6 +189,7 @@ class FoxgloveBridge:
     # ------------------------------------------------------------------ end
 
     def stop(self) -> None:
+        self._bulk.close()
         if self._unlisten is not None:
             self._unlisten()
             self._unlisten = None

@@ -1,7 +1,10 @@
 """`TopicHub`: one zenros subscription per topic, fanned out as JSON text to many clients.
 
 Each client holds only the newest frame (a slot plus an event): a slow client skips to the
-latest message and never holds up the others, the robot, or Zenoh's receive thread.
+latest message and never holds up the others, the robot, or Zenoh's receive thread. A large
+message (a map: 100-160 ms of JSON encoding in one C call that keeps the GIL) is encoded on
+a worker thread, a slice at a time (`zenros.json_chunks`), so the small topics' messages
+keep flowing meanwhile.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from typing import Any
 import msgspec
 from zenros.codec import from_builtins, json_bytes
 from zenros.errors import DecodeError, UnknownTypeError
+from zenros.json_chunks import BulkEncoder, encode_yielding, is_bulky
 from zenros.message import Message, lookup_type
 from zenros.node import Node
 from zenros.pubsub import Publisher, Subscription
@@ -55,6 +59,7 @@ class _Feed:
         self.msg_type = msg_type
         self.slots: list[Slot] = []
         self.last: str | None = None
+        self.in_worker = 0  # messages on the bulk encoder: later ones follow them
 
 
 class TopicHub:
@@ -65,6 +70,7 @@ class TopicHub:
         self._feeds: dict[str, _Feed] = {}
         self._pubs: dict[str, Publisher[Any]] = {}
         self._lock = threading.Lock()
+        self._bulk = BulkEncoder("topic-hub-encode")
 
     def resolve(self, path: str) -> str:
         """The topic a URL path names (relative to the robot's namespace)."""
@@ -126,8 +132,26 @@ class TopicHub:
             feed = self._feeds.get(topic)
             return list(feed.slots) if feed is not None else []
 
-    def _on_message(self, feed: _Feed, msg: Message) -> None:
-        frame = json_bytes(msg).decode()  # straight to JSON, one pass
+    def _on_message(self, feed: _Feed, msg: Message) -> None:  # on Zenoh's thread
+        bulky = is_bulky(msg)
+        with self._lock:
+            offload = bulky or feed.in_worker > 0
+            if offload:
+                feed.in_worker += 1
+        if offload:
+            self._bulk.submit(lambda: self._encode_off_thread(feed, msg, bulky))
+        else:
+            self._fan_out(feed, json_bytes(msg).decode())  # straight to JSON, one pass
+
+    def _encode_off_thread(self, feed: _Feed, msg: Message, bulky: bool) -> None:
+        try:
+            frame = (encode_yielding(msg) if bulky else json_bytes(msg)).decode()
+        finally:
+            with self._lock:
+                feed.in_worker -= 1
+        self._fan_out(feed, frame)
+
+    def _fan_out(self, feed: _Feed, frame: str) -> None:
         with self._lock:
             feed.last = frame
             slots = list(feed.slots)

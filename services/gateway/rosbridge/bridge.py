@@ -8,15 +8,16 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Protocol
 
-from zenros.errors import InvalidNameError, UnknownTypeError
+from zenros.errors import InvalidNameError, UnknownTypeError, ZenrosError
+from zenros.json_chunks import BulkEncoder, is_bulky
 from zenros.message import ActionType, Message, ServiceType, lookup_type, normalize_type_name
 from zenros.node import Node
 from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 
 from .actionlib import ActionlibBridge
-from .cbor import cbor_frame, cbor_raw_frame
-from .convert import encode_message, long_type, publish_frame
+from .convert import long_type
+from .encodings import Encodings
 from .opaque import OpaqueTopics
 from .rosapi import Rosapi
 from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
@@ -34,13 +35,17 @@ class BridgeError(ValueError):
 
 
 Encode = Callable[[str], bytes]
-"""The message of a topic frame in another format (``cbor``, ``cbor-raw``), encoded once."""
+"""A topic message as a frame of the format named (encodings.py), encoded once per format."""
 
 
 class Sink(Protocol):
-    """A client that receives topic frames (``encode``: the same message as CBOR)."""
+    """A client that receives topic frames."""
 
-    def deliver(self, topic: str, frame: bytes, encode: Encode | None = None) -> None: ...
+    def deliver(self, topic: str, encode: Encode) -> None: ...
+
+    def format_of(self, topic: str) -> str:
+        """The format (`FORMATS`) this client takes ``topic`` in."""
+        ...
 
 
 def qos_for_publishers(tags: list[str]) -> QoSProfile:
@@ -58,7 +63,10 @@ def qos_for_publishers(tags: list[str]) -> QoSProfile:
 
 
 class TopicFeed:
-    """One subscription shared by every client on a topic; encodes each message once."""
+    """One subscription shared by every client on a topic; encodes each message once per
+    format. A large message (a map, a cloud) is encoded on the bridge's worker thread, a
+    slice at a time, in the formats its clients take: neither Zenoh's thread (which brings
+    the small messages too) nor the loop (which sends them) waits for it."""
 
     def __init__(self, bridge: Bridge, topic: str, msg_type: type[Message]) -> None:
         self.topic = topic
@@ -66,8 +74,10 @@ class TopicFeed:
         self.type_name = normalize_type_name(msg_type.__msgtype__)
         self.sinks: set[Sink] = set()
         self._loop = bridge.loop
+        self._bulk = bridge.bulk
         self._lock = threading.Lock()
-        self._pending: list[tuple[bytes, Message]] = []
+        self._pending: list[Encodings] = []
+        self._in_worker = 0  # messages of this topic on the worker: later ones follow them
         self._now = bridge.node.now
         self._scheduled = False
         tags = [t.qos for t in bridge.node.graph.publishers(topic)]
@@ -75,9 +85,33 @@ class TopicFeed:
             msg_type, topic, self._on_message, qos_for_publishers(tags))
 
     def _on_message(self, msg: Message) -> None:  # on Zenoh's thread
-        frame = publish_frame(self.topic, encode_message(msg))
+        bulky = is_bulky(msg)
+        encodings = Encodings(self.topic, msg, now=self._now, bulky=bulky)
         with self._lock:
-            self._pending.append((frame, msg))
+            offload = bulky or self._in_worker > 0
+            if offload:
+                self._in_worker += 1
+        if offload:
+            self._bulk.submit(lambda: self._encode_off_loop(encodings))
+            return
+        encodings("json")  # small: at once, here (most clients take JSON)
+        self._queue(encodings)
+
+    def _encode_off_loop(self, encodings: Encodings) -> None:  # on the worker
+        try:
+            for fmt in {sink.format_of(self.topic) for sink in tuple(self.sinks)}:
+                try:
+                    encodings(fmt)
+                except (ValueError, TypeError, ZenrosError):
+                    pass  # reported to each client that asks for it (ClientProtocol.deliver)
+        finally:
+            with self._lock:
+                self._in_worker -= 1
+        self._queue(encodings)
+
+    def _queue(self, encodings: Encodings) -> None:
+        with self._lock:
+            self._pending.append(encodings)
             if self._scheduled:
                 return
             self._scheduled = True
@@ -88,26 +122,12 @@ class TopicFeed:
 
     def _fan_out(self) -> None:
         with self._lock:
-            frames, self._pending = self._pending, []
+            batch, self._pending = self._pending, []
             self._scheduled = False
         sinks = tuple(self.sinks)
-        for frame, msg in frames:
-            encode = self._encoder(msg)
+        for encodings in batch:
             for sink in sinks:
-                sink.deliver(self.topic, frame, encode)
-
-    def _encoder(self, msg: Message) -> Encode:
-        """Encodes ``msg`` as ``cbor`` or ``cbor-raw`` on first demand, once per format."""
-        done: dict[str, bytes] = {}
-
-        def encode(fmt: str) -> bytes:
-            frame = done.get(fmt)
-            if frame is None:
-                frame = done[fmt] = (cbor_raw_frame(self.topic, msg, self._now())
-                                     if fmt == "cbor-raw" else cbor_frame(self.topic, msg))
-            return frame
-
-        return encode
+                sink.deliver(self.topic, encodings)
 
 
 class Bridge:
@@ -119,6 +139,8 @@ class Bridge:
     def __init__(self, node: Node, loop: asyncio.AbstractEventLoop) -> None:
         self.node = node
         self.loop = loop
+        self.bulk = BulkEncoder("rosbridge-encode")
+        """Encodes large messages off Zenoh's thread and off the loop (TopicFeed)."""
         self.feeds: dict[str, TopicFeed] = {}
         self.publishers: dict[str, tuple[Publisher[Any], set[object]]] = {}
         self._clients: dict[tuple[str, str], Client] = {}
@@ -255,6 +277,7 @@ class Bridge:
         self.node.destroy(endpoint)
 
     def close(self) -> None:
+        self.bulk.close()
         self.tf_republisher.close()
         self.actionlib.close()
         for topic in list(self.feeds):

@@ -21,7 +21,6 @@ from typing import Any
 from zenros.errors import ZenrosError
 
 from .bridge import Bridge, BridgeError, Encode
-from .cbor import cbor_frame_from_json
 from .convert import dumps
 from .fragments import Defragmenter, FragmentError
 from .frames import OpError, SubOptions
@@ -59,7 +58,8 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self.level = LEVELS["none"]
         self.subs: dict[str, dict[Any, SubOptions]] = {}
         self.compression: dict[str, str] = {}
-        """Topics sent as CBOR (``cbor`` or ``cbor-raw``), the others as JSON."""
+        """Topics sent compressed (``png``, ``cbor`` or ``cbor-raw``), the others as JSON
+        (encodings.py)."""
         self.advertised: set[str] = set()
         self.services: dict[str, Any] = {}
         self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
@@ -94,19 +94,19 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
 
     # ------------------------------------------------------------------ in and out
 
-    def deliver(self, topic: str, frame: bytes, encode: Encode | None = None) -> None:
-        """A topic frame from the bridge (on the loop); as CBOR if the client asked for it
-        (``encode`` makes it from the message; a frame of an unchecked type from its JSON)."""
-        fmt = self.compression.get(topic)
-        if fmt is not None:
-            try:
-                frame = encode(fmt) if encode is not None else \
-                    cbor_frame_from_json(json.loads(frame))
-            except (ValueError, TypeError, ZenrosError) as exc:
-                self.report("error", f"{topic}: cannot encode as {fmt}: {exc}")
-                return
+    def deliver(self, topic: str, encode: Encode) -> None:
+        """A topic message from the bridge (on the loop), in the format this client takes."""
+        fmt = self.format_of(topic)
+        try:
+            frame = encode(fmt)
+        except (ValueError, TypeError, ZenrosError) as exc:
+            self.report("error", f"{topic}: cannot encode as {fmt}: {exc}")
+            return
         if self.outbox.publish(topic, frame, self._congested()):
             self._wake()
+
+    def format_of(self, topic: str) -> str:
+        return self.compression.get(topic, "json")
 
     def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None:
         """Queue a reply frame (never dropped)."""

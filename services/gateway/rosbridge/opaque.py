@@ -17,6 +17,7 @@ from typing import Any
 from zenros.message import normalize_type_name
 
 from .convert import dumps, long_type, publish_frame
+from .encodings import Encodings
 
 __all__ = ["ROS1_DEFAULTS", "OpaqueService", "OpaqueTopic", "OpaqueTopics"]
 
@@ -124,9 +125,10 @@ class OpaqueTopics:
         defaults = ROS1_DEFAULTS.get(normalize_type_name(entry.type_name))
         if defaults is not None:
             msg = _filled(defaults, msg)
-        frame = publish_frame(topic, dumps(msg if msg is not None else {}))
+        encodings = Encodings(topic, json_frame=publish_frame(
+            topic, dumps(msg if msg is not None else {})))
         for sink in tuple(entry.sinks):
-            sink.deliver(topic, frame)
+            sink.deliver(topic, encodings)
 
     def listeners(self, topic: str) -> int:
         """How many clients subscribe to ``topic``."""

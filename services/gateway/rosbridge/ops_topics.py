@@ -11,10 +11,12 @@ if TYPE_CHECKING:
     from .bridge import Bridge
     from .outbox import Outbox
 
-__all__ = ["CBOR", "TopicOps"]
+__all__ = ["CBOR", "COMPRESSIONS", "TopicOps"]
 
 CBOR = ("cbor", "cbor-raw")
 """The ``compression`` values sent as binary CBOR frames (cbor.py)."""
+COMPRESSIONS = ("png", *CBOR)
+"""The ``compression`` values served; any other is sent as plain JSON, as the reference does."""
 
 
 class TopicOps:
@@ -27,7 +29,9 @@ class TopicOps:
     compression: dict[str, str]
 
     if TYPE_CHECKING:  # provided by ClientProtocol (which makes it a bridge `Sink`)
-        def deliver(self, topic: str, frame: bytes, encode: Any = None) -> None: ...
+        def deliver(self, topic: str, encode: Any) -> None: ...
+
+        def format_of(self, topic: str) -> str: ...
 
     def op_advertise(self, frame: dict[str, Any]) -> None:
         topic = frame_name(frame, "topic")
@@ -75,11 +79,11 @@ class TopicOps:
         type_name = frame.get("type")
         if type_name is not None and not isinstance(type_name, str):
             raise OpError("Expected 'type' to be a string")
-        compression = frame.get("compression")  # png, and anything else, is sent as JSON
+        compression = frame.get("compression")
         opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
                           queue_length=frame_int(frame, "queue_length"),
                           fragment_size=frame_int(frame, "fragment_size"),
-                          compression=compression if compression in CBOR else "none")
+                          compression=compression if compression in COMPRESSIONS else "none")
         opaque = self.bridge.opaque.topics.get(topic)
         if topic not in self.subs:
             if type_name and not self.bridge.known(type_name):  # unchecked, between clients
@@ -104,8 +108,8 @@ class TopicOps:
         self.outbox.configure(topic, min(o.throttle_rate for o in opts),
                               max(o.queue_length for o in opts),
                               min(fragments) if fragments else 0)
-        wanted = {o.compression for o in opts}  # as the reference: cbor-raw, then cbor wins
-        fmt = "cbor-raw" if "cbor-raw" in wanted else "cbor" if "cbor" in wanted else None
+        wanted = {o.compression for o in opts}  # as the reference: cbor-raw, cbor, png, none
+        fmt = next((f for f in ("cbor-raw", "cbor", "png") if f in wanted), None)
         if fmt is None:
             self.compression.pop(topic, None)
         else:

@@ -1,11 +1,19 @@
-"""`Outbox`: one client's outgoing frames, with per-topic throttling and keep-newest queues.
+"""`Outbox`: one client's outgoing scheduler: per-topic throttling and keep-newest queues,
+and a lane of its own for large frames so they never hold up the small ones.
 
 Replies (service responses, action results, ...) are never dropped. Topic frames wait in one
 queue per subscribed topic: while the client keeps up they all go out; once its socket backs
 up (``congested``), each topic keeps only its newest ``queue_length`` frames (at least one),
 so a slow client sees fresh data late rather than stale data forever, and publishers are
 never held up. ``throttle_rate`` (ms) spaces a topic's frames; with a throttle, frames that
-arrive in between wait in the same bounded queue, as rosbridge does.
+arrive in between wait in the same bounded queue, as rosbridge does. A queue also holds at
+most `QUEUE_BYTES` (beyond its newest ``queue_length`` frames).
+
+Frames larger than `BIG` (a map, a cloud) are not sent with the others (`take`): the writer
+takes them one piece at a time (`take_bulk`), after every small frame that is waiting, and
+waits for the socket to drain after each piece. A piece is the whole frame, or, for a
+client that subscribed with ``fragment_size``, one ``fragment`` frame: small frames then go
+out between the fragments of a large message. Topics with large frames take turns.
 """
 
 from __future__ import annotations
@@ -14,10 +22,14 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-__all__ = ["BURST_LIMIT", "Outbox", "TopicQueue"]
+__all__ = ["BIG", "BURST_LIMIT", "QUEUE_BYTES", "Outbox", "TopicQueue"]
 
 BURST_LIMIT = 1000
 """Frames a topic may hold for a client that is not (yet) congested: a hard memory bound."""
+BIG = 64 * 1024
+"""Frames longer than this (bytes) go out through the large-frame lane (`Outbox.take_bulk`)."""
+QUEUE_BYTES = 32 * 1024 * 1024
+"""Bytes a topic's queue may hold beyond its newest ``queue_length`` frames."""
 
 Frame = bytes
 Out = tuple[bytes, int]
@@ -34,6 +46,7 @@ class TopicQueue:
     frames: deque[Frame] = field(default_factory=deque)
     last_sent: float = float("-inf")
     dropped: int = 0
+    size: int = 0  # bytes in frames
 
     @property
     def keep(self) -> int:
@@ -46,10 +59,23 @@ class TopicQueue:
 
     def push(self, frame: Frame, congested: bool) -> None:
         self.frames.append(frame)
+        self.size += len(frame)
         limit = self.keep if (congested or self.throttle > 0) else BURST_LIMIT
-        while len(self.frames) > limit:
-            self.frames.popleft()
+        while len(self.frames) > limit or (self.size > QUEUE_BYTES and
+                                           len(self.frames) > self.keep):
+            self.size -= len(self.frames.popleft())
             self.dropped += 1
+
+    def pop(self, now: float) -> Frame:
+        frame = self.frames.popleft()
+        self.size -= len(frame)
+        self.last_sent = now
+        return frame
+
+    @property
+    def big_next(self) -> bool:
+        """Whether the next frame goes through the large-frame lane."""
+        return bool(self.frames) and len(self.frames[0]) > BIG
 
 
 class Outbox:
@@ -63,6 +89,8 @@ class Outbox:
         self._clock = clock
         self.replies: deque[Out] = deque()
         self.topics: dict[str, TopicQueue] = {}
+        self._pieces: deque[bytes] = deque()  # the rest of the large frame being sent
+        self._turn = 0  # the topic whose large frame goes next (round robin)
 
     def configure(self, topic: str, throttle_ms: float, queue_length: int,
                   fragment_size: int = 0) -> None:
@@ -95,7 +123,10 @@ class Outbox:
         return sum(q.dropped for q in self.topics.values())
 
     def take(self) -> tuple[list[Out], float | None]:
-        """Frames to send now, and when to look again for throttled ones (None: on push)."""
+        """Frames to send now, and when to look again for throttled ones (None: on push).
+
+        A topic's large frames stay queued (in order with its small ones) for `take_bulk`.
+        """
         now = self._clock()
         out = list(self.replies)
         self.replies.clear()
@@ -104,16 +135,28 @@ class Outbox:
             if not q.frames:
                 continue
             if q.throttle <= 0:
-                out.extend((f, q.fragment_size) for f in q.frames)
-                q.frames.clear()
-                q.last_sent = now
+                while q.frames and not q.big_next:
+                    out.append((q.pop(now), q.fragment_size))
                 continue
             due = q.due(now)
-            if due <= now:
-                out.append((q.frames.popleft(), q.fragment_size))
-                q.last_sent = now
-                if q.frames:
-                    due = now + q.throttle
+            if due <= now and not q.big_next:
+                out.append((q.pop(now), q.fragment_size))
+                due = now + q.throttle
             if q.frames:
                 wake = due if wake is None else min(wake, due)
         return out, wake
+
+    def take_bulk(self, split: Callable[[bytes, int], list[bytes]]) -> bytes | None:
+        """The next piece of a large frame, or None: the rest of the frame being sent, else
+        the first piece (``split(frame, fragment_size)``) of the next topic's due one."""
+        if self._pieces:
+            return self._pieces.popleft()
+        now = self._clock()
+        queues = list(self.topics.values())
+        for i in range(len(queues)):
+            q = queues[(self._turn + i) % len(queues)]
+            if q.big_next and q.due(now) <= now:
+                self._turn = (self._turn + i + 1) % len(queues)
+                self._pieces.extend(split(q.pop(now), q.fragment_size))
+                return self._pieces.popleft()
+        return None

@@ -89,11 +89,12 @@ class RosbridgeServer:
 
     async def _connection(self, ws: ServerConnection) -> None:
         wake = asyncio.Event()
-        client = ClientProtocol(self.bridge, next(self._ids), wake.set, lambda: _congested(ws),
+        lane = _Lane(ws)
+        client = ClientProtocol(self.bridge, next(self._ids), wake.set, lane.congested,
                                 self.logger)
         self.clients.add(client)
         self.logger.info("client %d connected from %s", client.client_id, ws.remote_address)
-        writer = asyncio.create_task(self._write(ws, client, wake))
+        writer = asyncio.create_task(self._write(ws, client, wake, lane))
         try:
             async for message in ws:
                 client.incoming(message)
@@ -106,9 +107,10 @@ class RosbridgeServer:
             self.logger.info("client %d disconnected", client.client_id)
 
     async def _write(self, ws: ServerConnection, client: ClientProtocol,
-                     wake: asyncio.Event) -> None:
+                     wake: asyncio.Event, lane: _Lane) -> None:
+        """Sends what the client's `Outbox` gives: every small frame that waits, then one
+        piece of a large frame (then waits for the socket to drain), and again."""
         loop = asyncio.get_running_loop()
-
         try:
             while True:
                 wake.clear()
@@ -120,6 +122,14 @@ class RosbridgeServer:
                             await ws.send(part, text=text)
                         else:  # written at once, no task switch per frame
                             broadcast((ws,), part, text=text)
+                piece = client.outbox.take_bulk(_split)
+                if piece is not None:
+                    lane.in_flight = len(piece)  # not congestion: the frame we just wrote
+                    try:
+                        await ws.send(piece, text=not isinstance(piece, BinaryFrame))
+                    finally:
+                        lane.in_flight = 0
+                    continue
                 if frames:
                     continue
                 if due is None:
@@ -186,6 +196,26 @@ class RosbridgeServer:
             thread.join(timeout)
         self._thread = None
 
+
+
+class _Lane:
+    """A client's socket, and the large frame being written to it (not congestion)."""
+
+    def __init__(self, ws: ServerConnection) -> None:
+        self.ws = ws
+        self.in_flight = 0
+
+    def congested(self) -> bool:
+        transport: Any = self.ws.transport
+        return bool(transport.get_write_buffer_size() > CONGESTED_BYTES + self.in_flight)
+
+
+def _split(frame: bytes, size: int) -> list[bytes]:
+    """A large frame as the pieces it is sent in: ``fragment`` frames of ``size`` characters
+    for a client that asked for them (text only: CBOR goes whole), else the frame."""
+    if size and not isinstance(frame, BinaryFrame):
+        return fragment(frame, size)
+    return [frame]
 
 
 def _congested(ws: ServerConnection) -> bool:

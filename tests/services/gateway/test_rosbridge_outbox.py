@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from zenros.services.gateway.rosbridge.outbox import BURST_LIMIT, Outbox
+from zenros.services.gateway.rosbridge.outbox import BIG, BURST_LIMIT, QUEUE_BYTES, Outbox
 
 
 class Clock:
@@ -81,3 +81,68 @@ def test_reconfigure_and_remove() -> None:
     assert frames(box.take()[0]) == [b"x"]
     box.remove("/a")
     assert not box.publish("/a", b"y", congested=False)
+
+
+def split_in(size: int):  # type: ignore[no-untyped-def]
+    def split(frame: bytes, fragment_size: int) -> list[bytes]:
+        n = fragment_size or len(frame)
+        return [frame[i:i + n] for i in range(0, len(frame), n)]
+    return split
+
+
+def test_large_frames_wait_for_the_bulk_lane_and_small_ones_pass_them() -> None:
+    box = Outbox(Clock())
+    box.configure("/map", 0, 0)
+    box.configure("/odom", 0, 0)
+    big = b"m" * (BIG + 1)
+    box.publish("/map", big, congested=False)
+    box.publish("/odom", b"o1", congested=False)
+    out, wake = box.take()
+    assert frames(out) == [b"o1"] and wake is None  # the map is not among them
+    assert box.take_bulk(split_in(0)) == big
+    assert box.take_bulk(split_in(0)) is None
+
+
+def test_fragments_of_a_large_frame_interleave_with_small_frames() -> None:
+    box = Outbox(Clock())
+    box.configure("/map", 0, 0, fragment_size=BIG // 2)
+    box.configure("/odom", 0, 0)
+    big = b"m" * (BIG * 2)
+    box.publish("/map", big, congested=False)
+    sent: list[bytes] = []
+    split = split_in(0)
+    for i in range(4):
+        box.publish("/odom", b"o%d" % i, congested=False)
+        out, _ = box.take()
+        sent += frames(out)
+        piece = box.take_bulk(split)
+        assert piece is not None
+        sent.append(piece)
+    assert box.take_bulk(split) is None
+    assert [len(p) if p.startswith(b"m") else p for p in sent] == [
+        b"o0", BIG // 2, b"o1", BIG // 2, b"o2", BIG // 2, b"o3", BIG // 2]
+
+
+def test_a_topic_keeps_its_order_around_a_large_frame() -> None:
+    box = Outbox(Clock())
+    box.configure("/map", 0, 0)
+    big = b"m" * (BIG + 1)
+    box.publish("/map", b"small-before", congested=False)
+    box.publish("/map", big, congested=False)
+    box.publish("/map", b"small-after", congested=False)
+    assert frames(box.take()[0]) == [b"small-before"]
+    assert box.take_bulk(split_in(0)) == big
+    assert frames(box.take()[0]) == [b"small-after"]
+
+
+def test_large_frames_are_bounded_in_bytes_and_keep_the_newest() -> None:
+    box = Outbox(Clock())
+    box.configure("/map", 0, 1)
+    frames_in = [bytes([65 + i]) * (QUEUE_BYTES // 4) for i in range(8)]
+    for f in frames_in:
+        box.publish("/map", f, congested=False)
+    assert box.dropped > 0
+    got = []
+    while (piece := box.take_bulk(split_in(0))) is not None:
+        got.append(piece)
+    assert got[-1] == frames_in[-1] and sum(map(len, got)) <= QUEUE_BYTES + len(frames_in[-1])

@@ -1,0 +1,228 @@
+"""Large-message fairness, for bench/rosbridge.py: /odom's delivery age beside a 2 MB map.
+
+One gateway child serves the three doors (rosbridge 9090-style, the topic WebSocket 3547-style,
+Foxglove when foxglove-sdk is installed). The parent publishes nav_msgs/Odometry on /odom at
+50 Hz (its send time, monotonic clock, in ``pose.pose.position.z``; the phase in ``.x``) and,
+in the second phase only, a 2 MB OccupancyGrid on /map at 1 Hz. Five client processes
+hold a WebSocket client each on one door, each subscribed to both topics (plain JSON, no
+fragments, no compression: the case a browser asks for); each reads every frame, parses
+/odom's and records its age at arrival. The map frames are read whole but not parsed: a
+Python parse of 5 MB of JSON takes 0.4 s and would measure the client, not the server.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import os
+import struct
+import sys
+import tempfile
+import threading
+import time
+from typing import Any
+
+from _harness import Child, free_port, percentile, unique_prefix
+
+WARMUP, PLAIN, WITH_MAP, END = 0.0, 1.0, 2.0, 3.0
+ODOM_HZ, MAP_HZ = 50.0, 1.0
+
+
+# ------------------------------------------------------------------ children
+
+
+def child_gateway(zport: int, prefix: str, foxglove: bool) -> None:
+    """A gateway on free ports (rosbridge, topic WebSocket, Foxglove); prints them."""
+    from zenros.context import Context
+    from zenros.services.gateway.testing import running_gateway
+    from zenros.testing import loopback_options
+
+    ctx = Context(loopback_options(zport), prefix=prefix)
+    with tempfile.TemporaryDirectory() as home, running_gateway(
+            ctx, __import__("pathlib").Path(home), no_token_check=True,
+            foxglove_port=0 if foxglove else -1) as gw:
+        fox = gw.foxglove.port if gw.foxglove is not None else 0
+        print("ready", json.dumps({"rosbridge": gw.rosbridge.port if gw.rosbridge else 0,
+                                   "topicws": gw.ws_port, "foxglove": fox}), flush=True)
+        sys.stdin.readline()
+    ctx.close()
+
+
+def _odom_of(door: str, data: bytes | str) -> dict[str, Any] | None:
+    """The Odometry in a frame of ``door``, or None for any other frame."""
+    if door == "foxglove":
+        if isinstance(data, str) or not data or data[0] != 1:
+            return None
+        sub = struct.unpack_from("<I", data, 1)[0]
+        if sub != 1:
+            return None
+        obj: dict[str, Any] = json.loads(data[13:])
+        return obj
+    raw = data.encode() if isinstance(data, str) else data
+    if door == "rosbridge":
+        if not raw.startswith(b'{"op":"publish","topic":"/odom"'):
+            return None
+        msg: dict[str, Any] = json.loads(raw)["msg"]
+        return msg
+    if len(raw) > 100_000:
+        return None
+    return json.loads(raw)  # type: ignore[no-any-return]
+
+
+async def _client(door: str, port: int, ages: dict[float, list[float]],
+                  warm: asyncio.Event, ended: asyncio.Event) -> None:
+    from websockets.asyncio.client import connect
+
+    url = f"ws://127.0.0.1:{port}/"
+    conns = []
+    if door == "rosbridge":
+        ws = await connect(url, max_size=None, compression=None)
+        for topic, typ in (("/odom", "nav_msgs/Odometry"), ("/map", "nav_msgs/OccupancyGrid")):
+            await ws.send(json.dumps({"op": "subscribe", "topic": topic, "type": typ}))
+        conns = [ws]
+    elif door == "topicws":  # one connection per topic
+        conns = [await connect(url + t, max_size=None, compression=None) for t in ("odom", "map")]
+    else:
+        ws = await connect(url, max_size=None, compression=None,
+                           subprotocols=["foxglove.sdk.v1"])  # type: ignore[list-item]
+        channels: dict[str, int] = {}
+        while len(channels) < 2:
+            frame = json.loads(await ws.recv())
+            if frame.get("op") == "advertise":
+                channels.update({c["topic"]: c["id"] for c in frame["channels"]
+                                 if c["topic"] in ("/odom", "/map")})
+        await ws.send(json.dumps({"op": "subscribe", "subscriptions": [
+            {"id": 1, "channelId": channels["/odom"]}, {"id": 2, "channelId": channels["/map"]}]}))
+        conns = [ws]
+
+    async def read(ws: Any) -> None:
+        async for data in ws:
+            now = time.monotonic()
+            msg = _odom_of(door, data)
+            if msg is None:
+                continue
+            pos = msg["pose"]["pose"]["position"]
+            ages.setdefault(pos["x"], []).append(now - pos["z"])
+            if pos["x"] == WARMUP:
+                warm.set()
+            elif pos["x"] == END:
+                ended.set()
+                return
+
+    readers = [asyncio.ensure_future(read(ws)) for ws in conns]
+    await ended.wait()
+    for r in readers:
+        r.cancel()
+    for ws in conns:
+        await ws.close()
+
+
+def child_clients(door: str, port: int, n: int) -> None:
+    """``n`` clients of ``door``: "ready" once each heard /odom, then the ages (s) of each
+    phase as JSON."""
+
+    async def main() -> None:
+        ages: list[dict[float, list[float]]] = [{} for _ in range(n)]
+        warm = [asyncio.Event() for _ in range(n)]
+        ended = [asyncio.Event() for _ in range(n)]
+        tasks = [asyncio.ensure_future(_client(door, port, ages[i], warm[i], ended[i]))
+                 for i in range(n)]
+        await asyncio.wait_for(asyncio.gather(*(w.wait() for w in warm)), 60)
+        print("ready", flush=True)
+        await asyncio.wait(tasks, timeout=120)  # on a starved machine: report what came
+        print(json.dumps({key: [a for c in ages for a in c.get(phase, [])]
+                          for phase, key in ((PLAIN, "without_map"), (WITH_MAP, "with_map"))}),
+              flush=True)
+
+    asyncio.run(main())
+    os._exit(0)
+
+
+# ------------------------------------------------------------------ parent
+
+
+class _Publisher:
+    def __init__(self, zport: int, prefix: str, side: int) -> None:
+        from rosbridge import map_message  # the cbor bench's map
+        from zenros.context import Context
+        from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
+        from zenros.node import Node
+        from zenros.testing import loopback_options
+
+        self._ctx = Context(loopback_options(connect=[zport]), prefix=prefix)
+        self._node = Node("bench_fair", context=self._ctx)
+        self._odom = self._node.create_publisher(Odometry, "/odom")
+        self._map = self._node.create_publisher(OccupancyGrid, "/map")
+        self._odom_type = Odometry
+        self._grid = map_message(side)
+        self.phase = WARMUP
+        self._stop = threading.Event()
+        self._threads = [threading.Thread(target=self._odom_loop, daemon=True),
+                         threading.Thread(target=self._map_loop, daemon=True)]
+        for t in self._threads:
+            t.start()
+
+    def _paced(self, hz: float, send: Any) -> None:
+        start, n = time.monotonic(), 0
+        while not self._stop.is_set():
+            n += 1
+            self._stop.wait(max(0.0, start + n / hz - time.monotonic()))
+            send()
+
+    def _odom_loop(self) -> None:
+        def send() -> None:
+            msg = self._odom_type()
+            msg.header.frame_id = "odom"
+            msg.pose.pose.position.x = self.phase
+            msg.pose.pose.position.z = time.monotonic()
+            self._odom.publish(msg)
+        self._paced(ODOM_HZ, send)
+
+    def _map_loop(self) -> None:
+        def send() -> None:
+            if self.phase == WITH_MAP:
+                self._map.publish(self._grid)
+        self._paced(MAP_HZ, send)
+
+    def close(self) -> None:
+        self._stop.set()
+        for t in self._threads:
+            t.join()
+        self._node.close()
+        self._ctx.close()
+
+
+def start_gateway(script: str, foxglove: bool) -> tuple[Child, dict[str, int], int, str]:
+    zport, prefix = free_port(), unique_prefix()
+    gw = Child(script, "--role", "gateway", "--zport", str(zport), "--prefix", prefix,
+               "--foxglove", "1" if foxglove else "0")
+    ports: dict[str, int] = json.loads(gw.ready_line.split(" ", 1)[1])
+    return gw, ports, zport, prefix
+
+
+def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
+                     n: int = 5, duration: float = 10.0, side: int = 1448) -> dict[str, Any]:
+    """/odom's delivery age to ``n`` clients of ``door``, without then with the map."""
+    pub = _Publisher(zport, prefix, side)
+    clients: list[Child] = []
+    try:
+        for _ in range(n):  # a process each, as browsers are: one's reading holds up no other
+            clients.append(Child(script, "--role", "fair_clients", "--door", door,
+                                 "--port", str(port), "--n", "1"))
+        pub.phase = PLAIN
+        time.sleep(duration)  # a measuring phase, not a wait on a condition
+        pub.phase = WITH_MAP
+        time.sleep(duration)
+        pub.phase = END
+        results = [c.result(120) for c in clients]
+    finally:
+        pub.close()
+        for c in clients:
+            c.stop()
+    out: dict[str, Any] = {}
+    for key in ("without_map", "with_map"):
+        flat = [a for r in results for a in r[key]]
+        out[key] = {"n": len(flat), "p50_ms": percentile(flat, 50) * 1e3 if flat else None,
+                    "p99_ms": percentile(flat, 99) * 1e3 if flat else None,
+                    "max_ms": max(flat) * 1e3 if flat else None}
+    return out

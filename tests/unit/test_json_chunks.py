@@ -1,0 +1,88 @@
+"""`zenros.json_chunks`: large messages encoded a slice at a time, byte for byte as
+`json_bytes`, on a worker that keeps order."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+from zenros.codec import json_bytes
+from zenros.json_chunks import (
+    BULK_ELEMENTS,
+    CHUNK,
+    BulkEncoder,
+    encode_yielding,
+    is_bulky,
+    json_chunks,
+)
+from zenros.message import Float32Array, Int8Array, to_array
+from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
+from zenros.msgs.sensor_msgs import LaserScan
+
+
+def big_grid(cells: int = BULK_ELEMENTS + 3 * CHUNK + 7) -> OccupancyGrid:
+    data = np.resize(np.array([-1, 0, 100, 0, 0], dtype=np.int8), cells)
+    msg = OccupancyGrid(data=to_array(Int8Array, data))
+    msg.header.frame_id = "map"
+    msg.info.width, msg.info.height = cells, 1
+    return msg
+
+
+def test_same_bytes_as_json_bytes() -> None:
+    grid = big_grid()
+    assert len(list(json_chunks(grid))) > 5  # really in slices
+    assert encode_yielding(grid) == json_bytes(grid)
+    scan = LaserScan(ranges=to_array(Float32Array,
+                                     np.linspace(0, 10, 3 * CHUNK, dtype=np.float32)))
+    scan.ranges[3], scan.ranges[4] = np.nan, np.inf  # null, as json_bytes writes them
+    assert encode_yielding(scan) == json_bytes(scan)
+    odom = Odometry()
+    odom.pose.covariance[0] = 0.5
+    assert list(json_chunks(odom)) == [json_bytes(odom)]  # small: one piece
+
+
+def test_is_bulky() -> None:
+    assert is_bulky(big_grid())
+    assert not is_bulky(Odometry()) and not is_bulky(big_grid(100))
+
+
+def test_encoding_a_map_leaves_other_threads_running() -> None:
+    """While the worker encodes a large map, another thread gets the GIL many times."""
+    grid = big_grid(4 * 1024 * 1024)
+    ticks = [0]
+    done = threading.Event()
+
+    def other() -> None:
+        while not done.is_set():
+            ticks[0] += 1
+            done.wait(0.001)
+
+    t = threading.Thread(target=other)
+    t.start()
+    bulk = BulkEncoder()
+    try:
+        before = ticks[0]
+        future = bulk.submit(lambda: encode_yielding(grid))
+        assert future is not None
+        out = future.result(60)
+        during = ticks[0] - before
+    finally:
+        done.set()
+        t.join()
+        bulk.close()
+    assert out == json_bytes(grid)
+    assert during >= 10, f"the other thread ran only {during} times during the encoding"
+
+
+def test_bulk_encoder_keeps_order() -> None:
+    bulk = BulkEncoder()
+    seen: list[int] = []
+    try:
+        futures = [bulk.submit(lambda i=i: seen.append(i)) for i in range(50)]
+        for f in futures:
+            assert f is not None
+            f.result(10)
+    finally:
+        bulk.close()
+    assert seen == list(range(50))
+    assert bulk.submit(lambda: None) is None  # closed: a late message is dropped, no error
