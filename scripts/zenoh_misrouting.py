@@ -8,9 +8,11 @@ than the 1 s lease (SIGSTOP/SIGCONT), so their links drop and are made again whi
 
 Prints one JSON line: ``misrouted`` (samples whose encoding names another key than the one
 they arrived on), ``received`` and examples. Seen on 2026-12-03 with eclipse-zenoh 1.10.2 on a
-2-core box: 41 of about 1.3 million samples misrouted in one 60 s run, none in five others;
-with ``--put`` (``session.put`` instead of declared publishers) none in four runs. zenros
-tags every sample with its key (`zenros.keytag`), so its subscribers drop such samples.
+2-core box (60 s runs, 6 publishers, about a million samples each): with declared publishers,
+misrouted samples in 3 of 5 runs (41, 111, 4,169); with ``--put`` (``session.put``, no key
+declared by the sender) in 2 of 5 runs (3,155, 8,595). So it is not the sender's key
+declaration. zenros tags every sample with its key (`zenros.keytag`), so its subscribers drop
+such samples.
 
 Run: ``python scripts/zenoh_misrouting.py [--seconds 60] [--publishers 6] [--put]``.
 """
@@ -48,6 +50,7 @@ if role == "pub":
             s.put(k, b"{}", encoding=e) if use_put == "1" else p.put(b"{}")
         time.sleep(0.002)
     print("{}", flush=True)
+    s.close()
 else:
     bad, good = [], [0]
     def check(key):
@@ -65,6 +68,7 @@ else:
         time.sleep(0.2)
     time.sleep(1)
     print(json.dumps({"good": good[0], "bad": len(bad), "ex": bad[:3]}), flush=True)
+s.close()
 """
 
 
@@ -104,9 +108,9 @@ def main() -> None:
                 for pid in group:
                     os.kill(pid, signal.SIGCONT)
                 time.sleep(2)
-        results = [json.loads(p.communicate(timeout=120)[0].strip() or "{}") for p in subs]
+        results = [json.loads(p.communicate(timeout=300)[0].strip() or "{}") for p in subs]
         for p in pubs:
-            p.communicate(timeout=120)
+            p.communicate(timeout=300)
     finally:
         for p in [*pubs, *subs]:
             if p.poll() is None:
