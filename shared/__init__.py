@@ -3,6 +3,7 @@
 from .clock import Duration, ManualClock, Rate, SteadyClock, SystemClock, Time
 from .context import Context
 from .errors import (
+    ConfigError,
     DecodeError,
     EncodeError,
     GoalRejectedError,
@@ -29,6 +30,7 @@ __all__ = [
     "QOS_SENSOR",
     "ActionType",
     "Context",
+    "ConfigError",
     "DecodeError",
     "Durability",
     "Duration",

@@ -77,15 +77,16 @@ class NavNode(Node):
         self.on_parameter_change(self._on_localization_param, "localization")
 
         self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
-        self.core = NavCore(cfg, p.maps_dir or data_dir() / "maps",
-                            on_plan=self._publish_plan, on_map=self._publish_map)
+        # before the core: open until the core has halted (`_halt` sends the last command)
+        self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
+        self.core = self.own(NavCore(cfg, p.maps_dir or data_dir() / "maps",
+                                     on_plan=self._publish_plan, on_map=self._publish_map))
         self.core.maps.start(p.map or DEMO_MAP)
         self.ledger = Ledger()
         self.actions = NavActions(self.core, self.now, self.logger, self.ledger)
         self.routines = RoutineActions(self.core, self.now, self.logger, self.ledger)
         self.behaviors = BehaviorActions(self.core, self.now, self.logger, self.ledger)
 
-        self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "robot_pose")
         self.plan_pub = self.create_publisher(Path, "plan", QOS_LATCHED)
         self.global_pub = self.create_publisher(OccupancyGrid, "global_costmap/costmap",
@@ -107,6 +108,8 @@ class NavNode(Node):
         self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,
                                    self.on_control, self.logger)
         self.control.start()
+        # before the action servers close: running goals end as "navigation is shutting down"
+        self.on_close(self._halt)
         self.create_timer(1.0 / p.pose_publish_rate, self.on_pose_timer)
         self.create_timer(1.0 / p.global_costmap_publish_rate, self.on_global_costmap_timer)
         self.create_timer(1.0 / p.local_costmap_publish_rate, self.on_local_costmap_timer)
@@ -291,15 +294,10 @@ class NavNode(Node):
         self.logger.info("map %r: %dx%d cells at %g m", name, grid.width, grid.height,
                          grid.resolution)
 
-    def close(self) -> None:
-        control = getattr(self, "control", None)
-        if control is not None:
-            control.stop()
-        core = getattr(self, "core", None)
-        if core is not None:
-            moving = core.motion.active is not None
-            core.close()
-            if moving:  # leave the robot stopped, not coasting until its dead-man
-                self.cmd_pub.publish(Twist())
-        super().close()
+    def _halt(self) -> None:
+        self.control.stop()
+        moving = self.core.motion.active is not None
+        self.core.close()
+        if moving:  # leave the robot stopped, not coasting until its dead-man
+            self.cmd_pub.publish(Twist())
 
