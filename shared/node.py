@@ -9,7 +9,7 @@ import re
 import socket
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol, Self, TypeVar
 
@@ -22,7 +22,7 @@ from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
-from .message import ActionType, Message, ServiceType
+from .message import ActionType, F, G, Message, R, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
@@ -37,6 +37,8 @@ from .timer import Timer
 
 if TYPE_CHECKING:
     import zenoh
+
+    from .action import ActionClient, ActionServer, ServerGoalHandle
 
 __all__ = ["Closable", "Node"]
 
@@ -259,15 +261,20 @@ class Node:
         )
         return c
 
-    def create_action_server(self, action_type: ActionType, name: str,
-                             execute_callback: Callable[..., Any], **kwargs: Any) -> Any:
-        """An `ActionServer` (zenros.action) owned by this node; see docs/actions.md."""
+    def create_action_server(
+        self, action_type: ActionType[G, R, F], name: str,
+        execute_callback: Callable[[ServerGoalHandle[G, F]], R | None | Awaitable[R | None]],
+        **kwargs: Any,
+    ) -> ActionServer[G, R, F]:
+        """An `ActionServer` (zenros.action) owned by this node; see docs/actions.md. Typed by
+        ``action_type``: its goal handles hold its Goal and take its Feedback."""
         from .action import ActionServer
 
         return ActionServer(self, action_type, name, execute_callback, **kwargs)
 
-    def create_action_client(self, action_type: ActionType, name: str, **kwargs: Any) -> Any:
-        """An `ActionClient` (zenros.action) owned by this node."""
+    def create_action_client(self, action_type: ActionType[G, R, F], name: str,
+                             **kwargs: Any) -> ActionClient[G, R, F]:
+        """An `ActionClient` (zenros.action) owned by this node, typed by ``action_type``."""
         from .action import ActionClient
 
         return ActionClient(self, action_type, name, **kwargs)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 from zenros.home import data_dir
@@ -28,6 +31,7 @@ from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
+from zenros.message import ActionType
 from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
@@ -151,7 +155,7 @@ class NavNode(Node):
 
     def _serve_actions(self) -> None:
         a, r, b = self.actions, self.routines, self.behaviors
-        for act, name, execute, goal_cb in (
+        actions: tuple[tuple[ActionType, str, Callable[[Any], Any], Any], ...] = (
             (NavigateToPose, "navigate_to_pose", a.execute_navigate_to_pose,
              a.goal_navigate_to_pose),
             (NavigateThroughPoses, "navigate_through_poses", a.execute_navigate_through_poses,
@@ -169,7 +173,8 @@ class NavNode(Node):
              b.goal_drive_on_heading),
             (navmsgs.LocalMoveTarget, "local_move_target", b.execute_local_move_target,
              b.goal_local_move_target),
-        ):
+        )
+        for act, name, execute, goal_cb in actions:
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
             self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
 

@@ -8,7 +8,9 @@ import threading
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic
+
+from typing_extensions import TypeVar
 
 from ..errors import GoalRejectedError, ZenrosTimeout
 from ..msgs.builtin_interfaces import Time
@@ -19,15 +21,18 @@ if TYPE_CHECKING:
 
 __all__ = ["ClientGoalHandle", "GoalResult"]
 
+G = TypeVar("G", default=Any)
+R = TypeVar("R", default=Any)
+
 
 @dataclass(frozen=True)
-class GoalResult:
+class GoalResult(Generic[R]):
     """How a goal ended: its terminal status (SUCCEEDED, CANCELED, ABORTED or, client-side,
     LOST), the result message (a default one when the server sent none), and why (for LOST)."""
 
     goal_id: uuid.UUID
     status: GoalStatus
-    result: Any
+    result: R
     reason: str = ""
 
     @property
@@ -35,15 +40,15 @@ class GoalResult:
         return self.status is GoalStatus.SUCCEEDED
 
 
-class ClientGoalHandle:
-    """A goal sent with `ActionClient.send_goal_async`.
+class ClientGoalHandle(Generic[G, R]):
+    """A goal sent with `ActionClient.send_goal_async` (of goal type G, result type R).
 
     ``status`` follows the server (UNKNOWN until the server answers, then ACCEPTED or
     REJECTED, EXECUTING, CANCELING, and a terminal state); ``result()`` blocks until the goal
     ended and returns a `GoalResult`; ``cancel()`` asks the server to cancel it.
     """
 
-    def __init__(self, client: ActionClient, goal_id: uuid.UUID, goal: Any,
+    def __init__(self, client: ActionClient[Any, Any, Any], goal_id: uuid.UUID, goal: G,
                  on_feedback: Callable[[Any], None] | None) -> None:
         self.goal_id = goal_id
         self.goal = goal
@@ -53,7 +58,7 @@ class ClientGoalHandle:
         self._status = GoalStatus.UNKNOWN
         self._accepted: bool | None = None
         self._cond = threading.Condition()
-        self._future: concurrent.futures.Future[GoalResult] = concurrent.futures.Future()
+        self._future: concurrent.futures.Future[GoalResult[R]] = concurrent.futures.Future()
         self._on_feedback = on_feedback
         # client bookkeeping
         self._key = goal_id.bytes
@@ -90,7 +95,7 @@ class ClientGoalHandle:
             self._future.result()  # raises the send error
         return bool(self._accepted)
 
-    def result(self, timeout: float | None = None) -> GoalResult:
+    def result(self, timeout: float | None = None) -> GoalResult[R]:
         """Block until the goal ends and return how.
 
         Raises:
@@ -104,11 +109,11 @@ class ClientGoalHandle:
             raise ZenrosTimeout(f"goal {self.goal_id} on {self._client.name} did not end within "
                                 f"{timeout:g} s (status {self._status.name})") from None
 
-    async def result_async(self) -> GoalResult:
+    async def result_async(self) -> GoalResult[R]:
         """Await the goal's end from any event loop (same errors as `result`)."""
         return await asyncio.wrap_future(self._future)
 
-    def add_done_callback(self, fn: Callable[[ClientGoalHandle], None]) -> None:
+    def add_done_callback(self, fn: Callable[[ClientGoalHandle[G, R]], None]) -> None:
         """Call ``fn(handle)`` once the goal ended, on the node's event loop thread."""
         executor = self._client._ctx.executor
         self._future.add_done_callback(lambda _f: executor.call_soon(fn, self))
@@ -164,7 +169,7 @@ class ClientGoalHandle:
             self._cond.notify_all()
         return True
 
-    def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
+    def _finish(self, status: GoalStatus, result: R, reason: str = "") -> None:
         def finish() -> None:
             if self._end(status, reason):
                 self._future.set_result(GoalResult(self.goal_id, status, result, reason))

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import threading
 import uuid
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic
+
+from typing_extensions import TypeVar
 
 from ..msgs.builtin_interfaces import Time
 from .states import GoalEvent
@@ -18,10 +20,12 @@ if TYPE_CHECKING:
 __all__ = ["ServerGoalHandle"]
 
 G = TypeVar("G")
+F = TypeVar("F", default=Any)
 
 
-class ServerGoalHandle(Generic[G]):
-    """A goal on the server. The execute callback reads ``request``, calls `publish_feedback`,
+class ServerGoalHandle(Generic[G, F]):
+    """A goal on the server (of goal type G, feedback type F; ``ServerGoalHandle[Goal]``
+    leaves F open). The execute callback reads ``request``, calls `publish_feedback`,
     polls `is_cancel_requested` (or blocks in `wait_for_cancel`), ends the goal with
     `succeed`, `abort` or `canceled`, and returns the result message.
 
@@ -30,7 +34,7 @@ class ServerGoalHandle(Generic[G]):
         stamp: when the server accepted the goal (its node clock).
     """
 
-    def __init__(self, server: ActionServer, goal_id: uuid.UUID | bytes, request: G,
+    def __init__(self, server: ActionServer[Any, Any, Any], goal_id: uuid.UUID | bytes, request: G,
                  goal_id_msg: UUID | None = None) -> None:
         # The id as 16 bytes (the server's key); the UUID object is made when first read.
         self._key = goal_id.bytes if isinstance(goal_id, uuid.UUID) else bytes(goal_id)
@@ -102,7 +106,7 @@ class ServerGoalHandle(Generic[G]):
         if self._cancel_event is not None:
             self._cancel_event.set()
 
-    def publish_feedback(self, feedback: Any) -> None:
+    def publish_feedback(self, feedback: F) -> None:
         """Send feedback for this goal; raises `EncodeError` for another type than the
         action's Feedback and `GoalStateError` once the goal has ended."""
         self._server._publish_feedback(self, feedback)

@@ -7,8 +7,8 @@ import inspect
 import logging
 import threading
 import time
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Awaitable, Callable
+from typing import TYPE_CHECKING, Any, Generic
 
 import zenoh
 
@@ -17,7 +17,7 @@ from ..context import is_session_failure
 from ..errors import EncodeError, GoalRejectedError, GoalStateError
 from ..keytag import key_tag
 from ..log import ErrorLog
-from ..message import ActionType
+from ..message import ActionType, F, G, R
 from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
@@ -56,8 +56,9 @@ _ZERO_KEY = bytes(16)
 QUERY_QUEUE = 256  # requests buffered before Zenoh pushes back
 
 
-class ActionServer:
-    """Serves ``name`` with ``action_type``.
+class ActionServer(Generic[G, R, F]):
+    """Serves ``name`` with ``action_type`` (goals of type G, results of type R, feedback of
+    type F: `Node.create_action_server` infers them from ``action_type``).
 
     Args:
         node: the node that owns the server (closing the node closes it).
@@ -83,11 +84,11 @@ class ActionServer:
     def __init__(
         self,
         node: Node,
-        action_type: ActionType,
+        action_type: ActionType[G, R, F],
         name: str,
-        execute_callback: Callable[[Handle], Any],
-        goal_callback: Callable[[Any], GoalResponse | bool] | None = None,
-        cancel_callback: Callable[[Handle], CancelResponse | bool] | None = None,
+        execute_callback: Callable[[ServerGoalHandle[G, F]], R | None | Awaitable[R | None]],
+        goal_callback: Callable[[G], GoalResponse | bool] | None = None,
+        cancel_callback: Callable[[ServerGoalHandle[G, F]], CancelResponse | bool] | None = None,
         *,
         policy: str | GoalPolicy = "simple",
         result_timeout: float = 900.0,
