@@ -221,7 +221,8 @@ class ActionClient(Generic[G, R, F]):
         dispatch = None if feedback_callback is None else make_dispatch(
             feedback_callback, executor=self._ctx.executor, logger=self.logger,
             what=f"feedback of {self.name}", depth=100)
-        handle: ClientGoalHandle[G, R] = ClientGoalHandle(self, gid, goal, dispatch)
+        handle: ClientGoalHandle[G, R] = ClientGoalHandle(self, gid, goal, dispatch,
+                                                          self._ctx.executor, self._inbox)
         with self._lock:
             self._handles[handle._key] = handle
         handle._future.add_done_callback(lambda _f: self._forget(handle))
@@ -455,6 +456,11 @@ class ActionClient(Generic[G, R, F]):
     def cancel_goals_before(self, stamp: Time, timeout: float = 5.0) -> list[uuid.UUID]:
         """Cancel every goal the server accepted at or before ``stamp``."""
         return self._cancel(ZERO_UUID, stamp, timeout)
+
+    def cancel_goal(self, goal_id: uuid.UUID, timeout: float = 5.0) -> list[uuid.UUID]:
+        """Ask the server to cancel goal ``goal_id`` (`ClientGoalHandle.cancel`); return the
+        goals now canceling."""
+        return self._cancel(goal_id, Time(), timeout)
 
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
         key = self._keys["cancel_goal"]

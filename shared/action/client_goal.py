@@ -8,21 +8,32 @@ import threading
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Generic
+from typing import Any, Generic, Protocol
 
 from typing_extensions import TypeVar
 
 from ..errors import GoalRejectedError, ZenrosTimeout
+from ..executor import Executor
 from ..msgs.builtin_interfaces import Time
+from .inbox import Inbox
 from .types import GoalStatus
 
-if TYPE_CHECKING:
-    from .client import ActionClient
-
-__all__ = ["ClientGoalHandle", "GoalResult"]
+__all__ = ["ClientGoalHandle", "GoalClient", "GoalResult"]
 
 G = TypeVar("G", default=Any)
 R = TypeVar("R", default=Any)
+
+
+class GoalClient(Protocol):
+    """What a goal handle needs of its client (`ActionClient`)."""
+
+    name: str
+
+    def refresh_status(self) -> None:
+        """Bring the goals' statuses up to date with the server's last status array."""
+
+    def cancel_goal(self, goal_id: uuid.UUID, timeout: float = 5.0) -> list[uuid.UUID]:
+        """Ask the server to cancel one goal; the goals now canceling."""
 
 
 @dataclass(frozen=True)
@@ -48,13 +59,16 @@ class ClientGoalHandle(Generic[G, R]):
     ended and returns a `GoalResult`; ``cancel()`` asks the server to cancel it.
     """
 
-    def __init__(self, client: ActionClient[Any, Any, Any], goal_id: uuid.UUID, goal: G,
-                 on_feedback: Callable[[Any], None] | None) -> None:
+    def __init__(self, client: GoalClient, goal_id: uuid.UUID, goal: G,
+                 on_feedback: Callable[[Any], None] | None, executor: Executor,
+                 inbox: Inbox) -> None:
         self.goal_id = goal_id
         self.goal = goal
         self.stamp = Time()
         self.reason = ""
         self._client = client
+        self._executor = executor  # where done callbacks run
+        self._inbox = inbox  # the client's feedback queue: the end comes after the feedback
         self._status = GoalStatus.UNKNOWN
         self._accepted: bool | None = None
         self._cond = threading.Condition()
@@ -115,13 +129,13 @@ class ClientGoalHandle(Generic[G, R]):
 
     def add_done_callback(self, fn: Callable[[ClientGoalHandle[G, R]], None]) -> None:
         """Call ``fn(handle)`` once the goal ended, on the node's event loop thread."""
-        executor = self._client._ctx.executor
+        executor = self._executor
         self._future.add_done_callback(lambda _f: executor.call_soon(fn, self))
 
     def cancel(self, timeout: float = 5.0) -> bool:
         """Ask the server to cancel this goal; True if it is now canceling (the goal then ends
         CANCELED, or otherwise if its execute callback decides so)."""
-        return self.goal_id in self._client._cancel(self.goal_id, Time(), timeout)
+        return self.goal_id in self._client.cancel_goal(self.goal_id, timeout)
 
     # ------------------------------------------------------------------ updates (client side)
 
@@ -188,7 +202,7 @@ class ClientGoalHandle(Generic[G, R]):
         if self._on_feedback is None:
             fn()
         else:
-            self._client._inbox.put(fn)
+            self._inbox.put(fn)
 
     def _feedback(self, msg: Any) -> None:
         """Hand one feedback message to the callback (on the client's inbox thread)."""
