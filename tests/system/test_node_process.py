@@ -131,7 +131,7 @@ def test_a_bug_in_setup_exits_1_and_a_refused_configuration_3(
     p = Proc([sys.executable, "-c", FAILING_NODE, "-e", router, "--prefix", prefix,
               "-p", f"fail:={fail}"])
     try:
-        assert p.wait(20) == code, p.output
+        assert p.wait(60) == code, p.output
     finally:
         p.stop()
     assert needle in p.output
