@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import socket
 import threading
-from typing import Any
+from typing import Any, ClassVar
 
 import pytest
 from zenros import Node
@@ -29,7 +29,7 @@ class Recorder:
 class HalfBuilt(Node):
     """Opens a socket, a thread and endpoints, then fails in the middle of ``setup()``."""
 
-    opened: dict[str, Any] = {}
+    opened: ClassVar[dict[str, Any]] = {}
 
     def setup(self) -> None:
         opened = HalfBuilt.opened
