@@ -3,6 +3,7 @@
 from .clock import Duration, ManualClock, Rate, SteadyClock, SystemClock, Time
 from .context import Context
 from .errors import (
+    ConfigError,
     DecodeError,
     EncodeError,
     GoalRejectedError,
@@ -28,6 +29,7 @@ __all__ = [
     "QOS_LATCHED",
     "QOS_SENSOR",
     "ActionType",
+    "ConfigError",
     "Context",
     "DecodeError",
     "Durability",

@@ -25,7 +25,7 @@ from typing import Any
 import msgspec
 
 from .context import Context
-from .errors import ZenrosError
+from .errors import ConfigError
 from .names import Remapper, join
 from .node import Node
 from .params import flatten, load_params_file
@@ -34,8 +34,9 @@ from .runtime import add_node_arguments, node_kwargs, serve
 __all__ = ["Component", "ComponentError", "load_plugin", "main"]
 
 
-class ComponentError(ZenrosError):
-    """A component that cannot be built: malformed JSON, an unknown plugin, a bad name."""
+class ComponentError(ConfigError):
+    """A component that cannot be built: malformed JSON, an unknown plugin, a bad name (a
+    configuration error: exit code 3)."""
 
 
 class Component(msgspec.Struct, forbid_unknown_fields=True):

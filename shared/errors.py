@@ -7,7 +7,13 @@ class ZenrosError(Exception):
     """Root of every error raised by zenros."""
 
 
-class InvalidNameError(ZenrosError, ValueError):
+class ConfigError(ZenrosError, ValueError):
+    """A node's configuration is invalid: a parameter value, a file it names, a port it should
+    listen on. Raised at startup, it ends the process with exit code 3 ("configuration: stop
+    the launch"; `zenros.exits.EXIT_STARTUP`), where a bug in the code exits 1."""
+
+
+class InvalidNameError(ConfigError):
     """A node, topic, service or namespace name breaks the ROS naming rules."""
 
 
@@ -60,8 +66,13 @@ class ParameterAlreadyDeclaredError(ParameterError):
     """A parameter was declared twice."""
 
 
-class InvalidParameterValueError(ParameterError, TypeError):
+class InvalidParameterValueError(ParameterError, ConfigError, TypeError):
     """A parameter value has the wrong type or is out of range."""
+
+
+class ParameterSourceError(ParameterError, ConfigError):
+    """A source of parameter values cannot be read: a params file, a ``-p name:=value``, a
+    parameter database."""
 
 
 class GoalRejectedError(ZenrosError, RuntimeError):
@@ -73,10 +84,11 @@ class NodeClosedError(ZenrosError, RuntimeError):
 
 
 class StartupError(ZenrosError, RuntimeError):
-    """A node could not start (bad flags, unreachable router, bad parameters)."""
+    """A node could not start (no Zenoh session, a missing extra); exit code 3 as for
+    `ConfigError`."""
 
 
-class LaunchError(ZenrosError, ValueError):
+class LaunchError(ConfigError):
     """A launch file is invalid (bad YAML, unknown key, unresolved substitution, bad include)."""
 
 
@@ -177,5 +189,5 @@ class ActionServerUnavailableError(ActionError, ConnectionError):
 # ------------------------------------------------------------------ maps
 
 
-class MapError(ZenrosError, ValueError):
+class MapError(ConfigError):
     """A map file (map_server YAML, its image or a side file) is missing or malformed."""

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass
-from typing import Any, ClassVar, TypeVar
+from typing import Any, ClassVar, Generic, TypeVar
 
 import msgspec
 import numpy as np
+from typing_extensions import TypeVar as DefaultTypeVar
 
 from .errors import UnknownTypeError
 
@@ -35,6 +36,11 @@ _SERVICES: dict[str, ServiceType] = {}
 _ACTIONS: dict[str, ActionType] = {}
 
 M = TypeVar("M", bound="Message")
+# An action's goal, result and feedback types (`ActionType`); Any where not spelled out, so
+# that ``ActionType`` alone still means any action.
+G = DefaultTypeVar("G", bound="Message", default=Any)
+R = DefaultTypeVar("R", bound="Message", default=Any)
+F = DefaultTypeVar("F", bound="Message", default=Any)
 
 
 class Message(msgspec.Struct, kw_only=True):
@@ -133,13 +139,16 @@ class ServiceType:
 
 
 @dataclass(frozen=True)
-class ActionType:
-    """An action type: goal, result and feedback messages under one name."""
+class ActionType(Generic[G, R, F]):
+    """An action type: goal, result and feedback messages under one name.
+
+    Generic in the three (``ActionType[FibonacciGoal, FibonacciResult, FibonacciFeedback]``),
+    so the servers and clients made from it are typed (`Node.create_action_server`)."""
 
     name: str
-    Goal: type[Message]
-    Result: type[Message]
-    Feedback: type[Message]
+    Goal: type[G]
+    Result: type[R]
+    Feedback: type[F]
 
 
 def define_service(name: str, request: type[Message], response: type[Message]) -> ServiceType:
@@ -150,8 +159,8 @@ def define_service(name: str, request: type[Message], response: type[Message]) -
 
 
 def define_action(
-    name: str, goal: type[Message], result: type[Message], feedback: type[Message]
-) -> ActionType:
+    name: str, goal: type[G], result: type[R], feedback: type[F]
+) -> ActionType[G, R, F]:
     """Register and return an action type."""
     act = ActionType(normalize_type_name(name), goal, result, feedback)
     _ACTIONS[act.name] = act

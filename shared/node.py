@@ -9,9 +9,9 @@ import re
 import socket
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from pathlib import Path
-from typing import Any, Protocol, Self, TypeVar
+from typing import TYPE_CHECKING, Any, Protocol, Self, TypeVar
 
 import msgspec
 
@@ -22,7 +22,7 @@ from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
-from .message import ActionType, Message, ServiceType
+from .message import ActionType, F, G, Message, R, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
@@ -35,13 +35,33 @@ from .qos import QOS_SENSOR, QoSProfile, as_profile
 from .rpc import Client, Service
 from .timer import Timer
 
+if TYPE_CHECKING:
+    import zenoh
+
+    from .action import ActionClient, ActionServer, ServerGoalHandle
+
 __all__ = ["Closable", "Node"]
 
 
 class Closable(Protocol):
-    """What a node can own (`Node.add_waitable`): an endpoint with ``close()``."""
+    """What a node can own (`Node.own`, `Node.add_waitable`): anything with ``close()``."""
 
     def close(self) -> None: ...
+
+
+class _Callback:
+    """``fn()`` as an owned resource (`Node.on_close`)."""
+
+    __slots__ = ("_fn",)
+
+    def __init__(self, fn: Callable[[], object]) -> None:
+        self._fn = fn
+
+    def close(self) -> None:
+        self._fn()
+
+    def __repr__(self) -> str:
+        return f"<on_close {self._fn!r}>"
 
 
 M = TypeVar("M", bound=Message)
@@ -56,6 +76,11 @@ def _snake(name: str) -> str:
 
 class Node:
     """A ROS-style node. Subclasses override `setup()`, which runs at the end of __init__.
+
+    Whatever ``setup()`` opens (endpoints, and through `own` and `on_close` the threads,
+    sockets, servers, stores a service starts) belongs to the node: `close` releases it in
+    the reverse order of opening, also when ``setup()`` raised half-way, so a subclass never
+    needs a ``close()`` of its own, nor a guard for what ``setup()`` did not reach.
 
     No callback of an endpoint created during ``setup()`` (subscriptions, services, timers,
     action servers, also those helper objects create) runs before ``setup()`` has returned:
@@ -105,6 +130,7 @@ class Node:
         overrides.update(parameter_overrides or {})
         self.parameters = Parameters(self.fqn, overrides)
         self._setup_gate: DeliveryGate | None = None  # closed while setup() runs
+        self._token: zenoh.LivelinessToken | None = None  # declared once set up
         try:
             if self.uses_parameter_server:
                 attach_parameter_backend(self)
@@ -128,8 +154,9 @@ class Node:
             sim = self._clock
             self.create_subscription(ClockMsg, "/clock", lambda m: sim.set(m.clock), QOS_SENSOR)
         self._rosout = self.create_publisher(Log, "/rosout", 100)
-        self._rosout_handler = RosoutHandler(self.fqn, self._rosout.publish, self._clock.now)
-        self.logger.addHandler(self._rosout_handler)
+        handler = RosoutHandler(self.fqn, self._rosout.publish, self._clock.now)
+        self.logger.addHandler(handler)
+        self.on_close(lambda: self.logger.removeHandler(handler))
 
     def _announce(self) -> None:
         """Declare the node's liveliness token once `setup` has completed: a node is in the
@@ -153,9 +180,29 @@ class Node:
 
     # ------------------------------------------------------------------ endpoints
 
+    def own(self, resource: W) -> W:
+        """Make this node own ``resource`` (anything with ``close()``: a store, a server, a
+        bridge): `close` closes it before whatever the node owned earlier and after whatever
+        it came to own later, endpoints included (`contextlib.ExitStack` order). Returns
+        ``resource``, so ``self.store = self.own(Store(path))``.
+
+        Raises:
+            NodeClosedError: the node is closed (``resource`` is closed right away).
+        """
+        return self.add_waitable(resource)
+
+    def on_close(self, fn: Callable[[], object]) -> None:
+        """Call ``fn()`` when the node closes, in the same reverse order as `own` (a thread
+        to stop and join, a listener to remove, a last command to send).
+
+        Raises:
+            NodeClosedError: the node is closed (``fn`` is called right away).
+        """
+        self.add_waitable(_Callback(fn))
+
     def add_waitable(self, endpoint: W) -> W:
-        """Make this node own ``endpoint`` (anything with ``close()``): closing the node
-        closes it, after the endpoints created before it (rclpy's ``add_waitable``).
+        """Make this node own ``endpoint`` (rclpy's name for `own`): closing the node closes
+        it, before the endpoints created before it.
 
         Action servers and clients, parameter backends, state machine servers and other
         endpoints built from a node's parts register here. Returns ``endpoint``.
@@ -214,15 +261,20 @@ class Node:
         )
         return c
 
-    def create_action_server(self, action_type: ActionType, name: str,
-                             execute_callback: Callable[..., Any], **kwargs: Any) -> Any:
-        """An `ActionServer` (zenros.action) owned by this node; see docs/actions.md."""
+    def create_action_server(
+        self, action_type: ActionType[G, R, F], name: str,
+        execute_callback: Callable[[ServerGoalHandle[G, F]], R | None | Awaitable[R | None]],
+        **kwargs: Any,
+    ) -> ActionServer[G, R, F]:
+        """An `ActionServer` (zenros.action) owned by this node; see docs/actions.md. Typed by
+        ``action_type``: its goal handles hold its Goal and take its Feedback."""
         from .action import ActionServer
 
         return ActionServer(self, action_type, name, execute_callback, **kwargs)
 
-    def create_action_client(self, action_type: ActionType, name: str, **kwargs: Any) -> Any:
-        """An `ActionClient` (zenros.action) owned by this node."""
+    def create_action_client(self, action_type: ActionType[G, R, F], name: str,
+                             **kwargs: Any) -> ActionClient[G, R, F]:
+        """An `ActionClient` (zenros.action) owned by this node, typed by ``action_type``."""
         from .action import ActionClient
 
         return ActionClient(self, action_type, name, **kwargs)
@@ -341,7 +393,9 @@ class Node:
         return self._closed
 
     def close(self) -> None:
-        """Stop timers, undeclare every endpoint and token; close the context if owned."""
+        """Stop timers; close what the node owns (endpoints, `own`, `on_close`) in reverse
+        order, each whatever the others do; undeclare its token; close the context if owned.
+        Safe on a node whose ``setup()`` raised half-way, and idempotent."""
         with self._lock:
             if self._closed:
                 return
@@ -353,17 +407,14 @@ class Node:
             gate.abandon()
         for t in timers:
             t.cancel()
-        handler = getattr(self, "_rosout_handler", None)
-        if handler is not None:
-            self.logger.removeHandler(handler)
         for ep in reversed(endpoints):
             try:
                 ep.close()
             except Exception:  # closing must go on whatever one endpoint does
                 self.logger.debug("closing %r failed", ep, exc_info=True)
-        token = getattr(self, "_token", None)
+        token, self._token = self._token, None
         if token is not None:
-            token.undeclare()
+            token.undeclare()  # type: ignore[no-untyped-call]  # zenoh stub: unannotated
         if self._own_context:
             self.context.close()
 

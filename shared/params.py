@@ -17,6 +17,7 @@ from .errors import (
     ParameterAlreadyDeclaredError,
     ParameterError,
     ParameterNotDeclaredError,
+    ParameterSourceError,
 )
 
 __all__ = [
@@ -87,11 +88,11 @@ def parse_param_arg(arg: str) -> tuple[str, Any]:
     """Parse ``name:=value`` (value read as YAML, as ros2 does)."""
     name, sep, text = arg.partition(":=")
     if not sep or not name:
-        raise ParameterError(f"invalid parameter {arg!r}: expected name:=value")
+        raise ParameterSourceError(f"invalid parameter {arg!r}: expected name:=value")
     try:
         value = yaml.safe_load(text) if text != "" else ""
     except yaml.YAMLError as exc:
-        raise ParameterError(f"invalid value for parameter {name!r}: {exc}") from exc
+        raise ParameterSourceError(f"invalid value for parameter {name!r}: {exc}") from exc
     return name, value
 
 
@@ -116,9 +117,9 @@ def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
     try:
         doc = yaml.safe_load(Path(path).read_text()) or {}
     except (OSError, yaml.YAMLError) as exc:
-        raise ParameterError(f"cannot read params file {path}: {exc}") from exc
+        raise ParameterSourceError(f"cannot read params file {path}: {exc}") from exc
     if not isinstance(doc, dict):
-        raise ParameterError(f"params file {path}: expected a mapping of node names")
+        raise ParameterSourceError(f"params file {path}: expected a mapping of node names")
     base = node_fqn.rsplit("/", 1)[-1]
     out: dict[str, Any] = {}
     for section, body in _sections(doc):
@@ -128,7 +129,8 @@ def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
         )
         if matches:
             if not isinstance(body, dict):
-                raise ParameterError(f"params file {path}: ros__parameters of {section} is not a mapping")
+                raise ParameterSourceError(
+                    f"params file {path}: ros__parameters of {section} is not a mapping")
             out.update(flatten(body))
     return out
 

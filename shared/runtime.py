@@ -6,14 +6,15 @@ import argparse
 import os
 import sys
 import threading
+import traceback
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import AbstractContextManager, contextmanager
 from types import FrameType
 from typing import Any, NoReturn
 
 from .context import Context, is_session_failure
-from .errors import ZenrosError
-from .exits import EXIT_SESSION_FAILED, EXIT_STARTUP
+from .errors import ConfigError, StartupError
+from .exits import EXIT_ERROR, EXIT_SESSION_FAILED, EXIT_STARTUP
 from .log import configure_logging
 from .names import Remapper
 from .node import Node
@@ -83,8 +84,11 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
          prog: str | None = None) -> int:
     """Parse flags, start the node, serve until SIGINT/SIGTERM; return the exit code.
 
-    0: clean end; 2: usage error; 3: startup failed (one line on stderr); 4: the Zenoh
-    session failed while running (`EXIT_SESSION_FAILED`).
+    0: clean end; 2: usage error; 3: the configuration was refused (a `ConfigError`, such
+    as an invalid name, parameter value or params file, a port that cannot be bound) or there
+    is no session (`StartupError`), one line on stderr; 1: anything else raised while
+    starting (a bug in ``setup()``: its traceback); 4: the Zenoh session failed while
+    running (`EXIT_SESSION_FAILED`).
     """
     prog = prog or node_cls.node_name or node_cls.__name__
     parser = argparse.ArgumentParser(prog=prog, description=(node_cls.__doc__ or "").strip()
@@ -95,9 +99,10 @@ def main(node_cls: type[Node], argv: Sequence[str] | None = None,
 
 Build = Callable[[Context, argparse.Namespace], list[Node]]
 """Makes the nodes of a process on its context, from its parsed flags (the first is the one
-that obeys shutdown requests); raising one of `STARTUP_ERRORS` is a startup failure."""
+that obeys shutdown requests); raising one of `STARTUP_ERRORS` is a startup failure (exit
+code 3: the configuration was refused), any other exception a crash (exit code 1)."""
 
-STARTUP_ERRORS = (ZenrosError, ValueError, TypeError, OSError)
+STARTUP_ERRORS = (ConfigError, StartupError)
 
 
 def serve(parser: argparse.ArgumentParser, build: Build,
@@ -116,7 +121,7 @@ def serve(parser: argparse.ArgumentParser, build: Build,
             ctx = Context(options_from_args(args), prefix=args.prefix)
             nodes = build(ctx, args)
             install_shutdown_listener(nodes[0], stop.set)
-        except STARTUP_ERRORS as exc:
+        except STARTUP_ERRORS as exc:  # what running again cannot mend
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             sys.stderr.write(f"{prog}: startup failed: {msg}\n")
             for made in reversed(nodes):
@@ -124,6 +129,13 @@ def serve(parser: argparse.ArgumentParser, build: Build,
             if ctx is not None:
                 ctx.close()
             return EXIT_STARTUP
+        except Exception:  # noqa: BLE001 a bug: its traceback, then the crash handling
+            sys.stderr.write(f"{prog}: startup failed:\n{traceback.format_exc()}")
+            for made in reversed(nodes):
+                made.close()
+            if ctx is not None:
+                ctx.close()
+            return EXIT_ERROR
         node = nodes[0]
         ctx.on_failure(lambda _exc: stop.set())
         with _failing_on_panics(ctx):

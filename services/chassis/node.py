@@ -106,6 +106,7 @@ class ChassisNode(Node):
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, name="chassis-sim", daemon=True)
         self._thread.start()
+        self.on_close(self._stop_loop)
 
     # ------------------------------------------------------------------ time
 
@@ -239,10 +240,7 @@ class ChassisNode(Node):
         return (s.drive.estop, s.bumper, s.docked, s.battery.charging,
                 s.drive.timed_out(s.time))
 
-    def close(self) -> None:
-        stop = getattr(self, "_stop", None)
-        if stop is not None:
-            stop.set()
-            self._thread.join(timeout=5)
-        super().close()
+    def _stop_loop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=5)
 

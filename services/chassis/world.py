@@ -12,6 +12,7 @@ from collections.abc import Iterable
 
 import numpy as np
 from scipy.ndimage import distance_transform_edt
+from zenros.errors import ConfigError
 from zenros.maps import GridMap
 
 from .obstacles import Obstacle
@@ -26,7 +27,7 @@ class World:
 
     def __init__(self, grid_map: GridMap) -> None:
         if abs(grid_map.origin[2]) > 1e-9:
-            raise ValueError("the simulator needs a map whose origin yaw is 0")
+            raise ConfigError("the simulator needs a map whose origin yaw is 0")
         self.map = grid_map
         self.res = float(grid_map.resolution)
         self.ox, self.oy = float(grid_map.origin[0]), float(grid_map.origin[1])

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import asyncio
 import os
+from collections.abc import Callable, Coroutine
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-import uvicorn
 from starlette.types import ASGIApp
 from zenros.home import data_dir
 from zenros.node import Node
@@ -110,7 +110,7 @@ class GatewayNode(Node):
                          self.declare_parameter("startup_grace", 30.0))
         self.link = RobotLink(self, self.core, rate)
         self.runner = AsyncRunner()
-        self._servers: list[tuple[uvicorn.Server, asyncio.Task[None]]] = []
+        self.on_close(self.runner.stop)  # after every server on it has stopped
         self.tasks = TasksLink(self, self.core.presence)
         self.hub = TopicHub(self)
         self.navigator = Navigator(self, self.core)
@@ -120,7 +120,7 @@ class GatewayNode(Node):
         presence = self.core.presence
         presence.watch("nav", self.navigator.available)
         presence.watch("tasks", self.tasks.available)
-        self._unlisten = self.context.graph.add_listener(lambda ev, tok: presence.refresh())
+        self.on_close(self.context.graph.add_listener(lambda ev, tok: presence.refresh()))
         self.core.services["maps"] = self.nav_link.maps
         self.io = IoLink(self)
         self.files = FileRoot(
@@ -146,6 +146,7 @@ class GatewayNode(Node):
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:
             self.rosbridge = RosbridgeServer(self, host, rosbridge_port)
+            self._close_on_loop(self.rosbridge.stop)
             self.runner.call(self.rosbridge.start())
         self.foxglove = self._start_foxglove(host, self.declare_parameter("foxglove_port", -1))
         self.http = HttpApp(self.api, dashboard_app(
@@ -161,14 +162,16 @@ class GatewayNode(Node):
             ws_max_size=self.declare_parameter("ws_max_frame", 1 << 20))
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
         self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits)
+        self._close_on_loop(self.modbus.stop)
         self.modbus_port = self.runner.call(self.modbus.start(host, modbus_port))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
         self.native = NativeCommands(self.core, self.logger, self.runner.loop)
         self.link.on_native = self.native
         self.serial: SerialBridge | None = None
         if serial_port:
-            self.serial = SerialBridge(self.core, serial_port, self.logger,
-                                       baud=self.declare_parameter("serial_baud", 115200))
+            self.serial = self.own(SerialBridge(
+                self.core, serial_port, self.logger,
+                baud=self.declare_parameter("serial_baud", 115200)))
         else:
             self.logger.info("serial bridge off (parameter serial_port is empty)")
         if discovery_port >= 0:
@@ -176,6 +179,7 @@ class GatewayNode(Node):
                 "127.0.0.1" if host.startswith("127.") else "255.255.255.255")
             self.discovery: Discovery | None = Discovery(
                 self.core, address, discovery_port or 22002, self.logger, discovery_period)
+            self._close_on_loop(self.discovery.stop)
             self.runner.call(self.discovery.start())
             self.logger.info("discovery broadcast to %s:%d every %g s", address,
                              discovery_port or 22002, discovery_period)
@@ -192,6 +196,7 @@ class GatewayNode(Node):
                               "'zenros[foxglove]'): %s", exc)
             return None
         bridge = FoxgloveBridge(self, host, port)
+        self.on_close(bridge.stop)
         bridge.start()
         return bridge
 
@@ -202,41 +207,17 @@ class GatewayNode(Node):
 
     def serve_asgi(self, app: ASGIApp, host: str, port: int, **kw: Any) -> int:
         """Serve an ASGI app with uvicorn on the gateway's loop; returns the bound port."""
-        sock = bind_tcp(host, port)
+        sock = self.own(bind_tcp(host, port))
         server, task = self.runner.call(start_uvicorn(app, sock, **kw))
-        self._servers.append((server, task))
+
+        async def stop() -> None:
+            server.should_exit = True
+            await asyncio.gather(task, return_exceptions=True)
+
+        self._close_on_loop(stop)
         bound: int = sock.getsockname()[1]
         return bound
 
-    def close(self) -> None:
-        unlisten = getattr(self, "_unlisten", None)
-        if unlisten is not None:
-            unlisten()
-        foxglove = getattr(self, "foxglove", None)
-        if foxglove is not None:
-            foxglove.stop()
-        bridge = getattr(self, "serial", None)
-        if bridge is not None:
-            bridge.close()
-        runner = getattr(self, "runner", None)
-        if runner is not None:
-            async def stop_servers() -> None:
-                for server, _ in self._servers:
-                    server.should_exit = True
-                await asyncio.gather(*(t for _, t in self._servers), return_exceptions=True)
-                modbus = getattr(self, "modbus", None)
-                if modbus is not None:
-                    await modbus.stop()
-                discovery = getattr(self, "discovery", None)
-                if discovery is not None:
-                    await discovery.stop()
-                rosbridge = getattr(self, "rosbridge", None)
-                if rosbridge is not None:
-                    await rosbridge.stop()
-
-            try:
-                runner.call(stop_servers(), 8.0)
-            except Exception:  # shutting down whatever happens
-                self.logger.debug("stopping servers failed", exc_info=True)
-            runner.stop()
-        super().close()
+    def _close_on_loop(self, stop: Callable[[], Coroutine[Any, Any, object]]) -> None:
+        """Run ``stop()`` on the gateway's loop when the node closes (`Node.on_close`)."""
+        self.on_close(lambda: self.runner.call(stop(), 8.0))

@@ -11,6 +11,7 @@ from typing import Any, TypeVar
 
 import uvicorn
 from starlette.types import ASGIApp
+from zenros.errors import ConfigError
 
 __all__ = ["AsyncRunner", "bind_tcp", "start_uvicorn"]
 
@@ -55,7 +56,8 @@ class AsyncRunner:
 
 
 def bind_tcp(host: str, port: int) -> socket.socket:
-    """A listening TCP socket (SO_REUSEADDR); raises OSError naming the address if taken."""
+    """A listening TCP socket (SO_REUSEADDR); raises `ConfigError` naming the address if it
+    cannot be bound (taken, not local)."""
     # IPPROTO_TCP explicitly: asyncio sets TCP_NODELAY only on sockets whose proto says TCP
     sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM,
                          socket.IPPROTO_TCP)
@@ -64,7 +66,7 @@ def bind_tcp(host: str, port: int) -> socket.socket:
         sock.bind((host, port))
     except OSError as exc:
         sock.close()
-        raise OSError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from exc
+        raise ConfigError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from exc
     sock.listen(512)
     sock.setblocking(False)
     return sock

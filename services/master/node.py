@@ -44,21 +44,11 @@ class MasterNode(Node):
 
     def setup(self) -> None:
         p = self.declare_parameters(MasterParameters)
-        self.store = ParamStore(data_dir(p.data_dir) / DB_NAME)
+        self.store = self.own(ParamStore(data_dir(p.data_dir) / DB_NAME))
         self.logger.info("parameters in %s (%d names, replica %s)", self.store.path,
                          len(self.store.names()), self.store.source)
-        self.replicator = Replicator(self, self.store, period=p.sync_period,
-                                     timeout=p.sync_timeout)
-        self.params = ParamServer(self, self.store)
+        self.replicator = self.own(Replicator(self, self.store, period=p.sync_period,
+                                              timeout=p.sync_timeout))
+        self.params = self.own(ParamServer(self, self.store))
         # flaps shorter than the grace are ignored
-        self.registry = RegistryServer(self, p.registry_grace)
-
-    def close(self) -> None:
-        for part in ("registry", "params", "replicator"):
-            obj = getattr(self, part, None)
-            if obj is not None:
-                obj.close()
-        super().close()
-        store = getattr(self, "store", None)
-        if store is not None:
-            store.close()
+        self.registry = self.own(RegistryServer(self, p.registry_grace))

@@ -15,7 +15,7 @@ from types import TracebackType
 from typing import Self, TypeVar
 
 import msgspec
-from zenros.errors import ParameterError
+from zenros.errors import ParameterError, ParameterSourceError
 
 from .param_tree import Change, Entry, ParamTree, Stamp, encode_entries, ntp64
 from .param_value import MAX_NAME_LENGTH, Value, canonical, check_value
@@ -73,7 +73,7 @@ class ParamStore:
         except sqlite3.Error as exc:
             self._db.close()
             why = "in use by another process" if "locked" in str(exc) else str(exc)
-            raise ParameterError(f"cannot open parameter database {self.path}: {why}") from exc
+            raise ParameterSourceError(f"cannot open parameter database {self.path}: {why}") from exc
         self._tree = ParamTree(rows)
         self._last = self._tree.newest().time
 

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 from zenros.home import data_dir
 from zenros.maps import GridMap
@@ -27,6 +30,7 @@ from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
+from zenros.message import ActionType
 from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
@@ -76,15 +80,16 @@ class NavNode(Node):
         self.on_parameter_change(self._on_localization_param, "localization")
 
         self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
-        self.core = NavCore(cfg, p.maps_dir or data_dir() / "maps",
-                            on_plan=self._publish_plan, on_map=self._publish_map)
+        # before the core: open until the core has halted (`_halt` sends the last command)
+        self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
+        self.core = self.own(NavCore(cfg, p.maps_dir or data_dir() / "maps",
+                                     on_plan=self._publish_plan, on_map=self._publish_map))
         self.core.maps.start(p.map or DEMO_MAP)
         self.ledger = Ledger()
         self.actions = NavActions(self.core, self.now, self.logger, self.ledger)
         self.routines = RoutineActions(self.core, self.now, self.logger, self.ledger)
         self.behaviors = BehaviorActions(self.core, self.now, self.logger, self.ledger)
 
-        self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "robot_pose")
         self.plan_pub = self.create_publisher(Path, "plan", QOS_LATCHED)
         self.global_pub = self.create_publisher(OccupancyGrid, "global_costmap/costmap",
@@ -106,6 +111,8 @@ class NavNode(Node):
         self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,
                                    self.on_control, self.logger)
         self.control.start()
+        # before the action servers close: running goals end as "navigation is shutting down"
+        self.on_close(self._halt)
         self.create_timer(1.0 / p.pose_publish_rate, self.on_pose_timer)
         self.create_timer(1.0 / p.global_costmap_publish_rate, self.on_global_costmap_timer)
         self.create_timer(1.0 / p.local_costmap_publish_rate, self.on_local_costmap_timer)
@@ -147,7 +154,7 @@ class NavNode(Node):
 
     def _serve_actions(self) -> None:
         a, r, b = self.actions, self.routines, self.behaviors
-        for act, name, execute, goal_cb in (
+        actions: tuple[tuple[ActionType, str, Callable[[Any], Any], Any], ...] = (
             (NavigateToPose, "navigate_to_pose", a.execute_navigate_to_pose,
              a.goal_navigate_to_pose),
             (NavigateThroughPoses, "navigate_through_poses", a.execute_navigate_through_poses,
@@ -165,7 +172,8 @@ class NavNode(Node):
              b.goal_drive_on_heading),
             (navmsgs.LocalMoveTarget, "local_move_target", b.execute_local_move_target,
              b.goal_local_move_target),
-        ):
+        )
+        for act, name, execute, goal_cb in actions:
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
             self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
 
@@ -290,15 +298,10 @@ class NavNode(Node):
         self.logger.info("map %r: %dx%d cells at %g m", name, grid.width, grid.height,
                          grid.resolution)
 
-    def close(self) -> None:
-        control = getattr(self, "control", None)
-        if control is not None:
-            control.stop()
-        core = getattr(self, "core", None)
-        if core is not None:
-            moving = core.motion.active is not None
-            core.close()
-            if moving:  # leave the robot stopped, not coasting until its dead-man
-                self.cmd_pub.publish(Twist())
-        super().close()
+    def _halt(self) -> None:
+        self.control.stop()
+        moving = self.core.motion.active is not None
+        self.core.close()
+        if moving:  # leave the robot stopped, not coasting until its dead-man
+            self.cmd_pub.publish(Twist())
 

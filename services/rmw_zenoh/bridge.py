@@ -84,18 +84,23 @@ class RmwZenohBridge(Node):
         self.inbound: dict[tuple[str, str], _Inbound] = {}
         self.services: dict[str, _ServiceOut] = {}
         self._pool = ThreadPoolExecutor(4, thread_name_prefix="rmw-zenoh-srv")
+        self.on_close(lambda: self._pool.shutdown(wait=False, cancel_futures=True))
         self._node_entity = Entity(self.domain, self.zid, 0, 0, EntityKind.NODE,
                                    self.namespace, self.name)
         lv = self.session.liveliness()
         self._node_token = lv.declare_token(self._node_entity.token())
+        self.on_close(self._node_token.undeclare)
         self._worker = threading.Thread(target=self._run, name="rmw-zenoh-bridge", daemon=True)
         self._worker.start()
+        self.on_close(self._stop_worker)
         self._lv_zenros = lv.declare_subscriber(
             ctx.keys.alive_all(), lambda s: self._events.put(("z", s.kind, str(s.key_expr))),
             history=True)
+        self.on_close(self._lv_zenros.undeclare)
         self._lv_ros = lv.declare_subscriber(
             f"@ros2_lv/{self.domain}/**",
             lambda s: self._events.put(("r", s.kind, str(s.key_expr))), history=True)
+        self.on_close(self._lv_ros.undeclare)
         self.logger.info("bridging zenros and rmw_zenoh on ROS domain %d", self.domain)
 
     # ------------------------------------------------------------ graph events
@@ -179,22 +184,16 @@ class RmwZenohBridge(Node):
         return Entity(self.domain, self.zid, 0, next(self._eids), kind, self.namespace, self.name,
                       topic=name, dds_type=dds, type_hash=h, qos=qos)
 
-    def close(self) -> None:
-        if getattr(self, "_worker", None) is not None:
-            self._lv_zenros.undeclare()  # type: ignore[no-untyped-call]
-            self._lv_ros.undeclare()  # type: ignore[no-untyped-call]
-            self._events.put(None)
-            self._worker.join(5)
-            with self._graph_lock:
-                for b in [*self.outbound.values(), *self.inbound.values(),
-                          *self.services.values()]:
+    def _stop_worker(self) -> None:
+        self._events.put(None)
+        self._worker.join(5)
+        with self._graph_lock:
+            for bridged in (self.outbound, self.inbound, self.services):
+                for b in bridged.values():
                     b.close()
-                self.outbound.clear()
-                self.inbound.clear()
-                self.services.clear()
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            self._node_token.undeclare()  # type: ignore[no-untyped-call]
-        super().close()
+            self.outbound.clear()
+            self.inbound.clear()
+            self.services.clear()
 
 
 class _Outbound:

@@ -59,11 +59,11 @@ class TasksNode(Node):
         self.introspection = p.introspection
         self.smach_server: IntrospectionServer | None = None
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
-        self.store = TaskStore(directory / DB_NAME)
+        self.store = self.own(TaskStore(directory / DB_NAME))
         self.link = LocalLink(self, p.reconnect_timeout)
-        self.manager = TaskManager(self.store, self.link, self.publish_status,
-                                   self.introspect if self.introspection else None,
-                                   resume_on_start=resume)
+        self.manager = self.own(TaskManager(self.store, self.link, self.publish_status,
+                                            self.introspect if self.introspection else None,
+                                            resume_on_start=resume))
         for task_id in self.manager.recovered:
             self.logger.warning("task %s was running when the service stopped: %s", task_id,
                                 "resumed" if resume else "PAUSED until resumed")
@@ -94,12 +94,3 @@ class TasksNode(Node):
         else:
             self.smach_server.set_machine(machine)
         return _nothing
-
-    def close(self) -> None:
-        manager = getattr(self, "manager", None)
-        if manager is not None:
-            manager.close()
-        super().close()
-        store = getattr(self, "store", None)
-        if store is not None:
-            store.close()

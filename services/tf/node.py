@@ -55,7 +55,7 @@ class TfNode(Node):
         self.create_service(LookupTransform, "~/lookup_transform", self.server.lookup_transform)
         self.create_service(CanTransform, "~/can_transform", self.server.can_transform)
         self.create_service(Frames, "~/frames", self.server.frames)
-        self.tap = TfTap(self, self.server.on_message)
+        self.tap = self.own(TfTap(self, self.server.on_message))
         self.server.resolve = self.tap.resolve
         self.statics = StaticTransformBroadcaster(self)
         self._publish_statics(statics)
@@ -81,9 +81,3 @@ class TfNode(Node):
                 except ValueError as exc:
                     return SetParametersResult(False, str(exc))
         return SetParametersResult(True)
-
-    def close(self) -> None:
-        tap = getattr(self, "tap", None)
-        if tap is not None:
-            tap.close()
-        super().close()

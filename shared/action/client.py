@@ -8,7 +8,7 @@ import time
 import uuid
 import weakref
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic
 
 import zenoh
 
@@ -24,7 +24,7 @@ from ..errors import (
 )
 from ..keytag import key_tag, misrouted
 from ..log import Throttle
-from ..message import ActionType, normalize_type_name
+from ..message import ActionType, F, G, R, normalize_type_name
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
 from .cancel import request_cancel
@@ -55,8 +55,9 @@ __all__ = ["ActionClient"]
 LOST_GRACE = 0.25  # seconds between a server token's departure and declaring its goals lost
 
 
-class ActionClient:
-    """A client of action ``name`` with ``action_type``.
+class ActionClient(Generic[G, R, F]):
+    """A client of action ``name`` with ``action_type`` (goals of type G, results of type R,
+    feedback of type F: `Node.create_action_client` infers them from ``action_type``).
 
     Args:
         node: the node that owns the client (closing the node closes it).
@@ -67,7 +68,7 @@ class ActionClient:
             longer; the request is simply sent again).
     """
 
-    def __init__(self, node: Node, action_type: ActionType, name: str, *,
+    def __init__(self, node: Node, action_type: ActionType[G, R, F], name: str, *,
                  send_timeout: float = 10.0, result_timeout: float = 60.0) -> None:
         self.action_type = action_type
         self.name = node.resolve_name(name, "action")
@@ -87,7 +88,7 @@ class ActionClient:
         self._tags = {p: key_tag(self._keys[p]) for p in ("feedback", "status")}
         self._send_key = zenoh.KeyExpr(self._keys["send_goal"])  # parsed once, not per goal
         self._lock = threading.Lock()
-        self._handles: dict[bytes, ClientGoalHandle] = {}
+        self._handles: dict[bytes, ClientGoalHandle[G, R]] = {}
         self._throttle = Throttle(5.0)
         self._status_lock = threading.Lock()
         self._status_raw: bytes | None = None
@@ -115,8 +116,8 @@ class ActionClient:
 
     # ------------------------------------------------------------------ goals
 
-    def send_goal(self, goal: Any, feedback_callback: Callable[[Any], Any] | None = None,
-                  timeout: float | None = None) -> GoalResult:
+    def send_goal(self, goal: G, feedback_callback: Callable[[Any], Any] | None = None,
+                  timeout: float | None = None) -> GoalResult[R]:
         """Send ``goal`` and block until it ends; see `ClientGoalHandle.result` for errors.
 
         The calling thread reads the goal's replies itself (acceptance, then result) from a
@@ -174,7 +175,7 @@ class ActionClient:
             raise ZenrosTimeout(f"goal {h.goal_id} on {self.name} did not end within "
                                 f"{timeout:g} s (status {h._status.name})") from None
 
-    def _quick_result(self, gid: uuid.UUID, ok: zenoh.Sample) -> GoalResult | None:
+    def _quick_result(self, gid: uuid.UUID, ok: zenoh.Sample) -> GoalResult[R] | None:
         """The result a held send_goal query carried, or None if it does not decode."""
         try:
             res = self._gr_res.decode(ok.payload.to_bytes())
@@ -182,8 +183,8 @@ class ActionClient:
             return None  # the handle path reports it
         return GoalResult(gid, _status(res.status), res.result)
 
-    def send_goal_async(self, goal: Any,
-                        feedback_callback: Callable[[Any], Any] | None = None) -> ClientGoalHandle:
+    def send_goal_async(self, goal: G, feedback_callback: Callable[[Any], Any] | None = None
+                        ) -> ClientGoalHandle[G, R]:
         """Send ``goal`` and return its handle at once.
 
         ``feedback_callback(msg)`` gets each ``<Name>_FeedbackMessage`` (``msg.feedback``,
@@ -197,8 +198,8 @@ class ActionClient:
         self._send(handle, data)
         return handle
 
-    def _new_goal(self, goal: Any, feedback_callback: Callable[[Any], Any] | None,
-                  ) -> tuple[ClientGoalHandle, bytes]:
+    def _new_goal(self, goal: G, feedback_callback: Callable[[Any], Any] | None,
+                  ) -> tuple[ClientGoalHandle[G, R], bytes]:
         """A registered handle for a new goal and its encoded send_goal request."""
         gid, data = self._encode_goal(goal)
         return self._register(gid, goal, feedback_callback), data
@@ -214,13 +215,14 @@ class ActionClient:
         return gid, self._sg_req.encode(self._wire.SendGoalRequest(goal_id=uuid_msg(gid),
                                                                    goal=goal))
 
-    def _register(self, gid: uuid.UUID, goal: Any,
-                  feedback_callback: Callable[[Any], Any] | None) -> ClientGoalHandle:
+    def _register(self, gid: uuid.UUID, goal: G,
+                  feedback_callback: Callable[[Any], Any] | None) -> ClientGoalHandle[G, R]:
         """A handle for goal ``gid``, known to this client until the goal ends."""
         dispatch = None if feedback_callback is None else make_dispatch(
             feedback_callback, executor=self._ctx.executor, logger=self.logger,
             what=f"feedback of {self.name}", depth=100)
-        handle = ClientGoalHandle(self, gid, goal, dispatch)
+        handle: ClientGoalHandle[G, R] = ClientGoalHandle(self, gid, goal, dispatch,
+                                                          self._ctx.executor, self._inbox)
         with self._lock:
             self._handles[handle._key] = handle
         handle._future.add_done_callback(lambda _f: self._forget(handle))
@@ -454,6 +456,11 @@ class ActionClient:
     def cancel_goals_before(self, stamp: Time, timeout: float = 5.0) -> list[uuid.UUID]:
         """Cancel every goal the server accepted at or before ``stamp``."""
         return self._cancel(ZERO_UUID, stamp, timeout)
+
+    def cancel_goal(self, goal_id: uuid.UUID, timeout: float = 5.0) -> list[uuid.UUID]:
+        """Ask the server to cancel goal ``goal_id`` (`ClientGoalHandle.cancel`); return the
+        goals now canceling."""
+        return self._cancel(goal_id, Time(), timeout)
 
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
         key = self._keys["cancel_goal"]

@@ -8,26 +8,42 @@ import threading
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Generic, Protocol
+
+from typing_extensions import TypeVar
 
 from ..errors import GoalRejectedError, ZenrosTimeout
+from ..executor import Executor
 from ..msgs.builtin_interfaces import Time
+from .inbox import Inbox
 from .types import GoalStatus
 
-if TYPE_CHECKING:
-    from .client import ActionClient
+__all__ = ["ClientGoalHandle", "GoalClient", "GoalResult"]
 
-__all__ = ["ClientGoalHandle", "GoalResult"]
+G = TypeVar("G", default=Any)
+R = TypeVar("R", default=Any)
+
+
+class GoalClient(Protocol):
+    """What a goal handle needs of its client (`ActionClient`)."""
+
+    name: str
+
+    def refresh_status(self) -> None:
+        """Bring the goals' statuses up to date with the server's last status array."""
+
+    def cancel_goal(self, goal_id: uuid.UUID, timeout: float = 5.0) -> list[uuid.UUID]:
+        """Ask the server to cancel one goal; the goals now canceling."""
 
 
 @dataclass(frozen=True)
-class GoalResult:
+class GoalResult(Generic[R]):
     """How a goal ended: its terminal status (SUCCEEDED, CANCELED, ABORTED or, client-side,
     LOST), the result message (a default one when the server sent none), and why (for LOST)."""
 
     goal_id: uuid.UUID
     status: GoalStatus
-    result: Any
+    result: R
     reason: str = ""
 
     @property
@@ -35,25 +51,28 @@ class GoalResult:
         return self.status is GoalStatus.SUCCEEDED
 
 
-class ClientGoalHandle:
-    """A goal sent with `ActionClient.send_goal_async`.
+class ClientGoalHandle(Generic[G, R]):
+    """A goal sent with `ActionClient.send_goal_async` (of goal type G, result type R).
 
     ``status`` follows the server (UNKNOWN until the server answers, then ACCEPTED or
     REJECTED, EXECUTING, CANCELING, and a terminal state); ``result()`` blocks until the goal
     ended and returns a `GoalResult`; ``cancel()`` asks the server to cancel it.
     """
 
-    def __init__(self, client: ActionClient, goal_id: uuid.UUID, goal: Any,
-                 on_feedback: Callable[[Any], None] | None) -> None:
+    def __init__(self, client: GoalClient, goal_id: uuid.UUID, goal: G,
+                 on_feedback: Callable[[Any], None] | None, executor: Executor,
+                 inbox: Inbox) -> None:
         self.goal_id = goal_id
         self.goal = goal
         self.stamp = Time()
         self.reason = ""
         self._client = client
+        self._executor = executor  # where done callbacks run
+        self._inbox = inbox  # the client's feedback queue: the end comes after the feedback
         self._status = GoalStatus.UNKNOWN
         self._accepted: bool | None = None
         self._cond = threading.Condition()
-        self._future: concurrent.futures.Future[GoalResult] = concurrent.futures.Future()
+        self._future: concurrent.futures.Future[GoalResult[R]] = concurrent.futures.Future()
         self._on_feedback = on_feedback
         # client bookkeeping
         self._key = goal_id.bytes
@@ -90,7 +109,7 @@ class ClientGoalHandle:
             self._future.result()  # raises the send error
         return bool(self._accepted)
 
-    def result(self, timeout: float | None = None) -> GoalResult:
+    def result(self, timeout: float | None = None) -> GoalResult[R]:
         """Block until the goal ends and return how.
 
         Raises:
@@ -104,19 +123,19 @@ class ClientGoalHandle:
             raise ZenrosTimeout(f"goal {self.goal_id} on {self._client.name} did not end within "
                                 f"{timeout:g} s (status {self._status.name})") from None
 
-    async def result_async(self) -> GoalResult:
+    async def result_async(self) -> GoalResult[R]:
         """Await the goal's end from any event loop (same errors as `result`)."""
         return await asyncio.wrap_future(self._future)
 
-    def add_done_callback(self, fn: Callable[[ClientGoalHandle], None]) -> None:
+    def add_done_callback(self, fn: Callable[[ClientGoalHandle[G, R]], None]) -> None:
         """Call ``fn(handle)`` once the goal ended, on the node's event loop thread."""
-        executor = self._client._ctx.executor
+        executor = self._executor
         self._future.add_done_callback(lambda _f: executor.call_soon(fn, self))
 
     def cancel(self, timeout: float = 5.0) -> bool:
         """Ask the server to cancel this goal; True if it is now canceling (the goal then ends
         CANCELED, or otherwise if its execute callback decides so)."""
-        return self.goal_id in self._client._cancel(self.goal_id, Time(), timeout)
+        return self.goal_id in self._client.cancel_goal(self.goal_id, timeout)
 
     # ------------------------------------------------------------------ updates (client side)
 
@@ -164,7 +183,7 @@ class ClientGoalHandle:
             self._cond.notify_all()
         return True
 
-    def _finish(self, status: GoalStatus, result: Any, reason: str = "") -> None:
+    def _finish(self, status: GoalStatus, result: R, reason: str = "") -> None:
         def finish() -> None:
             if self._end(status, reason):
                 self._future.set_result(GoalResult(self.goal_id, status, result, reason))
@@ -183,7 +202,7 @@ class ClientGoalHandle:
         if self._on_feedback is None:
             fn()
         else:
-            self._client._inbox.put(fn)
+            self._inbox.put(fn)
 
     def _feedback(self, msg: Any) -> None:
         """Hand one feedback message to the callback (on the client's inbox thread)."""

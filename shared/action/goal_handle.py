@@ -4,24 +4,43 @@ from __future__ import annotations
 
 import threading
 import uuid
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, Protocol
 
+from typing_extensions import TypeVar
+
+from ..errors import GoalStateError
 from ..msgs.builtin_interfaces import Time
-from .states import GoalEvent
+from .states import GoalEvent, transition
 from .types import UUID, GoalInfo, GoalStatus, uuid_msg
 
 if TYPE_CHECKING:
     import zenoh
 
-    from .server import ActionServer
-
-__all__ = ["ServerGoalHandle"]
+__all__ = ["GoalHost", "ServerGoalHandle"]
 
 G = TypeVar("G")
+F = TypeVar("F", default=Any)
 
 
-class ServerGoalHandle(Generic[G]):
-    """A goal on the server. The execute callback reads ``request``, calls `publish_feedback`,
+class GoalHost(Protocol):
+    """What a goal handle needs of its server (`ActionServer`)."""
+
+    lock: threading.RLock
+    """Guards the server's goals; a handle changes its state under it."""
+
+    def goal_changed(self) -> None:
+        """A goal's state changed (called under ``lock``): the status array is due."""
+
+    def encode_feedback(self, handle: ServerGoalHandle[Any, Any], feedback: Any) -> bytes:
+        """Check ``feedback``'s type and encode it for ``handle``'s goal."""
+
+    def put_feedback(self, handle: ServerGoalHandle[Any, Any], data: bytes) -> None:
+        """Send encoded feedback of an active goal (called under ``lock``)."""
+
+
+class ServerGoalHandle(Generic[G, F]):
+    """A goal on the server (of goal type G, feedback type F; ``ServerGoalHandle[Goal]``
+    leaves F open). The execute callback reads ``request``, calls `publish_feedback`,
     polls `is_cancel_requested` (or blocks in `wait_for_cancel`), ends the goal with
     `succeed`, `abort` or `canceled`, and returns the result message.
 
@@ -30,7 +49,7 @@ class ServerGoalHandle(Generic[G]):
         stamp: when the server accepted the goal (its node clock).
     """
 
-    def __init__(self, server: ActionServer, goal_id: uuid.UUID | bytes, request: G,
+    def __init__(self, server: GoalHost, goal_id: uuid.UUID | bytes, request: G,
                  goal_id_msg: UUID | None = None) -> None:
         # The id as 16 bytes (the server's key); the UUID object is made when first read.
         self._key = goal_id.bytes if isinstance(goal_id, uuid.UUID) else bytes(goal_id)
@@ -38,8 +57,11 @@ class ServerGoalHandle(Generic[G]):
         self.request = request
         self.stamp = Time()
         self._server = server
+        # The state, changed only by `transition`, under the server's lock (one lock for the
+        # server's table and all its goals: no order between two locks to keep).
+        self._lock: threading.RLock = server.lock if server is not None else threading.RLock()
         self._status = GoalStatus.UNKNOWN
-        self._cancel_requested = False  # set under the server's lock
+        self._cancel_requested = False
         self._cancel_event: threading.Event | None = None  # made for wait_for_cancel only
         # server bookkeeping, guarded by the server's lock;
         # stamp set on acceptance; the wire id as received, when the server has it
@@ -88,7 +110,7 @@ class ServerGoalHandle(Generic[G]):
         interruptible sleep for blocking execute callbacks."""
         event = self._cancel_event
         if event is None:
-            with self._server._lock:  # the lock `_request_cancel` is called under
+            with self._lock:  # the lock `transition` sets the flag under
                 event = self._cancel_event
                 if event is None:
                     event = self._cancel_event = threading.Event()
@@ -96,28 +118,46 @@ class ServerGoalHandle(Generic[G]):
                         event.set()
         return event.wait(timeout)
 
-    def _request_cancel(self) -> None:
-        """Note a cancel request (called under the server's lock); wakes `wait_for_cancel`."""
-        self._cancel_requested = True
-        if self._cancel_event is not None:
-            self._cancel_event.set()
+    def transition(self, event: GoalEvent) -> GoalStatus:
+        """Move the goal by ``event`` (the one way its state changes; the server's goal
+        table, scheduler and this handle's end methods all go through it) and tell the
+        server; returns the new state. A cancel request (`GoalEvent.CANCEL_GOAL`) also
+        raises `is_cancel_requested` and wakes `wait_for_cancel`.
 
-    def publish_feedback(self, feedback: Any) -> None:
+        Raises:
+            GoalStateError: ``event`` is not valid in the current state (names the valid ones).
+        """
+        with self._lock:
+            self._status = status = transition(self._status, event, self)
+            if event is GoalEvent.CANCEL_GOAL:
+                self._cancel_requested = True
+                if self._cancel_event is not None:
+                    self._cancel_event.set()
+            if self._server is not None:
+                self._server.goal_changed()
+            return status
+
+    def publish_feedback(self, feedback: F) -> None:
         """Send feedback for this goal; raises `EncodeError` for another type than the
         action's Feedback and `GoalStateError` once the goal has ended."""
-        self._server._publish_feedback(self, feedback)
+        data = self._server.encode_feedback(self, feedback)
+        with self._lock:
+            if not self._status.active:
+                raise GoalStateError(f"cannot publish feedback for goal {self.goal_id}: it is "
+                                     f"{self._status.name}")
+            self._server.put_feedback(self, data)
 
     def succeed(self) -> None:
         """End the goal as SUCCEEDED (from EXECUTING or CANCELING)."""
-        self._server._end(self, GoalEvent.SUCCEED)
+        self.transition(GoalEvent.SUCCEED)
 
     def abort(self) -> None:
         """End the goal as ABORTED (from EXECUTING or CANCELING)."""
-        self._server._end(self, GoalEvent.ABORT)
+        self.transition(GoalEvent.ABORT)
 
     def canceled(self) -> None:
         """End the goal as CANCELED (only after a cancel request: from CANCELING)."""
-        self._server._end(self, GoalEvent.CANCELED)
+        self.transition(GoalEvent.CANCELED)
 
     def __repr__(self) -> str:
         return f"<ServerGoalHandle {self.goal_id} {self._status.name}>"

@@ -15,7 +15,7 @@ from ..message import ActionType
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .policies import GoalPolicy, Plan, Scheduler
-from .states import GoalEvent, transition
+from .states import GoalEvent
 from .types import GoalStatus
 from .workers import WorkerPool
 
@@ -73,9 +73,8 @@ class GoalRunner:
     def accept(self, h: Handle, plan: Plan[bytes]) -> list[Handle]:
         """Locked: make an offered goal ACCEPTED and carry out the plan; return the goals to
         `launch` (after the client got its answer)."""
-        h._status = GoalStatus.ACCEPTED
+        h.transition(GoalEvent.ACCEPT)
         self.table.activate(h)
-        self._status.mark()
         return self._apply(plan)
 
     def _apply(self, plan: Plan[bytes]) -> list[Handle]:
@@ -86,26 +85,23 @@ class GoalRunner:
             self.request_cancel(active[key])
         for key in plan.drop:
             h = active[key]
-            h._status = transition(transition(h._status, GoalEvent.CANCEL_GOAL),
-                                   GoalEvent.CANCELED)
+            h.transition(GoalEvent.CANCEL_GOAL)
+            h.transition(GoalEvent.CANCELED)
             self._retire(h, self._result_type())
         launch = []
         for key in plan.start:
             h = active[key]
-            h._status = transition(h._status, GoalEvent.EXECUTE, h)
+            h.transition(GoalEvent.EXECUTE)
             launch.append(h)
-        self._status.mark()
         return launch
 
     def request_cancel(self, h: Handle) -> None:
         """Locked: ask a goal to cancel (a client's request, a preemption or shutdown); a goal
         that was only waiting ends CANCELED at once."""
-        if h._status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
-            h._status = transition(h._status, GoalEvent.CANCEL_GOAL)
-            h._request_cancel()
-            self._status.mark()
+        if h.status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
+            h.transition(GoalEvent.CANCEL_GOAL)
         if self.sched.withdraw(h._key):
-            h._status = transition(h._status, GoalEvent.CANCELED)
+            h.transition(GoalEvent.CANCELED)
             self._retire(h, self._result_type())
 
     # ------------------------------------------------------------------ execution
@@ -141,25 +137,18 @@ class GoalRunner:
             result = _FAILED
         self._complete(h, result)
 
-    def end(self, h: Handle, event: GoalEvent) -> None:
-        """succeed(), abort() or canceled() from the execute callback."""
-        with self.lock:
-            h._status = transition(h._status, event, h)
-            self._status.mark()
-
     def _complete(self, h: Handle, result: Any) -> None:
         """The execute callback returned (or raised): settle state and result, start the next."""
         with self.lock:
             if h._result is not None:  # already ended by shutdown
                 return
-            if h._status.active:
-                event = GoalEvent.CANCELED if h._status is GoalStatus.CANCELING else GoalEvent.ABORT
+            if h.is_active:
+                event = GoalEvent.CANCELED if h.status is GoalStatus.CANCELING else GoalEvent.ABORT
                 if result is not _FAILED:
                     self._logger.warning(
                         "action %s: execute returned without succeed(), abort() or canceled() "
                         "for goal %s; marking it %s", self.name, h.goal_id, event.value.upper())
-                h._status = transition(h._status, event)
-                self._status.mark()
+                h.transition(event)
             if result is None or result is _FAILED:
                 result = self._result_type()
             elif type(result) is not self._result_type:
@@ -208,15 +197,15 @@ class GoalRunner:
             for key in list(self.sched.waiting):
                 self.sched.withdraw(key)
                 h = self.table.active[key]
-                h._status = transition(h._status, GoalEvent.ABORT)
+                h.transition(GoalEvent.ABORT)
                 self._retire(h, self._result_type())
             for h in list(self.table.active.values()):
                 self.request_cancel(h)
             self._status.flush(force=True)
             self._idle.wait_for(lambda: not self.table.active, timeout)
             for h in list(self.table.active.values()):
-                if h._status.active:
-                    h._status = transition(h._status, GoalEvent.ABORT)
+                if h.is_active:
+                    h.transition(GoalEvent.ABORT)
                 self._logger.warning("action %s: goal %s still running at shutdown; aborted",
                                      self.name, h.goal_id)
                 self._retire(h, self._result_type())

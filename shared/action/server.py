@@ -7,24 +7,23 @@ import inspect
 import logging
 import threading
 import time
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Awaitable, Callable
+from typing import TYPE_CHECKING, Any, Generic
 
 import zenoh
 
 from ..codec import codec_for
 from ..context import is_session_failure
-from ..errors import EncodeError, GoalRejectedError, GoalStateError
+from ..errors import EncodeError, GoalRejectedError
 from ..keytag import key_tag
 from ..log import ErrorLog
-from ..message import ActionType
+from ..message import ActionType, F, G, R
 from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .leaders import RequestThreads
 from .policies import GoalPolicy
 from .runner import GoalRunner
-from .states import GoalEvent
 from .status import StatusPublisher
 from .transport import (
     RESULT_ON_GOAL,
@@ -56,8 +55,9 @@ _ZERO_KEY = bytes(16)
 QUERY_QUEUE = 256  # requests buffered before Zenoh pushes back
 
 
-class ActionServer:
-    """Serves ``name`` with ``action_type``.
+class ActionServer(Generic[G, R, F]):
+    """Serves ``name`` with ``action_type`` (goals of type G, results of type R, feedback of
+    type F: `Node.create_action_server` infers them from ``action_type``).
 
     Args:
         node: the node that owns the server (closing the node closes it).
@@ -83,11 +83,11 @@ class ActionServer:
     def __init__(
         self,
         node: Node,
-        action_type: ActionType,
+        action_type: ActionType[G, R, F],
         name: str,
-        execute_callback: Callable[[Handle], Any],
-        goal_callback: Callable[[Any], GoalResponse | bool] | None = None,
-        cancel_callback: Callable[[Handle], CancelResponse | bool] | None = None,
+        execute_callback: Callable[[ServerGoalHandle[G, F]], R | None | Awaitable[R | None]],
+        goal_callback: Callable[[G], GoalResponse | bool] | None = None,
+        cancel_callback: Callable[[ServerGoalHandle[G, F]], CancelResponse | bool] | None = None,
         *,
         policy: str | GoalPolicy = "simple",
         result_timeout: float = 900.0,
@@ -113,16 +113,16 @@ class ActionServer:
         self._cg_res = codec_for(CancelGoalResponse)
         self._enc = {t: encoding_for(t) for t in (wire.SendGoalResponse, wire.GetResultResponse,
                                                   CancelGoalResponse)}
-        self._lock = threading.RLock()
+        self.lock = threading.RLock()  # the server's table and every goal's state (GoalHost)
         self._errors = ErrorLog(self.logger)
         self._table = GoalTable(result_timeout, status_history)
         s, key = ctx.session, self._key
         self._status = StatusPublisher(s, key("status"), ctx.executor, self._table.status_list,
-                                       self._lock)
+                                       self.lock)
         self._runner = GoalRunner(
             self.name, action_type, execute_callback,
             inspect.iscoroutinefunction(execute_callback), self.policy, self._table,
-            self._status, self._lock, ctx.executor, self.logger, self._deliver)
+            self._status, self.lock, ctx.executor, self.logger, self._deliver)
         self._closing = False
         self.closed = False
         self._fb_tag = key_tag(key("feedback"))
@@ -225,7 +225,7 @@ class ActionServer:
                             "goal_id must be a non-zero UUID")
             return None
         handle: Handle = ServerGoalHandle(self, key, req.goal, req.goal_id)
-        with self._lock:  # registered at once: a get_result right behind it will wait
+        with self.lock:  # registered at once: a get_result right behind it will wait
             fresh = not self._closing and self._table.add_pending(handle)
         if not fresh:
             why = ("server is shutting down" if self._closing
@@ -233,7 +233,7 @@ class ActionServer:
             self._respond(query, False, why)
             return None
         reason = self._ask_goal_callback(req.goal)
-        with self._lock:
+        with self.lock:
             if not reason and self._closing:
                 reason = "server is shutting down"
             plan = None if reason else self._runner.sched.offer(handle._key)
@@ -315,7 +315,7 @@ class ActionServer:
         key = None if gid == ZERO_UUID else gid.bytes
         stamp = req.goal_info.stamp
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
-        with self._lock:
+        with self.lock:
             targets = list(self._table.cancel_targets(key, stamp_ns))
             state = self._table.terminal_or_unknown(key) if key else GoalStatus.UNKNOWN
         if key is not None and stamp_ns == 0 and not targets:
@@ -323,8 +323,8 @@ class ActionServer:
                     else CancelCode.ERROR_GOAL_TERMINATED)
             return self._reply_cancel(query, code, [])
         accepted = [h for h in targets
-                    if h._status is GoalStatus.CANCELING or self._ask_cancel_callback(h)]
-        with self._lock:
+                    if h.status is GoalStatus.CANCELING or self._ask_cancel_callback(h)]
+        with self.lock:
             for h in accepted:
                 self._runner.request_cancel(h)
         code = CancelCode.ERROR_REJECTED if targets and not accepted else CancelCode.ERROR_NONE
@@ -352,7 +352,7 @@ class ActionServer:
             self._reply_err(query, "BadRequest", req)
             return None
         gid = uuid_from_msg(req.goal_id)
-        with self._lock:
+        with self.lock:
             if self._table.expire(time.monotonic()):
                 self._status.mark()
             h = self._table.lookup(gid.bytes)
@@ -369,7 +369,7 @@ class ActionServer:
         return None
 
     def _result_payload(self, h: Handle) -> bytes:
-        res = self._wire.GetResultResponse(status=int(h._status), result=h._result)
+        res = self._wire.GetResultResponse(status=int(h.status), result=h._result)
         return self._gr_res.encode(res)
 
     def _answer_result(self, query: zenoh.Query, h: Handle) -> None:
@@ -385,37 +385,36 @@ class ActionServer:
         for w in h._waiters:
             answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
 
-    # ------------------------------------------------------------------ goal handle calls
+    # ------------------------------------------------------------------ GoalHost (the handles)
 
-    def _end(self, h: Handle, event: GoalEvent) -> None:
-        self._runner.end(h, event)
+    def goal_changed(self) -> None:
+        self._status.mark()
 
-    def _publish_feedback(self, h: Handle, feedback: Any) -> None:
+    def encode_feedback(self, handle: Handle, feedback: Any) -> bytes:
         if type(feedback) is not self.action_type.Feedback:
             raise EncodeError(f"action {self.name} feedback is "
                               f"{codec_for(self.action_type.Feedback).type_name}, "
                               f"got {type(feedback).__name__}")
-        data = self._fb.encode(self._wire.FeedbackMessage(goal_id=h._info.goal_id,
-                                                          feedback=feedback))
-        with self._lock:
-            if not h._status.active:
-                raise GoalStateError(f"cannot publish feedback for goal {h.goal_id}: it is "
-                                     f"{h._status.name}")
-            if not self.closed:
-                self._settle(h)  # the client hears of the goal before its feedback
-                self._fb_pub.put(data, attachment=self._fb_tag)
+        data: bytes = self._fb.encode(self._wire.FeedbackMessage(
+            goal_id=handle._info.goal_id, feedback=feedback))
+        return data
+
+    def put_feedback(self, handle: Handle, data: bytes) -> None:
+        if not self.closed:
+            self._settle(handle)  # the client hears of the goal before its feedback
+            self._fb_pub.put(data, attachment=self._fb_tag)
 
     # ------------------------------------------------------------------ lifecycle
 
     def close(self) -> None:
         """Stop taking goals, cancel the running ones, wait ``shutdown_timeout`` for them, abort
         what is left (answering every pending result request), then undeclare everything."""
-        with self._lock:
+        with self.lock:
             if self._closing:
                 return
             self._closing = True
         self._runner.shutdown(self.shutdown_timeout)
-        with self._lock:
+        with self.lock:
             self.closed = True
         self._unserve()
         self._token.undeclare()

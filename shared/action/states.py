@@ -13,6 +13,7 @@ __all__ = ["GoalEvent", "transition"]
 class GoalEvent(Enum):
     """What moves a goal from one state to the next."""
 
+    ACCEPT = "accept"
     EXECUTE = "execute"
     CANCEL_GOAL = "cancel_goal"
     SUCCEED = "succeed"
@@ -24,6 +25,7 @@ _S = GoalStatus
 _E = GoalEvent
 
 _TABLE: dict[GoalStatus, dict[GoalEvent, GoalStatus]] = {
+    _S.UNKNOWN: {_E.ACCEPT: _S.ACCEPTED},
     _S.ACCEPTED: {_E.EXECUTE: _S.EXECUTING, _E.CANCEL_GOAL: _S.CANCELING, _E.ABORT: _S.ABORTED},
     _S.EXECUTING: {_E.CANCEL_GOAL: _S.CANCELING, _E.SUCCEED: _S.SUCCEEDED, _E.ABORT: _S.ABORTED},
     _S.CANCELING: {_E.SUCCEED: _S.SUCCEEDED, _E.ABORT: _S.ABORTED, _E.CANCELED: _S.CANCELED},

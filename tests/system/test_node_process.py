@@ -102,6 +102,40 @@ def test_node_process_serves_across_processes(router: str, prefix: str, observer
     assert client.call(AddTwoIntsRequest(a=20, b=22)).sum == 42
 
 
+FAILING_NODE = """
+from zenros import ConfigError, Node, run
+from zenros.msgs.std_msgs import String
+
+class Failing(Node):
+    def setup(self):
+        self.create_publisher(String, "out")
+        if self.declare_parameter("fail", "bug") == "bug":
+            len(3)                       # a TypeError: a bug, not the configuration
+        raise ConfigError("parameter 'fail': the configuration is refused")
+
+run(Failing)
+"""
+
+
+@pytest.mark.parametrize(
+    "fail, code, needle",
+    [("bug", 1, "TypeError: object of type 'int' has no len()"),
+     ("config", 3, "startup failed: parameter 'fail': the configuration is refused")],
+)
+def test_a_bug_in_setup_exits_1_and_a_refused_configuration_3(
+    router: str, prefix: str, fail: str, code: int, needle: str
+) -> None:
+    """Exit code 3 stops a launch ("running it again cannot help"), so only a `ConfigError`
+    (and the session, names and parameter values) maps to it; a TypeError raised by a bug in
+    ``setup()`` exits 1, with its traceback, and gets the supervisor's crash handling."""
+    p = Proc([sys.executable, "-c", FAILING_NODE, "-e", router, "--prefix", prefix,
+              "-p", f"fail:={fail}"])
+    try:
+        assert p.wait(60) == code, p.output
+    finally:
+        p.stop()
+    assert needle in p.output
+    assert ("Traceback" in p.output) == (code == 1), p.output
 
 
 STUCK_NODE = """

@@ -29,10 +29,5 @@ class FoxgloveNode(Node):
             raise StartupError("foxglove-sdk is not installed (pip install 'zenros[foxglove]'): "
                                f"{exc}") from exc
         self.bridge: Any = FoxgloveBridge(self, host, port)
+        self.on_close(self.bridge.stop)
         self.bridge.start()
-
-    def close(self) -> None:
-        bridge = getattr(self, "bridge", None)
-        if bridge is not None:
-            bridge.stop()
-        super().close()

@@ -14,6 +14,7 @@ from typing import Any
 from pymodbus.constants import ExcCodes
 from pymodbus.server import ModbusTcpServer
 from pymodbus.simulator import DataType, SimData, SimDevice
+from zenros.errors import ConfigError
 from zenros.msgs.galileo_msgs import GalileoStatus
 
 from ..state.core import Core, NavUnavailable
@@ -67,9 +68,16 @@ class ModbusFront:
         return self.io_bits() if self.io_bits is not None else ([], [])
 
     async def start(self, host: str, port: int) -> int:
-        """Listen; returns the bound port."""
+        """Listen; returns the bound port.
+
+        Raises:
+            ConfigError: the port cannot be bound.
+        """
         self.server = ModbusTcpServer(self.device, address=(host, port))
-        await self.server.serve_forever(background=True)
+        try:
+            await self.server.serve_forever(background=True)
+        except OSError as exc:
+            raise ConfigError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from exc
         transport: Any = self.server.transport
         bound: int = transport.sockets[0].getsockname()[1] if transport is not None else port
         return bound

@@ -104,16 +104,19 @@ class Ros2DdsBridge(Node):
         self._events: queue.Queue[tuple[zenoh.SampleKind, str] | None] = queue.Queue()
         self._graph_lock = threading.Lock()
         self.participant = DomainParticipant(self.domain)
+        self.on_close(self.participant.__del__)  # deletes its readers and writers with it
         self.guid = self.participant.guid
         self._pubs = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
         self._subs = BuiltinDataReader(self.participant, BuiltinTopicDcpsSubscription)
-        self.nodes = RosNodes(self)
+        self.nodes = self.own(RosNodes(self))
         self._stop = threading.Event()
         self._worker = threading.Thread(target=self._run, name="ros2-dds-bridge", daemon=True)
         self._worker.start()
+        self.on_close(self._stop_worker)
         self._lv = ctx.session.liveliness().declare_subscriber(
             ctx.keys.alive_all(), lambda s: self._events.put((s.kind, str(s.key_expr))),
             history=True)
+        self.on_close(self._lv.undeclare)
         self.logger.info("bridging zenros and ROS 2 on DDS domain %d", self.domain)
 
     # ------------------------------------------------------------ helpers for the routes
@@ -243,17 +246,13 @@ class Ros2DdsBridge(Node):
 
     # ------------------------------------------------------------ lifecycle
 
-    def close(self) -> None:
-        worker = getattr(self, "_worker", None)
-        if worker is not None:
-            self._lv.undeclare()  # type: ignore[no-untyped-call]
-            self._stop.set()
-            worker.join(5)
-            with self._graph_lock:
-                for r in [*self.inbound.values(), *self.outbound.values()]:
-                    r.close()
-                self.inbound.clear()
-                self.outbound.clear()
-                self.nodes.close()
-            self.participant.__del__()
-        super().close()
+    def _stop_worker(self) -> None:
+        self._stop.set()
+        self._worker.join(5)
+        with self._graph_lock:
+            for inbound in self.inbound.values():
+                inbound.close()
+            for outbound in self.outbound.values():
+                outbound.close()
+            self.inbound.clear()
+            self.outbound.clear()

@@ -290,7 +290,8 @@ class Ros1Server:
     """A ROS 1 action server of a rosbridge client (roslibpy ``SimpleActionServer``), served
     as a zenros action."""
 
-    def __init__(self, bridge: Bridge, name: str, action_type: ActionType, owner: Any) -> None:
+    def __init__(self, bridge: Bridge, name: str,
+                 action_type: ActionType[Message, Message, Message], owner: Any) -> None:
         self.bridge = bridge
         self.name = name
         self.action_type = action_type

@@ -21,10 +21,5 @@ class RosbridgeNode(Node):
                                           description="TCP port (0: any free one)",
                                           read_only=True))
         self.server = RosbridgeServer(self, host, port)
+        self.on_close(self.server.stop_in_thread)
         self.server.start_in_thread()
-
-    def close(self) -> None:
-        server = getattr(self, "server", None)
-        if server is not None:
-            server.stop_in_thread()
-        super().close()

@@ -35,7 +35,8 @@ class ServedAction:
         send: queues a frame to the client (thread-safe: it hops onto the bridge's loop).
     """
 
-    def __init__(self, name: str, action_type: ActionType, send: Send) -> None:
+    def __init__(self, name: str, action_type: ActionType[Message, Message, Message],
+                 send: Send) -> None:
         self.name = name
         self.action_type = action_type
         self._send = send

@@ -10,6 +10,7 @@ from typing import Any
 
 from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
 from websockets.exceptions import ConnectionClosed
+from zenros.errors import ConfigError
 from zenros.node import Node
 
 from .bridge import Bridge
@@ -61,16 +62,20 @@ class RosbridgeServer:
         """Bind and start accepting connections on the running loop.
 
         Raises:
-            OSError: the port cannot be bound.
+            ConfigError: the port cannot be bound.
         """
         self._loop = asyncio.get_running_loop()
         self._bridge = Bridge(self.node, self._loop)
-        self._server = await serve(
-            self._connection, self.host, self.port, compression=None, max_size=MAX_FRAME,
-            max_queue=64, write_limit=CONGESTED_BYTES, ping_interval=20, ping_timeout=20,
-            close_timeout=2,
-            logger=self.logger.getChild("ws"),
-        )
+        try:
+            self._server = await serve(
+                self._connection, self.host, self.port, compression=None, max_size=MAX_FRAME,
+                max_queue=64, write_limit=CONGESTED_BYTES, ping_interval=20, ping_timeout=20,
+                close_timeout=2,
+                logger=self.logger.getChild("ws"),
+            )
+        except OSError as exc:
+            raise ConfigError(f"cannot listen on {self.host}:{self.port}: "
+                              f"{exc.strerror or exc}") from exc
         sock = next(iter(self._server.sockets))
         self.port = int(sock.getsockname()[1])
         self.logger.info("rosbridge v2 listening on ws://%s:%d/", self.host, self.port)
@@ -148,7 +153,7 @@ class RosbridgeServer:
         """Run the server on a loop in a daemon thread; returns once it listens.
 
         Raises:
-            OSError: the port cannot be bound (raised here, in the caller's thread).
+            ConfigError: the port cannot be bound (raised here, in the caller's thread).
         """
         started = threading.Event()
         failure: list[BaseException] = []

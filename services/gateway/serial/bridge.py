@@ -36,6 +36,7 @@ class SerialBridge:
         self.sent = 0
         self.received = 0
         self.connected = threading.Event()
+        self._said = False  # the port's trouble logged once (again after it came back)
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"serial:{port}", daemon=True)
         self._thread.start()
@@ -50,7 +51,7 @@ class SerialBridge:
             return None
 
     def _down(self, why: str) -> None:
-        if self.connected.is_set() or not getattr(self, "_said", False):
+        if self.connected.is_set() or not self._said:
             self.logger.warning("%s; retrying every %g s", why, self.retry)
             self._said = True
         self.connected.clear()

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import msgspec
+from zenros.errors import ConfigError
 
 __all__ = ["GatewayConfig", "default_config_path", "load_config"]
 
@@ -32,18 +33,18 @@ def load_config(path: Path | None, overrides: dict[str, Any] | None = None) -> G
     """Read the file (missing file: defaults) and apply ``overrides`` on top.
 
     Raises:
-        ValueError: the file is not JSON or a key has the wrong type (names the key).
+        ConfigError: the file is not JSON or a key has the wrong type (names the key).
     """
     data: dict[str, Any] = {}
     if path is not None and path.exists():
         try:
             data = json.loads(path.read_text())
         except json.JSONDecodeError as exc:
-            raise ValueError(f"{path}: not JSON: {exc}") from exc
+            raise ConfigError(f"{path}: not JSON: {exc}") from exc
         if not isinstance(data, dict):
-            raise ValueError(f"{path}: expected a JSON object, got {type(data).__name__}")
+            raise ConfigError(f"{path}: expected a JSON object, got {type(data).__name__}")
     data.update(overrides or {})
     try:
         return msgspec.convert(data, GatewayConfig)
     except msgspec.ValidationError as exc:
-        raise ValueError(f"{path or 'gateway config'}: {exc}") from exc
+        raise ConfigError(f"{path or 'gateway config'}: {exc}") from exc

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import TypeVar
 
 import msgspec
+from zenros.errors import ConfigError
 
 __all__ = ["load_struct", "save_struct"]
 
@@ -18,14 +19,14 @@ def load_struct(path: Path | None, kind: type[T]) -> T:
     """The struct stored in ``path``, or ``kind()`` when there is no file.
 
     Raises:
-        ValueError: the file is not a valid ``kind`` (the message names the file).
+        ConfigError: the file is not a valid ``kind`` (the message names the file).
     """
     if path is None or not path.exists():
         return kind()
     try:
         return msgspec.json.decode(path.read_bytes(), type=kind)
     except msgspec.MsgspecError as exc:
-        raise ValueError(f"{path}: {exc}") from exc
+        raise ConfigError(f"{path}: {exc}") from exc
 
 
 def save_struct(path: Path | None, value: msgspec.Struct) -> None:

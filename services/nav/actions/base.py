@@ -18,6 +18,7 @@ import threading
 from collections.abc import Callable
 from typing import Any, Protocol, TypeVar
 
+from zenros.action import ServerGoalHandle
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration, Time
 from zenros.msgs.geometry_msgs import PoseStamped
@@ -27,7 +28,7 @@ from ..core import NavCore
 from ..motion.behavior import Behavior
 from .convert import pose2_from_msg, pose_stamped
 
-__all__ = ["FEEDBACK_PERIOD", "ActionBase", "ActionOutcome", "Ledger"]
+__all__ = ["FEEDBACK_PERIOD", "ActionBase", "ActionOutcome", "AnyGoal", "Ledger"]
 
 FEEDBACK_PERIOD = 0.1  # wall seconds between feedback messages
 
@@ -40,6 +41,7 @@ class ActionOutcome(Protocol):
 
 
 OutcomeT = TypeVar("OutcomeT", bound=ActionOutcome)
+AnyGoal = ServerGoalHandle[Any, Any]  # the goal handle of any of nav's actions
 
 
 class Ledger:
@@ -87,7 +89,7 @@ class ActionBase:
         with led.lock:
             led.arrivals[action] = led.arrivals.get(action, 0) + 1
 
-    def _run(self, action: str, gh: Any, b: Behavior, goal: Pose2 | None,
+    def _run(self, action: str, gh: AnyGoal, b: Behavior, goal: Pose2 | None,
              feedback: Callable[[Behavior], Any] | None) -> str:
         """Run ``b`` until it ends or the goal is canceled; ``done``, ``canceled`` or
         ``preempted``."""
@@ -110,7 +112,7 @@ class ActionBase:
             if led.current is not None and led.current[1] is b:
                 led.current = None
 
-    def _feedback(self, action: str, gh: Any, b: Behavior,
+    def _feedback(self, action: str, gh: AnyGoal, b: Behavior,
                   feedback: Callable[[Behavior], Any] | None) -> None:
         if feedback is None:
             return
@@ -119,7 +121,7 @@ class ActionBase:
         except Exception:  # feedback is best effort
             self.logger.debug("feedback for %s failed", action, exc_info=True)
 
-    def _settle(self, gh: Any, outcome: str, b: Behavior, result: OutcomeT) -> OutcomeT:
+    def _settle(self, gh: AnyGoal, outcome: str, b: Behavior, result: OutcomeT) -> OutcomeT:
         if outcome == "canceled":
             gh.canceled()
             self.ledger.last_outcome = (4, 0, "canceled")

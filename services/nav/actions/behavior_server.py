@@ -16,6 +16,7 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol, TypeVar
 
+from zenros.action import ServerGoalHandle
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration
 from zenros.msgs.nav2_msgs import (
@@ -37,7 +38,7 @@ from zenros.msgs.zenros_msgs.nav import (
 
 from ..motion.behavior import Behavior
 from ..motion.local_moves import DriveOnHeading, LocalMoveTarget, MoveCodes, SpinInPlace
-from .base import ActionBase, ActionOutcome
+from .base import ActionBase, ActionOutcome, AnyGoal
 from .convert import pose2_from_msg
 
 __all__ = ["BehaviorActions"]
@@ -106,14 +107,14 @@ class BehaviorActions(ActionBase):
 
     # ------------------------------------------------------------------ execute
 
-    def execute_spin(self, gh: Any) -> SpinResult:
+    def execute_spin(self, gh: ServerGoalHandle[SpinGoal, SpinFeedback]) -> SpinResult:
         goal: SpinGoal = gh.request
         speed = self.core.config.nav.spin_speed
         b = SpinInPlace(goal.target_yaw, speed, _seconds(goal.time_allowance), SPIN_CODES)
         return self._go(gh, "spin", b, None,
                         lambda _: SpinFeedback(angular_distance_traveled=b.turned), SpinResult())
 
-    def execute_backup(self, gh: Any) -> BackUpResult:
+    def execute_backup(self, gh: ServerGoalHandle[BackUpGoal, BackUpFeedback]) -> BackUpResult:
         goal: BackUpGoal = gh.request
         result = BackUpResult()
         why = self._straight_problem(goal, backwards=True)
@@ -122,7 +123,9 @@ class BehaviorActions(ActionBase):
         return self._straight(gh, "backup", -abs(goal.target.x), goal, BACKUP_CODES, result,
                               BackUpFeedback)
 
-    def execute_drive_on_heading(self, gh: Any) -> DriveOnHeadingResult:
+    def execute_drive_on_heading(
+        self, gh: ServerGoalHandle[DriveOnHeadingGoal, DriveOnHeadingFeedback]
+    ) -> DriveOnHeadingResult:
         goal: DriveOnHeadingGoal = gh.request
         result = DriveOnHeadingResult()
         why = self._straight_problem(goal, backwards=False)
@@ -131,7 +134,9 @@ class BehaviorActions(ActionBase):
         return self._straight(gh, "drive_on_heading", goal.target.x, goal, DRIVE_CODES, result,
                               DriveOnHeadingFeedback)
 
-    def execute_local_move_target(self, gh: Any) -> LocalMoveTargetResult:
+    def execute_local_move_target(
+        self, gh: ServerGoalHandle[LocalMoveTargetGoal, LocalMoveTargetFeedback]
+    ) -> LocalMoveTargetResult:
         goal: LocalMoveTargetGoal = gh.request
         result = LocalMoveTargetResult()
         if goal.xy_tolerance <= 0 or goal.yaw_tolerance <= 0 or goal.speed < 0:
@@ -175,7 +180,7 @@ class BehaviorActions(ActionBase):
             return "speed and target.x must have the same sign"
         return ""
 
-    def _straight(self, gh: Any, action: str, distance: float, goal: Any, codes: MoveCodes,
+    def _straight(self, gh: AnyGoal, action: str, distance: float, goal: Any, codes: MoveCodes,
                   result: TimedT, feedback_type: Any) -> TimedT:
         speed = min(abs(goal.speed), self.core.config.controller.max_linear_vel)
         b = DriveOnHeading(distance, speed, _seconds(goal.time_allowance), codes,
@@ -184,7 +189,7 @@ class BehaviorActions(ActionBase):
         return self._go(gh, action, b, None,
                         lambda _: feedback_type(distance_traveled=b.traveled), result)
 
-    def _go(self, gh: Any, action: str, b: Behavior, goal: Any,
+    def _go(self, gh: AnyGoal, action: str, b: Behavior, goal: Any,
             feedback: Callable[[Behavior], Any], result: TimedT) -> TimedT:
         """Run ``b``; a canceled or preempted goal gets one last feedback too, once the robot
         stopped, so the client knows how far it got (a resumed local move drives only the
@@ -212,7 +217,7 @@ class BehaviorActions(ActionBase):
         if pose is not None and isinstance(b, (DriveOnHeading, SpinInPlace)):
             b.measure(pose)
 
-    def _invalid(self, gh: Any, result: OutcomeT, code: int, msg: str) -> OutcomeT:
+    def _invalid(self, gh: AnyGoal, result: OutcomeT, code: int, msg: str) -> OutcomeT:
         result.error_code, result.error_msg = code, msg
         gh.abort()
         self.ledger.last_outcome = (3, code, msg)

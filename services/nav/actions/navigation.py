@@ -4,12 +4,13 @@ compute_path_to_pose, with Nav2's fields, feedback and error codes (see `base`).
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
+from zenros.action import ServerGoalHandle
 from zenros.errors import GoalRejectedError
 from zenros.msgs.builtin_interfaces import Duration
 from zenros.msgs.nav2_msgs import (
+    ComputePathToPoseFeedback,
     ComputePathToPoseGoal,
     ComputePathToPoseResult,
     FollowPathFeedback,
@@ -51,7 +52,9 @@ class NavActions(ActionBase):
         self.arrived("navigate_to_pose")
         return True
 
-    def execute_navigate_to_pose(self, gh: Any) -> NavigateToPoseResult:
+    def execute_navigate_to_pose(
+        self, gh: ServerGoalHandle[NavigateToPoseGoal, NavigateToPoseFeedback]
+    ) -> NavigateToPoseResult:
         goal: NavigateToPoseGoal = gh.request
         result = NavigateToPoseResult()
         try:
@@ -85,7 +88,9 @@ class NavActions(ActionBase):
         self.arrived("navigate_through_poses")
         return True
 
-    def execute_navigate_through_poses(self, gh: Any) -> NavigateThroughPosesResult:
+    def execute_navigate_through_poses(
+        self, gh: ServerGoalHandle[NavigateThroughPosesGoal, NavigateThroughPosesFeedback]
+    ) -> NavigateThroughPosesResult:
         goal: NavigateThroughPosesGoal = gh.request
         result = NavigateThroughPosesResult()
         goals = [self._map_pose(ps) for ps in goal.poses]
@@ -122,7 +127,9 @@ class NavActions(ActionBase):
         self.arrived("follow_path")
         return True
 
-    def execute_follow_path(self, gh: Any) -> FollowPathResult:
+    def execute_follow_path(
+        self, gh: ServerGoalHandle[FollowPathGoal, FollowPathFeedback]
+    ) -> FollowPathResult:
         goal: FollowPathGoal = gh.request
         result = FollowPathResult()
         try:
@@ -150,7 +157,9 @@ class NavActions(ActionBase):
 
     # ------------------------------------------------------------------ compute_path_to_pose
 
-    def execute_compute_path_to_pose(self, gh: Any) -> ComputePathToPoseResult:
+    def execute_compute_path_to_pose(
+        self, gh: ServerGoalHandle[ComputePathToPoseGoal, ComputePathToPoseFeedback]
+    ) -> ComputePathToPoseResult:
         goal: ComputePathToPoseGoal = gh.request
         result = ComputePathToPoseResult()
 

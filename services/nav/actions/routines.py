@@ -4,8 +4,8 @@ server and waypoint follower, and the robot API's patrol), see `base`."""
 from __future__ import annotations
 
 import math
-from typing import Any
 
+from zenros.action import ServerGoalHandle
 from zenros.errors import GoalRejectedError, MapError
 from zenros.msgs.builtin_interfaces import Duration
 from zenros.msgs.nav2_msgs import (
@@ -15,6 +15,7 @@ from zenros.msgs.nav2_msgs import (
     FollowWaypointsFeedback,
     FollowWaypointsGoal,
     FollowWaypointsResult,
+    UndockRobotFeedback,
     UndockRobotGoal,
     UndockRobotResult,
     WaypointStatus,
@@ -54,7 +55,9 @@ class RoutineActions(ActionBase):
             return pose
         return self._map_pose(goal.dock_pose)
 
-    def execute_dock_robot(self, gh: Any) -> DockRobotResult:
+    def execute_dock_robot(
+        self, gh: ServerGoalHandle[DockRobotGoal, DockRobotFeedback]
+    ) -> DockRobotResult:
         goal: DockRobotGoal = gh.request
         result = DockRobotResult(success=False)
         try:
@@ -83,7 +86,9 @@ class RoutineActions(ActionBase):
         result.num_retries = b.retries
         return result
 
-    def execute_undock_robot(self, gh: Any) -> UndockRobotResult:
+    def execute_undock_robot(
+        self, gh: ServerGoalHandle[UndockRobotGoal, UndockRobotFeedback]
+    ) -> UndockRobotResult:
         goal: UndockRobotGoal = gh.request
         result = UndockRobotResult(success=False)
         if not (math.isfinite(goal.max_undocking_time) and goal.max_undocking_time > 0):
@@ -121,7 +126,7 @@ class RoutineActions(ActionBase):
         self.arrived("patrol")
         return True
 
-    def execute_patrol(self, gh: Any) -> PatrolResult:
+    def execute_patrol(self, gh: ServerGoalHandle[PatrolGoal, PatrolFeedback]) -> PatrolResult:
         goal: PatrolGoal = gh.request
         result = PatrolResult()
         _, points = self.core.records.nav_points(goal.map_name, goal.path_name)
@@ -157,7 +162,9 @@ class RoutineActions(ActionBase):
         self.arrived("follow_waypoints")
         return True
 
-    def execute_follow_waypoints(self, gh: Any) -> FollowWaypointsResult:
+    def execute_follow_waypoints(
+        self, gh: ServerGoalHandle[FollowWaypointsGoal, FollowWaypointsFeedback]
+    ) -> FollowWaypointsResult:
         goal: FollowWaypointsGoal = gh.request
         result = FollowWaypointsResult()
         poses = [self._map_pose(ps) for ps in goal.poses]

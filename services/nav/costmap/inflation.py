@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from zenros.errors import ConfigError
 
 from .accel import edt as _edt
 from .values import (
@@ -59,7 +60,7 @@ class Inflation:
         for name in ("inscribed_radius", "inflation_radius", "cost_scaling_factor"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+                raise ConfigError(f"{name} must be a finite number >= 0, got {v!r}")
 
     @property
     def cells(self) -> int:

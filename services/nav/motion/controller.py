@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from zenros.errors import ConfigError
 from zenros.se2 import Pose2, angle_diff
 
 from .pathtrack import PathTracker
@@ -56,14 +57,14 @@ class ControllerParams:
     yaw_goal_tolerance: float = 0.15
 
     def check(self) -> None:
-        """Raise ValueError for a non-positive speed, lookahead or tolerance."""
+        """Raise `ConfigError` (a ValueError) for a non-positive speed, lookahead or tolerance."""
         for name in ("max_linear_vel", "max_angular_vel", "lookahead_dist",
                      "min_lookahead_dist", "max_lookahead_dist", "rotate_to_heading_angular_vel",
                      "max_angular_accel", "max_linear_accel", "xy_goal_tolerance",
                      "yaw_goal_tolerance", "regulated_linear_scaling_min_radius"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"controller parameter {name} must be > 0, got {v}")
+                raise ConfigError(f"controller parameter {name} must be > 0, got {v}")
 
 
 @dataclass(frozen=True)
