@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """The import graph of zenros (shared/ as ``zenros``, services/ as ``zenros.services``), read
-with ast: which group imports which, the import circles between modules, and the imports
-from one service into another. docs/architecture.md is written from its output.
+with ast: which group imports which, the import circles between modules, the imports from
+one service into another, and the gateway's imports that point the wrong way between its
+layers. docs/architecture.md is written from its output.
 
-    python3 scripts/import_graph.py            # groups, circles, cross-service imports
+    python3 scripts/import_graph.py            # groups, circles, wrong-way imports
     python3 scripts/import_graph.py --modules  # every module's imports of zenros modules
+    python3 scripts/import_graph.py --check    # exit 1 if an import points the wrong way
 """
 
 from __future__ import annotations
@@ -17,6 +19,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 TREES = {"zenros": ROOT / "shared", "zenros.services": ROOT / "services"}
+GATEWAY = "zenros.services.gateway"
+# The gateway's layers, lowest first: a module imports only its own layer or lower ones.
+# Doors (protocol front ends) sit on the ports to the robot; ports never import a door.
+GATEWAY_LAYERS: dict[str, int] = {
+    "errors": 0, "state": 1, "ports": 2, "runner": 2,
+    "http": 3, "modbus": 3, "serial": 3, "udp": 3, "rosbridge": 3, "foxglove": 3, "ros2": 3,
+    "node": 4, "testing": 5, "__main__": 5,
+}
+DOORS = frozenset(k for k, v in GATEWAY_LAYERS.items() if v == 3)
 
 
 def modules() -> dict[str, Path]:
@@ -66,13 +77,57 @@ def imports_of(name: str, path: Path, known: set[str], typing: bool = False) -> 
 
 def group(name: str) -> str:
     """``zenros.services.nav.planning.plan`` -> ``services.nav``; ``zenros.tf.buffer`` -> ``tf``;
-    top-level modules of ``zenros`` are their own group."""
+    top-level modules of ``zenros`` are their own group; the gateway's sub-packages too
+    (``zenros.services.gateway.http.api`` -> ``services.gateway.http``)."""
     parts = name.split(".")[1:]
     if not parts:
         return "zenros"
+    if parts[:2] == ["services", "gateway"]:
+        return ".".join(parts[:3])
     if parts[0] == "services":
         return ".".join(parts[:2])
     return parts[0]
+
+
+def service(name: str) -> str:
+    """The service a module belongs to (``services.nav``), or "" for the library."""
+    parts = name.split(".")[1:]
+    return ".".join(parts[:2]) if parts[:1] == ["services"] and len(parts) > 1 else ""
+
+
+def gateway_part(name: str) -> str:
+    """The gateway sub-package or top module ``name`` is in (``http``), or ""."""
+    if not name.startswith(GATEWAY + "."):
+        return ""
+    return name[len(GATEWAY) + 1:].split(".")[0]
+
+
+def wrong_way(graph: dict[str, set[str]]) -> list[str]:
+    """The imports that break the layering: a service importing another service, and a
+    gateway module importing a higher layer (a port or the state importing a door, a door
+    importing the node, ...). Each as ``"importer -> imported: why"``."""
+    out: list[str] = []
+    for m, ts in sorted(graph.items()):
+        for t in sorted(ts):
+            sm, st = service(m), service(t)
+            if sm and st and sm != st:
+                out.append(f"{m} -> {t}: one service imports another")
+            pm, pt = gateway_part(m), gateway_part(t)
+            if pm and pt and pm != pt:
+                rm, rt = GATEWAY_LAYERS.get(pm), GATEWAY_LAYERS.get(pt)
+                if rm is None or rt is None:
+                    out.append(f"{m} -> {t}: not in a gateway layer (scripts/import_graph.py "
+                               "GATEWAY_LAYERS)")
+                elif rt > rm:
+                    out.append(f"{m} -> {t}: {pm} (layer {rm}) imports {pt} (layer {rt})")
+    return out
+
+
+def door_to_door(graph: dict[str, set[str]]) -> list[str]:
+    """Gateway doors that import another door (allowed, but each is a coupling to know)."""
+    return [f"{m} -> {t}" for m, ts in sorted(graph.items()) for t in sorted(ts)
+            if gateway_part(m) in DOORS and gateway_part(t) in DOORS
+            and gateway_part(m) != gateway_part(t)]
 
 
 def circles(graph: dict[str, set[str]]) -> list[list[str]]:
@@ -114,6 +169,8 @@ def circles(graph: dict[str, set[str]]) -> list[list[str]]:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--modules", action="store_true", help="print every module's imports")
+    ap.add_argument("--check", action="store_true",
+                    help="print only the wrong-way imports; exit 1 if there are any")
     args = ap.parse_args()
     mods = modules()
     known = set(mods)
@@ -123,6 +180,10 @@ def main() -> int:
                 for m, p in mods.items()}
 
     graph, typed = arrows(False), arrows(True)
+    if args.check:
+        bad = wrong_way(typed)
+        print("\n".join(bad) or "no import points the wrong way")
+        return 1 if bad else 0
     if args.modules:
         for m in sorted(graph):
             print(m, "->", ", ".join(sorted(graph[m])) or "-")
@@ -147,12 +208,16 @@ def main() -> int:
     for comp in circles(typed):
         if comp not in circles(graph):
             print(f"{len(comp)}: " + ", ".join(comp))
-    print("\n## imports from one service into another")
-    for m, ts in sorted(graph.items()):
-        for t in sorted(ts):
-            gm, gt = group(m), group(t)
-            if gm.startswith("services.") and gt.startswith("services.") and gm != gt:
-                print(f"{m} -> {t}")
+    print("\n## imports that point the wrong way (another service; a higher gateway layer)")
+    print("\n".join(wrong_way(typed)) or "-")
+    print("\n## the gateway's layers, lowest first (a module imports its own layer or lower)")
+    layers: dict[int, list[str]] = defaultdict(list)
+    for part, rank in GATEWAY_LAYERS.items():
+        layers[rank].append(part)
+    for rank in sorted(layers):
+        print(f"{rank}: " + ", ".join(layers[rank]))
+    print("\n## gateway doors importing another door")
+    print("\n".join(door_to_door(graph)) or "-")
     return 0
 
 

@@ -15,20 +15,11 @@ from zenros.node import Node
 from zenros.param_client import ParameterClient
 
 from .http.app import HttpApp, build_api
+from .http.context import Context
 from .http.dashboard import dashboard_app
-from .http.routes.connections import add_connection_routes
-from .http.routes.coverage import add_coverage_routes
-from .http.routes.extras import add_extra_routes
-from .http.routes.fs import add_fs_routes
-from .http.routes.goals import add_goal_routes
-from .http.routes.io import add_io_routes
-from .http.routes.local_moves import add_local_move_routes
-from .http.routes.nav import add_nav_routes
-from .http.routes.records import add_record_routes
-from .http.routes.tasks import add_task_routes
-from .http.routes.tts import add_tts_routes
 from .http.ws import ws_app
 from .modbus.front import ModbusFront
+from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
 from .ports.io_link import IoLink
 from .ports.link import RobotLink
@@ -129,19 +120,12 @@ class GatewayNode(Node):
         self.speech = Speech(lambda: self.now().nanoseconds / 1e9)
         self.audio = AudioStore(self.data_dir / "audio.json")
         nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
-        self.api = build_api(self.core, max_body, self.logger, [
-            lambda api: add_task_routes(api, self.tasks),
-            lambda api: add_nav_routes(api, nav_calls),
-            lambda api: add_goal_routes(api, nav_calls),
-            lambda api: add_local_move_routes(api, nav_calls),
-            lambda api: add_io_routes(api, self.io),
-            lambda api: add_record_routes(api, self.nav_link),
-            lambda api: add_connection_routes(api, self.nav_link),
-            lambda api: add_coverage_routes(api, self, self.core.presence),
-            lambda api: add_extra_routes(api, self.link, self.hub,
-                                         ParameterClient(self.context, node=self.fqn)),
-            lambda api: add_fs_routes(api, self.files),
-            lambda api: add_tts_routes(api, self.link, self.speech, self.audio)])
+        self.api = build_api(Context(
+            core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
+            io=self.io, link=self.link, hub=self.hub,
+            params=ParameterClient(self.context, node=self.fqn), files=self.files,
+            speech=self.speech, audio=self.audio,
+            coverage=CoverageLink(self, self.core.presence)), max_body, self.logger)
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:

@@ -2,8 +2,9 @@
 
 A small ASGI app instead of a Starlette router: one dict lookup per request (the API has
 about 180 operations), and every error leaves as a §1.2 JSON body with a 4xx code. Handlers
-are ``async def handler(call: Call) -> object``; what they return is encoded as JSON (a
-Starlette `Response` is sent as is).
+are plain ``async def handler(call: Call) -> object`` functions; the state and the ports they
+work on are ``call.ctx`` (a `context.Context`, given to the `Api`); what they return is encoded
+as JSON (a Starlette `Response` is sent as is).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import logging
 import re
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import parse_qsl
 
 import msgspec
@@ -32,6 +33,9 @@ from ..errors import (
 )
 from ..state.tokens import TokenStore
 from .spec_routes import SPEC_OPERATIONS
+
+if TYPE_CHECKING:
+    from .context import Context
 
 __all__ = ["PREFIX", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error", "error_body"]
 
@@ -75,14 +79,21 @@ def error_body(description: str, result_style: bool = False) -> dict[str, Any]:
 
 @dataclass
 class Call:
-    """One request as a handler sees it: validated ``query`` and ``body`` structs."""
+    """One request as a handler sees it: the `Api` serving it, validated ``query`` and
+    ``body`` structs."""
 
+    api: Api
     query: Any
     body: Any
     token: str | None
     path: str = ""
     path_params: dict[str, str] = field(default_factory=dict)
     request: Request | None = None   # only for ``raw_body`` endpoints
+
+    @property
+    def ctx(self) -> Context:
+        """The state and the ports the handler works on."""
+        return self.api.ctx
 
 
 Handler = Callable[[Call], Awaitable[Any]]
@@ -117,9 +128,11 @@ class Api:
     """The /api/v1 operations. `add` them, then `finish()` routes the spec's remaining ones
     to 501. The object is an ASGI app for paths under ``/api/v1``."""
 
-    def __init__(self, tokens: TokenStore, max_body: int = 64 * 1024,
+    def __init__(self, ctx: Context, max_body: int = 64 * 1024,
                  logger: logging.Logger | None = None) -> None:
-        self.tokens = tokens
+        self.ctx = ctx
+        self.tokens: TokenStore = ctx.core.tokens
+        self.openapi: dict[str, Any] = {}  # the OpenAPI document, built on its first request
         self.max_body = max_body
         self.logger = logger or logging.getLogger("zenros.gateway.api")
         self.routes: dict[str, dict[str, Endpoint]] = {}
@@ -237,7 +250,7 @@ class Api:
             raise ApiError(400, f"{ep.method} {ep.path} takes no body fields; "
                                 f"got {', '.join(sorted(body))}")
         request = Request(scope, receive) if ep.raw_body else None
-        return await ep.handler(Call(q, b, token, scope["path"], params, request))
+        return await ep.handler(Call(self, q, b, token, scope["path"], params, request))
 
     def _convert(self, data: dict[str, Any], tp: type[Any] | None, where: str,
                  strict: bool) -> Any:

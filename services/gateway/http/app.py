@@ -8,38 +8,58 @@ from typing import Any
 
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from ..state.core import Core
 from .api import PREFIX, Api, Call
+from .context import Context
 from .openapi import openapi_document
+from .routes.connections import add_connection_routes
+from .routes.coverage import add_coverage_routes
+from .routes.extras import add_extra_routes
+from .routes.fs import add_fs_routes
+from .routes.goals import add_goal_routes
+from .routes.io import add_io_routes
+from .routes.local_moves import add_local_move_routes
+from .routes.nav import add_nav_routes
+from .routes.records import add_record_routes
 from .routes.system import add_system_routes
+from .routes.tasks import add_task_routes
+from .routes.tts import add_tts_routes
 
-__all__ = ["HttpApp", "build_api"]
+__all__ = ["ROUTES", "HttpApp", "build_api"]
+
+# every group of operations besides the system ones, in the order they are routed
+ROUTES: tuple[Callable[[Api], None], ...] = (
+    add_task_routes, add_nav_routes, add_goal_routes, add_local_move_routes, add_io_routes,
+    add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
+    add_fs_routes, add_tts_routes)
 
 
-def build_api(core: Core, max_body: int = 64 * 1024, logger: logging.Logger | None = None,
-              adders: Sequence[Callable[[Api], None]] = ()) -> Api:
-    """The /api/v1 operations: the system ones, those ``adders`` add, 501 for the rest."""
-    api = Api(core.tokens, max_body=max_body, logger=logger)
-    add_system_routes(api, core)
+async def index(call: Call) -> Any:
+    """The API's operations, split into ``implemented`` and ``not_implemented``."""
+    done: list[str] = []
+    todo: list[str] = []
+    for ep in sorted(call.api.endpoints(), key=lambda e: (e.path, e.method)):
+        (done if ep.implemented else todo).append(f"{ep.method} {PREFIX}{ep.path}")
+    return {"version": call.ctx.core.identity.version, "implemented": done,
+            "not_implemented": todo}
+
+
+async def openapi(call: Call) -> Any:
+    """The OpenAPI document of this server."""
+    if not call.api.openapi:
+        call.api.openapi.update(openapi_document(call.api, "zenros robot API",
+                                                 call.ctx.core.identity.version))
+    return call.api.openapi
+
+
+def build_api(ctx: Context, max_body: int = 64 * 1024, logger: logging.Logger | None = None,
+              adders: Sequence[Callable[[Api], None]] = ROUTES) -> Api:
+    """The /api/v1 operations on ``ctx``: the system ones, those ``adders`` add (every
+    group's by default), 501 for the rest."""
+    api = Api(ctx, max_body=max_body, logger=logger)
+    add_system_routes(api)
     for add in adders:
         add(api)
     api.finish()
-    schema: dict[str, Any] = {}
-
-    async def index(call: Call) -> Any:
-        """The API's operations, split into ``implemented`` and ``not_implemented``."""
-        done: list[str] = []
-        todo: list[str] = []
-        for ep in sorted(api.endpoints(), key=lambda e: (e.path, e.method)):
-            (done if ep.implemented else todo).append(f"{ep.method} {PREFIX}{ep.path}")
-        return {"version": core.identity.version, "implemented": done, "not_implemented": todo}
-
-    async def openapi(call: Call) -> Any:
-        """The OpenAPI document of this server."""
-        if not schema:
-            schema.update(openapi_document(api, "zenros robot API", core.identity.version))
-        return schema
-
     api.add("GET", "/", index, public=True)
     api.add("GET", "/openapi.json", openapi, public=True)
     return api

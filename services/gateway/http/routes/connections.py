@@ -9,8 +9,8 @@ import msgspec
 from zenros.msgs import zenros_msgs as zm
 
 from ...ports.nav_calls import Name
-from ...ports.nav_link import NavLink
 from ..api import Api, Call
+from ..context import Context
 
 __all__ = ["add_connection_routes"]
 
@@ -39,47 +39,56 @@ class IdQuery(msgspec.Struct, forbid_unknown_fields=True):
     id: Annotated[str, msgspec.Meta(min_length=1, max_length=64)]
 
 
-def add_connection_routes(api: Api, link: NavLink) -> None:
+async def floors(ctx: Context) -> dict[str, tuple[str, list[int]]]:
+    link = ctx.nav_link
+    res = await link.call("map_server/list_maps", zm.ListMapsRequest())
+    return {m.name: (m.type or "floor", list(m.levels)) for m in res.maps}
+
+
+def ref(p: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any]:
+    kind, levels = kinds.get(p.map_name, ("floor", []))
+    return {"map": p.map_name, "path": p.path_name, "index": p.index, "type": kind,
+            "levels": levels}
+
+
+def connection(c: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any]:
+    return {"_id": {"$oid": c.oid}, "points": [ref(p, kinds) for p in c.points],
+            "type": c.type, "is_available": c.is_available, "id": c.id}
+
+
+async def get_connections(call: Call) -> Any:
+    """Every nav point of every map (``points``) and every connection
+    (``connections``)."""
+    link = call.ctx.nav_link
+    res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
+    kinds = await floors(call.ctx)
+    points = [{"x": p.x, "y": p.y, "theta": p.theta, "name": p.name, **ref(p, kinds)}
+              for p in res.points]
+    return {"points": points,
+            "connections": [connection(c, kinds) for c in res.connections]}
+
+
+async def post_connection(call: Call) -> Any:
+    """Connect two existing nav points, ``direct`` (the same spot in two maps) or via
+    an ``elevator``; returns the connection with its ``id``."""
+    link = call.ctx.nav_link
+    b: ConnectionBody = call.body
+    res = await link.call("add_point_connection", zm.AddPointConnectionRequest(
+        points=[zm.PointRef(map_name=p.map, path_name=p.path, index=p.index)
+                for p in b.points], type=b.type, is_available=b.is_available))
+    return connection(res.connection, await floors(call.ctx))
+
+
+async def delete_connection(call: Call) -> Any:
+    """Delete the connection ``id``."""
+    link = call.ctx.nav_link
+    await link.call("delete_point_connection",
+                    zm.DeletePointConnectionRequest(id=call.query.id))
+    return {"status": "ok"}
+
+
+def add_connection_routes(api: Api) -> None:
     """Route the point-connection operations."""
-
-    async def floors() -> dict[str, tuple[str, list[int]]]:
-        res = await link.call("map_server/list_maps", zm.ListMapsRequest())
-        return {m.name: (m.type or "floor", list(m.levels)) for m in res.maps}
-
-    def ref(p: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any]:
-        kind, levels = kinds.get(p.map_name, ("floor", []))
-        return {"map": p.map_name, "path": p.path_name, "index": p.index, "type": kind,
-                "levels": levels}
-
-    def connection(c: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any]:
-        return {"_id": {"$oid": c.oid}, "points": [ref(p, kinds) for p in c.points],
-                "type": c.type, "is_available": c.is_available, "id": c.id}
-
-    async def get_connections(call: Call) -> Any:
-        """Every nav point of every map (``points``) and every connection
-        (``connections``)."""
-        res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
-        kinds = await floors()
-        points = [{"x": p.x, "y": p.y, "theta": p.theta, "name": p.name, **ref(p, kinds)}
-                  for p in res.points]
-        return {"points": points,
-                "connections": [connection(c, kinds) for c in res.connections]}
-
-    async def post_connection(call: Call) -> Any:
-        """Connect two existing nav points, ``direct`` (the same spot in two maps) or via
-        an ``elevator``; returns the connection with its ``id``."""
-        b: ConnectionBody = call.body
-        res = await link.call("add_point_connection", zm.AddPointConnectionRequest(
-            points=[zm.PointRef(map_name=p.map, path_name=p.path, index=p.index)
-                    for p in b.points], type=b.type, is_available=b.is_available))
-        return connection(res.connection, await floors())
-
-    async def delete_connection(call: Call) -> Any:
-        """Delete the connection ``id``."""
-        await link.call("delete_point_connection",
-                        zm.DeletePointConnectionRequest(id=call.query.id))
-        return {"status": "ok"}
-
     api.add("GET", "/navigation/point_connections", get_connections)
     api.add("POST", "/navigation/point_connections", post_connection, body=ConnectionBody)
     api.add("DELETE", "/navigation/point_connections", delete_connection, query=IdQuery)

@@ -7,17 +7,10 @@ import math
 from typing import Annotated, Any
 
 import msgspec
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.geometry_msgs import Point
-from zenros.msgs.zenros_msgs import (
-    ComputeCoveragePath,
-    ComputeCoveragePathRequest,
-    CoverageHole,
-)
-from zenros.node import Node
+from zenros.msgs.zenros_msgs import ComputeCoveragePathRequest, CoverageHole
 
 from ...ports.nav_calls import Coord
-from ...state.presence import Presence
 from ..api import Api, ApiError, Call
 
 __all__ = ["CoverageBody", "add_coverage_routes"]
@@ -44,34 +37,24 @@ def _points(poly: list[list[float]]) -> list[Point]:
     return [Point(x=p[0], y=p[1], z=p[2] if len(p) > 2 else 0.0) for p in poly]
 
 
-def add_coverage_routes(api: Api, node: Node, presence: Presence,
-                        timeout: float = 30.0) -> None:
-    """Route the coverage-path operation through a client of nav's service."""
-    client = node.create_client(ComputeCoveragePath, "compute_coverage_path")
+async def post_coverage_path(call: Call) -> Any:
+    """Plan (not drive) a back-and-forth path covering ``border`` minus ``holes``."""
+    b: CoverageBody = call.body
+    for name in ("op_width", "swath_angle", "turn_radius", "headland_width"):
+        if not math.isfinite(getattr(b, name)):
+            raise ApiError(400, f"{name} must be a finite number")
+    total = len(b.border) + sum(len(h) for h in b.holes)
+    if total > MAX_POINTS:
+        raise ApiError(400, f"border and holes have {total} points (limit {MAX_POINTS})")
+    req = ComputeCoveragePathRequest(
+        swath_angle=b.swath_angle, op_width=b.op_width, turn_radius=b.turn_radius,
+        headland_width=b.headland_width, border=_points(b.border),
+        holes=[CoverageHole(points=_points(h)) for h in b.holes])
+    res = await call.ctx.coverage.plan(req)
+    return {"status": "ok", "path": [[p.x, p.y, 0.0] for p in res.path],
+            "swath_angle": res.swath_angle, "swaths": res.swaths}
 
-    async def post_coverage_path(call: Call) -> Any:
-        """Plan (not drive) a back-and-forth path covering ``border`` minus ``holes``."""
-        b: CoverageBody = call.body
-        for name in ("op_width", "swath_angle", "turn_radius", "headland_width"):
-            if not math.isfinite(getattr(b, name)):
-                raise ApiError(400, f"{name} must be a finite number")
-        total = len(b.border) + sum(len(h) for h in b.holes)
-        if total > MAX_POINTS:
-            raise ApiError(400, f"border and holes have {total} points (limit {MAX_POINTS})")
-        req = ComputeCoveragePathRequest(
-            swath_angle=b.swath_angle, op_width=b.op_width, turn_radius=b.turn_radius,
-            headland_width=b.headland_width, border=_points(b.border),
-            holes=[CoverageHole(points=_points(h)) for h in b.holes])
-        try:
-            res = await client.call_async(req, timeout)
-        except ServiceUnavailableError:
-            raise presence.error("nav", f"no server for {client.name}") from None
-        except ZenrosTimeout:
-            raise ApiError(504, f"the nav service did not answer {client.name} within "
-                                f"{timeout:g} s") from None
-        except ServiceError as exc:
-            raise ApiError(400, exc.reason) from exc
-        return {"status": "ok", "path": [[p.x, p.y, 0.0] for p in res.path],
-                "swath_angle": res.swath_angle, "swaths": res.swaths}
 
+def add_coverage_routes(api: Api) -> None:
+    """Route the coverage-path operation to nav's service (``call.ctx.coverage``)."""
     api.add("POST", "/navigation/coverage_path", post_coverage_path, body=CoverageBody)

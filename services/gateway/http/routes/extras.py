@@ -16,10 +16,8 @@ from zenros.errors import (
     ZenrosError,
     ZenrosTimeout,
 )
-from zenros.param_client import ParameterClient
 
-from ...ports.link import RobotLink
-from ...ports.topic_hub import Slot, TopicError, TopicHub
+from ...ports.topic_hub import Slot, TopicError
 from ..api import Api, ApiError, Call
 
 __all__ = ["add_extra_routes"]
@@ -53,53 +51,63 @@ async def _params(fn: Callable[[], Any]) -> Any:
         raise ApiError(400, str(exc)) from exc
 
 
-def add_extra_routes(api: Api, link: RobotLink, hub: TopicHub, params: ParameterClient) -> None:
+async def log(call: Call) -> Any:
+    """The recent system log (``/rosout``), oldest first."""
+    link = call.ctx.link
+    return {"log": "\n".join(link.log)}
+
+
+async def topic(call: Call) -> Any:
+    """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
+    hub = call.ctx.hub
+    try:
+        name = hub.resolve(call.query.topic_name)
+    except TopicError as exc:
+        raise ApiError(400, str(exc)) from exc
+    slot = Slot(asyncio.get_running_loop())
+    try:
+        hub.attach(name, slot)
+    except TopicError as exc:
+        raise ApiError(404, str(exc)) from exc
+    try:
+        frame = await asyncio.wait_for(slot.get(), TOPIC_WAIT)
+    except TimeoutError:
+        raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
+    finally:
+        hub.detach(name, slot)
+    return msgspec.Raw(frame.encode())
+
+
+async def self_test(call: Call) -> Any:
+    """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
+    link = call.ctx.link
+    return {"motor_driver": link.fresh("odom"), "camera": False,
+            "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
+            "bluetooth": False, "battery": link.fresh("battery_state")}
+
+
+async def get_param(call: Call) -> Any:
+    """A parameter (or a namespace as an object) from the parameter server."""
+    params = call.ctx.params
+    name = call.query.param
+    return {"value": await _params(lambda: params.get(name))}
+
+
+async def put_param(call: Call) -> Any:
+    """Set a parameter; answers the value stored."""
+    params = call.ctx.params
+    b: ParamBody = call.body
+    await _params(lambda: params.set(b.param, b.value))
+    return {"value": b.value}
+
+
+async def schedule_manager(call: Call) -> Any:
+    """The multi-robot schedule manager the robot is connected to: none (empty)."""
+    return {}
+
+
+def add_extra_routes(api: Api) -> None:
     """Route the extra system operations."""
-
-    async def log(call: Call) -> Any:
-        """The recent system log (``/rosout``), oldest first."""
-        return {"log": "\n".join(link.log)}
-
-    async def topic(call: Call) -> Any:
-        """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
-        try:
-            name = hub.resolve(call.query.topic_name)
-        except TopicError as exc:
-            raise ApiError(400, str(exc)) from exc
-        slot = Slot(asyncio.get_running_loop())
-        try:
-            hub.attach(name, slot)
-        except TopicError as exc:
-            raise ApiError(404, str(exc)) from exc
-        try:
-            frame = await asyncio.wait_for(slot.get(), TOPIC_WAIT)
-        except TimeoutError:
-            raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
-        finally:
-            hub.detach(name, slot)
-        return msgspec.Raw(frame.encode())
-
-    async def self_test(call: Call) -> Any:
-        """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
-        return {"motor_driver": link.fresh("odom"), "camera": False,
-                "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
-                "bluetooth": False, "battery": link.fresh("battery_state")}
-
-    async def get_param(call: Call) -> Any:
-        """A parameter (or a namespace as an object) from the parameter server."""
-        name = call.query.param
-        return {"value": await _params(lambda: params.get(name))}
-
-    async def put_param(call: Call) -> Any:
-        """Set a parameter; answers the value stored."""
-        b: ParamBody = call.body
-        await _params(lambda: params.set(b.param, b.value))
-        return {"value": b.value}
-
-    async def schedule_manager(call: Call) -> Any:
-        """The multi-robot schedule manager the robot is connected to: none (empty)."""
-        return {}
-
     api.add("GET", "/system/log", log)
     api.add("GET", "/system/schedule_manager", schedule_manager)
     api.add("GET", "/system/topic", topic, query=TopicQuery)

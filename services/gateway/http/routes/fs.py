@@ -13,7 +13,7 @@ from starlette.requests import Request
 from starlette.responses import FileResponse
 from starlette.types import Message, Receive
 
-from ...ports.fs_sandbox import FileRoot, FsError
+from ...ports.fs_sandbox import FsError
 from ..api import Api, ApiError, Call
 
 __all__ = ["add_fs_routes"]
@@ -60,6 +60,9 @@ async def _fs(fn: Callable[[], Any]) -> Any:
         raise ApiError(409, f"the file system refused: {exc.strerror or exc}") from exc
 
 
+SLACK = 64 * 1024  # an upload's multipart boundaries and the small fields around the file
+
+
 def _limited(receive: Receive, limit: int) -> Receive:
     seen = 0
 
@@ -73,96 +76,116 @@ def _limited(receive: Receive, limit: int) -> Receive:
     return wrapped
 
 
-def add_fs_routes(api: Api, root: FileRoot) -> None:
+async def download(call: Call) -> Any:
+    """Download a file (its bytes, with a guessed content type)."""
+    root = call.ctx.files
+    full = await _fs(lambda: root.file(call.query.path))
+    return FileResponse(full, filename=full.name)
+
+
+async def upload(call: Call) -> Any:
+    """Upload a multipart form field ``file`` to ``path`` (form field or query).
+
+    ``path`` names the file, or a folder (existing, or ending in ``/``) to put it in
+    under its own name; an existing file is replaced. Token in the query string.
+    """
+    root = call.ctx.files
+    assert call.request is not None
+    declared = call.request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > root.max_upload + SLACK:
+        raise ApiError(413, f"upload too large: {declared} bytes "
+                            f"(limit {root.max_upload})")
+    ctype = call.request.headers.get("content-type", "")
+    if not ctype.startswith("multipart/form-data"):
+        raise ApiError(400, "upload a multipart/form-data body with a `file` field")
+    request = Request(call.request.scope,
+                      _limited(call.request.receive, root.max_upload + SLACK))
+    try:
+        async with request.form(max_files=1, max_fields=8) as form:
+            upload_file = form.get("file")
+            path = form.get("path", call.query.path)
+            unknown = sorted(set(form.keys()) - {"file", "path"})
+            if unknown:
+                raise ApiError(400, f"unknown form field(s): {', '.join(unknown)}")
+            if not isinstance(upload_file, UploadFile):
+                raise ApiError(400, "the form has no `file` field with a file in it")
+            if not isinstance(path, str) or not path:
+                raise ApiError(400, "missing `path` (form field or query parameter)")
+            where: str = path
+            data = upload_file.file
+            full = await _fs(lambda: root.upload_target(where, upload_file.filename or ""))
+            size = await _fs(lambda: root.write(full, data))
+    except MultiPartException as exc:  # the parser's refusals (malformed, too many parts)
+        raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
+    return {"status": "ok", "path": root.relative(full), "size": size}
+
+
+async def rename(call: Call) -> Any:
+    """Rename or move ``name`` to ``new_name``."""
+    root = call.ctx.files
+    b: RenameBody = call.body
+    new = await _fs(lambda: root.move(b.name, b.new_name))
+    return {"status": "ok", "path": new}
+
+
+async def delete_file(call: Call) -> Any:
+    """Delete a file (or a symbolic link)."""
+    root = call.ctx.files
+    await _fs(lambda: root.remove_file(call.query.path))
+    return {"status": "ok"}
+
+
+async def list_dir(call: Call) -> Any:
+    """List a folder: ``files`` and ``directories`` (names, sorted)."""
+    root = call.ctx.files
+    return await _fs(lambda: root.list_dir(call.query.path))
+
+
+async def make_dir(call: Call) -> Any:
+    """Create a folder (with missing parents)."""
+    root = call.ctx.files
+    await _fs(lambda: root.make_dir(call.body.path))
+    return {"status": "ok"}
+
+
+async def delete_dir(call: Call) -> Any:
+    """Delete a folder and everything in it."""
+    root = call.ctx.files
+    await _fs(lambda: root.remove_dir(call.query.path))
+    return {"status": "ok"}
+
+
+async def file_info(call: Call) -> Any:
+    """Stat a path: ``mode``, ``size``, ``atime``, ``mtime``, ``ctime``, ``mimetype``."""
+    root = call.ctx.files
+    return await _fs(lambda: root.info(call.query.path))
+
+
+async def copy(call: Call) -> Any:
+    """Copy a file or folder ``from`` to ``to``."""
+    root = call.ctx.files
+    b: FromTo = call.body
+    new = await _fs(lambda: root.copy(b.from_, b.to))
+    return {"status": "ok", "path": new}
+
+
+async def cut(call: Call) -> Any:
+    """Move a file or folder ``from`` to ``to``."""
+    root = call.ctx.files
+    b: FromTo = call.body
+    new = await _fs(lambda: root.move(b.from_, b.to))
+    return {"status": "ok", "path": new}
+
+
+async def delete_many(call: Call) -> Any:
+    """Delete the files and folders listed in ``delete`` (all checked first)."""
+    root = call.ctx.files
+    await _fs(lambda: root.remove_many(call.body.delete))
+    return {"status": "ok"}
+
+
+def add_fs_routes(api: Api) -> None:
     """Route the §16 file operations on ``root``."""
-    slack = 64 * 1024  # multipart boundaries and the small fields around the file
-
-    async def download(call: Call) -> Any:
-        """Download a file (its bytes, with a guessed content type)."""
-        full = await _fs(lambda: root.file(call.query.path))
-        return FileResponse(full, filename=full.name)
-
-    async def upload(call: Call) -> Any:
-        """Upload a multipart form field ``file`` to ``path`` (form field or query).
-
-        ``path`` names the file, or a folder (existing, or ending in ``/``) to put it in
-        under its own name; an existing file is replaced. Token in the query string.
-        """
-        assert call.request is not None
-        declared = call.request.headers.get("content-length", "")
-        if declared.isdigit() and int(declared) > root.max_upload + slack:
-            raise ApiError(413, f"upload too large: {declared} bytes "
-                                f"(limit {root.max_upload})")
-        ctype = call.request.headers.get("content-type", "")
-        if not ctype.startswith("multipart/form-data"):
-            raise ApiError(400, "upload a multipart/form-data body with a `file` field")
-        request = Request(call.request.scope,
-                          _limited(call.request.receive, root.max_upload + slack))
-        try:
-            async with request.form(max_files=1, max_fields=8) as form:
-                upload_file = form.get("file")
-                path = form.get("path", call.query.path)
-                unknown = sorted(set(form.keys()) - {"file", "path"})
-                if unknown:
-                    raise ApiError(400, f"unknown form field(s): {', '.join(unknown)}")
-                if not isinstance(upload_file, UploadFile):
-                    raise ApiError(400, "the form has no `file` field with a file in it")
-                if not isinstance(path, str) or not path:
-                    raise ApiError(400, "missing `path` (form field or query parameter)")
-                where: str = path
-                data = upload_file.file
-                full = await _fs(lambda: root.upload_target(where, upload_file.filename or ""))
-                size = await _fs(lambda: root.write(full, data))
-        except MultiPartException as exc:  # the parser's refusals (malformed, too many parts)
-            raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
-        return {"status": "ok", "path": root.relative(full), "size": size}
-
-    async def rename(call: Call) -> Any:
-        """Rename or move ``name`` to ``new_name``."""
-        b: RenameBody = call.body
-        new = await _fs(lambda: root.move(b.name, b.new_name))
-        return {"status": "ok", "path": new}
-
-    async def delete_file(call: Call) -> Any:
-        """Delete a file (or a symbolic link)."""
-        await _fs(lambda: root.remove_file(call.query.path))
-        return {"status": "ok"}
-
-    async def list_dir(call: Call) -> Any:
-        """List a folder: ``files`` and ``directories`` (names, sorted)."""
-        return await _fs(lambda: root.list_dir(call.query.path))
-
-    async def make_dir(call: Call) -> Any:
-        """Create a folder (with missing parents)."""
-        await _fs(lambda: root.make_dir(call.body.path))
-        return {"status": "ok"}
-
-    async def delete_dir(call: Call) -> Any:
-        """Delete a folder and everything in it."""
-        await _fs(lambda: root.remove_dir(call.query.path))
-        return {"status": "ok"}
-
-    async def file_info(call: Call) -> Any:
-        """Stat a path: ``mode``, ``size``, ``atime``, ``mtime``, ``ctime``, ``mimetype``."""
-        return await _fs(lambda: root.info(call.query.path))
-
-    async def copy(call: Call) -> Any:
-        """Copy a file or folder ``from`` to ``to``."""
-        b: FromTo = call.body
-        new = await _fs(lambda: root.copy(b.from_, b.to))
-        return {"status": "ok", "path": new}
-
-    async def cut(call: Call) -> Any:
-        """Move a file or folder ``from`` to ``to``."""
-        b: FromTo = call.body
-        new = await _fs(lambda: root.move(b.from_, b.to))
-        return {"status": "ok", "path": new}
-
-    async def delete_many(call: Call) -> Any:
-        """Delete the files and folders listed in ``delete`` (all checked first)."""
-        await _fs(lambda: root.remove_many(call.body.delete))
-        return {"status": "ok"}
-
     api.add("GET", "/fs/file_api", download, query=PathQuery,
             media_type="application/octet-stream")
     api.add("POST", "/fs/file_api", upload, query=OptionalPath, raw_body=True)

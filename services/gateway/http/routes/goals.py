@@ -14,9 +14,10 @@ from zenros.msgs import zenros_msgs as zm
 
 from ...errors import TaskError
 from ...ports.crossing import check_route
-from ...ports.nav_calls import Angle, Coord, NavCalls, OptName
+from ...ports.nav_calls import Angle, Coord, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
+from ..context import Context
 
 __all__ = ["add_goal_routes"]
 
@@ -40,144 +41,174 @@ class LoopBody(msgspec.Struct, forbid_unknown_fields=True):
     wait_time: Annotated[float, msgspec.Meta(ge=0, le=86400)] = 0.0
 
 
-def add_goal_routes(api: Api, calls: NavCalls) -> None:
+async def only_path(ctx: Context, map_name: str) -> str:
+    link = ctx.calls.link
+    res = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
+    if len(res.paths) != 1:
+        names = ", ".join(p.path_name for p in res.paths) or "none"
+        raise ApiError(400, f"give the path: map {map_name!r} has {len(res.paths)} "
+                            f"paths ({names})")
+    return str(res.paths[0].path_name)
+
+
+async def start_nav_task(call: Call) -> Any:
+    """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
+    connections); returns the started navigation task."""
+    core = call.ctx.core
+    nav = call.ctx.calls.nav
+    link = call.ctx.calls.link
+    run_task = call.ctx.calls.run_task
+    current_map = call.ctx.calls.current_map
+    same_map = call.ctx.calls.same_map
+    b: NavTaskBody = call.body
+    action: dict[str, Any] = {"type": "nav_action", "x": b.x, "y": b.y,
+                              "theta": b.theta}
+    current = await current_map()
+    if b.map and b.map != current:  # across maps (§6.7): the task finds the route
+        await check_route(link, current, b.map)
+        action["map"] = b.map
+        nav.path_name = b.path
+    else:
+        same_map(b.map, b.path, current)
+    task = await run_task("navigation task", [action])
+    core.state.goal.num_id = -2
+    return task
+
+
+async def move_to_index(call: Call) -> Any:
+    """Go to nav point ``index`` of the current path, or of ``path`` on another
+    ``map`` (across maps through the point connections); returns the started task."""
+    core = call.ctx.core
+    nav = call.ctx.calls.nav
+    link = call.ctx.calls.link
+    run_task = call.ctx.calls.run_task
+    point = call.ctx.calls.point
+    current_map = call.ctx.calls.current_map
+    same_map = call.ctx.calls.same_map
+    q: IndexQuery = call.query
+    current = await current_map()
+    if q.map and q.map != current:  # across maps (§6.7): the task finds the route
+        res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+            map_name=q.map, path_name=q.path or await only_path(call.ctx, q.map)))
+        if not 0 <= q.index < len(res.points):
+            n = len(res.points)
+            raise ApiError(404, f"nav point {q.index} does not exist: path "
+                                f"{res.path_name!r} of map {q.map!r} has {n}")
+        await check_route(link, current, q.map)
+        action: dict[str, Any] = {"type": "nav_action", "index": q.index,
+                                  "map": q.map, "path": res.path_name}
+        nav.path_name = res.path_name
+    else:
+        same_map(q.map, q.path, current)
+        x, y, th = await point(q.index)
+        action = {"type": "nav_action", "x": x, "y": y, "theta": th}
+    task = await run_task("navigation task", [action])
+    core.state.goal.num_id = q.index
+    return task
+
+
+async def stop_nav_task(call: Call) -> Any:
+    """Stop the running (navigation) task; returns it."""
+    task_call = call.ctx.calls.task_call
+    return await task_call("stop")
+
+
+async def get_loop(call: Call) -> Any:
+    """The patrol (loop) task, or 404 when none is running."""
+    nav, task_call = call.ctx.calls.nav, call.ctx.calls.task_call
+    if not nav.loop_task_id:
+        raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
+    return await task_call("get", nav.loop_task_id)
+
+
+async def post_loop(call: Call) -> Any:
+    """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
+    core = call.ctx.core
+    nav = call.ctx.calls.nav
+    link = call.ctx.calls.link
+    run_task = call.ctx.calls.run_task
+    b: LoopBody = call.body
+    try:
+        path = await nav.current_path()
+    except NavUnavailable as exc:
+        raise core.presence.error("nav", str(exc)) from exc
+    except ValueError as exc:
+        raise ApiError(409, str(exc)) from exc
+    res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
+    if not res.points:
+        raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
+    subs: list[dict[str, Any]] = []
+    for p in res.points:
+        subs.append({"type": "nav_action", "x": p.x, "y": p.y, "theta": p.theta})
+        if b.wait_time > 0:
+            subs.append({"type": "sleep_action", "wait_time": b.wait_time})
+    task = await run_task("loop task", subs, loop=True)
+    nav.loop_task_id = task["id"]
+    core.state.looping = True
+    return task
+
+
+async def delete_loop(call: Call) -> Any:
+    """Stop patrolling; returns the stopped loop task."""
+    core, nav, task_call = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.task_call
+    if not nav.loop_task_id:
+        raise ApiError(404, "no loop task is running")
+    task = await task_call("stop", nav.loop_task_id)
+    nav.loop_task_id = ""
+    core.state.looping = False
+    return task
+
+
+async def go_charge(call: Call) -> Any:
+    """Go to the charging station and dock; returns the task (one ``charge_action``)."""
+    link, run_task = call.ctx.calls.link, call.ctx.calls.run_task
+    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    if not res.is_set:
+        raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
+                            "POST /navigation/charge_pose first")
+    p = res.pose
+    return await run_task("charge task", [
+        {"type": "charge_action", "x": p.x, "y": p.y, "theta": p.theta}])
+
+
+async def stop_charge(call: Call) -> Any:
+    """Stop charging, whatever the task state: stops the running task (the charge task,
+    while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
+    core, nav, task_call = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.task_call
+    task = None
+    running = [t for t in await task_call("get") if t.get("state") in ("WORKING", "PAUSED")]
+    if running:
+        try:
+            task = await task_call("stop", running[0]["id"])
+        except TaskError as exc:
+            if exc.code != 409:  # 409: it ended meanwhile, nothing left to stop
+                raise
+    try:
+        await nav.stop_charge()
+    except NavUnavailable as exc:
+        raise core.presence.error("nav", str(exc)) from exc
+    return {"status": "ok", "task": task}
+
+
+async def get_charge_pose(call: Call) -> Any:
+    """The stored charging-station pose: ``x``, ``y``, ``theta``."""
+    link = call.ctx.calls.link
+    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    if not res.is_set:
+        raise ApiError(404, f"map {res.map_name!r} has no charge pose yet")
+    return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
+
+
+async def post_charge_pose(call: Call) -> Any:
+    """Store the robot's current pose as the charging-station pose."""
+    link = call.ctx.calls.link
+    res = await link.call("set_charge_pose",
+                          zm.SetChargePoseRequest(use_current_pose=True))
+    return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
+
+
+def add_goal_routes(api: Api) -> None:
     """Route the goal, patrol and charging operations."""
-    core, nav, link = calls.core, calls.nav, calls.link
-    task_call, run_task, point = calls.task_call, calls.run_task, calls.point
-    current_map, same_map = calls.current_map, calls.same_map
-    loop_ids: list[str] = []
-
-    async def only_path(map_name: str) -> str:
-        res = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
-        if len(res.paths) != 1:
-            names = ", ".join(p.path_name for p in res.paths) or "none"
-            raise ApiError(400, f"give the path: map {map_name!r} has {len(res.paths)} "
-                                f"paths ({names})")
-        return str(res.paths[0].path_name)
-
-    async def start_nav_task(call: Call) -> Any:
-        """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
-        connections); returns the started navigation task."""
-        b: NavTaskBody = call.body
-        action: dict[str, Any] = {"type": "nav_action", "x": b.x, "y": b.y,
-                                  "theta": b.theta}
-        current = await current_map()
-        if b.map and b.map != current:  # across maps (§6.7): the task finds the route
-            await check_route(link, current, b.map)
-            action["map"] = b.map
-            nav.path_name = b.path
-        else:
-            same_map(b.map, b.path, current)
-        task = await run_task("navigation task", [action])
-        core.state.goal.num_id = -2
-        return task
-
-    async def move_to_index(call: Call) -> Any:
-        """Go to nav point ``index`` of the current path, or of ``path`` on another
-        ``map`` (across maps through the point connections); returns the started task."""
-        q: IndexQuery = call.query
-        current = await current_map()
-        if q.map and q.map != current:  # across maps (§6.7): the task finds the route
-            res = await link.call("get_nav_points", zm.GetNavPointsRequest(
-                map_name=q.map, path_name=q.path or await only_path(q.map)))
-            if not 0 <= q.index < len(res.points):
-                n = len(res.points)
-                raise ApiError(404, f"nav point {q.index} does not exist: path "
-                                    f"{res.path_name!r} of map {q.map!r} has {n}")
-            await check_route(link, current, q.map)
-            action: dict[str, Any] = {"type": "nav_action", "index": q.index,
-                                      "map": q.map, "path": res.path_name}
-            nav.path_name = res.path_name
-        else:
-            same_map(q.map, q.path, current)
-            x, y, th = await point(q.index)
-            action = {"type": "nav_action", "x": x, "y": y, "theta": th}
-        task = await run_task("navigation task", [action])
-        core.state.goal.num_id = q.index
-        return task
-
-    async def stop_nav_task(call: Call) -> Any:
-        """Stop the running (navigation) task; returns it."""
-        return await task_call("stop")
-
-    async def get_loop(call: Call) -> Any:
-        """The patrol (loop) task, or 404 when none was started."""
-        if not loop_ids:
-            raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
-        return await task_call("get", loop_ids[-1])
-
-    async def post_loop(call: Call) -> Any:
-        """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
-        b: LoopBody = call.body
-        try:
-            path = await nav.current_path()
-        except NavUnavailable as exc:
-            raise core.presence.error("nav", str(exc)) from exc
-        except ValueError as exc:
-            raise ApiError(409, str(exc)) from exc
-        res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
-        if not res.points:
-            raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
-        subs: list[dict[str, Any]] = []
-        for p in res.points:
-            subs.append({"type": "nav_action", "x": p.x, "y": p.y, "theta": p.theta})
-            if b.wait_time > 0:
-                subs.append({"type": "sleep_action", "wait_time": b.wait_time})
-        task = await run_task("loop task", subs, loop=True)
-        loop_ids.append(task["id"])
-        nav.loop_task_id = task["id"]
-        core.state.looping = True
-        return task
-
-    async def delete_loop(call: Call) -> Any:
-        """Stop patrolling; returns the stopped loop task."""
-        if not loop_ids:
-            raise ApiError(404, "no loop task is running")
-        task = await task_call("stop", loop_ids[-1])
-        nav.loop_task_id = ""
-        core.state.looping = False
-        return task
-
-    async def go_charge(call: Call) -> Any:
-        """Go to the charging station and dock; returns the task (one ``charge_action``)."""
-        res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
-        if not res.is_set:
-            raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
-                                "POST /navigation/charge_pose first")
-        p = res.pose
-        return await run_task("charge task", [
-            {"type": "charge_action", "x": p.x, "y": p.y, "theta": p.theta}])
-
-    async def stop_charge(call: Call) -> Any:
-        """Stop charging, whatever the task state: stops the running task (the charge task,
-        while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
-        task = None
-        running = [t for t in await task_call("get") if t.get("state") in ("WORKING", "PAUSED")]
-        if running:
-            try:
-                task = await task_call("stop", running[0]["id"])
-            except TaskError as exc:
-                if exc.code != 409:  # 409: it ended meanwhile, nothing left to stop
-                    raise
-        try:
-            await nav.stop_charge()
-        except NavUnavailable as exc:
-            raise core.presence.error("nav", str(exc)) from exc
-        return {"status": "ok", "task": task}
-
-    async def get_charge_pose(call: Call) -> Any:
-        """The stored charging-station pose: ``x``, ``y``, ``theta``."""
-        res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
-        if not res.is_set:
-            raise ApiError(404, f"map {res.map_name!r} has no charge pose yet")
-        return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
-
-    async def post_charge_pose(call: Call) -> Any:
-        """Store the robot's current pose as the charging-station pose."""
-        res = await link.call("set_charge_pose",
-                              zm.SetChargePoseRequest(use_current_pose=True))
-        return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
-
     api.add("POST", "/navigation/start_nav_task", start_nav_task, body=NavTaskBody)
     api.add("GET", "/navigation/move_to_index", move_to_index, query=IndexQuery)
     api.add("GET", "/navigation/stop_nav_task", stop_nav_task)

@@ -10,7 +10,6 @@ from typing import Annotated, Any, Literal
 
 import msgspec
 
-from ...ports.io_link import IoLink
 from ..api import Api, ApiError, Call
 
 __all__ = ["add_io_routes"]
@@ -28,34 +27,41 @@ class BwIoBody(msgspec.Struct, forbid_unknown_fields=True):
     port: Annotated[int, msgspec.Meta(ge=0, le=7)]
 
 
-def add_io_routes(api: Api, io: IoLink) -> None:
+async def get_io(call: Call) -> Any:
+    """Main-board outputs: ``out1``..``out3`` as "0" (low) or "1" (high)."""
+    io = call.ctx.io
+    outs = io.current().outputs
+    return {"status": "ok", **{f"out{i + 1}": str(v) for i, v in enumerate(outs)}}
+
+
+async def post_io(call: Call) -> Any:
+    """Set main-board output ``port`` ("1".."3") to ``level`` ("0"/"1")."""
+    io = call.ctx.io
+    b: IoBody = call.body
+    await io.set("main", int(b.port), int(b.level))
+    return {"status": "ok"}
+
+
+async def get_bw_io(call: Call) -> Any:
+    """The extension IO board: ``in`` (16 inputs) and ``out`` (8 outputs), port -> 0/1."""
+    io = call.ctx.io
+    state = io.current()
+    if not state.ext_outputs:
+        raise ApiError(404, "this robot has no extension IO board")
+    return {"in": {str(i): v for i, v in enumerate(state.ext_inputs)},
+            "out": {str(i): v for i, v in enumerate(state.ext_outputs)}}
+
+
+async def put_bw_io(call: Call) -> Any:
+    """Set extension-board output ``port`` (0..7) to ``level`` (0/1)."""
+    io = call.ctx.io
+    b: BwIoBody = call.body
+    await io.set("ext", b.port, b.level)
+    return {"status": "ok"}
+
+
+def add_io_routes(api: Api) -> None:
     """Route §3.8's main-board and extension-board IO."""
-
-    async def get_io(call: Call) -> Any:
-        """Main-board outputs: ``out1``..``out3`` as "0" (low) or "1" (high)."""
-        outs = io.current().outputs
-        return {"status": "ok", **{f"out{i + 1}": str(v) for i, v in enumerate(outs)}}
-
-    async def post_io(call: Call) -> Any:
-        """Set main-board output ``port`` ("1".."3") to ``level`` ("0"/"1")."""
-        b: IoBody = call.body
-        await io.set("main", int(b.port), int(b.level))
-        return {"status": "ok"}
-
-    async def get_bw_io(call: Call) -> Any:
-        """The extension IO board: ``in`` (16 inputs) and ``out`` (8 outputs), port -> 0/1."""
-        state = io.current()
-        if not state.ext_outputs:
-            raise ApiError(404, "this robot has no extension IO board")
-        return {"in": {str(i): v for i, v in enumerate(state.ext_inputs)},
-                "out": {str(i): v for i, v in enumerate(state.ext_outputs)}}
-
-    async def put_bw_io(call: Call) -> Any:
-        """Set extension-board output ``port`` (0..7) to ``level`` (0/1)."""
-        b: BwIoBody = call.body
-        await io.set("ext", b.port, b.level)
-        return {"status": "ok"}
-
     api.add("GET", "/system/io", get_io)
     api.add("POST", "/system/io", post_io, body=IoBody)
     api.add("GET", "/system/bw_io", get_bw_io)

@@ -13,8 +13,9 @@ from typing import Annotated, Any, Literal
 
 import msgspec
 
-from ...ports.nav_calls import Angle, Coord, NavCalls
+from ...ports.nav_calls import Angle, Coord
 from ..api import Api, Call
+from ..context import Context
 
 __all__ = ["TASK_NAME", "add_local_move_routes"]
 
@@ -70,48 +71,59 @@ def _move(q: MoveQuery | NavMoveQuery | NavMoveIoQuery) -> dict[str, Any]:
             "method": q.method}
 
 
-def add_local_move_routes(api: Api, calls: NavCalls) -> None:
+async def nav_to(ctx: Context, index: int) -> dict[str, Any]:
+    calls = ctx.calls
+    x, y, theta = await calls.point(index)
+    return {"type": "nav_action", "x": x, "y": y, "theta": theta}
+
+
+async def start_local_move(call: Call) -> Any:
+    """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) from where the
+    robot is; ``method`` 0 moves then turns, 1 turns then moves. Returns the task."""
+    calls = call.ctx.calls
+    return await calls.run_task(TASK_NAME, [_move(call.query)])
+
+
+async def start_nav_and_local_move(call: Call) -> Any:
+    """Go to nav point ``index``, then make the local move. Returns the task."""
+    calls = call.ctx.calls
+    q: NavMoveQuery = call.query
+    return await calls.run_task(TASK_NAME, [await nav_to(call.ctx, q.index), _move(q)])
+
+
+async def start_nav_local_move_io(call: Call) -> Any:
+    """Go to nav point ``index``, make the local move, then set output ``port`` to
+    ``level``. Returns the task."""
+    calls = call.ctx.calls
+    q: NavMoveIoQuery = call.query
+    return await calls.run_task(TASK_NAME, [
+        await nav_to(call.ctx, q.index), _move(q),
+        {"type": "io_action", "level": q.level, "port": q.port}])
+
+
+async def start_local_move_target(call: Call) -> Any:
+    """A precise short move to (``x``, ``y``, ``theta``) in ``map`` or relative to
+    ``base_link``, without the planner. Returns the task."""
+    calls = call.ctx.calls
+    q: TargetQuery = call.query
+    return await calls.run_task(TASK_NAME, [
+        {"type": "local_move_target_action", **msgspec.structs.asdict(q)}])
+
+
+async def start_local_move_index(call: Call) -> Any:
+    """A precise short move to nav point ``index`` without the planner. Returns the
+    task."""
+    calls = call.ctx.calls
+    q: TargetIndexQuery = call.query
+    x, y, theta = await calls.point(q.index)
+    return await calls.run_task(TASK_NAME, [
+        {"type": "local_move_target_action", "x": x, "y": y, "theta": theta,
+         "frame_id": "map", "start_rotate_enable": q.start_rotate_enable,
+         "target_rotate_enable": q.target_rotate_enable}])
+
+
+def add_local_move_routes(api: Api) -> None:
     """Route the five local-move operations."""
-
-    async def nav_to(index: int) -> dict[str, Any]:
-        x, y, theta = await calls.point(index)
-        return {"type": "nav_action", "x": x, "y": y, "theta": theta}
-
-    async def start_local_move(call: Call) -> Any:
-        """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) from where the
-        robot is; ``method`` 0 moves then turns, 1 turns then moves. Returns the task."""
-        return await calls.run_task(TASK_NAME, [_move(call.query)])
-
-    async def start_nav_and_local_move(call: Call) -> Any:
-        """Go to nav point ``index``, then make the local move. Returns the task."""
-        q: NavMoveQuery = call.query
-        return await calls.run_task(TASK_NAME, [await nav_to(q.index), _move(q)])
-
-    async def start_nav_local_move_io(call: Call) -> Any:
-        """Go to nav point ``index``, make the local move, then set output ``port`` to
-        ``level``. Returns the task."""
-        q: NavMoveIoQuery = call.query
-        return await calls.run_task(TASK_NAME, [
-            await nav_to(q.index), _move(q),
-            {"type": "io_action", "level": q.level, "port": q.port}])
-
-    async def start_local_move_target(call: Call) -> Any:
-        """A precise short move to (``x``, ``y``, ``theta``) in ``map`` or relative to
-        ``base_link``, without the planner. Returns the task."""
-        q: TargetQuery = call.query
-        return await calls.run_task(TASK_NAME, [
-            {"type": "local_move_target_action", **msgspec.structs.asdict(q)}])
-
-    async def start_local_move_index(call: Call) -> Any:
-        """A precise short move to nav point ``index`` without the planner. Returns the
-        task."""
-        q: TargetIndexQuery = call.query
-        x, y, theta = await calls.point(q.index)
-        return await calls.run_task(TASK_NAME, [
-            {"type": "local_move_target_action", "x": x, "y": y, "theta": theta,
-             "frame_id": "map", "start_rotate_enable": q.start_rotate_enable,
-             "target_rotate_enable": q.target_rotate_enable}])
-
     api.add("GET", "/navigation/start_local_move", start_local_move, query=MoveQuery)
     api.add("GET", "/navigation/start_nav_and_local_move", start_nav_and_local_move,
             query=NavMoveQuery)

@@ -9,9 +9,10 @@ import msgspec
 from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Angle, Coord, Name, NavCalls, OptName
+from ...ports.nav_calls import Angle, Coord, Name, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
+from ..context import Context
 from ..map_image import grid_pgm, grid_png
 
 __all__ = ["add_nav_routes"]
@@ -54,136 +55,158 @@ class InitPose(msgspec.Struct, forbid_unknown_fields=True):
     z: Angle = 0.0
 
 
-def add_nav_routes(api: Api, calls: NavCalls) -> None:
-    """Route the navigation lifecycle, query and map operations."""
-    core, nav, link = calls.core, calls.nav, calls.link
-    current_map, point = calls.current_map, calls.point
-    publish_initialpose = calls.publish_initialpose
-
-    # ------------------------------------------------------------------ lifecycle
-
-    async def start(call: Call) -> Any:
-        """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
-        q: StartQuery = call.query
-        if not nav.available():
-            raise core.presence.error("nav", "navigation is not available")
-        core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
-        try:
-            if q.map and q.map != await current_map():
-                res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
-                if not res.success:
-                    raise ApiError(400, res.message)
-            if q.path:
-                nav.path_name = q.path
-            if q.start_index >= 0:
-                x, y, th = await point(q.start_index)
-                publish_initialpose(x, y, th)
-        finally:
-            core.state.busy = False
-        nav.open()
-        return {"result": True, "description": "navigation started"}
-
-    async def reload(call: Call) -> Any:
-        """Load ``map`` (when not loaded) and make ``path`` the current path."""
-        q: ReloadQuery = call.query
-        if q.map != await current_map():
+async def start(call: Call) -> Any:
+    """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
+    core = call.ctx.core
+    nav = call.ctx.calls.nav
+    link = call.ctx.calls.link
+    current_map = call.ctx.calls.current_map
+    point = call.ctx.calls.point
+    publish_initialpose = call.ctx.calls.publish_initialpose
+    q: StartQuery = call.query
+    if not nav.available():
+        raise core.presence.error("nav", "navigation is not available")
+    core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
+    try:
+        if q.map and q.map != await current_map():
             res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
             if not res.success:
                 raise ApiError(400, res.message)
         if q.path:
             nav.path_name = q.path
-        return {"status": "ok", "map": q.map, "path": q.path}
+        if q.start_index >= 0:
+            x, y, th = await point(q.start_index)
+            publish_initialpose(x, y, th)
+    finally:
+        core.state.busy = False
+    nav.open()
+    return {"result": True, "description": "navigation started"}
 
-    async def stop(call: Call) -> Any:
-        """Stop navigation: cancel the goal; navStatus goes to 0."""
-        try:
-            await nav.stop()
-        except NavUnavailable as exc:
-            raise core.presence.error("nav", str(exc)) from exc
-        return {"result": True, "description": "navigation stopped"}
 
-    # ------------------------------------------------------------------ queries
-
-    async def pose(call: Call) -> Any:
-        """Robot pose in ``map``: ``x``, ``y`` (m), ``angle`` (rad); -1 while unknown."""
-        st = core.status
-        return {"x": st.currentPosX, "y": st.currentPosY, "angle": st.currentAngle}
-
-    async def current_path(call: Call) -> Any:
-        """The loaded ``map`` and ``path``."""
-        try:
-            path = await nav.current_path()
-        except NavUnavailable as exc:
-            raise core.presence.error("nav", str(exc)) from exc
-        except ValueError:
-            path = ""
-        return {"map": await current_map(), "path": path}
-
-    async def target_distance(call: Call) -> Any:
-        """Distance (m) to the current goal; -1 without one."""
-        return {"distance": core.status.targetDistance}
-
-    # ------------------------------------------------------------------ maps
-
-    def map_object(m: Any) -> dict[str, Any]:
-        return {"name": m.name, "resolution": m.resolution, "origin": list(m.origin),
-                "occupied_thresh": m.occupied_thresh, "free_thresh": m.free_thresh,
-                "negate": m.negate, "md5sum": m.md5sum, "type": m.type,
-                "levels": list(m.levels), "slam_type": m.slam_type}
-
-    async def saved_maps(call: Call) -> Any:
-        """The stored maps (§6.3 map objects), optionally one ``name`` or one slam ``type``."""
-        q: SavedMapsQuery = call.query
-        res = await link.call("map_server/list_maps", zm.ListMapsRequest(name=q.name))
-        return [map_object(m) for m in res.maps if not q.type or m.slam_type == q.type]
-
-    async def get_current_map(call: Call) -> Any:
-        """The map in use: ``name`` and ``md5sum``."""
-        res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
-        return {"name": res.name, "md5sum": res.md5sum}
-
-    async def loaded_grid(name: str) -> Any:
-        """The loaded map's grid; ``name`` must be it (or empty)."""
-        current = await current_map()
-        if name and name != current:
-            listed = await link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
-            if not listed.maps:
-                raise ApiError(404, f"unknown map {name!r}")
-            raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
-                                f"the loaded map ({current!r}): switch_map first")
-        if link.grid is None:
-            raise core.presence.error("nav", "no map received from the nav service yet")
-        return link.grid
-
-    async def map_png(call: Call) -> Any:
-        """The current map as a PNG image (``name`` must be the current map or empty)."""
-        return Response(grid_png(await loaded_grid(call.query.name)), media_type="image/png")
-
-    async def map_pgm(call: Call) -> Any:
-        """The current map as a PGM image (``name`` must be the current map or empty)."""
-        return Response(grid_pgm(await loaded_grid(call.query.name)),
-                        media_type="image/x-portable-graymap")
-
-    async def robot_tracks(call: Call) -> Any:
-        """Where the robot has been on ``map_name`` (default: the current map), one
-        ``{x, y, z}`` a second, the last hour, since the gateway started."""
-        name = call.query.map_name or await current_map()
-        return {"map_name": name,
-                "track": [{"x": x, "y": y, "z": 0.0} for x, y in nav.tracks.get(name, ())]}
-
-    async def switch_map(call: Call) -> Any:
-        """Load another stored map."""
-        res = await link.call("switch_map", zm.SwitchMapRequest(map_name=call.query.map_name))
+async def reload(call: Call) -> Any:
+    """Load ``map`` (when not loaded) and make ``path`` the current path."""
+    nav, link, current_map = call.ctx.calls.nav, call.ctx.calls.link, call.ctx.calls.current_map
+    q: ReloadQuery = call.query
+    if q.map != await current_map():
+        res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
         if not res.success:
             raise ApiError(400, res.message)
-        return {"status": "ok"}
+    if q.path:
+        nav.path_name = q.path
+    return {"status": "ok", "map": q.map, "path": q.path}
 
-    async def init_pose(call: Call) -> Any:
-        """Set the robot's pose for relocalisation (``z`` is the heading)."""
-        b: InitPose = call.body
-        publish_initialpose(b.x, b.y, b.z)
-        return {"status": "ok"}
 
+async def stop(call: Call) -> Any:
+    """Stop navigation: cancel the goal; navStatus goes to 0."""
+    core, nav = call.ctx.core, call.ctx.calls.nav
+    try:
+        await nav.stop()
+    except NavUnavailable as exc:
+        raise core.presence.error("nav", str(exc)) from exc
+    return {"result": True, "description": "navigation stopped"}
+
+
+async def pose(call: Call) -> Any:
+    """Robot pose in ``map``: ``x``, ``y`` (m), ``angle`` (rad); -1 while unknown."""
+    core = call.ctx.core
+    st = core.status
+    return {"x": st.currentPosX, "y": st.currentPosY, "angle": st.currentAngle}
+
+
+async def current_path(call: Call) -> Any:
+    """The loaded ``map`` and ``path``."""
+    core, nav, current_map = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.current_map
+    try:
+        path = await nav.current_path()
+    except NavUnavailable as exc:
+        raise core.presence.error("nav", str(exc)) from exc
+    except ValueError:
+        path = ""
+    return {"map": await current_map(), "path": path}
+
+
+async def target_distance(call: Call) -> Any:
+    """Distance (m) to the current goal; -1 without one."""
+    core = call.ctx.core
+    return {"distance": core.status.targetDistance}
+
+
+def map_object(m: Any) -> dict[str, Any]:
+    return {"name": m.name, "resolution": m.resolution, "origin": list(m.origin),
+            "occupied_thresh": m.occupied_thresh, "free_thresh": m.free_thresh,
+            "negate": m.negate, "md5sum": m.md5sum, "type": m.type,
+            "levels": list(m.levels), "slam_type": m.slam_type}
+
+
+async def saved_maps(call: Call) -> Any:
+    """The stored maps (§6.3 map objects), optionally one ``name`` or one slam ``type``."""
+    link = call.ctx.calls.link
+    q: SavedMapsQuery = call.query
+    res = await link.call("map_server/list_maps", zm.ListMapsRequest(name=q.name))
+    return [map_object(m) for m in res.maps if not q.type or m.slam_type == q.type]
+
+
+async def get_current_map(call: Call) -> Any:
+    """The map in use: ``name`` and ``md5sum``."""
+    link = call.ctx.calls.link
+    res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
+    return {"name": res.name, "md5sum": res.md5sum}
+
+
+async def loaded_grid(ctx: Context, name: str) -> Any:
+    """The loaded map's grid; ``name`` must be it (or empty)."""
+    core, link, current_map = ctx.core, ctx.calls.link, ctx.calls.current_map
+    current = await current_map()
+    if name and name != current:
+        listed = await link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
+        if not listed.maps:
+            raise ApiError(404, f"unknown map {name!r}")
+        raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
+                            f"the loaded map ({current!r}): switch_map first")
+    if link.grid is None:
+        raise core.presence.error("nav", "no map received from the nav service yet")
+    return link.grid
+
+
+async def map_png(call: Call) -> Any:
+    """The current map as a PNG image (``name`` must be the current map or empty)."""
+    return Response(grid_png(await loaded_grid(call.ctx, call.query.name)), media_type="image/png")
+
+
+async def map_pgm(call: Call) -> Any:
+    """The current map as a PGM image (``name`` must be the current map or empty)."""
+    return Response(grid_pgm(await loaded_grid(call.ctx, call.query.name)),
+                    media_type="image/x-portable-graymap")
+
+
+async def robot_tracks(call: Call) -> Any:
+    """Where the robot has been on ``map_name`` (default: the current map), one
+    ``{x, y, z}`` a second, the last hour, since the gateway started."""
+    nav, current_map = call.ctx.calls.nav, call.ctx.calls.current_map
+    name = call.query.map_name or await current_map()
+    return {"map_name": name,
+            "track": [{"x": x, "y": y, "z": 0.0} for x, y in nav.tracks.get(name, ())]}
+
+
+async def switch_map(call: Call) -> Any:
+    """Load another stored map."""
+    link = call.ctx.calls.link
+    res = await link.call("switch_map", zm.SwitchMapRequest(map_name=call.query.map_name))
+    if not res.success:
+        raise ApiError(400, res.message)
+    return {"status": "ok"}
+
+
+async def init_pose(call: Call) -> Any:
+    """Set the robot's pose for relocalisation (``z`` is the heading)."""
+    publish_initialpose = call.ctx.calls.publish_initialpose
+    b: InitPose = call.body
+    publish_initialpose(b.x, b.y, b.z)
+    return {"status": "ok"}
+
+
+def add_nav_routes(api: Api) -> None:
+    """Route the navigation lifecycle, query and map operations."""
     result = {"result_style": True}
     api.add("GET", "/navigation/start", start, query=StartQuery, **result)
     api.add("GET", "/navigation/stop", stop, **result)

@@ -10,8 +10,8 @@ import msgspec
 from zenros.msgs import zenros_msgs as zm
 
 from ...ports.nav_calls import Name, OptName
-from ...ports.nav_link import NavLink
 from ..api import Api, ApiError, Call
+from ..context import Context
 from ..path_data import (
     format_areas,
     format_nav_points,
@@ -68,117 +68,142 @@ def _parsed(fn: Callable[[str], Any], text: str) -> Any:
         raise ApiError(400, str(exc)) from exc
 
 
-def add_record_routes(api: Api, link: NavLink) -> None:
+async def listing(ctx: Context, q: ListQuery) -> Any:
+    link = ctx.nav_link
+    res = await link.call("list_paths", zm.ListPathsRequest(map_name=q.map_name))
+    if q.map_name:
+        return [p.path_name for p in res.paths]
+    out: dict[str, list[str]] = {}
+    for p in res.paths:
+        out.setdefault(p.map_name, []).append(p.path_name)
+    return out
+
+
+async def get_path(call: Call) -> Any:
+    """A path's points (``path_data`` lines ``x y z``), or the path names (§6.6)."""
+    link = call.ctx.nav_link
+    q: ListQuery = call.query
+    if not (q.map_name and q.path_name):
+        return await listing(call.ctx, q)
+    res = await link.call("get_path", zm.GetPathRequest(map_name=q.map_name,
+                                                       path_name=q.path_name))
+    return {"map_name": res.map_name, "path_name": res.path_name,
+            "path_data": format_points(res.points)}
+
+
+async def set_path(call: Call) -> Any:
+    """Create or replace a path's points."""
+    link = call.ctx.nav_link
+    b: PathBody = call.body
+    points = _parsed(parse_points, b.path_data)
+    res = await link.call("set_path", zm.SetPathRequest(
+        map_name=b.map_name, path_name=b.path_name, points=points))
+    return {"map_name": res.map_name, "path_name": res.path_name,
+            "path_data": format_points(res.points)}
+
+
+async def delete_path(call: Call) -> Any:
+    """Delete a path and its nav points."""
+    link = call.ctx.nav_link
+    q: PathRefQuery = call.query
+    await link.call("delete_path", zm.DeletePathRequest(map_name=q.map_name,
+                                                       path_name=q.path_name))
+    return {"status": "ok"}
+
+
+async def get_points(call: Call) -> Any:
+    """A path's nav points (lines ``x y z theta errorX errorY direction [name]``)."""
+    link = call.ctx.nav_link
+    q: ListQuery = call.query
+    if not (q.map_name and q.path_name):
+        return await listing(call.ctx, q)
+    res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+        map_name=q.map_name, path_name=q.path_name))
+    return {"map_name": res.map_name, "path_name": res.path_name,
+            "path_data": format_nav_points(res.points)}
+
+
+async def set_points(call: Call) -> Any:
+    """Create or replace a path's nav points."""
+    link = call.ctx.nav_link
+    b: PathBody = call.body
+    points = _parsed(parse_nav_points, b.path_data)
+    res = await link.call("set_nav_points", zm.SetNavPointsRequest(
+        map_name=b.map_name, path_name=b.path_name, points=points))
+    return {"map_name": res.map_name, "path_name": res.path_name,
+            "path_data": format_nav_points(res.points)}
+
+
+async def delete_points(call: Call) -> Any:
+    """Delete a path's nav points."""
+    link = call.ctx.nav_link
+    q: PathRefQuery = call.query
+    await link.call("delete_nav_points", zm.DeleteNavPointsRequest(
+        map_name=q.map_name, path_name=q.path_name))
+    return {"status": "ok"}
+
+
+async def get_walls(call: Call) -> Any:
+    """The map's virtual walls (``x y`` per line; an empty line between walls)."""
+    link = call.ctx.nav_link
+    q: MapRefQuery = call.query
+    res = await link.call("get_virtual_walls",
+                          zm.GetVirtualWallsRequest(map_name=q.map_name))
+    return {"map_name": q.map_name, "path_name": q.path_name,
+            "virtual_wall": format_walls(res.walls)}
+
+
+async def set_walls(call: Call) -> Any:
+    """Replace the map's virtual walls."""
+    link = call.ctx.nav_link
+    b: WallBody = call.body
+    walls = _parsed(parse_walls, b.virtual_wall)
+    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(
+        map_name=b.map_name, walls=walls))
+    return {"map_name": b.map_name, "path_name": b.path_name,
+            "virtual_wall": format_walls(walls)}
+
+
+async def delete_walls(call: Call) -> Any:
+    """Remove the map's virtual walls."""
+    link = call.ctx.nav_link
+    q: MapRefQuery = call.query
+    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(map_name=q.map_name))
+    return {"status": "ok"}
+
+
+async def get_areas(call: Call) -> Any:
+    """The map's forbidden areas (``x1 y1 x2 y2`` rectangles, one per line)."""
+    link = call.ctx.nav_link
+    q: MapRefQuery = call.query
+    res = await link.call("get_forbidden_areas",
+                          zm.GetForbiddenAreasRequest(map_name=q.map_name))
+    return {"map_name": q.map_name, "path_name": q.path_name,
+            "skip_area": format_areas(res.areas)}
+
+
+async def set_areas(call: Call) -> Any:
+    """Replace the map's forbidden areas."""
+    link = call.ctx.nav_link
+    b: AreaBody = call.body
+    areas = _parsed(parse_areas, b.skip_area)
+    await link.call("set_forbidden_areas", zm.SetForbiddenAreasRequest(
+        map_name=b.map_name, areas=areas))
+    return {"map_name": b.map_name, "path_name": b.path_name,
+            "skip_area": format_areas(areas)}
+
+
+async def delete_areas(call: Call) -> Any:
+    """Remove the map's forbidden areas."""
+    link = call.ctx.nav_link
+    q: MapRefQuery = call.query
+    await link.call("set_forbidden_areas",
+                    zm.SetForbiddenAreasRequest(map_name=q.map_name))
+    return {"status": "ok"}
+
+
+def add_record_routes(api: Api) -> None:
     """Route the path, nav-point, virtual-wall and skip-area operations."""
-
-    async def listing(q: ListQuery) -> Any:
-        res = await link.call("list_paths", zm.ListPathsRequest(map_name=q.map_name))
-        if q.map_name:
-            return [p.path_name for p in res.paths]
-        out: dict[str, list[str]] = {}
-        for p in res.paths:
-            out.setdefault(p.map_name, []).append(p.path_name)
-        return out
-
-    async def get_path(call: Call) -> Any:
-        """A path's points (``path_data`` lines ``x y z``), or the path names (§6.6)."""
-        q: ListQuery = call.query
-        if not (q.map_name and q.path_name):
-            return await listing(q)
-        res = await link.call("get_path", zm.GetPathRequest(map_name=q.map_name,
-                                                           path_name=q.path_name))
-        return {"map_name": res.map_name, "path_name": res.path_name,
-                "path_data": format_points(res.points)}
-
-    async def set_path(call: Call) -> Any:
-        """Create or replace a path's points."""
-        b: PathBody = call.body
-        points = _parsed(parse_points, b.path_data)
-        res = await link.call("set_path", zm.SetPathRequest(
-            map_name=b.map_name, path_name=b.path_name, points=points))
-        return {"map_name": res.map_name, "path_name": res.path_name,
-                "path_data": format_points(res.points)}
-
-    async def delete_path(call: Call) -> Any:
-        """Delete a path and its nav points."""
-        q: PathRefQuery = call.query
-        await link.call("delete_path", zm.DeletePathRequest(map_name=q.map_name,
-                                                           path_name=q.path_name))
-        return {"status": "ok"}
-
-    async def get_points(call: Call) -> Any:
-        """A path's nav points (lines ``x y z theta errorX errorY direction [name]``)."""
-        q: ListQuery = call.query
-        if not (q.map_name and q.path_name):
-            return await listing(q)
-        res = await link.call("get_nav_points", zm.GetNavPointsRequest(
-            map_name=q.map_name, path_name=q.path_name))
-        return {"map_name": res.map_name, "path_name": res.path_name,
-                "path_data": format_nav_points(res.points)}
-
-    async def set_points(call: Call) -> Any:
-        """Create or replace a path's nav points."""
-        b: PathBody = call.body
-        points = _parsed(parse_nav_points, b.path_data)
-        res = await link.call("set_nav_points", zm.SetNavPointsRequest(
-            map_name=b.map_name, path_name=b.path_name, points=points))
-        return {"map_name": res.map_name, "path_name": res.path_name,
-                "path_data": format_nav_points(res.points)}
-
-    async def delete_points(call: Call) -> Any:
-        """Delete a path's nav points."""
-        q: PathRefQuery = call.query
-        await link.call("delete_nav_points", zm.DeleteNavPointsRequest(
-            map_name=q.map_name, path_name=q.path_name))
-        return {"status": "ok"}
-
-    async def get_walls(call: Call) -> Any:
-        """The map's virtual walls (``x y`` per line; an empty line between walls)."""
-        q: MapRefQuery = call.query
-        res = await link.call("get_virtual_walls",
-                              zm.GetVirtualWallsRequest(map_name=q.map_name))
-        return {"map_name": q.map_name, "path_name": q.path_name,
-                "virtual_wall": format_walls(res.walls)}
-
-    async def set_walls(call: Call) -> Any:
-        """Replace the map's virtual walls."""
-        b: WallBody = call.body
-        walls = _parsed(parse_walls, b.virtual_wall)
-        await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(
-            map_name=b.map_name, walls=walls))
-        return {"map_name": b.map_name, "path_name": b.path_name,
-                "virtual_wall": format_walls(walls)}
-
-    async def delete_walls(call: Call) -> Any:
-        """Remove the map's virtual walls."""
-        q: MapRefQuery = call.query
-        await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(map_name=q.map_name))
-        return {"status": "ok"}
-
-    async def get_areas(call: Call) -> Any:
-        """The map's forbidden areas (``x1 y1 x2 y2`` rectangles, one per line)."""
-        q: MapRefQuery = call.query
-        res = await link.call("get_forbidden_areas",
-                              zm.GetForbiddenAreasRequest(map_name=q.map_name))
-        return {"map_name": q.map_name, "path_name": q.path_name,
-                "skip_area": format_areas(res.areas)}
-
-    async def set_areas(call: Call) -> Any:
-        """Replace the map's forbidden areas."""
-        b: AreaBody = call.body
-        areas = _parsed(parse_areas, b.skip_area)
-        await link.call("set_forbidden_areas", zm.SetForbiddenAreasRequest(
-            map_name=b.map_name, areas=areas))
-        return {"map_name": b.map_name, "path_name": b.path_name,
-                "skip_area": format_areas(areas)}
-
-    async def delete_areas(call: Call) -> Any:
-        """Remove the map's forbidden areas."""
-        q: MapRefQuery = call.query
-        await link.call("set_forbidden_areas",
-                        zm.SetForbiddenAreasRequest(map_name=q.map_name))
-        return {"status": "ok"}
-
     for method, path, fn, kw in (
         ("GET", "/navigation/path", get_path, {"query": ListQuery}),
         ("POST", "/navigation/path", set_path, {"body": PathBody}),

@@ -6,7 +6,6 @@ from typing import Annotated, Any
 
 import msgspec
 
-from ...state.core import Core
 from ...state.settings import KEYS, SettingsPatch
 from ...state.status import system_status_name
 from ..api import Api, ApiError, Call
@@ -35,78 +34,95 @@ class ConfigKey(msgspec.Struct, forbid_unknown_fields=True):
     key: Text
 
 
-def add_system_routes(api: Api, core: Core) -> None:
+async def token(call: Call) -> Any:
+    """Get an access token (§2): ``result`` and ``token``."""
+    core = call.ctx.core
+    q: TokenQuery = call.query
+    tok = core.tokens.issue(q.username, q.password)
+    if tok is None:
+        raise ApiError(401, "wrong username or password")
+    return {"result": True, "token": tok}
+
+
+async def status(call: Call) -> Any:
+    """Robot state: ``Mapping``, ``Navigating``, ``Busy`` or ``Free`` (§3.1)."""
+    core = call.ctx.core
+    return {"status": system_status_name(core.status)}
+
+
+async def info(call: Call) -> Any:
+    """Battery, sensor rates, charge, loop and version info (§3.1)."""
+    core = call.ctx.core
+    s = core.state
+    ident = core.identity
+    st = core.status
+    return {
+        "battery": round(s.battery_percent),
+        "camera_rgb": 0, "camera_depth": 0, "camera_processed": 0,
+        "odom": s.odom_rate(), "imu": 0,
+        "driver_port": s.odom_rate() > 0,
+        "info": {"version": ident.version, "code_name": ident.code_name, "id": ident.id,
+                 "mac": ident.mac, "port": ident.port},
+        "charge": st.chargeStatus in (1, 2), "loop": bool(st.loopStatus),
+        "slam_type": core.settings.current.slam_type,
+    }
+
+
+async def galileo_status(call: Call) -> Any:
+    """The latest GalileoStatus (§4)."""
+    core = call.ctx.core
+    return core.status
+
+
+async def get_speed(call: Call) -> Any:
+    """Current velocity: ``speed_x``, ``speed_y`` (m/s), ``speed_angle`` (rad/s) (§3.2)."""
+    core = call.ctx.core
+    st = core.status
+    return {"speed_x": st.currentSpeedX, "speed_y": 0.0, "speed_angle": st.currentSpeedTheta}
+
+
+async def put_speed(call: Call) -> Any:
+    """Velocity command; holds 0.5 s (dead-man), repeat it for continuous motion (§3.2)."""
+    core = call.ctx.core
+    b: SpeedBody = call.body
+    limit = core.settings.current.max_control_speed
+    if abs(b.speed_x) > limit or abs(b.speed_y) > limit:
+        raise ApiError(400, f"speed over max_control_speed ({limit} m/s)")
+    core.deadman.command(b.speed_x, b.speed_y, b.speed_angle)
+    return {"result": True}
+
+
+async def get_config(call: Call) -> Any:
+    """Navigation configuration (§3.6): ``default_map``, ``maps``, ``auto_charge``, ..."""
+    core = call.ctx.core
+    out = core.settings.as_dict()
+    maps = core.services.get("maps")
+    names, current = await maps() if maps is not None else ([], "")
+    out["maps"] = names
+    if not out["default_map"]:
+        out["default_map"] = current
+    return out
+
+
+async def post_config(call: Call) -> Any:
+    """Change any subset of the configuration keys; returns the full configuration."""
+    core = call.ctx.core
+    core.settings.update(call.body)
+    return await get_config(call)
+
+
+async def delete_config(call: Call) -> Any:
+    """Reset one key to its default (§3.6)."""
+    core = call.ctx.core
+    key = call.query.key
+    if key not in KEYS:
+        raise ApiError(400, f"unknown config key {key!r}; known: {', '.join(KEYS)}")
+    core.settings.reset(key)
+    return {"status": "ok"}
+
+
+def add_system_routes(api: Api) -> None:
     """Add the token and system operations the gateway implements to ``api``."""
-
-    async def token(call: Call) -> Any:
-        """Get an access token (§2): ``result`` and ``token``."""
-        q: TokenQuery = call.query
-        tok = core.tokens.issue(q.username, q.password)
-        if tok is None:
-            raise ApiError(401, "wrong username or password")
-        return {"result": True, "token": tok}
-
-    async def status(call: Call) -> Any:
-        """Robot state: ``Mapping``, ``Navigating``, ``Busy`` or ``Free`` (§3.1)."""
-        return {"status": system_status_name(core.status)}
-
-    async def info(call: Call) -> Any:
-        """Battery, sensor rates, charge, loop and version info (§3.1)."""
-        s = core.state
-        ident = core.identity
-        st = core.status
-        return {
-            "battery": round(s.battery_percent),
-            "camera_rgb": 0, "camera_depth": 0, "camera_processed": 0,
-            "odom": s.odom_rate(), "imu": 0,
-            "driver_port": s.odom_rate() > 0,
-            "info": {"version": ident.version, "code_name": ident.code_name, "id": ident.id,
-                     "mac": ident.mac, "port": ident.port},
-            "charge": st.chargeStatus in (1, 2), "loop": bool(st.loopStatus),
-            "slam_type": core.settings.current.slam_type,
-        }
-
-    async def galileo_status(call: Call) -> Any:
-        """The latest GalileoStatus (§4)."""
-        return core.status
-
-    async def get_speed(call: Call) -> Any:
-        """Current velocity: ``speed_x``, ``speed_y`` (m/s), ``speed_angle`` (rad/s) (§3.2)."""
-        st = core.status
-        return {"speed_x": st.currentSpeedX, "speed_y": 0.0, "speed_angle": st.currentSpeedTheta}
-
-    async def put_speed(call: Call) -> Any:
-        """Velocity command; holds 0.5 s (dead-man), repeat it for continuous motion (§3.2)."""
-        b: SpeedBody = call.body
-        limit = core.settings.current.max_control_speed
-        if abs(b.speed_x) > limit or abs(b.speed_y) > limit:
-            raise ApiError(400, f"speed over max_control_speed ({limit} m/s)")
-        core.deadman.command(b.speed_x, b.speed_y, b.speed_angle)
-        return {"result": True}
-
-    async def get_config(call: Call) -> Any:
-        """Navigation configuration (§3.6): ``default_map``, ``maps``, ``auto_charge``, ..."""
-        out = core.settings.as_dict()
-        maps = core.services.get("maps")
-        names, current = await maps() if maps is not None else ([], "")
-        out["maps"] = names
-        if not out["default_map"]:
-            out["default_map"] = current
-        return out
-
-    async def post_config(call: Call) -> Any:
-        """Change any subset of the configuration keys; returns the full configuration."""
-        core.settings.update(call.body)
-        return await get_config(call)
-
-    async def delete_config(call: Call) -> Any:
-        """Reset one key to its default (§3.6)."""
-        key = call.query.key
-        if key not in KEYS:
-            raise ApiError(400, f"unknown config key {key!r}; known: {', '.join(KEYS)}")
-        core.settings.reset(key)
-        return {"status": "ok"}
-
     api.add("GET", "/token", token, query=TokenQuery, public=True, result_style=True)
     api.add("GET", "/system/status", status)
     api.add("GET", "/system/info", info)

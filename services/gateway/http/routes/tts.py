@@ -7,8 +7,7 @@ from typing import Annotated, Any
 import msgspec
 from zenros.msgs.std_msgs import String
 
-from ...ports.link import RobotLink
-from ...state.speech import MAX_ALIASES, AudioStore, Speech
+from ...state.speech import MAX_ALIASES
 from ..api import Api, ApiError, Call
 
 __all__ = ["add_tts_routes"]
@@ -25,54 +24,69 @@ class VolumeBody(msgspec.Struct, forbid_unknown_fields=True):
     value: Annotated[int, msgspec.Meta(ge=0, le=100)]
 
 
-def add_tts_routes(api: Api, link: RobotLink, speech: Speech, store: AudioStore) -> None:
+async def tts(call: Call) -> Any:
+    """Speak ``text`` (its alias if it has one): published on ``tts`` (std_msgs/String).
+
+    The simulated robot has no speaker; the speech counts as playing for
+    len(text) / 15 s of the robot's clock.
+    """
+    link, speech, store = call.ctx.link, call.ctx.speech, call.ctx.audio
+    text = store.apply_alias(call.query.text)
+    speech.say(text)
+    link.tts_pub.publish(String(data=text))
+    return {"status": "ok"}
+
+
+async def playing(call: Call) -> Any:
+    """Whether speech is playing: ``status`` bool."""
+    speech = call.ctx.speech
+    return {"status": speech.playing()}
+
+
+async def stop(call: Call) -> Any:
+    """Stop speaking."""
+    speech = call.ctx.speech
+    speech.stop()
+    return {"status": "ok"}
+
+
+async def get_alias(call: Call) -> Any:
+    """The alias table ``{text: text spoken instead}``."""
+    store = call.ctx.audio
+    return store.aliases()
+
+
+async def post_alias(call: Call) -> Any:
+    """Replace the whole alias table."""
+    store = call.ctx.audio
+    store.replace_aliases(call.body)
+    return {"status": "ok"}
+
+
+async def put_alias(call: Call) -> Any:
+    """Add or change the given aliases; returns the whole table."""
+    store = call.ctx.audio
+    try:
+        return store.update_aliases(call.body)
+    except ValueError as exc:
+        raise ApiError(400, str(exc)) from exc
+
+
+async def get_volume(call: Call) -> Any:
+    """Speaker volume ``value`` (0-100; kept, though the simulated robot is silent)."""
+    store = call.ctx.audio
+    return {"value": store.current.volume}
+
+
+async def put_volume(call: Call) -> Any:
+    """Set the speaker volume ``value`` (0-100)."""
+    store = call.ctx.audio
+    store.set_volume(call.body.value)
+    return {"status": "ok"}
+
+
+def add_tts_routes(api: Api) -> None:
     """Route TTS, its alias table, playing/stop and the volume."""
-
-    async def tts(call: Call) -> Any:
-        """Speak ``text`` (its alias if it has one): published on ``tts`` (std_msgs/String).
-
-        The simulated robot has no speaker; the speech counts as playing for
-        len(text) / 15 s of the robot's clock.
-        """
-        text = store.apply_alias(call.query.text)
-        speech.say(text)
-        link.tts_pub.publish(String(data=text))
-        return {"status": "ok"}
-
-    async def playing(call: Call) -> Any:
-        """Whether speech is playing: ``status`` bool."""
-        return {"status": speech.playing()}
-
-    async def stop(call: Call) -> Any:
-        """Stop speaking."""
-        speech.stop()
-        return {"status": "ok"}
-
-    async def get_alias(call: Call) -> Any:
-        """The alias table ``{text: text spoken instead}``."""
-        return store.aliases()
-
-    async def post_alias(call: Call) -> Any:
-        """Replace the whole alias table."""
-        store.replace_aliases(call.body)
-        return {"status": "ok"}
-
-    async def put_alias(call: Call) -> Any:
-        """Add or change the given aliases; returns the whole table."""
-        try:
-            return store.update_aliases(call.body)
-        except ValueError as exc:
-            raise ApiError(400, str(exc)) from exc
-
-    async def get_volume(call: Call) -> Any:
-        """Speaker volume ``value`` (0-100; kept, though the simulated robot is silent)."""
-        return {"value": store.current.volume}
-
-    async def put_volume(call: Call) -> Any:
-        """Set the speaker volume ``value`` (0-100)."""
-        store.set_volume(call.body.value)
-        return {"status": "ok"}
-
     api.add("GET", "/system/tts", tts, query=TtsQuery)
     api.add("GET", "/system/tts/playing", playing)
     api.add("GET", "/system/tts/stop", stop)

@@ -1,0 +1,39 @@
+"""`Context`: what the REST handlers work on, the gateway's state and its ports, built once by
+the node; a handler reads it as ``call.ctx`` and keeps nothing of its own."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from zenros.param_client import ParameterClient
+
+from ..ports.coverage_link import CoverageLink
+from ..ports.fs_sandbox import FileRoot
+from ..ports.io_link import IoLink
+from ..ports.link import RobotLink
+from ..ports.nav_calls import NavCalls
+from ..ports.nav_link import NavLink
+from ..ports.tasks_link import TaskCaller
+from ..ports.topic_hub import TopicHub
+from ..state.core import Core
+from ..state.speech import AudioStore, Speech
+
+__all__ = ["Context"]
+
+
+@dataclass(frozen=True)
+class Context:
+    """The state and the ports, one field per thing a handler uses."""
+
+    core: Core
+    tasks: TaskCaller
+    calls: NavCalls
+    nav_link: NavLink
+    io: IoLink
+    link: RobotLink
+    hub: TopicHub
+    params: ParameterClient
+    files: FileRoot
+    speech: Speech
+    audio: AudioStore
+    coverage: CoverageLink

@@ -1,0 +1,164 @@
+"""REST handlers as plain functions over an explicit `Context`: the /api/v1 app built on
+stand-in ports and driven in process (AsgiClient: no socket, no Zenoh session), and the
+one table that turns port errors into HTTP answers."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, cast
+
+import pytest
+from zenros.msgs.zenros_msgs.chassis import IoState
+from zenros.services.gateway.errors import (
+    Conflict,
+    Failed,
+    NoAnswer,
+    NotFound,
+    PortError,
+    Refused,
+    TaskError,
+    Unavailable,
+)
+from zenros.services.gateway.http.api import STATUS, api_error
+from zenros.services.gateway.http.app import build_api
+from zenros.services.gateway.http.context import Context
+from zenros.services.gateway.ports.nav_calls import NavCalls
+from zenros.services.gateway.ports.tasks_link import TaskReply
+from zenros.services.gateway.state.config import GatewayConfig
+from zenros.services.gateway.state.core import Core, make_identity
+from zenros.services.gateway.state.settings import Settings
+from zenros.services.gateway.testing import AsgiClient
+
+
+class FakeTasks:
+    """The tasks service: records each call, answers from ``replies`` (default: 200, {})."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[str, str, str]] = []
+        self.replies: dict[str, TaskReply] = {}
+
+    async def __call__(self, name: str, ident: str, body: str) -> TaskReply:
+        self.calls.append((name, ident, body))
+        return self.replies.get(name, TaskReply(200, "", f'{{"id":"{ident}","call":"{name}"}}'))
+
+
+class FakeIo:
+    """The chassis IO port: raises ``error`` when set, else keeps the level."""
+
+    def __init__(self) -> None:
+        self.error: PortError | None = None
+        self.state = IoState(outputs=[0, 1, 0])
+
+    def current(self) -> IoState:
+        if self.error is not None:
+            raise self.error
+        return self.state
+
+    async def set(self, board: str, port: int, level: int) -> IoState:
+        if self.error is not None:
+            raise self.error
+        self.state.outputs[port - 1] = level
+        return self.state
+
+
+class FakeNav:
+    """What the loop routes read of the navigator."""
+
+    loop_task_id = ""
+    path_name = ""
+
+
+class Rig:
+    def __init__(self, tmp: Path) -> None:
+        self.core = Core(GatewayConfig(no_token_check=True), Settings(tmp / "settings.json"),
+                         make_identity("/r", "6.6.8", 0))
+        self.tasks, self.io, self.nav = FakeTasks(), FakeIo(), FakeNav()
+        none = cast(Any, None)  # ports these tests do not reach
+        calls = NavCalls(self.core, cast(Any, self.nav), none, self.tasks)
+        self.ctx = Context(core=self.core, tasks=self.tasks, calls=calls, nav_link=none,
+                           io=cast(Any, self.io), link=none, hub=none, params=none,
+                           files=none, speech=none, audio=none, coverage=none)
+        self.http = AsgiClient(build_api(self.ctx), "/api/v1")
+
+
+@pytest.fixture
+def rig(tmp_path: Path) -> Rig:
+    return Rig(tmp_path)
+
+
+def test_task_routes_forward_to_the_tasks_port(rig: Rig) -> None:
+    r = rig.http.get("/task/start", params={"id": "t7"})
+    assert r.status_code == 200 and r.json() == {"id": "t7", "call": "start"}
+    assert rig.tasks.calls == [("start", "t7", "")]
+    r = rig.http.get("/task/loop", params={"id": "t7", "loop_flag": "true"})
+    assert rig.tasks.calls[-1] == ("loop", "t7", '{"loop_flag":true}')
+    rig.tasks.replies["get"] = TaskReply(404, "no task 'x'", "")
+    r = rig.http.get("/task", params={"id": "x"})
+    assert r.status_code == 404 and r.json() == {"status": "error", "description": "no task 'x'"}
+
+
+def test_a_starting_backend_is_a_503_with_retry_after(rig: Rig) -> None:
+    rig.tasks.replies["get"] = TaskReply(503, "tasks is starting", "", 2)
+    r = rig.http.get("/task")
+    assert r.status_code == 503 and r.headers["retry-after"] == "2"
+
+
+@pytest.mark.parametrize(("error", "status"), [
+    (Unavailable("the chassis is not running"), 503), (NoAnswer("no answer"), 504),
+    (Failed("it broke"), 502), (Refused("bad level"), 400), (NotFound("no port"), 404),
+    (Conflict("no extension board"), 409)])
+def test_port_errors_leave_as_their_http_status(rig: Rig, error: PortError,
+                                                status: int) -> None:
+    rig.io.error = error
+    r = rig.http.post("/system/io", json={"port": "1", "level": "1"})
+    assert r.status_code == status
+    assert r.json() == {"status": "error", "description": error.detail}
+
+
+def test_io_routes_work_on_the_io_port(rig: Rig) -> None:
+    assert rig.http.get("/system/io").json() == {"status": "ok", "out1": "0", "out2": "1",
+                                                 "out3": "0"}
+    assert rig.http.post("/system/io", json={"port": "3", "level": "1"}).json() == {
+        "status": "ok"}
+    assert rig.io.state.outputs == [0, 1, 1]
+
+
+def test_the_loop_task_is_navs_loop_task(rig: Rig) -> None:
+    """GET and DELETE /navigation/loop_task act on the navigator's loop task id (kept by
+    the navigator, cleared when the task ends), not on a list of their own."""
+    assert rig.http.get("/navigation/loop_task").status_code == 404
+    assert rig.http.delete("/navigation/loop_task").status_code == 404
+    rig.nav.loop_task_id = "loop1"
+    rig.core.state.looping = True
+    assert rig.http.get("/navigation/loop_task").json()["id"] == "loop1"
+    stopped = rig.http.delete("/navigation/loop_task").json()
+    assert stopped == {"id": "loop1", "call": "stop"}
+    assert rig.nav.loop_task_id == "" and rig.core.state.looping is False
+    assert rig.http.get("/navigation/loop_task").status_code == 404
+
+
+def test_one_table_maps_every_port_error() -> None:
+    for cls in (Unavailable, NoAnswer, Failed, Refused, NotFound, Conflict):
+        assert api_error(cls("x")).status_code == STATUS[cls]
+    err = api_error(TaskError(422, "bad sub_tasks", None))
+    assert (err.status_code, err.description, err.retry_after) == (422, "bad sub_tasks", None)
+    assert api_error(Unavailable("starting", retry_after=2)).retry_after == 2
+
+
+def test_handlers_are_plain_functions() -> None:
+    """Every /api/v1 handler is a module-level function: nothing captured in a closure."""
+    rig_api = build_api(_bare_context())
+    for ep in rig_api.endpoints():
+        if not ep.implemented:
+            continue
+        fn = ep.handler
+        assert "<locals>" not in fn.__qualname__, (ep.method, ep.path, fn.__qualname__)
+        assert not getattr(fn, "__closure__", None), (ep.method, ep.path)
+
+
+def _bare_context() -> Context:
+    core = Core(GatewayConfig(no_token_check=True), Settings(None),
+                make_identity("/r", "6.6.8", 0))
+    none = cast(Any, None)
+    return Context(core=core, tasks=none, calls=none, nav_link=none, io=none, link=none,
+                   hub=none, params=none, files=none, speech=none, audio=none, coverage=none)

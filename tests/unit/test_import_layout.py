@@ -1,0 +1,73 @@
+"""The direction of imports (docs/architecture.md): no service imports another, and in the
+gateway no port (nor the state) imports a door. Read with ast by scripts/import_graph.py,
+the same walk the architecture page is written from."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "import_graph.py"
+
+
+@pytest.fixture(scope="module")
+def graph_mod() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("import_graph", SCRIPT)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("import_graph", mod)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="module")
+def arrows(graph_mod: ModuleType) -> dict[str, set[str]]:
+    """Every module's imports of zenros modules, those made for type checking included."""
+    mods = graph_mod.modules()
+    known = set(mods)
+    return {m: graph_mod.imports_of(m, p, known, True) for m, p in mods.items()}
+
+
+def test_no_import_points_the_wrong_way(graph_mod: ModuleType,
+                                        arrows: dict[str, set[str]]) -> None:
+    assert graph_mod.wrong_way(arrows) == []
+
+
+def test_every_gateway_module_is_in_a_layer(graph_mod: ModuleType,
+                                           arrows: dict[str, set[str]]) -> None:
+    parts = {graph_mod.gateway_part(m) for m in arrows} - {""}
+    assert {"state", "ports", "http", "modbus", "serial", "rosbridge", "foxglove"} <= parts
+    assert parts <= set(graph_mod.GATEWAY_LAYERS), parts - set(graph_mod.GATEWAY_LAYERS)
+
+
+@pytest.mark.parametrize(("importer", "imported", "why"), [
+    ("zenros.services.gateway.ports.nav_link", "zenros.services.gateway.http.api",
+     "ports (layer 2) imports http (layer 3)"),
+    ("zenros.services.gateway.state.presence", "zenros.services.gateway.ports.link",
+     "state (layer 1) imports ports (layer 2)"),
+    ("zenros.services.gateway.modbus.front", "zenros.services.gateway.node",
+     "modbus (layer 3) imports node (layer 4)"),
+    ("zenros.services.gateway.http.api", "zenros.services.tasks.robot",
+     "one service imports another"),
+    ("zenros.services.gateway.cloud.x", "zenros.services.gateway.state.core",
+     "not in a gateway layer"),
+])
+def test_the_check_catches_a_wrong_arrow(graph_mod: ModuleType, importer: str, imported: str,
+                                         why: str) -> None:
+    """The rule is not vacuous: each kind of wrong arrow is reported, naming both ends."""
+    bad = graph_mod.wrong_way({importer: {imported}})
+    assert len(bad) == 1 and bad[0].startswith(f"{importer} -> {imported}: ")
+    assert why in bad[0]
+
+
+def test_right_arrows_pass(graph_mod: ModuleType) -> None:
+    ok = {"zenros.services.gateway.http.api": {"zenros.services.gateway.ports.nav_link",
+                                               "zenros.services.gateway.state.tokens",
+                                               "zenros.services.gateway.errors", "zenros.node"},
+          "zenros.services.gateway.ports.navigator": {"zenros.services.gateway.state.core"},
+          "zenros.services.tasks.link": {"zenros.maps.maproute"}}
+    assert graph_mod.wrong_way(ok) == []
