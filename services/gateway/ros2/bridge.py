@@ -33,7 +33,6 @@ from cyclonedds.builtin import (
     BuiltinTopicDcpsSubscription,
 )
 from cyclonedds.core import InstanceState
-from cyclonedds.domain import DomainParticipant
 from zenros.errors import UnknownTypeError
 from zenros.log import LogOnce
 from zenros.message import lookup_type
@@ -44,6 +43,7 @@ from zenros.ros2.typehash import type_hash
 from zenros.ros2.typenames import dds_to_ros
 
 from .graph import RosNodes
+from .participant import open_participant
 from .qos import zenros_qos
 from .routes import Inbound, Outbound
 
@@ -103,7 +103,7 @@ class Ros2DdsBridge(Node):
         self._zenros_pubs: dict[str, set[str]] = defaultdict(set)
         self._events: queue.Queue[tuple[zenoh.SampleKind, str] | None] = queue.Queue()
         self._graph_lock = threading.Lock()
-        self.participant = DomainParticipant(self.domain)
+        self.domain_entity, self.participant = open_participant(self.domain)
         self.guid = self.participant.guid
         self._pubs = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
         self._subs = BuiltinDataReader(self.participant, BuiltinTopicDcpsSubscription)
@@ -256,4 +256,6 @@ class Ros2DdsBridge(Node):
                 self.outbound.clear()
                 self.nodes.close()
             self.participant.__del__()
+            if self.domain_entity is not None:
+                self.domain_entity.__del__()
         super().close()
