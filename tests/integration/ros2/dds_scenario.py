@@ -72,7 +72,53 @@ def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str,
     return out
 
 
+def sim_cmd_vel() -> dict[str, Any]:
+    """``zenros launch deploy/launch/sim.yaml ros2_bridge:=true`` (the whole simulated robot, in
+    this namespace its fixed ports are its own) and an rclpy node publishing Twist on
+    /cmd_vel: the chassis's odometry moves."""
+    import math
+    import tempfile
+    from zenros.msgs.nav_msgs import Odometry
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    prefix = unique_prefix()
+    procs = Procs()
+    res: dict[str, Any] = {"case": "sim"}
+    with tempfile.TemporaryDirectory() as home:
+        sim = subprocess.Popen(
+            [PY, "-m", "zenros.cli", "launch", str(HERE.parents[2] / "deploy/launch/sim.yaml"),
+             "ros2_bridge:=true"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            env={**ENV, "ZENROS_HOME": home, "ZENROS_PREFIX": prefix, "ZENROS_CONNECT": endpoint},
+            start_new_session=True)
+        procs.procs.append(sim)
+        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        node = Node("zen_side", context=ctx)
+        try:
+            odom: Collector[Any] = Collector()
+            node.create_subscription(Odometry, "/odom", odom)
+            res["odom"] = wait_for(lambda: len(odom) > 0, 120)
+            res["bridge_up"] = wait_for(
+                lambda: "/ros2_dds_bridge" in ctx.graph.node_names(), 60)
+            if res["odom"]:
+                p0 = odom.items[-1].pose.pose.position
+                procs.start(str(HERE / "rclpy_peer.py"), "pub", "Twist", "/cmd_vel")
+
+                def moved() -> float:
+                    p = odom.items[-1].pose.pose.position
+                    return math.hypot(p.x - p0.x, p.y - p0.y)
+                res["moved"] = wait_for(lambda: moved() > 0.05, 60)
+                res["distance"] = round(moved(), 3)
+                res["cmd_vel_publishers"] = [p.node for p in ctx.graph.publishers("/cmd_vel")]
+        finally:
+            node.close()
+            ctx.close()
+            errs = procs.stop_all()
+            res["bridge_log"] = errs["0"][-3000:]
+    return res
+
+
 def main(case: str) -> dict[str, Any]:
+    if case == "sim":
+        return sim_cmd_vel()
     port = free_port()
     prefix = unique_prefix()
     procs = Procs()

@@ -112,3 +112,11 @@ def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> N
     assert res["good_after"] and res["items"] == ["ok"], res["bridge_log"]
     log = res["bridge_log"]
     assert log.count("dropping a sample on /bad") == 1, log
+
+
+def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge() -> None:
+    res = scenario("sim")
+    assert res["odom"] and res["bridge_up"], res
+    # the gateway and nav publish /cmd_vel as well; the bridge is the rclpy node's door
+    assert "/ros2_dds_bridge" in res["cmd_vel_publishers"], res
+    assert res["moved"], res
