@@ -54,22 +54,26 @@ class Procs:
 
 
 def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str, Any]]:
-    """The first n JSON lines (after the ready line) the rclpy peer printed."""
+    """The first n JSON lines (after the ready line) the rclpy peer printed (read from the
+    pipe's descriptor: lines already in a reader's buffer would not wake a select)."""
     import selectors
-    sel = selectors.DefaultSelector()
     assert p.stdout is not None
-    sel.register(p.stdout, selectors.EVENT_READ)
+    fd = p.stdout.fileno()
+    sel = selectors.DefaultSelector()
+    sel.register(fd, selectors.EVENT_READ)
     out: list[dict[str, Any]] = []
+    buf = b""
     deadline = time.monotonic() + timeout
     while len(out) < n and time.monotonic() < deadline:
-        if sel.select(deadline - time.monotonic()):
-            line = p.stdout.readline()
-            if not line:
-                break
-            d = json.loads(line)
-            if "ready" not in d:
-                out.append(d)
-    return out
+        if not sel.select(deadline - time.monotonic()):
+            continue
+        chunk = os.read(fd, 65536)
+        if not chunk:
+            break
+        buf += chunk
+        *lines, buf = buf.split(b"\n")
+        out.extend(d for d in map(json.loads, filter(None, lines)) if "ready" not in d)
+    return out[:n]
 
 
 def sim_cmd_vel() -> dict[str, Any]:
@@ -186,6 +190,20 @@ def main(case: str) -> dict[str, Any]:
                 res["got"] = lines_of(peer, 3, 30)
                 stop.set()
                 t.join()
+        elif case == "srv_out":
+            from zenros.msgs.std_srvs import SetBool
+            peer = procs.start(str(HERE / "rclpy_peer.py"), "srv", "SetBool", "/set_flag")
+            client = node.create_client(SetBool, "/set_flag")
+            res["available"] = client.wait_for_service(60)
+            res["servers"] = [t.node for t in graph.servers("/set_flag")]
+            replies = []
+            for flag in (True, False, True):
+                r = client.call(SetBool.Request(data=flag), timeout=20)
+                replies.append([r.success, r.message])
+            res["replies"] = replies
+            res["served"] = [d["served"] for d in lines_of(peer, 3, 10)]
+            procs.stop(peer)
+            res["route_left"] = wait_for(lambda: not graph.servers("/set_flag"), 30)
         elif case == "bad":
             from cyclonedds.domain import DomainParticipant
             from cyclonedds.pub import DataWriter

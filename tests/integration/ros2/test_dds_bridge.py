@@ -114,6 +114,14 @@ def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> N
     assert log.count("dropping a sample on /bad") == 1, log
 
 
+def test_a_zenros_client_calls_an_rclpy_service() -> None:
+    res = scenario("srv_out")
+    assert res["available"] and res["servers"] == ["/ros2_dds_bridge"], res
+    assert res["replies"] == [[True, "got True"], [False, "got False"], [True, "got True"]], res
+    assert res["served"] == [True, False, True], res
+    assert res["route_left"], res["bridge_log"]  # the rclpy server left: so did the service
+
+
 def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge() -> None:
     res = scenario("sim")
     assert res["odom"] and res["bridge_up"], res
