@@ -74,8 +74,9 @@ def main() -> None:
                 pub.publish(msg)
         node.create_timer(0.05, tick)
     else:
-        def got(m: object) -> None:
-            print(json.dumps(summary(m)), flush=True)
+        def got(m: object) -> None:  # with the topic's types as this node's graph has them
+            types = dict(node.get_topic_names_and_types()).get(topic, [])
+            print(json.dumps({**summary(m), "types": types}), flush=True)
         node.create_subscription(types[kind], topic, got, qos)
     print(json.dumps({"ready": node.get_name()}), flush=True)
     rclpy.spin(node)

@@ -93,6 +93,8 @@ def test_zenros_publisher_reaches_an_rclpy_listener() -> None:
     res = scenario("listener")
     assert len(res["got"]) == 3, res["bridge_log"]
     assert all(g["data"].startswith("zen ") for g in res["got"]), res
+    # the zenros topic is in rclpy's graph (node.get_topic_names_and_types())
+    assert res["got"][-1]["types"] == ["std_msgs/msg/String"], res
 
 
 def test_zenros_twist_reaches_rclpy() -> None:
@@ -104,7 +106,8 @@ def test_zenros_twist_reaches_rclpy() -> None:
 def test_latched_zenros_topic_reaches_a_late_rclpy_subscriber() -> None:
     res = scenario("latched")
     assert res["bridged"], res["bridge_log"]
-    assert res["got"] == [{"data": "the one latched"}], res["bridge_log"]
+    assert res["got"] == [{"data": "the one latched", "types": ["std_msgs/msg/String"]}], \
+        res["bridge_log"]
 
 
 def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> None:
