@@ -38,11 +38,11 @@ class Procs:
         self.procs.append(p)
         return p
 
-    def stop(self, p: subprocess.Popen[str]) -> str:
+    def stop(self, p: subprocess.Popen[str], wait: float = 10) -> str:
         if p.poll() is None:
             os.killpg(p.pid, signal.SIGINT)
             try:
-                p.wait(10)
+                p.wait(wait)
             except subprocess.TimeoutExpired:
                 os.killpg(p.pid, signal.SIGKILL)
                 p.wait(5)
@@ -74,6 +74,21 @@ def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str,
         *lines, buf = buf.split(b"\n")
         out.extend(d for d in map(json.loads, filter(None, lines)) if "ready" not in d)
     return out[:n]
+
+
+def children_of(pid: int) -> list[int]:
+    """The PIDs whose parent is ``pid`` (from /proc)."""
+    out = []
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open(f"/proc/{d}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            if ppid == pid:
+                out.append(int(d))
+    return out
 
 
 def sim_cmd_vel() -> dict[str, Any]:
@@ -109,14 +124,22 @@ def sim_cmd_vel() -> dict[str, Any]:
                 def moved() -> float:
                     p = odom.items[-1].pose.pose.position
                     return math.hypot(p.x - p0.x, p.y - p0.y)
-                res["moved"] = wait_for(lambda: moved() > 0.05, 60)
+                res["moved"] = wait_for(lambda: moved() > 0.05, 90)
                 res["distance"] = round(moved(), 3)
                 res["cmd_vel_publishers"] = [p.node for p in ctx.graph.publishers("/cmd_vel")]
         finally:
             node.close()
             ctx.close()
-            errs = procs.stop_all()
-            res["bridge_log"] = errs["0"][-3000:]
+            # the launch runs each node in a session of its own: note them by PID, give the
+            # launch time to stop them, then stop any it left
+            nodes = children_of(sim.pid)
+            res["bridge_log"] = procs.stop(sim, wait=60)[-3000:]
+            for pid in nodes:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            procs.stop_all()
     return res
 
 
