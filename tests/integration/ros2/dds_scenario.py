@@ -97,6 +97,7 @@ def sim_cmd_vel() -> dict[str, Any]:
     /cmd_vel: the chassis's odometry moves."""
     import math
     import tempfile
+
     from zenros.msgs.nav_msgs import Odometry
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     prefix = unique_prefix()
