@@ -33,19 +33,20 @@ from cyclonedds.builtin import (
     BuiltinTopicDcpsSubscription,
 )
 from cyclonedds.core import InstanceState
-from cyclonedds.domain import DomainParticipant
 from zenros.errors import UnknownTypeError
 from zenros.log import LogOnce
-from zenros.message import lookup_type
+from zenros.message import lookup_service, lookup_type
 from zenros.node import Node
 from zenros.qos import QoSProfile
 from zenros.ros2.registry import definition, ros_name_of, zenros_class_of
 from zenros.ros2.typehash import type_hash
-from zenros.ros2.typenames import dds_to_ros
+from zenros.ros2.typenames import dds_to_ros, ros_to_zenros
 
 from .graph import RosNodes
+from .participant import open_participant
 from .qos import zenros_qos
 from .routes import Inbound, Outbound
+from .services import ServiceRoute
 
 __all__ = ["Ros2DdsBridge"]
 
@@ -91,6 +92,9 @@ class Ros2DdsBridge(Node):
         self.deny = re.compile(deny) if deny else None
         self.depth = int(self.declare_parameter(
             "depth", 10, description="keep-last depth of topics from DDS", read_only=True))
+        self.service_timeout = float(self.declare_parameter(
+            "service_timeout", 5.0, description="seconds a ROS 2 service has to reply",
+            read_only=True))
         ctx = self.context
         self.zid = str(ctx.zid)
         self.problems = LogOnce(self.logger)
@@ -98,13 +102,15 @@ class Ros2DdsBridge(Node):
         self.dds_topics: dict[tuple[str, str], Any] = {}
         self.inbound: dict[str, Inbound] = {}
         self.outbound: dict[str, Outbound] = {}
+        self.services: dict[str, ServiceRoute] = {}
+        self._servers: dict[uuid.UUID, str] = {}  # request reader of a ROS 2 server -> name
         self._writers: dict[uuid.UUID, _Writer] = {}
         self._handles: dict[int, _Writer] = {}
         self._zenros_pubs: dict[str, set[str]] = defaultdict(set)
         self._events: queue.Queue[tuple[zenoh.SampleKind, str] | None] = queue.Queue()
         self._graph_lock = threading.Lock()
-        self.participant = DomainParticipant(self.domain)
-        self.on_close(self.participant.__del__)  # deletes its readers and writers with it
+        self.domain_entity, self.participant = open_participant(self.domain)
+        self.on_close(self._delete_participant)  # its readers and writers go with it
         self.guid = self.participant.guid
         self._pubs = BuiltinDataReader(self.participant, BuiltinTopicDcpsPublication)
         self._subs = BuiltinDataReader(self.participant, BuiltinTopicDcpsSubscription)
@@ -158,7 +164,7 @@ class Ros2DdsBridge(Node):
         for s in self._pubs.take(64):
             self._on_dds_writer(s)
         for s in self._subs.take(64):
-            pass  # readers: no route of their own (a zenros publisher makes the DDS writer)
+            self._on_dds_reader(s)  # topic readers: no route (a zenros publisher makes one)
 
     def _on_dds_writer(self, s: Any) -> None:
         info = s.sample_info
@@ -177,6 +183,42 @@ class Ros2DdsBridge(Node):
         self._writers[s.key] = w
         self._handles[info.instance_handle] = w
         self._writer_joined(w)
+
+    def _on_dds_reader(self, s: Any) -> None:
+        """A ROS 2 service server's request reader (``rq/<name>Request``) makes a service
+        route; when the last one of that name leaves, the route goes."""
+        info = s.sample_info
+        if info.instance_state != InstanceState.Alive or not info.valid_data:
+            name = self._servers.pop(s.key, None)
+            if name is not None and name not in self._servers.values() \
+                    and name in self.services:
+                self.services.pop(name).close()
+                self.logger.info("ROS 2 service %s: its server left, route closed", name)
+            return
+        topic = s.topic_name
+        if s.participant_key == self.guid or not (
+                topic.startswith("rq/") and topic.endswith("Request")):
+            return
+        name = "/" + topic[3:-len("Request")]
+        if not self.wanted(name):
+            return
+        self._servers[s.key] = name
+        if name in self.services:
+            return
+        try:
+            ros_type = dds_to_ros(s.type_name).removesuffix("_Request")
+            srv = lookup_service(ros_to_zenros(ros_type))
+        except (UnknownTypeError, ValueError):
+            self.problems(f"srvtype {s.type_name}", "ROS 2 service %s has type %s, which "
+                          "zenros does not know: not bridged", name, s.type_name)
+            return
+        hash_there, ours = _user_hash(s.qos), type_hash(ros_name_of(srv.Request))
+        if hash_there and hash_there != ours:
+            self.problems(f"srvhash {name}", "ROS 2 service %s: request type %s has hash %s "
+                          "there, %s in zenros: not bridged", name, s.type_name, hash_there, ours)
+            return
+        self.services[name] = ServiceRoute(self, name, srv, self.service_timeout)
+        self.logger.info("ROS 2 service %s (%s) -> zenros", name, ros_type)
 
     def _writer_joined(self, w: _Writer) -> None:
         if not self.wanted(w.name):
@@ -250,9 +292,15 @@ class Ros2DdsBridge(Node):
         self._stop.set()
         self._worker.join(5)
         with self._graph_lock:
-            for inbound in self.inbound.values():
-                inbound.close()
-            for outbound in self.outbound.values():
-                outbound.close()
+            routes: list[Inbound | Outbound | ServiceRoute] = [
+                *self.inbound.values(), *self.outbound.values(), *self.services.values()]
+            for r in routes:
+                r.close()
             self.inbound.clear()
             self.outbound.clear()
+            self.services.clear()
+
+    def _delete_participant(self) -> None:
+        self.participant.__del__()
+        if self.domain_entity is not None:
+            self.domain_entity.__del__()

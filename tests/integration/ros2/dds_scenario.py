@@ -38,11 +38,11 @@ class Procs:
         self.procs.append(p)
         return p
 
-    def stop(self, p: subprocess.Popen[str]) -> str:
+    def stop(self, p: subprocess.Popen[str], wait: float = 10) -> str:
         if p.poll() is None:
             os.killpg(p.pid, signal.SIGINT)
             try:
-                p.wait(10)
+                p.wait(wait)
             except subprocess.TimeoutExpired:
                 os.killpg(p.pid, signal.SIGKILL)
                 p.wait(5)
@@ -54,25 +54,99 @@ class Procs:
 
 
 def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str, Any]]:
-    """The first n JSON lines (after the ready line) the rclpy peer printed."""
+    """The first n JSON lines (after the ready line) the rclpy peer printed (read from the
+    pipe's descriptor: lines already in a reader's buffer would not wake a select)."""
     import selectors
-    sel = selectors.DefaultSelector()
     assert p.stdout is not None
-    sel.register(p.stdout, selectors.EVENT_READ)
+    fd = p.stdout.fileno()
+    sel = selectors.DefaultSelector()
+    sel.register(fd, selectors.EVENT_READ)
     out: list[dict[str, Any]] = []
+    buf = b""
     deadline = time.monotonic() + timeout
     while len(out) < n and time.monotonic() < deadline:
-        if sel.select(deadline - time.monotonic()):
-            line = p.stdout.readline()
-            if not line:
-                break
-            d = json.loads(line)
-            if "ready" not in d:
-                out.append(d)
+        if not sel.select(deadline - time.monotonic()):
+            continue
+        chunk = os.read(fd, 65536)
+        if not chunk:
+            break
+        buf += chunk
+        *lines, buf = buf.split(b"\n")
+        out.extend(d for d in map(json.loads, filter(None, lines)) if "ready" not in d)
+    return out[:n]
+
+
+def children_of(pid: int) -> list[int]:
+    """The PIDs whose parent is ``pid`` (from /proc)."""
+    out = []
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open(f"/proc/{d}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            if ppid == pid:
+                out.append(int(d))
     return out
 
 
+def sim_cmd_vel() -> dict[str, Any]:
+    """``zenros launch deploy/launch/sim.yaml ros2_bridge:=true`` (the whole simulated robot, in
+    this namespace its fixed ports are its own) and an rclpy node publishing Twist on
+    /cmd_vel: the chassis's odometry moves."""
+    import math
+    import tempfile
+
+    from zenros.msgs.nav_msgs import Odometry
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    prefix = unique_prefix()
+    procs = Procs()
+    res: dict[str, Any] = {"case": "sim"}
+    with tempfile.TemporaryDirectory() as home:
+        sim = subprocess.Popen(
+            [PY, "-m", "zenros.cli", "launch", str(HERE.parents[2] / "deploy/launch/sim.yaml"),
+             "ros2_bridge:=true"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            env={**ENV, "ZENROS_HOME": home, "ZENROS_PREFIX": prefix, "ZENROS_CONNECT": endpoint},
+            start_new_session=True)
+        procs.procs.append(sim)
+        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        node = Node("zen_side", context=ctx)
+        try:
+            odom: Collector[Any] = Collector()
+            node.create_subscription(Odometry, "/odom", odom)
+            res["odom"] = wait_for(lambda: len(odom) > 0, 120)
+            res["bridge_up"] = wait_for(
+                lambda: "/ros2_dds_bridge" in ctx.graph.node_names(), 60)
+            if res["odom"]:
+                p0 = odom.items[-1].pose.pose.position
+                procs.start(str(HERE / "rclpy_peer.py"), "pub", "Twist", "/cmd_vel")
+
+                def moved() -> float:
+                    p = odom.items[-1].pose.pose.position
+                    return math.hypot(p.x - p0.x, p.y - p0.y)
+                res["moved"] = wait_for(lambda: moved() > 0.05, 90)
+                res["distance"] = round(moved(), 3)
+                res["cmd_vel_publishers"] = [p.node for p in ctx.graph.publishers("/cmd_vel")]
+        finally:
+            node.close()
+            ctx.close()
+            # the launch runs each node in a session of its own: note them by PID, give the
+            # launch time to stop them, then stop any it left
+            nodes = children_of(sim.pid)
+            res["bridge_log"] = procs.stop(sim, wait=60)[-3000:]
+            for pid in nodes:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            procs.stop_all()
+    return res
+
+
 def main(case: str) -> dict[str, Any]:
+    if case == "sim":
+        return sim_cmd_vel()
     port = free_port()
     prefix = unique_prefix()
     procs = Procs()
@@ -140,6 +214,20 @@ def main(case: str) -> dict[str, Any]:
                 res["got"] = lines_of(peer, 3, 30)
                 stop.set()
                 t.join()
+        elif case == "srv_out":
+            from zenros.msgs.std_srvs import SetBool
+            peer = procs.start(str(HERE / "rclpy_peer.py"), "srv", "SetBool", "/set_flag")
+            client = node.create_client(SetBool, "/set_flag")
+            res["available"] = client.wait_for_service(60)
+            res["servers"] = [t.node for t in graph.servers("/set_flag")]
+            replies = []
+            for flag in (True, False, True):
+                r = client.call(SetBool.Request(data=flag), timeout=20)
+                replies.append([r.success, r.message])
+            res["replies"] = replies
+            res["served"] = [d["served"] for d in lines_of(peer, 3, 10)]
+            procs.stop(peer)
+            res["route_left"] = wait_for(lambda: not graph.servers("/set_flag"), 30)
         elif case == "bad":
             from cyclonedds.domain import DomainParticipant
             from cyclonedds.pub import DataWriter

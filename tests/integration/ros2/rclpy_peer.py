@@ -1,6 +1,7 @@
 """An unmodified rclpy node for the DDS bridge tests: ``pub KIND TOPIC`` publishes a sample of
 KIND every 50 ms, ``sub KIND TOPIC`` prints one JSON line per message received; ``--tl`` makes
-the endpoint transient local (depth 1). Runs until killed."""
+the endpoint transient local (depth 1); ``srv SetBool NAME`` serves std_srvs/SetBool (replies
+success=data, message "got <data>") and prints one JSON line per request. Runs until killed."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import String
+from std_srvs.srv import SetBool
 
 
 def sample(kind: str, i: int) -> object:
@@ -52,7 +54,14 @@ def main() -> None:
     types = {"String": String, "Twist": Twist, "LaserScan": LaserScan, "OccupancyGrid": OccupancyGrid}
     rclpy.init()
     node = Node(f"peer_{mode}")
-    if mode == "pub":
+    if mode == "srv":
+        def serve(req: SetBool.Request, resp: SetBool.Response) -> SetBool.Response:
+            resp.success = req.data
+            resp.message = f"got {req.data}"
+            print(json.dumps({"served": req.data}), flush=True)
+            return resp
+        node.create_service(SetBool, topic, serve)
+    elif mode == "pub":
         pub = node.create_publisher(types[kind], topic, qos)
         msg = sample(kind, 0)
         counter = [0]
@@ -65,8 +74,9 @@ def main() -> None:
                 pub.publish(msg)
         node.create_timer(0.05, tick)
     else:
-        def got(m: object) -> None:
-            print(json.dumps(summary(m)), flush=True)
+        def got(m: object) -> None:  # with the topic's types as this node's graph has them
+            types = dict(node.get_topic_names_and_types()).get(topic, [])
+            print(json.dumps({**summary(m), "types": types}), flush=True)
         node.create_subscription(types[kind], topic, got, qos)
     print(json.dumps({"ready": node.get_name()}), flush=True)
     rclpy.spin(node)
