@@ -1,15 +1,15 @@
 """A plain (non-editable) ``pip install .`` installs every module of shared/ and services/, and
 deploy/'s launch files and demo map (as ``zenros/deploy``).
 
-The working tree is copied first (the build writes into its source), installed with
-``--no-deps --target`` into a scratch directory (the venv's packages serve the
-dependencies), then the services are imported from that copy in a fresh interpreter.
+What ``pip install .`` installs is the wheel it builds: conftest.py's ``plain_wheel`` (built
+once per session from a clean copy of the checkout, and shared with test_user_install.py), here
+installed with ``--no-deps --target`` into a scratch directory (the venv's packages serve the
+dependencies); then the services are imported from that copy in a fresh interpreter.
 """
 
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -46,17 +46,12 @@ def _c_sources() -> set[str]:
 
 
 @pytest.mark.timeout(400)
-def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path) -> None:
-    src, target = tmp_path / "src", tmp_path / "site"
-    src.mkdir()
-    for name in ("pyproject.toml", "setup.py", "README.md"):
-        shutil.copy2(ROOT / name, src / name)
-    for tree in (*TREES, "deploy"):
-        shutil.copytree(ROOT / tree, src / tree,
-                        ignore=shutil.ignore_patterns("__pycache__", "*.so", "*.pyc"))
+def test_a_plain_install_carries_every_package_and_imports(tmp_path: Path,
+                                                           plain_wheel: Path) -> None:
+    target = tmp_path / "site"
     r = subprocess.run(
         [sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-compile",
-         "--disable-pip-version-check", "--target", str(target), str(src)],
+         "--disable-pip-version-check", "--target", str(target), str(plain_wheel)],
         capture_output=True, text=True, timeout=380, check=False,
     )
     assert r.returncode == 0, r.stderr[-3000:]

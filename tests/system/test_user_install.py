@@ -1,9 +1,11 @@
 """The robot a new user gets: a fresh venv, zenros installed with no extras, the sim launched.
 
 README command 1 is ``python3 -m venv .venv && .venv/bin/pip install -e . && .venv/bin/zenros
-launch deploy/launch/sim.yaml``. Each case makes a fresh venv, installs a copy of this checkout
-(a clean clone's files: the build writes into its source, and the running suite keeps its
-own) the way a user does, editable or not, then, from that venv only:
+launch deploy/launch/sim.yaml``. Each case makes a fresh venv, installs this checkout the way a
+user does, editable (``pip install -e`` of a copy of the checkout: a clean clone's files, since
+the build writes into its source and the running suite keeps its own) or not (the wheel
+``pip install <checkout>`` builds: conftest.py's ``plain_wheel``, shared with test_install.py),
+with its dependencies and no extras, then, from that venv only:
 
 - imports every module of zenros outside the checkout (one that needs an optional extra must
   fail naming it), and finds the demo map and the launch files;
@@ -14,7 +16,9 @@ own) the way a user does, editable or not, then, from that venv only:
   the topic WebSocket, the dashboard's socket (rosbridge: a ``call_service /rosapi/topics``),
   Modbus TCP.
 
-The clients (httpx, websockets, pymodbus) are the test venv's, never the fresh one's.
+The clients (httpx, websockets, pymodbus) are the test venv's, never the fresh one's. The two
+cases are prepared and launched side by side (module fixture ``robots``), so their installs
+overlap and their 30 s runs are one; each test checks its own case.
 """
 
 from __future__ import annotations
@@ -22,18 +26,19 @@ from __future__ import annotations
 import json
 import os
 import re
-import shutil
 import signal
 import socket
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import httpx
 import pytest
+from checkout import clean_copy
 from pymodbus.client import ModbusTcpClient
 from websockets.sync.client import connect
 from zenros.testing import free_port, unique_prefix, wait_for
@@ -42,9 +47,6 @@ pytestmark = pytest.mark.system
 
 ROOT = Path(__file__).resolve().parents[2]
 RUN_FOR = 30.0  # seconds the sim runs before the checks (the issue's "30 s later")
-# What a clean clone lacks: build output, venvs, caches.
-NOT_CLONED = shutil.ignore_patterns(".git", ".venv", "venv", "build", "dist", "*.egg-info",
-                                    "__pycache__", "*.so", "*.pyc", ".*_cache", "test-artifacts")
 # The gateway binds port 0 for each (the system's choice, so no race for a "free" port with
 # the box's other sockets) and logs the port it got; discovery goes to a socket the test holds.
 BOUND = {
@@ -109,16 +111,17 @@ def _user_env(venv: Path) -> dict[str, str]:
     return env
 
 
-def _install(tmp: Path, editable: bool) -> Install:
-    """A copy of the checkout, a fresh venv, and ``pip install [-e] <copy>`` with no extras."""
-    src = tmp / "zenros"
-    shutil.copytree(ROOT, src, ignore=NOT_CLONED, symlinks=True)
+def _install(tmp: Path, wheel: Path | None) -> Install:
+    """A fresh venv and, with no extras, ``pip install -e <copy of the checkout>`` (``wheel``
+    None) or ``pip install <wheel>``: the wheel ``pip install <checkout>`` builds."""
+    src = clean_copy(tmp / "zenros") if wheel is None else ROOT
     venv = tmp / "venv"
     inst = Install(venv, src, _user_env(venv))
     r = inst.run(sys.executable, "-m", "venv", str(venv), cwd=tmp, timeout=300)  # slow box: minutes
     assert r.returncode == 0, r.stderr
-    r = inst.run(str(inst.bin / "pip"), "install", "-q", *(["-e"] if editable else []), str(src),
-                 cwd=src if editable else tmp, timeout=300)
+    what = ["-e", str(src)] if wheel is None else [str(wheel)]
+    r = inst.run(str(inst.bin / "pip"), "install", "-q", *what, cwd=src if wheel is None else tmp,
+                 timeout=480)  # two installs side by side
     assert r.returncode == 0, r.stderr[-3000:]
     return inst
 
@@ -208,12 +211,27 @@ class Launch:
         self.discovery.close()
 
 
-@pytest.fixture
-def launches() -> Iterator[list[Launch]]:
-    started: list[Launch] = []
-    yield started
-    for launch in started:
-        launch.stop()
+@pytest.fixture(scope="module")
+def robots(tmp_path_factory: pytest.TempPathFactory, plain_wheel: Path
+           ) -> Iterator[dict[str, Future[Launch]]]:
+    """Both cases prepared side by side, each in a folder of its own: installed, checked and
+    launched (``_editable``, ``_plain``). A test takes its own case's launch (``.result()``
+    raises what failed in its preparation); every launch is stopped at the module's end."""
+    launched: list[Launch] = []
+    cases: dict[str, Callable[[Path], Launch]] = {
+        "editable": _editable, "plain": lambda tmp: _plain(tmp, plain_wheel)}
+
+    def prepare(case: str) -> Launch:
+        launched.append(cases[case](tmp_path_factory.mktemp(case)))
+        return launched[-1]
+
+    with ThreadPoolExecutor(max_workers=len(cases)) as pool:
+        try:
+            yield {case: pool.submit(prepare, case) for case in cases}
+        finally:
+            pool.shutdown(wait=True)
+            for launch in launched:
+                launch.stop()
 
 
 def _alive(pid: int) -> bool:
@@ -315,28 +333,37 @@ def _run_sim(launch: Launch) -> None:
     _check_running(launch)
 
 
-@pytest.mark.timeout(600)
-def test_readme_command_1_gives_a_working_robot(tmp_path: Path, launches: list[Launch]) -> None:
+def _editable(tmp: Path) -> Launch:
     """``pip install -e .`` (no extras) and ``zenros launch deploy/launch/sim.yaml``."""
-    inst = _install(tmp_path, editable=True)
-    outside = tmp_path / "elsewhere"
+    inst = _install(tmp, wheel=None)
+    outside = tmp / "elsewhere"
     outside.mkdir()
     _check_imports(inst, outside, editable=True)
-    launches.append(Launch(inst, "deploy/launch/sim.yaml", inst.src, tmp_path / "home"))
-    _run_sim(launches[-1])
+    return Launch(inst, "deploy/launch/sim.yaml", inst.src, tmp / "home")
 
 
-@pytest.mark.timeout(600)
-def test_a_plain_install_runs_the_sim_by_name_from_anywhere(
-    tmp_path: Path, launches: list[Launch]
-) -> None:
+def _plain(tmp: Path, wheel: Path) -> Launch:
     """``pip install <checkout>`` (not editable, no extras), then ``zenros launch sim.yaml`` in
     a folder outside the checkout: the launch file and the map come from the install."""
-    inst = _install(tmp_path, editable=False)
-    outside = tmp_path / "elsewhere"
+    inst = _install(tmp, wheel)
+    outside = tmp / "elsewhere"
     outside.mkdir()
     _check_imports(inst, outside, editable=False)
     r = inst.run(str(inst.bin / "zenros"), "launch", "--list", cwd=outside)
-    assert r.returncode == 0 and re.search(r"^\s+sim\.yaml\s+\S", r.stdout, re.M), r
-    launches.append(Launch(inst, "sim.yaml", outside, tmp_path / "home"))
-    _run_sim(launches[-1])
+    assert r.returncode == 0 and re.search(r"^\s+sim\.yaml\s+\S", r.stdout, re.MULTILINE), r
+    return Launch(inst, "sim.yaml", outside, tmp / "home")
+
+
+@pytest.mark.timeout(900)  # the two cases are prepared side by side
+def test_readme_command_1_gives_a_working_robot(robots: dict[str, Future[Launch]]) -> None:
+    """``pip install -e .`` (no extras) and ``zenros launch deploy/launch/sim.yaml``."""
+    _run_sim(robots["editable"].result())
+
+
+@pytest.mark.timeout(900)  # the two cases are prepared side by side
+def test_a_plain_install_runs_the_sim_by_name_from_anywhere(
+    robots: dict[str, Future[Launch]]
+) -> None:
+    """``pip install <checkout>`` (not editable, no extras), then ``zenros launch sim.yaml`` in
+    a folder outside the checkout: the launch file and the map come from the install."""
+    _run_sim(robots["plain"].result())
