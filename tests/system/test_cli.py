@@ -7,9 +7,10 @@ import shlex
 import subprocess
 import sys
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
-from zenros.testing import Proc
+from zenros.testing import Proc, unique_prefix, wait_for
 
 pytestmark = pytest.mark.system
 
@@ -21,8 +22,11 @@ def zenros(router: str, prefix: str, *args: str, timeout: float = 30) -> subproc
     )
 
 
-@pytest.fixture
-def system(router: str, prefix: str) -> Iterator[tuple[str, str]]:
+@pytest.fixture(scope="module")
+def system(_shared_router: Any) -> Iterator[tuple[str, str]]:
+    """A talker (20 Hz) and an add_two_ints server on the shared router, under a prefix of the
+    module's own: shared by the module's tests, which only read from them."""
+    router, prefix = _shared_router.get(), unique_prefix()
     procs = [
         Proc([sys.executable, "-m", mod, "-e", router, "--prefix", prefix, *extra])
         for mod, extra in [
@@ -93,8 +97,14 @@ def test_service_list_and_call(system: tuple[str, str]) -> None:
 
 
 def test_node_list_and_info(system: tuple[str, str]) -> None:
-    r = zenros(*system, "node", "list")
-    assert r.stdout.split() == ["/add_two_ints_server", "/talker"]
+    # (the rig is the module's: a node an earlier test started may take a moment to leave)
+    listed: list[str] = []
+
+    def only_the_rig() -> bool:
+        listed[:] = zenros(*system, "node", "list").stdout.split()
+        return listed == ["/add_two_ints_server", "/talker"]
+
+    assert wait_for(only_the_rig, 20, interval=0.5), listed
     r = zenros(*system, "node", "info", "/talker")
     assert "/chatter: std_msgs/String" in r.stdout
 
