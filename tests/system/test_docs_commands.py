@@ -4,9 +4,10 @@
 prefix and router port; the gateway's fixed ports (REST 3546, topic WebSocket 3547, Modbus
 3551, rosbridge 9090) are moved to free ones by storing them on master before the launch, and
 the commands' ``127.0.0.1:<default port>`` are rewritten to match. Each command runs in bash
-from a scratch directory that links the repository's top-level entries (so files it writes
-stay out of the tree); ``zenros launch deploy/launch/sim.yaml`` lines are the sim itself and
-are not run again. A command passes when it exits 0, or, for a streaming one, when it was
+from a scratch directory of its page's own that links the repository's top-level entries (so
+files it writes stay out of the tree and out of other pages' way); ``zenros launch
+deploy/launch/sim.yaml`` lines are the sim itself and are not run again. Pages are checked
+side by side, each page's blocks in order; the blocks that drive the robot one at a time. A command passes when it exits 0, or, for a streaming one, when it was
 still running GRACE seconds after it first printed on stdout. Blocks and lines that cannot
 run against the sim are marked in the page (see docs_commands.py for the markers).
 """
@@ -39,10 +40,13 @@ LAUNCHED = "zenros launch deploy/launch/sim.yaml"  # what the check runs: not ru
 GATEWAY_PORTS = {"rest_port": 3546, "ws_port": 3547, "modbus_port": 3551, "rosbridge_port": 9090}
 PAGES = [p for p in doc_pages(ROOT) if any(b.commands for b in doc_blocks(p, ROOT))]
 # Commands that move the robot: nav goals (each preempts the running one), tasks, REST
-# navigation, cmd_vel. Pages with one run one after another (see `results`).
+# navigation, cmd_vel; and those that change how nav drives (its parameters, walls, maps, the
+# speed limits). Blocks with one run one at a time (see `results`).
 DRIVES = re.compile(r"send_goal\s+/?(?!fibonacci)\w|/navigation/|move_to_index|/tasks?\b|tasks/"
                     r"|patrol|navigate|local_move|/teleport|cmd_vel|dock"
-                    r"|start_\w*(task|move|patrol|charge|dock)")
+                    r"|start_\w*(task|move|patrol|charge|dock)"
+                    r"|param set /nav/|virtual_walls|import_map|system/speed|system/config")
+WORKERS = 4  # pages checked side by side (each command mostly waits on the sim)
 
 
 @dataclass
@@ -157,11 +161,11 @@ _CD = re.compile(r"^cd\s+(\S+)$")
 _ASSIGN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)=(.+)$")
 
 
-def _run_block(block: Block, sim: Sim) -> list[str]:
+def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
     """The block's commands in order, as one shell session would run them: a ``cd DIR`` line
     moves the later ones, a ``NAME=VALUE`` line (``id=$(...)``) sets a variable for them."""
     failures: list[str] = []
-    cwd, env = sim.workdir, dict(sim.env)
+    cwd, env = workdir, dict(sim.env)
     for cmd in block.runnable():
         if cmd.text.startswith(LAUNCHED):
             continue  # the sim the check runs against
@@ -186,31 +190,52 @@ def _run_block(block: Block, sim: Sim) -> list[str]:
     return failures
 
 
-def _run_page(page: Path, sim: Sim) -> list[str] | None:
-    """The failures of one page's blocks (in order); None if nothing of it is runnable."""
+def _run_page(page: Path, sim: Sim, robot: threading.Lock) -> list[str] | None:
+    """The failures of one page's blocks (in order, in a scratch folder of the page's own, so
+    a file a block writes is there for the page's later blocks only); None if nothing of it
+    is runnable. A block that drives the robot holds ``robot`` while it runs."""
     blocks = [b for b in doc_blocks(page, ROOT) if b.runnable()]
     if not blocks:
         return None
-    return [why for b in blocks for why in _run_block(b, sim)]
+    workdir = sim.workdir / "pages" / page.relative_to(ROOT).as_posix().replace("/", "_")
+    workdir.mkdir(parents=True)
+    for entry in sim.workdir.iterdir():
+        if entry.name != "pages":
+            (workdir / entry.name).symlink_to(entry.resolve())
+    failures: list[str] = []
+    for b in blocks:
+        if _drives(b):
+            with robot:
+                failures += _run_block(b, sim, workdir)
+        else:
+            failures += _run_block(b, sim, workdir)
+    return failures
 
 
-def _drives(page: Path) -> bool:
-    """True if a command of the page moves the robot (a nav goal, a task, cmd_vel)."""
-    return any(DRIVES.search(c.text) for b in doc_blocks(page, ROOT) for c in b.runnable())
+def _drives(block: Block) -> bool:
+    """True if a command of the block moves the robot (a nav goal, a task, cmd_vel) or
+    changes how nav drives."""
+    return any(DRIVES.search(c.text) for c in block.runnable())
+
+
+def _cost(page: Path) -> float:
+    """How long the page takes, roughly: a zenros command starts Python and a session (a
+    second or more of CPU), a curl line next to nothing."""
+    return sum(1.0 if c.text.startswith("zenros") else 0.1
+               for b in doc_blocks(page, ROOT) for c in b.runnable())
 
 
 @pytest.fixture(scope="module")
 def results(sim: Sim) -> dict[Path, list[str] | None]:
-    """Every page checked (each page's blocks in order), pages side by side, except those
-    that drive the robot: one after another, since one nav goal preempts another (a page's
-    patrol ended "preempted by a new goal" when another page's goal came, under a CPU hog)."""
-    driving = [p for p in PAGES if _drives(p)]
-    others = [p for p in PAGES if p not in driving]
-    with ThreadPoolExecutor(max_workers=3) as pool:
-        in_turn = pool.submit(lambda: {p: _run_page(p, sim) for p in driving})
-        side_by_side = dict(zip(others, pool.map(lambda p: _run_page(p, sim), others),
-                                strict=True))
-        return {**in_turn.result(), **side_by_side}
+    """Every page checked (each page's blocks in order), pages side by side; blocks that
+    drive the robot one at a time, since one nav goal preempts another (a page's patrol ended
+    "preempted by a new goal" when another page's goal came, under a CPU hog)."""
+    robot = threading.Lock()
+    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
+        # the longest pages first, so that none is left to run alone at the end
+        order = sorted(PAGES, key=_cost, reverse=True)
+        return dict(zip(order, pool.map(lambda p: _run_page(p, sim, robot), order),
+                        strict=True))
 
 
 @pytest.mark.timeout(600)
