@@ -214,8 +214,9 @@ def _run_page(page: Path, sim: Sim, robot: threading.Lock) -> list[str] | None:
 
 def _drives(block: Block) -> bool:
     """True if a command of the block moves the robot (a nav goal, a task, cmd_vel) or
-    changes how nav drives."""
-    return any(DRIVES.search(c.text) for c in block.runnable())
+    changes how nav drives (a bag recorder only listens, whatever topics it names)."""
+    return any(DRIVES.search(c.text) for c in block.runnable()
+               if not c.text.startswith("zenros bag record"))
 
 
 def _cost(page: Path) -> float:
