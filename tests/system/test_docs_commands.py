@@ -220,9 +220,10 @@ def _drives(block: Block) -> bool:
 
 
 def _cost(page: Path) -> float:
-    """How long the page takes, roughly: a zenros command starts Python and a session (a
-    second or more of CPU), a curl line next to nothing."""
-    return sum(1.0 if c.text.startswith("zenros") else 0.1
+    """How long the page takes, roughly: a command starts Python (a zenros command a session
+    too: a second or more of CPU; scripts/import_graph.py parses the tree), a curl line costs
+    next to nothing."""
+    return sum(0.1 if c.text.startswith("curl") else 1.0
                for b in doc_blocks(page, ROOT) for c in b.runnable())
 
 
