@@ -24,7 +24,7 @@ import pytest
 pytest.importorskip("cyclonedds", reason="cyclonedds not installed (extra ros2)")
 pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
 
-pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240)]
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(480)]  # a case may wait for its turn
 
 HERE = Path(__file__).parent
 # dds_scenario.py's cases, the slowest first (the launched sim, the large messages, latched)
