@@ -2,9 +2,7 @@
 
 Every case runs in a network namespace of its own (``unshare -n``, loopback with multicast):
 dds_scenario.py starts the bridge and an rclpy node there, plays the zenros side, and prints
-one JSON line; no DDS packet leaves on the machine's interfaces. The namespaces keep the cases
-apart, so they run side by side (``scenarios``, SIDE_BY_SIDE at a time): most of a case is
-waiting (DDS discovery, a peer's start).
+one JSON line; no DDS packet leaves on the machine's interfaces.
 """
 
 from __future__ import annotations
@@ -14,8 +12,6 @@ import os
 import shutil
 import subprocess
 import sys
-from collections.abc import Iterator
-from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -24,14 +20,9 @@ import pytest
 pytest.importorskip("cyclonedds", reason="cyclonedds not installed (extra ros2)")
 pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
 
-pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(480)]  # a case may wait for its turn
+pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240)]
 
 HERE = Path(__file__).parent
-# dds_scenario.py's cases, the slowest first (the launched sim, the large messages, latched)
-CASES = ("sim", "scan", "grid", "latched", "bad", "srv_out", "talker", "twist_in", "listener",
-         "twist_out")
-SIDE_BY_SIDE = 3
-Scenarios = dict[str, Future[dict[str, Any]]]  # case -> its result (scenarios)
 NETNS = ("ip link set lo up && ip link set lo multicast on && "
          "ip route add 224.0.0.0/4 dev lo && exec \"$@\"")
 
@@ -48,23 +39,10 @@ def _unavailable() -> str | None:
     return None
 
 
-@pytest.fixture(scope="module")
-def scenarios() -> Iterator[Scenarios]:
-    """Every case started (SIDE_BY_SIDE at a time, each in its own namespace); a test takes
-    its case's result with ``.result()``."""
+def scenario(case: str) -> dict[str, Any]:
     reason = _unavailable()
     if reason:
         pytest.skip(reason)
-    with ThreadPoolExecutor(max_workers=SIDE_BY_SIDE) as pool:
-        futures = {case: pool.submit(_scenario, case) for case in CASES}
-        try:
-            yield futures
-        finally:
-            for f in futures.values():
-                f.cancel()
-
-
-def _scenario(case: str) -> dict[str, Any]:
     p = subprocess.Popen(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable,
                           str(HERE / "dds_scenario.py"), case],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -81,7 +59,8 @@ def _scenario(case: str) -> dict[str, Any]:
     return res
 
 
-def _inbound(res: dict[str, Any]) -> dict[str, Any]:
+def _inbound(case: str) -> dict[str, Any]:
+    res = scenario(case)
     assert res["received"], res["bridge_log"]
     assert res["publisher"] == ["/ros2_dds_bridge"], res
     assert res["route_left"], res["bridge_log"]  # the rclpy node left: so did the route
@@ -90,64 +69,64 @@ def _inbound(res: dict[str, Any]) -> dict[str, Any]:
     return res
 
 
-def test_rclpy_talker_reaches_a_zenros_subscriber(scenarios: Scenarios) -> None:
-    res = _inbound(scenarios["talker"].result())
+def test_rclpy_talker_reaches_a_zenros_subscriber() -> None:
+    res = _inbound("talker")
     assert res["data"].startswith("hello "), res
 
 
-def test_rclpy_twist_reaches_zenros(scenarios: Scenarios) -> None:
-    res = _inbound(scenarios["twist_in"].result())
+def test_rclpy_twist_reaches_zenros() -> None:
+    res = _inbound("twist_in")
     assert res["x"] == 0.5 and res["z"] >= 1.0, res
 
 
-def test_rclpy_laserscan_reaches_zenros(scenarios: Scenarios) -> None:
-    res = _inbound(scenarios["scan"].result())
+def test_rclpy_laserscan_reaches_zenros() -> None:
+    res = _inbound("scan")
     assert res["n"] == 720 and res["r5"] == 5.0, res
 
 
-def test_rclpy_large_occupancy_grid_reaches_zenros(scenarios: Scenarios) -> None:
-    res = _inbound(scenarios["grid"].result())
+def test_rclpy_large_occupancy_grid_reaches_zenros() -> None:
+    res = _inbound("grid")
     assert res["w"] == 1000 and res["n"] == 1000 * 1000 and res["d123"] == 23, res
 
 
-def test_zenros_publisher_reaches_an_rclpy_listener(scenarios: Scenarios) -> None:
-    res = scenarios["listener"].result()
+def test_zenros_publisher_reaches_an_rclpy_listener() -> None:
+    res = scenario("listener")
     assert len(res["got"]) == 3, res["bridge_log"]
     assert all(g["data"].startswith("zen ") for g in res["got"]), res
     # the zenros topic is in rclpy's graph (node.get_topic_names_and_types())
     assert res["got"][-1]["types"] == ["std_msgs/msg/String"], res
 
 
-def test_zenros_twist_reaches_rclpy(scenarios: Scenarios) -> None:
-    res = scenarios["twist_out"].result()
+def test_zenros_twist_reaches_rclpy() -> None:
+    res = scenario("twist_out")
     assert len(res["got"]) == 3, res["bridge_log"]
     assert all(g["x"] == 0.25 for g in res["got"]), res
 
 
-def test_latched_zenros_topic_reaches_a_late_rclpy_subscriber(scenarios: Scenarios) -> None:
-    res = scenarios["latched"].result()
+def test_latched_zenros_topic_reaches_a_late_rclpy_subscriber() -> None:
+    res = scenario("latched")
     assert res["bridged"], res["bridge_log"]
     assert res["got"] == [{"data": "the one latched", "types": ["std_msgs/msg/String"]}], \
         res["bridge_log"]
 
 
-def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once(scenarios: Scenarios) -> None:
-    res = scenarios["bad"].result()
+def test_a_sample_that_does_not_decode_is_dropped_counted_and_logged_once() -> None:
+    res = scenario("bad")
     assert res["good_after"] and res["items"] == ["ok"], res["bridge_log"]
     log = res["bridge_log"]
     assert log.count("dropping a sample on /bad") == 1, log
 
 
-def test_a_zenros_client_calls_an_rclpy_service(scenarios: Scenarios) -> None:
-    res = scenarios["srv_out"].result()
+def test_a_zenros_client_calls_an_rclpy_service() -> None:
+    res = scenario("srv_out")
     assert res["available"] and res["servers"] == ["/ros2_dds_bridge"], res
     assert res["replies"] == [[True, "got True"], [False, "got False"], [True, "got True"]], res
     assert res["served"] == [True, False, True], res
     assert res["route_left"], res["bridge_log"]  # the rclpy server left: so did the service
 
 
-def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge(scenarios: Scenarios) -> None:
-    res = scenarios["sim"].result()
+def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge() -> None:
+    res = scenario("sim")
     assert res["odom"] and res["bridge_up"], res
     # the gateway and nav publish /cmd_vel as well; the bridge is the rclpy node's door
     assert "/ros2_dds_bridge" in res["cmd_vel_publishers"], res
