@@ -57,6 +57,7 @@ from zenros.ros2.rmw_zenoh import (
 from zenros.ros2.typenames import dds_to_ros
 
 from .actions import ActionIn, ActionOut
+from .graph_mirror import GraphMirror
 from .rmw_io import (
     RmwPublisher,
     declare_rmw_subscriber,
@@ -86,6 +87,7 @@ class RmwZenohBridge(Node):
         self.deny = re.compile(deny) if deny else None
         self.bridge_services = bool(self.declare_parameter("services", True))
         self.bridge_actions = bool(self.declare_parameter("actions", True))
+        self.mirror_graph = bool(self.declare_parameter("mirror_graph", True))
         self.call_timeout = float(self.declare_parameter("call_timeout", 10.0))
         self.result_timeout = float(self.declare_parameter("result_timeout", 3600.0))
         ctx = self.context
@@ -105,6 +107,7 @@ class RmwZenohBridge(Node):
         self.actions_in: dict[str, ActionIn] = {}
         self.pool = ThreadPoolExecutor(4, thread_name_prefix="rmw-zenoh-srv")
         self.on_close(lambda: self.pool.shutdown(wait=False, cancel_futures=True))
+        self.mirror = GraphMirror(self)
         self._node_entity = Entity(self.domain, self.zid, 0, 0, EntityKind.NODE,
                                    self.namespace, self.name)
         lv = self.session.liveliness()
@@ -145,7 +148,11 @@ class RmwZenohBridge(Node):
 
     def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:
         tok = self.context.keys.parse_token(key)
-        if tok is None or tok.zid == self.zid or tok.kind not in ("pub", "srv", "act"):
+        if tok is None or tok.zid == self.zid:
+            return
+        if self.mirror_graph:
+            self.mirror.on_zenros(kind, key, tok)
+        if tok.kind not in ("pub", "srv", "act"):
             return
         slot = (tok.kind, tok.name)
         if kind == zenoh.SampleKind.DELETE:
@@ -179,6 +186,8 @@ class RmwZenohBridge(Node):
             return
         if ent.zid == self.zid:
             return
+        if self.mirror_graph:
+            self.mirror.on_ros(kind, key, ent)
         if ent.kind is EntityKind.SERVICE:
             self._on_ros_server(kind, key, ent)
             return
@@ -264,6 +273,7 @@ class RmwZenohBridge(Node):
                 for b in route.values():
                     b.close()
                 route.clear()
+            self.mirror.close()
 
 
 class _Outbound:
