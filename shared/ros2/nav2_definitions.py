@@ -120,16 +120,6 @@ bool disable_collision_checks
 {_RESULT}
 ---
 float32 distance_traveled""",
-    "nav2_msgs/action/DriveOnHeading": f"""
-geometry_msgs/Point target
-float32 speed
-{_DURATION} time_allowance
-bool disable_collision_checks
----
-{_DURATION} total_elapsed_time
-{_RESULT}
----
-float32 distance_traveled""",
     "nav2_msgs/action/DockRobot": f"""
 bool use_dock_id
 string dock_id
@@ -154,3 +144,5 @@ bool success
 {_RESULT}
 ---""",
 }
+# DriveOnHeading has BackUp's fields exactly (Nav2 defines them alike)
+NAV2_ACTIONS["nav2_msgs/action/DriveOnHeading"] = NAV2_ACTIONS["nav2_msgs/action/BackUp"]

@@ -4,10 +4,9 @@ endpoints in the zenros graph and in ``zenros node list`` / ``zenros topic list`
 
 from __future__ import annotations
 
-import itertools
 import subprocess
 import sys
-from collections.abc import Iterator
+from typing import Any
 
 import pytest
 from zenoh_ros2_sdk.entity import EntityKind
@@ -20,7 +19,6 @@ from zenros.msgs.std_srvs import SetBool, SetBoolResponse
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
-from zenros.session import SessionOptions
 from zenros.testing import wait_for
 
 pytest.importorskip("zenoh_ros2_sdk", reason="zenoh-ros2-sdk not installed (extra ros2)")
@@ -29,25 +27,12 @@ pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
 from rmw_peer import RmwPeer
 from rosref import wheel_hash
 
-_domains = itertools.count(160)
-
 
 @pytest.fixture
-def rig(router: str, prefix: str) -> Iterator[tuple[Node, RmwZenohBridge, RmwPeer, Context]]:
-    domain = next(_domains)
-    ctx_b = Context(SessionOptions(connect=[router]), prefix=prefix)
-    ctx_n = Context(SessionOptions(connect=[router]), prefix=prefix)
-    bridge = RmwZenohBridge(context=ctx_b, parameter_overrides={"domain_id": domain})
-    node = Node("zen_graph", namespace="/robot1", context=ctx_n)
-    peer = RmwPeer(router, domain, node="ros_talker")
-    try:
-        yield node, bridge, peer, ctx_n
-    finally:
-        peer.close()
-        node.close()
-        bridge.close()
-        ctx_n.close()
-        ctx_b.close()
+def rig(make_rmw_rig: Any) -> tuple[Node, RmwZenohBridge, RmwPeer, Context]:
+    rig: tuple[Node, RmwZenohBridge, RmwPeer, Context] = make_rmw_rig(
+        "zen_graph", "/robot1", "ros_talker")
+    return rig
 
 
 def _ros_tokens(peer: RmwPeer) -> list[list[str]]:

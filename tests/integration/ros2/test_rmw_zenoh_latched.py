@@ -5,8 +5,6 @@ it from the publisher's cache (rmw_zenoh_cpp 0.6: an advanced publisher with a c
 
 from __future__ import annotations
 
-import itertools
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -15,7 +13,6 @@ from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
-from zenros.session import SessionOptions
 from zenros.testing import Collector, wait_for
 
 sdk = pytest.importorskip("zenoh_ros2_sdk", reason="zenoh-ros2-sdk not installed (extra ros2)")
@@ -25,28 +22,11 @@ from rmw_peer import RmwPeer
 from rosref import ros_class
 from zenoh_ros2_sdk.qos import QosDurability, QosProfile
 
-_domains = itertools.count(120)
-
 
 @pytest.fixture
-def rig(router: str, prefix: str) -> Iterator[tuple[Node, RmwZenohBridge, RmwPeer, Context]]:
-    domain = next(_domains)
-    ctx_b = Context(SessionOptions(connect=[router]), prefix=prefix)
-    ctx_n = Context(SessionOptions(connect=[router]), prefix=prefix)
-    bridge = RmwZenohBridge(context=ctx_b, parameter_overrides={"domain_id": domain})
-    node = Node("zen_latched", context=ctx_n)
-    peer = RmwPeer(router, domain)
-    try:
-        yield node, bridge, peer, ctx_n
-    finally:
-        peer.close()
-        node.close()
-        bridge.close()
-        ctx_n.close()
-        ctx_b.close()
-        if sdk.ZenohSession._instance is not None:
-            sdk.ZenohSession._instance.close()
-            sdk.ZenohSession._instance = None
+def rig(make_rmw_rig: Any) -> tuple[Node, RmwZenohBridge, RmwPeer, Context]:
+    rig: tuple[Node, RmwZenohBridge, RmwPeer, Context] = make_rmw_rig("zen_latched")
+    return rig
 
 
 def test_latched_zenros_topic_reaches_late_rmw_zenoh_subscribers(

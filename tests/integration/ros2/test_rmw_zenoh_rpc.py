@@ -5,24 +5,20 @@ that answers with a wrong sequence number)."""
 
 from __future__ import annotations
 
-import itertools
 import threading
 import time
 import uuid
-from collections.abc import Iterator
 from typing import Any
 
 import msgspec
 import pytest
 from zenros.action import ActionClient, ActionServer, GoalStatus
-from zenros.context import Context
 from zenros.errors import ServiceError
 from zenros.message import Message, define_action
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest
 from zenros.node import Node
 from zenros.ros2.registry import register_interface
 from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
-from zenros.session import SessionOptions
 from zenros.testing import Collector, wait_for
 
 sdk = pytest.importorskip("zenoh_ros2_sdk", reason="zenoh-ros2-sdk not installed (extra ros2)")
@@ -30,8 +26,6 @@ pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
 
 from rmw_peer import RmwPeer, deserialize, serialize
 from rosref import SHARE, ros_class
-
-_domains = itertools.count(60)
 
 
 # test_msgs/action/Fibonacci: the action with a wheel (rclpy's classes, the JSON's hashes)
@@ -60,26 +54,9 @@ def _test_msgs_definition() -> None:
 
 
 @pytest.fixture
-def rig(router: str, prefix: str) -> Iterator[tuple[Node, RmwZenohBridge, RmwPeer]]:
-    """A zenros node, the bridge (each in its own session) and an rmw_zenoh peer on the
-    router, on a ROS domain of this test's own."""
-    domain = next(_domains)
-    ctx_b = Context(SessionOptions(connect=[router]), prefix=prefix)
-    ctx_n = Context(SessionOptions(connect=[router]), prefix=prefix)
-    bridge = RmwZenohBridge(context=ctx_b, parameter_overrides={"domain_id": domain})
-    node = Node("zen_node", context=ctx_n)
-    peer = RmwPeer(router, domain)
-    try:
-        yield node, bridge, peer
-    finally:
-        peer.close()
-        node.close()
-        bridge.close()
-        ctx_n.close()
-        ctx_b.close()
-        if sdk.ZenohSession._instance is not None:  # the SDK keeps one session per process
-            sdk.ZenohSession._instance.close()
-            sdk.ZenohSession._instance = None
+def rig(make_rmw_rig: Any) -> tuple[Node, RmwZenohBridge, RmwPeer]:
+    node, bridge, peer, _ = make_rmw_rig("zen_node")
+    return node, bridge, peer
 
 
 # ---------------------------------------------------------------- services
