@@ -1,4 +1,4 @@
-"""Mirror zenros topics and services into rmw_zenoh's layout and ROS 2 topics into zenros.
+"""Mirror zenros topics, services and actions into rmw_zenoh's layout and ROS 2's into zenros.
 
 One Zenoh session (the node's) speaks both layouts. Loops are cut twice: entities whose
 token carries the bridge's own session id are never bridged, and every raw subscriber the
@@ -6,11 +6,15 @@ bridge declares takes only remote samples (``Locality.REMOTE``), so what it put 
 never comes back the other.
 
 - zenros -> ROS 2: for each zenros topic with a publisher elsewhere and a ROS 2 definition,
-  a Zenoh publisher on the rmw_zenoh data key (CDR, with the 33-byte attachment) and its
-  ``MP`` token; for each zenros service, a complete queryable and its ``SS`` token, which
-  calls the zenros service and replies echoing the request's sequence number and GID.
+  a publisher on the rmw_zenoh data key (CDR, with the 33-byte attachment; latched topics
+  transient local: `rmw_io`) and its ``MP`` token; for each zenros service, a complete
+  queryable and its ``SS`` token, which calls the zenros service and replies echoing the
+  request's sequence number and GID; for each zenros action server, its three services and
+  two topics under ``<name>/_action/`` (`actions.ActionOut`).
 - ROS 2 -> zenros: for each ``MP`` token of another session, a zenros publisher under the
-  ROS name (the bridge node shows in ``zenros node list`` as its publisher).
+  ROS name (the bridge node shows in ``zenros node list`` as its publisher); for each ``SS``
+  token, a zenros service (`service_in`) or, for an action's send_goal, a zenros action
+  server (`actions.ActionIn`).
 
 Bad input: a sample that does not decode is dropped, counted, and logged once per sender; a
 type zenros does not know or whose hash differs is logged once per topic and skipped.
@@ -23,16 +27,16 @@ import os
 import queue
 import re
 import threading
-import time
 from collections import defaultdict
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import zenoh
+from zenoh import ext as zext
 from zenros.codec import codec_for
-from zenros.errors import CodecError, ZenrosError
+from zenros.errors import CodecError, UnknownTypeError, ZenrosError
 from zenros.log import LogOnce
-from zenros.message import lookup_service, lookup_type
+from zenros.message import Message, lookup_action, lookup_service, lookup_type
 from zenros.node import Node
 from zenros.qos import Durability as ZDurability
 from zenros.qos import QoSProfile
@@ -52,9 +56,20 @@ from zenros.ros2.rmw_zenoh import (
 )
 from zenros.ros2.typenames import dds_to_ros
 
+from .actions import ActionIn, ActionOut
+from .graph_mirror import GraphMirror
+from .rmw_io import (
+    RmwPublisher,
+    declare_rmw_subscriber,
+    reply_echo,
+    reply_error,
+    request_attachment,
+)
+from .service_in import ServiceIn
+
 __all__ = ["RmwZenohBridge"]
 
-CDR = zenoh.Encoding("application/cdr")
+ACTION_SEND_GOAL = "/_action/send_goal"
 
 
 class RmwZenohBridge(Node):
@@ -71,6 +86,10 @@ class RmwZenohBridge(Node):
         deny = str(self.declare_parameter("deny", ""))
         self.deny = re.compile(deny) if deny else None
         self.bridge_services = bool(self.declare_parameter("services", True))
+        self.bridge_actions = bool(self.declare_parameter("actions", True))
+        self.mirror_graph = bool(self.declare_parameter("mirror_graph", True))
+        self.call_timeout = float(self.declare_parameter("call_timeout", 10.0))
+        self.result_timeout = float(self.declare_parameter("result_timeout", 3600.0))
         ctx = self.context
         self.session = ctx.session
         self.zid = str(ctx.zid)
@@ -83,8 +102,12 @@ class RmwZenohBridge(Node):
         self.outbound: dict[str, _Outbound] = {}
         self.inbound: dict[tuple[str, str], _Inbound] = {}
         self.services: dict[str, _ServiceOut] = {}
-        self._pool = ThreadPoolExecutor(4, thread_name_prefix="rmw-zenoh-srv")
-        self.on_close(lambda: self._pool.shutdown(wait=False, cancel_futures=True))
+        self.services_in: dict[str, ServiceIn] = {}
+        self.actions: dict[str, ActionOut] = {}
+        self.actions_in: dict[str, ActionIn] = {}
+        self.pool = ThreadPoolExecutor(4, thread_name_prefix="rmw-zenoh-srv")
+        self.on_close(lambda: self.pool.shutdown(wait=False, cancel_futures=True))
+        self.mirror = GraphMirror(self)
         self._node_entity = Entity(self.domain, self.zid, 0, 0, EntityKind.NODE,
                                    self.namespace, self.name)
         lv = self.session.liveliness()
@@ -125,27 +148,35 @@ class RmwZenohBridge(Node):
 
     def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:
         tok = self.context.keys.parse_token(key)
-        if tok is None or tok.zid == self.zid or tok.kind not in ("pub", "srv"):
+        if tok is None or tok.zid == self.zid:
+            return
+        if self.mirror_graph:
+            self.mirror.on_zenros(kind, key, tok)
+        if tok.kind not in ("pub", "srv", "act"):
             return
         slot = (tok.kind, tok.name)
         if kind == zenoh.SampleKind.DELETE:
             self._zenros[slot].discard(key)
             if not self._zenros[slot]:
-                if tok.kind == "pub" and tok.name in self.outbound:
-                    self.outbound.pop(tok.name).close()
-                elif tok.kind == "srv" and tok.name in self.services:
-                    self.services.pop(tok.name).close()
+                routes: dict[str, dict[str, Any]] = {
+                    "pub": self.outbound, "srv": self.services, "act": self.actions}
+                route = routes[tok.kind]
+                if tok.name in route:
+                    route.pop(tok.name).close()
             return
         self._zenros[slot].add(key)
         if not self._wanted(tok.name):
             return
         if tok.kind == "pub" and tok.name not in self.outbound:
             cls = lookup_type(tok.type)
-            self.outbound[tok.name] = _Outbound(self, tok.name, cls, "+tl" in tok.qos)
+            self.outbound[tok.name] = _Outbound(self, tok.name, cls, tok.qos)
             self.logger.info("zenros %s (%s) -> rmw_zenoh", tok.name, tok.type)
         elif tok.kind == "srv" and self.bridge_services and tok.name not in self.services:
             self.services[tok.name] = _ServiceOut(self, tok.name, tok.type)
             self.logger.info("zenros service %s (%s) -> rmw_zenoh", tok.name, tok.type)
+        elif tok.kind == "act" and self.bridge_actions and tok.name not in self.actions:
+            self.actions[tok.name] = ActionOut(self, tok.name, lookup_action(tok.type))
+            self.logger.info("zenros action %s (%s) -> rmw_zenoh", tok.name, tok.type)
 
     def _on_ros_token(self, kind: zenoh.SampleKind, key: str) -> None:
         try:
@@ -153,8 +184,15 @@ class RmwZenohBridge(Node):
         except RmwZenohError as exc:
             self.problems(f"token {key}", "ignoring a malformed rmw_zenoh token: %s", exc)
             return
-        if ent.zid == self.zid or ent.kind is not EntityKind.PUBLISHER:
+        if ent.zid == self.zid:
             return
+        if self.mirror_graph:
+            self.mirror.on_ros(kind, key, ent)
+        if ent.kind is EntityKind.SERVICE:
+            self._on_ros_server(kind, key, ent)
+            return
+        if ent.kind is not EntityKind.PUBLISHER or "/_action/" in ent.topic:
+            return  # an action's feedback and status come with its send_goal service
         slot = (ent.topic, ent.dds_type)
         if kind == zenoh.SampleKind.DELETE:
             self._ros[slot].discard(key)
@@ -179,6 +217,47 @@ class RmwZenohBridge(Node):
         self.inbound[slot] = _Inbound(self, ent.topic, cls, ent.qos)
         self.logger.info("rmw_zenoh %s (%s) -> zenros", ent.topic, ros_type)
 
+    def _on_ros_server(self, kind: zenoh.SampleKind, key: str, ent: Entity) -> None:
+        """An rmw_zenoh service server, or the send_goal service of an action server (its
+        other services and topics come with it), served to zenros clients."""
+        name, is_action = ent.topic, ent.topic.endswith(ACTION_SEND_GOAL)
+        if "/_action/" in name and not is_action:
+            return  # cancel_goal, get_result: part of the action the send_goal token brings
+        if is_action:
+            name = name.removesuffix(ACTION_SEND_GOAL)
+        slot = ("act" if is_action else "srv", name)
+        route: dict[str, Any] = self.actions_in if is_action else self.services_in
+        if kind == zenoh.SampleKind.DELETE:
+            self._ros[slot].discard(key)
+            if not self._ros[slot] and name in route:
+                route.pop(name).close()
+            return
+        self._ros[slot].add(key)
+        if name in route or not self._wanted(name):
+            return
+        if not (self.bridge_actions if is_action else self.bridge_services):
+            return
+        ros_type = dds_to_ros(ent.dds_type)
+        if is_action:
+            ros_type = ros_type.removesuffix("_SendGoal")
+        pkg, _, short = ros_type.split("/")
+        try:
+            typ: Any = (lookup_action if is_action else lookup_service)(f"{pkg}/{short}")
+        except UnknownTypeError:
+            self.problems(f"type {ros_type}", "ROS 2 %s %s has type %s, which zenros does not "
+                          "know: not bridged", "action" if is_action else "service", name,
+                          ros_type)
+            return
+        _, ours = type_part(f"{ros_type}_SendGoal" if is_action else ros_type)
+        if ours != ent.type_hash:
+            self.problems(f"hash {ros_type}", "ROS 2 %s: type %s has hash %s there, %s in "
+                          "zenros (another version of the type): not bridged", name, ros_type,
+                          ent.type_hash, ours)
+            return
+        route[name] = ActionIn(self, name, typ) if is_action else ServiceIn(self, name, typ)
+        self.logger.info("rmw_zenoh %s %s (%s) -> zenros", "action" if is_action else "service",
+                         name, ros_type)
+
     def entity(self, kind: EntityKind, name: str, ros_type: str, qos: Qos) -> Entity:
         dds, h = type_part(ros_type)
         return Entity(self.domain, self.zid, 0, next(self._eids), kind, self.namespace, self.name,
@@ -188,64 +267,79 @@ class RmwZenohBridge(Node):
         self._events.put(None)
         self._worker.join(5)
         with self._graph_lock:
-            for bridged in (self.outbound, self.inbound, self.services):
-                for b in bridged.values():
+            routes: list[dict[Any, Any]] = [self.outbound, self.inbound, self.services,
+                                            self.services_in, self.actions, self.actions_in]
+            for route in routes:
+                for b in route.values():
                     b.close()
-            self.outbound.clear()
-            self.inbound.clear()
-            self.services.clear()
+                route.clear()
+            self.mirror.close()
 
 
 class _Outbound:
-    """A zenros topic published on its rmw_zenoh key."""
+    """A zenros topic published on its rmw_zenoh key, with the zenros publisher's reliability,
+    durability and depth; a latched topic is transient local on both sides (an advanced
+    subscriber with history here, an advanced publisher with a cache there)."""
 
-    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Any], latched: bool) -> None:
+    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Message], tag: str) -> None:
         self.bridge = bridge
         self.native = codec_for(cls)
         self.cdr = cdr_codec(cls)
         ros_type = ros_name_of(cls)
         s = bridge.session
-        qos = Qos(depth=10, durability=Durability.TRANSIENT_LOCAL if latched else Durability.VOLATILE)
+        zq = QoSProfile.from_tag(tag)
+        self.latched = zq.latched
+        qos = Qos(depth=zq.depth,
+                  reliability=(Reliability.BEST_EFFORT if zq.reliability is ZReliability.BEST_EFFORT
+                               else Reliability.RELIABLE),
+                  durability=Durability.TRANSIENT_LOCAL if zq.latched else Durability.VOLATILE)
         ent = bridge.entity(EntityKind.PUBLISHER, topic, ros_type, qos)
         self.gid = ent.gid
-        self.seq = 0
-        self.pub = s.declare_publisher(data_key(bridge.domain, topic, ros_type), encoding=CDR,
-                                       allowed_destination=zenoh.Locality.REMOTE)
+        self.pub = RmwPublisher(s, data_key(bridge.domain, topic, ros_type), qos, ent.gid)
         self.token = s.liveliness().declare_token(ent.token())
         ctx = bridge.context
         self.sub_token = s.liveliness().declare_token(ctx.keys.entity_token(
-            "sub", bridge.fqn, topic, self.native.type_name, "rel+10", ctx.zid, ctx.next_eid()))
+            "sub", bridge.fqn, topic, self.native.type_name, zq.tag, ctx.zid, ctx.next_eid()))
         self.topic = topic
-        self.sub = s.declare_subscriber(ctx.keys.topic(topic), self._on_sample,
-                                        allowed_origin=zenoh.Locality.REMOTE)
+        key = ctx.keys.topic(topic)
+        if zq.latched:
+            self.sub: Any = zext.declare_advanced_subscriber(
+                s, key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE,
+                history=zext.HistoryConfig(detect_late_publishers=True, max_samples=zq.depth),
+                recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
+                subscriber_detection=True)
+        else:
+            self.sub = s.declare_subscriber(key, self._on_sample,
+                                            allowed_origin=zenoh.Locality.REMOTE)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
             data = self.cdr.encode(self.native.decode(sample.payload.to_bytes()))
         except CodecError as exc:
-            sender = str(sample.source_info.source_id) if getattr(sample, "source_info", None) \
-                else "unknown"
+            info = sample.source_info
+            sender = str(info.source_id) if info is not None else "unknown"
             self.bridge.problems(f"bad {self.topic} {sender}", "dropping a sample on %s that "
                                  "does not convert: %s", self.topic, exc)
             return
-        self.seq += 1
-        self.pub.put(data, attachment=Attachment(self.seq, time.time_ns(), self.gid).encode())
+        self.pub.put(data)
 
     def close(self) -> None:
-        self.sub.undeclare()  # type: ignore[no-untyped-call]
+        self.sub.undeclare()
         self.sub_token.undeclare()  # type: ignore[no-untyped-call]
         self.token.undeclare()  # type: ignore[no-untyped-call]
-        self.pub.undeclare()  # type: ignore[no-untyped-call]
+        self.pub.close()
 
 
 class _Inbound:
-    """An rmw_zenoh topic republished in zenros under its ROS name."""
+    """An rmw_zenoh topic republished in zenros under its ROS name; a transient-local ROS 2
+    publisher is read with history (its cache) and republished latched."""
 
-    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Any], qos: Qos) -> None:
+    def __init__(self, bridge: RmwZenohBridge, topic: str, cls: type[Message], qos: Qos) -> None:
         self.bridge = bridge
         self.topic = topic
         self.cdr = cdr_codec(cls)
         ros_type = ros_name_of(cls)
+        qos = qos.normalized()
         zqos = QoSProfile(
             depth=max(1, min(qos.depth, 1000)),
             reliability=(ZReliability.BEST_EFFORT if qos.reliability is Reliability.BEST_EFFORT
@@ -256,8 +350,8 @@ class _Inbound:
         s = bridge.session
         ent = bridge.entity(EntityKind.SUBSCRIPTION, topic, ros_type, qos)
         self.token = s.liveliness().declare_token(ent.token())
-        self.sub = s.declare_subscriber(data_key(bridge.domain, topic, ros_type), self._on_sample,
-                                        allowed_origin=zenoh.Locality.REMOTE)
+        self.sub = declare_rmw_subscriber(s, data_key(bridge.domain, topic, ros_type), qos,
+                                          self._on_sample)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         try:
@@ -275,7 +369,7 @@ class _Inbound:
         self.pub.publish(msg)
 
     def close(self) -> None:
-        self.sub.undeclare()  # type: ignore[no-untyped-call]
+        self.sub.undeclare()
         self.token.undeclare()  # type: ignore[no-untyped-call]
         self.bridge.destroy(self.pub)
 
@@ -300,31 +394,23 @@ class _ServiceOut:
 
     def _on_query(self, query: zenoh.Query) -> None:
         try:
-            if query.attachment is None:
-                raise RmwZenohError("request without an attachment")
-            att = Attachment.decode(query.attachment.to_bytes())
-            if query.payload is None:
-                raise RmwZenohError("request without a payload")
-            request = self.req.decode(query.payload.to_bytes())
+            att, payload = request_attachment(query)
+            request = self.req.decode(payload)
         except (CodecError, RmwZenohError) as exc:
             self.bridge.problems(f"bad request {self.name}", "refusing a request to %s: %s",
                                  self.name, exc)
-            query.reply_err(str(exc))
+            reply_error(query, str(exc))
             return
-        self.bridge._pool.submit(self._answer, query, att, request)
+        self.bridge.pool.submit(self._answer, query, att, request)
 
     def _answer(self, query: zenoh.Query, att: Attachment, request: Any) -> None:
         try:
-            try:
-                response = self.client.call(request, timeout=10.0)
-                data = self.resp.encode(response)
-            except (ZenrosError, TimeoutError) as exc:
-                query.reply_err(f"{self.name}: {exc}")
-                return
-            query.reply(query.key_expr, data, encoding=CDR, attachment=Attachment(
-                att.sequence_number, time.time_ns(), att.gid).encode())
-        finally:
-            query.drop()  # the final reply: the client's get completes now  # type: ignore[no-untyped-call]
+            response = self.client.call(request, timeout=self.bridge.call_timeout)
+            data = self.resp.encode(response)
+        except (ZenrosError, TimeoutError) as exc:
+            reply_error(query, f"{self.name}: {exc}")
+            return
+        reply_echo(query, data, att)
 
     def close(self) -> None:
         self.queryable.undeclare()  # type: ignore[no-untyped-call]

@@ -8,6 +8,8 @@ example_interfaces have no wheel here and are checked by hand only.
 
 from __future__ import annotations
 
+from .nav2_definitions import NAV2_ACTIONS, NAV2_MESSAGES, NAV2_SERVICES
+
 __all__ = ["ACTIONS", "MESSAGES", "SERVICES"]
 
 MESSAGES: dict[str, str] = {
@@ -135,3 +137,8 @@ SERVICES: dict[str, str] = {
 ACTIONS: dict[str, str] = {
     "example_interfaces/action/Fibonacci": "int32 order\n---\nint32[] sequence\n---\nint32[] sequence",
 }
+
+# nav2_msgs: Nav2's own field lists (nav2_definitions.py), so their hashes are Nav2's
+MESSAGES.update(NAV2_MESSAGES)
+SERVICES.update(NAV2_SERVICES)
+ACTIONS.update(NAV2_ACTIONS)
