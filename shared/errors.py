@@ -38,12 +38,27 @@ class UnknownTypeError(ZenrosError, LookupError):
 
 
 class ServiceError(ZenrosError, RuntimeError):
-    """A service handler failed; carries the service name and the remote reason."""
+    """A service handler failed; carries the service name, the remote reason and, when the
+    handler refused with a `RefusedError`, its result ``code`` (else None)."""
 
-    def __init__(self, service: str, reason: str) -> None:
+    def __init__(self, service: str, reason: str, code: int | None = None) -> None:
         super().__init__(f"service {service} failed: {reason}")
         self.service = service
         self.reason = reason
+        self.code = code
+
+
+class RefusedError(ZenrosError):
+    """A service handler's refusal with a result code for the caller to branch on (the
+    code's meaning is the service's message package's, e.g. ``zenros_msgs.ResultCode``).
+
+    The caller's `ServiceError` carries ``code``; its ``reason`` is for people only.
+    """
+
+    def __init__(self, code: int, reason: str, kind: str = "RefusedError") -> None:
+        super().__init__(reason)
+        self.code = int(code)
+        self.kind = kind  # the error kind the caller sees (the refused exception's class)
 
 
 class ServiceUnavailableError(ZenrosError, ConnectionError):
@@ -191,3 +206,7 @@ class ActionServerUnavailableError(ActionError, ConnectionError):
 
 class MapError(ConfigError):
     """A map file (map_server YAML, its image or a side file) is missing or malformed."""
+
+
+class MapItemNotFoundError(MapError, LookupError):
+    """A map, path, nav point or point connection a request names is not stored."""

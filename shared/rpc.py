@@ -19,6 +19,7 @@ from .errors import (
     CodecError,
     DecodeError,
     EncodeError,
+    RefusedError,
     ServiceError,
     ServiceUnavailableError,
     TypeMismatchError,
@@ -37,9 +38,13 @@ __all__ = ["Client", "Service", "error_payload", "wildcard_refusal"]
 QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
 
 
-def error_payload(kind: str, message: str) -> bytes:
-    """The JSON body of a ``reply_err``: ``{"error": kind, "message": ...}``."""
-    return json.dumps({"error": kind, "message": message}).encode()
+def error_payload(kind: str, message: str, code: int | None = None) -> bytes:
+    """The JSON body of a ``reply_err``: ``{"error": kind, "message": ...}``, plus the
+    result ``code`` of a `RefusedError`."""
+    body: dict[str, Any] = {"error": kind, "message": message}
+    if code is not None:
+        body["code"] = code
+    return json.dumps(body).encode()
 
 
 def wildcard_refusal(what: str, key: str, query: zenoh.Query) -> str:
@@ -48,20 +53,23 @@ def wildcard_refusal(what: str, key: str, query: zenoh.Query) -> str:
             "a wildcard query must not call every service or action it matches")
 
 
-def _reply_err(query: zenoh.Query, kind: str, message: str) -> None:
+def _reply_err(query: zenoh.Query, kind: str, message: str, code: int | None = None) -> None:
     """Answer ``query`` with an error; a query already answered or finalized is left alone."""
     try:
-        query.reply_err(error_payload(kind, message))
+        query.reply_err(error_payload(kind, message, code))
     except zenoh.ZError:
         pass
 
 
-def _parse_error(data: bytes) -> str:
+def _parse_error(data: bytes) -> tuple[str, int | None]:
+    """(reason, result code or None) of an error reply."""
     try:
         body = json.loads(data)
-        return f"{body['error']}: {body['message']}"
-    except (ValueError, KeyError, TypeError):
-        return data.decode("utf-8", "replace")
+        code = body.get("code")
+        return (f"{body['error']}: {body['message']}",
+                code if isinstance(code, int) and not isinstance(code, bool) else None)
+    except (ValueError, KeyError, TypeError, AttributeError):
+        return data.decode("utf-8", "replace"), None
 
 
 class Service:
@@ -217,7 +225,10 @@ class Service:
     def _fail(self, query: zenoh.Query, exc: Exception) -> None:
         self._errors.report(type(exc).__name__, logging.ERROR, "service %s: handler raised %s: %s",
                             self.name, type(exc).__name__, exc, exc_info=exc)
-        _reply_err(query, type(exc).__name__, str(exc))
+        if isinstance(exc, RefusedError):
+            _reply_err(query, exc.kind, str(exc), exc.code)
+        else:
+            _reply_err(query, type(exc).__name__, str(exc))
 
     def _internal_error(self, query: zenoh.Query, exc: Exception) -> None:
         """Something other than the handler failed on a request (a bug, or a reply Zenoh
@@ -285,7 +296,7 @@ class Client:
         data = err.payload.to_bytes()
         if data == b"Timeout":  # zenoh's own error reply when the get times out
             raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
-        raise ServiceError(self.name, _parse_error(data))
+        raise ServiceError(self.name, *_parse_error(data))
 
     def call(self, request: Message, timeout: float = 5.0) -> Any:
         """Call the service and return its response.

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from zenros.home import data_dir
 from zenros.maps import GridMap
+from zenros.message import ActionType
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav2_msgs import (
     BackUp,
@@ -30,7 +31,6 @@ from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
-from zenros.message import ActionType
 from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
@@ -56,6 +56,7 @@ from .motion.autocharge import AutoCharge
 from .motion.docking import Dock
 from .motion.loop import ControlLoop
 from .params import DEMO_MAP, NavParameters, nav_config
+from .refusals import coded
 
 __all__ = ["NavNode"]
 
@@ -150,7 +151,7 @@ class NavNode(Node):
             (ClearEntireCostmap, "global_costmap/clear_entirely_global_costmap",
              self.handle_clear_costmap),
         ):
-            self.create_service(srv, name, handler)
+            self.create_service(srv, name, coded(handler))
 
     def _serve_actions(self) -> None:
         a, r, b = self.actions, self.routines, self.behaviors

@@ -13,24 +13,16 @@ import logging
 import re
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 from urllib.parse import parse_qsl
 
 import msgspec
 from starlette.requests import Request
 from starlette.responses import Response
 from starlette.types import Receive, Scope, Send
+from zenros.msgs.zenros_msgs.result import ResultCode
 
-from ..errors import (
-    Conflict,
-    Failed,
-    NoAnswer,
-    NotFound,
-    PortError,
-    Refused,
-    TaskError,
-    Unavailable,
-)
+from ..errors import PortError, TaskError
 from ..state.tokens import TokenStore
 from .spec_routes import SPEC_OPERATIONS
 
@@ -55,19 +47,24 @@ class ApiError(Exception):
         self.retry_after = retry_after  # s: sent as Retry-After (a backend still starting)
 
 
-# The one place a port error (..errors) gets its HTTP status.
-STATUS: dict[type[PortError], int] = {
-    Unavailable: 503, NoAnswer: 504, Failed: 502, Refused: 400, NotFound: 404, Conflict: 409}
+# The one place a service's result code (a port error's, ..errors) gets its HTTP status:
+# never from the wording of the service's message.
+STATUS: Final[dict[ResultCode, int]] = {
+    ResultCode.OK: 200,
+    ResultCode.INVALID: 400,
+    ResultCode.NOT_FOUND: 404,
+    ResultCode.CONFLICT: 409,
+    ResultCode.FAILED: 502,
+    ResultCode.UNAVAILABLE: 503,
+    ResultCode.TIMEOUT: 504,
+}
 
 
 def api_error(exc: PortError) -> ApiError:
-    """The HTTP answer to a port error: its class's status (a `TaskError`: the tasks
+    """The HTTP answer to a port error: its code's status (a `TaskError`: the tasks
     service's own code), its detail and Retry-After."""
-    if isinstance(exc, TaskError):
-        code = exc.code
-    else:
-        code = next(STATUS[c] for c in type(exc).__mro__ if c in STATUS)
-    return ApiError(code, exc.detail, exc.retry_after)
+    status = exc.status if isinstance(exc, TaskError) else STATUS[exc.code]
+    return ApiError(status, exc.detail, exc.retry_after)
 
 
 def error_body(description: str, result_style: bool = False) -> dict[str, Any]:

@@ -10,7 +10,7 @@ from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.std_msgs import Header
 
-from ..errors import Conflict, NotFound, Refused, TaskError
+from ..errors import Conflict, PortError, Refused, TaskError
 from ..state.core import Core, NavUnavailable
 from .nav_link import NavLink
 from .navigator import Navigator, pose_stamped
@@ -53,7 +53,7 @@ class NavCalls:
             started: dict[str, Any] = await self.task_call("start", task["id"])
             return started
         except TaskError as exc:
-            if exc.code != 409:
+            if exc.status != 409:
                 raise
             running = [t for t in await self.task_call("get")
                        if t.get("state") in ("WORKING", "PAUSED")]
@@ -71,9 +71,10 @@ class NavCalls:
             return await self.nav.nav_point(index)
         except NavUnavailable as exc:
             raise self.core.presence.error("nav", str(exc)) from exc
+        except PortError:  # NotFound: no such nav point
+            raise
         except ValueError as exc:
-            kind = NotFound if "does not exist" in str(exc) else Conflict
-            raise kind(str(exc)) from exc
+            raise Conflict(str(exc)) from exc
 
     async def current_map(self) -> str:
         res = await self.link.call("map_server/current_map", zm.GetCurrentMapRequest())

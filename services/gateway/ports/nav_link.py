@@ -1,5 +1,5 @@
 """`NavLink`: the nav service's map, path, nav-point and charge-pose services, called from
-REST handlers; refusals become port errors with the nav service's reason."""
+REST handlers; a refusal becomes the port error of nav's `ResultCode`, with nav's reason."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.rpc import Client
 
-from ..errors import NoAnswer, NotFound, PortError, Refused
+from ..errors import NoAnswer, PortError, port_error
 from ..state.presence import Presence
 
 __all__ = ["NavLink"]
@@ -74,7 +74,5 @@ class NavLink:
         except ZenrosTimeout:
             raise NoAnswer(f"the nav service did not answer {client.name} within "
                            f"{self.timeout:g} s") from None
-        except ServiceError as exc:
-            kind = NotFound if ("unknown" in exc.reason or "no such" in exc.reason
-                                or "not found" in exc.reason) else Refused
-            raise kind(exc.reason) from exc
+        except ServiceError as exc:  # the kind comes from nav's code, never its wording
+            raise port_error(exc.code, exc.reason) from exc

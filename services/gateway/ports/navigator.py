@@ -40,6 +40,7 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.convert import yaw_to_msg
 
+from ..errors import NotFound
 from ..state.core import Core, NavUnavailable
 from ..state.status import GoalState
 from .tasks_link import TaskCaller
@@ -158,7 +159,13 @@ class Navigator:
         return str(names[0])
 
     async def nav_point(self, index: int) -> tuple[float, float, float]:
-        """The pose of nav point ``index`` of the current path."""
+        """The pose of nav point ``index`` of the current path.
+
+        Raises:
+            NavUnavailable: nav does not answer.
+            NotFound: the path has no nav point ``index`` (a ValueError).
+            ValueError: the map has no path, or nav refused the path.
+        """
         try:
             path = await self.current_path()
             res = await self.points.call_async(
@@ -170,7 +177,7 @@ class Navigator:
         n = len(res.points)
         if not 0 <= index < n:
             has = f"has {n} (0..{n - 1})" if n else "has no nav points"
-            raise ValueError(f"nav point {index} does not exist: path {res.path_name!r} {has}")
+            raise NotFound(f"nav point {index} does not exist: path {res.path_name!r} {has}")
         p = res.points[index]
         return p.x, p.y, p.theta
 

@@ -19,7 +19,7 @@ from typing import Final
 
 import msgspec
 import msgspec.yaml
-from zenros.errors import MapError
+from zenros.errors import MapError, MapItemNotFoundError
 from zenros.msgs.zenros_msgs.nav import (
     AddPointConnectionRequest,
     AddPointConnectionResponse,
@@ -95,11 +95,11 @@ class Connections:
         paths = self.store.nav_data(name).paths
         if ref.path_name not in paths:
             known = ", ".join(sorted(paths)) or "none"
-            raise MapError(f"unknown path {ref.path_name!r} on map {name!r}; known paths: "
+            raise MapItemNotFoundError(f"unknown path {ref.path_name!r} on map {name!r}; known paths: "
                            f"{known}")
         n = len(paths[ref.path_name].nav_points)
         if not 0 <= ref.index < n:
-            raise MapError(f"unknown nav point {ref.index} of path {ref.path_name!r} on map "
+            raise MapItemNotFoundError(f"unknown nav point {ref.index} of path {ref.path_name!r} on map "
                            f"{name!r}: it has {n}" + (f" (0..{n - 1})" if n else ""))
 
     # ------------------------------------------------------------------ service handlers
@@ -149,7 +149,7 @@ class Connections:
             self._check_readable()
             items = [c for c in self._items if c.id != req.id]
             if len(items) == len(self._items):
-                raise MapError(f"unknown connection id {req.id!r}")
+                raise MapItemNotFoundError(f"unknown connection id {req.id!r}")
             self._write(items)
             self._items = items
         return DeletePointConnectionResponse()

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from zenros.errors import MapError
+from zenros.errors import MapError, MapItemNotFoundError
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.zenros_msgs.nav import (
     DeleteNavPointsRequest,
@@ -76,7 +76,7 @@ class Records:
         paths = self.store.nav_data(name).paths
         if path_name not in paths:
             known = ", ".join(sorted(paths)) or "none"
-            raise MapError(f"unknown path {path_name!r} on map {name!r}; known paths: {known}")
+            raise MapItemNotFoundError(f"unknown path {path_name!r} on map {name!r}; known paths: {known}")
         return name, paths[path_name]
 
     def nav_points(self, map_name: str, path_name: str) -> tuple[str, list[NavPoint]]:

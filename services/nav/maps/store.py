@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import msgspec
-from zenros.errors import MapError
+from zenros.errors import MapError, MapItemNotFoundError
 from zenros.maps import (
     GridMap,
     MapMeta,
@@ -59,7 +59,7 @@ class MapStore:
         """``name`` if such a map is stored, else a `MapError` listing the known ones."""
         if not name or not self.yaml_path(name).is_file():
             known = ", ".join(self.names()) or "none"
-            raise MapError(f"unknown map {name!r}; known maps: {known}")
+            raise MapItemNotFoundError(f"unknown map {name!r}; known maps: {known}")
         return name
 
     def load(self, name: str) -> GridMap:

@@ -7,7 +7,9 @@ from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
 from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
+from .result import *  # noqa: F403
+from .result import __all__ as _result_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_chassis_all, *_nav_all, *_tasks_all]
+__all__ = [*_chassis_all, *_nav_all, *_result_all, *_tasks_all]

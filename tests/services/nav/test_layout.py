@@ -11,7 +11,7 @@ from types import ModuleType
 ROOT = Path(__file__).resolve().parents[3]
 NAV = "zenros.services.nav"
 LAYERS: list[set[str]] = [
-    {"maps", "localization"},
+    {"maps", "localization", "refusals"},
     {"costmap"},
     {"planning"},
     {"motion"},

@@ -181,7 +181,7 @@ async def stop_charge(call: Call) -> Any:
         try:
             task = await task_call("stop", running[0]["id"])
         except TaskError as exc:
-            if exc.code != 409:  # 409: it ended meanwhile, nothing left to stop
+            if exc.status != 409:  # 409: it ended meanwhile, nothing left to stop
                 raise
     try:
         await nav.stop_charge()
