@@ -11,8 +11,8 @@ from typing import ClassVar, Final
 
 from zenros.msgs.zenros_msgs.result import ResultCode
 
-__all__ = ["Conflict", "Failed", "NoAnswer", "NotFound", "PortError", "Refused", "TaskError",
-           "Unavailable", "port_error"]
+__all__ = ["Conflict", "Failed", "NoAnswer", "NotFound", "PortError", "Refused", "Unavailable",
+           "port_error"]
 
 
 class PortError(Exception):
@@ -76,10 +76,3 @@ def port_error(code: int | None, detail: str, retry_after: int | None = None) ->
         kind = Failed
     return kind(detail, retry_after)
 
-
-class TaskError(PortError):
-    """The tasks service refused a call with its own HTTP ``status`` (zenros_msgs/TaskCall)."""
-
-    def __init__(self, status: int, detail: str, retry_after: int | None = None) -> None:
-        super().__init__(detail, retry_after)
-        self.status = status

@@ -9,12 +9,13 @@ from typing import Annotated, Any
 import msgspec
 from msgspec import Meta
 from zenros.home import data_dir
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse, TaskStatus
+from zenros.message import Message
+from zenros.msgs.zenros_msgs.tasks import TaskStatus
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.smach import Container, IntrospectionServer
 
-from .api import CALLS, call
+from .api import CALLS, call, task_struct
 from .local_link import LocalLink
 from .manager import TaskManager
 from .store import TaskStore
@@ -22,7 +23,6 @@ from .store import TaskStore
 __all__ = ["DB_NAME", "TasksNode", "TasksParameters"]
 
 DB_NAME = "tasks.db"
-_enc = msgspec.json.Encoder()
 
 
 def _nothing() -> None:
@@ -69,12 +69,12 @@ class TasksNode(Node):
                                 "resumed" if resume else "PAUSED until resumed")
         if self.store.bad_rows:
             self.logger.error("unreadable task rows skipped: %s", ", ".join(self.store.bad_rows))
-        for name in CALLS:
-            self.create_service(TaskCall, f"tasks/{name}", self._handler(name))
+        for name, entry in CALLS.items():
+            self.create_service(entry.srv, f"tasks/{name}", self._handler(name))
         self.logger.info("tasks in %s (%d stored)", self.store.path, len(self.manager.tasks()))
 
-    def _handler(self, name: str) -> Callable[[TaskCallRequest], Any]:
-        async def handle(req: TaskCallRequest) -> TaskCallResponse:
+    def _handler(self, name: str) -> Callable[[Message], Any]:
+        async def handle(req: Message) -> Message:
             return await asyncio.to_thread(call, self.manager, name, req)
         return handle
 
@@ -84,7 +84,7 @@ class TasksNode(Node):
             stamp=self.now(), id=doc["id"], name=doc.get("name", ""), state=doc["state"],
             progress=float(doc.get("progress", 0.0)), loop_count=int(doc.get("loop_count", 0)),
             current_id=current.get("id", ""), current_type=current.get("type", ""),
-            event=event, task=_enc.encode(doc).decode()))
+            event=event, task=task_struct(doc)))
 
     def introspect(self, task_id: str, machine: Container) -> Callable[[], None]:
         """Show the running task's machine on ``~/smach`` (one server for every run; the

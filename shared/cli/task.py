@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
-from ..msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
+import msgspec
+
+from ..msgs.zenros_msgs import tasks as tm
+from ..msgs.zenros_msgs.result import ResultCode
 from ..names import resolve
 from ..rpc import Client
 from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
@@ -46,19 +48,22 @@ def run(args: argparse.Namespace) -> int:
     try:
         call = {"list": "get", "show": "get"}.get(args.verb, args.verb)
         name = resolve(f"tasks/{call}", namespace=args.ns, kind="service")
-        client = Client(ctx, TaskCall, name)
+        client = Client(ctx, tm.TASK_SERVICES[call], name)
         if not client.wait_for_service(min(args.timeout, 5.0)):
             raise CliError(f"service {name} is not available: is the tasks service running?"
                            " (zenros launch deploy/launch/sim.yaml starts it)")
-        body = ""
-        if args.verb == "create":
-            body = json.dumps(parse_yaml_arg(args.body))
-        reply = client.call(TaskCallRequest(id=getattr(args, "id", ""), body=body),
-                            timeout=args.timeout)
-        if not reply.success:
-            raise CliError(f"{args.verb}: {reply.message} (code {reply.code})")
-        data = json.loads(reply.body) if reply.body else {}
-        if args.verb == "list" and not args.json and isinstance(data, list):
+        try:
+            request = tm.task_request(call, getattr(args, "id", ""),
+                                      parse_yaml_arg(args.body) if call == "create" else None)
+        except msgspec.ValidationError as exc:
+            raise CliError(f"{args.verb}: invalid task: {exc}") from None
+        reply = client.call(request, timeout=args.timeout)
+        if reply.code != ResultCode.OK:
+            raise CliError(f"{args.verb}: {reply.message} ({ResultCode(reply.code).name})")
+        data = tm.response_data(reply, single=args.verb == "show")
+        if data is None:
+            data = {}
+        if args.verb == "list" and not args.json:
             _table(data)
         else:
             print_data(data, args.json, separator=False)

@@ -11,7 +11,7 @@ import httpx
 from zenros.action import ServerGoalHandle
 from zenros.context import Context
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseResult
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskCallResponse
+from zenros.msgs.zenros_msgs.tasks import GetTasks, GetTasksRequest, GetTasksResponse
 from zenros.node import Node
 from zenros.services.gateway.state.presence import RETRY_AFTER
 from zenros.services.gateway.testing import running_gateway
@@ -23,8 +23,8 @@ def _navigate(gh: ServerGoalHandle) -> NavigateToPoseResult:
     return NavigateToPoseResult()
 
 
-def _tasks_get(req: TaskCallRequest) -> TaskCallResponse:
-    return TaskCallResponse(success=True, code=200, body="[]")
+def _tasks_get(req: GetTasksRequest) -> GetTasksResponse:
+    return GetTasksResponse(tasks=[])
 
 
 def test_starting_then_up_then_gone(ctx_pair: list[Context], tmp_path: Path) -> None:
@@ -40,7 +40,7 @@ def test_starting_then_up_then_gone(ctx_pair: list[Context], tmp_path: Path) -> 
         backend = Node("fake_backend", context=ctx_pair[1])
         try:
             nav = backend.create_action_server(NavigateToPose, "navigate_to_pose", _navigate)
-            tasks = backend.create_service(TaskCall, "tasks/get", _tasks_get)
+            tasks = backend.create_service(GetTasks, "tasks/get", _tasks_get)
             assert wait_for(lambda: h.get("/navigation/start").status_code == 200, 10)
             assert wait_for(lambda: h.get("/task").status_code == 200, 10)
             assert h.get("/task").json() == []

@@ -4,7 +4,6 @@ resume finishes; stop mid-navigation cancels the goal."""
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Iterator
 from pathlib import Path
@@ -15,12 +14,13 @@ from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import (
     NavPoint,
+    ResultCode,
     SetNavPoints,
     SetNavPointsRequest,
     Teleport,
     TeleportRequest,
 )
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
+from zenros.msgs.zenros_msgs.tasks import TASK_SERVICES, response_data, task_request
 from zenros.node import Node
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.nav.node import NavNode
@@ -45,12 +45,12 @@ class Robot:
 
     def call(self, name: str, id: str = "", body: Any = None) -> dict[str, Any]:
         if name not in self.clients:
-            self.clients[name] = self.user.create_client(TaskCall, f"tasks/{name}")
+            self.clients[name] = self.user.create_client(TASK_SERVICES[name], f"tasks/{name}")
             assert self.clients[name].wait_for_service(10)
-        r = self.clients[name].call(TaskCallRequest(id=id, body=json.dumps(body) if body
-                                                    else ""), timeout=20)
-        assert r.success, r.message
-        return json.loads(r.body)
+        r = self.clients[name].call(task_request(name, id, body), timeout=20)
+        assert r.code == ResultCode.OK, r.message
+        out: dict[str, Any] = response_data(r, single=bool(id))
+        return out
 
     def state(self, task_id: str) -> str:
         return str(self.call("get", task_id)["state"])

@@ -1,4 +1,7 @@
-"""The tasks service over Zenoh: every call, its refusals with codes, tasks/status, smach."""
+"""The tasks service over Zenoh: every call, its refusals with codes, tasks/status, smach.
+
+The calls are typed (zenros_msgs.tasks); `Api` builds them from the robot API's plain data
+and answers (ResultCode, the document as plain data, the refusal's message)."""
 
 from __future__ import annotations
 
@@ -12,7 +15,13 @@ from typing import Any
 
 import pytest
 from zenros.context import Context
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskStatus
+from zenros.msgs.zenros_msgs import ResultCode
+from zenros.msgs.zenros_msgs.tasks import (
+    TASK_SERVICES,
+    TaskStatus,
+    response_data,
+    task_request,
+)
 from zenros.node import Node
 from zenros.rpc import Client
 from zenros.services.tasks.node import TasksNode
@@ -32,13 +41,13 @@ class Api:
         self.ctx = ctx
         self.clients: dict[str, Client] = {}
 
-    def __call__(self, name: str, id: str = "", body: Any = None) -> tuple[int, Any, str]:
+    def __call__(self, name: str, id: str = "", body: Any = None
+                 ) -> tuple[ResultCode, Any, str]:
         if name not in self.clients:
-            self.clients[name] = Client(self.ctx, TaskCall, f"/tasks/{name}")
+            self.clients[name] = Client(self.ctx, TASK_SERVICES[name], f"/tasks/{name}")
             assert self.clients[name].wait_for_service(10)
-        text = body if isinstance(body, str) else json.dumps(body) if body is not None else ""
-        r = self.clients[name].call(TaskCallRequest(id=id, body=text), timeout=10)
-        return r.code, json.loads(r.body) if r.body else None, r.message
+        r = self.clients[name].call(task_request(name, id, body), timeout=10)
+        return r.code, response_data(r, single=bool(id)), r.message
 
 
 @pytest.fixture
@@ -52,13 +61,13 @@ def test_create_start_complete_and_status(api: Api, make_node: Any) -> None:
     watcher.create_subscription(TaskStatus, "/tasks/status", got)
     code, task, _ = api("create", body={"name": "hello", "sub_tasks": [
         {"type": "sleep_action", "wait_time": 0.05}, {"type": "tts_action", "text": "hi"}]})
-    assert code == 200 and task["state"] == "WAITTING"
+    assert code == ResultCode.OK and task["state"] == "WAITTING"
     code, started, _ = api("start", task["id"])
-    assert code == 200 and started["state"] == "WORKING"
+    assert code == ResultCode.OK and started["state"] == "WORKING"
     assert wait_for(lambda: any(m.state == "COMPLETE" and m.id == task["id"]
                                 for m in got.items), 10)
     final = next(m for m in got.items if m.state == "COMPLETE")
-    assert final.progress == 1.0 and json.loads(final.task)["sub_tasks"][1]["state"] == "COMPLETE"
+    assert final.progress == 1.0 and final.task.sub_tasks[1].state == "COMPLETE"
     states = [m.state for m in got.items if m.id == task["id"]]
     assert states[0] in ("WAITTING", "WORKING") and "WORKING" in states
     code, listed, _ = api("get")
@@ -66,21 +75,38 @@ def test_create_start_complete_and_status(api: Api, make_node: Any) -> None:
 
 
 @pytest.mark.parametrize("name, id, body, code, words", [
-    ("create", "", {"sub_tasks": [{"type": "fly"}]}, 400, "unknown action type 'fly'"),
-    ("create", "", "{not json", 400, "not valid JSON"),
-    ("create", "", "[" * 5000, 400, "not valid JSON"),
-    ("create", "", [1, 2], 400, "JSON object"),
-    ("start", "no-such-id", None, 404, "no task with id 'no-such-id'"),
-    ("start", "", None, 400, "'id'"),
-    ("get_action", "nope", None, 404, "no action"),
-    ("loop", "x", {"loop_flag": "yes"}, 400, "loop_flag"),
-    ("stop", "", None, 409, "no task is running"),
+    ("create", "", {"sub_tasks": [{"type": "sleep_action", "wait_time": 1}],
+                    "control_type": "fly"}, ResultCode.INVALID, "unknown control_type 'fly'"),
+    ("start", "no-such-id", None, ResultCode.NOT_FOUND, "no task with id 'no-such-id'"),
+    ("start", "", None, ResultCode.INVALID, "'id'"),
+    ("get_action", "nope", None, ResultCode.NOT_FOUND, "no action"),
+    ("stop", "", None, ResultCode.CONFLICT, "no task is running"),
 ])
-def test_refusals_have_codes(api: Api, name: str, id: str, body: Any, code: int,
+def test_refusals_have_codes(api: Api, name: str, id: str, body: Any, code: ResultCode,
                              words: str) -> None:
     got, _, message = api(name, id, body)
     assert got == code and words in message
-    assert api("get")[0] == 200  # and the service still answers
+    assert api("get")[0] == ResultCode.OK  # and the service still answers
+
+
+@pytest.mark.parametrize("name, payload, words", [
+    ("create", b'{"task": {"sub_tasks": [{"type": "fly"}]}}', "Invalid value 'fly'"),
+    ("create", b"{not json", "BadRequest"),
+    ("create", b"[" * 5000, "BadRequest"),
+    ("create", b"[1, 2]", "BadRequest"),
+    ("loop", b'{"id": "x", "loop_flag": "yes"}', "loop_flag"),
+])
+def test_malformed_requests_are_refused(ctx_pair: list[Context], api: Api, name: str,
+                                        payload: bytes, words: str) -> None:
+    """What is not a typed request (bad JSON, a wrong shape, an unknown action type, a
+    mistyped field) is refused before the manager sees it, and the service goes on."""
+    api("get")  # the service is up
+    key = ctx_pair[1].keys.service(f"/tasks/{name}")
+    replies = list(ctx_pair[1].session.get(key, payload=payload, timeout=5.0))
+    assert len(replies) == 1 and replies[0].err is not None
+    body = json.loads(replies[0].err.payload.to_bytes())
+    assert body["error"] == "BadRequest" and words in f"{body['error']}: {body['message']}"
+    assert api("get")[0] == ResultCode.OK
 
 
 def test_running_task_is_a_live_state_machine(api: Api, make_node: Any) -> None:
@@ -93,12 +119,12 @@ def test_running_task_is_a_live_state_machine(api: Api, make_node: Any) -> None:
                                 and s.type == "TaskMachine" for s in structure.items), 10), \
         structure.items
     code, paused, _ = api("pause", task["id"])
-    assert code == 200 and paused["state"] == "PAUSED"
+    assert code == ResultCode.OK and paused["state"] == "PAUSED"
     assert paused["sub_tasks"][0]["state"] == "PAUSED"
     code, _, msg = api("pause", task["id"])
-    assert code == 409 and "PAUSED" in msg
+    assert code == ResultCode.CONFLICT and "PAUSED" in msg
     api("resume", task["id"])
-    assert api("update_wait_req")[0] == 200
+    assert api("update_wait_req")[0] == ResultCode.OK
     assert wait_for(lambda: api("get", task["id"])[1]["state"] == "COMPLETE", 10)
     # the next run is shown by the same server
     code, second, _ = api("create", body={"sub_tasks": [

@@ -13,7 +13,6 @@ Screenshots are saved in
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import shutil
@@ -24,8 +23,8 @@ from typing import Any
 
 import pytest
 from zenros.context import Context
-from zenros.msgs.zenros_msgs import NavPoint, SetNavPoints, SetNavPointsRequest
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
+from zenros.msgs.zenros_msgs import NavPoint, ResultCode, SetNavPoints, SetNavPointsRequest
+from zenros.msgs.zenros_msgs.tasks import TASK_SERVICES, response_data, task_request
 from zenros.rpc import Client
 from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, unique_prefix, wait_for
@@ -157,11 +156,11 @@ def page(rig: Rig) -> Any:
 
 
 def task_call(ctx: Context, name: str, id: str = "", body: Any = None) -> Any:
-    client = Client(ctx, TaskCall, f"/tasks/{name}")
+    client = Client(ctx, TASK_SERVICES[name], f"/tasks/{name}")
     assert client.wait_for_service(TIMEOUT)
-    res = client.call(TaskCallRequest(id=id, body=json.dumps(body) if body else ""), TIMEOUT)
-    assert res.success, res.message
-    return json.loads(res.body)
+    res = client.call(task_request(name, id, body), TIMEOUT)
+    assert res.code == ResultCode.OK, res.message
+    return response_data(res, single=bool(id))
 
 
 def pose(d: Any) -> tuple[float, float] | None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import signal
 import subprocess
 import sys
@@ -10,7 +9,8 @@ from pathlib import Path
 
 import pytest
 from zenros.context import Context
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest
+from zenros.msgs.zenros_msgs import ResultCode
+from zenros.msgs.zenros_msgs.tasks import TASK_SERVICES, response_data, task_request
 from zenros.rpc import Client
 from zenros.testing import Proc, wait_for
 
@@ -25,11 +25,11 @@ def start_tasks(router: str, prefix: str, home: Path) -> Proc:
 
 
 def call(ctx: Context, name: str, id: str = "", body: object = None) -> dict:
-    client = Client(ctx, TaskCall, f"/tasks/{name}")
+    client = Client(ctx, TASK_SERVICES[name], f"/tasks/{name}")
     assert client.wait_for_service(10)
-    r = client.call(TaskCallRequest(id=id, body=json.dumps(body) if body else ""), timeout=10)
-    assert r.success, r.message
-    return json.loads(r.body)
+    r = client.call(task_request(name, id, body), timeout=10)
+    assert r.code == ResultCode.OK, r.message
+    return response_data(r, single=bool(id))
 
 
 def cli(router: str, prefix: str, *args: str) -> subprocess.CompletedProcess[str]:

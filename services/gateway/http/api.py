@@ -22,14 +22,15 @@ from starlette.responses import Response
 from starlette.types import Receive, Scope, Send
 from zenros.msgs.zenros_msgs.result import ResultCode
 
-from ..errors import PortError, TaskError
+from ..errors import PortError
 from ..state.tokens import TokenStore
 from .spec_routes import SPEC_OPERATIONS
 
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["PREFIX", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error", "error_body"]
+__all__ = ["PREFIX", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error",
+           "describe_invalid", "error_body"]
 
 PREFIX = "/api/v1"
 _ENC = msgspec.json.Encoder()
@@ -61,10 +62,8 @@ STATUS: Final[dict[ResultCode, int]] = {
 
 
 def api_error(exc: PortError) -> ApiError:
-    """The HTTP answer to a port error: its code's status (a `TaskError`: the tasks
-    service's own code), its detail and Retry-After."""
-    status = exc.status if isinstance(exc, TaskError) else STATUS[exc.code]
-    return ApiError(status, exc.detail, exc.retry_after)
+    """The HTTP answer to a port error: its code's status, its detail and Retry-After."""
+    return ApiError(STATUS[exc.code], exc.detail, exc.retry_after)
 
 
 def error_body(description: str, result_style: bool = False) -> dict[str, Any]:
@@ -114,7 +113,8 @@ class Endpoint:
     description: str = ""
 
 
-def _describe(exc: msgspec.ValidationError, where: str) -> str:
+def describe_invalid(exc: msgspec.ValidationError, where: str) -> str:
+    """A 400's text for a request that does not match its type, naming the field."""
     text = str(exc)
     # msgspec says "... - at `$.speed_x`"; name the field the way a client wrote it.
     text = re.sub(r"`\$\.?([^`]*)`", lambda m: f"`{m.group(1) or where}`", text)
@@ -258,7 +258,7 @@ class Api:
         try:
             return msgspec.convert(data, tp, strict=strict)
         except msgspec.ValidationError as exc:
-            raise ApiError(400, _describe(exc, where)) from exc
+            raise ApiError(400, describe_invalid(exc, where)) from exc
 
     async def _read_json(self, scope: Scope, receive: Receive) -> dict[str, Any] | None:
         for name, value in scope.get("headers", []):

@@ -13,7 +13,7 @@ from ..ports.io_link import IoLink
 from ..ports.link import RobotLink
 from ..ports.nav_calls import NavCalls
 from ..ports.nav_link import NavLink
-from ..ports.tasks_link import TaskCaller
+from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
 from ..state.core import Core
 from ..state.speech import AudioStore, Speech
@@ -26,7 +26,7 @@ class Context:
     """The state and the ports, one field per thing a handler uses."""
 
     core: Core
-    tasks: TaskCaller
+    tasks: TasksLink
     calls: NavCalls
     nav_link: NavLink
     io: IoLink

@@ -9,12 +9,14 @@ import msgspec
 from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.std_msgs import Header
+from zenros.msgs.zenros_msgs.task_actions import Action
+from zenros.msgs.zenros_msgs.task_docs import Task, as_document
 
-from ..errors import Conflict, PortError, Refused, TaskError
+from ..errors import Conflict, PortError, Refused
 from ..state.core import Core, NavUnavailable
 from .nav_link import NavLink
 from .navigator import Navigator, pose_stamped
-from .tasks_link import TaskCaller
+from .tasks_link import TasksLink
 
 __all__ = ["OWN_TASKS", "Angle", "Coord", "Name", "NavCalls", "OptName"]
 
@@ -24,46 +26,34 @@ OptName = Annotated[str, msgspec.Meta(pattern=r"^([A-Za-z0-9_][A-Za-z0-9_.\-]{0,
 Coord = Annotated[float, msgspec.Meta(ge=-1e5, le=1e5)]
 Angle = Annotated[float, msgspec.Meta(ge=-100.0, le=100.0)]
 OWN_TASKS = frozenset({"navigation task", "loop task", "charge task", "local move task"})
-_ENC = msgspec.json.Encoder()
 
 
 class NavCalls:
     """The nav and tasks services as the navigation handlers use them."""
 
-    def __init__(self, core: Core, nav: Navigator, link: NavLink, tasks: TaskCaller) -> None:
+    def __init__(self, core: Core, nav: Navigator, link: NavLink, tasks: TasksLink) -> None:
         self.core = core
         self.nav = nav
         self.link = link
         self.tasks = tasks
 
-    async def task_call(self, name: str, ident: str = "", body: Any = None) -> Any:
-        reply = await self.tasks(name, ident, "" if body is None
-                                 else _ENC.encode(body).decode())
-        if reply.code != 200:
-            raise reply.error(name)
-        return msgspec.json.decode(reply.body)
-
-    async def run_task(self, name: str, sub_tasks: list[dict[str, Any]], loop: bool = False
+    async def run_task(self, name: str, sub_tasks: list[Action], loop: bool = False
                        ) -> dict[str, Any]:
         """Create and start a task; a running navigation task of ours gives way to it (a new
-        goal replaces the old one), any other running task is a 409."""
-        task = await self.task_call("create", "", {"name": name, "sub_tasks": sub_tasks,
-                                                   "loop_flag": loop})
+        goal replaces the old one), any other running task is a 409. Returns the started
+        task's document."""
+        task = await self.tasks.create(Task(name=name, sub_tasks=list(sub_tasks),
+                                            loop_flag=loop))
         try:
-            started: dict[str, Any] = await self.task_call("start", task["id"])
-            return started
-        except TaskError as exc:
-            if exc.status != 409:
-                raise
-            running = [t for t in await self.task_call("get")
-                       if t.get("state") in ("WORKING", "PAUSED")]
-            if not running or any(t.get("name") not in OWN_TASKS for t in running):
-                await self.task_call("delete", task["id"])
+            return as_document(await self.tasks.step("start", task.id))
+        except Conflict:
+            running = [t for t in await self.tasks.tasks() if t.state in ("WORKING", "PAUSED")]
+            if not running or any(t.name not in OWN_TASKS for t in running):
+                await self.tasks.command("delete", task.id)
                 raise
             for t in running:
-                await self.task_call("stop", t["id"])
-            restarted: dict[str, Any] = await self.task_call("start", task["id"])
-            return restarted
+                await self.tasks.step("stop", t.id)
+            return as_document(await self.tasks.step("start", task.id))
 
     async def point(self, index: int) -> tuple[float, float, float]:
         """Nav point ``index`` of the current path (404 when it does not exist)."""

@@ -13,7 +13,6 @@ import time
 from collections import deque
 from typing import Any
 
-import msgspec
 from zenros.action import ActionClient
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosError, ZenrosTimeout
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped
@@ -40,10 +39,10 @@ from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.tf.convert import yaw_to_msg
 
-from ..errors import NotFound
+from ..errors import NotFound, PortError, Refused
 from ..state.core import Core, NavUnavailable
 from ..state.status import GoalState
-from .tasks_link import TaskCaller
+from .tasks_link import TasksLink
 
 __all__ = ["Navigator", "pose_stamped"]
 
@@ -72,7 +71,7 @@ class Navigator:
         self._paused: tuple[float, float, float, int] | None = None
         self._last: tuple[float, float, float, int] | None = None
         self._handles: list[Any] = []
-        self.tasks: TaskCaller | None = None  # the tasks service, for pause/resume/cancel
+        self.tasks: TasksLink | None = None  # the tasks service, for pause/resume/cancel
         self.navigate = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.dock = ActionClient(node, DockRobot, "dock_robot")
         self.undock = ActionClient(node, UndockRobot, "undock_robot")
@@ -196,19 +195,23 @@ class Navigator:
         """The id of a task of the tasks service in one of ``states``, or ""."""
         if self.tasks is None:
             return ""
-        reply = await self.tasks("get", "", "")
-        if reply.code != 200:
+        try:
+            tasks = await self.tasks.tasks()
+        except PortError:
             return ""
-        for t in msgspec.json.decode(reply.body):
-            if isinstance(t, dict) and t.get("state") in states:
-                return str(t.get("id", ""))
-        return ""
+        return next((t.id for t in tasks if t.state in states), "")
 
     async def _task_step(self, name: str, ident: str) -> None:
+        """Raises a ValueError when the tasks service refuses or fails (the refusal's port
+        error when it refused)."""
         assert self.tasks is not None
-        reply = await self.tasks(name, ident, "")
-        if reply.code != 200:
-            raise ValueError(f"task {ident}: {name} refused: {reply.message}")
+        try:
+            await self.tasks.step(name, ident)
+        except PortError as exc:
+            text = f"task {ident}: {name} refused: {exc.detail}"
+            if isinstance(exc, Refused):
+                raise type(exc)(text, exc.retry_after) from exc
+            raise ValueError(text) from exc
 
     def open(self) -> None:
         """Navigation on (navStatus 1): ``/navigation/start``, native ``m 00``."""

@@ -1,4 +1,5 @@
-"""zenros_msgs: the robot's own types (chassis state and sim services, tasks, nav points).
+"""zenros_msgs: the robot's own types (chassis state and sim services, tasks and their
+documents, nav points, the result codes of their calls).
 
 One module per service that owns them; importing this package registers them all.
 """
@@ -9,7 +10,12 @@ from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
 from .result import *  # noqa: F403
 from .result import __all__ as _result_all
+from .task_actions import *  # noqa: F403
+from .task_actions import __all__ as _task_actions_all
+from .task_docs import *  # noqa: F403
+from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_chassis_all, *_nav_all, *_result_all, *_tasks_all]
+__all__ = [*_chassis_all, *_nav_all, *_result_all, *_task_actions_all,
+           *_task_docs_all, *_tasks_all]

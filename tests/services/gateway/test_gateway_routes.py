@@ -9,6 +9,8 @@ from typing import Any, cast
 
 import pytest
 from zenros.msgs.zenros_msgs.chassis import IoState
+from zenros.msgs.zenros_msgs.result import ResultCode
+from zenros.msgs.zenros_msgs.task_docs import Task
 from zenros.services.gateway.errors import (
     Conflict,
     Failed,
@@ -16,14 +18,13 @@ from zenros.services.gateway.errors import (
     NotFound,
     PortError,
     Refused,
-    TaskError,
     Unavailable,
+    port_error,
 )
 from zenros.services.gateway.http.api import STATUS, api_error
 from zenros.services.gateway.http.app import build_api
 from zenros.services.gateway.http.context import Context
 from zenros.services.gateway.ports.nav_calls import NavCalls
-from zenros.services.gateway.ports.tasks_link import TaskReply
 from zenros.services.gateway.state.config import GatewayConfig
 from zenros.services.gateway.state.core import Core, make_identity
 from zenros.services.gateway.state.settings import Settings
@@ -31,15 +32,30 @@ from zenros.services.gateway.testing import AsgiClient
 
 
 class FakeTasks:
-    """The tasks service: records each call, answers from ``replies`` (default: 200, {})."""
+    """The tasks service's typed calls (`TasksLink`): records each call, raises the port
+    error in ``errors`` when set for it, else answers the task ``ident`` named ``call``."""
 
     def __init__(self) -> None:
-        self.calls: list[tuple[str, str, str]] = []
-        self.replies: dict[str, TaskReply] = {}
+        self.calls: list[tuple[str, str, object]] = []
+        self.errors: dict[str, PortError] = {}
 
-    async def __call__(self, name: str, ident: str, body: str) -> TaskReply:
-        self.calls.append((name, ident, body))
-        return self.replies.get(name, TaskReply(200, "", f'{{"id":"{ident}","call":"{name}"}}'))
+    def _answer(self, name: str, ident: str, arg: object = None) -> Task:
+        self.calls.append((name, ident, arg))
+        if name in self.errors:
+            raise self.errors[name]
+        return Task(id=ident, name=name)
+
+    async def tasks(self, ident: str = "") -> list[Task]:
+        return [self._answer("get", ident)]
+
+    async def get(self, ident: str) -> Task:
+        return self._answer("get", ident)
+
+    async def step(self, name: str, ident: str = "") -> Task:
+        return self._answer(name, ident)
+
+    async def loop(self, ident: str, flag: bool) -> Task:
+        return self._answer("loop", ident, flag)
 
 
 class FakeIo:
@@ -74,8 +90,9 @@ class Rig:
                          make_identity("/r", "6.6.8", 0))
         self.tasks, self.io, self.nav = FakeTasks(), FakeIo(), FakeNav()
         none = cast(Any, None)  # ports these tests do not reach
-        calls = NavCalls(self.core, cast(Any, self.nav), none, self.tasks)
-        self.ctx = Context(core=self.core, tasks=self.tasks, calls=calls, nav_link=none,
+        tasks = cast(Any, self.tasks)
+        calls = NavCalls(self.core, cast(Any, self.nav), none, tasks)
+        self.ctx = Context(core=self.core, tasks=tasks, calls=calls, nav_link=none,
                            io=cast(Any, self.io), link=none, hub=none, params=none,
                            files=none, speech=none, audio=none, coverage=none)
         self.http = AsgiClient(build_api(self.ctx), "/api/v1")
@@ -88,17 +105,18 @@ def rig(tmp_path: Path) -> Rig:
 
 def test_task_routes_forward_to_the_tasks_port(rig: Rig) -> None:
     r = rig.http.get("/task/start", params={"id": "t7"})
-    assert r.status_code == 200 and r.json() == {"id": "t7", "call": "start"}
-    assert rig.tasks.calls == [("start", "t7", "")]
+    assert r.status_code == 200
+    assert (r.json()["id"], r.json()["name"]) == ("t7", "start")
+    assert rig.tasks.calls == [("start", "t7", None)]
     r = rig.http.get("/task/loop", params={"id": "t7", "loop_flag": "true"})
-    assert rig.tasks.calls[-1] == ("loop", "t7", '{"loop_flag":true}')
-    rig.tasks.replies["get"] = TaskReply(404, "no task 'x'", "")
+    assert rig.tasks.calls[-1] == ("loop", "t7", True)
+    rig.tasks.errors["get"] = port_error(ResultCode.NOT_FOUND, "no task 'x'")
     r = rig.http.get("/task", params={"id": "x"})
     assert r.status_code == 404 and r.json() == {"status": "error", "description": "no task 'x'"}
 
 
 def test_a_starting_backend_is_a_503_with_retry_after(rig: Rig) -> None:
-    rig.tasks.replies["get"] = TaskReply(503, "tasks is starting", "", 2)
+    rig.tasks.errors["get"] = port_error(ResultCode.UNAVAILABLE, "tasks is starting", 2)
     r = rig.http.get("/task")
     assert r.status_code == 503 and r.headers["retry-after"] == "2"
 
@@ -132,16 +150,16 @@ def test_the_loop_task_is_navs_loop_task(rig: Rig) -> None:
     rig.core.state.looping = True
     assert rig.http.get("/navigation/loop_task").json()["id"] == "loop1"
     stopped = rig.http.delete("/navigation/loop_task").json()
-    assert stopped == {"id": "loop1", "call": "stop"}
+    assert (stopped["id"], stopped["name"]) == ("loop1", "stop")
     assert rig.nav.loop_task_id == "" and rig.core.state.looping is False
     assert rig.http.get("/navigation/loop_task").status_code == 404
 
 
 def test_one_table_maps_every_port_error() -> None:
     for cls in (Unavailable, NoAnswer, Failed, Refused, NotFound, Conflict):
-        assert api_error(cls("x")).status_code == STATUS[cls]
-    err = api_error(TaskError(422, "bad sub_tasks", None))
-    assert (err.status_code, err.description, err.retry_after) == (422, "bad sub_tasks", None)
+        assert api_error(cls("x")).status_code == STATUS[cls.code]
+    err = api_error(port_error(ResultCode.INVALID, "bad sub_tasks"))
+    assert (err.status_code, err.description, err.retry_after) == (400, "bad sub_tasks", None)
     assert api_error(Unavailable("starting", retry_after=2)).retry_after == 2
 
 

@@ -11,8 +11,9 @@ from typing import Annotated, Any
 
 import msgspec
 from zenros.msgs import zenros_msgs as zm
+from zenros.msgs.zenros_msgs.task_docs import as_document
 
-from ...errors import TaskError
+from ...errors import Conflict
 from ...ports.crossing import check_route
 from ...ports.nav_calls import Angle, Coord, OptName
 from ...state.core import NavUnavailable
@@ -61,12 +62,11 @@ async def start_nav_task(call: Call) -> Any:
     current_map = call.ctx.calls.current_map
     same_map = call.ctx.calls.same_map
     b: NavTaskBody = call.body
-    action: dict[str, Any] = {"type": "nav_action", "x": b.x, "y": b.y,
-                              "theta": b.theta}
+    action = zm.NavAction(x=b.x, y=b.y, theta=b.theta)
     current = await current_map()
     if b.map and b.map != current:  # across maps (§6.7): the task finds the route
         await check_route(link, current, b.map)
-        action["map"] = b.map
+        action.map = b.map
         nav.path_name = b.path
     else:
         same_map(b.map, b.path, current)
@@ -95,13 +95,12 @@ async def move_to_index(call: Call) -> Any:
             raise ApiError(404, f"nav point {q.index} does not exist: path "
                                 f"{res.path_name!r} of map {q.map!r} has {n}")
         await check_route(link, current, q.map)
-        action: dict[str, Any] = {"type": "nav_action", "index": q.index,
-                                  "map": q.map, "path": res.path_name}
+        action = zm.NavAction(index=q.index, map=q.map, path=res.path_name)
         nav.path_name = res.path_name
     else:
         same_map(q.map, q.path, current)
         x, y, th = await point(q.index)
-        action = {"type": "nav_action", "x": x, "y": y, "theta": th}
+        action = zm.NavAction(x=x, y=y, theta=th)
     task = await run_task("navigation task", [action])
     core.state.goal.num_id = q.index
     return task
@@ -109,16 +108,16 @@ async def move_to_index(call: Call) -> Any:
 
 async def stop_nav_task(call: Call) -> Any:
     """Stop the running (navigation) task; returns it."""
-    task_call = call.ctx.calls.task_call
-    return await task_call("stop")
+    tasks = call.ctx.calls.tasks
+    return as_document(await tasks.step("stop"))
 
 
 async def get_loop(call: Call) -> Any:
     """The patrol (loop) task, or 404 when none is running."""
-    nav, task_call = call.ctx.calls.nav, call.ctx.calls.task_call
+    nav, tasks = call.ctx.calls.nav, call.ctx.calls.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
-    return await task_call("get", nav.loop_task_id)
+    return as_document(await tasks.get(nav.loop_task_id))
 
 
 async def post_loop(call: Call) -> Any:
@@ -137,11 +136,11 @@ async def post_loop(call: Call) -> Any:
     res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
     if not res.points:
         raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
-    subs: list[dict[str, Any]] = []
+    subs: list[zm.Action] = []
     for p in res.points:
-        subs.append({"type": "nav_action", "x": p.x, "y": p.y, "theta": p.theta})
+        subs.append(zm.NavAction(x=p.x, y=p.y, theta=p.theta))
         if b.wait_time > 0:
-            subs.append({"type": "sleep_action", "wait_time": b.wait_time})
+            subs.append(zm.SleepAction(wait_time=b.wait_time))
     task = await run_task("loop task", subs, loop=True)
     nav.loop_task_id = task["id"]
     core.state.looping = True
@@ -150,10 +149,10 @@ async def post_loop(call: Call) -> Any:
 
 async def delete_loop(call: Call) -> Any:
     """Stop patrolling; returns the stopped loop task."""
-    core, nav, task_call = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.task_call
+    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task is running")
-    task = await task_call("stop", nav.loop_task_id)
+    task = as_document(await tasks.step("stop", nav.loop_task_id))
     nav.loop_task_id = ""
     core.state.looping = False
     return task
@@ -167,22 +166,20 @@ async def go_charge(call: Call) -> Any:
         raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
                             "POST /navigation/charge_pose first")
     p = res.pose
-    return await run_task("charge task", [
-        {"type": "charge_action", "x": p.x, "y": p.y, "theta": p.theta}])
+    return await run_task("charge task", [zm.ChargeAction(x=p.x, y=p.y, theta=p.theta)])
 
 
 async def stop_charge(call: Call) -> Any:
     """Stop charging, whatever the task state: stops the running task (the charge task,
     while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
-    core, nav, task_call = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.task_call
+    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
     task = None
-    running = [t for t in await task_call("get") if t.get("state") in ("WORKING", "PAUSED")]
+    running = [t for t in await tasks.tasks() if t.state in ("WORKING", "PAUSED")]
     if running:
         try:
-            task = await task_call("stop", running[0]["id"])
-        except TaskError as exc:
-            if exc.status != 409:  # 409: it ended meanwhile, nothing left to stop
-                raise
+            task = as_document(await tasks.step("stop", running[0].id))
+        except Conflict:  # it ended meanwhile: nothing left to stop
+            pass
     try:
         await nav.stop_charge()
     except NavUnavailable as exc:

@@ -12,6 +12,12 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 import msgspec
+from zenros.msgs.zenros_msgs.task_actions import (
+    IoAction,
+    LocalMoveAction,
+    LocalMoveTargetAction,
+    NavAction,
+)
 
 from ...ports.nav_calls import Angle, Coord
 from ..api import Api, Call
@@ -66,15 +72,14 @@ class TargetIndexQuery(msgspec.Struct, forbid_unknown_fields=True):
     target_rotate_enable: bool = True
 
 
-def _move(q: MoveQuery | NavMoveQuery | NavMoveIoQuery) -> dict[str, Any]:
-    return {"type": "local_move_action", "distance": q.distance, "angle": q.angle,
-            "method": q.method}
+def _move(q: MoveQuery | NavMoveQuery | NavMoveIoQuery) -> LocalMoveAction:
+    return LocalMoveAction(distance=q.distance, angle=q.angle, method=q.method)
 
 
-async def nav_to(ctx: Context, index: int) -> dict[str, Any]:
+async def nav_to(ctx: Context, index: int) -> NavAction:
     calls = ctx.calls
     x, y, theta = await calls.point(index)
-    return {"type": "nav_action", "x": x, "y": y, "theta": theta}
+    return NavAction(x=x, y=y, theta=theta)
 
 
 async def start_local_move(call: Call) -> Any:
@@ -98,7 +103,7 @@ async def start_nav_local_move_io(call: Call) -> Any:
     q: NavMoveIoQuery = call.query
     return await calls.run_task(TASK_NAME, [
         await nav_to(call.ctx, q.index), _move(q),
-        {"type": "io_action", "level": q.level, "port": q.port}])
+        IoAction(level=q.level, port=q.port)])
 
 
 async def start_local_move_target(call: Call) -> Any:
@@ -107,7 +112,7 @@ async def start_local_move_target(call: Call) -> Any:
     calls = call.ctx.calls
     q: TargetQuery = call.query
     return await calls.run_task(TASK_NAME, [
-        {"type": "local_move_target_action", **msgspec.structs.asdict(q)}])
+        LocalMoveTargetAction(**msgspec.structs.asdict(q))])
 
 
 async def start_local_move_index(call: Call) -> Any:
@@ -116,10 +121,9 @@ async def start_local_move_index(call: Call) -> Any:
     calls = call.ctx.calls
     q: TargetIndexQuery = call.query
     x, y, theta = await calls.point(q.index)
-    return await calls.run_task(TASK_NAME, [
-        {"type": "local_move_target_action", "x": x, "y": y, "theta": theta,
-         "frame_id": "map", "start_rotate_enable": q.start_rotate_enable,
-         "target_rotate_enable": q.target_rotate_enable}])
+    return await calls.run_task(TASK_NAME, [LocalMoveTargetAction(
+        x=x, y=y, theta=theta, frame_id="map", start_rotate_enable=q.start_rotate_enable,
+        target_rotate_enable=q.target_rotate_enable)])
 
 
 def add_local_move_routes(api: Api) -> None:

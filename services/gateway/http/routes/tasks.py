@@ -1,17 +1,25 @@
-"""REST ``/task`` and ``/action`` (§8.3, §9.1), forwarded to the tasks service's ``tasks/*``."""
+"""REST ``/task`` and ``/action`` (§8.3, §9.1), forwarded to the tasks service's ``tasks/*``.
+
+Bodies decode straight into the task documents (`Task`, `TaskUpdate`, `Action`): a bad one
+is a 400 naming the field's path (``sub_tasks[0].wait_time``) before the tasks service is
+asked. Answers are the documents as the robot API writes them (`as_document`).
+"""
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, TypeVar
 
 import msgspec
+from zenros.msgs.zenros_msgs.task_actions import Action
+from zenros.msgs.zenros_msgs.task_docs import Task, TaskUpdate, as_document, tag_nested_tasks
 
-from ..api import Api, ApiError, Call
+from ..api import Api, ApiError, Call, describe_invalid
 
-__all__ = ["add_task_routes"]
+__all__ = ["add_task_routes", "decode_body"]
 
 Id = Annotated[str, msgspec.Meta(max_length=64)]
-_ENC = msgspec.json.Encoder()
+T = TypeVar("T")
+_OK = {"status": "ok"}
 
 
 class IdQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -27,93 +35,105 @@ class LoopQuery(msgspec.Struct, forbid_unknown_fields=True):
     loop_flag: bool
 
 
-async def forward(call: Call, name: str, ident: str = "", body: Any = None) -> Any:
-    """Call ``tasks/<name>`` with ``ident`` and ``body``; its JSON answer as is."""
-    reply = await call.ctx.tasks(name, ident, "" if body is None
-                                 else _ENC.encode(body).decode())
-    if reply.code != 200:
-        raise reply.error(name)
-    return msgspec.Raw(reply.body.encode())
-
-
-def raw_body(call: Call) -> Any:
-    return call.body if isinstance(call.body, dict) else msgspec.to_builtins(call.body)
+def decode_body(body: Any, kind: type[T] | Any) -> T:
+    """A REST body (plain data) as ``kind`` (nested tasks read by their ``sub_tasks``); a
+    400 naming the field when it does not fit."""
+    try:
+        value: T = msgspec.convert(tag_nested_tasks(body), kind, strict=True)
+    except msgspec.ValidationError as exc:
+        raise ApiError(400, describe_invalid(exc, "body")) from exc
+    return value
 
 
 async def get_task(call: Call) -> Any:
     """One task (``id``) or all tasks (§8.3)."""
-    return await forward(call, "get", call.query.id)
+    tasks = call.ctx.tasks
+    if call.query.id:
+        return as_document(await tasks.get(call.query.id))
+    return [as_document(t) for t in await tasks.tasks()]
 
 
 async def post_task(call: Call) -> Any:
     """Create a task (state ``WAITTING``) from ``name``, ``sub_tasks``, ``loop_flag``, ..."""
-    return await forward(call, "create", "", raw_body(call))
+    return as_document(await call.ctx.tasks.create(decode_body(call.body, Task)))
 
 
 async def put_task(call: Call) -> Any:
     """Update a task: ``id`` plus ``name``, ``loop_flag`` or ``sub_tasks``."""
-    body = raw_body(call)
-    return await forward(call, "update", str(body.get("id", "")), body)
+    return as_document(await call.ctx.tasks.update(decode_body(call.body, TaskUpdate)))
 
 
 async def delete_task(call: Call) -> Any:
     """Delete a task by ``id``."""
-    return await forward(call, "delete", call.query.id)
+    await call.ctx.tasks.command("delete", call.query.id)
+    return _OK
 
 
 async def start_task(call: Call) -> Any:
     """Start a task."""
-    return await forward(call, "start", call.query.id)
+    return as_document(await call.ctx.tasks.step("start", call.query.id))
 
 
 async def pause_task(call: Call) -> Any:
     """Pause a running task."""
-    return await forward(call, "pause", call.query.id)
+    return as_document(await call.ctx.tasks.step("pause", call.query.id))
 
 
 async def resume_task(call: Call) -> Any:
     """Resume a paused task."""
-    return await forward(call, "resume", call.query.id)
+    return as_document(await call.ctx.tasks.step("resume", call.query.id))
 
 
 async def stop_task(call: Call) -> Any:
     """Stop a task (the current one without id)."""
-    return await forward(call, "stop", call.query.id)
+    return as_document(await call.ctx.tasks.step("stop", call.query.id))
 
 
 async def loop(call: Call) -> Any:
     """Set or clear a task's ``loop_flag``."""
-    return await forward(call, "loop", call.query.id, {"loop_flag": call.query.loop_flag})
+    return as_document(await call.ctx.tasks.loop(call.query.id, call.query.loop_flag))
 
 
 async def get_action(call: Call) -> Any:
     """One action (``id``) or all actions (§9.1)."""
-    return await forward(call, "get_action", call.query.id)
+    found = await call.ctx.tasks.actions(call.query.id)
+    if call.query.id:
+        return msgspec.to_builtins(found[0]) if found else None
+    return msgspec.to_builtins(found)
 
 
 async def post_action(call: Call) -> Any:
     """Add an action (``type`` + params) to ``task_id``, or to a new ``auto task``."""
-    body = raw_body(call)
+    body = dict(call.body)
     if not isinstance(body.get("type"), str):
         raise ApiError(400, "invalid body: field `type` (the action type, §9.2) is "
                             "required and must be a string")
-    return await forward(call, "create_action", "", body)
+    task_id = body.pop("task_id", None)
+    if task_id is not None and not isinstance(task_id, str):
+        raise ApiError(400, "invalid body: field `task_id` must be a string")
+    action: Action = decode_body(body, Action)
+    return as_document(await call.ctx.tasks.create_action(task_id, action))
 
 
 async def put_action(call: Call) -> Any:
     """Change an action: ``id`` plus the fields to change."""
-    body = raw_body(call)
-    return await forward(call, "update_action", str(body.get("id", "")), body)
+    changes = dict(call.body)
+    ident = changes.pop("id", "")
+    if not isinstance(ident, str):
+        raise ApiError(400, "invalid body: field `id` must be a string")
+    return msgspec.to_builtins(await call.ctx.tasks.update_action(ident, changes))
 
 
 async def delete_action(call: Call) -> Any:
     """Delete an action by ``id``."""
-    return await forward(call, "delete_action", call.query.id)
+    await call.ctx.tasks.command("delete_action", call.query.id)
+    return _OK
 
 
 async def update_wait_req(call: Call) -> Any:
     """Release a task waiting in ``wait_req_action``."""
-    return await forward(call, "update_wait_req")
+    await call.ctx.tasks.command("update_wait_req")
+    return _OK
 
 
 def add_task_routes(api: Api) -> None:

@@ -1,0 +1,168 @@
+"""The actions a task can hold (specs/robot-api.md §9.2): one tagged union, `Action`.
+
+Each action type is a Struct tagged by its ``type`` ("nav_action", ...), so a document
+decodes straight into the right class and a missing, mistyped or unknown field is refused
+with its path (``at $.sub_tasks[0].wait_time``). The same classes are the request bodies
+the gateway builds, the documents the tasks service runs and the answers it gives.
+
+Besides its parameters every action carries the common fields (``id``, ``state``,
+``result``, ``progress``); ``nav_action`` documents also carry ``current_location`` and
+``current_distance``. An optional parameter never given is `UNSET` and left out of the
+document (a JSON ``null`` is read as not given).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Final, Literal
+
+import msgspec
+from msgspec import UNSET, Meta, UnsetType
+
+__all__ = [
+    "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "CallbackAction", "ChargeAction",
+    "IoAction", "LocalMoveAction", "LocalMoveTargetAction", "Location", "NavAction",
+    "SleepAction", "SwitchMapAction", "TtsAction", "WaitReqAction", "check_action",
+]
+
+Seconds = Annotated[float, Meta(ge=0)]
+Level = Annotated[float, Meta(ge=0, le=1)]
+Coordinate = Annotated[float, Meta(ge=-1e5, le=1e5)]
+
+
+class Location(msgspec.Struct, kw_only=True):
+    """Where a ``nav_action`` is (-1 while unknown)."""
+
+    x: float = -1.0
+    y: float = -1.0
+    theta: float = -1.0
+
+
+class ActionBase(msgspec.Struct, kw_only=True, forbid_unknown_fields=True, tag_field="type"):
+    """The fields every action document carries; a request may send them (ignored)."""
+
+    id: str = ""
+    state: str = "WAITTING"
+    result: str = ""
+    progress: float = 0.0
+    current_location: Location | UnsetType = UNSET
+    current_distance: float | UnsetType = UNSET
+
+
+class NavAction(ActionBase, kw_only=True, tag="nav_action"):
+    """Navigate to (x, y, theta) in ``map``, or to nav point ``index`` of the current map."""
+
+    x: float | None | UnsetType = UNSET
+    y: float | None | UnsetType = UNSET
+    theta: float = 0.0
+    index: Annotated[int, Meta(ge=0)] | None | UnsetType = UNSET
+    map: str = ""
+    path: str = ""
+    timeout: Seconds = 0.0  # 0: no limit
+
+
+class SleepAction(ActionBase, kw_only=True, tag="sleep_action"):
+    wait_time: Seconds
+
+
+class ChargeAction(ActionBase, kw_only=True, tag="charge_action"):
+    """Dock at the charger; complete when charging starts, or when ``level`` is reached."""
+
+    x: float | None | UnsetType = UNSET
+    y: float | None | UnsetType = UNSET
+    theta: float = 0.0
+    level: Level = 0.0  # 0: complete as soon as charging starts (§9.2 impl. note)
+    timeout: Seconds = 0.0
+
+
+class CallbackAction(ActionBase, kw_only=True, tag="callback_action"):
+    url: str
+    method: str = "GET"
+    data: Any = UNSET
+    timeout: Annotated[float, Meta(gt=0)] = 10.0
+
+
+class WaitReqAction(ActionBase, kw_only=True, tag="wait_req_action"):
+    timeout: Seconds = 0.0  # 0: wait until released
+
+
+class TtsAction(ActionBase, kw_only=True, tag="tts_action"):
+    text: str
+
+
+class SwitchMapAction(ActionBase, kw_only=True, tag="switch_map_action"):
+    map: str
+    path: str = ""
+    start_index: Annotated[int, Meta(ge=-1)] = -1
+
+
+class LocalMoveAction(ActionBase, kw_only=True, tag="local_move_action"):
+    """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) without the planner.
+
+    ``method`` (illegible in the spec; our reading): 0 moves then turns, 1 turns then moves.
+    """
+
+    distance: Annotated[float, Meta(ge=-20, le=20)] = 0.0
+    angle: Annotated[float, Meta(ge=-20, le=20)] = 0.0
+    method: Literal[0, 1] = 0
+    speed: Annotated[float, Meta(gt=0, le=2)] = 0.3
+    timeout: Seconds = 0.0  # 0: no limit
+
+
+class LocalMoveTargetAction(ActionBase, kw_only=True, tag="local_move_target_action"):
+    """A precise short move to (x, y, theta) in ``map`` or relative to ``base_link``."""
+
+    x: Coordinate
+    y: Coordinate
+    theta: float = 0.0
+    frame_id: Literal["map", "base_link"] = "map"
+    xy_tolerance: Annotated[float, Meta(gt=0, le=10)] = 0.05
+    yaw_tolerance: Annotated[float, Meta(gt=0, le=3.15)] = 0.05
+    timeout: Seconds = 0.0  # 0: no limit
+    start_rotate_enable: bool = True
+    target_rotate_enable: bool = True
+
+
+class IoAction(ActionBase, kw_only=True, tag="io_action"):
+    """Set main-board output ``port`` ("1".."3") to ``level`` ("0" low, "1" high)."""
+
+    level: Literal["0", "1"]
+    port: Literal["1", "2", "3"]
+
+
+Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
+          | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction)
+"""Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
+
+ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
+    str(cls.__struct_config__.tag): cls for cls in Action.__args__}
+
+# fields every action document carries besides its parameters
+COMMON_FIELDS: Final = frozenset({"id", "type", "state", "result", "progress",
+                                  "current_location", "current_distance"})
+
+_METHODS: Final = frozenset({"GET", "POST", "PUT", "DELETE", "PATCH", "HEAD"})
+
+
+def check_action(action: ActionBase) -> None:
+    """What the types cannot say: finite numbers, a nav goal's x and y (or index), a
+    callback's URL scheme and method.
+
+    Raises:
+        ValueError: naming the field.
+    """
+    kind = action.__struct_config__.tag
+    for name in action.__struct_fields__:
+        v = getattr(action, name)
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"({kind}): {name} must be a finite number, got {v}")
+    if isinstance(action, NavAction) and action.index in (None, UNSET) and (
+            action.x in (None, UNSET) or action.y in (None, UNSET)):
+        raise ValueError("(nav_action): give x and y, or a nav point index")
+    if isinstance(action, CallbackAction):
+        if not action.url.startswith(("http://", "https://")):
+            raise ValueError(f"(callback_action): url must be http:// or https://, got "
+                             f"{action.url!r}")
+        if action.method.upper() not in _METHODS:
+            raise ValueError(f"(callback_action): method {action.method!r} is not one of "
+                             f"{', '.join(sorted(_METHODS))}")
