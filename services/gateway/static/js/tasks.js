@@ -10,10 +10,12 @@ export class TaskPanel {
     this.tasks = new Map();
   }
 
-  async call(name, id = "", body = "") {
-    const res = await this.ros.callService(this.service(name), { id, body });
-    if (!res.success) throw new Error(res.message || `tasks/${name} failed (${res.code})`);
-    return res.body ? JSON.parse(res.body) : null;
+  // tasks/get (zenros_msgs/GetTasks) answers `tasks`; start, pause, resume and stop
+  // (zenros_msgs/TaskCommand) the `task`; `code` is a ResultCode, 0 OK.
+  async call(name, id = "") {
+    const res = await this.ros.callService(this.service(name), { id });
+    if (res.code !== 0) throw new Error(res.message || `tasks/${name} failed (code ${res.code})`);
+    return name === "get" ? res.tasks : res.task;
   }
 
   async refresh() {
@@ -32,12 +34,7 @@ export class TaskPanel {
       this.render();
       return;
     }
-    let doc = null;
-    try {
-      doc = m.task ? JSON.parse(m.task) : null;
-    } catch (err) {
-      doc = null;
-    }
+    const doc = m.task && typeof m.task === "object" ? m.task : null;
     const prev = this.tasks.get(m.id) || {};
     this.tasks.set(m.id, { ...prev, ...(doc || {}), id: m.id, name: m.name || prev.name,
                            state: m.state, progress: m.progress });
@@ -112,7 +109,7 @@ export class TaskPanel {
       b.textContent = label;
       b.dataset.call = call;
       b.addEventListener("click", () => this.call(call, t.id)
-        .then((doc) => { if (doc && doc.id) this.onStatus({ ...doc, task: JSON.stringify(doc) }); })
+        .then((doc) => { if (doc && doc.id) this.onStatus({ ...doc, task: doc }); })
         .catch((err) => this.onError(err.message)));
       foot.append(b);
     }
