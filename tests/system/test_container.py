@@ -5,12 +5,11 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Iterator
-from pathlib import Path
+from typing import Any
 
 import pytest
 from zenros.context import Context
-from zenros.session import SessionOptions
-from zenros.testing import Proc, free_port, unique_prefix
+from zenros.testing import Proc
 
 pytestmark = pytest.mark.system
 
@@ -27,22 +26,9 @@ nodes:
 
 
 @pytest.fixture
-def launched(tmp_path: Path) -> Iterator[tuple[Proc, Context]]:
-    endpoint = f"tcp/127.0.0.1:{free_port()}"
-    prefix = unique_prefix()
-    (tmp_path / "c.yaml").write_text(LAUNCH)
-    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "c.yaml"), "-v",
-                 "--data-dir", str(tmp_path / "home")],
-                env={"ZENROS_CONNECT": endpoint, "ZENROS_PREFIX": prefix})
-    ctx: Context | None = None
-    try:
-        assert proc.wait_line("started a Zenoh router", 60), proc.output
-        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
-        yield proc, ctx
-    finally:
-        if ctx is not None:
-            ctx.close()
-        proc.stop(timeout=20)
+def launched(launch_text: Any) -> Iterator[tuple[Proc, Context]]:
+    with launch_text(LAUNCH, "-v") as rig:
+        yield rig
 
 
 def test_components_share_one_process_and_talk_in_process(

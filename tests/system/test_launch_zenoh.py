@@ -10,10 +10,10 @@ import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from zenros.context import Context
-from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, unique_prefix
 
 pytestmark = pytest.mark.system
@@ -29,22 +29,9 @@ nodes:
 
 
 @pytest.fixture
-def launched(tmp_path: Path) -> Iterator[tuple[Proc, Context]]:
-    endpoint = f"tcp/127.0.0.1:{free_port()}"
-    prefix = unique_prefix()
-    (tmp_path / "demo.yaml").write_text(LAUNCH)
-    proc = Proc([sys.executable, "-m", "zenros.cli", "launch", str(tmp_path / "demo.yaml"),
-                 "--data-dir", str(tmp_path / "home")],
-                env={"ZENROS_CONNECT": endpoint, "ZENROS_PREFIX": prefix})
-    ctx: Context | None = None
-    try:
-        assert proc.wait_line("started a Zenoh router", 20), proc.output
-        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
-        yield proc, ctx
-    finally:
-        if ctx is not None:
-            ctx.close()
-        proc.stop(timeout=20)
+def launched(launch_text: Any) -> Iterator[tuple[Proc, Context]]:
+    with launch_text(LAUNCH) as rig:
+        yield rig
 
 
 def test_launch_starts_router_and_nodes_and_reports_ready(launched: tuple[Proc, Context]) -> None:
