@@ -9,7 +9,7 @@ than the 1 s lease (SIGSTOP/SIGCONT), so their links drop and are made again whi
 Prints one JSON line: ``misrouted`` (samples whose encoding names another key than the one
 they arrived on), ``received`` and examples. Seen on 2026-12-03 with eclipse-zenoh 1.10.2 on a
 2-core box (60 s runs, 6 publishers, about a million samples each): with declared publishers,
-misrouted samples in 3 of 5 runs (41, 111, 4,169); with ``--put`` (``session.put``, no key
+misrouted samples in 3 of 6 runs (41, 111, 4,169); with ``--put`` (``session.put``, no key
 declared by the sender) in 2 of 5 runs (3,155, 8,595). So it is not the sender's key
 declaration. zenros tags every sample with its key (`zenros.keytag`), so its subscribers drop
 such samples.
