@@ -10,6 +10,7 @@ dependencies); then the services are imported from that copy in a fresh interpre
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
