@@ -92,7 +92,7 @@ class ActionlibFibonacciServer(Node):
             try:
                 with connect(self.url, open_timeout=5, max_size=None) as ws:
                     self._ws = ws
-                    self._announce()
+                    self._advertise()
                     self.get_logger().info("serving %s (ROS 1 actionlib) on %s",
                                            self.action, self.url)
                     self._read(ws)
@@ -101,7 +101,7 @@ class ActionlibFibonacciServer(Node):
             self._ws = None
             self._stop.wait(0.5)
 
-    def _announce(self) -> None:
+    def _advertise(self) -> None:
         a = self.action
         for part, typ in (("status", "actionlib_msgs/GoalStatusArray"),
                           ("feedback", f"{PKG}ActionFeedback"),
