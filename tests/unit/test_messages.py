@@ -93,7 +93,8 @@ def test_unknown_type_suggests_the_closest_few() -> None:
 def test_an_unambiguous_short_name_is_accepted() -> None:
     assert lookup_type("Twist") is Twist
     assert lookup_service("AddTwoInts").name == "example_interfaces/AddTwoInts"
-    assert lookup_action("Fibonacci").name == "example_interfaces/Fibonacci"
+    # (not Fibonacci: the ROS 2 tests define test_msgs/Fibonacci too, which makes it ambiguous)
+    assert lookup_action("NavigateToPose").name == "nav2_msgs/NavigateToPose"
 
     class ThingA(Message):
         __msgtype__ = "zenros_test_a/Thing"
@@ -257,9 +258,9 @@ def test_unknown_service_and_action_suggest_close_ones() -> None:
     with pytest.raises(UnknownTypeError, match=r"unknown service type 'std_srvs/Trigr'; did you "
                        r"mean std_srvs/Trigger\?"):
         lookup_service("std_srvs/Trigr")
-    with pytest.raises(UnknownTypeError, match=r"unknown action type 'Fibonaci'; did you mean "
-                       r"example_interfaces/Fibonacci\?"):
-        lookup_action("Fibonaci")
+    with pytest.raises(UnknownTypeError, match=r"unknown action type 'nav2_msgs/DockRobt'; did "
+                       r"you mean nav2_msgs/DockRobot or nav2_msgs/UndockRobot\?"):
+        lookup_action("nav2_msgs/DockRobt")
 
 
 def test_a_message_type_is_not_a_service_type() -> None:
