@@ -311,6 +311,9 @@ class Subscription(Generic[M]):
             self._sub = ctx.session.declare_subscriber(
                 self.key, handler, allowed_origin=zenoh.Locality.REMOTE
             )
+            # Taken here, not in the thread: reading `.handler` while `close()` undeclares
+            # the subscriber on another thread raises pyo3's "Already mutably borrowed".
+            self._channel = self._sub.handler
             self._pump_thread = threading.Thread(
                 target=self._pump, name=f"zenros-sub:{topic}", daemon=True
             )
@@ -331,7 +334,7 @@ class Subscription(Generic[M]):
         encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
         direct, info, tag = self._direct, self._info, self._tag
         try:
-            for sample in self._sub.handler:  # ends when the subscriber is undeclared
+            for sample in self._channel:  # ends when the subscriber is undeclared
                 try:
                     if misrouted(sample.attachment, tag):
                         self._misrouted(sample)

@@ -114,6 +114,9 @@ class Service:
         self._queryable = ctx.session.declare_queryable(
             self.key, zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True
         )
+        # Taken here, not in the thread: reading `.handler` while `close()` undeclares the
+        # queryable on another thread raises pyo3's "Already mutably borrowed".
+        self._channel = self._queryable.handler
         self._serve_thread = threading.Thread(
             target=self._serve_queue, name=f"zenros-srv:{name}", daemon=True
         )
@@ -131,7 +134,7 @@ class Service:
             if gate.abandoned:
                 return
         try:
-            for query in self._queryable.handler:  # ends when the queryable is undeclared
+            for query in self._channel:  # ends when the queryable is undeclared
                 try:
                     self._on_query(query)
                 except Exception as exc:  # noqa: BLE001 nothing a request does stops the service

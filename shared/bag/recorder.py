@@ -125,8 +125,10 @@ class Recorder:
             subscriber_detection=True,
         )
         fixed = None if key == self.ctx.keys.all_topics() else key
-        pump = threading.Thread(target=self._pump, args=(sub, fixed), name=f"zenros-bag:{key}",
-                                daemon=True)
+        # the channel is taken here: `.handler` read in the pump while stop() undeclares
+        # raises pyo3's "Already mutably borrowed"
+        pump = threading.Thread(target=self._pump, args=(sub.handler, fixed),
+                                name=f"zenros-bag:{key}", daemon=True)
         self._subs.append(sub)
         self._pumps.append(pump)
         pump.start()
@@ -152,7 +154,7 @@ class Recorder:
 
     # ------------------------------------------------------------------ hot path
 
-    def _pump(self, sub: Any, fixed_key: str | None) -> None:
+    def _pump(self, channel: Any, fixed_key: str | None) -> None:
         """Drain one subscriber (``fixed_key``: the key of a one-topic subscriber, whose
         samples need no key lookup).
 
@@ -163,7 +165,7 @@ class Recorder:
         """
         routes, now, hand_off = self._routes, time.time_ns, self.sink.add_batch
         head = MESSAGE_HEAD.pack
-        try_recv, recv = sub.handler.try_recv, sub.handler.recv
+        try_recv, recv = channel.try_recv, channel.recv
         batch: list[bytes] = []
         append = batch.append
         size = 0  # bytes of the batch's records, less 9 (opcode and length) each

@@ -175,10 +175,11 @@ def test_rmw_zenoh_action_client_drives_a_zenros_server(
     assert wait_for(lambda: "/fibonacci" in bridge.actions, 10)
     client = PeerActionClient(peer, "/fibonacci")
     # the action's five endpoints are in the rmw_zenoh graph as rmw_zenoh declares a server's
-    tokens = _tokens(peer, "/fibonacci/_action/")
-    assert {(k, n.rsplit("/", 1)[-1]) for k, n in tokens} >= {
-        ("SS", "send_goal"), ("SS", "cancel_goal"), ("SS", "get_result"),
-        ("MP", "feedback"), ("MP", "status")}
+    # (the bridge lists the action before its tokens reach the peer: wait for them)
+    want = {("SS", "send_goal"), ("SS", "cancel_goal"), ("SS", "get_result"),
+            ("MP", "feedback"), ("MP", "status")}
+    assert wait_for(lambda: {(k, n.rsplit("/", 1)[-1])
+                             for k, n in _tokens(peer, "/fibonacci/_action/")} >= want, 10)
 
     goal_id, resp = client.send_goal(6)
     assert resp.accepted is True and resp.stamp.sec > 0
