@@ -118,9 +118,12 @@ def sim_cmd_vel() -> dict[str, Any]:
             res["odom"] = wait_for(lambda: len(odom) > 0, 120)
             res["bridge_up"] = wait_for(
                 lambda: "/ros2_dds_bridge" in ctx.graph.node_names(), 60)
+            cmds: Collector[Any] = Collector()
+            node.create_subscription(Twist, "/cmd_vel", cmds)
             if res["odom"]:
                 p0 = odom.items[-1].pose.pose.position
-                procs.start(str(HERE / "rclpy_peer.py"), "pub", "Twist", "/cmd_vel")
+                # a sane command: the chassis refuses (and stops for) one beyond 10x its limits
+                procs.start(str(HERE / "rclpy_peer.py"), "pub", "Twist", "/cmd_vel", "--drive")
 
                 def moved() -> float:
                     p = odom.items[-1].pose.pose.position
@@ -128,6 +131,8 @@ def sim_cmd_vel() -> dict[str, Any]:
                 res["moved"] = wait_for(lambda: moved() > 0.05, 90)
                 res["distance"] = round(moved(), 3)
                 res["cmd_vel_publishers"] = [p.node for p in ctx.graph.publishers("/cmd_vel")]
+                # what the chassis was sent (the first bridged commands)
+                res["cmd_vel_first"] = [[m.linear.x, m.angular.z] for m in cmds.items[:3]]
         finally:
             node.close()
             ctx.close()

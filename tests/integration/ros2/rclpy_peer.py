@@ -1,6 +1,8 @@
 """An unmodified rclpy node for the DDS bridge tests: ``pub KIND TOPIC`` publishes a sample of
 KIND every 50 ms, ``sub KIND TOPIC`` prints one JSON line per message received; ``--tl`` makes
-the endpoint transient local (depth 1); ``srv SetBool NAME`` serves std_srvs/SetBool (replies
+the endpoint transient local (depth 1); ``--drive`` makes each Twist the same sane velocity
+command (0.3 m/s, 0.2 rad/s: a chassis refuses one far beyond its limits, as the counter in
+angular.z soon is); ``srv SetBool NAME`` serves std_srvs/SetBool (replies
 success=data, message "got <data>") and prints one JSON line per request. Runs until killed."""
 
 from __future__ import annotations
@@ -18,13 +20,13 @@ from std_msgs.msg import String
 from std_srvs.srv import SetBool
 
 
-def sample(kind: str, i: int) -> object:
+def sample(kind: str, i: int, drive: bool = False) -> object:
     if kind == "String":
         return String(data=f"hello {i}")
     if kind == "Twist":
         t = Twist()
-        t.linear.x = 0.5
-        t.angular.z = float(i)
+        t.linear.x = 0.3 if drive else 0.5
+        t.angular.z = 0.2 if drive else float(i)  # the counter shows samples keep coming
         return t
     if kind == "LaserScan":
         s = LaserScan(angle_min=-1.0, angle_max=1.0, range_max=10.0)
@@ -50,6 +52,7 @@ def summary(msg: object) -> dict[str, object]:
 def main() -> None:
     mode, kind, topic = sys.argv[1:4]
     tl = "--tl" in sys.argv
+    drive = "--drive" in sys.argv
     qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL) if tl else 10
     types = {"String": String, "Twist": Twist, "LaserScan": LaserScan, "OccupancyGrid": OccupancyGrid}
     rclpy.init()
@@ -69,7 +72,7 @@ def main() -> None:
         def tick() -> None:
             counter[0] += 1
             if kind in ("String", "Twist"):
-                pub.publish(sample(kind, counter[0]))
+                pub.publish(sample(kind, counter[0], drive))
             else:
                 pub.publish(msg)
         node.create_timer(0.05, tick)

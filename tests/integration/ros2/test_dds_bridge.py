@@ -125,12 +125,11 @@ def test_a_zenros_client_calls_an_rclpy_service() -> None:
     assert res["route_left"], res["bridge_log"]  # the rclpy server left: so did the service
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "flaky, cause not found: on 2026-12-03 the bridged rclpy Twist did not move the launched "
-    "sim (odom and the bridge up, moved False) in 3 of 5 runs on a quiet box"))
 def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge() -> None:
     res = scenario("sim")
     assert res["odom"] and res["bridge_up"], res
     # the gateway and nav publish /cmd_vel as well; the bridge is the rclpy node's door
     assert "/ros2_dds_bridge" in res["cmd_vel_publishers"], res
+    # (the peer sends a sane command: one beyond 10x the chassis's limits is refused and
+    # stops the robot, which is what made this flaky while angular.z counted samples)
     assert res["moved"], res
