@@ -24,19 +24,19 @@ from typing import TYPE_CHECKING, Any
 
 import zenoh
 from zenros.action.transport import (
-    encoding_for,
     parse_error,
     query_once,
     status_publisher,
     status_subscriber,
 )
-from zenros.action.types import CancelGoalRequest, CancelGoalResponse, GoalStatusArray
+from zenros.action.types import GoalStatusArray
 from zenros.action.wire import wire_types
-from zenros.codec import Codec, codec_for
+from zenros.codec import Codec
 from zenros.errors import CodecError
-from zenros.message import ActionType, Message
+from zenros.message import ActionType
 from zenros.msgs.builtin_interfaces import Time
-from zenros.ros2.cdr import CdrCodec, cdr_codec
+from zenros.ros2.actions import SERVICES, Topics, action_parts, ros_action_name
+from zenros.ros2.cdr import CdrCodec
 from zenros.ros2.rmw_zenoh import (
     Durability,
     EntityKind,
@@ -59,44 +59,11 @@ from .rmw_io import (
 if TYPE_CHECKING:
     from .bridge import RmwZenohBridge
 
-__all__ = ["STATUS_QOS", "ActionIn", "ActionOut", "action_parts"]
+__all__ = ["STATUS_QOS", "ActionIn", "ActionOut"]
 
 STATUS_QOS = Qos(depth=1, durability=Durability.TRANSIENT_LOCAL)  # rcl_action's status QoS
 FEEDBACK_QOS = Qos(depth=10)
 SERVICE_QOS = Qos(depth=10)  # rmw_qos_profile_services_default
-_SERVICES = ("send_goal", "cancel_goal", "get_result")
-
-
-class _Part:
-    """One request/response pair: the zenros codecs and the CDR codecs of the same classes."""
-
-    def __init__(self, req: type[Message], res: type[Message], ros_req: str, ros_res: str) -> None:
-        self.req_native: Codec[Any] = codec_for(req)
-        self.res_native: Codec[Any] = codec_for(res)
-        self.req_cdr: CdrCodec[Any] = CdrCodec(req, ros_req)
-        self.res_cdr: CdrCodec[Any] = CdrCodec(res, ros_res)
-        self.req_enc = encoding_for(req)
-        self.res_enc = encoding_for(res)
-
-
-def ros_action_name(action: ActionType) -> str:
-    pkg, _, short = action.name.partition("/")
-    return f"{pkg}/action/{short}"
-
-
-def action_parts(action: ActionType) -> dict[str, _Part]:
-    """The codecs of an action's three services, by part name."""
-    w = wire_types(action)
-    ros = ros_action_name(action)
-    return {
-        "send_goal": _Part(w.SendGoalRequest, w.SendGoalResponse, f"{ros}_SendGoal_Request",
-                           f"{ros}_SendGoal_Response"),
-        "cancel_goal": _Part(CancelGoalRequest, CancelGoalResponse,
-                             "action_msgs/srv/CancelGoal_Request",
-                             "action_msgs/srv/CancelGoal_Response"),
-        "get_result": _Part(w.GetResultRequest, w.GetResultResponse, f"{ros}_GetResult_Request",
-                            f"{ros}_GetResult_Response"),
-    }
 
 
 class _Action:
@@ -109,16 +76,13 @@ class _Action:
         self.ros_type = ros_action_name(action)
         self.ends = action_endpoints(name, self.ros_type)
         self.parts = action_parts(action)
-        w = wire_types(action)
-        self.fb_native: Codec[Any] = codec_for(w.FeedbackMessage)
-        self.fb_cdr: CdrCodec[Any] = CdrCodec(w.FeedbackMessage, f"{self.ros_type}_FeedbackMessage")
-        self.fb_enc = encoding_for(w.FeedbackMessage)
-        self.st_native: Codec[Any] = codec_for(GoalStatusArray)
-        self.st_cdr: CdrCodec[Any] = cdr_codec(GoalStatusArray)
+        t = Topics(action)
+        self.fb_native, self.fb_cdr, self.fb_enc = t.fb_native, t.fb_cdr, t.fb_enc
+        self.st_native, self.st_cdr = t.st_native, t.st_cdr
         srv_kind = EntityKind.SERVICE if server else EntityKind.CLIENT
         top_kind = EntityKind.PUBLISHER if server else EntityKind.SUBSCRIPTION
         self.entities = {p: bridge.entity(srv_kind, self.ends[p][0], self.ends[p][1], SERVICE_QOS)
-                         for p in _SERVICES}
+                         for p in SERVICES}
         self.entities["feedback"] = bridge.entity(top_kind, *self.ends["feedback"], FEEDBACK_QOS)
         self.entities["status"] = bridge.entity(top_kind, *self.ends["status"], STATUS_QOS)
         self.closers: list[Any] = []
@@ -152,7 +116,7 @@ class ActionOut(_Action):
                                      self.entities["feedback"].gid)
         self.status = RmwPublisher(s, self.key("status"), STATUS_QOS, self.entities["status"].gid)
         self.closers += [self.feedback, self.status]
-        for part in _SERVICES:
+        for part in SERVICES:
             self.closers.append(s.declare_queryable(
                 self.key(part), functools.partial(self._on_query, part), complete=True))
         self.closers.append(s.declare_subscriber(keys.action(name, "feedback"), self._on_feedback,
@@ -228,12 +192,12 @@ class ActionIn(_Action):
         s = bridge.session
         ctx = bridge.context
         keys = ctx.keys
-        self.requesters = {p: Requester(s, self.key(p), self.entities[p].gid) for p in _SERVICES}
+        self.requesters = {p: Requester(s, self.key(p), self.entities[p].gid) for p in SERVICES}
         self.fb_pub = s.declare_publisher(keys.action(name, "feedback"), encoding=self.fb_enc,
                                           congestion_control=zenoh.CongestionControl.BLOCK)
         self.st_pub = status_publisher(s, keys.action(name, "status"), GoalStatusArray)
         self.closers += [self.fb_pub, self.st_pub]
-        self._keys = {keys.action(name, p): p for p in _SERVICES}
+        self._keys = {keys.action(name, p): p for p in SERVICES}
         self.closers.append(s.declare_queryable(keys.action(name, "*"), self._on_query,
                                                 complete=True))
         self.closers.append(declare_rmw_subscriber(s, self.key("feedback"), FEEDBACK_QOS,

@@ -136,6 +136,8 @@ SERVICES: dict[str, str] = {
 
 ACTIONS: dict[str, str] = {
     "example_interfaces/action/Fibonacci": "int32 order\n---\nint32[] sequence\n---\nint32[] sequence",
+    # the action the ROS 2 wheels ship (rclpy's tests use it); zenros.msgs.test_msgs has its classes
+    "test_msgs/action/Fibonacci": "int32 order\n---\nint32[] sequence\n---\nint32[] sequence",
 }
 
 # nav2_msgs: Nav2's own field lists (nav2_definitions.py), so their hashes are Nav2's

@@ -17,12 +17,14 @@ unknown type or another hash is logged once per topic and the topic is skipped.
 
 from __future__ import annotations
 
+import importlib
 import os
 import queue
 import re
 import threading
 import uuid
 from collections import defaultdict
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -33,15 +35,16 @@ from cyclonedds.builtin import (
     BuiltinTopicDcpsSubscription,
 )
 from cyclonedds.core import InstanceState
-from zenros.errors import UnknownTypeError
+from zenros.errors import ConfigError, UnknownTypeError
 from zenros.log import LogOnce
-from zenros.message import lookup_service, lookup_type
+from zenros.message import ActionType, lookup_action, lookup_service, lookup_type
 from zenros.node import Node
 from zenros.qos import QoSProfile
 from zenros.ros2.registry import definition, ros_name_of, zenros_class_of
 from zenros.ros2.typehash import type_hash
 from zenros.ros2.typenames import dds_to_ros, ros_to_zenros
 
+from .actions import ActionRoute, ActionTopicsOut
 from .graph import RosNodes
 from .participant import open_participant
 from .qos import zenros_qos
@@ -49,6 +52,9 @@ from .routes import Inbound, Outbound
 from .services import ServiceRoute
 
 __all__ = ["Ros2DdsBridge"]
+
+_ACTION = "/_action/"
+_SEND_GOAL = "/_action/send_goal"
 
 
 @dataclass
@@ -95,6 +101,12 @@ class Ros2DdsBridge(Node):
         self.service_timeout = float(self.declare_parameter(
             "service_timeout", 5.0, description="seconds a ROS 2 service has to reply",
             read_only=True))
+        self.result_timeout = float(self.declare_parameter(
+            "result_timeout", 60.0, description="seconds one result request of a ROS 2 "
+            "action waits (a zenros client then asks again)", read_only=True))
+        self._import_types(str(self.declare_parameter(
+            "types", "", description="Python modules to import first, comma-separated: the "
+            "types they define are bridged too", read_only=True)))
         ctx = self.context
         self.zid = str(ctx.zid)
         self.problems = LogOnce(self.logger)
@@ -103,6 +115,11 @@ class Ros2DdsBridge(Node):
         self.inbound: dict[str, Inbound] = {}
         self.outbound: dict[str, Outbound] = {}
         self.services: dict[str, ServiceRoute] = {}
+        self.actions: dict[str, ActionRoute] = {}
+        self.actions_out: dict[str, ActionTopicsOut] = {}
+        self._zenros_acts: dict[str, set[str]] = defaultdict(set)
+        self.pool = ThreadPoolExecutor(8, thread_name_prefix="ros2-dds-calls")
+        self.on_close(lambda: self.pool.shutdown(wait=False, cancel_futures=True))
         self._servers: dict[uuid.UUID, str] = {}  # request reader of a ROS 2 server -> name
         self._writers: dict[uuid.UUID, _Writer] = {}
         self._handles: dict[int, _Writer] = {}
@@ -124,6 +141,13 @@ class Ros2DdsBridge(Node):
             history=True)
         self.on_close(self._lv.undeclare)
         self.logger.info("bridging zenros and ROS 2 on DDS domain %d", self.domain)
+
+    def _import_types(self, modules: str) -> None:
+        for mod in filter(None, (m.strip() for m in modules.split(","))):
+            try:
+                importlib.import_module(mod)
+            except ImportError as exc:
+                raise ConfigError(f"types: cannot import {mod}: {exc}") from exc
 
     # ------------------------------------------------------------ helpers for the routes
 
@@ -186,25 +210,42 @@ class Ros2DdsBridge(Node):
 
     def _on_dds_reader(self, s: Any) -> None:
         """A ROS 2 service server's request reader (``rq/<name>Request``) makes a service
-        route; when the last one of that name leaves, the route goes."""
+        route, an action server's send_goal reader (``rq/<name>/_action/send_goalRequest``)
+        an action route; when the last one of that name leaves, the route goes."""
         info = s.sample_info
         if info.instance_state != InstanceState.Alive or not info.valid_data:
             name = self._servers.pop(s.key, None)
-            if name is not None and name not in self._servers.values() \
-                    and name in self.services:
-                self.services.pop(name).close()
-                self.logger.info("ROS 2 service %s: its server left, route closed", name)
+            if name is not None and name not in self._servers.values():
+                self._server_left(name)
             return
         topic = s.topic_name
         if s.participant_key == self.guid or not (
                 topic.startswith("rq/") and topic.endswith("Request")):
             return
         name = "/" + topic[3:-len("Request")]
-        if not self.wanted(name):
+        if _ACTION in name and not name.endswith(_SEND_GOAL):
+            return  # cancel_goal and get_result: the action route's
+        if not self.wanted(name.removesuffix(_SEND_GOAL)):
             return
         self._servers[s.key] = name
-        if name in self.services:
-            return
+        if name.endswith(_SEND_GOAL):
+            self._action_server(name.removesuffix(_SEND_GOAL), s)
+        elif name not in self.services:
+            self._service_server(name, s)
+
+    def _server_left(self, name: str) -> None:
+        if name.endswith(_SEND_GOAL):
+            route: ServiceRoute | ActionRoute | None = self.actions.pop(
+                name.removesuffix(_SEND_GOAL), None)
+        else:
+            route = self.services.pop(name, None)
+        if route is not None:
+            route.close()
+            self.logger.info("ROS 2 %s %s: its server left, route closed",
+                             "action" if isinstance(route, ActionRoute) else "service",
+                             route.name)
+
+    def _service_server(self, name: str, s: Any) -> None:
         try:
             ros_type = dds_to_ros(s.type_name).removesuffix("_Request")
             srv = lookup_service(ros_to_zenros(ros_type))
@@ -212,16 +253,38 @@ class Ros2DdsBridge(Node):
             self.problems(f"srvtype {s.type_name}", "ROS 2 service %s has type %s, which "
                           "zenros does not know: not bridged", name, s.type_name)
             return
-        hash_there, ours = _user_hash(s.qos), type_hash(ros_name_of(srv.Request))
-        if hash_there and hash_there != ours:
-            self.problems(f"srvhash {name}", "ROS 2 service %s: request type %s has hash %s "
-                          "there, %s in zenros: not bridged", name, s.type_name, hash_there, ours)
+        if not self._same_hash(name, s, ros_name_of(srv.Request)):
             return
         self.services[name] = ServiceRoute(self, name, srv, self.service_timeout)
         self.logger.info("ROS 2 service %s (%s) -> zenros", name, ros_type)
 
+    def _action_server(self, name: str, s: Any) -> None:
+        if name in self.actions:
+            return
+        action: ActionType
+        try:
+            ros_type = dds_to_ros(s.type_name).removesuffix("_SendGoal_Request")
+            action = lookup_action(ros_type)
+        except (UnknownTypeError, ValueError):
+            self.problems(f"acttype {s.type_name}", "ROS 2 action %s has type %s, which "
+                          "zenros does not know: not bridged", name, s.type_name)
+            return
+        if not self._same_hash(name, s, f"{ros_type}_SendGoal_Request"):
+            return
+        self.actions[name] = ActionRoute(self, name, action)
+        self.logger.info("ROS 2 action %s (%s) -> zenros", name, ros_type)
+
+    def _same_hash(self, name: str, s: Any, ros_type: str) -> bool:
+        """Whether a DDS request reader's type hash (if it says one) is zenros's."""
+        hash_there, ours = _user_hash(s.qos), type_hash(ros_type)
+        if hash_there and hash_there != ours:
+            self.problems(f"srvhash {name}", "ROS 2 service %s: request type %s has hash %s "
+                          "there, %s in zenros: not bridged", name, s.type_name, hash_there, ours)
+            return False
+        return True
+
     def _writer_joined(self, w: _Writer) -> None:
-        if not self.wanted(w.name):
+        if not self.wanted(w.name) or _ACTION in w.name:  # feedback, status: the action's
             return
         try:
             ros_type = dds_to_ros(w.dds_type)
@@ -264,17 +327,23 @@ class Ros2DdsBridge(Node):
 
     def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:
         tok = self.context.keys.parse_token(key)
-        if tok is None or tok.zid == self.zid or tok.kind != "pub":
+        if tok is None or tok.zid == self.zid or tok.kind not in ("pub", "act"):
             return
         name = tok.name
+        keys, routes = ((self._zenros_pubs, self.outbound) if tok.kind == "pub"
+                        else (self._zenros_acts, self.actions_out))
         if kind == zenoh.SampleKind.DELETE:
-            self._zenros_pubs[name].discard(key)
-            if not self._zenros_pubs[name] and name in self.outbound:
-                self.outbound.pop(name).close()
-                self.logger.info("zenros %s: no publisher left, route closed", name)
+            keys[name].discard(key)
+            if not keys[name] and name in routes:
+                routes.pop(name).close()
+                self.logger.info("zenros %s: no %s left, route closed", name,
+                                 "publisher" if tok.kind == "pub" else "action server")
             return
-        self._zenros_pubs[name].add(key)
-        if name in self.outbound or not self.wanted(name):
+        keys[name].add(key)
+        if name in routes or not self.wanted(name):
+            return
+        if tok.kind == "act":
+            self._zenros_action(name, tok.type)
             return
         try:
             cls = lookup_type(tok.type)
@@ -286,19 +355,33 @@ class Ros2DdsBridge(Node):
         self.outbound[name] = Outbound(self, name, cls, QoSProfile.from_tag(tok.qos))
         self.logger.info("zenros %s (%s) -> ROS 2", name, tok.type)
 
+    def _zenros_action(self, name: str, type_name: str) -> None:
+        try:
+            route = ActionTopicsOut(self, name, lookup_action(type_name))
+        except (UnknownTypeError, ValueError) as exc:
+            self.problems(f"zacttype {name}", "zenros action %s (%s) has no ROS 2 form: %s",
+                          name, type_name, exc)
+            return
+        self.actions_out[name] = route
+        self.logger.info("zenros action %s (%s): feedback and status -> ROS 2", name,
+                         type_name)
+
     # ------------------------------------------------------------ lifecycle
 
     def _stop_worker(self) -> None:
         self._stop.set()
         self._worker.join(5)
         with self._graph_lock:
-            routes: list[Inbound | Outbound | ServiceRoute] = [
-                *self.inbound.values(), *self.outbound.values(), *self.services.values()]
+            routes: list[Inbound | Outbound | ServiceRoute | ActionRoute | ActionTopicsOut] = [
+                *self.inbound.values(), *self.outbound.values(), *self.services.values(),
+                *self.actions.values(), *self.actions_out.values()]
             for r in routes:
                 r.close()
             self.inbound.clear()
             self.outbound.clear()
             self.services.clear()
+            self.actions.clear()
+            self.actions_out.clear()
 
     def _delete_participant(self) -> None:
         self.participant.__del__()

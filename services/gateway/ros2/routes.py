@@ -31,10 +31,26 @@ from .qos import dds_qos
 if TYPE_CHECKING:
     from .bridge import Ros2DdsBridge
 
-__all__ = ["Inbound", "Outbound"]
+__all__ = ["Inbound", "Outbound", "dds_topic", "take_valid"]
 
 _ANY = SampleState.Any | ViewState.Any | InstanceState.Any
 _BATCH = 64
+
+
+def take_valid(reader: Any) -> list[tuple[bytes, Any]]:
+    """Every sample waiting in ``reader`` that has data, as (CDR bytes, sample info); none
+    once the reader is being deleted. Samples without data (a writer left) are dropped."""
+    out: list[tuple[bytes, Any]] = []
+    while True:
+        try:
+            batch = ddspy_take(reader._ref, _ANY, _BATCH)
+        except Exception:  # noqa: BLE001 the reader is being deleted
+            return out
+        if isinstance(batch, int):
+            return out
+        out.extend((data, info) for data, info in batch if info.valid_data)
+        if len(batch) < _BATCH:
+            return out
 
 
 def dds_topic(bridge: Ros2DdsBridge, name: str, ros_type: str) -> Topic[Any]:
@@ -65,15 +81,7 @@ class Inbound:
         self._on_data(self.reader)  # a transient-local backlog may be there already
 
     def _on_data(self, reader: Any) -> None:
-        try:
-            batch = ddspy_take(reader._ref, _ANY, _BATCH)
-        except Exception:  # noqa: BLE001 the reader is being deleted
-            return
-        if isinstance(batch, int):
-            return
-        for data, info in batch:
-            if not info.valid_data:  # a writer left or disposed: no payload
-                continue
+        for data, info in take_valid(reader):
             try:
                 msg = self.cdr.decode(data)
             except CodecError as exc:
@@ -83,8 +91,6 @@ class Inbound:
                 continue
             self.pub.publish(msg)
             self.forwarded += 1
-        if len(batch) == _BATCH:
-            self._on_data(reader)
 
     def close(self) -> None:
         self.reader.set_listener(None)

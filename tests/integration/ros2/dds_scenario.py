@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -53,9 +54,11 @@ class Procs:
         return {str(i): self.stop(p)[-4000:] for i, p in enumerate(self.procs)}
 
 
-def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str, Any]]:
+def lines_of(p: subprocess.Popen[str], n: int, timeout: float,
+             until: Callable[[list[dict[str, Any]]], bool] | None = None) -> list[dict[str, Any]]:
     """The first n JSON lines (after the ready line) the rclpy peer printed (read from the
-    pipe's descriptor: lines already in a reader's buffer would not wake a select)."""
+    pipe's descriptor: lines already in a reader's buffer would not wake a select); with
+    ``until``, every line read until ``until(lines)`` holds (or n lines, or the timeout)."""
     import selectors
     assert p.stdout is not None
     fd = p.stdout.fileno()
@@ -64,7 +67,7 @@ def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str,
     out: list[dict[str, Any]] = []
     buf = b""
     deadline = time.monotonic() + timeout
-    while len(out) < n and time.monotonic() < deadline:
+    while len(out) < n and time.monotonic() < deadline and not (until and until(out)):
         if not sel.select(deadline - time.monotonic()):
             continue
         chunk = os.read(fd, 65536)
@@ -73,7 +76,7 @@ def lines_of(p: subprocess.Popen[str], n: int, timeout: float) -> list[dict[str,
         buf += chunk
         *lines, buf = buf.split(b"\n")
         out.extend(d for d in map(json.loads, filter(None, lines)) if "ready" not in d)
-    return out[:n]
+    return out if until else out[:n]
 
 
 def children_of(pid: int) -> list[int]:
@@ -149,6 +152,80 @@ def sim_cmd_vel() -> dict[str, Any]:
     return res
 
 
+def action_out(procs: Procs, node: Node) -> dict[str, Any]:
+    """A zenros ActionClient -> an rclpy test_msgs/Fibonacci ActionServer (rclpy_action_peer.py)
+    through the bridge: feedback and success, rejection, abort, cancel, the server leaving."""
+    from zenros.action import ActionClient
+    from zenros.errors import GoalRejectedError
+    from zenros.msgs.test_msgs import Fibonacci
+    res: dict[str, Any] = {}
+    graph = node.context.graph
+    peer = procs.start(str(HERE / "rclpy_action_peer.py"), "/fibonacci")
+    client = ActionClient(node, Fibonacci, "/fibonacci")
+    res["available"] = client.wait_for_server(60)
+    res["servers"] = [t.node for t in graph.action_servers("/fibonacci")]
+    feedback: list[list[int]] = []
+    r = client.send_goal(Fibonacci.Goal(order=5), lambda m: feedback.append(list(m.feedback.sequence)),
+                         timeout=60)
+    res["done"] = [r.status.name, list(r.result.sequence)]
+    res["feedback"] = feedback
+    try:
+        client.send_goal(Fibonacci.Goal(order=-1), timeout=30)
+        res["rejected"] = False
+    except GoalRejectedError as exc:
+        res["rejected"] = str(exc)
+    r = client.send_goal(Fibonacci.Goal(order=13), timeout=60)
+    res["aborted"] = [r.status.name, len(r.result.sequence)]
+    fb2: list[list[int]] = []
+    h = client.send_goal_async(Fibonacci.Goal(order=50), lambda m: fb2.append(list(m.feedback.sequence)))
+    res["long_feedback"] = wait_for(lambda: len(fb2) >= 2, 30)
+    res["cancel_accepted"] = h.cancel(10)
+    r = h.result(30)
+    res["canceled"] = [r.status.name, len(r.result.sequence) < 52]
+    # the rclpy server's goal events, in order
+    res["served"] = lines_of(peer, 8, 10)
+    procs.stop(peer)
+    res["route_left"] = wait_for(lambda: not graph.action_servers("/fibonacci"), 30)
+    client.close()
+    return res
+
+
+def action_in(procs: Procs, node: Node) -> dict[str, Any]:
+    """A zenros test_msgs/Fibonacci ActionServer as rclpy sees it through the bridge: in its
+    action graph, feedback and status on its topics; its services are not offered (an rclpy
+    client's requests cannot be answered from cyclonedds: docs/ros2.md, "Limits")."""
+    import time
+
+    from zenros.action import ActionClient, ActionServer
+    from zenros.msgs.test_msgs import Fibonacci
+    res: dict[str, Any] = {}
+
+    def execute(gh: Any) -> Any:
+        seq = [0, 1]
+        for _ in range(gh.request.order):
+            seq.append(seq[-1] + seq[-2])
+            gh.publish_feedback(Fibonacci.Feedback(sequence=list(seq)))
+            time.sleep(0.2)
+        gh.succeed()
+        return Fibonacci.Result(sequence=seq)
+
+    ActionServer(node, Fibonacci, "/zfib", execute)
+    peer = procs.start(str(HERE / "rclpy_action_peer.py"), "/zfib", "--watch")
+    res["seen"] = lines_of(peer, 2, 60)  # the action in rclpy's graph, wait_for_server
+    client = ActionClient(node, Fibonacci, "/zfib")
+    r = client.send_goal(Fibonacci.Goal(order=5), timeout=30)
+    res["goal"] = r.goal_id.hex
+    res["done"] = [r.status.name, list(r.result.sequence)]
+    # the last feedback and a status saying the goal succeeded (two topics: in either
+    # order), within 10 s
+    got = lines_of(peer, 1000, 10, until=lambda got: (
+        any([res["goal"], 4] in g.get("status", []) for g in got)
+        and any(g.get("feedback", [0, []])[1] == r.result.sequence for g in got)))
+    res["fb"] = [g["feedback"] for g in got if "feedback" in g]
+    res["statuses"] = [g["status"] for g in got if "status" in g]
+    return res
+
+
 def main(case: str) -> dict[str, Any]:
     if case == "sim":
         return sim_cmd_vel()
@@ -157,7 +234,8 @@ def main(case: str) -> dict[str, Any]:
     procs = Procs()
     res: dict[str, Any] = {"case": case}
     bridge = procs.start("-m", "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{port}",
-                         "--prefix", prefix, "-p", "domain_id:=0", stdout=subprocess.DEVNULL)
+                         "--prefix", prefix, "-p", "domain_id:=0",
+                         "-p", "types:=zenros.msgs.test_msgs", stdout=subprocess.DEVNULL)
     ctx = Context(SessionOptions(connect=[f"tcp/127.0.0.1:{port}"]), prefix=prefix)
     node = Node("zen_side", context=ctx)
     graph = ctx.graph
@@ -233,6 +311,10 @@ def main(case: str) -> dict[str, Any]:
             res["served"] = [d["served"] for d in lines_of(peer, 3, 10)]
             procs.stop(peer)
             res["route_left"] = wait_for(lambda: not graph.servers("/set_flag"), 30)
+        elif case == "act_out":
+            res.update(action_out(procs, node))
+        elif case == "act_in":
+            res.update(action_in(procs, node))
         elif case == "bad":
             from cyclonedds.domain import DomainParticipant
             from cyclonedds.pub import DataWriter

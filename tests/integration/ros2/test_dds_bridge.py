@@ -133,3 +133,35 @@ def test_rclpy_cmd_vel_drives_the_sim_launched_with_ros2_bridge() -> None:
     # (the peer sends a sane command: one beyond 10x the chassis's limits is refused and
     # stops the robot, which is what made this flaky while angular.z counted samples)
     assert res["moved"], res
+
+
+def test_a_zenros_action_client_drives_an_rclpy_action_server() -> None:
+    res = scenario("act_out")
+    assert res["available"] and res["servers"] == ["/ros2_dds_bridge"], res
+    # goal 5: five feedback messages (the sequence so far), then SUCCEEDED with the sequence
+    assert res["done"] == ["SUCCEEDED", [0, 1, 1, 2, 3, 5, 8]], res["bridge_log"]
+    assert res["feedback"] == [[0, 1, 1], [0, 1, 1, 2], [0, 1, 1, 2, 3], [0, 1, 1, 2, 3, 5],
+                               [0, 1, 1, 2, 3, 5, 8]], res
+    assert res["rejected"] and "rejected by the ROS 2 server" in res["rejected"], res
+    assert res["aborted"] == ["ABORTED", 15], res
+    assert res["long_feedback"] and res["cancel_accepted"], res
+    assert res["canceled"] == ["CANCELED", True], res
+    assert res["served"] == [{"goal": 5}, {"end": "succeeded"}, {"goal": -1}, {"goal": 13},
+                             {"end": "aborted"}, {"goal": 50}, {"cancel": True},
+                             {"end": "canceled"}], res
+    assert res["route_left"], res["bridge_log"]  # the rclpy server left: so did the action
+
+
+def test_a_zenros_action_server_is_visible_to_rclpy_but_not_callable() -> None:
+    """The rclpy-client direction stops at Fast DDS's request identity (docs/ros2.md,
+    "Limits"): what does cross is the action in rclpy's graph and its feedback and status."""
+    res = scenario("act_in")
+    assert res["seen"][0] == {"action": ["/zfib", ["test_msgs/action/Fibonacci"]]}, res
+    # its services are not offered on DDS: an rclpy ActionClient does not find a server
+    assert res["seen"][1] == {"server_ready": False}, res
+    assert res["done"] == ["SUCCEEDED", [0, 1, 1, 2, 3, 5, 8]], res["bridge_log"]
+    # the zenros goal's feedback reached rclpy under its goal id (the last ones at least:
+    # the first may go before the rclpy reader matched), and its status ended SUCCEEDED (4)
+    assert res["fb"] and all(f[0] == res["goal"] for f in res["fb"]), res
+    assert res["fb"][-1][1] == [0, 1, 1, 2, 3, 5, 8], res
+    assert any([res["goal"], 4] in st for st in res["statuses"]), res

@@ -10,12 +10,14 @@ import time
 import uuid
 from typing import Any
 
-import msgspec
 import pytest
 from zenros.action import ActionClient, ActionServer, GoalStatus
 from zenros.errors import ServiceError
-from zenros.message import Message, define_action
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest
+from zenros.msgs.test_msgs import Fibonacci
+from zenros.msgs.test_msgs import FibonacciFeedback as FibFeedback
+from zenros.msgs.test_msgs import FibonacciGoal as FibGoal
+from zenros.msgs.test_msgs import FibonacciResult as FibResult
 from zenros.node import Node
 from zenros.ros2.registry import register_interface
 from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
@@ -29,22 +31,6 @@ from rosref import SHARE, ros_class
 
 
 # test_msgs/action/Fibonacci: the action with a wheel (rclpy's classes, the JSON's hashes)
-class FibGoal(Message):
-    __msgtype__ = "test_msgs/FibonacciGoal"
-    order: int = 0
-
-
-class FibResult(Message):
-    __msgtype__ = "test_msgs/FibonacciResult"
-    sequence: list[int] = msgspec.field(default_factory=list)
-
-
-class FibFeedback(Message):
-    __msgtype__ = "test_msgs/FibonacciFeedback"
-    sequence: list[int] = msgspec.field(default_factory=list)
-
-
-Fibonacci = define_action("test_msgs/Fibonacci", FibGoal, FibResult, FibFeedback)
 FIB = "test_msgs/action/Fibonacci"
 
 
