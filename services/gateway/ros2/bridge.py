@@ -10,6 +10,9 @@ ROS 2, found by DDS discovery (DCPSPublication/DCPSSubscription) and zenros live
   its readers ignore its own writers (IGNORE_LOCAL), zenros tokens and samples of the bridge's
   own session are skipped.
 - ROS 2 nodes (``ros_discovery_info``) get a node token each in the zenros graph.
+- ROS 2 services and action servers are offered to zenros clients (`ServiceRoute`,
+  `ActionRoute`); a zenros action server's feedback and status are written to DDS
+  (`ActionTopicsOut`; its services cannot be: docs/ros2.md, "Limits").
 
 Bad input: a sample that does not decode is dropped, counted and logged once per sender; an
 unknown type or another hash is logged once per topic and the topic is skipped.
@@ -146,8 +149,9 @@ class Ros2DdsBridge(Node):
         for mod in filter(None, (m.strip() for m in modules.split(","))):
             try:
                 importlib.import_module(mod)
-            except ImportError as exc:
-                raise ConfigError(f"types: cannot import {mod}: {exc}") from exc
+            except Exception as exc:  # noqa: BLE001 whatever it raised, the bridge cannot start
+                raise ConfigError(f"types: cannot import {mod}: {type(exc).__name__}: "
+                                  f"{exc}") from exc
 
     # ------------------------------------------------------------ helpers for the routes
 
@@ -278,8 +282,9 @@ class Ros2DdsBridge(Node):
         """Whether a DDS request reader's type hash (if it says one) is zenros's."""
         hash_there, ours = _user_hash(s.qos), type_hash(ros_type)
         if hash_there and hash_there != ours:
-            self.problems(f"srvhash {name}", "ROS 2 service %s: request type %s has hash %s "
-                          "there, %s in zenros: not bridged", name, s.type_name, hash_there, ours)
+            self.problems(f"srvhash {name}", "ROS 2 service or action %s: request type %s has "
+                          "hash %s there, %s in zenros: not bridged", name, s.type_name,
+                          hash_there, ours)
             return False
         return True
 

@@ -165,3 +165,16 @@ def test_a_zenros_action_server_is_visible_to_rclpy_but_not_callable() -> None:
     assert res["fb"] and all(f[0] == res["goal"] for f in res["fb"]), res
     assert res["fb"][-1][1] == [0, 1, 1, 2, 3, 5, 8], res
     assert any([res["goal"], 4] in st for st in res["statuses"]), res
+
+
+def test_a_types_module_that_does_not_import_stops_the_bridge_at_start() -> None:
+    reason = _unavailable()
+    if reason:
+        pytest.skip(reason)
+    from zenros.testing import free_port
+    p = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, "-m",
+                        "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{free_port()}",
+                        "-p", "types:=no_such_types_module"],
+                       capture_output=True, text=True, timeout=60, check=False)
+    assert p.returncode == 3, p.stderr
+    assert "types: cannot import no_such_types_module: ModuleNotFoundError" in p.stderr, p.stderr
