@@ -149,7 +149,7 @@ class Ros2DdsBridge(Node):
         for mod in filter(None, (m.strip() for m in modules.split(","))):
             try:
                 importlib.import_module(mod)
-            except Exception as exc:  # noqa: BLE001 whatever it raised, the bridge cannot start
+            except Exception as exc:  # whatever it raised, the bridge cannot start
                 raise ConfigError(f"types: cannot import {mod}: {type(exc).__name__}: "
                                   f"{exc}") from exc
 
