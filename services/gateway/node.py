@@ -10,40 +10,33 @@ from pathlib import Path
 from typing import Any
 
 from starlette.types import ASGIApp
+from zenros.errors import ConfigError, NodeClosedError
 from zenros.home import data_dir
 from zenros.node import Node
-from zenros.param_client import ParameterClient
 
-from .http.app import HttpApp, build_api
-from .http.context import Context
+from .http.app import HttpApp
 from .http.dashboard import dashboard_app
+from .http.fleet import FleetApi
 from .http.ws import ws_app
 from .modbus.front import ModbusFront
-from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
-from .ports.io_link import IoLink
-from .ports.link import RobotLink
 from .ports.native import NativeCommands
-from .ports.nav_calls import NavCalls
-from .ports.nav_link import NavLink
-from .ports.navigator import Navigator
-from .ports.tasks_link import TasksLink
-from .ports.topic_hub import TopicHub
+from .ports.topic_hub import TopicError, TopicHub
+from .robot import Robot, RobotOptions, RobotView, robot_name
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .serial.bridge import SerialBridge
 from .state.config import default_config_path, load_config
-from .state.core import Core, make_identity
-from .state.settings import Settings
-from .state.speech import AudioStore, Speech
+from .state.tokens import TokenStore
 from .udp.discovery import Discovery
 
 __all__ = ["GatewayNode"]
 
 
 class GatewayNode(Node):
-    """The protocol gateway of one robot (its namespace): specs/robot-api.md over the network.
+    """The protocol gateway of one robot (its namespace), or of a fleet (``robots``,
+    ``discover_robots``): specs/robot-api.md over the network.
 
     Parameters:
         host: address every server binds (default 127.0.0.1).
@@ -72,6 +65,13 @@ class GatewayNode(Node):
             docs/foxglove.md).
         fs_root: the folder the /fs API works in (default $ZENROS_HOME; docs/gateway.md).
         fs_max_upload: largest /fs upload in bytes (default 32 MiB).
+        robots: a fleet gateway's robots (namespaces, one chunk each): the robot API of each
+            under /api/v1/robots/<name>/ (docs/fleet.md); default [] (one robot: this node's
+            namespace).
+        discover_robots: also serve every robot that shows up in the graph (a namespace
+            with a ``chassis`` node), as it appears (default false).
+        default_robot: the robot the single-robot paths (/api/v1/..., ws://host:3547/<topic>,
+            Modbus, serial, discovery) serve in a fleet (default: the first of ``robots``).
     """
 
     node_name = "gateway"
@@ -96,36 +96,20 @@ class GatewayNode(Node):
         config_path = Path(config_file) if config_file else default_config_path()
         config = load_config(config_path,
                              {"no_token_check": True} if no_check else None)
-        self.core = Core(config, Settings(self.data_dir / "settings.json"),
-                         make_identity(self.namespace, version, rest_port), deadman,
-                         self.declare_parameter("startup_grace", 30.0))
-        self.link = RobotLink(self, self.core, rate)
+        files = FileRoot(data_dir(self.declare_parameter("fs_root", "")), [config_path],
+                         self.declare_parameter("fs_max_upload", 32 * 1024 * 1024))
+        self.options = RobotOptions(config, TokenStore(config), files, version, rest_port,
+                                    rate, deadman, self.declare_parameter("startup_grace", 30.0),
+                                    max_body)
+        self.robots: dict[str, Robot] = {}
+        self.fleet = self._fleet()
+        robot = self.robots[self.fleet.default] if self.fleet else self._own_robot()
+        self.robot = robot
+        self.core, self.link, self.tasks, self.hub = robot.core, robot.link, robot.tasks, robot.hub
+        self.navigator, self.nav_link, self.io = robot.navigator, robot.nav_link, robot.io
+        self.files, self.speech, self.audio, self.api = files, robot.speech, robot.audio, robot.api
         self.runner = AsyncRunner()
         self.on_close(self.runner.stop)  # after every server on it has stopped
-        self.tasks = TasksLink(self, self.core.presence)
-        self.hub = TopicHub(self)
-        self.navigator = Navigator(self, self.core)
-        self.navigator.tasks = self.tasks
-        self.core.nav = self.navigator
-        self.nav_link = NavLink(self, self.core.presence)
-        presence = self.core.presence
-        presence.watch("nav", self.navigator.available)
-        presence.watch("tasks", self.tasks.available)
-        self.on_close(self.context.graph.add_listener(lambda ev, tok: presence.refresh()))
-        self.core.services["maps"] = self.nav_link.maps
-        self.io = IoLink(self)
-        self.files = FileRoot(
-            data_dir(self.declare_parameter("fs_root", "")), [config_path],
-            self.declare_parameter("fs_max_upload", 32 * 1024 * 1024))
-        self.speech = Speech(lambda: self.now().nanoseconds / 1e9)
-        self.audio = AudioStore(self.data_dir / "audio.json")
-        nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
-        self.api = build_api(Context(
-            core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
-            io=self.io, link=self.link, hub=self.hub,
-            params=ParameterClient(self.context, node=self.fqn), files=self.files,
-            speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(self, self.core.presence)), max_body, self.logger)
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:
@@ -133,14 +117,21 @@ class GatewayNode(Node):
             self._close_on_loop(self.rosbridge.stop)
             self.runner.call(self.rosbridge.start())
         self.foxglove = self._start_foxglove(host, self.declare_parameter("foxglove_port", -1))
-        self.http = HttpApp(self.api, dashboard_app(
-            self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT, self.namespace))
+        self.http = HttpApp(self.fleet or self.api, dashboard_app(
+            self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
+            robot.namespace, robots=self._robot_names if self.fleet else None))
         self.rest_port = self.serve_asgi(self.http, host, rest_port)
-        self.core.identity = replace(self.core.identity, port=self.rest_port)
+        self.options = replace(self.options, rest_port=self.rest_port)
+        for each in self.robots.values():
+            each.core.identity = replace(each.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
+        if self.fleet is not None:
+            self.logger.info("fleet gateway: %s; the single-robot paths serve %s",
+                             ", ".join(self.robots), self.fleet.default)
         self.ws_port = self.serve_asgi(
-            ws_app(self.hub, self.core.tokens), host, ws_port,
+            ws_app(self.hub, self.core.tokens, self._hub_of if self.fleet else None),
+            host, ws_port,
             ws_ping_interval=self.declare_parameter("ws_ping_interval", 5.0),
             ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0),
             ws_max_size=self.declare_parameter("ws_max_frame", 1 << 20))
@@ -169,6 +160,96 @@ class GatewayNode(Node):
                              discovery_port or 22002, discovery_period)
         else:
             self.discovery = None
+        if self.fleet is not None and self.fleet.on_list is not None:
+            self._discover_soon()  # the robots already in the graph
+
+    # ------------------------------------------------------------------ robots
+
+    def _own_robot(self) -> Robot:
+        """The single-robot gateway's robot: its own namespace, its ports on this node."""
+        robot = self.robots[self.namespace.strip("/")] = Robot(self, self.data_dir,
+                                                                self.options)
+        return robot
+
+    def _fleet(self) -> FleetApi | None:
+        """The fleet's API when ``robots`` or ``discover_robots`` is set (else None): each
+        configured robot built now (and the default); discovery on graph changes."""
+        names = [robot_name(n) for n in self.declare_parameter("robots", [])]
+        discover = self.declare_parameter("discover_robots", False)
+        default = self.declare_parameter("default_robot", "")
+        if not (names or discover):
+            if default:
+                raise ConfigError("default_robot is set, but neither robots nor "
+                                  "discover_robots: a single-robot gateway serves its own "
+                                  "namespace")
+            return None
+        default = robot_name(default) if default else (names[0] if names else "")
+        if not default:
+            raise ConfigError("discover_robots without default_robot (or robots): name the "
+                              "robot the single-robot paths serve, e.g. default_robot: robot1")
+        for name in dict.fromkeys([*names, default]):
+            self._add_robot(name)
+        fleet = FleetApi(self.options.tokens, default)
+        for name, robot in self.robots.items():
+            fleet.add(name, robot.api)
+        if discover:
+            fleet.on_list = self._discover
+            graph = self.context.graph
+            self.on_close(graph.add_listener(lambda ev, tok: self._discover_soon()))
+        return fleet
+
+    def _add_robot(self, name: str) -> Robot:
+        """Build robot ``name``'s ports on a `RobotView` (``/<name>/gateway``) of this node."""
+        given = self.get_parameter("data_dir")
+        home = Path(given) if given else self._default_dir().parent
+        view = self.own(RobotView(f"/{name}", self.context, home / name, self.options))
+        robot = self.robots[name] = view.robot
+        return robot
+
+    def _discover_soon(self) -> None:  # on Zenoh's thread: the work goes to the loop
+        runner = getattr(self, "runner", None)
+        if runner is not None and not self.closed:
+            runner.loop.call_soon_threadsafe(self._discover)
+
+    def _discover(self) -> None:
+        """Serve every robot the graph shows (a namespace with a ``chassis`` node)."""
+        if self.closed or self.fleet is None:
+            return
+        for ns in sorted({n.name.rsplit("/", 1)[0] for n in self.graph.nodes()
+                          if n.name.endswith("/chassis")}):
+            name = ns.strip("/")
+            if not name or "/" in name or name in self.robots:
+                continue  # a robot's name is one chunk: /robots/<name>/... in the URL
+            try:
+                self.fleet.add(name, self._add_robot(name).api)
+            except NodeClosedError:
+                return
+            except Exception:  # one robot that cannot be built never stops the others
+                self.logger.exception("cannot serve robot %s", name)
+                continue
+            self.logger.info("serving robot %s (found in the graph)", name)
+
+    def _robot_names(self) -> list[str]:
+        if self.fleet is not None and self.fleet.on_list is not None:
+            self._discover()
+        return list(self.robots)
+
+    def _hub_of(self, path: str) -> tuple[TopicHub, str]:
+        """The topic WebSocket's hub and topic for a URL path: ``robots/<name>/<topic>`` is
+        robot ``name``'s, any other path the default robot's.
+
+        Raises:
+            TopicError: no robot ``name`` on this gateway.
+        """
+        rest = path.strip("/")
+        if rest.startswith("robots/"):
+            name, _, topic = rest[len("robots/"):].partition("/")
+            robot = self.robots.get(name)
+            if robot is None:
+                raise TopicError(f"no robot {name!r} on this gateway "
+                                 f"(GET /api/v1/robots lists its robots)")
+            return robot.hub, topic
+        return self.hub, rest
 
     def _start_foxglove(self, host: str, port: int) -> Any:
         if port < 0:

@@ -66,10 +66,10 @@ def build_api(ctx: Context, max_body: int = 64 * 1024, logger: logging.Logger | 
 
 
 class HttpApp:
-    """Routes ``/api/v1...`` to the `Api`; anything else to ``fallback`` (e.g. the dashboard),
-    or a §1.2 404."""
+    """Routes ``/api/v1...`` to ``api`` (an `Api`, or a fleet's `FleetApi`); anything else to
+    ``fallback`` (e.g. the dashboard), or a §1.2 404."""
 
-    def __init__(self, api: Api, fallback: ASGIApp | None = None) -> None:
+    def __init__(self, api: ASGIApp, fallback: ASGIApp | None = None) -> None:
         self.api = api
         self.fallback = fallback
 
