@@ -1,11 +1,15 @@
 """`zenros launch fleet.yaml robots:=3` and its one gateway: goals sent through the gateway's
 REST API to each robot (each to its own robot's path, robot1's also at the single-robot
 path) move each robot to its own goal; an e-stop through the gateway's rosbridge stops that
-robot alone; each robot's tasks are its own."""
+robot alone; each robot's tasks are its own. The dashboard's fleet view (headless Chromium)
+lists every robot, draws the others on the map, e-stops one from its row and drives the one
+picked."""
 
 from __future__ import annotations
 
 import math
+import os
+import shutil
 import sys
 import time
 from collections.abc import Iterator
@@ -25,6 +29,9 @@ ROBOTS = ("robot1", "robot2", "robot3")
 SPACING = 2.5  # fleet.yaml: robot k starts at ((k - 1) * 2.5, 0, 0)
 AHEAD = 1.2    # each robot's goal: this far ahead of where it starts
 STOPPED = "robot2"
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+CHROMEDRIVER = shutil.which("chromedriver")
+ARTIFACTS = Path(os.environ.get("ZENROS_ARTIFACTS") or ROOT / "test-artifacts")
 
 
 @dataclass
@@ -139,3 +146,71 @@ def test_goals_and_estop_through_the_gateway_reach_their_own_robot(fleet: Fleet)
         assert all(near(fleet.robots()[n], start_of(n) + AHEAD, 0.25) for n in moving)
     finally:
         ros.close()
+
+
+@pytest.mark.skipif(CHROMIUM is None or CHROMEDRIVER is None,
+                    reason="headless Chromium is not installed (apt-get install chromium "
+                           "chromium-driver)")
+def test_the_dashboards_fleet_view(fleet: Fleet, tmp_path: Path) -> None:
+    from selenium import webdriver
+    from selenium.webdriver.chrome.options import Options
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common.by import By
+
+    options = Options()
+    options.binary_location = str(CHROMIUM)
+    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update",
+                 "--window-size=1280,800", f"--user-data-dir={tmp_path / 'chromium'}"):
+        options.add_argument(flag)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    d: Any = webdriver.Chrome(service=Service(str(CHROMEDRIVER)), options=options)
+    try:
+        d.set_page_load_timeout(30)
+        d.get(str(fleet.http.base_url).removesuffix("/api/v1/"))
+
+        def rows() -> dict[str, dict[str, str]]:
+            out: dict[str, dict[str, str]] = d.execute_script(
+                "const out = {}; for (const li of document.querySelectorAll('#fleet li'))"
+                " out[li.dataset.robot] = {...li.dataset, current: "
+                "li.classList.contains('current') ? '1' : ''}; return out;")
+            return out
+
+        def others() -> list[str]:
+            names: list[str] = d.execute_script(
+                "return window.dashboard.view.others.map((o) => o.name);")
+            return sorted(names)
+
+        assert d.find_element(By.ID, "fleet-card").is_displayed()
+        assert wait_for(lambda: set(rows()) == set(ROBOTS) and all(
+            r["state"] and r["battery"] for r in rows().values()), 30), rows()
+        assert rows()["robot1"]["current"] and not rows()["robot2"]["current"]
+        assert wait_for(lambda: others() == ["robot2", "robot3"], 30), others()
+        # e-stop robot3 from its row, then release it
+        for on in (True, False):
+            d.find_element(By.CSS_SELECTOR, '#fleet li[data-robot="robot3"] .estop-small').click()
+            want = {n: on and n == "robot3" for n in ROBOTS}
+            flag = "1" if on else "0"
+            assert wait_for(lambda w=want: {n: r["estop"] for n, r in fleet.robots().items()}
+                            == w, 20), fleet.robots()
+            assert wait_for(lambda f=flag: rows()["robot3"]["estop"] == f, 20), rows()
+        # pick robot2: the page drives robot2 (a goal from the map moves robot2 alone)
+        d.find_element(By.CSS_SELECTOR, '#fleet li[data-robot="robot2"] .drive').click()
+        assert wait_for(lambda: d.find_element(By.ID, "robot-name").text == "robot2", 30)
+        assert wait_for(lambda: rows().get("robot2", {}).get("current") == "1", 30), rows()
+        assert wait_for(lambda: others() == ["robot1", "robot3"], 30), others()
+        before = fleet.robots()
+        x = before["robot2"]["pose"]["x"] + 0.8
+        assert wait_for(lambda: d.execute_script(
+            "return document.getElementById('pose').dataset.x !== undefined;"), 30)
+        d.execute_script("window.dashboard.navigate(arguments[0], 0, 0, null);", x)
+        assert wait_for(lambda: near(fleet.robots()["robot2"], x, 0.25), 120), fleet.robots()
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        d.save_screenshot(str(ARTIFACTS / "dashboard-fleet.png"))
+        after = fleet.robots()
+        for name in ("robot1", "robot3"):
+            assert near(after[name], before[name]["pose"]["x"], 0.03), (before, after)
+        errors = [e for e in d.get_log("browser") if e["level"] == "SEVERE"]
+        assert errors == []
+    finally:
+        d.quit()
