@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import os
+import threading
 from collections.abc import Callable, Coroutine
 from dataclasses import replace
 from pathlib import Path
@@ -193,6 +194,7 @@ class GatewayNode(Node):
         for name, robot in self.robots.items():
             fleet.add(name, robot.api)
         if discover:
+            self._discovering = threading.Event()
             fleet.on_list = self._discover
             graph = self.context.graph
             self.on_close(graph.add_listener(lambda ev, tok: self._discover_soon()))
@@ -208,11 +210,14 @@ class GatewayNode(Node):
 
     def _discover_soon(self) -> None:  # on Zenoh's thread: the work goes to the loop
         runner = getattr(self, "runner", None)
-        if runner is not None and not self.closed:
-            runner.loop.call_soon_threadsafe(self._discover)
+        if runner is None or self.closed or self._discovering.is_set():
+            return  # a look at the graph is already on its way: it will see this change too
+        self._discovering.set()
+        runner.loop.call_soon_threadsafe(self._discover)
 
     def _discover(self) -> None:
         """Serve every robot the graph shows (a namespace with a ``chassis`` node)."""
+        self._discovering.clear()
         if self.closed or self.fleet is None:
             return
         for ns in sorted({n.name.rsplit("/", 1)[0] for n in self.graph.nodes()

@@ -76,8 +76,10 @@ def test_each_robot_answers_under_its_name_and_the_default_at_the_old_paths(
     assert all({"state", "estop", "pose", "online", "charging"} <= set(r)
                for r in listed["robots"])
     # every operation of the single-robot API is there per robot (the same handlers)
-    ops = http.get("/robots/robot3/").json()
-    assert ops["implemented"] == http.get("/").json()["implemented"]
+    ops = http.get("/robots/robot3/").json()["implemented"]
+    assert ops == [op.replace("/api/v1/", "/api/v1/robots/robot3/", 1)
+                   for op in http.get("/").json()["implemented"]]
+    assert "POST /api/v1/robots/robot3/navigation/start_nav_task" in ops
     assert http.get("/robots/robot3/system/status", params={"token": token}).json() == \
         {"status": "Free"}
 

@@ -37,8 +37,9 @@ async def index(call: Call) -> Any:
     """The API's operations, split into ``implemented`` and ``not_implemented``."""
     done: list[str] = []
     todo: list[str] = []
+    prefix = call.path.rstrip("/") or PREFIX  # /api/v1, or a fleet's /api/v1/robots/<name>
     for ep in sorted(call.api.endpoints(), key=lambda e: (e.path, e.method)):
-        (done if ep.implemented else todo).append(f"{ep.method} {PREFIX}{ep.path}")
+        (done if ep.implemented else todo).append(f"{ep.method} {prefix}{ep.path}")
     return {"version": call.ctx.core.identity.version, "implemented": done,
             "not_implemented": todo}
 
