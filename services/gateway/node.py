@@ -4,26 +4,24 @@ from __future__ import annotations
 
 import asyncio
 import os
-import threading
 from collections.abc import Callable, Coroutine
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from starlette.types import ASGIApp
-from zenros.errors import ConfigError, NodeClosedError
+from zenros.errors import ConfigError
 from zenros.home import data_dir
 from zenros.node import Node
 
+from .fleet import Fleet
 from .http.app import HttpApp
 from .http.dashboard import dashboard_app
-from .http.fleet import FleetApi
 from .http.ws import ws_app
 from .modbus.front import ModbusFront
 from .ports.fs_sandbox import FileRoot
 from .ports.native import NativeCommands
-from .ports.topic_hub import TopicError, TopicHub
-from .robot import Robot, RobotOptions, RobotView, robot_name
+from .robot import Robot, RobotOptions
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
@@ -102,9 +100,9 @@ class GatewayNode(Node):
         self.options = RobotOptions(config, TokenStore(config), files, version, rest_port,
                                     rate, deadman, self.declare_parameter("startup_grace", 30.0),
                                     max_body)
-        self.robots: dict[str, Robot] = {}
         self.fleet = self._fleet()
-        robot = self.robots[self.fleet.default] if self.fleet else self._own_robot()
+        robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
+        self.robots = self.fleet.robots if self.fleet else {robot.name: robot}
         self.robot = robot
         self.core, self.link, self.tasks, self.hub = robot.core, robot.link, robot.tasks, robot.hub
         self.navigator, self.nav_link, self.io = robot.navigator, robot.nav_link, robot.io
@@ -118,20 +116,21 @@ class GatewayNode(Node):
             self._close_on_loop(self.rosbridge.stop)
             self.runner.call(self.rosbridge.start())
         self.foxglove = self._start_foxglove(host, self.declare_parameter("foxglove_port", -1))
-        self.http = HttpApp(self.fleet or self.api, dashboard_app(
+        self.http = HttpApp(self.fleet.api if self.fleet else self.api, dashboard_app(
             self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
-            robot.namespace, robots=self._robot_names if self.fleet else None))
+            robot.namespace, robots=self.fleet.names if self.fleet else None))
         self.rest_port = self.serve_asgi(self.http, host, rest_port)
-        self.options = replace(self.options, rest_port=self.rest_port)
-        for each in self.robots.values():
-            each.core.identity = replace(each.core.identity, port=self.rest_port)
+        if self.fleet is not None:
+            self.fleet.set_port(self.rest_port)
+        else:
+            self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
         if self.fleet is not None:
             self.logger.info("fleet gateway: %s; the single-robot paths serve %s",
-                             ", ".join(self.robots), self.fleet.default)
+                             ", ".join(self.robots), robot.name)
         self.ws_port = self.serve_asgi(
-            ws_app(self.hub, self.core.tokens, self._hub_of if self.fleet else None),
+            ws_app(self.hub, self.core.tokens, self.fleet.hub_of if self.fleet else None),
             host, ws_port,
             ws_ping_interval=self.declare_parameter("ws_ping_interval", 5.0),
             ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0),
@@ -161,100 +160,23 @@ class GatewayNode(Node):
                              discovery_port or 22002, discovery_period)
         else:
             self.discovery = None
-        if self.fleet is not None and self.fleet.on_list is not None:
-            self._discover_soon()  # the robots already in the graph
+        if self.fleet is not None:
+            self.fleet.start(self.runner.loop)
 
-    # ------------------------------------------------------------------ robots
-
-    def _own_robot(self) -> Robot:
-        """The single-robot gateway's robot: its own namespace, its ports on this node."""
-        robot = self.robots[self.namespace.strip("/")] = Robot(self, self.data_dir,
-                                                                self.options)
-        return robot
-
-    def _fleet(self) -> FleetApi | None:
-        """The fleet's API when ``robots`` or ``discover_robots`` is set (else None): each
-        configured robot built now (and the default); discovery on graph changes."""
-        names = [robot_name(n) for n in self.declare_parameter("robots", [])]
+    def _fleet(self) -> Fleet | None:
+        """The fleet when ``robots`` or ``discover_robots`` is set, else None (this node's
+        namespace is the one robot)."""
+        names = self.declare_parameter("robots", [])
         discover = self.declare_parameter("discover_robots", False)
         default = self.declare_parameter("default_robot", "")
-        if not (names or discover):
-            if default:
-                raise ConfigError("default_robot is set, but neither robots nor "
-                                  "discover_robots: a single-robot gateway serves its own "
-                                  "namespace")
-            return None
-        default = robot_name(default) if default else (names[0] if names else "")
-        if not default:
-            raise ConfigError("discover_robots without default_robot (or robots): name the "
-                              "robot the single-robot paths serve, e.g. default_robot: robot1")
-        for name in dict.fromkeys([*names, default]):
-            self._add_robot(name)
-        fleet = FleetApi(self.options.tokens, default)
-        for name, robot in self.robots.items():
-            fleet.add(name, robot.api)
-        if discover:
-            self._discovering = threading.Event()
-            fleet.on_list = self._discover
-            graph = self.context.graph
-            self.on_close(graph.add_listener(lambda ev, tok: self._discover_soon()))
-        return fleet
-
-    def _add_robot(self, name: str) -> Robot:
-        """Build robot ``name``'s ports on a `RobotView` (``/<name>/gateway``) of this node."""
-        given = self.get_parameter("data_dir")
-        home = Path(given) if given else self._default_dir().parent
-        view = self.own(RobotView(f"/{name}", self.context, home / name, self.options))
-        robot = self.robots[name] = view.robot
-        return robot
-
-    def _discover_soon(self) -> None:  # on Zenoh's thread: the work goes to the loop
-        runner = getattr(self, "runner", None)
-        if runner is None or self.closed or self._discovering.is_set():
-            return  # a look at the graph is already on its way: it will see this change too
-        self._discovering.set()
-        runner.loop.call_soon_threadsafe(self._discover)
-
-    def _discover(self) -> None:
-        """Serve every robot the graph shows (a namespace with a ``chassis`` node)."""
-        self._discovering.clear()
-        if self.closed or self.fleet is None:
-            return
-        for ns in sorted({n.name.rsplit("/", 1)[0] for n in self.graph.nodes()
-                          if n.name.endswith("/chassis")}):
-            name = ns.strip("/")
-            if not name or "/" in name or name in self.robots:
-                continue  # a robot's name is one chunk: /robots/<name>/... in the URL
-            try:
-                self.fleet.add(name, self._add_robot(name).api)
-            except NodeClosedError:
-                return
-            except Exception:  # one robot that cannot be built never stops the others
-                self.logger.exception("cannot serve robot %s", name)
-                continue
-            self.logger.info("serving robot %s (found in the graph)", name)
-
-    def _robot_names(self) -> list[str]:
-        if self.fleet is not None and self.fleet.on_list is not None:
-            self._discover()
-        return list(self.robots)
-
-    def _hub_of(self, path: str) -> tuple[TopicHub, str]:
-        """The topic WebSocket's hub and topic for a URL path: ``robots/<name>/<topic>`` is
-        robot ``name``'s, any other path the default robot's.
-
-        Raises:
-            TopicError: no robot ``name`` on this gateway.
-        """
-        rest = path.strip("/")
-        if rest.startswith("robots/"):
-            name, _, topic = rest[len("robots/"):].partition("/")
-            robot = self.robots.get(name)
-            if robot is None:
-                raise TopicError(f"no robot {name!r} on this gateway "
-                                 f"(GET /api/v1/robots lists its robots)")
-            return robot.hub, topic
-        return self.hub, rest
+        if names or discover:
+            given = self.get_parameter("data_dir")
+            home = Path(given) if given else self._default_dir().parent
+            return Fleet(self, self.options, home, names, default, discover)
+        if default:
+            raise ConfigError("default_robot is set, but neither robots nor discover_robots: "
+                              "a single-robot gateway serves its own namespace")
+        return None
 
     def _start_foxglove(self, host: str, port: int) -> Any:
         if port < 0:
