@@ -15,8 +15,10 @@ Prints one JSON line with:
   sent to the last result) / robot1 driving the same distance alone (target <= 1.3).
 - ``reached``: how many of the robots' simultaneous goals succeeded (``10 of 10``).
 - ``compose``: whether each robot was one process (fleet.yaml's ``compose``).
+- ``gateway_idle_cores``: the fleet's one gateway (fleet.yaml's, every robot's API, 10 Hz
+  status each) at rest over the same window; null with ``--no-gateway``.
 
-Run: ``python bench/fleet.py [--robots N] [--window S] [--no-compose]``.
+Run: ``python bench/fleet.py [--robots N] [--window S] [--no-compose] [--no-gateway]``.
 """
 
 from __future__ import annotations
@@ -111,6 +113,7 @@ def main() -> None:
     ap.add_argument("--window", type=float, default=20.0, help="idle measurement (s)")
     ap.add_argument("--ahead", type=float, default=1.2, help="goal distance (m)")
     ap.add_argument("--no-compose", dest="compose", action="store_false")
+    ap.add_argument("--no-gateway", dest="gateway", action="store_false")
     args = ap.parse_args()
     home = Path(tempfile.mkdtemp(prefix="zenros-fleet-"))
     prefix, endpoint = unique_prefix(), f"tcp/127.0.0.1:{free_port()}"
@@ -118,7 +121,10 @@ def main() -> None:
     t0 = time.monotonic()
     launch = Proc([sys.executable, "-m", "zenros.cli", "launch",
                    str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={args.robots}",
-                   f"compose:={'true' if args.compose else 'false'}", f"data:={home}"], env=env)
+                   f"compose:={'true' if args.compose else 'false'}", f"data:={home}",
+                   f"gateway:={'true' if args.gateway else 'false'}",
+                   *(f"{name}:={free_port()}" for name in (
+                       "rest_port", "ws_port", "rosbridge_port", "modbus_port"))], env=env)
     ctx: Context | None = None
     extra: list[Proc] = []
     try:
@@ -131,6 +137,12 @@ def main() -> None:
             raise RuntimeError(f"not in the graph: {sorted(want - set(g.node_names()))}")
         converge = time.monotonic() - t0
         robot_pids = {n.name: n.pid for n in g.nodes() if n.name in want}
+        gateway: dict[str, int] = {}
+        if args.gateway:
+            if not g.wait_for(lambda: {"/gateway", *(f"/robot{k}/gateway" for k in range(
+                    1, args.robots + 1))} <= set(g.node_names()), 120):
+                raise RuntimeError("the gateway does not serve every robot")
+            gateway = {"gateway": next(n.pid for n in g.nodes() if n.name == "/gateway")}
         bare = Proc([sys.executable, "-c", BARE, endpoint])
         idle = Proc([sys.executable, "-m", "zenros.examples.add_two_ints_server", "-e", endpoint,
                      "--name", "idle_probe"], env=env)
@@ -139,7 +151,8 @@ def main() -> None:
             raise RuntimeError(bare.output + idle.output)
         time.sleep(5)  # both settle: first declarations and liveliness exchanges done
         pids = {f"pid{p}": p for p in set(robot_pids.values())}
-        rates = cpu_rates({**pids, "bare": bare.popen.pid, "idle": idle.popen.pid}, args.window)
+        rates = cpu_rates({**pids, "bare": bare.popen.pid, "idle": idle.popen.pid, **gateway},
+                          args.window)
         robots_cores = sum(v for k, v in rates.items() if k.startswith("pid"))
         node = Node("fleet_bench", context=ctx)
         alone, _ = drive(node, [1], args.ahead, 120)
@@ -154,9 +167,9 @@ def main() -> None:
             "idle_process_ratio": round(rates["idle"] / max(rates["bare"], 1e-4), 2),
             "goal_alone_s": round(alone, 2), "goal_together_s": round(together, 2),
             "goal_time_ratio": round(together / alone, 2),
-            "reached": f"{reached} of {args.robots}",
             "load_after": round(os.getloadavg()[0], 1),
-        })
+        }, reached=f"{reached} of {args.robots}",
+            gateway_idle_cores=round(rates["gateway"], 4) if gateway else None)
     finally:
         for p in extra:
             p.stop()

@@ -10,40 +10,32 @@ from pathlib import Path
 from typing import Any
 
 from starlette.types import ASGIApp
+from zenros.errors import ConfigError
 from zenros.home import data_dir
 from zenros.node import Node
-from zenros.param_client import ParameterClient
 
-from .http.app import HttpApp, build_api
-from .http.context import Context
+from .fleet import Fleet
+from .http.app import HttpApp
 from .http.dashboard import dashboard_app
 from .http.ws import ws_app
 from .modbus.front import ModbusFront
-from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
-from .ports.io_link import IoLink
-from .ports.link import RobotLink
 from .ports.native import NativeCommands
-from .ports.nav_calls import NavCalls
-from .ports.nav_link import NavLink
-from .ports.navigator import Navigator
-from .ports.tasks_link import TasksLink
-from .ports.topic_hub import TopicHub
+from .robot import Robot, RobotOptions
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
 from .runner import AsyncRunner, bind_tcp, start_uvicorn
 from .serial.bridge import SerialBridge
 from .state.config import default_config_path, load_config
-from .state.core import Core, make_identity
-from .state.settings import Settings
-from .state.speech import AudioStore, Speech
+from .state.tokens import TokenStore
 from .udp.discovery import Discovery
 
 __all__ = ["GatewayNode"]
 
 
 class GatewayNode(Node):
-    """The protocol gateway of one robot (its namespace): specs/robot-api.md over the network.
+    """The protocol gateway of one robot (its namespace), or of a fleet (``robots``,
+    ``discover_robots``): specs/robot-api.md over the network.
 
     Parameters:
         host: address every server binds (default 127.0.0.1).
@@ -72,6 +64,13 @@ class GatewayNode(Node):
             docs/foxglove.md).
         fs_root: the folder the /fs API works in (default $ZENROS_HOME; docs/gateway.md).
         fs_max_upload: largest /fs upload in bytes (default 32 MiB).
+        robots: a fleet gateway's robots (namespaces, one chunk each): the robot API of each
+            under /api/v1/robots/<name>/ (docs/fleet.md); default [] (one robot: this node's
+            namespace).
+        discover_robots: also serve every robot that shows up in the graph (a namespace
+            with a ``chassis`` node), as it appears (default false).
+        default_robot: the robot the single-robot paths (/api/v1/..., ws://host:3547/<topic>,
+            Modbus, serial, discovery) serve in a fleet (default: the first of ``robots``).
     """
 
     node_name = "gateway"
@@ -96,36 +95,20 @@ class GatewayNode(Node):
         config_path = Path(config_file) if config_file else default_config_path()
         config = load_config(config_path,
                              {"no_token_check": True} if no_check else None)
-        self.core = Core(config, Settings(self.data_dir / "settings.json"),
-                         make_identity(self.namespace, version, rest_port), deadman,
-                         self.declare_parameter("startup_grace", 30.0))
-        self.link = RobotLink(self, self.core, rate)
+        files = FileRoot(data_dir(self.declare_parameter("fs_root", "")), [config_path],
+                         self.declare_parameter("fs_max_upload", 32 * 1024 * 1024))
+        self.options = RobotOptions(config, TokenStore(config), files, version, rest_port,
+                                    rate, deadman, self.declare_parameter("startup_grace", 30.0),
+                                    max_body)
+        self.fleet = self._fleet()
+        robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
+        self.robots = self.fleet.robots if self.fleet else {robot.name: robot}
+        self.robot = robot
+        self.core, self.link, self.tasks, self.hub = robot.core, robot.link, robot.tasks, robot.hub
+        self.navigator, self.nav_link, self.io = robot.navigator, robot.nav_link, robot.io
+        self.files, self.speech, self.audio, self.api = files, robot.speech, robot.audio, robot.api
         self.runner = AsyncRunner()
         self.on_close(self.runner.stop)  # after every server on it has stopped
-        self.tasks = TasksLink(self, self.core.presence)
-        self.hub = TopicHub(self)
-        self.navigator = Navigator(self, self.core)
-        self.navigator.tasks = self.tasks
-        self.core.nav = self.navigator
-        self.nav_link = NavLink(self, self.core.presence)
-        presence = self.core.presence
-        presence.watch("nav", self.navigator.available)
-        presence.watch("tasks", self.tasks.available)
-        self.on_close(self.context.graph.add_listener(lambda ev, tok: presence.refresh()))
-        self.core.services["maps"] = self.nav_link.maps
-        self.io = IoLink(self)
-        self.files = FileRoot(
-            data_dir(self.declare_parameter("fs_root", "")), [config_path],
-            self.declare_parameter("fs_max_upload", 32 * 1024 * 1024))
-        self.speech = Speech(lambda: self.now().nanoseconds / 1e9)
-        self.audio = AudioStore(self.data_dir / "audio.json")
-        nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
-        self.api = build_api(Context(
-            core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
-            io=self.io, link=self.link, hub=self.hub,
-            params=ParameterClient(self.context, node=self.fqn), files=self.files,
-            speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(self, self.core.presence)), max_body, self.logger)
         self.rosbridge: RosbridgeServer | None = None
         rosbridge_port = self.declare_parameter("rosbridge_port", DEFAULT_ROSBRIDGE_PORT)
         if rosbridge_port >= 0:
@@ -133,14 +116,22 @@ class GatewayNode(Node):
             self._close_on_loop(self.rosbridge.stop)
             self.runner.call(self.rosbridge.start())
         self.foxglove = self._start_foxglove(host, self.declare_parameter("foxglove_port", -1))
-        self.http = HttpApp(self.api, dashboard_app(
-            self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT, self.namespace))
+        self.http = HttpApp(self.fleet.api if self.fleet else self.api, dashboard_app(
+            self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
+            robot.namespace, robots=self.fleet.names if self.fleet else None))
         self.rest_port = self.serve_asgi(self.http, host, rest_port)
-        self.core.identity = replace(self.core.identity, port=self.rest_port)
+        if self.fleet is not None:
+            self.fleet.set_port(self.rest_port)
+        else:
+            self.core.identity = replace(self.core.identity, port=self.rest_port)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
+        if self.fleet is not None:
+            self.logger.info("fleet gateway: %s; the single-robot paths serve %s",
+                             ", ".join(self.robots), robot.name)
         self.ws_port = self.serve_asgi(
-            ws_app(self.hub, self.core.tokens), host, ws_port,
+            ws_app(self.hub, self.core.tokens, self.fleet.hub_of if self.fleet else None),
+            host, ws_port,
             ws_ping_interval=self.declare_parameter("ws_ping_interval", 5.0),
             ws_ping_timeout=self.declare_parameter("ws_ping_timeout", 10.0),
             ws_max_size=self.declare_parameter("ws_max_frame", 1 << 20))
@@ -169,6 +160,23 @@ class GatewayNode(Node):
                              discovery_port or 22002, discovery_period)
         else:
             self.discovery = None
+        if self.fleet is not None:
+            self.fleet.start(self.runner.loop)
+
+    def _fleet(self) -> Fleet | None:
+        """The fleet when ``robots`` or ``discover_robots`` is set, else None (this node's
+        namespace is the one robot)."""
+        names = self.declare_parameter("robots", [])
+        discover = self.declare_parameter("discover_robots", False)
+        default = self.declare_parameter("default_robot", "")
+        if names or discover:
+            given = self.get_parameter("data_dir")
+            home = Path(given) if given else self._default_dir().parent
+            return Fleet(self, self.options, home, names, default, discover)
+        if default:
+            raise ConfigError("default_robot is set, but neither robots nor discover_robots: "
+                              "a single-robot gateway serves its own namespace")
+        return None
 
     def _start_foxglove(self, host: str, port: int) -> Any:
         if port < 0:

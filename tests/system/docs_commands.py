@@ -7,6 +7,8 @@ lines and blank lines left out). An HTML comment on the lines just before a bloc
   long-running programs, services the sim does not launch).
 * ``<!-- doc-check: skip-line PREFIX -->`` (one per line, any number): the block's commands
   that start with PREFIX are not run.
+* ``<!-- doc-check: fleet -->``: the block runs against a launched fleet
+  (``deploy/launch/fleet.yaml robots:=3`` and its one gateway) instead of the sim.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from pathlib import Path
 __all__ = ["Block", "Command", "doc_blocks", "doc_pages"]
 
 _FENCE = re.compile(r"^```(\w*)\s*$")
-_MARKER = re.compile(r"^<!--\s*doc-check:\s*(skip-line|skip)\b\s*(.*?)\s*-->\s*$")
+_MARKER = re.compile(r"^<!--\s*doc-check:\s*(skip-line|skip|fleet)\b\s*(.*?)\s*-->\s*$")
 SHELLS = ("bash", "sh")
 
 
@@ -44,6 +46,7 @@ class Block:
     commands: list[Command] = field(default_factory=list)
     skip: str | None = None
     skip_lines: list[str] = field(default_factory=list)
+    fleet: bool = False  # runs against a launched fleet, not the sim
 
     def runnable(self) -> list[Command]:
         if self.skip is not None:
@@ -87,6 +90,8 @@ def _apply_markers(block: Block, lines: list[str], fence: int) -> None:
         m = _MARKER.match(lines[k].strip())
         if m and m.group(1) == "skip":
             block.skip = m.group(2) or "marked skip"
+        elif m and m.group(1) == "fleet":
+            block.fleet = True
         elif m:
             block.skip_lines.append(m.group(2))
         k -= 1

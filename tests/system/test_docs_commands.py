@@ -9,7 +9,9 @@ files it writes stay out of the tree and out of other pages' way); ``zenros laun
 deploy/launch/sim.yaml`` lines are the sim itself and are not run again. Pages are checked
 side by side, each page's blocks in order; the blocks that drive the robot one at a time. A command passes when it exits 0, or, for a streaming one, when it was
 still running GRACE seconds after it first printed on stdout. Blocks and lines that cannot
-run against the sim are marked in the page (see docs_commands.py for the markers).
+run against the sim are marked in the page (see docs_commands.py for the markers); blocks
+marked ``doc-check: fleet`` run against `deploy/launch/fleet.yaml robots:=3` (its gateway's
+ports moved to free ones the same way), launched when the first of them comes.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from typing import IO
 
 import pytest
 from docs_commands import Block, Command, doc_blocks, doc_pages
-from zenros.testing import Proc, free_port, store_on_master, unique_prefix
+from zenros.testing import Proc, free_port, store_on_master, unique_prefix, wait_for
 
 pytestmark = pytest.mark.system
 
@@ -46,6 +48,7 @@ DRIVES = re.compile(r"send_goal\s+/?(?!fibonacci)\w|/navigation/|move_to_index|/
                     r"|patrol|navigate|local_move|/teleport|cmd_vel|dock"
                     r"|start_\w*(task|move|patrol|charge|dock)"
                     r"|param set /nav/|virtual_walls|import_map|system/speed|system/config")
+FLEET_ROBOTS = 3  # the fleet `doc-check: fleet` blocks run against
 WORKERS = 1  # pages one at a time: side by side, one page's task made another's goal a 409 (tasks.md, gateway.md)
 
 
@@ -79,6 +82,63 @@ def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
         yield Sim(env, workdir, {GATEWAY_PORTS[k]: v for k, v in ports.items()})
     finally:
         proc.stop(timeout=30)
+
+
+class Fleet:
+    """`deploy/launch/fleet.yaml robots:=3`, its gateway on free ports, in a ZENROS_HOME,
+    prefix and router of its own: launched by the first ``doc-check: fleet`` block (`get`),
+    stopped with the check (`stop`)."""
+
+    def __init__(self, base: Sim, home: Path) -> None:
+        self.base, self.home = base, home
+        self.sim: Sim | None = None
+        self.proc: Proc | None = None
+        self._lock = threading.Lock()
+
+    def get(self) -> Sim:
+        """The launched fleet, every robot served by its gateway.
+
+        Raises:
+            RuntimeError: the fleet did not come up (with the launch's output).
+        """
+        with self._lock:
+            if self.sim is None:
+                self.sim = self._launch()
+            return self.sim
+
+    def _launch(self) -> Sim:
+        ports = {name: free_port() for name in GATEWAY_PORTS}
+        env = {**self.base.env, "ZENROS_HOME": str(self.home), "ZENROS_PREFIX": unique_prefix(),
+               "ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}"}
+        self.proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
+                          str(ROOT / "deploy" / "launch" / "fleet.yaml"),
+                          f"robots:={FLEET_ROBOTS}", f"data:={self.home}",
+                          *(f"{k}:={v}" for k, v in ports.items())],
+                         env={k: env[k] for k in ("ZENROS_HOME", "ZENROS_PREFIX",
+                                                  "ZENROS_CONNECT")})
+        lines = ["gateway is ready", *(f"robot{k}/robot is ready"
+                                       for k in range(1, FLEET_ROBOTS + 1))]
+        config = f"http://127.0.0.1:{ports['rest_port']}/config.json"
+        if not (all(self.proc.wait_line(line, 240) for line in lines) and wait_for(
+                lambda: len(_robots_served(config)) == FLEET_ROBOTS, 60)):
+            raise RuntimeError(f"the fleet did not come up:\n{self.proc.output[-3000:]}")
+        return Sim(env, self.base.workdir, {GATEWAY_PORTS[k]: v for k, v in ports.items()})
+
+    def stop(self) -> None:
+        if self.proc is not None:
+            self.proc.stop(timeout=60)
+
+
+def _robots_served(config_url: str) -> list[str]:
+    """The robots a fleet gateway serves now (its dashboard's config.json), [] if it does
+    not answer."""
+    import httpx
+
+    try:
+        robots: list[str] = httpx.get(config_url, timeout=5).json().get("robots", [])
+    except (httpx.HTTPError, ValueError):
+        return []
+    return robots
 
 
 def _all_ready(proc: Proc, timeout: float) -> bool:
@@ -190,10 +250,11 @@ def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
     return failures
 
 
-def _run_page(page: Path, sim: Sim, robot: threading.Lock) -> list[str] | None:
+def _run_page(page: Path, sim: Sim, robot: threading.Lock, fleet: Fleet) -> list[str] | None:
     """The failures of one page's blocks (in order, in a scratch folder of the page's own, so
     a file a block writes is there for the page's later blocks only); None if nothing of it
-    is runnable. A block that drives the robot holds ``robot`` while it runs."""
+    is runnable. A block that drives the robot holds ``robot`` while it runs; a
+    ``doc-check: fleet`` block runs against ``fleet``."""
     blocks = [b for b in doc_blocks(page, ROOT) if b.runnable()]
     if not blocks:
         return None
@@ -204,7 +265,12 @@ def _run_page(page: Path, sim: Sim, robot: threading.Lock) -> list[str] | None:
             (workdir / entry.name).symlink_to(entry.resolve())
     failures: list[str] = []
     for b in blocks:
-        if _drives(b):
+        if b.fleet:
+            try:
+                failures += _run_block(b, fleet.get(), workdir)
+            except RuntimeError as exc:
+                failures.append(f"{b.page}:{b.line}: {exc}")
+        elif _drives(b):
             with robot:
                 failures += _run_block(b, sim, workdir)
         else:
@@ -220,17 +286,22 @@ def _drives(block: Block) -> bool:
 
 
 @pytest.fixture(scope="module")
-def results(sim: Sim) -> dict[Path, list[str] | None]:
+def results(sim: Sim, tmp_path_factory: pytest.TempPathFactory
+            ) -> Iterator[dict[Path, list[str] | None]]:
     """Every page checked (each page's blocks in order), pages side by side; blocks that
     drive the robot one at a time, since one nav goal preempts another (a page's patrol ended
     "preempted by a new goal" when another page's goal came, under a CPU hog)."""
     robot = threading.Lock()
-    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-        # in the pages' own order: a page may leave a task of its own running that a later
-        # page's goal would meet (tasks.md's before gateway.md's: 409)
-        order = list(PAGES)
-        return dict(zip(order, pool.map(lambda p: _run_page(p, sim, robot), order),
-                        strict=True))
+    fleet = Fleet(sim, tmp_path_factory.mktemp("fleet"))
+    try:
+        with ThreadPoolExecutor(max_workers=WORKERS) as pool:
+            # in the pages' own order: a page may leave a task of its own running that a
+            # later page's goal would meet (tasks.md's before gateway.md's: 409)
+            order = list(PAGES)
+            yield dict(zip(order, pool.map(lambda p: _run_page(p, sim, robot, fleet), order),
+                           strict=True))
+    finally:
+        fleet.stop()
 
 
 @pytest.mark.timeout(600)
@@ -251,9 +322,12 @@ def test_the_markers_are_read(tmp_path: Path) -> None:
         "<!-- doc-check: skip-line zenros router -->\n\n```sh\n# a comment\n"
         "zenros router\nzenros topic echo /x \\\n  --once\n$ zenros node list\n```\n"
         "```python\nprint(1)\n```\n"
+        "<!-- doc-check: fleet -->\n```bash\ncurl -sf http://127.0.0.1:3546/api/v1/robots\n```\n"
     )
-    first, second = doc_blocks(page, tmp_path)
+    first, second, third = doc_blocks(page, tmp_path)
     assert first.skip == "needs a robot" and first.runnable() == []
+    assert not first.fleet and not second.fleet and third.fleet
+    assert [c.text for c in third.runnable()] == ["curl -sf http://127.0.0.1:3546/api/v1/robots"]
     assert [c.text for c in second.runnable()] == ["zenros topic echo /x --once",
                                                    "zenros node list"]
     assert second.runnable()[0].where == "docs/page.md:13"

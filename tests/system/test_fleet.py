@@ -47,7 +47,8 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Fleet]:
     prefix, endpoint = unique_prefix(), f"tcp/127.0.0.1:{free_port()}"
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
                  str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={ROBOTS}",
-                 f"data:={home}"],
+                 f"data:={home}", *(f"{name}:={free_port()}" for name in (
+                     "rest_port", "ws_port", "rosbridge_port", "modbus_port"))],
                 env={"ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix,
                      "ZENROS_CONNECT": endpoint})
     ctx: Context | None = None
@@ -87,6 +88,11 @@ def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
     for k in range(1, ROBOTS + 1):
         assert len({pids[f"/robot{k}/{s}"] for s in SERVICES}) == 1  # composed
     assert len(set(pids.values())) == ROBOTS
+    # one gateway serves them all: a node per robot (/robot<k>/gateway) in its one process
+    views = {"/gateway", *(f"/robot{k}/gateway" for k in range(1, ROBOTS + 1))}
+    assert g.wait_for(lambda: views <= set(g.node_names()), 60), views - set(g.node_names())
+    gateway = {n.pid for n in g.nodes() if n.name in views}
+    assert len(gateway) == 1 and not gateway & set(pids.values())
 
 
 def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
@@ -129,7 +135,7 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
         try:
             buffer = Buffer()
             TransformListener(buffer, tf_node)
-            assert wait_for(lambda: buffer.can_transform("map", "base_link", 0), 20)
+            assert wait_for(lambda b=buffer: b.can_transform("map", "base_link", 0), 20)
             t = buffer.lookup_transform("map", "base_link", 0).transform.translation
             assert (t.x, t.y) == pytest.approx((where[k].x, where[k].y), abs=0.1)
         finally:

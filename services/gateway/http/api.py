@@ -29,10 +29,11 @@ from .spec_routes import SPEC_OPERATIONS
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["PREFIX", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error",
-           "describe_invalid", "error_body"]
+__all__ = ["PREFIX", "PREFIX_KEY", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error",
+           "describe_invalid", "error_body", "send_json"]
 
 PREFIX = "/api/v1"
+PREFIX_KEY = "zenros.api_prefix"  # an ASGI scope key: where the operations' paths start
 _ENC = msgspec.json.Encoder()
 _JSON_HEADERS = [(b"content-type", b"application/json")]
 
@@ -123,7 +124,8 @@ def describe_invalid(exc: msgspec.ValidationError, where: str) -> str:
 
 class Api:
     """The /api/v1 operations. `add` them, then `finish()` routes the spec's remaining ones
-    to 501. The object is an ASGI app for paths under ``/api/v1``."""
+    to 501. The object is an ASGI app for paths under ``/api/v1`` (or under the scope's
+    `PREFIX_KEY`, e.g. ``/api/v1/robots/robot2`` in a fleet gateway)."""
 
     def __init__(self, ctx: Context, max_body: int = 64 * 1024,
                  logger: logging.Logger | None = None) -> None:
@@ -187,7 +189,7 @@ class Api:
         return None, {}
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        path = scope["path"][len(PREFIX):] or "/"
+        path = scope["path"][len(scope.get(PREFIX_KEY, PREFIX)):] or "/"
         if path != "/" and path.endswith("/") and path not in self.routes:
             path = path.rstrip("/")
         table, params = self._lookup(path)
@@ -210,18 +212,18 @@ class Api:
             style = ep.result_style if ep is not None else False
             extra = [] if exc.retry_after is None else [
                 (b"retry-after", str(exc.retry_after).encode())]
-            await _send_json(send, exc.status_code, error_body(exc.description, style), extra)
+            await send_json(send, exc.status_code, error_body(exc.description, style), extra)
             return
         except Exception as exc:  # a handler bug: a clear 500, logged, never a traceback out
             self.logger.exception("%s %s failed", method, scope["path"])
             style = ep.result_style if ep is not None else False
-            await _send_json(send, 500, error_body(f"internal error: {type(exc).__name__}: "
+            await send_json(send, 500, error_body(f"internal error: {type(exc).__name__}: "
                                                    f"{exc}", style))
             return
         if isinstance(result, Response):
             await result(scope, receive, send)
             return
-        await _send_json(send, 200, result)
+        await send_json(send, 200, result)
 
     async def _serve(self, ep: Endpoint, scope: Scope, receive: Receive,
                      params: dict[str, str]) -> Any:
@@ -301,7 +303,7 @@ def method_has_body(method: str) -> bool:
     return method in ("POST", "PUT", "PATCH")
 
 
-async def _send_json(send: Send, status: int, content: Any,
+async def send_json(send: Send, status: int, content: Any,
                      headers: list[tuple[bytes, bytes]] | None = None) -> None:
     body = _ENC.encode(content)
     await send({"type": "http.response.start", "status": status,

@@ -37,8 +37,9 @@ async def index(call: Call) -> Any:
     """The API's operations, split into ``implemented`` and ``not_implemented``."""
     done: list[str] = []
     todo: list[str] = []
+    prefix = call.path.rstrip("/") or PREFIX  # /api/v1, or a fleet's /api/v1/robots/<name>
     for ep in sorted(call.api.endpoints(), key=lambda e: (e.path, e.method)):
-        (done if ep.implemented else todo).append(f"{ep.method} {PREFIX}{ep.path}")
+        (done if ep.implemented else todo).append(f"{ep.method} {prefix}{ep.path}")
     return {"version": call.ctx.core.identity.version, "implemented": done,
             "not_implemented": todo}
 
@@ -66,10 +67,10 @@ def build_api(ctx: Context, max_body: int = 64 * 1024, logger: logging.Logger | 
 
 
 class HttpApp:
-    """Routes ``/api/v1...`` to the `Api`; anything else to ``fallback`` (e.g. the dashboard),
-    or a §1.2 404."""
+    """Routes ``/api/v1...`` to ``api`` (an `Api`, or a fleet's `FleetApi`); anything else to
+    ``fallback`` (e.g. the dashboard), or a §1.2 404."""
 
-    def __init__(self, api: Api, fallback: ASGIApp | None = None) -> None:
+    def __init__(self, api: ASGIApp, fallback: ASGIApp | None = None) -> None:
         self.api = api
         self.fallback = fallback
 

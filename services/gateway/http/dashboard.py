@@ -1,8 +1,9 @@
-"""`dashboard_app`: the web dashboard's static files and its ``config.json`` (the rosbridge port
-and the robot's namespace), served at ``/`` next to the REST API."""
+"""`dashboard_app`: the web dashboard's static files and its ``config.json`` (the rosbridge port,
+the robot's namespace, a fleet's robots), served at ``/`` next to the REST API."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -17,20 +18,24 @@ __all__ = ["STATIC_DIR", "dashboard_app"]
 STATIC_DIR = Path(__file__).parents[1] / "static"
 
 
-def dashboard_app(rosbridge_port: int, namespace: str = "", title: str = "") -> Starlette:
+def dashboard_app(rosbridge_port: int, namespace: str = "", title: str = "",
+                  robots: Callable[[], list[str]] | None = None) -> Starlette:
     """The dashboard (``/``, ``/js/...``, ``/style.css``) and ``/config.json``.
 
     Args:
         rosbridge_port: where the page's rosbridge connection goes (on the page's host).
         namespace: the robot's namespace; the page prefixes its topics with it.
         title: the name shown in the page's header (default: the namespace).
+        robots: a fleet gateway's robots now (names); ``namespace`` is then the default
+            one's. ``config.json`` lists them as ``robots`` and the page shows the fleet view.
     """
     config: dict[str, Any] = {"rosbridge_port": rosbridge_port,
                               "namespace": "" if namespace == "/" else namespace.rstrip("/"),
                               "title": title}
 
     async def config_json(request: Request) -> JSONResponse:
-        return JSONResponse(config, headers={"Cache-Control": "no-store"})
+        extra = {} if robots is None else {"robots": robots()}
+        return JSONResponse(config | extra, headers={"Cache-Control": "no-store"})
 
     return Starlette(routes=[
         Route("/config.json", config_json),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+from collections.abc import Callable
 
 from starlette.applications import Starlette
 from starlette.responses import JSONResponse
@@ -17,17 +18,29 @@ from .api import error_body
 __all__ = ["ws_app"]
 
 
-def ws_app(hub: TopicHub, tokens: TokenStore) -> Starlette:
+def ws_app(default: TopicHub, tokens: TokenStore,
+           select: Callable[[str], tuple[TopicHub, str]] | None = None) -> Starlette:
     """Each connection streams its topic as JSON text frames; frames it sends are published
-    on that topic (type-checked; a bad one gets an error frame and the connection stays)."""
+    on that topic (type-checked; a bad one gets an error frame and the connection stays).
+
+    ``select(path)`` picks the hub (a fleet gateway's robot) and the topic of a URL path,
+    raising `TopicError` for a robot it does not serve; without it every path is
+    ``default``'s topic.
+    """
 
     async def endpoint(ws: WebSocket) -> None:
         problem = tokens.problem(ws.query_params.get("token"))
         if problem is not None:
             await ws.send_denial_response(JSONResponse(error_body(problem), 401))
             return
+        path = ws.path_params["topic"]
         try:
-            topic = hub.resolve(ws.path_params["topic"])
+            hub, name = select(path) if select is not None else (default, path)
+        except TopicError as exc:
+            await ws.send_denial_response(JSONResponse(error_body(str(exc)), 404))
+            return
+        try:
+            topic = hub.resolve(name)
         except TopicError as exc:
             await ws.send_denial_response(JSONResponse(error_body(str(exc)), 400))
             return

@@ -109,6 +109,7 @@ class RobotLink:
         self.seen["chassis/state"] = time.monotonic()
         s = self.core.state
         s.charging = bool(getattr(msg, "charging", False))
+        s.estop = bool(getattr(msg, "estop", False))
         if not s.charging:
             s.charged = False
 

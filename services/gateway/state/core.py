@@ -76,11 +76,12 @@ class Core:
     """
 
     def __init__(self, config: GatewayConfig, settings: Settings, identity: Identity,
-                 deadman_timeout: float = 0.5, startup_grace: float = 30.0) -> None:
+                 deadman_timeout: float = 0.5, startup_grace: float = 30.0,
+                 tokens: TokenStore | None = None) -> None:
         self.config = config
         self.settings = settings
         self.identity = identity
-        self.tokens = TokenStore(config)
+        self.tokens = tokens or TokenStore(config)  # a fleet gateway's robots share one
         self.state = RobotState()
         self.deadman = DeadMan(deadman_timeout)
         self._seq = 0

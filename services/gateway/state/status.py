@@ -43,6 +43,7 @@ class RobotState:
     battery_percent: float = 0.0     # 0..100
     charging: bool = False
     charged: bool = False
+    estop: bool = False              # the chassis's e-stop is engaged (chassis/state)
     docking_phase: int = 0           # 3 finding, 4 docking, 5 error while a charge runs
     pose: tuple[float, float, float] | None = None
     pose_time: float = 0.0           # time.monotonic() of the last map pose

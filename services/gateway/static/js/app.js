@@ -1,5 +1,6 @@
 // The dashboard: wires the rosbridge link to the map view, the panels and the teleop pad.
 
+import { FleetPanel } from "./fleet.js";
 import { MapView, yawOf } from "./map_view.js";
 import { Rosbridge } from "./rosbridge.js";
 import { TaskPanel } from "./tasks.js";
@@ -23,6 +24,7 @@ async function loadConfig() {
     ns: (params.get("ns") ?? config.namespace ?? "").replace(/\/+$/, ""),
     title: config.title || "",
     path: params.get("path"),
+    robots: Array.isArray(config.robots) ? config.robots : null, // a fleet gateway's
   };
 }
 
@@ -57,6 +59,7 @@ class Dashboard {
     this.teleop = new Teleop($("pad"), (v, w) => this.drive(v, w));
     this.taskPanel = new TaskPanel(this.ros, (call) => this.name(`tasks/${call}`), $("tasks"),
                                    $("tasks-empty"), (text) => toast(text, true));
+    this.fleet = config.robots ? this.startFleet(config.robots) : null;
     this.wire();
     this.subscribe();
     this.ros.addEventListener("open", () => this.onOpen());
@@ -65,6 +68,27 @@ class Dashboard {
 
   name(rel) {
     return `${this.ns}/${rel}`;
+  }
+
+  // A fleet gateway: the fleet card and the other robots on the map; the list follows the
+  // robots the gateway finds (config.json, every 5 s). Driving another reloads the page on it.
+  startFleet(robots) {
+    $("fleet-card").hidden = false;
+    const fleet = new FleetPanel(this.ros, this.view, $("fleet"), this.ns.slice(1), (name) => {
+      const params = new URLSearchParams(location.search);
+      params.set("ns", `/${name}`);
+      location.search = params.toString();
+    }, (text) => toast(text, true));
+    fleet.setRobots(robots);
+    setInterval(async () => {
+      try {
+        const res = await fetch("config.json", { cache: "no-store" });
+        if (res.ok) fleet.setRobots((await res.json()).robots || []);
+      } catch (err) {
+        // the gateway is restarting: the next round tries again
+      }
+    }, 5000);
+    return fleet;
   }
 
   // -------------------------------------------------------------- wiring
@@ -118,6 +142,8 @@ class Dashboard {
     ros.subscribe(this.name("tasks/status"), "zenros_msgs/TaskStatus",
                   (m) => this.taskPanel.onStatus(m));
     ros.subscribe("/tf_static", "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
+    // a robot of a fleet keeps its own tree (/<robot>/tf_static, docs/fleet.md)
+    if (this.ns) ros.subscribe(this.name("tf_static"), "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
   }
 
   onOpen() {

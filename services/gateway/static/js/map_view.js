@@ -10,6 +10,8 @@ const COLORS = {
   wall: "#f43f5e",
   robot: "#3b82f6",
   robotEdge: "#1e3a8a",
+  other: "#94a3b8",
+  otherEdge: "#334155",
   point: "#f59e0b",
   pointActive: "#22c55e",
 };
@@ -62,6 +64,7 @@ export class MapView extends EventTarget {
     this.costImage = null;
     this.costInfo = null;
     this.robot = null; // {x, y, yaw}
+    this.others = []; // a fleet's other robots: {name, x, y, yaw, estop}
     this.footprint = 0.22;
     this.scanPoints = [];
     this.plan = [];
@@ -111,6 +114,7 @@ export class MapView extends EventTarget {
     this.dirty = true;
   }
 
+  setOthers(robots) { this.others = robots; this.dirty = true; }
   setScan(points) { this.scanPoints = points; this.dirty = true; }
   setPlan(points) { this.plan = points; this.dirty = true; }
   setWalls(walls) { this.walls = walls; this.dirty = true; }
@@ -271,8 +275,12 @@ export class MapView extends EventTarget {
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     if (this.layers.points) this.drawPoints();
     ctx.setTransform(dpr * s, 0, 0, -dpr * s, dpr * tx, dpr * ty);
-    if (this.robot) this.drawRobot(px);
+    for (const o of this.others) {
+      this.drawRobot(px, o, o.estop ? COLORS.wall : COLORS.other, COLORS.otherEdge);
+    }
+    if (this.robot) this.drawRobot(px, this.robot, COLORS.robot, COLORS.robotEdge);
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    this.drawLabels();
     this.drawScaleBar(cw, ch);
   }
 
@@ -294,19 +302,21 @@ export class MapView extends EventTarget {
     ctx.stroke();
   }
 
-  drawRobot(px) {
+  drawRobot(px, robot, fill, edge) {
     const ctx = this.ctx;
-    const { x, y, yaw } = this.robot;
+    const { x, y, yaw } = robot;
     const r = Math.max(this.footprint, 10 * px); // still visible when zoomed far out
     ctx.save();
     ctx.translate(x, y);
     ctx.rotate(yaw);
-    ctx.fillStyle = "rgba(59, 130, 246, 0.22)";
-    ctx.beginPath();
-    ctx.arc(0, 0, r + 8 * px, 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.fillStyle = COLORS.robot;
-    ctx.strokeStyle = COLORS.robotEdge;
+    if (robot === this.robot) {
+      ctx.fillStyle = "rgba(59, 130, 246, 0.22)";
+      ctx.beginPath();
+      ctx.arc(0, 0, r + 8 * px, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+    ctx.fillStyle = fill;
+    ctx.strokeStyle = edge;
     ctx.lineWidth = 2 * px;
     ctx.beginPath();
     ctx.arc(0, 0, r, 0, 2 * Math.PI);
@@ -321,6 +331,24 @@ export class MapView extends EventTarget {
     ctx.closePath();
     ctx.fill();
     ctx.restore();
+  }
+
+  // the fleet's other robots' names, upright in screen space beside each one
+  drawLabels() {
+    if (!this.others.length) return;
+    const ctx = this.ctx;
+    ctx.font = "600 11px system-ui, sans-serif";
+    ctx.textBaseline = "middle";
+    for (const o of this.others) {
+      const at = this.worldToScreen(o.x, o.y);
+      const sx = at.x + 12;
+      const sy = at.y - 14;
+      const w = ctx.measureText(o.name).width + 8;
+      ctx.fillStyle = "rgba(11, 18, 32, 0.72)";
+      ctx.fillRect(sx, sy - 8, w, 16);
+      ctx.fillStyle = "#e2e8f0";
+      ctx.fillText(o.name, sx + 4, sy);
+    }
   }
 
   drawPoints() {

@@ -1,0 +1,121 @@
+"""`Robot`: one robot's side of the gateway: its state, its ports on a node of its namespace
+and the REST `Api` over them; `RobotView`, the node a fleet gateway builds one robot on."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from zenros.context import Context as ZenrosContext
+from zenros.errors import ConfigError
+from zenros.names import validate_namespace
+from zenros.node import Node
+from zenros.param_client import ParameterClient
+
+from .http.api import Api
+from .http.app import build_api
+from .http.context import Context
+from .ports.coverage_link import CoverageLink
+from .ports.fs_sandbox import FileRoot
+from .ports.io_link import IoLink
+from .ports.link import RobotLink
+from .ports.nav_calls import NavCalls
+from .ports.nav_link import NavLink
+from .ports.navigator import Navigator
+from .ports.tasks_link import TasksLink
+from .ports.topic_hub import TopicHub
+from .state.config import GatewayConfig
+from .state.core import Core, make_identity
+from .state.settings import Settings
+from .state.speech import AudioStore, Speech
+from .state.tokens import TokenStore
+
+__all__ = ["Robot", "RobotOptions", "RobotView", "robot_name"]
+
+
+def robot_name(name: object) -> str:
+    """``name`` as a fleet's robot name: a namespace of one chunk (``robot1``, ``/robot1``).
+
+    Raises:
+        ConfigError: not a string, empty, several chunks, or not a valid namespace.
+    """
+    text = name.strip("/") if isinstance(name, str) else ""
+    if not text or "/" in text:
+        raise ConfigError(f"robot name {name!r}: expected a namespace of one chunk, "
+                          "e.g. robot1")
+    try:
+        validate_namespace("/" + text)
+    except ValueError as exc:
+        raise ConfigError(f"robot name {name!r}: {exc}") from exc
+    return text
+
+
+@dataclass(frozen=True)
+class RobotOptions:
+    """What every robot of one gateway shares: its configuration and its limits."""
+
+    config: GatewayConfig
+    tokens: TokenStore
+    files: FileRoot
+    version: str
+    rest_port: int
+    status_rate: float = 30.0
+    deadman_timeout: float = 0.5
+    startup_grace: float = 30.0
+    max_body: int = 64 * 1024
+
+
+class Robot:
+    """The state (`Core`), the ports and the `Api` of the robot in ``node``'s namespace.
+
+    Args:
+        node: a node in the robot's namespace; the ports' endpoints are its own.
+        data_dir: where this robot's settings and audio list live.
+        options: what the gateway's robots share (tokens, configuration, file root).
+    """
+
+    def __init__(self, node: Node, data_dir: Path, options: RobotOptions) -> None:
+        self.name = node.namespace.strip("/")
+        self.namespace = node.namespace
+        self.core = Core(options.config, Settings(data_dir / "settings.json"),
+                         make_identity(node.namespace, options.version, options.rest_port),
+                         options.deadman_timeout, options.startup_grace, options.tokens)
+        self.link = RobotLink(node, self.core, options.status_rate)
+        self.tasks = TasksLink(node, self.core.presence)
+        self.hub = TopicHub(node)
+        self.navigator = Navigator(node, self.core)
+        self.navigator.tasks = self.tasks
+        self.core.nav = self.navigator
+        self.nav_link = NavLink(node, self.core.presence)
+        presence = self.core.presence
+        presence.watch("nav", self.navigator.available)
+        presence.watch("tasks", self.tasks.available)
+        node.on_close(node.context.graph.add_listener(lambda ev, tok: presence.refresh()))
+        self.core.services["maps"] = self.nav_link.maps
+        self.io = IoLink(node)
+        self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
+        self.audio = AudioStore(data_dir / "audio.json")
+        nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
+        self.api: Api = build_api(Context(
+            core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
+            io=self.io, link=self.link, hub=self.hub,
+            params=ParameterClient(node.context, node=node.fqn), files=options.files,
+            speech=self.speech, audio=self.audio,
+            coverage=CoverageLink(node, self.core.presence)), options.max_body, node.logger)
+
+
+class RobotView(Node):
+    """A fleet gateway's node for one robot (``/<robot>/gateway``, on the gateway's session):
+    the robot's ports live on it, so their names resolve in the robot's namespace."""
+
+    node_name = "gateway"
+    uses_parameter_server = False  # it declares nothing: the fleet gateway holds the settings
+
+    def __init__(self, namespace: str, context: ZenrosContext, data_dir: Path,
+                 options: RobotOptions) -> None:
+        self._data_dir = data_dir
+        self._options = options
+        super().__init__(namespace=namespace, context=context)
+
+    def setup(self) -> None:
+        self.robot = Robot(self, self._data_dir, self._options)
