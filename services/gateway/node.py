@@ -35,7 +35,7 @@ __all__ = ["GatewayNode"]
 
 class GatewayNode(Node):
     """The protocol gateway of one robot (its namespace), or of a fleet (``robots``,
-    ``discover_robots``): specs/robot-api.md over the network.
+    ``discover_robots``): docs/robot-api.md over the network.
 
     Parameters:
         host: address every server binds (default 127.0.0.1).

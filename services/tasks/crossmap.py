@@ -1,4 +1,5 @@
-"""Cross-map navigation: a ``nav_action`` whose ``map`` is not the current map (§6.4, §6.7).
+"""Cross-map navigation: a ``nav_action`` whose ``map`` is not the current map (docs/robot-api.md
+§6.4, §6.7).
 
 The route comes from `zenros.maps.maproute.find_route` over the point connections. For each
 hop the robot drives to the connection's point on the current map, nav switches to the next map,

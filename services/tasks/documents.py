@@ -1,4 +1,4 @@
-"""Task and action documents (specs/robot-api.md §8.2, §9): creation, walking, progress.
+"""Task and action documents (docs/robot-api.md §8.2, §9): creation, walking, progress.
 
 Documents are plain JSON-ready dicts, the shape the REST API returns, so they are stored,
 published and served as they are. An item of ``sub_tasks`` is an action (it has ``type``)

@@ -1,8 +1,8 @@
 """Compile a task document into a zenros.smach state machine: actions are its states.
 
 Every state has the outcomes ``complete``, ``fail``, ``error`` and ``preempted``; a
-task's ``control_type`` (§8.4) decides how its children's outcomes are wired. A machine
-built for a resumed task starts each sequence at its first unfinished child.
+task's ``control_type`` (docs/robot-api.md §8.4) decides how its children's outcomes are wired. A
+machine built for a resumed task starts each sequence at its first unfinished child.
 """
 
 from __future__ import annotations

@@ -46,7 +46,7 @@ class TasksParameters(msgspec.Struct, kw_only=True):
 
 
 class TasksNode(Node):
-    """The robot API's tasks and actions (specs/robot-api.md §8-§9) as a service.
+    """The robot API's tasks and actions (docs/robot-api.md §8-§9) as a service.
 
     Parameters: `TasksParameters`.
     """

@@ -62,8 +62,8 @@ class Robot(Protocol):
         ...
 
     def point_connections(self) -> list[Link]:
-        """The point connections (§6.7); one whose point no longer exists is unavailable.
-        LookupError when nav does not answer."""
+        """The point connections (docs/robot-api.md §6.7); one whose point no longer exists is
+        unavailable. LookupError when nav does not answer."""
         ...
 
     def pose(self) -> tuple[float, float, float] | None:

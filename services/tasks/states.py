@@ -24,7 +24,8 @@ PAUSED: Final = "PAUSED"
 CANCELLED: Final = "CANCELLED"
 ERROR: Final = "ERROR"
 COMPLETE: Final = "COMPLETE"
-FAILED: Final = "FAILED"  # a normal failure of a behaviour-tree child (§8.1 impl. note)
+# a normal failure of a behaviour-tree child (docs/robot-api.md §8.1 impl. note)
+FAILED: Final = "FAILED"
 
 STATES: Final = (WAITTING, WORKING, PAUSED, CANCELLED, ERROR, COMPLETE, FAILED)
 TERMINAL: Final = frozenset({CANCELLED, ERROR, COMPLETE, FAILED})

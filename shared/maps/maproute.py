@@ -1,4 +1,5 @@
-"""Map routes: the point connections that take the robot from one map to another (§6.7).
+"""Map routes: the point connections that take the robot from one map to another (docs/robot-api.md
+§6.7).
 
 The maps are the graph's nodes and each available connection between nav points of two
 different maps is an edge, usable both ways. `find_route` runs Dijkstra with the cost

@@ -1,4 +1,4 @@
-"""galileo_msgs: the robot API's status and native commands (specs/robot-api.md §4, §12).
+"""galileo_msgs: the robot API's status and native commands (docs/robot-api.md §4, §12).
 
 The JSON of these types is the API's own (§4): camelCase fields and a ROS 1 style header
 (``seq``, ``stamp.secs``/``stamp.nsecs``, ``frame_id``), so ``galileo/status`` on the wire,

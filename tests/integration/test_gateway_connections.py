@@ -1,5 +1,5 @@
-"""Point connections (§6.7) through the gateway's REST API, and a robot (chassis at 10x, nav,
-tasks) that drives to a nav point on a second map through a direct connection.
+"""Point connections (docs/robot-api.md §6.7) through the gateway's REST API, and a robot (chassis
+at 10x, nav, tasks) that drives to a nav point on a second map through a direct connection.
 
 The second map ``office2`` is the demo office saved under another name, so a direct
 connection joins two points at the same physical spot.

@@ -1,4 +1,4 @@
-"""Coverage paths (§6.12): nav's ``compute_coverage_path`` over real Zenoh, and
+"""Coverage paths (docs/robot-api.md §6.12): nav's ``compute_coverage_path`` over real Zenoh, and
 ``POST /navigation/coverage_path`` through a real HTTP client against the gateway."""
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
-"""§16 file system API through a real server: upload (multipart), download, list, stat,
-rename, copy, cut, delete; traversal attempts, symlink escapes, the protected config file,
-an oversized upload, tokens, unknown paths and wrong types."""
+"""docs/robot-api.md §16 file system API through a real server: upload (multipart), download, list,
+stat, rename, copy, cut, delete; traversal attempts, symlink escapes, the protected config file, an
+oversized upload, tokens, unknown paths and wrong types."""
 
 from __future__ import annotations
 

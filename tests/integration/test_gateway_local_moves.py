@@ -1,6 +1,6 @@
-"""The gateway's §6.10 local moves and §3.8 IO against the simulated robot (chassis at 10x,
-nav, tasks): the robot's ground truth moves as asked, IO set through REST reads back, an
-io_action in a task sets the chassis's output, bad parameters are §1.2 4xx bodies."""
+"""The gateway's docs/robot-api.md §6.10 local moves and §3.8 IO against the simulated robot
+(chassis at 10x, nav, tasks): the robot's ground truth moves as asked, IO set through REST reads
+back, an io_action in a task sets the chassis's output, bad parameters are §1.2 4xx bodies."""
 
 from __future__ import annotations
 

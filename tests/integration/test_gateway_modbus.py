@@ -1,4 +1,4 @@
-"""§14 Modbus TCP through pymodbus' own client against the running gateway."""
+"""docs/robot-api.md §14 Modbus TCP through pymodbus' own client against the running gateway."""
 
 from __future__ import annotations
 

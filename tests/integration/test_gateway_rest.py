@@ -216,8 +216,8 @@ HOSTILE_QUERIES = [{"id": "x" * 500}, {"index": "NaN"}, {"map_name": "../x"},
 
 
 def test_no_input_gets_a_500(http: httpx.Client, token: str) -> None:
-    """Every implemented operation, fed hostile bodies and queries, answers a §1.2 body with
-    a code other than 500 (backing services absent here: 503 is an honest answer)."""
+    """Every implemented operation, fed hostile bodies and queries, answers a docs/robot-api.md §1.2
+    body with a code other than 500 (backing services absent here: 503 is an honest answer)."""
     index = http.get("/").json()
     for entry in index["implemented"]:
         method, url = entry.split(" ", 1)

@@ -1,5 +1,5 @@
-"""§13 serial bridge on a pseudo-terminal pair (the test plays the outside controller with
-pyserial) and the §1.3 discovery broadcast on a loopback UDP socket."""
+"""docs/robot-api.md §13 serial bridge on a pseudo-terminal pair (the test plays the outside
+controller with pyserial) and the §1.3 discovery broadcast on a loopback UDP socket."""
 
 from __future__ import annotations
 

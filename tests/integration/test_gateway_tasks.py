@@ -1,4 +1,5 @@
-"""REST /task and /action against the real tasks service, through the gateway (§8-§9)."""
+"""REST /task and /action against the real tasks service, through the gateway (docs/robot-api.md
+§8-§9)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""§3.7 speech as text through a real server: aliases applied before publishing on ``tts``,
-playing for len/15 s of the robot's clock and stop, the volume, persistence, bad input."""
+"""docs/robot-api.md §3.7 speech as text through a real server: aliases applied before publishing on
+``tts``, playing for len/15 s of the robot's clock and stop, the volume, persistence, bad input."""
 
 from __future__ import annotations
 

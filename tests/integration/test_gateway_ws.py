@@ -1,4 +1,4 @@
-"""The §11 topic WebSocket through a real server and the `websockets` client."""
+"""The docs/robot-api.md §11 topic WebSocket through a real server and the `websockets` client."""
 
 from __future__ import annotations
 

@@ -256,7 +256,8 @@ R1_LEGS = [(4.0, 0.0), (2.0, 0.0)]  # robot1's task: out and partly back, ~15 s 
 ARRIVED = 0.3  # m: nav's goal tolerance (0.15) plus odometry slack
 
 # Runs on the station (demo.sh run station): one JSON request per stdin line, one JSON answer
-# per stdout line; gets a token per gateway (§2, the default admin/admin) and renews it on 401.
+# per stdout line; gets a token per gateway (docs/robot-api.md §2, the default admin/admin) and
+# renews it on 401.
 _REST_CLIENT = r"""
 import json, sys, urllib.error, urllib.request
 tokens = {}

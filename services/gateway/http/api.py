@@ -1,9 +1,9 @@
 """`Api`: the /api/v1 dispatcher: routes, token check, body limit and strict msgspec validation.
 
 A small ASGI app instead of a Starlette router: one dict lookup per request (the API has
-about 180 operations), and every error leaves as a §1.2 JSON body with a 4xx code. Handlers
-are plain ``async def handler(call: Call) -> object`` functions; the state and the ports they
-work on are ``call.ctx`` (a `context.Context`, given to the `Api`); what they return is encoded
+about 180 operations), and every error leaves as a docs/robot-api.md §1.2 JSON body with a 4xx code.
+Handlers are plain ``async def handler(call: Call) -> object`` functions; the state and the ports
+they work on are ``call.ctx`` (a `context.Context`, given to the `Api`); what they return is encoded
 as JSON (a Starlette `Response` is sent as is).
 """
 

@@ -68,7 +68,7 @@ def build_api(ctx: Context, max_body: int = 64 * 1024, logger: logging.Logger | 
 
 class HttpApp:
     """Routes ``/api/v1...`` to ``api`` (an `Api`, or a fleet's `FleetApi`); anything else to
-    ``fallback`` (e.g. the dashboard), or a §1.2 404."""
+    ``fallback`` (e.g. the dashboard), or a docs/robot-api.md §1.2 404."""
 
     def __init__(self, api: ASGIApp, fallback: ASGIApp | None = None) -> None:
         self.api = api

@@ -1,7 +1,8 @@
 """`openapi_document`: the OpenAPI 3.1 document of an `Api`, built from its own routes.
 
 Parameters and bodies come from the msgspec structs that validate them, summaries from the
-handlers' docstrings, so the document cannot drift from what the server does.
+handlers' docstrings, so the document cannot drift from what the server does. Its section
+numbers (§1.2, §2) are those of docs/robot-api.md.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""The §6.6 and §6.8 text formats: ``path_data`` (points, nav points), ``virtual_wall``
-(polylines), ``skip_area`` (rectangles), parsed strictly and printed back."""
+"""The docs/robot-api.md §6.6 and §6.8 text formats: ``path_data`` (points, nav points),
+``virtual_wall`` (polylines), ``skip_area`` (rectangles), parsed strictly and printed back."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The robot API's HTTP operations (specs/robot-api.md §2-§17), as (method, path) under /api/v1.
+"""The robot API's HTTP operations (docs/robot-api.md §2-§17), as (method, path) under /api/v1.
 
 Every operation is routed: those the gateway implements answer, the rest answer 501 with the
 §0 body. tests/services/gateway/test_spec_routes.py re-reads the spec's tables (when the spec

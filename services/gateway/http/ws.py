@@ -1,4 +1,5 @@
-"""`ws_app`: the §11 topic WebSocket (``ws://host:3547/<topic>?token=``) as a Starlette app."""
+"""`ws_app`: the docs/robot-api.md §11 topic WebSocket (``ws://host:3547/<topic>?token=``) as a
+Starlette app."""
 
 from __future__ import annotations
 

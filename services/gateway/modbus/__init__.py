@@ -1,1 +1,2 @@
-"""The §14 Modbus TCP door: the server (`front`) and its register tables (`tables`)."""
+"""The docs/robot-api.md §14 Modbus TCP door: the server (`front`) and its register tables
+(`tables`)."""

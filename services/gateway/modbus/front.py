@@ -1,4 +1,5 @@
-"""`ModbusFront`: the §14 Modbus TCP server (pymodbus 3.16), live from GalileoStatus.
+"""`ModbusFront`: the docs/robot-api.md §14 Modbus TCP server (pymodbus 3.16), live from
+GalileoStatus.
 
 Reads are served by the pull hook from registers precomputed at every status refresh (a
 read never waits for Zenoh); writes go through `parse_holding_write` and are refused with

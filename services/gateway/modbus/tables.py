@@ -1,5 +1,5 @@
-"""The §14 Modbus tables: GalileoStatus → discrete inputs and input registers; holding
-register writes → commands. 1-based in the spec, 0-based here (pymodbus addresses).
+"""The docs/robot-api.md §14 Modbus tables: GalileoStatus → discrete inputs and input registers;
+holding register writes → commands. 1-based in the spec, 0-based here (pymodbus addresses).
 
 32-bit values are big-byte little-word ("CDAB"): the low 16-bit word comes first.
 """

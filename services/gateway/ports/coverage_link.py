@@ -1,4 +1,5 @@
-"""`CoverageLink`: nav's ``compute_coverage_path`` service (§6.12), refusals as port errors."""
+"""`CoverageLink`: nav's ``compute_coverage_path`` service (docs/robot-api.md §6.12), refusals as
+port errors."""
 
 from __future__ import annotations
 

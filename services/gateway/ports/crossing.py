@@ -1,5 +1,5 @@
 """`check_route`: whether a goal on another map is reachable through nav's point connections
-(§6.7), asked before a task is made."""
+(docs/robot-api.md §6.7), asked before a task is made."""
 
 from __future__ import annotations
 

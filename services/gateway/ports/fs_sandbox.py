@@ -1,4 +1,4 @@
-"""`FileRoot`: the §16 file system operations, confined to one sandbox folder.
+"""`FileRoot`: the docs/robot-api.md §16 file system operations, confined to one sandbox folder.
 
 Every client path is resolved inside the root: paths are relative to it (an absolute path
 is accepted only when it names a place inside the root), ``..`` is refused outright, and a

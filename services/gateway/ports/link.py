@@ -145,7 +145,7 @@ class RobotLink:
             self.cmd_vel_pub.publish(Twist(linear=Vector3(x=x, y=y), angular=Vector3(z=w)))
 
     def publish_native(self, data: bytes) -> None:
-        """Publish native command bytes on ``galileo/cmds`` (§12.1)."""
+        """Publish native command bytes on ``galileo/cmds`` (docs/robot-api.md §12.1)."""
         now = time.time_ns()
         header = GalileoHeader(frame_id="")
         header.stamp.secs, header.stamp.nsecs = divmod(now, 1_000_000_000)

@@ -1,4 +1,5 @@
-"""`NativeCommands`: executes §12.3 native command bytes (from ``galileo/cmds``)."""
+"""`NativeCommands`: executes docs/robot-api.md §12.3 native command bytes (from
+``galileo/cmds``)."""
 
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 
 Goals go to ``navigate_to_pose``; nav point indexes are looked up with ``get_nav_points``
 on the current path; charging uses ``dock_robot`` / ``undock_robot``. ``nav/status``
-(latched) keeps the §4 goal fields (targetStatus, targetDistance) truthful.
+(latched) keeps the docs/robot-api.md §4 goal fields (targetStatus, targetDistance) truthful.
 """
 
 from __future__ import annotations

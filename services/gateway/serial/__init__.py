@@ -1,1 +1,2 @@
-"""The §13 serial door: the bridge on a serial port (`bridge`) and its frames (`frame`)."""
+"""The docs/robot-api.md §13 serial door: the bridge on a serial port (`bridge`) and its frames
+(`frame`)."""

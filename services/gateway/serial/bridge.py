@@ -1,4 +1,5 @@
-"""`SerialBridge`: §13 on a serial port: status frames out at 30 Hz, command frames in.
+"""`SerialBridge`: docs/robot-api.md §13 on a serial port: status frames out at 30 Hz, command
+frames in.
 
 Runs on a thread of its own. A missing or vanished port never blocks the gateway: the
 bridge says so once per outage and retries every ``retry`` seconds.

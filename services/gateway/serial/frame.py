@@ -1,4 +1,5 @@
-"""§13 serial frames: the 89-byte status packet out, command packets in (with resync)."""
+"""docs/robot-api.md §13 serial frames: the 89-byte status packet out, command packets in (with
+resync)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""`GatewayConfig`: the §1.4 server configuration file (``galileo_api/config.json``)."""
+"""`GatewayConfig`: the docs/robot-api.md §1.4 server configuration file
+(``galileo_api/config.json``)."""
 
 from __future__ import annotations
 

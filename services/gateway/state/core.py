@@ -25,7 +25,7 @@ __all__ = ["Core", "Identity", "NativeSink", "NavPort", "NavUnavailable", "make_
 
 @dataclass(frozen=True)
 class Identity:
-    """Who this robot is on the network (§1.3, §3.1 ``info``)."""
+    """Who this robot is on the network (docs/robot-api.md §1.3, §3.1 ``info``)."""
 
     id: str
     mac: str

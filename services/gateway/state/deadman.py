@@ -1,4 +1,5 @@
-"""`DeadMan`: a velocity command that holds only for a short time (§3.2, about 0.5 s)."""
+"""`DeadMan`: a velocity command that holds only for a short time, about 0.5 s
+(docs/robot-api.md §3.2)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""`Settings`: the §3.6 navigation configuration (``/system/config``), persisted as JSON."""
+"""`Settings`: the docs/robot-api.md §3.6 navigation configuration (``/system/config``), persisted
+as JSON."""
 
 from __future__ import annotations
 

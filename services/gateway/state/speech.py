@@ -2,8 +2,8 @@
 
 The simulated robot cannot make sound: a spoken text is published on ``tts`` and counts as
 *playing* for ``len(text) / CHARS_PER_SECOND`` seconds of the robot's clock (simulated time
-when it runs), or until stopped. `AudioStore` keeps the alias table (§3.7) and the speaker
-volume in one JSON file, written atomically on every change.
+when it runs), or until stopped. `AudioStore` keeps the alias table (docs/robot-api.md §3.7) and the
+speaker volume in one JSON file, written atomically on every change.
 """
 
 from __future__ import annotations

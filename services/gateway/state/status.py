@@ -1,4 +1,5 @@
-"""`RobotState`: what the gateway knows of the robot, and the §4 GalileoStatus composed from it."""
+"""`RobotState`: what the gateway knows of the robot, and the docs/robot-api.md §4 GalileoStatus
+composed from it."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""`TokenStore`: the §2 access tokens (32 hex characters, issued for username/password)."""
+"""`TokenStore`: the docs/robot-api.md §2 access tokens (32 hex characters, issued for
+username/password)."""
 
 from __future__ import annotations
 

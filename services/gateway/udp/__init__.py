@@ -1,1 +1,1 @@
-"""The §1.3 UDP door: the discovery broadcast."""
+"""The docs/robot-api.md §1.3 UDP door: the discovery broadcast."""

@@ -1,4 +1,5 @@
-"""`Discovery`: the §1.3 UDP broadcast (``id``, ``port``, ``mac``, ``version``) once a second."""
+"""`Discovery`: the docs/robot-api.md §1.3 UDP broadcast (``id``, ``port``, ``mac``, ``version``)
+once a second."""
 
 from __future__ import annotations
 

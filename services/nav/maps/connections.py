@@ -1,4 +1,4 @@
-"""Connections: the point connections between maps (robot API §6.7), kept by the map store.
+"""Connections: the point connections between maps (docs/robot-api.md §6.7), kept by the map store.
 
 Stored in ``connections.yaml`` at the root of the maps folder (they join nav points of
 different maps, so no single map folder owns them). Each joins exactly two existing nav

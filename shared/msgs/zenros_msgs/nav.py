@@ -17,7 +17,7 @@ error naming the known ones (the caller's client raises ``ServiceError``).
 - ``local_move_target`` (action LocalMoveTarget): a precise short move to a pose without
   the global planner (Nav2's ``drive_on_heading``, ``backup`` and ``spin`` are nav2_msgs).
 - ``list_point_connections`` / ``add_point_connection`` / ``delete_point_connection``:
-  links between nav points of different maps (multi-map navigation, robot API §6.7).
+  links between nav points of different maps (multi-map navigation, docs/robot-api.md §6.7).
 - ``nav/status`` (NavStatus, latched): what navigation is doing, for the gateway.
 """
 
@@ -144,7 +144,8 @@ class MapInfo(Message):
 
 
 class NavPoint(Message):
-    """A named pose of a path (robot API §6.6 columns: x y z theta errorX errorY direction name)."""
+    """A named pose of a path (docs/robot-api.md §6.6 columns: x y z theta errorX errorY direction
+    name)."""
 
     __msgtype__ = "zenros_msgs/NavPoint"
     name: str = ""
@@ -558,7 +559,7 @@ Patrol = define_action("zenros_msgs/Patrol", PatrolGoal, PatrolResult, PatrolFee
 
 
 class PointRef(Message):
-    """One nav point: its map, path and index (robot API §6.7 ``{map, path, index}``)."""
+    """One nav point: its map, path and index (docs/robot-api.md §6.7 ``{map, path, index}``)."""
 
     __msgtype__ = "zenros_msgs/PointRef"
     map_name: str = ""
@@ -643,7 +644,7 @@ DeletePointConnection = define_service(
 
 
 class LocalMoveTargetGoal(Message):
-    """Move to ``pose`` without the global planner (specs/robot-api.md §9.2
+    """Move to ``pose`` without the global planner (docs/robot-api.md §9.2
     ``local_move_target_action``).
 
     ``pose.header.frame_id``: ``map`` (or empty) or ``base_link`` (relative to the robot's

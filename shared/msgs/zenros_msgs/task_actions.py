@@ -1,4 +1,4 @@
-"""The actions a task can hold (specs/robot-api.md §9.2): one tagged union, `Action`.
+"""The actions a task can hold (docs/robot-api.md §9.2): one tagged union, `Action`.
 
 Each action type is a Struct tagged by its ``type`` ("nav_action", ...), so a document
 decodes straight into the right class and a missing, mistyped or unknown field is refused

@@ -1,4 +1,4 @@
-"""Task documents (specs/robot-api.md §8.2): `Task`, a nested `SubTask`, and `TaskUpdate`.
+"""Task documents (docs/robot-api.md §8.2): `Task`, a nested `SubTask`, and `TaskUpdate`.
 
 A task's ``sub_tasks`` hold actions (`Action`, tagged by ``type``) and nested tasks. A
 nested task is a `SubTask`, tagged ``"type": "task"`` on the wire between services; the

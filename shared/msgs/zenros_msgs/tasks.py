@@ -1,6 +1,6 @@
 """zenros_msgs for the tasks service: one request/response pair per call, and the status.
 
-Tasks and actions are the robot API's documents (specs/robot-api.md §8-§9) as Structs
+Tasks and actions are the robot API's documents (docs/robot-api.md §8-§9) as Structs
 (`Task`, `Action`). Every response carries a `ResultCode` and, on a refusal, the reason
 in ``message``; a caller branches on the code only.
 

@@ -1,5 +1,5 @@
 """Pure pieces of the gateway: dead-man, status composition, config, tokens, settings,
-the §6.6/§6.8 text formats and the WebSocket slot."""
+the docs/robot-api.md §6.6/§6.8 text formats and the WebSocket slot."""
 
 from __future__ import annotations
 

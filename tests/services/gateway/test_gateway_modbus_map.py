@@ -1,4 +1,5 @@
-"""§14 register tables without a network: encoding, holding-register writes, refusals."""
+"""docs/robot-api.md §14 register tables without a network: encoding, holding-register writes,
+refusals."""
 
 from __future__ import annotations
 

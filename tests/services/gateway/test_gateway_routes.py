@@ -4,6 +4,7 @@ one table that turns port errors into HTTP answers."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any, cast
 
@@ -180,3 +181,22 @@ def _bare_context() -> Context:
     none = cast(Any, None)
     return Context(core=core, tasks=none, calls=none, nav_link=none, io=none, link=none,
                    hub=none, params=none, files=none, speech=none, audio=none, coverage=none)
+
+
+def _doc_operations(marker: str) -> set[tuple[str, str]]:
+    """The operations docs/robot-api.md lists in its paragraph opened by ``marker`` alone."""
+    text = (Path(__file__).resolve().parents[3] / "docs" / "robot-api.md").read_text()
+    paragraph = text.split(f"\n{marker}\n", 1)[1].split("\n\n", 1)[0]
+    return set(re.findall(r"`(GET|POST|PUT|DELETE) (/[^`]*)`", paragraph))
+
+
+def test_the_api_reference_lists_what_is_implemented_and_what_answers_501() -> None:
+    """docs/robot-api.md §19's two lists are the route table's split, operation for operation."""
+    api = build_api(_bare_context())
+    ours = {("GET", "/"), ("GET", "/openapi.json")}
+    done = {(e.method, e.path) for e in api.endpoints() if e.implemented} - ours
+    todo = {(e.method, e.path) for e in api.endpoints() if not e.implemented}
+    listed_done, listed_todo = _doc_operations("Implemented:"), _doc_operations("501:")
+    assert not listed_done & listed_todo, sorted(listed_done & listed_todo)
+    assert listed_done == done, (sorted(done - listed_done), sorted(listed_done - done))
+    assert listed_todo == todo, (sorted(todo - listed_todo), sorted(listed_todo - todo))

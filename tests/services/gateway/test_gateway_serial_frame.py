@@ -1,4 +1,5 @@
-"""§13 frames without a port: the status packet layout and the command parser's resync."""
+"""docs/robot-api.md §13 frames without a port: the status packet layout and the command parser's
+resync."""
 
 from __future__ import annotations
 

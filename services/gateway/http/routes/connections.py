@@ -1,5 +1,5 @@
-"""REST ``/navigation/point_connections`` (§6.7): links between nav points of different
-maps, kept by the nav service (``list/add/delete_point_connection``)."""
+"""REST ``/navigation/point_connections`` (docs/robot-api.md §6.7): links between nav points of
+different maps, kept by the nav service (``list/add/delete_point_connection``)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""REST ``POST /navigation/coverage_path`` (§6.12): a boustrophedon coverage path, planned by
-the nav service's ``compute_coverage_path`` (computed only, never driven)."""
+"""REST ``POST /navigation/coverage_path`` (docs/robot-api.md §6.12): a boustrophedon coverage path,
+planned by the nav service's ``compute_coverage_path`` (computed only, never driven)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """REST extras the simulated robot honours truthfully: log, topic snapshots, self-test and
-ROS parameters (§3.1, §3.5); TTS is in rest_tts."""
+ROS parameters (docs/robot-api.md §3.1, §3.5); TTS is in rest_tts."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""REST ``/fs/...`` (§16): the robot's files, confined to the `FileRoot` sandbox."""
+"""REST ``/fs/...`` (docs/robot-api.md §16): the robot's files, confined to the `FileRoot`
+sandbox."""
 
 from __future__ import annotations
 

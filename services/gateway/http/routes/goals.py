@@ -1,4 +1,4 @@
-"""REST ``/navigation/...`` goals and charging (§6.4, §6.5).
+"""REST ``/navigation/...`` goals and charging (docs/robot-api.md §6.4, §6.5).
 
 Goals that the spec answers with a task (start_nav_task, move_to_index, loop_task,
 go_charge) are tasks of the tasks service, so they show in ``/task`` and are tracked,

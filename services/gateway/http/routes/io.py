@@ -1,4 +1,4 @@
-"""REST ``/system/io`` and ``/system/bw_io`` (§3.8): the chassis's IO ports.
+"""REST ``/system/io`` and ``/system/bw_io`` (docs/robot-api.md §3.8): the chassis's IO ports.
 
 The levels come from the chassis's latched ``chassis/io`` (zenros_msgs/IoState); a set goes
 to its ``chassis/set_io`` service, and the answer waits for it (`ports.io_link.IoLink`).

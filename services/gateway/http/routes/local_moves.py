@@ -1,4 +1,5 @@
-"""REST ``/navigation/start_local_move*`` (§6.10): relative moves without the global planner.
+"""REST ``/navigation/start_local_move*`` (docs/robot-api.md §6.10): relative moves without the
+global planner.
 
 Each creates and starts a task of the tasks service holding the spec's actions (§9.2):
 ``local_move_action`` (nav's ``drive_on_heading`` and ``spin``), ``local_move_target_action``

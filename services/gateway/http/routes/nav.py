@@ -1,5 +1,5 @@
-"""REST ``/navigation/...`` lifecycle, queries, maps and the initial pose (§6.1-§6.3,
-§6.9); goals and charging are in `rest_goals`."""
+"""REST ``/navigation/...`` lifecycle, queries, maps and the initial pose (docs/robot-api.md
+§6.1-§6.3, §6.9); goals and charging are in `rest_goals`."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""REST ``/navigation/path``, ``nav_points``, ``virtual_wall``, ``skip_area`` (§6.6, §6.8),
-on the nav service's path, nav-point, wall and keep-out services."""
+"""REST ``/navigation/path``, ``nav_points``, ``virtual_wall``, ``skip_area`` (docs/robot-api.md
+§6.6, §6.8), on the nav service's path, nav-point, wall and keep-out services."""
 
 from __future__ import annotations
 

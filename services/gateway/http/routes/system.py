@@ -1,4 +1,5 @@
-"""REST ``/token`` and ``/system/...``: status, info, GalileoStatus, speed, config (§2, §3)."""
+"""REST ``/token`` and ``/system/...``: status, info, GalileoStatus, speed, config
+(docs/robot-api.md §2, §3)."""
 
 from __future__ import annotations
 

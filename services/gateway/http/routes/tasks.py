@@ -1,4 +1,5 @@
-"""REST ``/task`` and ``/action`` (§8.3, §9.1), forwarded to the tasks service's ``tasks/*``.
+"""REST ``/task`` and ``/action`` (docs/robot-api.md §8.3, §9.1), forwarded to the tasks service's
+``tasks/*``.
 
 Bodies decode straight into the task documents (`Task`, `TaskUpdate`, `Action`): a bad one
 is a 400 naming the field's path (``sub_tasks[0].wait_time``) before the tasks service is

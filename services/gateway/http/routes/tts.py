@@ -1,4 +1,5 @@
-"""REST speech as text (§3.7): ``/system/tts`` with aliases, playing/stop, and the volume."""
+"""REST speech as text (docs/robot-api.md §3.7): ``/system/tts`` with aliases, playing/stop, and the
+volume."""
 
 from __future__ import annotations
 
