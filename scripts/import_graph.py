@@ -6,7 +6,8 @@ layers. docs/architecture.md is written from its output.
 
     python3 scripts/import_graph.py            # groups, circles, wrong-way imports
     python3 scripts/import_graph.py --modules  # every module's imports of zenros modules
-    python3 scripts/import_graph.py --check    # exit 1 if an import points the wrong way
+    python3 scripts/import_graph.py --check    # exit 1 if an import points the wrong way,
+                                               # or the library (shared/) has an import circle
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import argparse
 import ast
 import sys
 from collections import defaultdict
+from functools import cache
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -43,10 +45,24 @@ def modules() -> dict[str, Path]:
     return out
 
 
+@cache
+def extensions() -> frozenset[str]:
+    """The dotted names of the C extension modules (``zenros.tf._speedups``), from their
+    sources: ``from . import _speedups`` imports that module, not its package."""
+    out: set[str] = set()
+    for package, tree in TREES.items():
+        for path in tree.rglob("*.c"):
+            out.add(".".join([package, *path.relative_to(tree).with_suffix("").parts]))
+    return frozenset(out)
+
+
 def imports_of(name: str, path: Path, known: set[str], typing: bool = False) -> set[str]:
     """The zenros modules ``name`` imports at module level or in functions (and, with
-    ``typing``, under ``if TYPE_CHECKING`` too)."""
+    ``typing``, under ``if TYPE_CHECKING`` too). ``from pkg import mod`` imports ``pkg.mod``
+    (and ``pkg``'s ``__init__`` only when a name is not a module of it)."""
     is_package = path.name == "__init__.py"
+    compiled = extensions()
+    submodules = known | compiled
     tree = ast.parse(path.read_text(), str(path))
     found: set[str] = set()
     typing_only: set[int] = set()
@@ -66,8 +82,11 @@ def imports_of(name: str, path: Path, known: set[str], typing: bool = False) -> 
                 mod = ".".join(base + ([node.module] if node.module else []))
             else:
                 mod = node.module or ""
-            targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
+            subs = [f"{mod}.{a.name}" for a in node.names]
+            targets = ([] if all(s in submodules for s in subs) else [mod]) + subs
         for t in targets:
+            if t in compiled:
+                continue  # a C module imports nothing of ours
             while t and t not in known:
                 t = t.rpartition(".")[0]
             if t and t != name:
@@ -166,6 +185,14 @@ def circles(graph: dict[str, set[str]]) -> list[list[str]]:
     return sorted(out, key=lambda c: (-len(c), c))
 
 
+def library_circles(graph: dict[str, set[str]]) -> list[str]:
+    """The import circles between modules of the library (``zenros``, not its services),
+    type-checking imports included: a package's ``__init__`` counts as importing what it
+    imports, so ``message`` -> ``msgs`` -> ``msgs.std_msgs`` -> ``message`` is one."""
+    lib = {m: {t for t in ts if not service(t)} for m, ts in graph.items() if not service(m)}
+    return [" -> ".join(c) for c in circles(lib)]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--modules", action="store_true", help="print every module's imports")
@@ -175,15 +202,15 @@ def main() -> int:
     mods = modules()
     known = set(mods)
     def arrows(typing: bool) -> dict[str, set[str]]:
-        # a package's __init__ importing its own submodules is not an arrow between modules
-        return {m: {t for t in imports_of(m, p, known, typing) if not t.startswith(m + ".")}
-                for m, p in mods.items()}
+        return {m: imports_of(m, p, known, typing) for m, p in mods.items()}
 
     graph, typed = arrows(False), arrows(True)
     if args.check:
         bad = wrong_way(typed)
         print("\n".join(bad) or "no import points the wrong way")
-        return 1 if bad else 0
+        loops = library_circles(typed)
+        print("\n".join(f"import circle: {c}" for c in loops) or "no import circle in the library")
+        return 1 if bad or loops else 0
     if args.modules:
         for m in sorted(graph):
             print(m, "->", ", ".join(sorted(graph[m])) or "-")

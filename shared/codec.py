@@ -12,7 +12,8 @@ import msgspec.inspect as mi
 import numpy as np
 
 from .errors import DecodeError, EncodeError, TypeMismatchError
-from .message import Message, _TypedArray, lookup_type, normalize_type_name, to_array
+from .message import Message, _TypedArray, normalize_type_name, to_array
+from .registry import lookup_type
 
 __all__ = [
     "JSON",

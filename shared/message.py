@@ -1,4 +1,8 @@
-"""The `Message` base class, numpy-backed array fields, and the wire type-name registry."""
+"""The `Message` base class, numpy-backed array fields, and the tables types register in.
+
+Looking a type up by name, the standard types loaded first, is `zenros.registry`'s (it sits
+above `zenros.msgs`, whose modules register here: the imports point one way).
+"""
 
 from __future__ import annotations
 
@@ -13,21 +17,20 @@ from typing_extensions import TypeVar as DefaultTypeVar
 from .errors import UnknownTypeError
 
 __all__ = [
+    "TABLES",
     "ActionType",
     "Float32Array",
     "Float64Array",
     "Int8Array",
     "Message",
     "ServiceType",
+    "TypeTables",
     "UInt8Array",
     "array_field",
     "define_action",
     "define_service",
-    "lookup_action",
-    "lookup_service",
-    "lookup_type",
+    "find_registered",
     "normalize_type_name",
-    "registered_types",
     "similar_type_names",
 ]
 
@@ -85,8 +88,9 @@ def normalize_type_name(name: str) -> str:
     return "/".join(parts)
 
 
-def _lookup(table: dict[str, Any], kind: str, name: str) -> Any:
-    """``pkg/Name`` (or ``pkg/msg/Name``), or an unambiguous short ``Name``."""
+def find_registered(table: dict[str, Any], kind: str, name: str) -> Any:
+    """``pkg/Name`` (or ``pkg/msg/Name``), or an unambiguous short ``Name``, in ``table`` (one of
+    `TABLES`); `UnknownTypeError` naming the closest registered names otherwise."""
     key = normalize_type_name(name)
     if key in table:
         return table[key]
@@ -114,19 +118,6 @@ def similar_type_names(name: str, names: Any, n: int = 3) -> list[str]:
 
     scored = sorted(((score(full), full) for full in names), key=lambda sf: (-sf[0], sf[1]))
     return [full for sc, full in scored[:n] if sc >= 0.75]
-
-
-def lookup_type(name: str) -> type[Message]:
-    """Return the message class registered under a ROS type name."""
-    _ensure_builtin_types()
-    cls: type[Message] = _lookup(_MESSAGES, "message", name)
-    return cls
-
-
-def registered_types() -> dict[str, type[Message]]:
-    """All registered message classes, by wire type name."""
-    _ensure_builtin_types()
-    return dict(_MESSAGES)
 
 
 @dataclass(frozen=True)
@@ -167,22 +158,16 @@ def define_action(
     return act
 
 
-def lookup_service(name: str) -> ServiceType:
-    """Return the service type registered under a ROS type name."""
-    _ensure_builtin_types()
-    srv: ServiceType = _lookup(_SERVICES, "service", name)
-    return srv
+@dataclass(frozen=True)
+class TypeTables:
+    """The registered types by normalized name (``pkg/Name``): what has registered so far."""
+
+    messages: dict[str, type[Message]]
+    services: dict[str, ServiceType]
+    actions: dict[str, ActionType]
 
 
-def lookup_action(name: str) -> ActionType:
-    """Return the action type registered under a ROS type name."""
-    _ensure_builtin_types()
-    act: ActionType = _lookup(_ACTIONS, "action", name)
-    return act
-
-
-def _ensure_builtin_types() -> None:
-    from . import msgs  # noqa: F401  (importing registers the standard types)
+TABLES = TypeTables(_MESSAGES, _SERVICES, _ACTIONS)
 
 
 # ---------------------------------------------------------------- numpy array fields

@@ -6,7 +6,7 @@ import functools
 import os
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from .errors import InvalidNameError, ParameterError, ServiceUnavailableError, ZenrosTimeout
 from .names import Token
@@ -14,10 +14,15 @@ from .param_client import ParameterClient
 from .param_protocol import SET_PARAM, local_param_name, node_param_name
 
 if TYPE_CHECKING:
-    from .node import Node
-    from .param_client import ParamEvent
+    import logging
 
-__all__ = ["MASTER_IN_LAUNCH", "MASTER_JOIN_WAIT", "MasterBackend", "attach_parameter_backend"]
+    from .context import Context
+    from .graph import Graph
+    from .param_client import ParamEvent
+    from .params import Parameters
+
+__all__ = ["MASTER_IN_LAUNCH", "MASTER_JOIN_WAIT", "MasterBackend", "ParameterOwner",
+           "attach_parameter_backend"]
 
 _UNREACHABLE = (ServiceUnavailableError, ZenrosTimeout)
 
@@ -26,6 +31,28 @@ MASTER_IN_LAUNCH = "ZENROS_MASTER_IN_LAUNCH"
 waited for it), and the node's fresh session only has to learn its services."""
 MASTER_JOIN_WAIT = 3.0
 """How long such a node waits for master's services before its first parameter read."""
+
+
+class ParameterOwner(Protocol):
+    """What the backend uses of its node (a `zenros.Node`; typed so, `node` imports this
+    module and not the other way round)."""
+
+    @property
+    def fqn(self) -> str: ...
+
+    @property
+    def context(self) -> Context: ...
+
+    @property
+    def graph(self) -> Graph: ...
+
+    @property
+    def logger(self) -> logging.Logger: ...
+
+    @property
+    def parameters(self) -> Parameters: ...
+
+    def add_waitable(self, endpoint: MasterBackend) -> MasterBackend: ...
 
 
 class MasterBackend:
@@ -37,7 +64,7 @@ class MasterBackend:
     own: pending writes are pushed, every other declared parameter is fetched again.
     """
 
-    def __init__(self, node: Node, client: ParameterClient) -> None:
+    def __init__(self, node: ParameterOwner, client: ParameterClient) -> None:
         self._node = node
         self._client = client
         self._lock = threading.Lock()
@@ -197,7 +224,7 @@ class MasterBackend:
             self._node.parameters.backend = None
 
 
-def attach_parameter_backend(node: Node) -> MasterBackend:
+def attach_parameter_backend(node: ParameterOwner) -> MasterBackend:
     """Back ``node``'s parameters with the master; call it before parameters are declared.
 
     Sets ``node.parameters.backend``: a declared parameter takes its stored value from the

@@ -36,11 +36,12 @@ from zenoh import ext as zext
 from zenros.codec import codec_for
 from zenros.errors import CodecError, UnknownTypeError, ZenrosError
 from zenros.log import LogOnce
-from zenros.message import Message, lookup_action, lookup_service, lookup_type
+from zenros.message import Message
 from zenros.node import Node
 from zenros.qos import Durability as ZDurability
 from zenros.qos import QoSProfile
 from zenros.qos import Reliability as ZReliability
+from zenros.registry import lookup_action, lookup_service, lookup_type
 from zenros.ros2.cdr import cdr_codec
 from zenros.ros2.registry import ros_name_of, zenros_class_of
 from zenros.ros2.rmw_zenoh import (

@@ -8,7 +8,7 @@ import time
 import uuid
 import weakref
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Generic
+from typing import Any, Generic
 
 import zenoh
 
@@ -29,6 +29,7 @@ from ..msgs.builtin_interfaces import Time
 from ..names import Token
 from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
+from .host import ActionHost
 from .inbox import Inbox
 from .transport import (
     RESULT_ON_GOAL,
@@ -46,9 +47,6 @@ from .types import (
     uuid_msg,
 )
 from .wire import wire_types
-
-if TYPE_CHECKING:
-    from ..node import Node
 
 __all__ = ["ActionClient"]
 
@@ -68,7 +66,7 @@ class ActionClient(Generic[G, R, F]):
             longer; the request is simply sent again).
     """
 
-    def __init__(self, node: Node, action_type: ActionType[G, R, F], name: str, *,
+    def __init__(self, node: ActionHost, action_type: ActionType[G, R, F], name: str, *,
                  send_timeout: float = 10.0, result_timeout: float = 60.0) -> None:
         self.action_type = action_type
         self.name = node.resolve_name(name, "action")

@@ -8,7 +8,7 @@ import logging
 import threading
 import time
 from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any, Generic
+from typing import Any, Generic
 
 import zenoh
 
@@ -21,6 +21,7 @@ from ..message import ActionType, F, G, R
 from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
+from .host import ActionHost
 from .leaders import RequestThreads
 from .policies import GoalPolicy
 from .runner import GoalRunner
@@ -44,9 +45,6 @@ from .types import (
     uuid_from_msg,
 )
 from .wire import wire_types
-
-if TYPE_CHECKING:
-    from ..node import Node
 
 __all__ = ["ActionServer"]
 
@@ -82,7 +80,7 @@ class ActionServer(Generic[G, R, F]):
 
     def __init__(
         self,
-        node: Node,
+        node: ActionHost,
         action_type: ActionType[G, R, F],
         name: str,
         execute_callback: Callable[[ServerGoalHandle[G, F]], R | None | Awaitable[R | None]],

@@ -15,8 +15,8 @@ from zenoh import ext as zext
 
 from ..codec import MSGPACK, split_encoding
 from ..context import Context
-from ..message import lookup_type
 from ..names import Token, resolve
+from ..registry import lookup_type
 from .schema import message_encoding, schema_for, schema_of_type
 from .sink import CHUNK_SIZE, FLUSH_INTERVAL, BagSink, SplitPolicy
 from .stamp import stamp_reader

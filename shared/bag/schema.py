@@ -9,7 +9,8 @@ from typing import Any
 import msgspec
 
 from ..codec import MSGPACK, codec_for
-from ..message import Message, _TypedArray, lookup_type
+from ..message import Message, _TypedArray
+from ..registry import lookup_type
 
 __all__ = ["message_encoding", "schema_for", "schema_of_type"]
 

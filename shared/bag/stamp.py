@@ -8,7 +8,7 @@ from functools import cache
 
 import msgspec
 
-from ..message import lookup_type
+from ..registry import lookup_type
 
 __all__ = ["stamp_reader"]
 

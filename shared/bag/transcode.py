@@ -9,7 +9,7 @@ from functools import cache
 import msgspec
 
 from ..codec import _json_decoder, codec_for, to_builtins
-from ..message import lookup_type
+from ..registry import lookup_type
 
 __all__ = ["TRANSCODED", "from_json", "to_json"]
 

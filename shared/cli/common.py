@@ -20,16 +20,9 @@ import yaml
 from ..codec import JSON, MSGPACK, decode_any, split_encoding, to_builtins
 from ..context import Context
 from ..errors import StartupError, UnknownTypeError, ZenrosError
-from ..message import (
-    ActionType,
-    Message,
-    ServiceType,
-    lookup_action,
-    lookup_service,
-    lookup_type,
-    normalize_type_name,
-)
+from ..message import ActionType, Message, ServiceType, normalize_type_name
 from ..node import Node
+from ..registry import lookup_action, lookup_service, lookup_type
 from ..session import DEFAULT_ROUTER, add_session_arguments, options_from_args
 
 __all__ = [

@@ -15,11 +15,19 @@ from typing import Any
 
 import msgspec
 
-from .. import message as _message
 from ..errors import UnknownTypeError
 from ..message import Message, _TypedArray, normalize_type_name
+from ..registry import registered_actions, registered_services, registered_types
 from . import definitions
-from .idl import EMPTY_FIELD, FieldType, InterfaceError, MsgDef, RosField, parse_msg, split_interface
+from .idl import (
+    EMPTY_FIELD,
+    FieldType,
+    InterfaceError,
+    MsgDef,
+    RosField,
+    parse_msg,
+    split_interface,
+)
 
 __all__ = [
     "definition",
@@ -142,18 +150,17 @@ def definition(name: str) -> MsgDef:
 
 @cache
 def _class_names() -> tuple[dict[type, str], dict[str, type]]:
-    _message._ensure_builtin_types()
     to_ros: dict[type, str] = {}
-    for srv in _message._SERVICES.values():
+    for srv in registered_services().values():
         pkg, _, short = srv.name.partition("/")
         to_ros[srv.Request] = f"{pkg}/srv/{short}_Request"
         to_ros[srv.Response] = f"{pkg}/srv/{short}_Response"
-    for act in _message._ACTIONS.values():
+    for act in registered_actions().values():
         pkg, _, short = act.name.partition("/")
         to_ros[act.Goal] = f"{pkg}/action/{short}_Goal"
         to_ros[act.Result] = f"{pkg}/action/{short}_Result"
         to_ros[act.Feedback] = f"{pkg}/action/{short}_Feedback"
-    for name, cls in _message._MESSAGES.items():
+    for name, cls in registered_types().items():
         if cls not in to_ros:
             pkg, _, short = name.partition("/")
             to_ros[cls] = f"{pkg}/msg/{short}"

@@ -91,9 +91,9 @@ class Container(State):
         self._remappings[label] = remap
 
     def _tree_running(self) -> bool:
-        node: Container | None = self
+        node: State | None = self
         while node is not None:
-            if node._running:
+            if isinstance(node, Container) and node._running:
                 return True
             node = node.parent
         return False
@@ -280,7 +280,7 @@ class Container(State):
 
     def _dispatch(self, event: ContainerEvent) -> None:
         self._listeners.dispatch(event)
-        if self._parent is not None:
+        if isinstance(self._parent, Container):
             self._parent._dispatch(event)
 
     # ------------------------------------------------------------------ introspection
@@ -350,7 +350,7 @@ class Container(State):
 
     def get_structure(self) -> StateStructure:
         """Outcomes, keys, transitions and children, recursively, as plain data."""
-        return structure_of(self)
+        return structure_of(self, State.get_structure(self))
 
     def get_status(self) -> ContainerStatus:
         """Active states, userdata snapshot and last outcome, for this and nested containers."""

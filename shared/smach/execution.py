@@ -6,13 +6,11 @@ import asyncio
 import concurrent.futures
 import threading
 from collections.abc import Callable, Generator
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..errors import ZenrosTimeout
+from .parent import Parent
 from .userdata import UserDataAccess
-
-if TYPE_CHECKING:
-    from .container import Container
 
 __all__ = ["Execution"]
 
@@ -26,7 +24,7 @@ class Execution:
     The thread is a daemon: preempt and wait for the run before the program exits.
     """
 
-    def __init__(self, container: Container, userdata: UserDataAccess | None) -> None:
+    def __init__(self, container: Parent, userdata: UserDataAccess | None) -> None:
         self.container = container
         self.future: concurrent.futures.Future[str] = concurrent.futures.Future()
         self._thread = threading.Thread(

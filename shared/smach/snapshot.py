@@ -2,25 +2,22 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from .introspection import ContainerEvent, ContainerStatus, StateStructure, snapshot_userdata
-from .state import State, join_path
-
-if TYPE_CHECKING:
-    from .container import Container
+from .parent import Parent
+from .state import join_path
 
 __all__ = ["active_paths", "status_at_event", "status_of", "structure_of"]
 
 
-def structure_of(container: Container) -> StateStructure:
-    """The container's declared interface, internal edges and children, recursively."""
+def structure_of(container: Parent, own: StateStructure) -> StateStructure:
+    """The container's declared interface (``own``: `State.get_structure` of it), its internal
+    edges and its children, recursively."""
     children = []
     for label, child in container.children.items():
         node = child.get_structure()
         node.remapping = container.remapping_of(label)
         children.append(node)
-    node = State.get_structure(container)
+    node = own
     node.is_container = True
     node.initial_states = container.get_initial_states()
     node.transitions = container._edges()
@@ -29,10 +26,8 @@ def structure_of(container: Container) -> StateStructure:
     return node
 
 
-def status_of(container: Container) -> ContainerStatus:
+def status_of(container: Parent) -> ContainerStatus:
     """What the container and every container inside it are doing now."""
-    from .container import Container
-
     with container._lock:
         running = container.is_running
         active = container.get_active_states()
@@ -48,14 +43,12 @@ def status_of(container: Container) -> ContainerStatus:
         unserializable=skipped,
         last_outcome=container.last_outcome,
         info=container._info(),
-        children=[c.get_status() for c in container.children.values() if isinstance(c, Container)],
+        children=[c.get_status() for c in container.children.values() if isinstance(c, Parent)],
     )
 
 
-def active_paths(container: Container, active: list[str]) -> list[str]:
+def active_paths(container: Parent, active: list[str]) -> list[str]:
     """The paths of the deepest active states below the ``active`` children of ``container``."""
-    from .container import Container
-
     paths: list[str] = []
     children = container.children
     for label in active:
@@ -63,13 +56,13 @@ def active_paths(container: Container, active: list[str]) -> list[str]:
         if child is None:
             continue
         deeper = []
-        if isinstance(child, Container):
+        if isinstance(child, Parent):
             deeper = active_paths(child, child.get_active_states())
         paths += deeper or [child.path]
     return paths
 
 
-def status_at_event(root: Container, event: ContainerEvent) -> ContainerStatus:
+def status_at_event(root: Parent, event: ContainerEvent) -> ContainerStatus:
     """The status of ``root`` as a listener should report it when ``event`` fires.
 
     A container emits ``start`` before its first children begin and ``termination`` just

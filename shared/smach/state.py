@@ -5,14 +5,11 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 from ..errors import InvalidStateError
 from .introspection import StateStructure
 from .userdata import UserDataAccess
-
-if TYPE_CHECKING:
-    from .container import Container
 
 __all__ = ["CBState", "State", "cb_interface", "interface_of", "names"]
 
@@ -80,7 +77,7 @@ class State:
         self._input_keys = names((*names(input_keys, "input_keys"), *io), "input_keys")
         self._output_keys = names((*names(output_keys, "output_keys"), *io), "output_keys")
         self._preempt = threading.Event()
-        self._parent: Container | None = None
+        self._parent: State | None = None  # the container holding it
         self._label: str | None = None
 
     # ------------------------------------------------------------------ contract
@@ -119,7 +116,7 @@ class State:
         return self._label
 
     @property
-    def parent(self) -> Container | None:
+    def parent(self) -> State | None:
         """The container holding this state (None at the root)."""
         return self._parent
 
@@ -145,7 +142,7 @@ class State:
             output_keys=list(self._output_keys),
         )
 
-    def _attach(self, parent: Container, label: str) -> None:
+    def _attach(self, parent: State, label: str) -> None:
         if self._parent is not None:
             raise InvalidStateError(
                 f"cannot add {type(self).__name__} as {label!r} to {parent.path}: this instance"

@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 from ..errors import InvalidStateError, InvalidTransitionError
+from .parent import Parent
 from .state import State
-
-if TYPE_CHECKING:
-    from .container import Container
 
 __all__ = ["Problem", "check_child", "key_problems", "listing", "raise_problems"]
 
@@ -27,7 +25,7 @@ def listing(items: Iterable[object]) -> str:
     return ", ".join(out) if out else "(none)"
 
 
-def key_problems(container: Container, provided: set[str]) -> list[Problem]:
+def key_problems(container: Parent, provided: set[str]) -> list[Problem]:
     """Input keys of children, and output keys of the container, that nothing provides.
 
     Args:
@@ -69,7 +67,7 @@ def raise_problems(where: str, problems: list[Problem]) -> None:
 
 
 def check_child(
-    container: Container, label: str, state: State, remapping: Mapping[str, str] | None
+    container: Parent, label: str, state: State, remapping: Mapping[str, str] | None
 ) -> dict[str, str]:
     """Check what can be checked when ``state`` is added: label, type, place, remapping.
 
@@ -92,7 +90,7 @@ def check_child(
             f"duplicate label {label!r} in {container.path};"
             f" labels in use: {listing(container.children)}"
         )
-    node: State | None = container
+    node: State | Parent | None = container
     while node is not None:
         if node is state:
             raise InvalidStateError(f"cannot add {container.path} inside itself as {label!r}")

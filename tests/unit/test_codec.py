@@ -24,7 +24,7 @@ from zenros.codec import (
     to_builtins,
 )
 from zenros.errors import CodecError, DecodeError, EncodeError, TypeMismatchError, UnknownTypeError
-from zenros.message import Float32Array, Float64Array, Int8Array, Message, registered_types
+from zenros.message import Float32Array, Float64Array, Int8Array, Message
 from zenros.msgs.geometry_msgs import (
     Point,
     PoseStamped,
@@ -36,6 +36,7 @@ from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid, Odometry
 from zenros.msgs.sensor_msgs import BatteryState, JointState, LaserScan
 from zenros.msgs.std_msgs import Float64, Header, String
 from zenros.msgs.tf2_msgs import TFMessage
+from zenros.registry import registered_types
 
 BULK = {
     "nav_msgs/OccupancyGrid", "sensor_msgs/LaserScan",
@@ -532,8 +533,8 @@ def test_from_builtins_takes_ros1_time_names_and_header_seq() -> None:
     """ROS 1 clients (roslibpy's Time/Header) write secs/nsecs and Header.seq; the JSON
     doors take them as the reference rosbridge does (sec/nanosec, seq dropped)."""
     from zenros.codec import from_builtins
-    from zenros.message import lookup_type
     from zenros.msgs.builtin_interfaces import Duration, Time
+    from zenros.registry import lookup_type
 
     stamped = lookup_type("geometry_msgs/PointStamped")
     msg = from_builtins({"header": {"seq": 7, "stamp": {"secs": 3, "nsecs": 5},

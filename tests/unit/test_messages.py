@@ -22,11 +22,7 @@ from zenros.message import (
     array_field,
     define_action,
     define_service,
-    lookup_action,
-    lookup_service,
-    lookup_type,
     normalize_type_name,
-    registered_types,
     to_array,
 )
 from zenros.msgs import example_interfaces, std_srvs
@@ -43,6 +39,7 @@ from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid, Odometry
 from zenros.msgs.rcl_interfaces import Log
 from zenros.msgs.sensor_msgs import Imu, LaserScan
 from zenros.msgs.std_msgs import Header, String
+from zenros.registry import lookup_action, lookup_service, lookup_type, registered_types
 
 # ------------------------------------------------------------------ registry
 

@@ -23,9 +23,10 @@ except ModuleNotFoundError as exc:  # the optional extra is not installed
         f" ({exc})", name=exc.name) from exc
 from zenros.errors import StartupError, UnknownTypeError, ZenrosError
 from zenros.json_chunks import BulkEncoder, encode_yielding, is_bulky
-from zenros.message import Message, lookup_type
+from zenros.message import Message
 from zenros.names import Token
 from zenros.node import Node
+from zenros.registry import lookup_type
 
 from ..rosbridge import encode_message, message_from_json, qos_for_publishers
 from .schema import schema_bytes, schema_name

@@ -15,7 +15,6 @@ from typing import Any
 
 from zenros.clock import SteadyClock
 from zenros.errors import UnknownTypeError
-from zenros.message import lookup_type
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoStatus
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav_msgs import Odometry
@@ -24,6 +23,7 @@ from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
+from zenros.registry import lookup_type
 from zenros.tf.convert import yaw_from_msg
 
 from ..state.core import Core

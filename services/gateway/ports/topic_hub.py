@@ -17,10 +17,11 @@ import msgspec
 from zenros.codec import from_builtins, json_bytes
 from zenros.errors import DecodeError, UnknownTypeError
 from zenros.json_chunks import BulkEncoder, encode_yielding, is_bulky
-from zenros.message import Message, lookup_type
+from zenros.message import Message
 from zenros.node import Node
 from zenros.pubsub import Publisher, Subscription
 from zenros.qos import Durability, QoSProfile
+from zenros.registry import lookup_type
 
 __all__ = ["Slot", "TopicError", "TopicHub"]
 

@@ -40,9 +40,10 @@ from cyclonedds.builtin import (
 from cyclonedds.core import InstanceState
 from zenros.errors import ConfigError, UnknownTypeError
 from zenros.log import LogOnce
-from zenros.message import ActionType, lookup_action, lookup_service, lookup_type
+from zenros.message import ActionType
 from zenros.node import Node
 from zenros.qos import QoSProfile
+from zenros.registry import lookup_action, lookup_service, lookup_type
 from zenros.ros2.registry import definition, ros_name_of, zenros_class_of
 from zenros.ros2.typehash import type_hash
 from zenros.ros2.typenames import dds_to_ros, ros_to_zenros

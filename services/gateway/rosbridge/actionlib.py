@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING, Any
 import msgspec
 from zenros.action import GoalStatus
 from zenros.errors import UnknownTypeError, ZenrosError
-from zenros.message import ActionType, Message, lookup_action, normalize_type_name
+from zenros.message import ActionType, Message, normalize_type_name
+from zenros.registry import lookup_action
 
 from .convert import message_from_json, to_json
 from .frames import OpError

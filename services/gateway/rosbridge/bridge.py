@@ -10,10 +10,11 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from zenros.errors import InvalidNameError, UnknownTypeError, ZenrosError
 from zenros.json_chunks import BulkEncoder, is_bulky
-from zenros.message import ActionType, Message, ServiceType, lookup_type, normalize_type_name
+from zenros.message import ActionType, Message, ServiceType, normalize_type_name
 from zenros.node import Node
 from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
+from zenros.registry import lookup_type
 
 from .actionlib import ActionlibBridge
 from .convert import long_type

@@ -8,7 +8,7 @@ from collections.abc import Awaitable, Callable
 from typing import TYPE_CHECKING, Any
 
 from zenros.errors import ZenrosError
-from zenros.message import lookup_action
+from zenros.registry import lookup_action
 
 from .bridge import BridgeError
 from .convert import message_from_json, to_json

@@ -10,7 +10,8 @@ from collections.abc import Awaitable, Callable
 from typing import TYPE_CHECKING, Any
 
 from zenros.errors import ServiceError, UnknownTypeError, ZenrosError, ZenrosTimeout
-from zenros.message import Message, ServiceType, lookup_service
+from zenros.message import Message, ServiceType
+from zenros.registry import lookup_service
 
 from .bridge import BridgeError
 from .convert import message_from_json, request_args, to_json

@@ -12,8 +12,8 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from zenros.errors import UnknownTypeError, ZenrosError
-from zenros.message import lookup_action, lookup_service, lookup_type
 from zenros.msgs.builtin_interfaces import Time
+from zenros.registry import lookup_action, lookup_service, lookup_type
 
 from .convert import long_type
 from .typedefs import typedefs

@@ -19,9 +19,9 @@ from zenros.action.types import (
 from zenros.action.wire import wire_types
 from zenros.codec import codec_for
 from zenros.errors import DecodeError
-from zenros.message import lookup_service, lookup_type
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal, FibonacciResult
+from zenros.registry import lookup_service, lookup_type
 
 
 def test_wire_types_are_cached_and_registered_under_ros2_names() -> None:

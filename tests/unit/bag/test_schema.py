@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from zenros.bag.schema import message_encoding, schema_for
 from zenros.codec import codec_for
-from zenros.message import registered_types
 from zenros.msgs.nav_msgs import MapMetaData, OccupancyGrid, Odometry
 from zenros.msgs.sensor_msgs import BatteryState, Imu, LaserScan
 from zenros.msgs.tf2_msgs import TFMessage
+from zenros.registry import registered_types
 
 
 def _json_view(obj: Any) -> Any:

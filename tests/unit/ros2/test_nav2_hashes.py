@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import msgspec
 import pytest
-from zenros.message import lookup_action, lookup_service
 from zenros.msgs import nav2_msgs
+from zenros.registry import lookup_action, lookup_service
 from zenros.ros2 import type_hash
 from zenros.ros2.cdr import cdr_codec
 from zenros.ros2.registry import definition, ros_name_of

@@ -8,13 +8,6 @@ import random
 from typing import Any
 
 import pytest
-from zenros.codec import from_builtins
-from zenros.message import registered_types
-from zenros.ros2 import cdr_codec, ros_name_of, type_hash
-from zenros.ros2.cdr import cdr_codec_for_name
-from zenros.ros2.definitions import ACTIONS, MESSAGES, SERVICES
-from zenros.ros2.registry import definition, register_interface
-
 from rosref import (
     SHARE,
     has_wheel,
@@ -27,6 +20,12 @@ from rosref import (
     wheel_hash,
     zenros_values,
 )
+from zenros.codec import from_builtins
+from zenros.registry import registered_types
+from zenros.ros2 import cdr_codec, ros_name_of, type_hash
+from zenros.ros2.cdr import cdr_codec_for_name
+from zenros.ros2.definitions import ACTIONS, MESSAGES, SERVICES
+from zenros.ros2.registry import definition, register_interface
 
 pytestmark = needs_wheels
 
