@@ -17,6 +17,9 @@ from zenros.node import Node
 from zenros.param_config import parameter_specs
 from zenros.services.chassis.config import ChassisParameters
 from zenros.services.chassis.node import ChassisNode
+from zenros.services.gateway.params import GatewayParameters
+from zenros.services.gateway.rosbridge import DEFAULT_PORT as ROSBRIDGE_PORT
+from zenros.services.gateway.testing import running_gateway
 from zenros.services.master.node import MasterNode, MasterParameters
 from zenros.services.nav.core import NavConfig
 from zenros.services.nav.node import NavNode
@@ -94,3 +97,18 @@ def test_param_describe_shows_the_limits(ctxs: list[Context], tmp_path: Path) ->
             "to dock",
             "max_linear_vel        float, > 0  -- m/s",
         ]
+
+
+def test_the_gateway_declares_its_config(ctxs: list[Context], tmp_path: Path) -> None:
+    """Every gateway parameter comes from `GatewayParameters`, with its default and limits;
+    the test's overrides (free ports, its own files) are set back to the defaults first."""
+    with running_gateway(ctxs[0], tmp_path) as gateway:
+        overridden = {"rest_port", "ws_port", "modbus_port", "rosbridge_port",
+                      "discovery_port", "config_file", "data_dir"}
+        defaults = GatewayParameters()
+        for name in overridden:
+            gateway.parameters.set(name, getattr(defaults, name))
+        agree(gateway, GatewayParameters, read_only=False)
+        with pytest.raises(InvalidParameterValueError, match="rest_port"):
+            gateway.set_parameter("rest_port", 70000)
+        assert GatewayParameters().rosbridge_port == ROSBRIDGE_PORT
