@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
-from zenros.se2 import Pose2
+from zenros.se2 import Pose2, wrap_angle
 
 from .battery import Battery
 from .dock import Dock
@@ -108,7 +108,7 @@ class Simulation:
         if not self.world.body_free(pose.x, pose.y, self.radius):
             return (f"the robot (radius {self.radius:g} m) does not fit at "
                     f"({pose.x:g}, {pose.y:g}): it would overlap a wall or an obstacle")
-        self.truth = Pose2(pose.x, pose.y, math.remainder(pose.theta, 2 * math.pi))
+        self.truth = Pose2(pose.x, pose.y, wrap_angle(pose.theta))
         self.drive.stop_now()
         self.bumper = False
         self.docked = self.dock is not None and self.dock.docked(self.truth)

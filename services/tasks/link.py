@@ -39,6 +39,7 @@ from zenros.msgs.zenros_msgs.nav import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
+from zenros.se2 import angle_diff
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
 from .robot import Feedback, Outcome
@@ -121,7 +122,7 @@ class RobotLink:
                 threading.Event().wait(POLL)
                 p = self._pose
                 if p is not None and math.hypot(p[0] - x, p[1] - y) <= RELOCALISED[0] \
-                        and abs(math.remainder(p[2] - theta, math.tau)) <= RELOCALISED[1]:
+                        and abs(angle_diff(p[2], theta)) <= RELOCALISED[1]:
                     return Outcome("complete",
                                    f"relocalised at ({x:.2f}, {y:.2f}, {theta:.2f})")
         finally:

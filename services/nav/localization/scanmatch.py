@@ -10,13 +10,12 @@ Karto/Cartographer's first stage, without the branch-and-bound, since the window
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
 from zenros.maps import GridMap
-from zenros.se2 import Pose2
+from zenros.se2 import Pose2, wrap_angle
 
 __all__ = ["MatchParams", "ScanMatcher"]
 
@@ -99,4 +98,4 @@ class ScanMatcher:
         sf = self._scores(pts, fine)
         k = int(np.argmax(sf))
         x, y, th = fine[k]
-        return Pose2(float(x), float(y), math.remainder(float(th), 2 * math.pi)), float(sf[k])
+        return Pose2(float(x), float(y), wrap_angle(float(th))), float(sf[k])
