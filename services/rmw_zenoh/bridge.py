@@ -23,7 +23,6 @@ type zenros does not know or whose hash differs is logged once per topic and ski
 from __future__ import annotations
 
 import itertools
-import os
 import queue
 import re
 import threading
@@ -59,6 +58,7 @@ from zenros.ros2.typenames import dds_to_ros
 
 from .actions import ActionIn, ActionOut
 from .graph_mirror import GraphMirror
+from .params import RmwZenohParameters
 from .rmw_io import (
     RmwPublisher,
     declare_rmw_subscriber,
@@ -74,23 +74,21 @@ ACTION_SEND_GOAL = "/_action/send_goal"
 
 
 class RmwZenohBridge(Node):
-    """Parameters: ``domain_id`` (default ``ROS_DOMAIN_ID`` or 0), ``allow`` and ``deny``
-    (regular expressions on names; deny wins), ``services`` (bridge zenros services, default
-    true)."""
+    """Parameters: `RmwZenohParameters` (``domain_id``, ``allow`` and ``deny`` regular
+    expressions on names, deny winning, what to bridge, the call timeouts)."""
 
     node_name = "rmw_zenoh_bridge"
 
     def setup(self) -> None:
-        self.domain = int(self.declare_parameter(
-            "domain_id", int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)))
-        self.allow = re.compile(str(self.declare_parameter("allow", ".*")))
-        deny = str(self.declare_parameter("deny", ""))
-        self.deny = re.compile(deny) if deny else None
-        self.bridge_services = bool(self.declare_parameter("services", True))
-        self.bridge_actions = bool(self.declare_parameter("actions", True))
-        self.mirror_graph = bool(self.declare_parameter("mirror_graph", True))
-        self.call_timeout = float(self.declare_parameter("call_timeout", 10.0))
-        self.result_timeout = float(self.declare_parameter("result_timeout", 3600.0))
+        p = self.declare_parameters(RmwZenohParameters)
+        self.domain = p.domain_id
+        self.allow = re.compile(p.allow)
+        self.deny = re.compile(p.deny) if p.deny else None
+        self.bridge_services = p.services
+        self.bridge_actions = p.actions
+        self.mirror_graph = p.mirror_graph
+        self.call_timeout = p.call_timeout
+        self.result_timeout = p.result_timeout
         ctx = self.context
         self.session = ctx.session
         self.zid = str(ctx.zid)

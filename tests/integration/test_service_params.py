@@ -8,6 +8,7 @@ import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import msgspec
 import pytest
@@ -17,13 +18,17 @@ from zenros.node import Node
 from zenros.param_config import parameter_specs
 from zenros.services.chassis.config import ChassisParameters
 from zenros.services.chassis.node import ChassisNode
+from zenros.services.gateway.foxglove.node import FoxgloveParameters
 from zenros.services.gateway.params import GatewayParameters
 from zenros.services.gateway.rosbridge import DEFAULT_PORT as ROSBRIDGE_PORT
+from zenros.services.gateway.rosbridge.node import RosbridgeNode, RosbridgeParameters
 from zenros.services.gateway.testing import running_gateway
 from zenros.services.master.node import MasterNode, MasterParameters
 from zenros.services.nav.core import NavConfig
 from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import NavParameters, nav_config
+from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
+from zenros.services.rmw_zenoh.params import RmwZenohParameters
 from zenros.services.tasks.node import TasksNode, TasksParameters
 from zenros.services.tf.node import TfNode, TfParameters
 from zenros.testing import free_port, loopback_options, unique_prefix
@@ -40,13 +45,15 @@ def ctxs() -> Iterator[list[Context]]:
         ctx.close()
 
 
-def agree(node: Node, config: type[msgspec.Struct], read_only: bool) -> None:
+def agree(node: Node, config: type[msgspec.Struct], read_only: bool,
+          overrides: dict[str, Any] | None = None) -> None:
     declared = {p.name: p for p in node.parameters.describe()}
     for spec in parameter_specs(config):
         p = declared.get(spec.name)
         assert p is not None, f"{node.fqn} does not declare {spec.name}"
+        value = (overrides or {}).get(spec.name, spec.default)
         assert (p.value, p.type, p.constraints, p.read_only) == (
-            spec.default, type(spec.default), spec.constraints, read_only), spec.name
+            value, type(spec.default), spec.constraints, read_only), spec.name
         assert p.description == spec.description, spec.name
 
 
@@ -112,3 +119,30 @@ def test_the_gateway_declares_its_config(ctxs: list[Context], tmp_path: Path) ->
         with pytest.raises(InvalidParameterValueError, match="rest_port"):
             gateway.set_parameter("rest_port", 70000)
         assert GatewayParameters().rosbridge_port == ROSBRIDGE_PORT
+
+
+@pytest.mark.parametrize(("cls", "config", "read_only", "overrides"), [
+    (RmwZenohBridge, RmwZenohParameters, False, {"domain_id": 0}),
+    (RosbridgeNode, RosbridgeParameters, True, {"port": 0}),
+])
+def test_the_bridges_declare_their_config(
+        ctxs: list[Context], cls: type[Node], config: type[msgspec.Struct], read_only: bool,
+        overrides: dict[str, Any]) -> None:
+    with cls(context=ctxs[0], parameter_overrides=overrides) as node:
+        agree(node, config, read_only, overrides)
+
+
+def test_the_dds_bridge_config_has_limits() -> None:
+    """Its node needs cyclonedds and a network namespace (tests/integration/ros2/): the
+    Struct it declares is checked as parameter specs."""
+    pytest.importorskip("cyclonedds", reason="the DDS bridge needs zenros[ros2]")
+    from zenros.services.gateway.ros2.params import DdsBridgeParameters
+    dds = {s.name: s for s in parameter_specs(DdsBridgeParameters)}
+    assert dds["depth"].constraints == {"ge": 1} and dds["deny"].default
+    assert dds["service_timeout"].constraints == {"gt": 0}
+
+
+def test_the_foxglove_config_has_limits() -> None:
+    """Its node needs foxglove-sdk: the Struct it declares is checked as parameter specs."""
+    fox = {s.name: s for s in parameter_specs(FoxgloveParameters)}
+    assert fox["port"].default == 8765 and fox["port"].constraints == {"ge": 0, "le": 65535}

@@ -21,7 +21,6 @@ unknown type or another hash is logged once per topic and the topic is skipped.
 from __future__ import annotations
 
 import importlib
-import os
 import queue
 import re
 import threading
@@ -50,6 +49,7 @@ from zenros.ros2.typenames import dds_to_ros, ros_to_zenros
 
 from .actions import ActionRoute, ActionTopicsOut
 from .graph import RosNodes
+from .params import DdsBridgeParameters
 from .participant import open_participant
 from .qos import zenros_qos
 from .routes import Inbound, Outbound
@@ -84,33 +84,22 @@ def _user_hash(qos: Any) -> str:
 
 
 class Ros2DdsBridge(Node):
-    """Parameters: ``domain_id`` (default ``ROS_DOMAIN_ID`` or 0), ``allow`` and ``deny``
-    (regular expressions on ROS names; deny wins), ``depth`` (keep-last depth of topics from
-    DDS, whose discovery does not say it)."""
+    """Parameters: `DdsBridgeParameters` (``domain_id``, ``allow`` and ``deny`` regular
+    expressions on ROS names, deny winning, ``depth``: the keep-last depth of topics from
+    DDS, whose discovery does not say it, the service and result timeouts, the ``types``
+    modules to import)."""
 
     node_name = "ros2_dds_bridge"
 
     def setup(self) -> None:
-        self.domain = int(self.declare_parameter(
-            "domain_id", int(os.environ.get("ROS_DOMAIN_ID", "0") or 0),
-            description="DDS domain (ROS_DOMAIN_ID)", read_only=True))
-        self.allow = re.compile(str(self.declare_parameter(
-            "allow", ".*", description="regex on ROS names to bridge", read_only=True)))
-        deny = str(self.declare_parameter(
-            "deny", "/rosout|/parameter_events",
-            description="regex on ROS names never bridged (wins over allow)", read_only=True))
-        self.deny = re.compile(deny) if deny else None
-        self.depth = int(self.declare_parameter(
-            "depth", 10, description="keep-last depth of topics from DDS", read_only=True))
-        self.service_timeout = float(self.declare_parameter(
-            "service_timeout", 5.0, description="seconds a ROS 2 service has to reply",
-            read_only=True))
-        self.result_timeout = float(self.declare_parameter(
-            "result_timeout", 60.0, description="seconds one result request of a ROS 2 "
-            "action waits (a zenros client then asks again)", read_only=True))
-        self._import_types(str(self.declare_parameter(
-            "types", "", description="Python modules to import first, comma-separated: the "
-            "types they define are bridged too", read_only=True)))
+        p = self.declare_parameters(DdsBridgeParameters, read_only=True)
+        self.domain = p.domain_id
+        self.allow = re.compile(p.allow)
+        self.deny = re.compile(p.deny) if p.deny else None
+        self.depth = p.depth
+        self.service_timeout = p.service_timeout
+        self.result_timeout = p.result_timeout
+        self._import_types(p.types)
         ctx = self.context
         self.zid = str(ctx.zid)
         self.problems = LogOnce(self.logger)

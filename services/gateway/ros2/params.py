@@ -1,0 +1,32 @@
+"""`DdsBridgeParameters`: the ROS 2 DDS bridge's parameters, their only defaults and limits."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+from msgspec import Meta
+from zenros.ros2.domain import env_domain_id
+
+__all__ = ["DdsBridgeParameters"]
+
+
+class DdsBridgeParameters(msgspec.Struct, kw_only=True):
+    """The DDS bridge's parameters (docs/ros2.md), read-only: read once, at start."""
+
+    domain_id: Annotated[int, Meta(
+        ge=0, description="DDS domain (default ROS_DOMAIN_ID, else 0)")] = msgspec.field(
+        default_factory=env_domain_id)
+    allow: Annotated[str, Meta(description="regex on ROS names to bridge")] = ".*"
+    deny: Annotated[str, Meta(
+        description="regex on ROS names never bridged (wins over allow)")] = \
+        "/rosout|/parameter_events"
+    depth: Annotated[int, Meta(ge=1, description="keep-last depth of topics from DDS")] = 10
+    service_timeout: Annotated[float, Meta(
+        gt=0, description="seconds a ROS 2 service has to reply")] = 5.0
+    result_timeout: Annotated[float, Meta(
+        gt=0, description="seconds one result request of a ROS 2 action waits (a zenros "
+                          "client then asks again)")] = 60.0
+    types: Annotated[str, Meta(
+        description="Python modules to import first, comma-separated: the types they define "
+                    "are bridged too")] = ""
