@@ -11,7 +11,7 @@ import threading
 import time
 from collections.abc import Awaitable, Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Protocol, Self, TypeVar
+from typing import TYPE_CHECKING, Any, Self, TypeVar
 
 import msgspec
 
@@ -26,6 +26,7 @@ from .message import ActionType, F, G, Message, R, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
+from .owner import Closable
 from .param_backend import attach_parameter_backend
 from .param_config import declare_parameters
 from .param_describe import ParameterDescriptions
@@ -41,12 +42,6 @@ if TYPE_CHECKING:
     from .action import ActionClient, ActionServer, ServerGoalHandle
 
 __all__ = ["Closable", "Node"]
-
-
-class Closable(Protocol):
-    """What a node can own (`Node.own`, `Node.add_waitable`): anything with ``close()``."""
-
-    def close(self) -> None: ...
 
 
 class _Callback:

@@ -10,13 +10,11 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from .errors import InvalidNameError, ParameterError, ServiceUnavailableError, ZenrosTimeout
 from .names import Token
+from .owner import Owner
 from .param_client import ParameterClient
 from .param_protocol import SET_PARAM, local_param_name, node_param_name
 
 if TYPE_CHECKING:
-    import logging
-
-    from .context import Context
     from .graph import Graph
     from .param_client import ParamEvent
     from .params import Parameters
@@ -33,26 +31,15 @@ MASTER_JOIN_WAIT = 3.0
 """How long such a node waits for master's services before its first parameter read."""
 
 
-class ParameterOwner(Protocol):
+class ParameterOwner(Owner, Protocol):
     """What the backend uses of its node (a `zenros.Node`; typed so, `node` imports this
     module and not the other way round)."""
-
-    @property
-    def fqn(self) -> str: ...
-
-    @property
-    def context(self) -> Context: ...
 
     @property
     def graph(self) -> Graph: ...
 
     @property
-    def logger(self) -> logging.Logger: ...
-
-    @property
     def parameters(self) -> Parameters: ...
-
-    def add_waitable(self, endpoint: MasterBackend) -> MasterBackend: ...
 
 
 class MasterBackend:

@@ -4,22 +4,17 @@ from __future__ import annotations
 
 from typing import Annotated
 
-import msgspec
 from msgspec import Meta
-from zenros.ros2.domain import env_domain_id
+from zenros.ros2.domain import BridgeScope
 
 __all__ = ["RmwZenohParameters"]
 
 
-class RmwZenohParameters(msgspec.Struct, kw_only=True):
+class RmwZenohParameters(BridgeScope, kw_only=True):
     """The bridge's parameters (docs/ros2.md); read once, at start."""
 
-    domain_id: Annotated[int, Meta(
-        ge=0, description="ROS 2 domain (default ROS_DOMAIN_ID, else 0)")] = msgspec.field(
-        default_factory=env_domain_id)
-    allow: Annotated[str, Meta(description="regex on names to bridge")] = ".*"
     deny: Annotated[str, Meta(
-        description="regex on names never bridged (wins over allow; empty: none)")] = ""
+        description="regex on ROS names never bridged (wins over allow; empty: none)")] = ""
     services: Annotated[bool, Meta(description="bridge services both ways")] = True
     actions: Annotated[bool, Meta(description="bridge actions both ways")] = True
     mirror_graph: Annotated[bool, Meta(

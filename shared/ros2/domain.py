@@ -1,12 +1,27 @@
-"""The ROS 2 domain of the environment (``ROS_DOMAIN_ID``), the bridges' default domain."""
+"""The ROS 2 domain of the environment (``ROS_DOMAIN_ID``), and `BridgeScope`: the parameters
+both ROS 2 bridges start from (which domain, which names)."""
 
 from __future__ import annotations
 
 import os
+from typing import Annotated
 
-__all__ = ["env_domain_id"]
+import msgspec
+from msgspec import Meta
+
+__all__ = ["BridgeScope", "env_domain_id"]
 
 
 def env_domain_id() -> int:
     """``ROS_DOMAIN_ID`` of the environment, or 0 when it is unset or empty."""
     return int(os.environ.get("ROS_DOMAIN_ID", "0") or 0)
+
+
+class BridgeScope(msgspec.Struct, kw_only=True):
+    """A bridge's domain and the names it bridges (a bridge's parameter Struct adds its
+    ``deny`` pattern and the rest)."""
+
+    domain_id: Annotated[int, Meta(
+        ge=0, description="ROS 2 domain (default ROS_DOMAIN_ID, else 0)")] = msgspec.field(
+        default_factory=env_domain_id)
+    allow: Annotated[str, Meta(description="regex on ROS names to bridge")] = ".*"

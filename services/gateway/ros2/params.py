@@ -4,20 +4,15 @@ from __future__ import annotations
 
 from typing import Annotated
 
-import msgspec
 from msgspec import Meta
-from zenros.ros2.domain import env_domain_id
+from zenros.ros2.domain import BridgeScope
 
 __all__ = ["DdsBridgeParameters"]
 
 
-class DdsBridgeParameters(msgspec.Struct, kw_only=True):
+class DdsBridgeParameters(BridgeScope, kw_only=True):
     """The DDS bridge's parameters (docs/ros2.md), read-only: read once, at start."""
 
-    domain_id: Annotated[int, Meta(
-        ge=0, description="DDS domain (default ROS_DOMAIN_ID, else 0)")] = msgspec.field(
-        default_factory=env_domain_id)
-    allow: Annotated[str, Meta(description="regex on ROS names to bridge")] = ".*"
     deny: Annotated[str, Meta(
         description="regex on ROS names never bridged (wins over allow)")] = \
         "/rosout|/parameter_events"
