@@ -156,7 +156,9 @@ def circles(graph: dict[str, set[str]]) -> list[list[str]]:
     stack: list[str] = []
     on: set[str] = set()
     out: list[list[str]] = []
-    sys.setrecursionlimit(10_000)
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, 10_000))  # back to ``limit`` when done: the
+    # caller's process may rely on it (a test's json.loads of deep text raising RecursionError)
 
     def visit(v: str) -> None:
         index[v] = low[v] = len(index)
@@ -179,9 +181,12 @@ def circles(graph: dict[str, set[str]]) -> list[list[str]]:
             if len(comp) > 1:
                 out.append(sorted(comp))
 
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
+    try:
+        for v in sorted(graph):
+            if v not in index:
+                visit(v)
+    finally:
+        sys.setrecursionlimit(limit)
     return sorted(out, key=lambda c: (-len(c), c))
 
 
