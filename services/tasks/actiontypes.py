@@ -17,7 +17,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     check_action,
 )
 
-__all__ = ["ACTION_TYPES", "COMMON_FIELDS", "ActionParamsError", "validate_params"]
+__all__ = ["ACTION_TYPES", "COMMON_FIELDS", "ActionParamsError", "action_of", "validate_params"]
 
 
 class ActionParamsError(ValueError):
@@ -48,3 +48,10 @@ def validate_params(doc: dict[str, Any], where: str = "action") -> dict[str, Any
         raise ActionParamsError(f"{where} {exc}") from exc
     out: dict[str, Any] = msgspec.to_builtins(value)
     return {k: v for k, v in out.items() if k not in COMMON_FIELDS and v is not None}
+
+
+def action_of(kind: str, params: dict[str, Any]) -> Action:
+    """The typed action of type ``kind`` with ``params`` (an action document's parameters,
+    as `validate_params` returned them: already valid)."""
+    action: Action = msgspec.convert({"type": kind, **params}, Action)
+    return action

@@ -1,5 +1,7 @@
 """What each action type does, given a `Robot`, as a function returning an `Outcome`.
 
+A behaviour reads its action's parameters as the typed Struct of its type
+(`zenros_msgs.task_actions`); it writes progress on the action's document (``ctx.item``).
 Every behaviour polls ``cancelled`` while it waits, so a pause or stop takes effect at
 once; none holds a lock while it waits.
 """
@@ -12,6 +14,20 @@ import urllib.error
 import urllib.request
 from collections.abc import Callable
 from typing import Any, Final
+
+from msgspec import UNSET
+from zenros.msgs.zenros_msgs.task_actions import (
+    CallbackAction,
+    ChargeAction,
+    IoAction,
+    LocalMoveAction,
+    LocalMoveTargetAction,
+    NavAction,
+    SleepAction,
+    SwitchMapAction,
+    TtsAction,
+    WaitReqAction,
+)
 
 from .crossmap import navigate_across
 from .robot import Feedback, Outcome, Robot
@@ -54,14 +70,14 @@ class Context:
             event.wait(min(POLL, end - now))
 
 
-def _nav(ctx: Context, p: dict[str, Any]) -> Outcome:
+def _nav(ctx: Context, p: NavAction) -> Outcome:
     """Navigate on the current map, or across maps when ``map`` is another one."""
-    if p.get("map"):
+    if p.map:
         try:
             current = ctx.robot.current_map()
         except LookupError as exc:
             return Outcome("error", str(exc))
-        if p["map"] != current:
+        if p.map != current:
             def note(text: str) -> None:
                 ctx.item["result"] = text
                 ctx.changed()
@@ -69,15 +85,16 @@ def _nav(ctx: Context, p: dict[str, Any]) -> Outcome:
     return _nav_here(ctx, p)
 
 
-def _nav_here(ctx: Context, p: dict[str, Any]) -> Outcome:
-    if "index" in p:
+def _nav_here(ctx: Context, p: NavAction) -> Outcome:
+    if isinstance(p.index, int):
         try:
-            x, y, theta = ctx.robot.nav_point(int(p["index"]), str(p.get("map", "")),
-                                              str(p.get("path", "")))
+            x, y, theta = ctx.robot.nav_point(p.index, p.map, p.path)
         except LookupError as exc:
             return Outcome("error", str(exc))
-    else:
-        x, y, theta = float(p["x"]), float(p["y"]), float(p.get("theta", 0.0))
+    elif isinstance(p.x, int | float) and isinstance(p.y, int | float):
+        x, y, theta = float(p.x), float(p.y), p.theta
+    else:  # check_action refuses such a document; a goal built in code might be one
+        return Outcome("error", "a nav_action needs x and y, or index")
     first: list[float] = []
 
     def feedback(fb: Feedback) -> None:
@@ -89,42 +106,40 @@ def _nav_here(ctx: Context, p: dict[str, Any]) -> Outcome:
             ctx.item["progress"] = round(max(0.0, min(1.0, 1 - fb.distance / first[0])), 4)
         ctx.changed()
 
-    return ctx.robot.navigate(x, y, theta, float(p.get("timeout", 0.0)), feedback,
-                              ctx.cancelled)
+    return ctx.robot.navigate(x, y, theta, p.timeout, feedback, ctx.cancelled)
 
 
-def _sleep(ctx: Context, p: dict[str, Any]) -> Outcome:
-    if ctx.wait(float(p["wait_time"])):
+def _sleep(ctx: Context, p: SleepAction) -> Outcome:
+    if ctx.wait(p.wait_time):
         return Outcome("complete", "slept")
     return Outcome("preempted")
 
 
-def _charge(ctx: Context, p: dict[str, Any]) -> Outcome:
+def _charge(ctx: Context, p: ChargeAction) -> Outcome:
     pose = None
-    if p.get("x") is not None and p.get("y") is not None:
-        pose = (float(p["x"]), float(p["y"]), float(p.get("theta", 0.0)))
-    return ctx.robot.charge(pose, float(p.get("level", 0.0)), float(p.get("timeout", 0.0)),
-                            ctx.cancelled)
+    if isinstance(p.x, int | float) and isinstance(p.y, int | float):
+        pose = (float(p.x), float(p.y), p.theta)
+    return ctx.robot.charge(pose, p.level, p.timeout, ctx.cancelled)
 
 
-def _callback(ctx: Context, p: dict[str, Any]) -> Outcome:
-    method = str(p.get("method", "GET")).upper()
-    data = p.get("data")
+def _callback(ctx: Context, p: CallbackAction) -> Outcome:
+    method = p.method.upper()
+    data = None if p.data is UNSET else p.data
     body = None if data is None or method in ("GET", "HEAD") else json.dumps(data).encode()
-    req = urllib.request.Request(p["url"], data=body, method=method,
+    req = urllib.request.Request(p.url, data=body, method=method,
                                  headers={"Content-Type": "application/json"} if body else {})
     box: list[Outcome] = []
     done = threading.Event()
 
     def call() -> None:
         try:
-            with urllib.request.urlopen(req, timeout=float(p.get("timeout", 10.0))) as resp:
+            with urllib.request.urlopen(req, timeout=p.timeout) as resp:
                 box.append(Outcome("complete", f"HTTP {resp.status}"))
         except urllib.error.HTTPError as exc:
-            box.append(Outcome("error", f"{method} {p['url']}: HTTP {exc.code} {exc.reason}"))
+            box.append(Outcome("error", f"{method} {p.url}: HTTP {exc.code} {exc.reason}"))
         except (urllib.error.URLError, OSError, ValueError) as exc:
             reason = getattr(exc, "reason", exc)
-            box.append(Outcome("error", f"{method} {p['url']}: {reason}"))
+            box.append(Outcome("error", f"{method} {p.url}: {reason}"))
         finally:
             done.set()
 
@@ -135,8 +150,8 @@ def _callback(ctx: Context, p: dict[str, Any]) -> Outcome:
     return box[0]
 
 
-def _wait_req(ctx: Context, p: dict[str, Any]) -> Outcome:
-    timeout = float(p.get("timeout", 0.0))
+def _wait_req(ctx: Context, p: WaitReqAction) -> Outcome:
+    timeout = p.timeout
     end = ctx.robot.now() + timeout if timeout > 0 else None
     while not ctx.wait_release.wait(POLL):
         if ctx.cancelled():
@@ -147,27 +162,26 @@ def _wait_req(ctx: Context, p: dict[str, Any]) -> Outcome:
     return Outcome("complete", "released")
 
 
-def _tts(ctx: Context, p: dict[str, Any]) -> Outcome:
-    ctx.robot.say(str(p["text"]))
+def _tts(ctx: Context, p: TtsAction) -> Outcome:
+    ctx.robot.say(p.text)
     return Outcome("complete", "said")
 
 
-def _switch_map(ctx: Context, p: dict[str, Any]) -> Outcome:
-    return ctx.robot.switch_map(str(p["map"]), str(p.get("path", "")),
-                                int(p.get("start_index", -1)))
+def _switch_map(ctx: Context, p: SwitchMapAction) -> Outcome:
+    return ctx.robot.switch_map(p.map, p.path, p.start_index)
 
 
-def _local_move(ctx: Context, p: dict[str, Any]) -> Outcome:
+def _local_move(ctx: Context, p: LocalMoveAction) -> Outcome:
     """Legs ``drive`` and ``spin`` (``method`` 0: drive first, 1: spin first); each leg is
     half the progress. A resumed move drives only what its progress says is left."""
-    distance, angle = float(p.get("distance", 0.0)), float(p.get("angle", 0.0))
+    distance, angle = p.distance, p.angle
     legs = [(kind, amount) for kind, amount in (("drive", distance), ("spin", angle))
             if abs(amount) > 1e-6]
-    if int(p.get("method", 0)) == 1:
+    if p.method == 1:
         legs.reverse()
     if not legs:
         return Outcome("complete", "nothing to do (distance and angle are 0)")
-    timeout = float(p.get("timeout", 0.0))
+    timeout = p.timeout
     deadline = ctx.robot.now() + timeout if timeout > 0 else None
     n, before = len(legs), float(ctx.item.get("progress", 0.0))
     for i, (kind, amount) in enumerate(legs):
@@ -186,8 +200,7 @@ def _local_move(ctx: Context, p: dict[str, Any]) -> Outcome:
             ctx.progress((i + frac) / n)
 
         if kind == "drive":
-            out = ctx.robot.drive(left, float(p.get("speed", 0.3)), budget, moved,
-                                  ctx.cancelled)
+            out = ctx.robot.drive(left, p.speed, budget, moved, ctx.cancelled)
         else:
             out = ctx.robot.spin(left, budget, moved, ctx.cancelled)
         if out.name != "complete":
@@ -196,19 +209,17 @@ def _local_move(ctx: Context, p: dict[str, Any]) -> Outcome:
     return Outcome("complete", f"moved {distance:g} m and turned {angle:g} rad")
 
 
-def _local_move_target(ctx: Context, p: dict[str, Any]) -> Outcome:
+def _local_move_target(ctx: Context, p: LocalMoveTargetAction) -> Outcome:
     return ctx.robot.local_move_target(
-        float(p["x"]), float(p["y"]), float(p.get("theta", 0.0)), str(p.get("frame_id", "map")),
-        float(p.get("xy_tolerance", 0.05)), float(p.get("yaw_tolerance", 0.05)),
-        float(p.get("timeout", 0.0)), bool(p.get("start_rotate_enable", True)),
-        bool(p.get("target_rotate_enable", True)), ctx.cancelled)
+        p.x, p.y, p.theta, p.frame_id, p.xy_tolerance, p.yaw_tolerance, p.timeout,
+        p.start_rotate_enable, p.target_rotate_enable, ctx.cancelled)
 
 
-def _io(ctx: Context, p: dict[str, Any]) -> Outcome:
-    return ctx.robot.set_io(int(p["port"]), int(p["level"]))
+def _io(ctx: Context, p: IoAction) -> Outcome:
+    return ctx.robot.set_io(int(p.port), int(p.level))
 
 
-BEHAVIORS: Final[dict[str, Callable[[Context, dict[str, Any]], Outcome]]] = {
+BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "nav_action": _nav,
     "sleep_action": _sleep,
     "charge_action": _charge,

@@ -14,9 +14,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
 
+import msgspec
 from zenros.maps.maproute import Hop, NoRoute, find_route
+from zenros.msgs.zenros_msgs.task_actions import NavAction
 from zenros.se2 import wrap_angle
 
 from .robot import Outcome, Robot
@@ -24,7 +25,7 @@ from .robot import Outcome, Robot
 __all__ = ["carry_over", "navigate_across"]
 
 Pose = tuple[float, float, float]
-Leg = Callable[[dict[str, Any]], Outcome]
+Leg = Callable[[NavAction], Outcome]
 
 
 def carry_over(leave: Pose, enter: Pose, robot: Pose | None) -> Pose:
@@ -40,14 +41,14 @@ def carry_over(leave: Pose, enter: Pose, robot: Pose | None) -> Pose:
     return enter[0] + c2 * lx - s2 * ly, enter[1] + s2 * lx + c2 * ly, theta
 
 
-def navigate_across(robot: Robot, params: dict[str, Any], current: str, leg: Leg,
+def navigate_across(robot: Robot, params: NavAction, current: str, leg: Leg,
                     note: Callable[[str], None]) -> Outcome:
-    """Take ``params`` (a nav_action on map ``params['map']``) from map ``current``.
+    """Take ``params`` (a nav_action on map ``params.map``) from map ``current``.
 
-    ``leg(params)`` navigates within the current map (the same-map nav_action); ``note``
+    ``leg(action)`` navigates within the current map (a same-map nav_action); ``note``
     records progress text (which map, which connection) on the action.
     """
-    target = str(params["map"])
+    target = params.map
     try:
         route = find_route(robot.point_connections(), current, target)
     except (NoRoute, LookupError) as exc:
@@ -58,21 +59,21 @@ def navigate_across(robot: Robot, params: dict[str, Any], current: str, leg: Leg
                                     f"needs the {hop.describe()}: the simulated robot has "
                                     "no elevator to ride")
     try:
-        if "index" in params:  # the goal point must exist before the robot sets off
-            robot.nav_point(int(params["index"]), target, str(params.get("path", "")))
+        if isinstance(params.index, int):  # the goal point must exist before it sets off
+            robot.nav_point(params.index, target, params.path)
         ends = [(robot.nav_point(h.leave.point_index, h.leave.map, h.leave.path),
                  robot.nav_point(h.enter.point_index, h.enter.map, h.enter.path))
                 for h in route]
     except LookupError as exc:
         return Outcome("error", f"route to map {target!r}: {exc}")
-    timeout = float(params.get("timeout", 0.0))
+    timeout = params.timeout
     end = robot.now() + timeout if timeout > 0 else None
 
     def left() -> float | None:
         return None if end is None else end - robot.now()
 
     for hop, (leave, enter) in zip(route, ends, strict=True):
-        out = _leg(leg, {"x": leave[0], "y": leave[1], "theta": leave[2]}, left(), timeout)
+        out = _leg(leg, NavAction(x=leave[0], y=leave[1], theta=leave[2]), left(), timeout)
         if out.name != "complete":
             return Outcome(out.name, f"on the way to {hop.describe()}: {out.reason}")
         out = _cross(robot, hop, leave, enter)
@@ -82,11 +83,10 @@ def navigate_across(robot: Robot, params: dict[str, Any], current: str, leg: Leg
     return _leg(leg, params, left(), timeout)
 
 
-def _leg(leg: Leg, params: dict[str, Any], remaining: float | None,
-         timeout: float) -> Outcome:
+def _leg(leg: Leg, params: NavAction, remaining: float | None, timeout: float) -> Outcome:
     if remaining is not None and remaining <= 0:
         return Outcome("error", f"not done within {timeout:g} s")
-    return leg({**params, "timeout": 0.0 if remaining is None else remaining})
+    return leg(msgspec.structs.replace(params, timeout=0.0 if remaining is None else remaining))
 
 
 def _cross(robot: Robot, hop: Hop, leave: Pose, enter: Pose) -> Outcome:

@@ -13,6 +13,7 @@ from typing import Any, Final, Protocol
 
 from zenros.smach import Concurrence, State, StateMachine, UserDataAccess
 
+from .actiontypes import action_of
 from .behaviors import BEHAVIORS, Context
 from .documents import is_task, substitute
 from .robot import Outcome, Robot
@@ -55,7 +56,7 @@ class ActionState(State):
         ctx = Context(self.hooks.robot, self.item, self.preempt_requested, self.hooks.changed,
                       self.hooks.wait_release)
         try:
-            outcome = BEHAVIORS[self.item["type"]](ctx, params)
+            outcome = BEHAVIORS[self.item["type"]](ctx, action_of(self.item["type"], params))
         except Exception as exc:  # noqa: BLE001 (a behaviour's bug ends the action only)
             outcome = Outcome("error", f"{self.item['type']} failed: {type(exc).__name__}:"
                                        f" {exc}")

@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 from zenros.maps.maproute import Link, PointEnd
+from zenros.msgs.zenros_msgs.task_actions import NavAction
 from zenros.services.tasks.crossmap import carry_over, navigate_across
 from zenros.services.tasks.robot import Outcome
 
@@ -50,11 +51,12 @@ class MapRobot:
 
 
 def leg_of(robot: MapRobot) -> Any:
-    def leg(p: dict[str, Any]) -> Outcome:
-        robot.log.append(("nav", robot.map, p.get("index", (p.get("x"), p.get("y")))))
-        if "x" in p:  # it stops 0.1 m past the point, along the point's heading
-            th = p.get("theta", 0.0)
-            robot.here = (p["x"] + 0.1 * math.cos(th), p["y"] + 0.1 * math.sin(th), th)
+    def leg(p: NavAction) -> Outcome:
+        robot.log.append(("nav", robot.map, p.index if isinstance(p.index, int) else (p.x, p.y)))
+        if isinstance(p.x, float) and isinstance(p.y, float):
+            # it stops 0.1 m past the point, along the point's heading
+            th = p.theta
+            robot.here = (p.x + 0.1 * math.cos(th), p.y + 0.1 * math.sin(th), th)
         return Outcome("complete", "arrived")
     return leg
 
@@ -66,7 +68,7 @@ def link(ident: str, a: tuple[str, int], b: tuple[str, int], kind: str = "direct
 def test_two_hops_then_the_goal() -> None:
     robot = MapRobot([link("1", ("a", 0), ("b", 0)), link("2", ("b", 1), ("c", 0))])
     notes: list[str] = []
-    out = navigate_across(robot, {"map": "c", "path": "p", "index": 2}, "a",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="c", path="p", index=2), "a",
                           leg_of(robot), notes.append)
     assert out == Outcome("complete", "arrived")
     assert robot.log == [
@@ -78,18 +80,18 @@ def test_two_hops_then_the_goal() -> None:
 
 def test_an_elevator_or_no_route_fails_before_moving() -> None:
     robot = MapRobot([link("lift", ("a", 0), ("b", 0), "elevator")])
-    out = navigate_across(robot, {"map": "b", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="b", x=1.0, y=1.0), "a",
                           leg_of(robot), print)
     assert out.name == "error" and "elevator connection lift" in out.reason
     assert "no elevator" in out.reason and robot.log == []
-    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="c", x=1.0, y=1.0), "a",
                           leg_of(robot), print)
     assert out.name == "error" and "no route from map 'a' to map 'c'" in out.reason
 
 
 def test_a_missing_goal_point_fails_before_moving() -> None:
     robot = MapRobot([link("1", ("a", 0), ("b", 0))])
-    out = navigate_across(robot, {"map": "b", "path": "p", "index": 9}, "a",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="b", path="p", index=9), "a",
                           leg_of(robot), print)
     assert out.name == "error" and "no nav point 9" in out.reason and robot.log == []
 
@@ -108,16 +110,16 @@ def test_a_pause_preempts_and_a_resume_starts_from_the_map_it_is_on() -> None:
     robot = MapRobot([link("1", ("a", 0), ("b", 0)), link("2", ("b", 1), ("c", 0))])
     calls: list[str] = []
 
-    def paused_on_b(p: dict[str, Any]) -> Outcome:
+    def paused_on_b(p: NavAction) -> Outcome:
         calls.append(robot.map)
         return Outcome("preempted") if robot.map == "b" else Outcome("complete")
 
-    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "a",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="c", x=1.0, y=1.0), "a",
                           paused_on_b, print)
     assert out.name == "preempted" and "direct connection 2" in out.reason
     assert calls == ["a", "b"] and robot.map == "b"
     robot.log.clear()
-    out = navigate_across(robot, {"map": "c", "x": 1, "y": 1}, "b",  # type: ignore[arg-type]
+    out = navigate_across(robot, NavAction(map="c", x=1.0, y=1.0), "b",
                           leg_of(robot), print)
     assert out.name == "complete"
     assert [e[0] for e in robot.log] == ["nav", "switch", "relocalise", "nav"]

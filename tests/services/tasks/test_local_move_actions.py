@@ -9,7 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
-from zenros.services.tasks.actiontypes import ActionParamsError, validate_params
+from zenros.services.tasks.actiontypes import ActionParamsError, action_of, validate_params
 from zenros.services.tasks.behaviors import BEHAVIORS, Context
 from zenros.services.tasks.robot import Outcome
 
@@ -51,7 +51,7 @@ def run(robot: MoveRobot, doc: dict[str, Any],
     item = {**doc, "progress": progress}
     ctx = Context(robot, item, lambda: False, lambda: None,  # type: ignore[arg-type]
                   threading.Event())
-    return BEHAVIORS[doc["type"]](ctx, params), item
+    return BEHAVIORS[doc["type"]](ctx, action_of(doc["type"], params)), item
 
 
 def test_method_0_moves_then_turns_and_1_turns_then_moves() -> None:
