@@ -7,7 +7,7 @@ once, at start: a change made later is stored and takes effect at the next start
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import msgspec
 from msgspec import Meta
@@ -74,7 +74,8 @@ class GatewayParameters(msgspec.Struct, kw_only=True):
     ws_max_frame: Annotated[int, Meta(
         gt=0, description="largest WebSocket frame a client may send, bytes (larger: close "
                           "1009)")] = 1 << 20
-    robots: Annotated[list[str], Meta(
+    # names are checked by the fleet (one chunk each), which names the bad one
+    robots: Annotated[list[Any], Meta(
         description="a fleet gateway's robots (namespaces): the robot API of each under "
                     "/api/v1/robots/<name>/ (docs/fleet.md); empty: one robot, this node's "
                     "namespace")] = msgspec.field(default_factory=list)
