@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import itertools
 import queue
-import re
 import threading
 from collections import defaultdict
 from concurrent.futures import ThreadPoolExecutor
@@ -42,6 +41,7 @@ from zenros.qos import QoSProfile
 from zenros.qos import Reliability as ZReliability
 from zenros.registry import lookup_action, lookup_service, lookup_type
 from zenros.ros2.cdr import cdr_codec
+from zenros.ros2.domain import NameFilter
 from zenros.ros2.registry import ros_name_of, zenros_class_of
 from zenros.ros2.rmw_zenoh import (
     Attachment,
@@ -82,8 +82,7 @@ class RmwZenohBridge(Node):
     def setup(self) -> None:
         p = self.declare_parameters(RmwZenohParameters)
         self.domain = p.domain_id
-        self.allow = re.compile(p.allow)
-        self.deny = re.compile(p.deny) if p.deny else None
+        self.name_filter = NameFilter(p)
         self.bridge_services = p.services
         self.bridge_actions = p.actions
         self.mirror_graph = p.mirror_graph
@@ -128,7 +127,7 @@ class RmwZenohBridge(Node):
     # ------------------------------------------------------------ graph events
 
     def _wanted(self, name: str) -> bool:
-        return bool(self.allow.fullmatch(name)) and not (self.deny and self.deny.fullmatch(name))
+        return self.name_filter(name)
 
     def _run(self) -> None:
         while True:

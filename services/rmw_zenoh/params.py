@@ -13,8 +13,6 @@ __all__ = ["RmwZenohParameters"]
 class RmwZenohParameters(BridgeScope, kw_only=True):
     """The bridge's parameters (docs/ros2.md); read once, at start."""
 
-    deny: Annotated[str, Meta(
-        description="regex on ROS names never bridged (wins over allow; empty: none)")] = ""
     services: Annotated[bool, Meta(description="bridge services both ways")] = True
     actions: Annotated[bool, Meta(description="bridge actions both ways")] = True
     mirror_graph: Annotated[bool, Meta(

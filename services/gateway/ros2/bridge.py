@@ -43,6 +43,7 @@ from zenros.message import ActionType
 from zenros.node import Node
 from zenros.qos import QoSProfile
 from zenros.registry import lookup_action, lookup_service, lookup_type
+from zenros.ros2.domain import NameFilter
 from zenros.ros2.registry import definition, ros_name_of, zenros_class_of
 from zenros.ros2.typehash import type_hash
 from zenros.ros2.typenames import dds_to_ros, ros_to_zenros
@@ -94,8 +95,7 @@ class Ros2DdsBridge(Node):
     def setup(self) -> None:
         p = self.declare_parameters(DdsBridgeParameters, read_only=True)
         self.domain = p.domain_id
-        self.allow = re.compile(p.allow)
-        self.deny = re.compile(p.deny) if p.deny else None
+        self.name_filter = NameFilter(p)
         self.depth = p.depth
         self.service_timeout = p.service_timeout
         self.result_timeout = p.result_timeout
@@ -146,7 +146,7 @@ class Ros2DdsBridge(Node):
     # ------------------------------------------------------------ helpers for the routes
 
     def wanted(self, name: str) -> bool:
-        return bool(self.allow.fullmatch(name)) and not (self.deny and self.deny.fullmatch(name))
+        return self.name_filter(name)
 
     def bad_sample(self, topic: str, sender: str, exc: Exception) -> None:
         self.bad_samples[topic] += 1
