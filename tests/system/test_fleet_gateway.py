@@ -181,7 +181,8 @@ def test_the_dashboards_fleet_view(fleet: Fleet, tmp_path: Path) -> None:
                 "return window.dashboard.view.others.map((o) => o.name);")
             return sorted(names)
 
-        assert d.find_element(By.ID, "fleet-card").is_displayed()
+        # the page shows the card once its config.json answered (a module script, async)
+        assert wait_for(lambda: d.find_element(By.ID, "fleet-card").is_displayed(), 30)
         assert wait_for(lambda: set(rows()) == set(ROBOTS) and all(
             r["state"] and r["battery"] for r in rows().values()), 30), rows()
         assert rows()["robot1"]["current"] and not rows()["robot2"]["current"]
