@@ -442,6 +442,9 @@ def label(pid):
             mod = argv[i + 1].removeprefix("zenros.")
             if mod == "cli" and "launch" in argv:
                 return "launch " + pathlib.Path(argv[argv.index("launch") + 1]).name
+            if mod == "container" and "--ns" in argv and "--name" in argv:
+                return "container %s/%s" % (argv[argv.index("--ns") + 1].rstrip("/"),
+                                            argv[argv.index("--name") + 1])
             named = [x.split(":=", 1)[1] for x in argv if x.startswith(("__node:=", "__ns:="))]
             return mod + (" " + "/".join(reversed(named)) if named else "")
     return pathlib.Path(argv[0]).name

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from netns import cleanup, ip, netns_unavailable
 from zenros.testing import wait_for
 
 # The first test also pays for starting ~20 processes on 3 hosts (the module's fixture).
@@ -31,21 +32,6 @@ OUTAGE = 5.0  # seconds robot1's link stays down: the scenario itself, not a wai
 REPORT_TAG = "heartbeat_report "
 
 Reports = dict[str, dict[str, Any]]  # topic -> the monitor's latest report for it
-
-
-def _netns_unavailable() -> str | None:
-    """Why this machine cannot run the demo, or None."""
-    if os.geteuid() != 0:
-        return "needs root to create network namespaces"
-    if shutil.which("ip") is None:
-        return "needs iproute2 (the ip command): apt-get install -y iproute2"
-    probe = "zrprobe" + secrets.token_hex(3)
-    added = subprocess.run(["ip", "netns", "add", probe], capture_output=True, text=True,
-                           check=False)
-    if added.returncode != 0:
-        return f"cannot create a network namespace: {added.stderr.strip()}"
-    subprocess.run(["ip", "netns", "del", probe], capture_output=True, check=False)
-    return None
 
 
 @dataclass
@@ -94,30 +80,10 @@ class Demo:
         return got
 
 
-def _ip(*args: str) -> str:
-    """``ip ARGS``; its stdout (failures are left to the caller's checks)."""
-    return subprocess.run(["ip", *args], capture_output=True, text=True, check=False).stdout
-
-
-def _cleanup(prefix: str) -> None:
-    """Kill whatever still runs in the namespaces of ``prefix`` and delete them."""
-    listed = _ip("netns", "list")
-    for name in (line.split()[0] for line in listed.splitlines() if line.strip()):
-        if not name.startswith(prefix):
-            continue
-        pids = _ip("netns", "pids", name).split()
-        for pid in pids:
-            try:
-                os.kill(int(pid), 9)
-            except ProcessLookupError:
-                pass
-        _ip("netns", "del", name)
-
-
 @pytest.fixture(scope="module")
 def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
     """The demo, up and started: the station sees both robots."""
-    reason = _netns_unavailable()
+    reason = netns_unavailable()
     if reason:
         pytest.skip(reason)
     prefix = "zr" + secrets.token_hex(3)
@@ -137,8 +103,8 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
             subprocess.run([str(DEMO), "down"], env=env, capture_output=True, timeout=40,
                            check=False)
         finally:
-            _cleanup(prefix)
-        listed = _ip("netns", "list")
+            cleanup(prefix)
+        listed = ip("netns", "list")
         assert prefix not in listed, f"namespaces left behind: {listed}"
 
 
