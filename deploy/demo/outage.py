@@ -17,6 +17,7 @@ did not happen within its time (the JSON says what).
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import subprocess
@@ -99,7 +100,7 @@ class Odom:
 def rate_and_gap(times: list[float], t0: float, t1: float) -> tuple[float, float]:
     """Samples a second over [t0, t1], and the longest silence in it (edges included)."""
     edges = [t0, *times, t1]
-    gap = max(b - a for a, b in zip(edges, edges[1:], strict=False))
+    gap = max(b - a for a, b in itertools.pairwise(edges))
     return len(times) / (t1 - t0), gap
 
 
