@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import secrets
 import select
 import shutil
@@ -18,15 +17,13 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from netns import cleanup, ip, netns_unavailable
+from netns import DEMO, demo_env, demo_sh, demo_started, netns_unavailable
 from zenros.testing import wait_for
 
 # The first test also pays for starting ~20 processes on 3 hosts (the module's fixture).
 pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240),
               pytest.mark.xdist_group("sim")]
 
-ROOT = Path(__file__).resolve().parents[2]
-DEMO = ROOT / "deploy" / "demo" / "demo.sh"
 RATE = 50.0  # robot.yaml's heartbeat_rate
 OUTAGE = 5.0  # seconds robot1's link stays down: the scenario itself, not a wait for a result
 REPORT_TAG = "heartbeat_report "
@@ -44,11 +41,7 @@ class Demo:
 
     def sh(self, *args: str, timeout: float = 30.0) -> str:
         """Run ``demo.sh ARGS``; its output, or a failure that shows it."""
-        done = subprocess.run([str(DEMO), *args], env=self.env, capture_output=True, text=True,
-                              timeout=timeout, check=False)
-        out = done.stdout + done.stderr
-        assert done.returncode == 0, f"demo.sh {' '.join(args)} exited {done.returncode}:\n{out}"
-        return out
+        return demo_sh(self.env, *args, timeout=timeout)
 
     def reports(self) -> Reports:
         """The station monitor's latest heartbeat_report per topic."""
@@ -88,24 +81,9 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Demo]:
         pytest.skip(reason)
     prefix = "zr" + secrets.token_hex(3)
     state = tmp_path_factory.mktemp("netns-demo")
-    # Not this process's ZENOH_RUNTIME: the first session a test opened here set zenros's
-    # default into os.environ, and the demo is to run with the runtime demo.sh chooses.
-    inherited = {k: v for k, v in os.environ.items() if k != "ZENOH_RUNTIME"}
-    env = {**inherited, "ZR_PREFIX": prefix, "ZR_STATE": str(state),
-           "PYTHON": sys.executable, "ZR_WAIT": "100"}
-    d = Demo(prefix, state, env)
-    try:
-        d.sh("up")
-        d.sh("start", timeout=120)
-        yield d
-    finally:
-        try:
-            subprocess.run([str(DEMO), "down"], env=env, capture_output=True, timeout=40,
-                           check=False)
-        finally:
-            cleanup(prefix)
-        listed = ip("netns", "list")
-        assert prefix not in listed, f"namespaces left behind: {listed}"
+    env = demo_env(prefix, state)
+    with demo_started(env):
+        yield Demo(prefix, state, env)
 
 
 def _flowing(reports: Reports, topics: list[str], after: float) -> bool:

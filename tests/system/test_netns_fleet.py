@@ -6,19 +6,15 @@ station's graph within seconds and comes back after the restore."""
 from __future__ import annotations
 
 import json
-import os
 import secrets
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
-from netns import cleanup, ip, netns_unavailable
+from netns import demo_env, demo_sh, demo_started, netns_unavailable
 
 pytestmark = [pytest.mark.system, pytest.mark.netns, pytest.mark.timeout(240),
               pytest.mark.xdist_group("sim")]
 
-DEMO = Path(__file__).resolve().parents[2] / "deploy" / "demo" / "demo.sh"
 OUTAGE = "5"  # seconds robot2's link stays down: the scenario, not a wait for a result
 
 
@@ -26,30 +22,10 @@ def test_robot2_cut_off_and_back_the_others_carry_on(tmp_path: Path) -> None:
     reason = netns_unavailable()
     if reason:
         pytest.skip(reason)
-    prefix = "zf" + secrets.token_hex(3)
-    # Not this process's ZENOH_RUNTIME: the demo runs with the runtime demo.sh chooses.
-    env = {**{k: v for k, v in os.environ.items() if k != "ZENOH_RUNTIME"},
-           "ZR_PREFIX": prefix, "ZR_STATE": str(tmp_path), "PYTHON": sys.executable,
-           "ZR_TOPOLOGY": "routed", "ZR_ROBOTS": "3", "ZR_WAIT": "100"}
-
-    def sh(*args: str, timeout: float) -> str:
-        done = subprocess.run([str(DEMO), *args], env=env, capture_output=True, text=True,
-                              timeout=timeout, check=False)
-        out = done.stdout + done.stderr
-        assert done.returncode == 0, f"demo.sh {' '.join(args)} exited {done.returncode}:\n{out}"
-        return out
-
-    try:
-        sh("up", timeout=30)
-        sh("start", timeout=120)
-        fig = json.loads(sh("outage", "robot2", OUTAGE, timeout=120).strip().splitlines()[-1])
-    finally:
-        try:
-            subprocess.run([str(DEMO), "down"], env=env, capture_output=True, timeout=60,
-                           check=False)
-        finally:
-            cleanup(prefix)
-        assert prefix not in ip("netns", "list"), "namespaces left behind"
+    env = demo_env("zf" + secrets.token_hex(3), tmp_path, ZR_TOPOLOGY="routed", ZR_ROBOTS="3")
+    with demo_started(env):
+        out = demo_sh(env, "outage", "robot2", OUTAGE, timeout=120)
+    fig = json.loads(out.strip().splitlines()[-1])
     print("routed fleet, robot2's link down", OUTAGE, "s:", json.dumps(fig))
 
     before, during = fig["odom_hz_before"], fig["odom_hz_during"]
