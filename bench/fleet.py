@@ -43,17 +43,20 @@ from zenros.testing import Proc
 ROOT = Path(__file__).resolve().parents[1]
 SPACING = 2.5  # fleet.yaml: robot k starts at ((k - 1) * 2.5, 0, 0)
 SERVICES = ("chassis", "nav", "tf", "tasks")
+# The reference: a zenoh-python session and nothing else, configured as zenros configures
+# every process of the launch (`build_config`: peer, connected to the launch's router, its own
+# loopback listener, 1 s lease, the same Zenoh runtime settings). It waits for SIGINT with the
+# signals blocked (not on stdin, which is at EOF when the bench runs without a terminal: the
+# session then closed at once and measured 0.0).
 BARE = """
-import json, sys, zenoh
-c = zenoh.Config()
-c.insert_json5("mode", '"peer"')
-c.insert_json5("connect/endpoints", json.dumps([sys.argv[1]]))
-c.insert_json5("listen/endpoints", '["tcp/127.0.0.1:0"]')
-c.insert_json5("scouting/multicast/enabled", "false")
-c.insert_json5("transport/link/tx/lease", "1000")
-s = zenoh.open(c)
+import signal, sys, zenoh
+from zenros.session import SessionOptions, apply_runtime_defaults, build_config
+signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})  # Zenoh's threads too
+apply_runtime_defaults()
+s = zenoh.open(build_config(SessionOptions(connect=[sys.argv[1]])))
 print("open", flush=True)
-sys.stdin.read()
+signal.sigwait({signal.SIGINT, signal.SIGTERM})
+s.close()
 """
 
 
@@ -153,6 +156,9 @@ def main() -> None:
         pids = {f"pid{p}": p for p in set(robot_pids.values())}
         rates = cpu_rates({**pids, "bare": bare.popen.pid, "idle": idle.popen.pid, **gateway},
                           args.window)
+        for p in extra:  # a reference that ended during the window measured nothing
+            if p.popen.poll() is not None:
+                raise RuntimeError(f"{p.argv[:3]} ended during the window:\n{p.output}")
         robots_cores = sum(v for k, v in rates.items() if k.startswith("pid"))
         node = Node("fleet_bench", context=ctx)
         alone, _ = drive(node, [1], args.ahead, 120)
