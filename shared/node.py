@@ -31,6 +31,7 @@ from .param_backend import attach_parameter_backend
 from .param_config import declare_parameters
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
+from .polled import PolledSubscription
 from .pubsub import Publisher, Subscription, SubscriptionCallback
 from .qos import QOS_SENSOR, QoSProfile, as_profile
 from .rpc import Client, Service
@@ -241,6 +242,16 @@ class Node:
                            as_profile(qos), self.logger, callback_group, self._setup_gate)
         self._warn_type_conflict(sub.topic, sub._codec.type_name)
         s: Subscription[M] = self.add_waitable(sub)
+        return s
+
+    def create_polled_subscription(self, msg_type: type[M], topic: str,
+                                   qos: QoSProfile | int = 10) -> PolledSubscription[M]:
+        """A subscription read with `PolledSubscription.take` (no callback, no thread): the
+        last ``qos.depth`` samples wait in Zenoh until taken, only the newest is decoded."""
+        sub = PolledSubscription(self.context, self.fqn, msg_type, self.resolve_name(topic),
+                                 as_profile(qos), self.logger)
+        self._warn_type_conflict(sub.topic, sub._codec.type_name)
+        s: PolledSubscription[M] = self.add_waitable(sub)
         return s
 
     def create_service(self, srv_type: ServiceType, name: str, handler: Callable[..., Any], *,

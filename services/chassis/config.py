@@ -92,7 +92,8 @@ class ChassisParameters(msgspec.Struct, kw_only=True):
                     "its body there and sees the others' in its laser and bumper ('' = alone)"
     )] = ""
     world_rate: Annotated[Positive, Meta(
-        description="body messages per sim second on world_topic")] = 10.0
+        description="body messages per sim second on world_topic while the robot moves "
+                    "(at rest: every 0.5 s)")] = 10.0
 
 
 @dataclass(frozen=True)

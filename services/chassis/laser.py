@@ -23,11 +23,12 @@ import math
 import os
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 from scipy.ndimage import distance_transform_edt
 
-from .obstacles import ray_hits
+from .obstacles import Obstacle, ray_hits
 from .world import World
 
 __all__ = ["Laser", "LaserConfig"]
@@ -114,10 +115,30 @@ class Laser:
         self._stride = w + 2
         self._limit = np.float32(config.range_max / world.res + 1.0)
         self._fine = np.arange(0, 2 * int(self._limit) + 4, dtype=np.float32) * _MIN_STEP
+        self._cast: tuple[tuple[Any, ...], np.ndarray] | None = None  # (pose, obstacles), ranges
 
     def ranges(self, x: float, y: float, theta: float) -> np.ndarray:
-        """Float32 ranges of one scan from the laser at (x, y) facing ``theta`` in ``map``."""
+        """Float32 ranges of one scan from the laser at (x, y) facing ``theta`` in ``map``.
+
+        The rays are cast again only when the pose or the obstacles changed since the last
+        scan (a robot at rest sees the same world; the noise is drawn anew for each scan).
+        """
         cfg = self.config
+        key = (x, y, theta, tuple(self.world.obstacles.values()))
+        if self._cast is not None and self._cast[0] == key:
+            out = self._cast[1].copy()
+        else:
+            out = self._trace(x, y, theta, key[3])
+            self._cast = (key, out.copy())
+        if cfg.noise > 0:
+            finite = np.isfinite(out)
+            out[finite] += self.rng.normal(0.0, cfg.noise, int(finite.sum())).astype(np.float32)
+        out[(out < cfg.range_min) | (out > cfg.range_max)] = np.inf
+        return out
+
+    def _trace(self, x: float, y: float, theta: float,
+               obstacles: tuple[Obstacle, ...]) -> np.ndarray:
+        """Noise-free ranges: the map's walls, then the obstacles."""
         ang = self._angles + theta
         dx64, dy64 = np.cos(ang), np.sin(ang)
         march = compiled
@@ -125,13 +146,9 @@ class Laser:
             out = self._march_compiled(march, x, y, dx64, dy64)
         else:
             out = self._march(x, y, dx64.astype(np.float32), dy64.astype(np.float32))
-        if self.world.obstacles:
-            hits = ray_hits(list(self.world.obstacles.values()), x, y, dx64, dy64)
+        if obstacles:
+            hits = ray_hits(list(obstacles), x, y, dx64, dy64)
             np.minimum(out, hits.astype(np.float32), out=out)
-        if cfg.noise > 0:
-            finite = np.isfinite(out)
-            out[finite] += self.rng.normal(0.0, cfg.noise, int(finite.sum())).astype(np.float32)
-        out[(out < cfg.range_min) | (out > cfg.range_max)] = np.inf
         return out
 
     def _march_compiled(self, march: ModuleType, x: float, y: float, dx: np.ndarray,

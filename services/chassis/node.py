@@ -229,7 +229,9 @@ class ChassisNode(Node):
                 speed=cfg.speed, real_time_factor=self.pacer.factor,
                 battery_percentage=sim.battery.percentage))
         if self.shared is not None and k % self._world_every == 0:
-            self.body_pub.publish(self.shared.body(sim.truth))
+            body = self.shared.body(sim.truth)
+            if self.shared.due(body):
+                self.body_pub.publish(body)
             self.shared.prune()
         if k % cfg.battery_every == 0:
             self.battery_pub.publish(messages.battery_state(

@@ -1,7 +1,7 @@
 """`SharedWorld`: several simulated robots in one world, each seeing the others.
 
 Each chassis publishes its body (a circle at its true pose) on one topic all the robots of the
-world share, and keeps the bodies the others publish as round obstacles of its own world: its
+world share (at ``world_rate`` while it moves, every `KEEPALIVE` s at rest), and keeps the bodies the others publish as round obstacles of its own world: its
 laser sees them and its body cannot drive through them, as in a real fleet. A body not heard
 for `STALE` seconds (a robot stopped or gone) leaves the world.
 """
@@ -21,6 +21,7 @@ __all__ = ["BODY_PREFIX", "STALE", "SharedWorld"]
 
 BODY_PREFIX = "robot:"  # obstacle ids of other robots' bodies, apart from requested obstacles
 STALE = 2.0  # seconds (wall clock) without a body's message before it leaves the world
+KEEPALIVE = STALE / 4  # a body at rest is sent again this often (s, wall clock)
 MAX_RADIUS = 5.0  # m: a larger body is not a robot (a bad message), refused
 
 
@@ -41,12 +42,24 @@ class SharedWorld:
         self.radius = radius
         self._clock = clock
         self._heard: dict[str, float] = {}
+        self._sent: ObstacleMsg | None = None
+        self._sent_at = -float("inf")
         self.refused = 0
 
     def body(self, truth: Pose2) -> ObstacleMsg:
         """This robot's body at its true pose, to publish."""
         return ObstacleMsg(id=self.me, shape="circle", x=truth.x, y=truth.y, theta=truth.theta,
                            radius=self.radius)
+
+    def due(self, body: ObstacleMsg) -> bool:
+        """Whether to send ``body`` now: when it moved since the last one sent, else every
+        `KEEPALIVE` s so that the others keep it (a fleet at rest sends 2 bodies a second
+        a robot, not ``world_rate``, and each robot decodes 2 per other robot)."""
+        now = self._clock()
+        if body == self._sent and now - self._sent_at < KEEPALIVE:
+            return False
+        self._sent, self._sent_at = body, now
+        return True
 
     def on_body(self, msg: ObstacleMsg) -> bool:
         """Take another robot's body into the world; False for this robot's own or a body

@@ -1,6 +1,6 @@
 """`RobotLink`: the gateway's zenros side: robot topics into `Core`, commands out.
 
-Subscribes ``odom``, ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
+Subscribes ``odom`` and ``scan`` (polled at each status tick), ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
 (relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
 time (also under ``use_sim_time``), the dead-man speed command on ``cmd_vel`` and native
 commands on ``galileo/cmds``.
@@ -22,7 +22,7 @@ from zenros.msgs.rcl_interfaces import Log
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
+from zenros.qos import QOS_LATCHED
 from zenros.registry import lookup_type
 from zenros.tf.convert import yaw_from_msg
 
@@ -30,8 +30,8 @@ from ..state.core import Core
 
 __all__ = ["RobotLink"]
 
+POLL_DEPTH = 256  # samples kept between two status ticks: 50 Hz odometry for 5 s
 CONTROL_STALE = 0.5  # s without cmd_vel before the commanded speed reads 0
-_SENSOR = QoSProfile(depth=5, reliability=Reliability.BEST_EFFORT)
 POWER_SUPPLY_STATUS_CHARGING = 1
 POWER_SUPPLY_STATUS_FULL = 4
 
@@ -51,11 +51,14 @@ class RobotLink:
         self.status_pub = node.create_publisher(GalileoStatus, "galileo/status", 10)
         self.cmd_vel_pub = node.create_publisher(Twist, "cmd_vel", 10)
         self.cmds_pub = node.create_publisher(GalileoNativeCmds, "galileo/cmds", 10)
-        node.create_subscription(Odometry, "odom", self.on_odom, _SENSOR)
+        # Odometry (50 Hz a robot) and the laser (10 Hz, read only to say it is alive) wait in
+        # Zenoh until the status tick takes them (`poll`): no thread woken, nothing decoded
+        # but the newest odometry (a fleet gateway at rest spent most of its CPU on them).
+        self.odom_sub = node.create_polled_subscription(Odometry, "odom", POLL_DEPTH)
+        self.scan_sub = node.create_polled_subscription(LaserScan, "scan", POLL_DEPTH)
         node.create_subscription(BatteryState, "battery_state", self.on_battery, 10)
         node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self.on_pose, 10)
         node.create_subscription(Twist, "cmd_vel", self.on_cmd_vel, 10)
-        node.create_subscription(LaserScan, "scan", self.on_scan, _SENSOR)
         node.create_subscription(Log, "/rosout", self.on_log, 100)
         self.tts_pub = node.create_publisher(String, "tts", QOS_LATCHED)
         try:
@@ -74,8 +77,18 @@ class RobotLink:
 
     # ------------------------------------------------------------------ in
 
-    def on_scan(self, msg: LaserScan) -> None:
-        self.seen["scan"] = time.monotonic()
+    def poll(self) -> None:
+        """Take the odometry and scans that arrived since the last status tick."""
+        scans = self.scan_sub.take(decode=False)
+        if scans.count:
+            self.seen["scan"] = scans.arrivals[-1]
+        odom = self.odom_sub.take()
+        for at in odom.arrivals:
+            self.core.state.note_odom(at)
+        if odom.count:
+            self.seen["odom"] = odom.arrivals[-1]
+        if odom.latest is not None:
+            self.on_odom(odom.latest, odom.arrivals[-1])
 
     def on_log(self, msg: Log) -> None:
         level = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL"}.get(
@@ -88,12 +101,14 @@ class RobotLink:
         at = self.seen.get(topic)
         return at is not None and time.monotonic() - at <= within
 
-    def on_odom(self, msg: Odometry) -> None:
-        self.seen["odom"] = time.monotonic()
+    def on_odom(self, msg: Odometry, at: float | None = None) -> None:
+        """The newest odometry (``at``: when it was sent, monotonic; default now)."""
+        if at is None:
+            self.seen["odom"] = at = time.monotonic()
+            self.core.state.note_odom(at)
         s = self.core.state
         s.speed_x = msg.twist.twist.linear.x
         s.speed_theta = msg.twist.twist.angular.z
-        s.note_odom()
 
     def on_battery(self, msg: BatteryState) -> None:
         self.seen["battery_state"] = time.monotonic()
@@ -133,6 +148,7 @@ class RobotLink:
     # ------------------------------------------------------------------ out
 
     def on_status_tick(self) -> None:
+        self.poll()
         s = self.core.state
         if (s.control_x or s.control_theta) and time.monotonic() - self._control_at > CONTROL_STALE:
             s.control_x = s.control_theta = 0.0

@@ -46,6 +46,9 @@ class Costmaps:
         self._cm: Costmap2D | None = None
         self._last_update = -math.inf
         self.updates = 0
+        self.unchanged = 0
+        """Scans not applied since they were the last applied one, from the same pose."""
+        self._applied: tuple[tuple[Any, ...], np.ndarray] | None = None
 
     def set_map(self, grid: GridMap, keepout: MapNavData | None = None) -> None:
         """Build the global costmap for a newly loaded map (and its keep-out shapes)."""
@@ -55,6 +58,7 @@ class Costmaps:
         with self._lock:
             self._cm = cm
             self._last_update = -math.inf
+            self._applied = None
 
     def _apply_keepout(self, cm: Costmap2D, data: MapNavData) -> None:
         cm.set_keepout(polygons=[_xy(a.points) for a in data.forbidden_areas],
@@ -71,19 +75,33 @@ class Costmaps:
 
     def update_from_scan(self, scan: Any, sensor: Pose2, now: float) -> bool:
         """Mark and clear the obstacle layer from a scan taken at ``sensor`` (map frame);
-        skipped (False) when the last update is younger than the update period."""
+        skipped (False) when the last update is younger than the update period, or when
+        the scan and the pose are those of the last update (a robot at rest: clearing then
+        marking the same cells again changes nothing)."""
         if now - self._last_update < self.update_period and now >= self._last_update:
             return False
+        pose = (sensor.x, sensor.y, sensor.theta)
+        key = (pose, float(scan.angle_min), float(scan.angle_increment),
+               float(scan.range_min), float(scan.range_max))
+        ranges = np.asarray(scan.ranges)
         with self._lock:
             if self._cm is None:
                 return False
-            self._cm.update_from_scan(scan, (sensor.x, sensor.y, sensor.theta))
+            if self._applied is not None and self._applied[0] == key \
+                    and np.array_equal(self._applied[1], ranges):
+                self._last_update = now
+                self.unchanged += 1
+                return False
+            self._applied = None  # the layer is half-updated if the update raises
+            self._cm.update_from_scan(scan, pose)
+            self._applied = (key, ranges.copy())
             self._last_update = now
             self.updates += 1
         return True
 
     def clear_obstacles(self) -> None:
         with self._lock:
+            self._applied = None  # the next scan marks what is still there
             if self._cm is not None:
                 self._cm.clear_obstacles()
 

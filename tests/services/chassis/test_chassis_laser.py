@@ -88,6 +88,36 @@ def test_a_thin_wall_and_off_map() -> None:
     assert np.all(np.isinf(Laser(w, cfg).ranges(1.02, 1.0, 0.0)))  # inside the wall
 
 
+def test_a_scan_from_where_the_last_was_is_not_cast_again(room: World) -> None:
+    cfg = LaserConfig()
+    laser = Laser(room, cfg)
+    first = laser.ranges(1.0, 1.0, 0.0)
+    casts: list[int] = []
+    trace = laser._trace
+    laser._trace = lambda *a: (casts.append(1), trace(*a))[1]  # type: ignore[method-assign]
+    again = laser.ranges(1.0, 1.0, 0.0)
+    assert casts == [] and np.array_equal(again, first) and again is not first
+    again[:] = 0  # each scan its own array: the cache is not handed out
+    assert np.array_equal(laser.ranges(1.0, 1.0, 0.0), first) and casts == []
+    # an obstacle appears, moves, goes; the robot turns: cast again each time
+    room.set_obstacles([Obstacle("c", "circle", 3.0, 1.0, radius=0.5)])
+    assert laser.ranges(1.0, 1.0, 0.0)[beam(cfg, 0.0)] == pytest.approx(1.5, abs=1e-5)
+    room.set_obstacles([Obstacle("c", "circle", 2.5, 1.0, radius=0.5)])
+    assert laser.ranges(1.0, 1.0, 0.0)[beam(cfg, 0.0)] == pytest.approx(1.0, abs=1e-5)
+    room.remove_obstacles(["c"])
+    assert np.array_equal(laser.ranges(1.0, 1.0, 0.0), first)
+    assert laser.ranges(1.0, 1.0, math.pi / 2)[beam(cfg, 0.0)] == pytest.approx(1.95, abs=1e-4)
+    assert len(casts) == 4
+
+
+def test_noise_is_drawn_for_each_scan_from_the_same_place(room: World) -> None:
+    cfg = LaserConfig(noise=0.01)
+    laser = Laser(room, cfg, np.random.default_rng(1))
+    a, b = laser.ranges(1.0, 1.0, 0.0), laser.ranges(1.0, 1.0, 0.0)
+    assert not np.array_equal(a, b)
+    assert np.allclose(a, b, atol=0.1)
+
+
 def test_noise_is_applied_to_returns_only(room: World) -> None:
     cfg = LaserConfig(noise=0.01, range_max=3.0)
     r = Laser(room, cfg, np.random.default_rng(1)).ranges(1.0, 1.0, 0.0)

@@ -66,8 +66,11 @@ def clip(r: np.ndarray, cfg: LaserConfig) -> np.ndarray:
 
 def both_ways(laser: Laser, monkeypatch: pytest.MonkeyPatch, pose: tuple[float, float, float]
               ) -> tuple[np.ndarray, np.ndarray]:
-    """(compiled, numpy reference) ranges of one scan."""
+    """(compiled, numpy reference) ranges of one scan, each cast (not the laser's last
+    scan from the same pose again)."""
+    laser._cast = None
     fast = laser.ranges(*pose)
+    laser._cast = None
     with monkeypatch.context() as m:
         m.setattr(laser_mod, "compiled", None)
         ref = laser.ranges(*pose)

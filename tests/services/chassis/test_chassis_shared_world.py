@@ -8,7 +8,7 @@ import pytest
 from test_chassis_sim import make_sim, run
 from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.se2 import Pose2
-from zenros.services.chassis.shared_world import BODY_PREFIX, STALE, SharedWorld
+from zenros.services.chassis.shared_world import BODY_PREFIX, KEEPALIVE, STALE, SharedWorld
 from zenros.services.chassis.world import World
 
 
@@ -82,3 +82,19 @@ def test_a_body_that_is_not_a_robot_is_refused_and_counted(room: World,
     assert not shared.on_body(bad)
     assert shared.refused == 1
     assert room.obstacles == {}
+
+
+def test_a_body_at_rest_is_sent_again_only_to_keep_it(room: World) -> None:
+    clock = FakeClock()
+    shared = SharedWorld(room, "/robot1", 0.2, clock)
+    here = shared.body(Pose2(1.0, 1.5, 0.0))
+    assert shared.due(here)  # the first one
+    clock.t += 0.1
+    assert not shared.due(shared.body(Pose2(1.0, 1.5, 0.0)))  # the same body, just sent
+    clock.t += 0.1
+    assert shared.due(shared.body(Pose2(1.05, 1.5, 0.0)))  # moved: sent at once
+    clock.t += KEEPALIVE - 0.01
+    assert not shared.due(shared.body(Pose2(1.05, 1.5, 0.0)))
+    clock.t += 0.02
+    assert shared.due(shared.body(Pose2(1.05, 1.5, 0.0)))  # kept alive in the others' worlds
+    assert KEEPALIVE * 2 < STALE  # two keep-alives fit in the time before a body is dropped

@@ -174,3 +174,32 @@ def test_huge_ranges_and_many_beams_stay_bounded() -> None:
                      range_max=1e12, ranges=np.full(20000, 1e9, np.float32))
     cm.update_from_scan(scan, (2.5, 2.5, 0.0))
     assert int((cm.costs == 254).sum()) == 0  # every beam cleared across the whole map
+
+
+def test_live_costmaps_skip_the_scan_they_applied_last_from_the_same_pose() -> None:
+    from zenros.maps import GridMap
+    from zenros.se2 import Pose2
+    from zenros.services.nav.costmap.live import Costmaps
+
+    live = Costmaps(NO_INFLATION, update_rate=2.0)
+    live.set_map(GridMap(np.zeros((100, 100), np.int8), RES, (0.0, 0.0, 0.0)))
+    here = Pose2(2.5, 2.5, 0.0)
+    assert live.update_from_scan(ring_scan(1.0), here, 0.0)
+    assert live.lethal_at(3.5, 2.5)
+    # at rest: the same ranges from the same pose, once per period, change nothing
+    assert not live.update_from_scan(ring_scan(1.0), here, 0.6)
+    assert not live.update_from_scan(ring_scan(1.0), here, 1.2)
+    assert (live.updates, live.unchanged) == (1, 2)
+    assert not live.update_from_scan(ring_scan(1.0), here, 1.3)  # not due: not counted
+    assert live.unchanged == 2
+    # the obstacles cleared: the same scan marks them again
+    live.clear_obstacles()
+    assert not live.lethal_at(3.5, 2.5)
+    assert live.update_from_scan(ring_scan(1.0), here, 1.8)
+    assert live.lethal_at(3.5, 2.5)
+    # other ranges, or another pose: applied
+    assert live.update_from_scan(ring_scan(1.5), here, 2.4)
+    assert live.lethal_at(4.0, 2.5) and not live.lethal_at(3.5, 2.5)
+    assert live.update_from_scan(ring_scan(1.5), Pose2(2.5, 2.0, 0.0), 3.0)
+    assert live.lethal_at(4.0, 2.0)
+    assert live.updates == 4
