@@ -136,6 +136,17 @@ def test_put_speed_publishes_cmd_vel_with_deadman(gw: GatewayNode, http: httpx.C
     assert wait_for(lambda: got.items[-1].linear.x == 0.0, 3)
     n = len(got.items)
     assert not wait_for(lambda: len(got.items) > n, 0.3)
+    # the dead-man's ticker stopped at rest; the next command starts it again, held while
+    # repeated, and stopped once more after the silence
+    assert gw.link._deadman_timer.is_canceled()
+    for _ in range(3):
+        r = http.put("/system/speed", params={"token": token},
+                     json={"speed_x": -0.1, "speed_y": 0, "speed_angle": 0.0})
+        assert r.json() == {"result": True}
+    assert got.wait(n + 2, 3) and got.items[n].linear.x == -0.1
+    assert wait_for(lambda: len(got.items) > n + 4 and got.items[-1].linear.x == 0.0, 3)
+    assert [m.linear.x for m in got.items[n:]].count(0.0) == 1
+    assert wait_for(lambda: gw.link._deadman_timer.is_canceled(), 1)
 
 
 def test_config_get_post_delete(http: httpx.Client, token: str) -> None:

@@ -31,6 +31,7 @@ from ..state.core import Core
 __all__ = ["RobotLink"]
 
 POLL_DEPTH = 256  # samples kept between two status ticks: 50 Hz odometry for 5 s
+DEADMAN_PERIOD = 0.05  # s between dead-man commands on cmd_vel while driven
 CONTROL_STALE = 0.5  # s without cmd_vel before the commanded speed reads 0
 POWER_SUPPLY_STATUS_CHARGING = 1
 POWER_SUPPLY_STATUS_FULL = 4
@@ -73,7 +74,13 @@ class RobotLink:
         # the serial bridge) see 30 Hz at any sim speed, and the dead-man timeout is theirs.
         wall = SteadyClock()
         node.create_timer(1.0 / rate, self.on_status_tick, clock=wall)
-        node.create_timer(0.05, self.on_deadman_tick, clock=wall)
+        # The dead-man ticks only while someone drives (20 Hz a robot, for nothing at rest):
+        # it stops when the dead-man has nothing to say, and a command starts it again, on
+        # the executor's loop, where the ticks run (so a stop and a start never cross).
+        self._deadman_timer = node.create_timer(DEADMAN_PERIOD, self.on_deadman_tick,
+                                                clock=wall)
+        executor = node.context.executor
+        core.deadman.on_arm = lambda: executor.call_soon(self._rearm)
 
     # ------------------------------------------------------------------ in
 
@@ -156,9 +163,18 @@ class RobotLink:
 
     def on_deadman_tick(self) -> None:
         cmd = self.core.deadman.tick()
-        if cmd is not None:
-            x, y, w = cmd
-            self.cmd_vel_pub.publish(Twist(linear=Vector3(x=x, y=y), angular=Vector3(z=w)))
+        if cmd is None:
+            self._deadman_timer.cancel()
+            return
+        x, y, w = cmd
+        self.cmd_vel_pub.publish(Twist(linear=Vector3(x=x, y=y), angular=Vector3(z=w)))
+
+    def _rearm(self) -> None:
+        """A command after a quiet spell: publish it now, then tick every period."""
+        if self.node.closed:
+            return
+        self._deadman_timer.reset()
+        self.on_deadman_tick()
 
     def publish_native(self, data: bytes) -> None:
         """Publish native command bytes on ``galileo/cmds`` (docs/robot-api.md §12.1)."""

@@ -15,7 +15,9 @@ class DeadMan:
 
     While a command is fresh `tick` returns it; the first tick after ``timeout`` seconds
     of silence returns zeros once (the stop), then None (publish nothing, so other
-    drivers such as the navigation controller are not overridden).
+    drivers such as the navigation controller are not overridden). The ticker may stop
+    once `tick` returned None: the next `command` calls ``on_arm`` (outside the lock) to
+    start it again.
     """
 
     def __init__(self, timeout: float = 0.5,
@@ -25,11 +27,16 @@ class DeadMan:
         self._cmd: tuple[float, float, float] | None = None
         self._at = 0.0
         self._lock = threading.Lock()
+        self._idle = False  # tick() returned None: the ticker may have stopped
+        self.on_arm: Callable[[], None] | None = None
 
     def command(self, x: float, y: float, theta: float) -> None:
         with self._lock:
             self._cmd = (x, y, theta)
             self._at = self._clock()
+            wake, self._idle = self._idle, False
+        if wake and self.on_arm is not None:
+            self.on_arm()
 
     def current(self) -> tuple[float, float, float]:
         """The command in force now (zeros when none or expired)."""
@@ -46,6 +53,7 @@ class DeadMan:
     def tick(self) -> tuple[float, float, float] | None:
         with self._lock:
             if self._cmd is None:
+                self._idle = True
                 return None
             if self._clock() - self._at > self.timeout:
                 self._cmd = None

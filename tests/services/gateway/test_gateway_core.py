@@ -51,6 +51,24 @@ def test_deadman_holds_then_stops_once() -> None:
     assert d.tick() is None
 
 
+def test_deadman_calls_on_arm_for_the_first_command_after_a_quiet_tick() -> None:
+    clock = Clock()
+    d = DeadMan(0.5, clock)
+    armed: list[int] = []
+    d.on_arm = lambda: armed.append(1)
+    d.command(0.2, 0.0, 0.0)
+    assert armed == []  # the ticker never stopped: nothing to start
+    assert d.tick() == (0.2, 0.0, 0.0)
+    clock.t = 0.6
+    assert d.tick() == (0.0, 0.0, 0.0)
+    assert armed == []
+    assert d.tick() is None  # quiet: the ticker may stop now
+    d.command(0.1, 0.0, 0.0)
+    d.command(0.1, 0.0, 0.0)
+    assert armed == [1]  # once, not for each command while it runs
+    assert d.tick() == (0.1, 0.0, 0.0)
+
+
 def test_compose_status_and_names() -> None:
     s = RobotState(voltage=37.0, speed_x=0.1, charging=True)
     st = compose_status(s, 5, 1_500_000_000_250, now=0.0)
