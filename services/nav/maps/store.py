@@ -9,6 +9,7 @@ first (`zenros.maps.load_map`), so a bad file never replaces a good one.
 from __future__ import annotations
 
 import hashlib
+import os
 import shutil
 import threading
 from collections.abc import Callable
@@ -104,20 +105,23 @@ class MapStore:
             image = dst / f"{name}{meta.image.suffix.lower() or '.pgm'}"
             for old in dst.glob(f"{name}.*"):
                 if old.suffix in (".pgm", ".png", ".bmp") and old != image:
-                    old.unlink()
-            shutil.copyfile(meta.image, image)
-            write_meta(MapMeta(image=image, resolution=meta.resolution, origin=meta.origin,
-                               negate=meta.negate, occupied_thresh=meta.occupied_thresh,
-                               free_thresh=meta.free_thresh, mode=meta.mode),
-                       self.yaml_path(name))
+                    old.unlink(missing_ok=True)
+            # Each file is written aside and renamed into place: robots of one host share the
+            # store and import the same map at once (fleet.yaml), and a reader must never see
+            # a file half written by another process.
+            _atomic(image, lambda tmp: shutil.copyfile(meta.image, tmp))
+            _atomic(self.yaml_path(name), lambda tmp: write_meta(MapMeta(
+                image=image, resolution=meta.resolution, origin=meta.origin,
+                negate=meta.negate, occupied_thresh=meta.occupied_thresh,
+                free_thresh=meta.free_thresh, mode=meta.mode), tmp))
             poses = load_poses(src)
             if poses_path(src).is_file():
-                shutil.copyfile(poses_path(src), poses_path(dst))
+                _atomic(poses_path(dst), lambda tmp: shutil.copyfile(poses_path(src), tmp))
             nav_file = dst / NAV_FILE
             if not nav_file.is_file() and poses.dock is not None:
                 d = poses.dock
-                write_nav_data(nav_file, MapNavData(charge_pose=Pose2D(x=d.x, y=d.y,
-                                                                       theta=d.theta)))
+                nav = MapNavData(charge_pose=Pose2D(x=d.x, y=d.y, theta=d.theta))
+                _atomic(nav_file, lambda tmp: write_nav_data(tmp, nav))
             self._nav.pop(name, None)
         return name
 
@@ -153,3 +157,13 @@ class MapStore:
             write_nav_data(self.folder(name) / NAV_FILE, data)
             self._nav[name] = data
             return data
+
+
+def _atomic(path: Path, write: Callable[[Path], object]) -> None:
+    """``write`` a temporary file beside ``path``, then rename it to ``path`` (atomic)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)

@@ -99,3 +99,33 @@ def test_switch_keeps_the_current_map_on_failure(tmp_path: Path) -> None:
         server.switch("hall")
     assert server.current == "lab" and seen == ["lab"]
     assert server.resolve("") == "lab"
+
+
+IMPORTER = """
+import sys
+from zenros.services.nav.maps.store import MapStore
+store = MapStore(sys.argv[1])
+for _ in range(int(sys.argv[3])):
+    store.import_map(sys.argv[2])
+    store.load("office")  # what another robot's nav reads meanwhile
+"""
+
+
+def test_processes_importing_one_map_at_once_never_read_it_half_written(tmp_path: Path) -> None:
+    """fleet.yaml: every robot's nav imports the demo map into the host's one store at start."""
+    import subprocess
+    import sys
+
+    procs = [subprocess.Popen([sys.executable, "-c", IMPORTER, str(tmp_path / "maps"),
+                               str(DEMO_MAP), "15"], stderr=subprocess.PIPE, text=True)
+             for _ in range(4)]
+    try:
+        errors = [p.communicate(timeout=120)[1] for p in procs]
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+    assert [p.returncode for p in procs] == [0] * 4, errors
+    assert MapStore(tmp_path / "maps").load("office").width > 0
+    assert not list((tmp_path / "maps").rglob("*.tmp"))
