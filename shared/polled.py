@@ -25,6 +25,7 @@ from .errors import CodecError
 from .keytag import key_tag, misrouted
 from .log import Throttle
 from .message import Message
+from .pubsub import entity_token
 from .qos import QoSProfile
 
 if TYPE_CHECKING:
@@ -82,9 +83,7 @@ class PolledSubscription(Generic[M]):
             allowed_origin=zenoh.Locality.REMOTE)
         self._channel: Any = self._sub.handler
         ctx.add_local(topic, "subs", self)
-        self._token = ctx.session.liveliness().declare_token(
-            ctx.keys.entity_token("sub", node, topic, self._codec.type_name, qos.tag, ctx.zid,
-                                  ctx.next_eid()))
+        self._token = entity_token(ctx, "sub", node, topic, self._codec.type_name, qos)
         self.closed = False
 
     def take(self, decode: bool = True) -> Taken[M]:

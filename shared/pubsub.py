@@ -36,6 +36,13 @@ M = TypeVar("M", bound=Message)
 FIFO_CAPACITY = 64  # samples a reliable subscription buffers before Zenoh pushes back
 
 
+def entity_token(ctx: Context, kind: str, node: str, topic: str, type_name: str,
+                 qos: QoSProfile) -> zenoh.LivelinessToken:
+    """The liveliness token that shows a topic endpoint in the graph (docs/wire.md)."""
+    return ctx.session.liveliness().declare_token(
+        ctx.keys.entity_token(kind, node, topic, type_name, qos.tag, ctx.zid, ctx.next_eid()))
+
+
 def _congestion(qos: QoSProfile) -> zenoh.CongestionControl:
     if qos.reliability == Reliability.RELIABLE:
         return zenoh.CongestionControl.BLOCK
@@ -88,10 +95,7 @@ class Publisher(Generic[M]):
             self._matching = self._pub.declare_matching_listener(self._on_matching)
         self._put = functools.partial(self._pub.put, attachment=key_tag(self.key))
         self._local = ctx.local_topic(topic)
-        self._token = ctx.session.liveliness().declare_token(
-            ctx.keys.entity_token("pub", node, topic, self.type_name, qos.tag, ctx.zid,
-                                  ctx.next_eid())
-        )
+        self._token = entity_token(ctx, "pub", node, topic, self.type_name, qos)
         self.closed = False
 
     def _on_matching(self, status: Any) -> None:
@@ -323,10 +327,7 @@ class Subscription(Generic[M]):
         # Joined before the token is declared: once the graph shows this subscription, an
         # in-process publisher reaches it.
         ctx.add_local(topic, "subs", self)
-        self._token = ctx.session.liveliness().declare_token(
-            ctx.keys.entity_token("sub", node, topic, self._codec.type_name, qos.tag, ctx.zid,
-                                  ctx.next_eid())
-        )
+        self._token = entity_token(ctx, "sub", node, topic, self._codec.type_name, qos)
         self.closed = False
 
     def _pump(self) -> None:
