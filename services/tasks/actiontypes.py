@@ -17,15 +17,17 @@ from zenros.msgs.zenros_msgs.task_actions import (
     check_action,
 )
 
-__all__ = ["ACTION_TYPES", "COMMON_FIELDS", "ActionParamsError", "action_of", "validate_params"]
+__all__ = ["ACTION_TYPES", "COMMON_FIELDS", "ActionParamsError", "action_of", "parse_action",
+           "validate_params"]
 
 
 class ActionParamsError(ValueError):
     """An action document that is not valid for its type; the text names the field."""
 
 
-def validate_params(doc: dict[str, Any], where: str = "action") -> dict[str, Any]:
-    """Check one action document's parameters; return them normalised (defaults filled).
+def parse_action(doc: dict[str, Any], where: str = "action") -> Action:
+    """One action document (plain data) as its typed `Action`, checked; the common fields
+    (id, state, result, progress, ...) it may carry are not read.
 
     Raises:
         ActionParamsError: unknown ``type``, or a parameter missing, mistyped or unknown.
@@ -39,14 +41,23 @@ def validate_params(doc: dict[str, Any], where: str = "action") -> dict[str, Any
                                 + ", ".join(ACTION_TYPES))
     params = {k: v for k, v in doc.items() if k not in COMMON_FIELDS}
     try:
-        value = msgspec.convert({"type": kind, **params}, Action)
+        value: Action = msgspec.convert({"type": kind, **params}, Action)
     except msgspec.ValidationError as exc:
         raise ActionParamsError(f"{where} ({kind}): {exc}") from exc
     try:
         check_action(value)
     except ValueError as exc:
         raise ActionParamsError(f"{where} {exc}") from exc
-    out: dict[str, Any] = msgspec.to_builtins(value)
+    return value
+
+
+def validate_params(doc: dict[str, Any], where: str = "action") -> dict[str, Any]:
+    """Check one action document's parameters; return them normalised (defaults filled).
+
+    Raises:
+        ActionParamsError: as `parse_action`.
+    """
+    out: dict[str, Any] = msgspec.to_builtins(parse_action(doc, where))
     return {k: v for k, v in out.items() if k not in COMMON_FIELDS and v is not None}
 
 

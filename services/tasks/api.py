@@ -2,8 +2,8 @@
 
 Every refusal is a response with its `ResultCode`: INVALID (a bad document or field),
 NOT_FOUND (unknown id), CONFLICT (not allowed in the task's state, or another task runs),
-TIMEOUT (a pause or stop that did not take effect in time). The manager keeps documents
-as plain data; they become `Task` / `Action` Structs here, on the way out.
+TIMEOUT (a pause or stop that did not take effect in time). Requests and answers carry
+the manager's own `Task` / `Action` Structs.
 """
 
 from __future__ import annotations
@@ -15,59 +15,43 @@ import msgspec
 from zenros.message import Message, ServiceType
 from zenros.msgs.zenros_msgs import tasks as tm
 from zenros.msgs.zenros_msgs.result import ResultCode
-from zenros.msgs.zenros_msgs.task_actions import Action
-from zenros.msgs.zenros_msgs.task_docs import Task, tag_nested_tasks
+from zenros.msgs.zenros_msgs.task_docs import Task
 
 from .documents import DocumentError
 from .manager import TaskBusyError, TaskManager, UnknownTaskError
 from .states import TaskStateError
 
-__all__ = ["CALLS", "Call", "call", "task_struct"]
+__all__ = ["CALLS", "Call", "call"]
 
 
-def task_struct(doc: dict[str, Any]) -> Task:
-    """A manager's task document as a `Task`."""
-    return msgspec.convert(tag_nested_tasks(doc), Task)
-
-
-def _task(doc: dict[str, Any] | None) -> tm.TaskResponse:
-    return tm.TaskResponse(task=None if doc is None else task_struct(doc))
-
-
-def _body(value: msgspec.Struct) -> dict[str, Any]:
-    out: dict[str, Any] = msgspec.to_builtins(value)
-    return out
+def _task(doc: Task | None) -> tm.TaskResponse:
+    return tm.TaskResponse(task=doc)
 
 
 def _get(m: TaskManager, req: tm.GetTasksRequest) -> tm.GetTasksResponse:
-    docs = [m.get(req.id)] if req.id else m.tasks()
-    return tm.GetTasksResponse(tasks=[task_struct(d) for d in docs])
+    return tm.GetTasksResponse(tasks=[m.get(req.id)] if req.id else m.tasks())
 
 
 def _update(m: TaskManager, req: tm.UpdateTaskRequest) -> tm.TaskResponse:
-    return _task(m.update(req.update.id, _body(req.update)))
+    return _task(m.update(req.update.id, req.update))
 
 
 def _create_action(m: TaskManager, req: tm.CreateActionRequest) -> tm.TaskResponse:
     if req.action is None:
         raise DocumentError("action: missing field 'action'")
-    body = _body(req.action)
-    if req.task_id is not None:
-        body["task_id"] = req.task_id
-    return _task(m.create_action(body))
+    return _task(m.create_action(req.action, req.task_id))
 
 
 def _get_action(m: TaskManager, req: tm.GetActionsRequest) -> tm.GetActionsResponse:
-    docs = [m.get_action(req.id)] if req.id else m.list_actions()
-    return tm.GetActionsResponse(actions=[msgspec.convert(d, Action) for d in docs])
+    return tm.GetActionsResponse(
+        actions=[m.get_action(req.id)] if req.id else m.list_actions())
 
 
 def _update_action(m: TaskManager, req: tm.UpdateActionRequest) -> tm.UpdateActionResponse:
-    doc = m.update_action(req.id, req.changes)
-    return tm.UpdateActionResponse(action=msgspec.convert(doc, Action))
+    return tm.UpdateActionResponse(action=m.update_action(req.id, req.changes))
 
 
-def _command(fn: Callable[[TaskManager, str], dict[str, Any] | None]
+def _command(fn: Callable[[TaskManager, str], Task | None]
              ) -> Callable[[TaskManager, tm.TaskCommandRequest], tm.TaskResponse]:
     def run(m: TaskManager, req: tm.TaskCommandRequest) -> tm.TaskResponse:
         return _task(fn(m, req.id))
@@ -86,7 +70,7 @@ class Call(msgspec.Struct, frozen=True):
 
 
 _RUN: Final[dict[str, Callable[[TaskManager, Any], Message]]] = {
-    "create": lambda m, r: _task(m.create(_body(r.task))),
+    "create": lambda m, r: _task(m.create(r.task)),
     "get": _get,
     "update": _update,
     "delete": _command(TaskManager.delete),

@@ -17,11 +17,13 @@ from typing import Any, Final
 
 from msgspec import UNSET
 from zenros.msgs.zenros_msgs.task_actions import (
+    Action,
     CallbackAction,
     ChargeAction,
     IoAction,
     LocalMoveAction,
     LocalMoveTargetAction,
+    Location,
     NavAction,
     SleepAction,
     SwitchMapAction,
@@ -40,7 +42,7 @@ POLL: Final = 0.01  # wall seconds between checks while waiting
 class Context:
     """What a running behaviour may touch: the robot, its item, progress and release."""
 
-    def __init__(self, robot: Robot, item: dict[str, Any], cancelled: Callable[[], bool],
+    def __init__(self, robot: Robot, item: Action, cancelled: Callable[[], bool],
                  changed: Callable[[], None], wait_release: threading.Event) -> None:
         self.robot = robot
         self.item = item
@@ -49,14 +51,14 @@ class Context:
         self.wait_release = wait_release
 
     def progress(self, value: float) -> None:
-        self.item["progress"] = round(max(0.0, min(1.0, value)), 4)
+        self.item.progress = round(max(0.0, min(1.0, value)), 4)
         self.changed()
 
     def wait(self, seconds: float) -> bool:
         """Wait ``seconds`` of the robot's clock; False when cancelled first."""
         if seconds <= 0:
             return not self.cancelled()
-        done = float(self.item.get("progress", 0.0))  # a resumed wait keeps what it waited
+        done = float(self.item.progress)  # a resumed wait keeps what it waited
         start = self.robot.now() - done * seconds
         end = start + seconds
         event = threading.Event()
@@ -66,7 +68,7 @@ class Context:
             now = self.robot.now()
             if now >= end:
                 return True
-            self.item["progress"] = round((now - start) / seconds, 4)
+            self.item.progress = round((now - start) / seconds, 4)
             event.wait(min(POLL, end - now))
 
 
@@ -79,7 +81,7 @@ def _nav(ctx: Context, p: NavAction) -> Outcome:
             return Outcome("error", str(exc))
         if p.map != current:
             def note(text: str) -> None:
-                ctx.item["result"] = text
+                ctx.item.result = text
                 ctx.changed()
             return navigate_across(ctx.robot, p, current, lambda q: _nav_here(ctx, q), note)
     return _nav_here(ctx, p)
@@ -98,12 +100,12 @@ def _nav_here(ctx: Context, p: NavAction) -> Outcome:
     first: list[float] = []
 
     def feedback(fb: Feedback) -> None:
-        ctx.item["current_location"] = {"x": fb.x, "y": fb.y, "theta": fb.theta}
-        ctx.item["current_distance"] = fb.distance
+        ctx.item.current_location = Location(x=fb.x, y=fb.y, theta=fb.theta)
+        ctx.item.current_distance = fb.distance
         if not first and fb.distance > 0:
             first.append(fb.distance)
         if first:
-            ctx.item["progress"] = round(max(0.0, min(1.0, 1 - fb.distance / first[0])), 4)
+            ctx.item.progress = round(max(0.0, min(1.0, 1 - fb.distance / first[0])), 4)
         ctx.changed()
 
     return ctx.robot.navigate(x, y, theta, p.timeout, feedback, ctx.cancelled)
@@ -183,7 +185,7 @@ def _local_move(ctx: Context, p: LocalMoveAction) -> Outcome:
         return Outcome("complete", "nothing to do (distance and angle are 0)")
     timeout = p.timeout
     deadline = ctx.robot.now() + timeout if timeout > 0 else None
-    n, before = len(legs), float(ctx.item.get("progress", 0.0))
+    n, before = len(legs), float(ctx.item.progress)
     for i, (kind, amount) in enumerate(legs):
         done = max(0.0, min(1.0, (before - i / n) * n))
         if done >= 0.999:

@@ -11,11 +11,14 @@ import threading
 from collections.abc import Callable
 from typing import Any, Final, Protocol
 
+from msgspec import UnsetType
+from zenros.msgs.zenros_msgs.task_actions import Action
+from zenros.msgs.zenros_msgs.task_docs import SubTask
 from zenros.smach import Concurrence, State, StateMachine, UserDataAccess
 
 from .actiontypes import action_of
 from .behaviors import BEHAVIORS, Context
-from .documents import is_task, substitute
+from .documents import Item, TaskDoc, action_params, kind_of, substitute
 from .robot import Outcome, Robot
 from .states import COMPLETE
 
@@ -30,11 +33,11 @@ class RunHooks(Protocol):
     robot: Robot
     wait_release: threading.Event
 
-    def begin(self, item: dict[str, Any], parent: dict[str, Any]) -> bool:
+    def begin(self, item: Item, parent: TaskDoc) -> bool:
         """Mark ``item`` started; False when it already completed (a resumed run skips it)."""
         ...
 
-    def finish(self, item: dict[str, Any], outcome: Outcome) -> None: ...
+    def finish(self, item: Item, outcome: Outcome) -> None: ...
 
     def changed(self) -> None: ...
 
@@ -42,7 +45,7 @@ class RunHooks(Protocol):
 class ActionState(State):
     """One action of a task: runs its behaviour and reports the outcome."""
 
-    def __init__(self, item: dict[str, Any], parent: dict[str, Any], board: dict[str, Any],
+    def __init__(self, item: Action, parent: TaskDoc, board: dict[str, Any],
                  hooks: RunHooks) -> None:
         super().__init__(outcomes=OUTCOMES)
         self.item, self.owner, self.board, self.hooks = item, parent, board, hooks
@@ -50,16 +53,14 @@ class ActionState(State):
     def execute(self, userdata: UserDataAccess) -> str:
         if not self.hooks.begin(self.item, self.owner):
             return "complete"
-        params = substitute({k: v for k, v in self.item.items()
-                             if k not in ("id", "type", "state", "result", "progress",
-                                          "current_location", "current_distance")}, self.board)
+        kind = kind_of(self.item)
+        params = substitute(action_params(self.item), self.board)
         ctx = Context(self.hooks.robot, self.item, self.preempt_requested, self.hooks.changed,
                       self.hooks.wait_release)
         try:
-            outcome = BEHAVIORS[self.item["type"]](ctx, action_of(self.item["type"], params))
+            outcome = BEHAVIORS[kind](ctx, action_of(kind, params))
         except Exception as exc:  # noqa: BLE001 (a behaviour's bug ends the action only)
-            outcome = Outcome("error", f"{self.item['type']} failed: {type(exc).__name__}:"
-                                       f" {exc}")
+            outcome = Outcome("error", f"{kind} failed: {type(exc).__name__}: {exc}")
         if outcome.name == "preempted" or (outcome.name != "complete"
                                            and self.preempt_requested()):
             self.service_preempt()
@@ -69,32 +70,32 @@ class ActionState(State):
 
 
 class _TaskContainer(Protocol):
-    item: dict[str, Any]
-    parent_item: dict[str, Any] | None
+    item: TaskDoc
+    parent_item: TaskDoc | None
     hooks: RunHooks
 
 
 def _as_item(box: _TaskContainer, run: Callable[[], str]) -> str:
     """Run a nested task's container, recording its start and end on its item (the root
     task's state is the manager's to set)."""
-    if box.parent_item is None:
+    item = box.item
+    if box.parent_item is None or not isinstance(item, SubTask):
         return run()
-    if not box.hooks.begin(box.item, box.parent_item):
+    if not box.hooks.begin(item, box.parent_item):
         return "complete"
     try:
         outcome = run()
     except Exception as exc:
-        box.hooks.finish(box.item, Outcome("error", str(exc)))
+        box.hooks.finish(item, Outcome("error", str(exc)))
         raise
-    box.hooks.finish(box.item, Outcome(outcome))  # type: ignore[arg-type]
+    box.hooks.finish(item, Outcome(outcome))  # type: ignore[arg-type]
     return outcome
 
 
 class TaskMachine(StateMachine):
     """A nested task: a state machine that records its own start and end on its item."""
 
-    def __init__(self, item: dict[str, Any], parent: dict[str, Any] | None,
-                 hooks: RunHooks) -> None:
+    def __init__(self, item: TaskDoc, parent: TaskDoc | None, hooks: RunHooks) -> None:
         super().__init__(outcomes=OUTCOMES)
         self.item, self.parent_item, self.hooks = item, parent, hooks
 
@@ -102,25 +103,23 @@ class TaskMachine(StateMachine):
         return _as_item(self, lambda: super(TaskMachine, self).execute(userdata))
 
 
-def _label(i: int, item: dict[str, Any]) -> str:
-    kind = "TASK" if is_task(item) else str(item["type"]).upper()
-    return f"{i:02d}_{kind}"
+def _label(i: int, item: Item) -> str:
+    return f"{i:02d}_{kind_of(item).upper()}"
 
 
-def build_machine(doc: dict[str, Any], hooks: RunHooks,
-                  parent: dict[str, Any] | None = None,
+def build_machine(doc: TaskDoc, hooks: RunHooks, parent: TaskDoc | None = None,
                   board: dict[str, Any] | None = None) -> State:
     """The state (machine) that runs ``doc``; ``parent`` is None for the root task."""
-    scope = {**(board or {}), **doc.get("blackboard", {})}
+    scope = {**(board or {}), **doc.blackboard}
     children: list[tuple[str, State]] = []
-    for i, item in enumerate(doc["sub_tasks"]):
+    for i, item in enumerate(doc.sub_tasks):
         state: State
-        if is_task(item):
+        if isinstance(item, SubTask):
             state = build_machine(item, hooks, doc, scope)
         else:
             state = ActionState(item, doc, scope, hooks)
         children.append((_label(i, item), state))
-    control = doc.get("control_type", "sequence")
+    control = doc.control_type or "sequence"
     if control == "parallel":
         return _parallel(doc, parent, hooks, children)
     sm = TaskMachine(doc, parent, hooks)
@@ -128,7 +127,8 @@ def build_machine(doc: dict[str, Any], hooks: RunHooks,
         sm.add("00_EMPTY", _Done(), transitions={"complete": "complete"})
         return sm
     if control == "loop":
-        _wire_loop(sm, children[0], int(doc.get("target_loop_count", 1)))
+        target = doc.target_loop_count
+        _wire_loop(sm, children[0], 1 if isinstance(target, UnsetType) else target)
         return sm
     labels = [label for label, _ in children]
     for i, (label, state) in enumerate(children):
@@ -163,11 +163,11 @@ def _transitions(control: str, label: str, first: str, nxt: str, i: int,
     raise ValueError(f"unknown control_type {control!r}")
 
 
-def _first_unfinished(doc: dict[str, Any], control: str, labels: list[str]) -> str:
+def _first_unfinished(doc: TaskDoc, control: str, labels: list[str]) -> str:
     if control not in ("sequence", "restart_sequence", "retry_sequence"):
         return labels[0]
-    for label, item in zip(labels, doc["sub_tasks"], strict=True):
-        if item["state"] != COMPLETE:
+    for label, item in zip(labels, doc.sub_tasks, strict=True):
+        if item.state != COMPLETE:
             return label
     return labels[-1]
 
@@ -183,7 +183,7 @@ class _Done(State):
 class _Counter(State):
     """Counts the loop's runs of its child: ``again`` until ``target`` runs are done."""
 
-    def __init__(self, item: dict[str, Any], target: int) -> None:
+    def __init__(self, item: TaskDoc, target: int) -> None:
         super().__init__(outcomes=["again", "done"])
         self.item, self.target, self.runs = item, target, -1
 
@@ -192,21 +192,21 @@ class _Counter(State):
         if self.runs >= self.target:
             return "done"
         if self.runs > 0:
-            for sub in self.item["sub_tasks"]:
-                sub["state"] = "WAITTING"
+            for sub in self.item.sub_tasks:
+                sub.state = "WAITTING"
         return "again"
 
 
-def _wire_loop(sm: StateMachine, child: tuple[str, State], target: int) -> None:
+def _wire_loop(sm: TaskMachine, child: tuple[str, State], target: int) -> None:
     label, state = child
-    sm.add("00_COUNT", _Counter(sm.item if isinstance(sm, TaskMachine) else {}, target),
+    sm.add("00_COUNT", _Counter(sm.item, target),
            transitions={"again": label, "done": "complete"})
     sm.add(label, state, transitions={"complete": "00_COUNT", "fail": "fail"})
 
 
-def _parallel(doc: dict[str, Any], parent: dict[str, Any] | None, hooks: RunHooks,
+def _parallel(doc: TaskDoc, parent: TaskDoc | None, hooks: RunHooks,
               children: list[tuple[str, State]]) -> State:
-    need = int(doc.get("success_count", len(children)))
+    need = len(children) if isinstance(doc.success_count, UnsetType) else doc.success_count
 
     def decide(outcomes: dict[str, str]) -> str:
         values = list(outcomes.values())
@@ -225,7 +225,7 @@ def _parallel(doc: dict[str, Any], parent: dict[str, Any] | None, hooks: RunHook
 class _TaskConcurrence(Concurrence):
     """A parallel task: children at once; complete when ``success_count`` complete."""
 
-    def __init__(self, item: dict[str, Any], parent: dict[str, Any] | None, hooks: RunHooks,
+    def __init__(self, item: TaskDoc, parent: TaskDoc | None, hooks: RunHooks,
                  decide: Any) -> None:
         super().__init__(outcomes=OUTCOMES, default_outcome="fail", outcome_cb=decide)
         self.item, self.parent_item, self.hooks = item, parent, hooks

@@ -12,17 +12,26 @@ import threading
 from collections.abc import Callable
 from typing import Any, Final
 
+import msgspec
+from msgspec import UNSET
+from zenros.msgs.zenros_msgs.task_actions import Action, ActionBase
+from zenros.msgs.zenros_msgs.task_docs import Task, TaskUpdate
 from zenros.smach import Container, Execution, State
 
 from .documents import (
     DocumentError,
+    Item,
+    TaskDoc,
+    changes_of,
     find_item,
     is_task,
+    kind_of,
     leaves,
     new_action,
     new_task,
     progress_of,
     reset,
+    update_action,
     update_task,
     walk,
 )
@@ -62,7 +71,7 @@ class TaskBusyError(RuntimeError):
 class _Run:
     """One execution of a task's machine, and why it is being stopped (pause/stop)."""
 
-    def __init__(self, doc: dict[str, Any]) -> None:
+    def __init__(self, doc: Task) -> None:
         self.doc = doc
         self.machine: State | None = None
         self.intent = ""
@@ -86,7 +95,7 @@ class TaskManager:
     """
 
     def __init__(self, store: TaskStore, robot: Robot,
-                 on_change: Callable[[dict[str, Any], str], None] = lambda d, e: None,
+                 on_change: Callable[[Task, str], None] = lambda d, e: None,
                  introspect: Callable[[str, Container], Callable[[], None]] | None = None,
                  resume_on_start: bool = False) -> None:
         self.store = store
@@ -95,40 +104,40 @@ class TaskManager:
         self.introspect = introspect
         self.wait_release = threading.Event()
         self._lock = threading.RLock()
-        self._tasks: dict[str, dict[str, Any]] = {}
+        self._tasks: dict[str, Task] = {}
         self._owner: dict[str, str] = {}  # item id -> task id
         self._run: _Run | None = None
         self.recovered: list[str] = []
         for doc in store.load():
             self._index(doc)
-            if doc["state"] == WORKING:
+            if doc.state == WORKING:
                 self._settle(doc, PAUSED)
-                doc["state"] = PAUSED
+                doc.state = PAUSED
                 store.put(doc)
-                self.recovered.append(doc["id"])
+                self.recovered.append(doc.id)
         if resume_on_start:
             for task_id in self.recovered[-1:]:
                 self.resume(task_id)
 
     # ------------------------------------------------------------------ reading
 
-    def tasks(self) -> list[dict[str, Any]]:
+    def tasks(self) -> list[Task]:
         with self._lock:
             return list(self._tasks.values())
 
-    def get(self, task_id: str) -> dict[str, Any]:
+    def get(self, task_id: str) -> Task:
         with self._lock:
             return self._task(task_id)
 
-    def get_action(self, action_id: str) -> dict[str, Any]:
+    def get_action(self, action_id: str) -> Action:
         with self._lock:
             task = self._tasks.get(self._owner.get(action_id, ""))
             item = find_item(task, action_id) if task else None
             if item is None or is_task(item):
                 raise UnknownTaskError(f"no action with id {action_id!r}")
-            return item
+            return item  # type: ignore[return-value]
 
-    def list_actions(self) -> list[dict[str, Any]]:
+    def list_actions(self) -> list[Action]:
         with self._lock:
             return [a for t in self._tasks.values() for a in leaves(t)]
 
@@ -136,28 +145,32 @@ class TaskManager:
     def running(self) -> str:
         """The id of the running task, or ''."""
         run = self._run
-        return run.doc["id"] if run is not None else ""
+        return run.doc.id if run is not None else ""
 
     # ------------------------------------------------------------------ changing
 
-    def create(self, body: Any) -> dict[str, Any]:
+    def create(self, body: Task | Any) -> Task:
+        """A new task from ``body``: a `Task`, or the robot API's plain data."""
         doc = new_task(body)
         with self._lock:
             self._index(doc)
             self._commit(doc, "created")
         return doc
 
-    def update(self, task_id: str, body: Any) -> dict[str, Any]:
+    def update(self, task_id: str, body: TaskUpdate | Any) -> Task:
+        """Task ``task_id`` with the fields ``body`` (a `TaskUpdate` or plain data) sets."""
+        if isinstance(body, TaskUpdate):
+            body = changes_of(body)
         if not isinstance(body, dict):
             raise DocumentError("task: expected an object")
         with self._lock:
             doc = self._task(task_id)
-            if doc["state"] in (WORKING, PAUSED) and set(body) - {"id", "name", "loop_flag"}:
-                raise TaskStateError(task_id, "change the sub_tasks of", doc["state"])
+            if doc.state in (WORKING, PAUSED) and set(body) - {"id", "name", "loop_flag"}:
+                raise TaskStateError(task_id, "change the sub_tasks of", doc.state)
             fresh = update_task(doc, body)
-            fresh["state"] = doc["state"]
-            if doc["state"] in (WORKING, PAUSED):
-                fresh = doc | {k: fresh[k] for k in ("name", "loop_flag")}
+            fresh.state = doc.state
+            if doc.state in (WORKING, PAUSED):
+                fresh = msgspec.structs.replace(doc, name=fresh.name, loop_flag=fresh.loop_flag)
             self._unindex(doc)
             self._index(fresh)
             if self._run is not None and self._run.doc is doc:
@@ -168,61 +181,59 @@ class TaskManager:
     def delete(self, task_id: str) -> None:
         with self._lock:
             doc = self._task(task_id)
-            if doc["state"] == WORKING:
+            if doc.state == WORKING:
                 raise TaskStateError(task_id, "delete", WORKING)
             self._unindex(doc)
             self.store.delete(task_id)
-        self.on_change({**doc, "state": CANCELLED if doc["state"] not in TERMINAL
-                        else doc["state"]}, "deleted")
+        self.on_change(msgspec.structs.replace(
+            doc, state=CANCELLED if doc.state not in TERMINAL else doc.state), "deleted")
 
-    def set_loop(self, task_id: str, flag: bool) -> dict[str, Any]:
+    def set_loop(self, task_id: str, flag: bool) -> Task:
         return self.update(task_id, {"loop_flag": bool(flag)})
 
-    def create_action(self, body: Any) -> dict[str, Any]:
-        """Add an action to task ``body['task_id']``, or to a new task "auto task"."""
-        if not isinstance(body, dict):
+    def create_action(self, body: Action | Any, task_id: str | None = None) -> Task:
+        """Add an action (an `Action`, or plain data that may name ``task_id``) to task
+        ``task_id``, or to a new task "auto task"."""
+        if isinstance(body, dict):
+            task_id = body.get("task_id", task_id)
+            action_body: Any = {k: v for k, v in body.items() if k != "task_id"}
+        elif isinstance(body, ActionBase):
+            action_body = body
+        else:
             raise DocumentError("action: expected an object")
-        task_id = body.get("task_id")
-        action_body = {k: v for k, v in body.items() if k != "task_id"}
         if task_id is None:
             return self.create({"name": "auto task", "sub_tasks": [action_body]})
         if not isinstance(task_id, str):
             raise DocumentError("action: field 'task_id' must be str")
         with self._lock:
             doc = self._task(task_id)
-            if doc["state"] in (WORKING, PAUSED):
-                raise TaskStateError(task_id, "add an action to", doc["state"])
+            if doc.state in (WORKING, PAUSED):
+                raise TaskStateError(task_id, "add an action to", doc.state)
             action = new_action(action_body)
-            doc["sub_tasks"].append(action)
-            self._owner[action["id"]] = task_id
+            doc.sub_tasks.append(action)
+            self._owner[action.id] = task_id
             self._commit(doc, "updated")
             return doc
 
-    def update_action(self, action_id: str, body: Any) -> dict[str, Any]:
+    def update_action(self, action_id: str, body: Any) -> Action:
         if not isinstance(body, dict):
             raise DocumentError("action: expected an object")
         with self._lock:
             item = self.get_action(action_id)
             doc = self._tasks[self._owner[action_id]]
-            if doc["state"] in (WORKING, PAUSED):
-                raise TaskStateError(doc["id"], "change an action of", doc["state"])
-            merged = {k: v for k, v in item.items()
-                      if k not in ("id", "state", "result", "progress", "current_location",
-                                   "current_distance")}
-            merged.update({k: v for k, v in body.items() if k != "id"})
-            fresh = new_action(merged)
-            fresh["id"] = action_id
-            item.clear()
-            item.update(fresh)
+            if doc.state in (WORKING, PAUSED):
+                raise TaskStateError(doc.id, "change an action of", doc.state)
+            fresh = update_action(item, body)
+            _replace(doc, item, fresh)
             self._commit(doc, "updated")
-            return item
+            return fresh
 
     def delete_action(self, action_id: str) -> None:
         with self._lock:
             self.get_action(action_id)
             doc = self._tasks[self._owner[action_id]]
-            if doc["state"] in (WORKING, PAUSED):
-                raise TaskStateError(doc["id"], "delete an action of", doc["state"])
+            if doc.state in (WORKING, PAUSED):
+                raise TaskStateError(doc.id, "delete an action of", doc.state)
             _remove(doc, action_id)
             del self._owner[action_id]
             self._commit(doc, "updated")
@@ -233,36 +244,36 @@ class TaskManager:
 
     # ------------------------------------------------------------------ running
 
-    def start(self, task_id: str) -> dict[str, Any]:
+    def start(self, task_id: str) -> Task:
         with self._lock:
             doc = self._task(task_id)
-            check_request(task_id, "start", doc["state"])
+            check_request(task_id, "start", doc.state)
             self._refuse_if_busy(task_id)
             reset(doc)
-            doc["loop_count"] = 0
-            doc.pop("result", None)
-            doc["state"] = WORKING
+            doc.loop_count = 0
+            doc.result = UNSET
+            doc.state = WORKING
             self._commit(doc, "started")
             self._launch(doc)
             return doc
 
-    def resume(self, task_id: str) -> dict[str, Any]:
+    def resume(self, task_id: str) -> Task:
         with self._lock:
             doc = self._task(task_id)
-            check_request(task_id, "resume", doc["state"])
+            check_request(task_id, "resume", doc.state)
             self._refuse_if_busy(task_id)
             for item in walk(doc):
-                if item["state"] == PAUSED:
-                    item["state"] = WAITTING
-            doc["state"] = WORKING
+                if item.state == PAUSED:
+                    item.state = WAITTING
+            doc.state = WORKING
             self._commit(doc, "resumed")
             self._launch(doc, skip_complete=True)
             return doc
 
-    def pause(self, task_id: str, timeout: float = STOP_TIMEOUT) -> dict[str, Any]:
+    def pause(self, task_id: str, timeout: float = STOP_TIMEOUT) -> Task:
         return self._interrupt(task_id, "pause", timeout)
 
-    def stop(self, task_id: str | None = None, timeout: float = STOP_TIMEOUT) -> dict[str, Any]:
+    def stop(self, task_id: str | None = None, timeout: float = STOP_TIMEOUT) -> Task:
         """Stop ``task_id`` (None: the running task)."""
         if task_id is None or task_id == "":
             task_id = self.running
@@ -270,14 +281,14 @@ class TaskManager:
                 raise TaskStateError("(none)", "stop", "idle: no task is running")
         return self._interrupt(task_id, "stop", timeout)
 
-    def _interrupt(self, task_id: str, request: str, timeout: float) -> dict[str, Any]:
+    def _interrupt(self, task_id: str, request: str, timeout: float) -> Task:
         with self._lock:
             doc = self._task(task_id)
-            check_request(task_id, request, doc["state"])
+            check_request(task_id, request, doc.state)
             run = self._run if self._run is not None and self._run.doc is doc else None
             if run is None:  # WAITTING or PAUSED: nothing runs, settle at once
                 self._settle(doc, CANCELLED)
-                doc["state"] = CANCELLED
+                doc.state = CANCELLED
                 self._commit(doc, "stopped")
                 return doc
             run.intent = request
@@ -289,19 +300,19 @@ class TaskManager:
             return self._tasks.get(task_id, doc)
 
     def _refuse_if_busy(self, task_id: str) -> None:
-        if self._run is not None and self._run.doc["id"] != task_id:
-            raise TaskBusyError(f"task {self._run.doc['id']} ({self._run.doc['name']!r}) is"
+        if self._run is not None and self._run.doc.id != task_id:
+            raise TaskBusyError(f"task {self._run.doc.id} ({self._run.doc.name!r}) is"
                                 " running; pause or stop it before starting another")
 
-    def _launch(self, doc: dict[str, Any], skip_complete: bool = False) -> None:
+    def _launch(self, doc: Task, skip_complete: bool = False) -> None:
         run = _Run(doc)
         run.machine = machine = build_machine(doc, _Hooks(self, run))
         if skip_complete:
-            run.skip = {i["id"] for i in walk(doc) if i["state"] == COMPLETE}
+            run.skip = {i.id for i in walk(doc) if i.state == COMPLETE}
         self._run = run
         assert isinstance(machine, Container)
         if self.introspect is not None:
-            run.detach = self.introspect(doc["id"], machine)
+            run.detach = self.introspect(doc.id, machine)
         run.execution = machine.execute_in_thread()
         run.execution.add_done_callback(lambda ex: self._on_done(run, ex))
 
@@ -314,8 +325,8 @@ class TaskManager:
         relaunch = False
         with self._lock:
             doc = run.doc
-            if self._tasks.get(doc["id"]) is not doc:
-                doc = self._tasks.get(doc["id"], doc)
+            if self._tasks.get(doc.id) is not doc:
+                doc = self._tasks.get(doc.id, doc)
             if outcome == "preempted" or run.intent:
                 state = PAUSED if run.intent == "pause" else CANCELLED
                 if outcome != "preempted":
@@ -323,19 +334,19 @@ class TaskManager:
                 if state in (PAUSED, CANCELLED):
                     self._settle(doc, state)
                 event = {PAUSED: "paused", CANCELLED: "stopped"}.get(state, "finished")
-            elif outcome == "complete" and doc.get("loop_flag"):
-                doc["loop_count"] = int(doc.get("loop_count", 0)) + 1
+            elif outcome == "complete" and doc.loop_flag:
+                doc.loop_count += 1
                 reset(doc)
                 state, event, relaunch = WORKING, "looped", True
             else:
                 state = _FINAL.get(outcome, ERROR)
                 event = "finished"
             if state == ERROR:
-                doc["result"] = reason or _first_error(doc)
-            doc["state"] = state
-            doc["progress"] = progress_of(doc) if state != COMPLETE else 1.0
-            if state in TERMINAL or state == PAUSED:
-                doc["current_task"] = None if state != PAUSED else doc.get("current_task")
+                doc.result = reason or _first_error(doc)
+            doc.state = state
+            doc.progress = progress_of(doc) if state != COMPLETE else 1.0
+            if state in TERMINAL:
+                doc.current_task = None
             run.detach()
             self._run = None
             self._commit(doc, event)
@@ -345,42 +356,42 @@ class TaskManager:
 
     # ------------------------------------------------------------------ hooks
 
-    def _begin(self, run: _Run, item: dict[str, Any], parent: dict[str, Any]) -> bool:
+    def _begin(self, run: _Run, item: Item, parent: TaskDoc) -> bool:
         with self._lock:
-            if item["id"] in run.skip and item["state"] == COMPLETE:
+            if item.id in run.skip and item.state == COMPLETE:
                 return False
-            item["state"] = WORKING
+            item.state = WORKING
             if not is_task(item):
-                item["result"] = ""
-            parent["current_task"] = item
+                item.result = ""
+            parent.current_task = item
             if not is_task(item):
-                run.doc["current_task"] = item
+                run.doc.current_task = item
             self._commit(run.doc, "progress")
             return True
 
-    def _finish(self, run: _Run, item: dict[str, Any], outcome: Outcome) -> None:
+    def _finish(self, run: _Run, item: Item, outcome: Outcome) -> None:
         with self._lock:
             if outcome.name == "preempted":
-                item["state"] = PAUSED if run.intent == "pause" else CANCELLED
+                item.state = PAUSED if run.intent == "pause" else CANCELLED
             else:
-                item["state"] = _FINAL[outcome.name]
+                item.state = _FINAL[outcome.name]
                 if not is_task(item):
-                    item["result"] = outcome.reason
-            if item["state"] == COMPLETE:
-                item["progress"] = 1.0
+                    item.result = outcome.reason
+            if item.state == COMPLETE:
+                item.progress = 1.0
             elif is_task(item):
-                item["progress"] = progress_of(item)
-            run.doc["progress"] = progress_of(run.doc)
+                item.progress = progress_of(item)
+            run.doc.progress = progress_of(run.doc)
             self._commit(run.doc, "progress")
 
     def _changed(self, run: _Run) -> None:
         with self._lock:
-            run.doc["progress"] = progress_of(run.doc)
+            run.doc.progress = progress_of(run.doc)
             self._commit(run.doc, "progress")
 
     # ------------------------------------------------------------------ internals
 
-    def _task(self, task_id: str) -> dict[str, Any]:
+    def _task(self, task_id: str) -> Task:
         if not isinstance(task_id, str) or not task_id:
             raise DocumentError("missing field 'id' (the task's id)")
         doc = self._tasks.get(task_id)
@@ -388,32 +399,32 @@ class TaskManager:
             raise UnknownTaskError(f"no task with id {task_id!r}")
         return doc
 
-    def _index(self, doc: dict[str, Any]) -> None:
-        self._tasks[doc["id"]] = doc
+    def _index(self, doc: Task) -> None:
+        self._tasks[doc.id] = doc
         for item in walk(doc):
-            self._owner[item["id"]] = doc["id"]
+            self._owner[item.id] = doc.id
 
-    def _unindex(self, doc: dict[str, Any]) -> None:
-        self._tasks.pop(doc["id"], None)
+    def _unindex(self, doc: Task) -> None:
+        self._tasks.pop(doc.id, None)
         for item in walk(doc):
-            self._owner.pop(item["id"], None)
+            self._owner.pop(item.id, None)
 
-    def _commit(self, doc: dict[str, Any], event: str) -> None:
+    def _commit(self, doc: Task, event: str) -> None:
         self.store.put(doc)
         self.on_change(doc, event)
 
     @staticmethod
-    def _settle(doc: dict[str, Any], state: str) -> None:
+    def _settle(doc: Task, state: str) -> None:
         for item in walk(doc):
-            if item["state"] in (WORKING, PAUSED):
-                item["state"] = state
+            if item.state in (WORKING, PAUSED):
+                item.state = state
 
     def close(self, timeout: float = 5.0) -> None:
         """Pause the running task (it stays PAUSED in the store) and stop."""
         run = self._run
         if run is not None:
             try:
-                self.pause(run.doc["id"], timeout)
+                self.pause(run.doc.id, timeout)
             except (TaskStateError, TimeoutError):
                 pass
 
@@ -424,28 +435,39 @@ class _Hooks:
         self.robot = manager.robot
         self.wait_release = manager.wait_release
 
-    def begin(self, item: dict[str, Any], parent: dict[str, Any]) -> bool:
+    def begin(self, item: Item, parent: TaskDoc) -> bool:
         return self.manager._begin(self.run, item, parent)
 
-    def finish(self, item: dict[str, Any], outcome: Outcome) -> None:
+    def finish(self, item: Item, outcome: Outcome) -> None:
         self.manager._finish(self.run, item, outcome)
 
     def changed(self) -> None:
         self.manager._changed(self.run)
 
 
-def _first_error(doc: dict[str, Any]) -> str:
+def _first_error(doc: Task) -> str:
     for item in walk(doc):
-        if item["state"] == ERROR and item.get("result"):
-            return f"{item.get('type', 'task')} {item['id']}: {item['result']}"
+        if item.state == ERROR and not is_task(item) and item.result:
+            return f"{kind_of(item)} {item.id}: {item.result}"
     return "failed"
 
 
-def _remove(doc: dict[str, Any], item_id: str) -> bool:
-    for i, item in enumerate(doc["sub_tasks"]):
-        if item["id"] == item_id:
-            del doc["sub_tasks"][i]
+def _remove(doc: TaskDoc, item_id: str) -> bool:
+    for i, item in enumerate(doc.sub_tasks):
+        if item.id == item_id:
+            del doc.sub_tasks[i]
             return True
         if is_task(item) and _remove(item, item_id):
+            return True
+    return False
+
+
+def _replace(doc: TaskDoc, old: Item, new: Item) -> bool:
+    """Put ``new`` where ``old`` is below ``doc``."""
+    for i, item in enumerate(doc.sub_tasks):
+        if item is old:
+            doc.sub_tasks[i] = new
+            return True
+        if is_task(item) and _replace(item, old, new):
             return True
     return False

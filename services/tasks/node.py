@@ -10,12 +10,14 @@ import msgspec
 from msgspec import Meta
 from zenros.home import data_dir
 from zenros.message import Message
+from zenros.msgs.zenros_msgs.task_docs import Task
 from zenros.msgs.zenros_msgs.tasks import TaskStatus
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.smach import Container, IntrospectionServer
 
-from .api import CALLS, call, task_struct
+from .api import CALLS, call
+from .documents import is_task, kind_of
 from .local_link import LocalLink
 from .manager import TaskManager
 from .store import TaskStore
@@ -78,13 +80,14 @@ class TasksNode(Node):
             return await asyncio.to_thread(call, self.manager, name, req)
         return handle
 
-    def publish_status(self, doc: dict[str, Any], event: str) -> None:
-        current = doc.get("current_task") or {}
+    def publish_status(self, doc: Task, event: str) -> None:
+        current = doc.current_task
         self.status_pub.publish(TaskStatus(
-            stamp=self.now(), id=doc["id"], name=doc.get("name", ""), state=doc["state"],
-            progress=float(doc.get("progress", 0.0)), loop_count=int(doc.get("loop_count", 0)),
-            current_id=current.get("id", ""), current_type=current.get("type", ""),
-            event=event, task=task_struct(doc)))
+            stamp=self.now(), id=doc.id, name=doc.name, state=doc.state,
+            progress=float(doc.progress), loop_count=doc.loop_count,
+            current_id="" if current is None else current.id,
+            current_type="" if current is None or is_task(current) else kind_of(current),
+            event=event, task=doc))
 
     def introspect(self, task_id: str, machine: Container) -> Callable[[], None]:
         """Show the running task's machine on ``~/smach`` (one server for every run; the

@@ -2,6 +2,10 @@
 
 WAL journal with ``synchronous=NORMAL``: a committed write survives the process being
 killed (kill -9) at any moment; a power cut may lose the last commits (docs/tasks.md).
+
+A row holds the `Task` Struct as msgspec JSON: nested tasks carry ``"type": "task"``. Rows
+written before tasks were Structs (plain JSON documents, nested tasks untagged) are read
+too, by tagging them first; such a row is rewritten in the new form at its next change.
 """
 
 from __future__ import annotations
@@ -9,9 +13,9 @@ from __future__ import annotations
 import sqlite3
 import threading
 from pathlib import Path
-from typing import Any
 
 import msgspec
+from zenros.msgs.zenros_msgs.task_docs import Task, tag_nested_tasks
 
 __all__ = ["TaskStore"]
 
@@ -37,23 +41,24 @@ class TaskStore:
         self._db.execute(_SCHEMA)
         self._lock = threading.Lock()
         self._enc = msgspec.json.Encoder()
+        self._dec = msgspec.json.Decoder(Task)
         row = self._db.execute("SELECT COALESCE(MAX(seq), 0) FROM tasks").fetchone()
         self._seq = int(row[0])
 
-    def put(self, doc: dict[str, Any]) -> None:
+    def put(self, doc: Task) -> None:
         """Insert or replace ``doc`` (by its id), committed on return."""
         data = self._enc.encode(doc)
         with self._lock:
             self._seq += 1
             self._db.execute(
                 "INSERT INTO tasks(id, seq, doc) VALUES(?, ?, ?) "
-                "ON CONFLICT(id) DO UPDATE SET doc=excluded.doc", (doc["id"], self._seq, data))
+                "ON CONFLICT(id) DO UPDATE SET doc=excluded.doc", (doc.id, self._seq, data))
 
     def delete(self, task_id: str) -> None:
         with self._lock:
             self._db.execute("DELETE FROM tasks WHERE id=?", (task_id,))
 
-    def load(self) -> list[dict[str, Any]]:
+    def load(self) -> list[Task]:
         """Every stored task in creation order; unreadable rows are skipped and returned
         nowhere (their ids are logged by the caller through `bad_rows`)."""
         out = []
@@ -61,16 +66,24 @@ class TaskStore:
         with self._lock:
             rows = self._db.execute("SELECT id, doc FROM tasks ORDER BY seq").fetchall()
         for task_id, data in rows:
-            try:
-                doc = msgspec.json.decode(data)
-            except msgspec.DecodeError:
-                self.bad_rows.append(task_id)
-                continue
-            if isinstance(doc, dict) and doc.get("id") == task_id:
+            doc = self._decode(data)
+            if doc is not None and doc.id == task_id:
                 out.append(doc)
             else:
                 self.bad_rows.append(task_id)
         return out
+
+    def _decode(self, data: bytes) -> Task | None:
+        """A row's task: the Struct's JSON, or a plain document of the earlier form; None
+        when it is neither."""
+        try:
+            return self._dec.decode(data)
+        except msgspec.DecodeError:
+            pass
+        try:
+            return msgspec.convert(tag_nested_tasks(msgspec.json.decode(data)), Task)
+        except (msgspec.DecodeError, msgspec.ValidationError):
+            return None
 
     def close(self) -> None:
         with self._lock:

@@ -73,7 +73,7 @@ def events() -> list[tuple[str, str]]:
 def manager(tmp_path: Any, robot: FakeRobot,
             events: list[tuple[str, str]]) -> Iterator[TaskManager]:
     m = TaskManager(TaskStore(tmp_path / "tasks.db"), robot,
-                    lambda d, e: events.append((d["state"], e)))
+                    lambda d, e: events.append((d.state, e)))
     yield m
     m.close()
     m.store.close()

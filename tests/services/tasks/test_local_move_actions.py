@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
+from zenros.msgs.zenros_msgs.task_actions import Action
 from zenros.services.tasks.actiontypes import ActionParamsError, action_of, validate_params
 from zenros.services.tasks.behaviors import BEHAVIORS, Context
 from zenros.services.tasks.robot import Outcome
@@ -46,9 +47,10 @@ class MoveRobot:
 
 
 def run(robot: MoveRobot, doc: dict[str, Any],
-        progress: float = 0.0) -> tuple[Outcome, dict[str, Any]]:
+        progress: float = 0.0) -> tuple[Outcome, Action]:
     params = validate_params(doc)
-    item = {**doc, "progress": progress}
+    item = action_of(doc["type"], params)
+    item.progress = progress
     ctx = Context(robot, item, lambda: False, lambda: None,  # type: ignore[arg-type]
                   threading.Event())
     return BEHAVIORS[doc["type"]](ctx, action_of(doc["type"], params)), item
@@ -57,7 +59,7 @@ def run(robot: MoveRobot, doc: dict[str, Any],
 def test_method_0_moves_then_turns_and_1_turns_then_moves() -> None:
     robot = MoveRobot()
     out, item = run(robot, {"type": "local_move_action", "distance": 0.5, "angle": 1.57})
-    assert out.name == "complete" and item["progress"] == 1.0
+    assert out.name == "complete" and item.progress == 1.0
     assert robot.calls == [("drive", 0.5, 0.3), ("spin", 1.57)]
     robot.calls.clear()
     run(robot, {"type": "local_move_action", "distance": -0.2, "angle": -1.0, "method": 1})

@@ -11,7 +11,8 @@ from typing import Any, ClassVar
 
 import pytest
 from conftest import FakeRobot
-from zenros.services.tasks.documents import DocumentError
+from zenros.msgs.zenros_msgs.task_docs import Task
+from zenros.services.tasks.documents import DocumentError, kind_of
 from zenros.services.tasks.manager import TaskBusyError, TaskManager, UnknownTaskError
 from zenros.services.tasks.robot import Outcome
 from zenros.services.tasks.states import TaskStateError
@@ -22,8 +23,8 @@ SLEEP = {"type": "sleep_action", "wait_time": 0}
 NAV = {"type": "nav_action", "x": 1.0, "y": 2.0, "theta": 0.5}
 
 
-def _state(m: TaskManager, task_id: str, state: str, timeout: float = 10) -> dict[str, Any]:
-    assert wait_for(lambda: m.get(task_id)["state"] == state, timeout), m.get(task_id)
+def _state(m: TaskManager, task_id: str, state: str, timeout: float = 10) -> Task:
+    assert wait_for(lambda: m.get(task_id).state == state, timeout), m.get(task_id)
     return m.get(task_id)
 
 
@@ -31,10 +32,10 @@ def test_sequence_runs_to_complete(manager: TaskManager, robot: FakeRobot,
                                    events: list[tuple[str, str]]) -> None:
     doc = manager.create({"name": "t", "sub_tasks": [SLEEP, NAV, {"type": "tts_action",
                                                                   "text": "done"}]})
-    manager.start(doc["id"])
-    done = _state(manager, doc["id"], "COMPLETE")
-    assert done["progress"] == 1.0
-    assert [a["state"] for a in done["sub_tasks"]] == ["COMPLETE"] * 3
+    manager.start(doc.id)
+    done = _state(manager, doc.id, "COMPLETE")
+    assert done.progress == 1.0
+    assert [a.state for a in done.sub_tasks] == ["COMPLETE"] * 3
     assert robot.goals == [(1.0, 2.0, 0.5)] and robot.said == ["done"]
     assert ("WORKING", "started") in events and events[-1] == ("COMPLETE", "finished")
 
@@ -42,39 +43,39 @@ def test_sequence_runs_to_complete(manager: TaskManager, robot: FakeRobot,
 def test_nav_point_index_and_unknown_index(manager: TaskManager, robot: FakeRobot) -> None:
     doc = manager.create({"sub_tasks": [{"type": "nav_action", "index": 1},
                                         {"type": "nav_action", "index": 7}]})
-    manager.start(doc["id"])
-    failed = _state(manager, doc["id"], "ERROR")
+    manager.start(doc.id)
+    failed = _state(manager, doc.id, "ERROR")
     assert robot.goals == [(3.0, 4.0, 1.5)]
-    assert failed["sub_tasks"][1]["state"] == "ERROR"
-    assert "no nav point 7" in failed["sub_tasks"][1]["result"]
-    assert "no nav point 7" in failed["result"]
+    assert failed.sub_tasks[1].state == "ERROR"
+    assert "no nav point 7" in failed.sub_tasks[1].result
+    assert "no nav point 7" in failed.result
 
 
 def test_pause_holds_resume_continues_same_action(manager: TaskManager,
                                                   robot: FakeRobot) -> None:
     robot.auto = False
     doc = manager.create({"sub_tasks": [SLEEP, NAV, SLEEP]})
-    manager.start(doc["id"])
+    manager.start(doc.id)
     assert wait_for(lambda: len(robot.goals) == 1, 5)
-    paused = manager.pause(doc["id"])
-    assert paused["state"] == "PAUSED" and robot.cancels == 1
-    assert [a["state"] for a in paused["sub_tasks"]] == ["COMPLETE", "PAUSED", "WAITTING"]
-    manager.resume(doc["id"])
+    paused = manager.pause(doc.id)
+    assert paused.state == "PAUSED" and robot.cancels == 1
+    assert [a.state for a in paused.sub_tasks] == ["COMPLETE", "PAUSED", "WAITTING"]
+    manager.resume(doc.id)
     assert wait_for(lambda: len(robot.goals) == 2, 5)
     assert robot.goals[1] == robot.goals[0]  # the same nav goal again, not the next one
     robot.arrived.set()
-    done = _state(manager, doc["id"], "COMPLETE")
-    assert [a["state"] for a in done["sub_tasks"]] == ["COMPLETE"] * 3
+    done = _state(manager, doc.id, "COMPLETE")
+    assert [a.state for a in done.sub_tasks] == ["COMPLETE"] * 3
 
 
 def test_stop_cancels_running_nav(manager: TaskManager, robot: FakeRobot) -> None:
     robot.auto = False
     doc = manager.create({"sub_tasks": [NAV, SLEEP]})
-    manager.start(doc["id"])
+    manager.start(doc.id)
     assert wait_for(lambda: len(robot.goals) == 1, 5)
     stopped = manager.stop()  # no id: the running task
-    assert stopped["state"] == "CANCELLED" and robot.cancels == 1
-    assert [a["state"] for a in stopped["sub_tasks"]] == ["CANCELLED", "WAITTING"]
+    assert stopped.state == "CANCELLED" and robot.cancels == 1
+    assert [a.state for a in stopped.sub_tasks] == ["CANCELLED", "WAITTING"]
     assert manager.running == ""
 
 
@@ -83,21 +84,21 @@ def test_refusals(manager: TaskManager, robot: FakeRobot) -> None:
     a = manager.create({"sub_tasks": [NAV]})
     b = manager.create({"sub_tasks": [SLEEP]})
     with pytest.raises(TaskStateError, match="cannot pause"):
-        manager.pause(a["id"])
-    manager.start(a["id"])
+        manager.pause(a.id)
+    manager.start(a.id)
     with pytest.raises(TaskStateError, match="already running"):
-        manager.start(a["id"])
-    with pytest.raises(TaskBusyError, match=a["id"]):
-        manager.start(b["id"])
+        manager.start(a.id)
+    with pytest.raises(TaskBusyError, match=a.id):
+        manager.start(b.id)
     with pytest.raises(TaskStateError, match="delete"):
-        manager.delete(a["id"])
+        manager.delete(a.id)
     with pytest.raises(TaskStateError):
-        manager.update(a["id"], {"sub_tasks": []})
+        manager.update(a.id, {"sub_tasks": []})
     with pytest.raises(UnknownTaskError, match="nope"):
         manager.start("nope")
     with pytest.raises(DocumentError, match="'id'"):
         manager.start("")
-    manager.stop(a["id"])
+    manager.stop(a.id)
 
 
 def test_failed_create_changes_nothing(manager: TaskManager) -> None:
@@ -110,11 +111,11 @@ def test_failed_create_changes_nothing(manager: TaskManager) -> None:
 def test_loop_counts_until_stopped(manager: TaskManager) -> None:
     doc = manager.create({"loop_flag": True, "sub_tasks": [
         {"type": "sleep_action", "wait_time": 0.01}]})
-    manager.start(doc["id"])
-    assert wait_for(lambda: manager.get(doc["id"])["loop_count"] >= 3, 10)
-    manager.stop(doc["id"])
-    after = manager.get(doc["id"])
-    assert after["state"] == "CANCELLED" and after["loop_count"] >= 3
+    manager.start(doc.id)
+    assert wait_for(lambda: manager.get(doc.id).loop_count >= 3, 10)
+    manager.stop(doc.id)
+    after = manager.get(doc.id)
+    assert after.state == "CANCELLED" and after.loop_count >= 3
 
 
 @pytest.mark.parametrize("control, outcomes, expect", [
@@ -152,9 +153,9 @@ def test_control_types(manager: TaskManager, robot: FakeRobot, control: str,
     if control == "loop":
         body["target_loop_count"] = 3
     doc = manager.create(body)
-    manager.start(doc["id"])
-    assert wait_for(lambda: manager.get(doc["id"])["state"] not in ("WORKING",), 10)
-    assert manager.get(doc["id"])["state"] == expect
+    manager.start(doc.id)
+    assert wait_for(lambda: manager.get(doc.id).state not in ("WORKING",), 10)
+    assert manager.get(doc.id).state == expect
 
 
 def test_restart_loses_nothing_and_working_comes_back_paused(
@@ -162,48 +163,48 @@ def test_restart_loses_nothing_and_working_comes_back_paused(
     old_robot = FakeRobot()
     m = TaskManager(TaskStore(tmp_path / "t.db"), old_robot)
     done = m.create({"sub_tasks": [SLEEP]})
-    m.start(done["id"])
-    _state(m, done["id"], "COMPLETE")
+    m.start(done.id)
+    _state(m, done.id, "COMPLETE")
     old_robot.auto = False
     doc = m.create({"name": "patrol", "sub_tasks": [SLEEP, NAV, SLEEP]})
-    m.start(doc["id"])
+    m.start(doc.id)
     assert wait_for(lambda: len(old_robot.goals) == 1, 5)
     # a second manager opens the store as a restarted process would (the first one is
     # still mid-task, as a killed one would have been)
     m2 = TaskManager(TaskStore(tmp_path / "t.db"), robot)
     try:
-        again = m2.get(doc["id"])
-        assert again["state"] == "PAUSED" and m2.recovered == [doc["id"]]
-        assert [a["state"] for a in again["sub_tasks"]] == ["COMPLETE", "PAUSED", "WAITTING"]
-        assert m2.get(done["id"])["state"] == "COMPLETE"
-        m2.resume(doc["id"])
-        _state(m2, doc["id"], "COMPLETE")
+        again = m2.get(doc.id)
+        assert again.state == "PAUSED" and m2.recovered == [doc.id]
+        assert [a.state for a in again.sub_tasks] == ["COMPLETE", "PAUSED", "WAITTING"]
+        assert m2.get(done.id).state == "COMPLETE"
+        m2.resume(doc.id)
+        _state(m2, doc.id, "COMPLETE")
         assert robot.goals == [(1.0, 2.0, 0.5)]
     finally:
-        m.stop(doc["id"])
+        m.stop(doc.id)
         m.store.close()
         m2.store.close()
 
 
 def test_wait_req_action_released(manager: TaskManager) -> None:
     doc = manager.create({"sub_tasks": [{"type": "wait_req_action"}, SLEEP]})
-    manager.start(doc["id"])
-    assert wait_for(lambda: manager.get(doc["id"])["sub_tasks"][0]["state"] == "WORKING", 5)
+    manager.start(doc.id)
+    assert wait_for(lambda: manager.get(doc.id).sub_tasks[0].state == "WORKING", 5)
     manager.release_wait()
-    _state(manager, doc["id"], "COMPLETE")
+    _state(manager, doc.id, "COMPLETE")
 
 
 def test_action_api(manager: TaskManager) -> None:
     task = manager.create_action({"type": "sleep_action", "wait_time": 2})
-    assert task["name"] == "auto task" and task["sub_tasks"][0]["wait_time"] == 2
-    action_id = task["sub_tasks"][0]["id"]
-    bigger = manager.create_action({"type": "tts_action", "text": "x", "task_id": task["id"]})
-    assert len(bigger["sub_tasks"]) == 2
-    assert manager.update_action(action_id, {"wait_time": 0})["wait_time"] == 0
+    assert task.name == "auto task" and task.sub_tasks[0].wait_time == 2
+    action_id = task.sub_tasks[0].id
+    bigger = manager.create_action({"type": "tts_action", "text": "x", "task_id": task.id})
+    assert len(bigger.sub_tasks) == 2
+    assert manager.update_action(action_id, {"wait_time": 0}).wait_time == 0
     with pytest.raises(DocumentError, match="wait_time"):
         manager.update_action(action_id, {"wait_time": "soon"})
     manager.delete_action(action_id)
-    assert [a["type"] for a in manager.get(task["id"])["sub_tasks"]] == ["tts_action"]
+    assert [kind_of(a) for a in manager.get(task.id).sub_tasks] == ["tts_action"]
     with pytest.raises(UnknownTaskError):
         manager.get_action(action_id)
 
@@ -236,12 +237,12 @@ def test_callback_action_hits_http_server(manager: TaskManager, http_server: str
     doc = manager.create({"sub_tasks": [
         {"type": "callback_action", "url": f"{http_server}/ok", "method": "POST",
          "data": {"robot": "r1"}}]})
-    manager.start(doc["id"])
-    done = _state(manager, doc["id"], "COMPLETE")
+    manager.start(doc.id)
+    done = _state(manager, doc.id, "COMPLETE")
     assert _Hook.hits == [("POST", "/ok", b'{"robot": "r1"}')]
-    assert done["sub_tasks"][0]["result"] == "HTTP 204"
+    assert done.sub_tasks[0].result == "HTTP 204"
     bad = manager.create({"sub_tasks": [
         {"type": "callback_action", "url": f"{http_server}/fail", "method": "POST"}]})
-    manager.start(bad["id"])
-    failed = _state(manager, bad["id"], "ERROR")
-    assert "HTTP 500" in failed["sub_tasks"][0]["result"]
+    manager.start(bad.id)
+    failed = _state(manager, bad.id, "ERROR")
+    assert "HTTP 500" in failed.sub_tasks[0].result
