@@ -3,7 +3,7 @@
 Every refusal is a response with its `ResultCode`: INVALID (a bad document or field),
 NOT_FOUND (unknown id), CONFLICT (not allowed in the task's state, or another task runs),
 TIMEOUT (a pause or stop that did not take effect in time). Requests and answers carry
-the manager's own `Task` / `Action` Structs.
+the manager's `Task` / `Action` Structs, copied as they are at the answer.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from zenros.msgs.zenros_msgs import tasks as tm
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.msgs.zenros_msgs.task_docs import Task
 
-from .documents import DocumentError
+from .documents import DocumentError, snapshot, snapshot_action
 from .manager import TaskBusyError, TaskManager, UnknownTaskError
 from .states import TaskStateError
 
@@ -25,11 +25,12 @@ __all__ = ["CALLS", "Call", "call"]
 
 
 def _task(doc: Task | None) -> tm.TaskResponse:
-    return tm.TaskResponse(task=doc)
+    return tm.TaskResponse(task=None if doc is None else snapshot(doc))
 
 
 def _get(m: TaskManager, req: tm.GetTasksRequest) -> tm.GetTasksResponse:
-    return tm.GetTasksResponse(tasks=[m.get(req.id)] if req.id else m.tasks())
+    docs = [m.get(req.id)] if req.id else m.tasks()
+    return tm.GetTasksResponse(tasks=[snapshot(d) for d in docs])
 
 
 def _update(m: TaskManager, req: tm.UpdateTaskRequest) -> tm.TaskResponse:
@@ -43,12 +44,13 @@ def _create_action(m: TaskManager, req: tm.CreateActionRequest) -> tm.TaskRespon
 
 
 def _get_action(m: TaskManager, req: tm.GetActionsRequest) -> tm.GetActionsResponse:
-    return tm.GetActionsResponse(
-        actions=[m.get_action(req.id)] if req.id else m.list_actions())
+    items = [m.get_action(req.id)] if req.id else m.list_actions()
+    return tm.GetActionsResponse(actions=[snapshot_action(a) for a in items])
 
 
 def _update_action(m: TaskManager, req: tm.UpdateActionRequest) -> tm.UpdateActionResponse:
-    return tm.UpdateActionResponse(action=m.update_action(req.id, req.changes))
+    return tm.UpdateActionResponse(
+        action=snapshot_action(m.update_action(req.id, req.changes)))
 
 
 def _command(fn: Callable[[TaskManager, str], Task | None]

@@ -29,7 +29,8 @@ from .states import COMPLETE, WAITTING
 __all__ = [
     "CONTROL_TYPES", "DocumentError", "Item", "TaskDoc", "action_params", "changes_of",
     "find_item", "is_task", "kind_of", "leaves", "new_action", "new_task", "progress_of",
-    "reset", "substitute", "update_action", "update_task", "walk",
+    "reset", "snapshot", "snapshot_action", "substitute", "update_action", "update_task",
+    "walk",
 ]
 
 TaskDoc = Task | SubTask
@@ -55,12 +56,27 @@ _TASK_FIELDS: Final = frozenset({"id", "name", "sub_tasks", "loop_flag", "loop_c
                                  "success_count", "target_loop_count", "type"})
 _CHANGEABLE: Final = frozenset({"id", "name", "loop_flag", "sub_tasks", "control_type",
                                 "blackboard", "success_count", "target_loop_count"})
+_COPY: Final = msgspec.msgpack.Encoder()
+_TASK_COPY: Final = msgspec.msgpack.Decoder(Task)
+_ACTION_COPY: Final = msgspec.msgpack.Decoder(Action)
 MAX_ITEMS: Final = 10_000
 MAX_DEPTH: Final = 16
 
 
 class DocumentError(ValueError):
     """A task or action body that is not valid; the text names the field (HTTP 400)."""
+
+
+def snapshot(doc: Task) -> Task:
+    """A deep copy of ``doc`` as it is now, for a reader outside the manager (an answer, a
+    status message): the running task goes on changing the original."""
+    return _TASK_COPY.decode(_COPY.encode(doc))
+
+
+def snapshot_action(item: Action) -> Action:
+    """A deep copy of action ``item`` as it is now (see `snapshot`)."""
+    copy: Action = _ACTION_COPY.decode(_COPY.encode(item))
+    return copy
 
 
 def is_task(item: object) -> TypeGuard[TaskDoc]:

@@ -17,7 +17,7 @@ from zenros.qos import QOS_LATCHED
 from zenros.smach import Container, IntrospectionServer
 
 from .api import CALLS, call
-from .documents import is_task, kind_of
+from .documents import is_task, kind_of, snapshot
 from .local_link import LocalLink
 from .manager import TaskManager
 from .store import TaskStore
@@ -87,7 +87,7 @@ class TasksNode(Node):
             progress=float(doc.progress), loop_count=doc.loop_count,
             current_id="" if current is None else current.id,
             current_type="" if current is None or is_task(current) else kind_of(current),
-            event=event, task=doc))
+            event=event, task=snapshot(doc)))
 
     def introspect(self, task_id: str, machine: Container) -> Callable[[], None]:
         """Show the running task's machine on ``~/smach`` (one server for every run; the
