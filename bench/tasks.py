@@ -10,7 +10,6 @@ so the figures read as multiples of the transport underneath. Prints one JSON li
 
 from __future__ import annotations
 
-import json
 import os
 import subprocess
 import sys
@@ -21,12 +20,20 @@ import time
 import zenoh
 from _harness import emit, free_port, percentile, raw_config, unique_prefix
 from zenros.context import Context
-from zenros.msgs.zenros_msgs.tasks import TaskCall, TaskCallRequest, TaskStatus
+from zenros.msgs.zenros_msgs.result import ResultCode
+from zenros.msgs.zenros_msgs.tasks import (
+    CreateTask,
+    TaskCommand,
+    TaskCommandRequest,
+    TaskStatus,
+    task_request,
+)
 from zenros.node import Node
 from zenros.testing import loopback_options
 
 EXTRA = os.environ.get("BENCH_TASKS_ARGS", "").split()
-TASK = json.dumps({"name": "b", "sub_tasks": [{"type": "sleep_action", "wait_time": 0}]})
+TASK = task_request("create", body={"name": "b", "sub_tasks": [{"type": "sleep_action",
+                                                                "wait_time": 0}]})
 
 
 def bench_tasks(n: int) -> tuple[float, list[float]]:
@@ -49,8 +56,8 @@ def bench_tasks(n: int) -> tuple[float, list[float]]:
 
     try:
         node.create_subscription(TaskStatus, "/tasks/status", on_status, 10_000)
-        create = node.create_client(TaskCall, "/tasks/create")
-        start = node.create_client(TaskCall, "/tasks/start")
+        create = node.create_client(CreateTask, "/tasks/create")
+        start = node.create_client(TaskCommand, "/tasks/start")
         for c in (create, start):
             assert c.wait_for_service(30), "tasks service did not start"
         for _ in range(20):  # warm up
@@ -69,11 +76,12 @@ def bench_tasks(n: int) -> tuple[float, list[float]]:
 
 
 def one(create: object, start: object, done: dict[str, threading.Event]) -> None:
-    reply = create.call(TaskCallRequest(body=TASK), timeout=10)  # type: ignore[attr-defined]
-    task_id = json.loads(reply.body)["id"]
+    reply = create.call(TASK, timeout=10)  # type: ignore[attr-defined]
+    assert reply.code == ResultCode.OK, reply.message
+    task_id = reply.task.id
     ev = done[task_id] = threading.Event()
-    reply = start.call(TaskCallRequest(id=task_id), timeout=10)  # type: ignore[attr-defined]
-    assert reply.success, reply.message
+    reply = start.call(TaskCommandRequest(id=task_id), timeout=10)  # type: ignore[attr-defined]
+    assert reply.code == ResultCode.OK, reply.message
     assert ev.wait(10), f"task {task_id} did not complete"
     del done[task_id]
 
