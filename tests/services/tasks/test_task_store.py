@@ -9,7 +9,6 @@ from pathlib import Path
 from typing import Any
 
 import msgspec
-from conftest import FakeRobot
 from zenros.msgs.zenros_msgs.task_actions import NavAction, SleepAction
 from zenros.msgs.zenros_msgs.task_docs import SubTask, Task, as_document
 from zenros.services.tasks.documents import new_task
@@ -47,7 +46,7 @@ def _write_rows(path: Path, rows: list[tuple[str, bytes]]) -> None:
     db.close()
 
 
-def test_rows_of_the_plain_form_load_as_tasks(tmp_path: Path, robot: FakeRobot) -> None:
+def test_rows_of_the_plain_form_load_as_tasks(tmp_path: Path, robot: Any) -> None:  # conftest.FakeRobot
     path = tmp_path / "tasks.db"
     _write_rows(path, [("t0", json.dumps(DONE_ROW).encode()),
                        ("t1", json.dumps(OLD_ROW).encode())])
