@@ -16,7 +16,14 @@ from typing import Any
 import zenoh
 from zenros.testing import free_port, unique_prefix
 
-__all__ = ["Child", "emit", "env_info", "free_port", "percentile", "raw_config", "unique_prefix"]
+__all__ = ["Child", "emit", "env_info", "free_port", "missing_extra", "percentile", "raw_config",
+           "unique_prefix"]
+
+
+def missing_extra(err: ModuleNotFoundError, extra: str) -> str:
+    """What a bench says when a reference it measures is not installed: the extra to add."""
+    return (f"{sys.argv[0]}: the reference {err.name!r} is not installed; it comes with the "
+            f"{extra!r} extra: pip install -e '.[{extra}]'")
 
 
 def raw_config(listen: int | None = None, connect: int | None = None) -> zenoh.Config:

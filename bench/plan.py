@@ -38,8 +38,12 @@ from collections.abc import Callable
 from importlib.metadata import version
 
 import numpy as np
-import pyastar2d
-from _harness import emit
+from _harness import emit, missing_extra
+
+try:
+    import pyastar2d
+except ModuleNotFoundError as err:
+    raise SystemExit(missing_extra(err, "bench")) from None
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 from zenros.services.nav.costmap import Costmap2D, CostmapParams, ObstacleParams, Scan

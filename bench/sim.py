@@ -44,7 +44,7 @@ from zenros.node import Node
 from zenros.testing import free_port, loopback_options, unique_prefix, wait_for
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _harness import emit  # noqa: E402
+from _harness import emit, missing_extra  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OFFICE = ROOT / "deploy" / "maps" / "office" / "office.yaml"
@@ -163,8 +163,11 @@ def chassis_rtf(seconds: float) -> dict[str, float]:
 
 def irsim_rtf(seconds: float, world: str) -> dict[str, float]:
     """ir-sim's RTF in its fastest setup (the better of display=False and headless=True)."""
-    with contextlib.redirect_stdout(io.StringIO()):  # it prints backend warnings on import
-        import irsim
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):  # it prints backend warnings on import
+            import irsim
+    except ModuleNotFoundError as err:
+        raise SystemExit(missing_extra(err, "bench")) from None
     logging.getLogger().setLevel(logging.ERROR)
     best: dict[str, float] = {"rtf_irsim": 0.0}
     for setup in ({"display": False}, {"headless": True}):

@@ -29,13 +29,18 @@ import time
 from collections.abc import Callable
 
 import numpy as np
-import pytransform3d
-from pytransform3d import transformations as pt
-from pytransform3d.transform_manager import (
-    NumpyTimeseriesTransform,
-    TemporalTransformManager,
-    TransformManager,
-)
+from _harness import missing_extra
+
+try:
+    import pytransform3d
+    from pytransform3d import transformations as pt
+    from pytransform3d.transform_manager import (
+        NumpyTimeseriesTransform,
+        TemporalTransformManager,
+        TransformManager,
+    )
+except ModuleNotFoundError as err:
+    raise SystemExit(missing_extra(err, "bench")) from None
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import TransformStamped
 from zenros.tf import Buffer, chain, quaternion_normalize, store, transform_stamped
