@@ -46,7 +46,7 @@ from zenros.services.nav.planning.global_planner import GlobalPlanner
 from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wait_for
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _harness import emit  # noqa: E402
+from _harness import emit
 
 SPEED = 10.0
 

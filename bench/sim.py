@@ -44,7 +44,7 @@ from zenros.node import Node
 from zenros.testing import free_port, loopback_options, unique_prefix, wait_for
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _harness import emit, missing_extra  # noqa: E402
+from _harness import emit, missing_extra
 
 ROOT = Path(__file__).resolve().parents[1]
 OFFICE = ROOT / "deploy" / "maps" / "office" / "office.yaml"
