@@ -162,7 +162,7 @@ class McapFile:
         return self._messages
 
     def _emit(self) -> None:
-        self._f.write(self._rb.end())
+        self._f.write(self._rb.end())  # type: ignore[no-untyped-call]  # mcap leaves it untyped
 
     def add_schema(self, schema_id: int, name: str, encoding: str, data: bytes) -> None:
         if schema_id in self._schemas or schema_id == 0:
@@ -257,7 +257,7 @@ class McapFile:
         offset_start = summary_start + rb.count
         for o in offsets:
             o.write(rb)
-        summary = rb.end()
+        summary = rb.end()  # type: ignore[no-untyped-call]
         crc = zlib.crc32(summary)
         crc = zlib.crc32(struct.pack("<BQQQ", Opcode.FOOTER, 20, summary_start, offset_start), crc)
         self._f.write(summary)

@@ -73,6 +73,7 @@ def read_image(path: str | Path) -> np.ndarray:
     try:
         with Image.open(io.BytesIO(data)) as img:
             img.load()
+            conv: Image.Image
             if img.mode in ("L", "LA", "RGB", "RGBA"):
                 conv = img
             elif "A" in img.getbands() or "transparency" in img.info:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import struct
 import typing
 from collections.abc import Callable
-from functools import cache
+from functools import cache, partial
 from typing import Any, Generic, TypeVar
 
 import msgspec
@@ -86,7 +86,7 @@ def _w_prims(b: bytearray, v: Any, ch: str, size: int, kind: str, bound: int, wh
         return
     _pad(b, size)
     if isinstance(v, np.ndarray):
-        b += memoryview(np.ascontiguousarray(v, dtype="<" + _NP[ch])).cast("B")
+        b += np.ascontiguousarray(v, dtype="<" + _NP[ch]).data.cast("B")
     elif isinstance(v, (bytes, bytearray, memoryview)) and size == 1:
         b += v
     else:
@@ -209,6 +209,11 @@ def _element_class(tp: Any, where: str) -> type | None:
     raise InterfaceError(f"{where}: a ROS sequence of structures cannot map to {tp!r}")
 
 
+def _filled(value: Any, n: int) -> list[Any]:
+    """A fixed-size array's default: ``n`` times ``value``."""
+    return [value] * n
+
+
 @cache
 def plain_class(ros_name: str) -> type[Message]:
     """A msgspec Struct for a ROS 2 type zenros has no class for (action parts, UUIDs...):
@@ -240,7 +245,7 @@ def plain_class(ros_name: str) -> type[Message]:
             tp = list[scalar]
         if t.kind == "array" and not t.is_nested:
             zero = "" if t.is_string else tp.__args__[0]()
-            spec.append((f.name, tp, msgspec.field(default_factory=lambda z=zero, n=t.size: [z] * n)))
+            spec.append((f.name, tp, msgspec.field(default_factory=partial(_filled, zero, t.size))))
         else:
             spec.append((f.name, tp, msgspec.field(default_factory=list)))
     short = ros_name.replace("/", "_")

@@ -85,7 +85,7 @@ class ModbusFront:
 
     async def stop(self) -> None:
         if self.server is not None:
-            await self.server.shutdown()
+            await self.server.shutdown()  # type: ignore[no-untyped-call]  # pymodbus leaves it untyped
 
     async def _on_request(self, fc: int, start: int, address: int, count: int,
                           registers: list[int], set_values: Any) -> ExcCodes | None:

@@ -13,13 +13,15 @@ from functools import cache
 from typing import Any
 
 from cyclonedds.idl import IdlStruct, make_idl_struct
-from cyclonedds.idl import types as t
+from cyclonedds.idl import types as idl_types
 
 from zenros.ros2.idl import FieldType, MsgDef
 from zenros.ros2.registry import definition
 from zenros.ros2.typenames import ros_to_dds
 
 __all__ = ["dds_type", "dds_type_name"]
+
+t: Any = idl_types  # its generic aliases (array[T, n], ...) are not typed as generic
 
 _PRIMS: dict[str, Any] = {
     "bool": bool,

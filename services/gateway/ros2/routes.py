@@ -20,6 +20,7 @@ from cyclonedds.topic import Topic
 
 from zenros.codec import codec_for
 from zenros.errors import CodecError
+from zenros.message import Message
 from zenros.qos import QoSProfile
 from zenros.ros2.cdr import cdr_codec
 from zenros.ros2.registry import ros_name_of
@@ -66,7 +67,7 @@ def dds_topic(bridge: Ros2DdsBridge, name: str, ros_type: str) -> Topic[Any]:
 class Inbound:
     """A ROS 2 topic (DDS writers elsewhere) republished in zenros under its ROS name."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Any],
+    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Message],
                  qos: QoSProfile) -> None:
         self.bridge = bridge
         self.name = name
@@ -101,7 +102,7 @@ class Inbound:
 class Outbound:
     """A zenros topic (publishers in other sessions) written to DDS as ``rt/<name>``."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Any],
+    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Message],
                  qos: QoSProfile) -> None:
         self.bridge = bridge
         self.name = name
