@@ -25,7 +25,7 @@ GATEWAY = "zenros.services.gateway"
 # The gateway's layers, lowest first: a module imports only its own layer or lower ones.
 # Doors (protocol front ends) sit on the ports to the robot; ports never import a door.
 GATEWAY_LAYERS: dict[str, int] = {
-    "errors": 0, "params": 0, "state": 1, "ports": 2, "runner": 2,
+    "errors": 0, "params": 0, "ws_slices": 0, "state": 1, "ports": 2, "runner": 2,
     "http": 3, "modbus": 3, "serial": 3, "udp": 3, "rosbridge": 3, "foxglove": 3, "ros2": 3,
     "robot": 4, "fleet": 4, "node": 4, "testing": 5, "__main__": 5,
 }

@@ -13,7 +13,7 @@ import time
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, Self, TypeVar
 
 from .clock import ManualClock, Time
 from .context import Context
@@ -22,6 +22,7 @@ from .session import SessionOptions
 __all__ = [
     "Collector",
     "Proc",
+    "RawWebSocket",
     "RecordingClock",
     "free_port",
     "linked_contexts",
@@ -270,3 +271,69 @@ def store_on_master(home: str | os.PathLike[str], prefix: str, values: dict[str,
 def start_process(*args: str, env: dict[str, str] | None = None) -> Proc:
     """Start ``python -m ...``-style children with the current interpreter."""
     return Proc([sys.executable, *args], env=env)
+
+
+class RawWebSocket:
+    """A WebSocket client on a bare socket, to see exactly which frames a server sends (and
+    when: it reads only when asked, through a small receive buffer).
+
+    Args:
+        port: the server's port on 127.0.0.1.
+        path: the request path (with its query).
+    """
+
+    def __init__(self, port: int, path: str = "/", timeout: float = 10.0) -> None:
+        self.sock = socket.socket()
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        self.sock.connect(("127.0.0.1", port))
+        self.sock.settimeout(timeout)
+        self.sock.sendall(f"GET {path} HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\n"
+                          "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                          "Sec-WebSocket-Version: 13\r\n\r\n".encode())
+        head = b""
+        while b"\r\n\r\n" not in head:
+            head += self.sock.recv(1)
+        self.status = int(head.split(b" ", 2)[1])
+        self._buf = b""
+
+    def send_text(self, text: str) -> None:
+        """One masked text frame (a zero mask key, as RFC 6455 allows)."""
+        data = text.encode()
+        n = len(data)
+        head = bytes([0x81, 0x80 | n]) if n < 126 else bytes([0x81, 0xFE]) + n.to_bytes(2, "big")
+        self.sock.sendall(head + b"\0\0\0\0" + data)
+
+    def _need(self, n: int) -> None:
+        while len(self._buf) < n:
+            chunk = self.sock.recv(1 << 20)
+            if not chunk:
+                raise ConnectionError("the server closed the connection")
+            self._buf += chunk
+
+    def read_message(self) -> list[tuple[int, bool, bytes]]:
+        """The frames (opcode, FIN, payload) of the next data message, fragmented or not
+        (control frames in between are skipped)."""
+        frames: list[tuple[int, bool, bytes]] = []
+        while not frames or not frames[-1][1]:
+            self._need(2)
+            fin, op, n, at = bool(self._buf[0] & 0x80), self._buf[0] & 0x0F, self._buf[1] & 0x7F, 2
+            if n == 126:
+                self._need(4)
+                n, at = int.from_bytes(self._buf[2:4], "big"), 4
+            elif n == 127:
+                self._need(10)
+                n, at = int.from_bytes(self._buf[2:10], "big"), 10
+            self._need(at + n)
+            if op < 8:
+                frames.append((op, fin, self._buf[at:at + n]))
+            self._buf = self._buf[at + n:]
+        return frames
+
+    def close(self) -> None:
+        self.sock.close()
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

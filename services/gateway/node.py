@@ -18,6 +18,7 @@ from .fleet import Fleet
 from .http.app import HttpApp
 from .http.dashboard import dashboard_app
 from .http.ws import ws_app
+from .http.ws_protocol import SlicedWebSocketProtocol
 from .modbus.front import ModbusFront
 from .params import GatewayParameters
 from .ports.fs_sandbox import FileRoot
@@ -85,7 +86,8 @@ class GatewayNode(Node):
         self.ws_port = self.serve_asgi(
             ws_app(self.hub, self.core.tokens, self.fleet.hub_of if self.fleet else None),
             host, p.ws_port, ws_ping_interval=p.ws_ping_interval,
-            ws_ping_timeout=p.ws_ping_timeout, ws_max_size=p.ws_max_frame)
+            ws_ping_timeout=p.ws_ping_timeout, ws_max_size=p.ws_max_frame,
+            ws=SlicedWebSocketProtocol)
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
         self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits)
         self._close_on_loop(self.modbus.stop)

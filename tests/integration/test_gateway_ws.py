@@ -22,7 +22,8 @@ from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.testing import running_gateway
-from zenros.testing import Collector, wait_for
+from zenros.services.gateway.ws_slices import SLICE
+from zenros.testing import Collector, RawWebSocket, wait_for
 
 
 @pytest.fixture
@@ -140,6 +141,38 @@ async def test_stalled_client_drops_to_latest_and_blocks_nobody(
             assert dropped > 0
     finally:
         stalled.close()
+
+
+async def test_a_large_message_goes_in_slices_and_replies_wait_for_its_end(
+        gw: GatewayNode, make_node: object) -> None:
+    """A message over `SLICE` bytes is one fragmented WebSocket message (a text frame, then
+    continuation frames), written a slice at a time as the client reads; an error frame the
+    server owes that client meanwhile comes after it, never inside it; a `websockets`
+    client gets the message whole."""
+    pubnode = make_node("bulk", 1)  # type: ignore[operator]
+    pub = pubnode.create_publisher(String, "big_text", 10)
+    assert await asyncio.to_thread(
+        gw.graph.wait_for, lambda: bool(gw.graph.publishers("/big_text")), 5)
+    path = f"/big_text?token={token_of(gw)}"
+    text = "".join(chr(ord("a") + i % 26) for i in range(3 * SLICE + 5))
+    with RawWebSocket(gw.ws_port, path) as slow:
+        assert slow.status == 101
+        async with connect(f"ws://127.0.0.1:{gw.ws_port}{path}", max_size=None) as fast:
+            assert await asyncio.to_thread(
+                wait_for, lambda: len(gw.hub.slots("/big_text")) == 2, 5)
+            assert pub.wait_for_subscribers(1, 5)
+            pub.publish(String(data=text))
+            assert json.loads(await asyncio.wait_for(fast.recv(), 5)) == {"data": text}
+            assert await asyncio.to_thread(  # both clients' senders took it
+                wait_for, lambda: all(s.frame is None for s in gw.hub.slots("/big_text")), 5)
+            slow.send_text("not json")  # answered with an error frame
+            frames = await asyncio.to_thread(slow.read_message)
+            error = await asyncio.to_thread(slow.read_message)
+    assert len(frames) > 2 and frames[0][:2] == (1, False)
+    assert all(op == 0 for op, _, _ in frames[1:]) and frames[-1][1]
+    assert max(len(p) for _, _, p in frames) == SLICE
+    assert json.loads(b"".join(p for _, _, p in frames)) == {"data": text}
+    assert len(error) == 1 and json.loads(error[0][2])["status"] == "error"
 
 
 def frame_opcodes(data: bytes) -> list[int]:

@@ -24,6 +24,7 @@ from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.rpc import Client
 from zenros.services.gateway.rosbridge import RosbridgeServer
+from zenros.services.gateway.ws_slices import SLICE
 from zenros.services.master.node import MasterNode
 from zenros.testing import Collector, free_port, roslibpy_connect, wait_for
 
@@ -72,6 +73,21 @@ def test_subscribe_receives_a_zenros_topic(server: RosbridgeServer, ros: roslibp
     assert got.items[0] == {"data": "hi"}
     topic.unsubscribe()
     assert wait_for(lambda: not robot.graph.subscribers("/chatter"), TIMEOUT)
+
+
+def test_roslibpy_receives_a_large_message_whole(server: RosbridgeServer, ros: roslibpy.Ros,
+                                                robot: Node) -> None:
+    """A message over `SLICE` bytes goes out as a fragmented WebSocket message
+    (test_rosbridge_cbor.py shows the frames); roslibpy's WebSocket (autobahn) joins it."""
+    pub = robot.create_publisher(String, "/big_whole")
+    got: Collector[dict[str, Any]] = Collector()
+    topic = roslibpy.Topic(ros, "/big_whole", "std_msgs/String")
+    topic.subscribe(got)
+    assert pub.wait_for_subscribers(1, TIMEOUT)
+    text = "".join(chr(ord("a") + i % 26) for i in range(3 * SLICE + 5))
+    assert wait_for(lambda: (pub.publish(String(data=text)), len(got) > 0)[1], TIMEOUT)
+    assert got.items[0] == {"data": text}
+    topic.unsubscribe()
 
 
 def test_subscribe_without_type_takes_it_from_the_graph(server: RosbridgeServer,

@@ -21,7 +21,8 @@ from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.node import Node
 from zenros.ros2 import cdr_codec
 from zenros.services.gateway.rosbridge import RosbridgeServer
-from zenros.testing import wait_for
+from zenros.services.gateway.ws_slices import SLICE
+from zenros.testing import RawWebSocket, wait_for
 
 TIMEOUT = 10.0
 
@@ -203,3 +204,37 @@ def test_a_small_message_overtakes_a_large_one(server: RosbridgeServer, robot: N
         assert "odom" in order and order.index("odom") < len(order) - 1, order
         whole = json.loads("".join(parts[i] for i in range(len(parts))))
         assert whole["topic"] == "/map" and len(whole["msg"]["data"]) == 1448 * 1448
+
+
+def test_a_large_frame_is_sliced_and_others_keep_flowing(server: RosbridgeServer,
+                                                         robot: Node) -> None:
+    """A map to a client that subscribed without fragments goes out as one fragmented
+    WebSocket message (a text frame, then continuation frames of `SLICE` bytes), written as
+    the client reads; while it waits on that client's full socket, a second client still
+    gets every odometry message, and the first client's message arrives whole."""
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    odoms = robot.create_publisher(Odometry, "/odom")
+    with RawWebSocket(server.port) as slow, ws_of(server) as fast:
+        fast.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"}))
+        first_frame(fast, lambda: odoms.publish(Odometry()))
+        slow.send_text(json.dumps({"op": "subscribe", "topic": "/map",
+                                   "type": "nav_msgs/OccupancyGrid"}))
+        assert wait_for(lambda: bool(robot.graph.subscribers("/map")), TIMEOUT)
+        assert maps.wait_for_subscribers(1, TIMEOUT)
+        maps.publish(big_map())
+        client = next(c for c in server.clients if "/map" in c.subs)
+        assert wait_for(lambda: not client.outbox.topics["/map"].frames, TIMEOUT)  # taken
+        for i in range(1, 21):  # the map is being written to `slow`, which does not read
+            odom = Odometry()
+            odom.pose.pose.position.x = float(i)
+            odoms.publish(odom)
+            while True:
+                got = json.loads(fast.recv(timeout=TIMEOUT))
+                if got["msg"]["pose"]["pose"]["position"]["x"] == i:
+                    break
+        frames = slow.read_message()
+    assert len(frames) > 2 and frames[0][:2] == (1, False)
+    assert all(op == 0 for op, _, _ in frames[1:]) and frames[-1][1]
+    assert max(len(p) for _, _, p in frames) == SLICE
+    whole = json.loads(b"".join(p for _, _, p in frames))
+    assert whole["topic"] == "/map" and len(whole["msg"]["data"]) == 1448 * 1448

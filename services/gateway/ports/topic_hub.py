@@ -23,6 +23,8 @@ from zenros.pubsub import Publisher, Subscription
 from zenros.qos import Durability, QoSProfile
 from zenros.registry import lookup_type
 
+from ..ws_slices import Utf8Text
+
 __all__ = ["Slot", "TopicError", "TopicHub"]
 
 
@@ -146,7 +148,9 @@ class TopicHub:
 
     def _encode_off_thread(self, feed: _Feed, msg: Message, bulky: bool) -> None:
         try:
-            frame = (encode_yielding(msg) if bulky else json_bytes(msg)).decode()
+            # bulky: its clients' senders write these bytes, not the text encoded again each
+            frame: str = (Utf8Text(encode_yielding(msg)) if bulky
+                          else json_bytes(msg).decode())
         finally:
             with self._lock:
                 feed.in_worker -= 1

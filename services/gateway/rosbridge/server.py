@@ -13,6 +13,7 @@ from websockets.exceptions import ConnectionClosed
 from zenros.errors import ConfigError
 from zenros.node import Node
 
+from ..ws_slices import SLICE, paced_slices
 from .bridge import Bridge
 from .cbor import BinaryFrame
 from .client import ClientProtocol
@@ -130,8 +131,10 @@ class RosbridgeServer:
                 piece = client.outbox.take_bulk(_split)
                 if piece is not None:
                     lane.in_flight = len(piece)  # not congestion: the frame we just wrote
-                    try:
-                        await ws.send(piece, text=not isinstance(piece, BinaryFrame))
+                    text = not isinstance(piece, BinaryFrame)
+                    try:  # a large piece as a fragmented message: the loop is free between
+                        await ws.send(paced_slices(piece) if len(piece) > SLICE else piece,
+                                      text=text)
                     finally:
                         lane.in_flight = 0
                     continue
