@@ -29,7 +29,6 @@ from zenros.node import Node
 from zenros.registry import lookup_type
 
 from ..rosbridge import encode_message, message_from_json, qos_for_publishers
-from .nodelay import set_listener_nodelay
 from .schema import schema_bytes, schema_name
 
 __all__ = ["DEFAULT_PORT", "FoxgloveBridge"]
@@ -75,9 +74,6 @@ class FoxgloveBridge:
         except RuntimeError as exc:  # the SDK's FoxgloveError, e.g. the port is taken
             raise StartupError(f"Foxglove server on {self.host}:{self.port}: {exc}") from exc
         self.port = self._server.port
-        if not set_listener_nodelay(self.host, self.port):
-            self.logger.info("Foxglove server: TCP_NODELAY not set (no /proc/self/fd): small "
-                             "messages may wait for the client's delayed ACK")
         graph = self.node.graph
         self._unlisten = graph.add_listener(self._on_graph)
         self.sync()
