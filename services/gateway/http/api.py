@@ -132,6 +132,7 @@ class Api:
         self.ctx = ctx
         self.tokens: TokenStore = ctx.core.tokens
         self.openapi: dict[str, Any] = {}  # the OpenAPI document, built on its first request
+        self.in_fleet = False  # one robot's of a `FleetApi`: the document has the fleet's paths
         self.max_body = max_body
         self.logger = logger or logging.getLogger("zenros.gateway.api")
         self.routes: dict[str, dict[str, Endpoint]] = {}

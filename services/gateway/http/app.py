@@ -48,7 +48,8 @@ async def openapi(call: Call) -> Any:
     """The OpenAPI document of this server."""
     if not call.api.openapi:
         call.api.openapi.update(openapi_document(call.api, "zenros robot API",
-                                                 call.ctx.core.identity.version))
+                                                 call.ctx.core.identity.version,
+                                                 fleet=call.api.in_fleet))
     return call.api.openapi
 
 

@@ -46,6 +46,8 @@ class FleetApi:
 
     def add(self, name: str, api: Api) -> None:
         self.robots[name] = api
+        api.in_fleet = True  # its OpenAPI document lists /robots and /robots/{robot}/...
+        api.openapi.clear()
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         path: str = scope["path"]

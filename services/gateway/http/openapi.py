@@ -12,13 +12,28 @@ from typing import Any
 import msgspec
 
 from .api import PREFIX, Api, Endpoint
+from .fleet import ROBOTS
 
 __all__ = ["openapi_document"]
 
 _ERROR = {"type": "object", "properties": {
     "status": {"const": "error"}, "result": {"const": False}, "description": {"type": "string"}},
     "required": ["description"]}
-
+_TOKEN = {"name": "token", "in": "query", "required": False,
+          "description": "access token from /token (§2)", "schema": {"type": "string"}}
+_ROBOT = {"name": "robot", "in": "path", "required": True,
+          "description": "a robot this gateway serves (GET /api/v1/robots lists them)",
+          "schema": {"type": "string"}}
+_POSE = {"type": ["object", "null"], "properties": {
+    "x": {"type": "number"}, "y": {"type": "number"}, "theta": {"type": "number"}}}
+# GET /api/v1/robots (`FleetApi`, `robot_summary`)
+_ROBOT_LIST = {"type": "object", "required": ["default", "robots"], "properties": {
+    "default": {"type": "string", "description": "the robot of the single-robot paths"},
+    "robots": {"type": "array", "items": {"type": "object", "properties": {
+        "name": {"type": "string"}, "online": {"type": "boolean"},
+        "state": {"type": "string"}, "estop": {"type": "boolean"},
+        "battery": {"type": "number"}, "charging": {"type": "boolean"}, "pose": _POSE,
+        "target_status": {"type": "integer"}}}}}}
 
 
 def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
@@ -31,9 +46,7 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
         op["description"] = ep.description
     params: list[dict[str, Any]] = []
     if not ep.public:
-        params.append({"name": "token", "in": "query", "required": False,
-                       "description": "access token from /token (§2)",
-                       "schema": {"type": "string"}})
+        params.append(_TOKEN)
     for name in (ep.path.split("{")[1:] if "{" in ep.path else []):
         params.append({"name": name.split("}")[0], "in": "path", "required": True,
                        "schema": {"type": "string"}})
@@ -75,10 +88,43 @@ def _operation(ep: Endpoint, components: dict[str, Any]) -> dict[str, Any]:
     return op
 
 
-def openapi_document(api: Api, title: str, version: str) -> dict[str, Any]:
+def _robots_operation() -> dict[str, Any]:
+    err = {"description": "error (§1.2 body)",
+           "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+    return {"operationId": "get_robots", "tags": ["robots"],
+            "summary": "The robots this gateway serves, each with its state, battery, pose "
+                       "and e-stop (a fleet gateway; docs/fleet.md)",
+            "parameters": [_TOKEN],
+            "responses": {"200": {"description": "success", "content": {"application/json": {
+                "schema": _ROBOT_LIST}}}, "400": err, "401": err}}
+
+
+def _robot_operation(op: dict[str, Any]) -> dict[str, Any]:
+    """``op`` as robot ``{robot}``'s, under /api/v1/robots/{robot}."""
+    out = {**op, "operationId": f"robot_{op['operationId']}",
+           "parameters": [_ROBOT, *op.get("parameters", [])]}
+    if "200" in op["responses"]:  # an implemented operation: a robot not served is a 404
+        out["responses"] = {**op["responses"], "404": {
+            **op["responses"]["400"], "description": "no such robot on this gateway"}}
+    return out
+
+
+def openapi_document(api: Api, title: str, version: str,
+                     fleet: bool = False) -> dict[str, Any]:
+    """The document of ``api``'s operations under /api/v1; with ``fleet`` (a fleet
+    gateway's default robot), also GET /api/v1/robots and every operation again under
+    /api/v1/robots/{robot} for each robot."""
     components: dict[str, Any] = {"Error": _ERROR}
     paths: dict[str, Any] = {}
+    robot_paths: dict[str, Any] = {}
     for ep in sorted(api.endpoints(), key=lambda e: (e.path, e.method)):
-        paths.setdefault(PREFIX + ep.path, {})[ep.method.lower()] = _operation(ep, components)
+        op = _operation(ep, components)
+        paths.setdefault(PREFIX + ep.path, {})[ep.method.lower()] = op
+        if fleet:
+            robot_paths.setdefault(ROBOTS + "/{robot}" + ep.path, {})[ep.method.lower()] = (
+                _robot_operation(op))
+    if fleet:
+        paths[ROBOTS] = {"get": _robots_operation()}
+        paths.update(robot_paths)
     return {"openapi": "3.1.0", "info": {"title": title, "version": version},
             "paths": paths, "components": {"schemas": components}}

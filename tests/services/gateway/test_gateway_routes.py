@@ -5,6 +5,7 @@ one table that turns port errors into HTTP answers."""
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, cast
 
@@ -23,8 +24,9 @@ from zenros.services.gateway.errors import (
     port_error,
 )
 from zenros.services.gateway.http.api import STATUS, api_error
-from zenros.services.gateway.http.app import build_api
+from zenros.services.gateway.http.app import HttpApp, build_api
 from zenros.services.gateway.http.context import Context
+from zenros.services.gateway.http.fleet import FleetApi
 from zenros.services.gateway.ports.nav_calls import NavCalls
 from zenros.services.gateway.state.config import GatewayConfig
 from zenros.services.gateway.state.core import Core, make_identity
@@ -200,3 +202,41 @@ def test_the_api_reference_lists_what_is_implemented_and_what_answers_501() -> N
     assert not listed_done & listed_todo, sorted(listed_done & listed_todo)
     assert listed_done == done, (sorted(done - listed_done), sorted(listed_done - done))
     assert listed_todo == todo, (sorted(todo - listed_todo), sorted(listed_todo - todo))
+
+
+def test_a_fleet_gateways_openapi_lists_every_robots_paths() -> None:
+    """A fleet gateway's openapi.json has GET /api/v1/robots and each operation again under
+    /api/v1/robots/{robot}: the same operations the robot's index lists under its prefix."""
+    class Link:  # what the list reads of a robot's link
+        def fresh(self, what: str) -> bool:
+            return True
+
+    robots = {name: build_api(replace(_bare_context(), link=cast(Any, Link())))
+              for name in ("robot1", "robot2")}
+    fleet = FleetApi(robots["robot1"].tokens, "robot1")
+    for name, api in robots.items():
+        fleet.add(name, api)
+    http = AsgiClient(HttpApp(fleet), "/api/v1")
+    doc = http.get("/openapi.json").json()
+    assert http.get("/robots/robot2/openapi.json").json() == doc
+    single = {p: item for p, item in doc["paths"].items() if not p.startswith("/api/v1/robots")}
+    per_robot = {p: item for p, item in doc["paths"].items()
+                 if p.startswith("/api/v1/robots/{robot}")}
+    assert set(per_robot) == {p.replace("/api/v1", "/api/v1/robots/{robot}", 1) for p in single}
+    index = http.get("/robots/robot2/").json()
+    ops = {f"{m.upper()} {p.replace('{robot}', 'robot2')}" for p, item in per_robot.items()
+           for m in item}
+    assert ops == set(index["implemented"]) | set(index["not_implemented"])
+    status = per_robot["/api/v1/robots/{robot}/system/status"]["get"]
+    assert status["parameters"][0] == {**status["parameters"][0], "name": "robot", "in": "path",
+                                       "required": True}
+    assert "404" in status["responses"] and status["operationId"] == "robot_get_system_status"
+    listed = doc["paths"]["/api/v1/robots"]["get"]
+    assert {"200", "401"} <= set(listed["responses"])
+    listing = http.get("/robots").json()
+    schema = listed["responses"]["200"]["content"]["application/json"]["schema"]
+    assert set(listing) == set(schema["properties"])
+    assert set(listing["robots"][0]) == set(schema["properties"]["robots"]["items"]["properties"])
+    # a single robot's gateway documents its own paths only
+    alone = AsgiClient(build_api(_bare_context()), "/api/v1").get("/openapi.json").json()
+    assert set(alone["paths"]) == set(single)
