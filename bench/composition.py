@@ -128,7 +128,7 @@ def main() -> None:
         for mode, compose in MODES.items():
             runs[mode].append(measure(compose, args.window, args.settle))
     load.append(round(os.getloadavg()[0], 1))
-    emit("composition", {mode: best(r) for mode, r in runs.items()}, load=load,
+    emit("composition", {}, **{mode: best(r) for mode, r in runs.items()}, load=load,
          runs=runs)
 
 
