@@ -18,7 +18,7 @@ launches each, the launches alternating so that load that comes and goes hits bo
 
 and ``load`` (the 1-minute load average at the start and at the end: the box is shared).
 
-Run: ``python bench/composition.py [--window S] [--repeats N]``.
+Run: ``python bench/composition.py [--window S] [--repeats N] [--modes composed,separate]``.
 """
 
 from __future__ import annotations
@@ -121,11 +121,13 @@ def main() -> None:
     ap.add_argument("--window", type=float, default=20.0, help="idle measurement (s)")
     ap.add_argument("--settle", type=float, default=10.0, help="wait before measuring (s)")
     ap.add_argument("--repeats", type=int, default=2)
+    ap.add_argument("--modes", default=",".join(MODES), help="composed,separate (default)")
     args = ap.parse_args()
+    modes = {m: MODES[m] for m in args.modes.split(",")}
     load = [round(os.getloadavg()[0], 1)]
-    runs: dict[str, list[dict[str, Any]]] = {m: [] for m in MODES}
+    runs: dict[str, list[dict[str, Any]]] = {m: [] for m in modes}
     for _ in range(args.repeats):
-        for mode, compose in MODES.items():
+        for mode, compose in modes.items():
             runs[mode].append(measure(compose, args.window, args.settle))
     load.append(round(os.getloadavg()[0], 1))
     emit("composition", {}, **{mode: best(r) for mode, r in runs.items()}, load=load,

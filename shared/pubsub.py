@@ -33,7 +33,6 @@ __all__ = ["MessageInfo", "Publisher", "Subscription", "SubscriptionCallback"]
 
 M = TypeVar("M", bound=Message)
 
-FIFO_CAPACITY = 64  # samples a reliable subscription buffers before Zenoh pushes back
 
 
 def entity_token(ctx: Context, kind: str, node: str, topic: str, type_name: str,
@@ -302,18 +301,23 @@ class Subscription(Generic[M]):
             self._sub = ctx.session.declare_subscriber(
                 self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE
             )
-        else:
-            # Zenoh queues samples in a channel without taking the GIL, and one thread per
-            # subscription drains it: the Rust receive path never waits for Python (measured
-            # faster than zenoh-python's per-sample callback hand-off). Reliable: a bounded
-            # FIFO that pushes back (nothing dropped); best effort: keep the last `depth`.
-            handler: Any = (
-                zenoh.handlers.FifoChannel(FIFO_CAPACITY)
-                if qos.reliability == Reliability.RELIABLE
-                else zenoh.handlers.RingChannel(qos.depth)
-            )
+        elif qos.reliability == Reliability.RELIABLE:
+            # Zenoh queues samples in a channel without taking the GIL (its default FIFO,
+            # pushing back when full: nothing dropped), and one thread of zenoh-python's
+            # drains it (an indirect callback; measured faster than a per-sample callback on
+            # Zenoh's thread). That thread waits without waking: one that reads a channel
+            # itself wakes ten times a second to check for signals (docs/fleet.md).
+            self._taker: threading.Thread | None = None
+            self._drained = threading.Event()  # the callback's thread has ended
             self._sub = ctx.session.declare_subscriber(
-                self.key, handler, allowed_origin=zenoh.Locality.REMOTE
+                self.key, zenoh.handlers.Callback(self._take_reliable, self._drained.set),
+                allowed_origin=zenoh.Locality.REMOTE,
+            )
+        else:
+            # Best effort: keep the last `depth` in a ring, drained by a thread of ours.
+            self._sub = ctx.session.declare_subscriber(
+                self.key, zenoh.handlers.RingChannel(qos.depth),
+                allowed_origin=zenoh.Locality.REMOTE
             )
             # Taken here, not in the thread: reading `.handler` while `close()` undeclares
             # the subscriber on another thread raises pyo3's "Already mutably borrowed".
@@ -331,37 +335,47 @@ class Subscription(Generic[M]):
         self.closed = False
 
     def _pump(self) -> None:
-        """Drain the channel: `_on_sample` written out, with locals, for the hot path."""
-        encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
-        direct, info, tag = self._direct, self._info, self._tag
+        """Drain the ring channel (best effort)."""
+        take = self._take
         try:
             for sample in self._channel:  # ends when the subscriber is undeclared
-                try:
-                    if misrouted(sample.attachment, tag):
-                        self._misrouted(sample)
-                        continue
-                    if sample.encoding != encoding:
-                        self._check(sample)
-                        continue
-                    try:
-                        msg = decode(sample.payload.to_bytes())
-                    except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
-                        self._reject(f"expected {self._codec.type_name}: {exc}",
-                                     self._sender(sample))
-                        continue
-                    if info:
-                        msg = (msg, MessageInfo.of(sample))
-                    if direct is None:
-                        dispatch(msg)
-                        continue
-                    try:
-                        direct(msg)
-                    except Exception as exc:  # noqa: BLE001 user code never stops the pump
-                        self._callback_raised(exc)
-                except Exception as exc:  # noqa: BLE001 no sample stops the pump
-                    self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
+                take(sample)
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
+
+    def _take_reliable(self, sample: zenoh.Sample) -> None:
+        if self._taker is None:  # zenoh-python's thread for this subscription: named after it
+            self._taker = threading.current_thread()
+            self._taker.name = f"zenros-sub:{self.topic}"
+        self._take(sample)
+
+    def _take(self, sample: zenoh.Sample) -> None:
+        """One sample from Zenoh, on the thread that drains its queue: decoded and handed
+        to the callback (called right here when it needs no executor)."""
+        try:
+            if misrouted(sample.attachment, self._tag):
+                self._misrouted(sample)
+                return
+            if sample.encoding != self._encoding:
+                self._check(sample)
+                return
+            try:
+                msg = self._decode(sample.payload.to_bytes())
+            except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
+                self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
+                return
+            if self._info:
+                msg = (msg, MessageInfo.of(sample))
+            direct = self._direct
+            if direct is None:
+                self._dispatch(msg)
+                return
+            try:
+                direct(msg)
+            except Exception as exc:  # noqa: BLE001 user code never stops the subscription
+                self._callback_raised(exc)
+        except Exception as exc:  # noqa: BLE001 no sample stops the subscription
+            self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
         except BaseException as exc:
             if not is_session_failure(exc):
                 raise
@@ -455,3 +469,6 @@ class Subscription(Generic[M]):
         pump = getattr(self, "_pump_thread", None)
         if pump is not None and pump is not threading.current_thread():
             pump.join(2.0)
+        drained = getattr(self, "_drained", None)
+        if drained is not None and self._taker is not threading.current_thread():
+            drained.wait(2.0)  # a sample being handled finishes first

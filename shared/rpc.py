@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Client", "Service", "error_payload", "wildcard_refusal"]
 
-QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back
+QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back (its default channel)
 
 
 def error_payload(kind: str, message: str, code: int | None = None) -> bytes:
@@ -110,37 +110,38 @@ class Service:
             self._two_args = len(inspect.signature(handler).parameters) >= 2
         except (TypeError, ValueError):
             self._two_args = False
-        # As for subscriptions: Zenoh queues queries in a channel, one thread serves them.
+        # Zenoh queues queries in a channel (its default FIFO of QUERY_QUEUE, pushing back
+        # when full) without taking the GIL, and one thread of zenoh-python's serves them
+        # (an indirect callback). That thread waits for a query without waking: a thread
+        # reading a zenoh-python channel itself wakes ten times a second to check for signals,
+        # which in a robot's process of some 60 services and actions was a fifth of its CPU
+        # at rest (docs/fleet.md, "Work skipped at rest").
+        self._serving: threading.Thread | None = None
+        self._served = threading.Event()  # the callback's thread has ended (undeclared)
         self._queryable = ctx.session.declare_queryable(
-            self.key, zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True
-        )
-        # Taken here, not in the thread: reading `.handler` while `close()` undeclares the
-        # queryable on another thread raises pyo3's "Already mutably borrowed".
-        self._channel = self._queryable.handler
-        self._serve_thread = threading.Thread(
-            target=self._serve_queue, name=f"zenros-srv:{name}", daemon=True
-        )
-        self._serve_thread.start()
+            self.key, zenoh.handlers.Callback(self._serve_one, self._served.set),
+            complete=True)
         self._token = ctx.session.liveliness().declare_token(
             ctx.keys.entity_token("srv", node, name, srv_type.name, "", ctx.zid, ctx.next_eid())
         )
         self._unserve = ctx.serve_here(self.key)
         self.closed = False
 
-    def _serve_queue(self) -> None:
+    def _serve_one(self, query: zenoh.Query) -> None:
+        """One query, on the callback's thread (requests wait in Zenoh's queue until the
+        node's setup() returned)."""
+        if self._serving is None:
+            self._serving = threading.current_thread()
+            self._serving.name = f"zenros-srv:{self.name}"
         gate = self._gate
-        if gate is not None:  # requests wait in Zenoh's queue until the node's setup() returned
+        if gate is not None and not gate.is_open:
             gate.wait()
-            if gate.abandoned:
-                return
-        try:
-            for query in self._channel:  # ends when the queryable is undeclared
-                try:
-                    self._on_query(query)
-                except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
-                    self._internal_error(query, exc)
-        except zenoh.ZError:  # the channel closed under us at shutdown
+        if gate is not None and gate.abandoned:
             return
+        try:
+            self._on_query(query)
+        except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
+            self._internal_error(query, exc)
         except BaseException as exc:
             if not is_session_failure(exc):
                 raise
@@ -257,8 +258,8 @@ class Service:
         self._unserve()
         self._token.undeclare()  # type: ignore[no-untyped-call]
         self._queryable.undeclare()  # type: ignore[no-untyped-call]
-        if self._serve_thread is not threading.current_thread():
-            self._serve_thread.join(2.0)
+        if self._serving is not threading.current_thread():
+            self._served.wait(2.0)  # a query being served finishes first
 
 
 class Client:

@@ -15,6 +15,7 @@ waits).
 from __future__ import annotations
 
 import logging
+import queue
 import threading
 import time
 from collections.abc import Callable
@@ -22,15 +23,43 @@ from typing import Any, Generic, TypeVar
 
 import zenoh
 
-__all__ = ["DETACH_DELAY", "RequestThreads"]
+__all__ = ["DETACH_DELAY", "QueryQueue", "RequestThreads"]
 
 DETACH_DELAY = 0.002  # seconds a goal runs on the leading thread before it is detached
 
 J = TypeVar("J")
+_CLOSED = object()
+
+
+class QueryQueue:
+    """A queryable's queue that its readers wait on without waking.
+
+    A thread reading a zenoh-python channel wakes ten times a second (to check for
+    signals), whether requests come or not: in a robot's process, with a dozen action
+    servers, that was spent at rest for nothing. Here Zenoh's own channel (its default FIFO,
+    no GIL on Zenoh's side) is read by zenoh-python's callback thread, which waits without
+    waking and moves each query into a bounded Python queue (full: it waits, and Zenoh's
+    channel pushes back, as before). `recv` raises `zenoh.ZError` once the queryable is
+    undeclared and the queue drained, as a channel does.
+    """
+
+    def __init__(self, capacity: int) -> None:
+        self._queue: queue.Queue[Any] = queue.Queue(capacity)
+        self.handler = zenoh.handlers.Callback(self._queue.put, self._closed)
+
+    def _closed(self) -> None:
+        self._queue.put(_CLOSED)
+
+    def recv(self) -> Any:
+        item = self._queue.get()
+        if item is _CLOSED:
+            self._queue.put(_CLOSED)  # every other reader ends too
+            raise zenoh.ZError("the queryable was undeclared")
+        return item
 
 
 class RequestThreads(Generic[J]):
-    """Serves ``channel`` (a Zenoh FIFO handler) with ``handle(query) -> job | None``.
+    """Serves ``channel`` (a Zenoh FIFO handler, or a `QueryQueue`) with ``handle(query) -> job | None``.
 
     Args:
         run: runs a job (a goal's execute callback and its ending).

@@ -22,7 +22,7 @@ from ..rpc import wildcard_refusal
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .host import ActionHost
-from .leaders import RequestThreads
+from .leaders import QueryQueue, RequestThreads
 from .policies import GoalPolicy
 from .runner import GoalRunner
 from .status import StatusPublisher
@@ -136,10 +136,10 @@ class ActionServer(Generic[G, R, F]):
         self._handlers = {"send_goal": self._on_send_goal, "cancel_goal": self._on_cancel,
                           "get_result": self._on_get_result}
         self._parts = {key(p): p for p in self._handlers}  # exact keys only: no wildcards
-        self._queryable: Any = s.declare_queryable(
-            key("*"), zenoh.handlers.FifoChannel(QUERY_QUEUE), complete=True)
+        requests = QueryQueue(QUERY_QUEUE)  # its threads wait without waking (leaders.py)
+        self._queryable: Any = s.declare_queryable(key("*"), requests.handler, complete=True)
         self._job: Handle | None = None  # the goal the leading request thread runs next
-        self._threads = RequestThreads(f"zenros-action:{self.name}", self._queryable.handler,
+        self._threads = RequestThreads(f"zenros-action:{self.name}", requests,
                                        self._on_request, self._runner.run, self._settle,
                                        self._on_failure, self.logger)
         self._threads.start()
