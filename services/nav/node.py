@@ -109,8 +109,11 @@ class NavNode(Node):
 
         self._serve_maps()
         self._serve_actions()
+        # no ticks at rest: the loop sleeps while nothing drives, and a behaviour started or
+        # halted wakes it (auto-charging is checked at the idle loop's 1 s steps)
         self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,
-                                   self.on_control, self.logger)
+                                   self.on_control, self.logger, idle=lambda: self.core.motion.idle)
+        self.core.motion.on_change = lambda _behavior: self.control.wake()
         self.control.start()
         # before the action servers close: running goals end as "navigation is shutting down"
         self.on_close(self._halt)

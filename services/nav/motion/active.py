@@ -29,6 +29,11 @@ class Motion:
     def active(self) -> Behavior | None:
         return self._active
 
+    @property
+    def idle(self) -> bool:
+        """Nothing to tick: no behaviour, and no final stop command to send."""
+        return self._active is None and not self._stop_pending
+
     def start(self, behavior: Behavior, reason: str = "preempted by a new goal") -> None:
         with self._lock:
             old, self._active = self._active, behavior
