@@ -74,6 +74,8 @@ class NavCore:
         self._lock = threading.Lock()
         self.speed = (0.0, 0.0)
         self.obstacles = np.zeros((0, 2))
+        self._scan_key: tuple[Any, ...] | None = None  # the scan `obstacles` came from
+        self._scan_ranges = np.zeros(0)
         self.scan_mounts: dict[str, Pose2] = {}
         self.battery: float | None = None
         self._battery_charging = False
@@ -131,10 +133,15 @@ class NavCore:
         if n == 0 or not (math.isfinite(scan.angle_min) and math.isfinite(scan.angle_increment)):
             return
         angles = scan.angle_min + scan.angle_increment * np.arange(n)
-        ok = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max) \
-            & (ranges <= self.config.scan_max_points_range)
-        r, a = ranges[ok], angles[ok] + mount.theta
-        self.obstacles = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+        # a robot at rest gets the same ranges at 10 Hz: its points (in base_link) are those
+        # it has already
+        key = (scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max, mount)
+        if key != self._scan_key or not np.array_equal(ranges, self._scan_ranges):
+            ok = np.isfinite(ranges) & (ranges >= scan.range_min) \
+                & (ranges <= scan.range_max) & (ranges <= self.config.scan_max_points_range)
+            r, a = ranges[ok], angles[ok] + mount.theta
+            self.obstacles = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
+            self._scan_key, self._scan_ranges = key, ranges
         if self.localizer.mode == "scan_match":
             self._match(scan, ranges, angles, mount, now)
         pose = self.localizer.pose()

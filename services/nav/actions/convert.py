@@ -37,12 +37,16 @@ __all__ = [
 def pose2_from_msg(pose: Pose) -> Pose2:
     """The planar part of a pose; raises ValueError for NaN/inf or a zero quaternion."""
     q = pose.orientation
-    values = (pose.position.x, pose.position.y, q.x, q.y, q.z, q.w)
-    if not all(math.isfinite(v) for v in values):
-        raise ValueError(f"pose has a non-finite value: {values}")
+    x, y = pose.position.x, pose.position.y
+    # one test for the common case (called for every odometry message): a sum of finite
+    # values is finite unless it overflows, and then the values are looked at one by one
+    if not math.isfinite(x + y + q.x + q.y + q.z + q.w):
+        values = (x, y, q.x, q.y, q.z, q.w)
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError(f"pose has a non-finite value: {values}")
     if q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w < 1e-12:
         raise ValueError("pose orientation is a zero quaternion")
-    return Pose2(pose.position.x, pose.position.y, yaw_from_msg(q))
+    return Pose2(x, y, yaw_from_msg(q))
 
 
 def pose2_to_msg(p: Pose2) -> Pose:
