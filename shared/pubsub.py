@@ -34,7 +34,6 @@ __all__ = ["MessageInfo", "Publisher", "Subscription", "SubscriptionCallback"]
 M = TypeVar("M", bound=Message)
 
 
-
 def entity_token(ctx: Context, kind: str, node: str, topic: str, type_name: str,
                  qos: QoSProfile) -> zenoh.LivelinessToken:
     """The liveliness token that shows a topic endpoint in the graph (docs/wire.md)."""

@@ -59,7 +59,8 @@ class QueryQueue:
 
 
 class RequestThreads(Generic[J]):
-    """Serves ``channel`` (a Zenoh FIFO handler, or a `QueryQueue`) with ``handle(query) -> job | None``.
+    """Serves ``channel`` (a `QueryQueue`, or a Zenoh FIFO handler) with
+    ``handle(query) -> job | None``.
 
     Args:
         run: runs a job (a goal's execute callback and its ending).
