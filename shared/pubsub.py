@@ -286,6 +286,8 @@ class Subscription(Generic[M]):
             self._dispatch = Held(gate, self._dispatch, qos.depth)
             self._direct = None
         self._sub: Any
+        self._taker: threading.Thread | None = None  # the thread `_take` runs on
+        self._take = self._sample_path()
         if qos.latched:
             self._sub = zext.declare_advanced_subscriber(
                 ctx.session, self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE,
@@ -306,10 +308,9 @@ class Subscription(Generic[M]):
             # drains it (an indirect callback; measured faster than a per-sample callback on
             # Zenoh's thread). That thread waits without waking: one that reads a channel
             # itself wakes ten times a second to check for signals (docs/fleet.md).
-            self._taker: threading.Thread | None = None
             self._drained = threading.Event()  # the callback's thread has ended
             self._sub = ctx.session.declare_subscriber(
-                self.key, zenoh.handlers.Callback(self._take_reliable, self._drained.set),
+                self.key, zenoh.handlers.Callback(self._take, self._drained.set),
                 allowed_origin=zenoh.Locality.REMOTE,
             )
         else:
@@ -342,43 +343,49 @@ class Subscription(Generic[M]):
         except zenoh.ZError:  # the channel closed under us at shutdown
             return
 
-    def _take_reliable(self, sample: zenoh.Sample) -> None:
-        if self._taker is None:  # zenoh-python's thread for this subscription: named after it
-            self._taker = threading.current_thread()
-            self._taker.name = f"zenros-sub:{self.topic}"
-        self._take(sample)
+    def _sample_path(self) -> Callable[[zenoh.Sample], None]:
+        """The per-sample path, on the thread that drains Zenoh's queue: decode, hand to the
+        callback (called right there when it needs no executor). What it reads is bound as
+        locals: the hot path of a subscription."""
+        encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
+        direct, info, tag = self._direct, self._info, self._tag
+        named = False
 
-    def _take(self, sample: zenoh.Sample) -> None:
-        """One sample from Zenoh, on the thread that drains its queue: decoded and handed
-        to the callback (called right here when it needs no executor)."""
-        try:
-            if misrouted(sample.attachment, self._tag):
-                self._misrouted(sample)
-                return
-            if sample.encoding != self._encoding:
-                self._check(sample)
-                return
+        def take(sample: zenoh.Sample) -> None:
+            nonlocal named
+            if not named:  # the thread that drains this subscription, named after it
+                named = True
+                self._taker = threading.current_thread()
+                self._taker.name = f"zenros-sub:{self.topic}"
             try:
-                msg = self._decode(sample.payload.to_bytes())
-            except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
-                self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
-                return
-            if self._info:
-                msg = (msg, MessageInfo.of(sample))
-            direct = self._direct
-            if direct is None:
-                self._dispatch(msg)
-                return
-            try:
-                direct(msg)
-            except Exception as exc:  # noqa: BLE001 user code never stops the subscription
-                self._callback_raised(exc)
-        except Exception as exc:  # noqa: BLE001 no sample stops the subscription
-            self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
-        except BaseException as exc:
-            if not is_session_failure(exc):
-                raise
-            self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
+                if misrouted(sample.attachment, tag):
+                    self._misrouted(sample)
+                    return
+                if sample.encoding != encoding:
+                    self._check(sample)
+                    return
+                try:
+                    msg = decode(sample.payload.to_bytes())
+                except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
+                    self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
+                    return
+                if info:
+                    msg = (msg, MessageInfo.of(sample))
+                if direct is None:
+                    dispatch(msg)
+                    return
+                try:
+                    direct(msg)
+                except Exception as exc:  # noqa: BLE001 user code never stops the subscription
+                    self._callback_raised(exc)
+            except Exception as exc:  # noqa: BLE001 no sample stops the subscription
+                self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
+            except BaseException as exc:
+                if not is_session_failure(exc):
+                    raise
+                self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
+
+        return take
 
     @property
     def callback_errors(self) -> int:
