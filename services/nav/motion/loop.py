@@ -53,7 +53,7 @@ class ControlLoop:
             self.calls += 1
             try:
                 self.step()
-            except Exception:  # noqa: BLE001 - a failed step must not stop the robot's loop
+            except Exception:  # a failed step must not stop the robot's loop
                 self.logger.exception("control step failed")
             now = self.clock.now()
             due = due + self.period
