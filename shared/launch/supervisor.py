@@ -100,6 +100,7 @@ class Supervisor:
         self._escalate = asyncio.Event()
         self._startup_failed = False
         self._watchers: list[asyncio.Task[None]] = []
+        self._watcher_of: dict[str, asyncio.Task[None]] = {}  # by label: ends once the exit is said
         self._logs: dict[str, LogFile] = {}
         self._launch_log: LogFile | None = None
 
@@ -114,6 +115,7 @@ class Supervisor:
                 if self._stopping.is_set() or not await self._spawn(state):
                     break
                 self._watchers.append(asyncio.create_task(self._supervise(state)))
+                self._watcher_of[state.spec.label] = self._watchers[-1]
             else:
                 await self._until_done()
         finally:
@@ -353,8 +355,12 @@ class Supervisor:
             self._signal(state, signal.SIGINT)
         self._escalate.clear()
         deadline = time.monotonic() + self.config.sigterm_timeout
-        while (any(s.alive for s in first) and time.monotonic() < deadline
-               and not self._escalate.is_set()):
+        # Until each has ended and its end is said ("exited ..."): the `stop_last` ones are
+        # signalled after that line, not only after the process is reaped.
+        watchers = [self._watcher_of[s.spec.label] for s in first
+                    if s.spec.label in self._watcher_of]
+        while ((any(s.alive for s in first) or not all(w.done() for w in watchers))
+               and time.monotonic() < deadline and not self._escalate.is_set()):
             await asyncio.sleep(0.02)
 
     async def _wait_watchers(self, timeout: float | None) -> None:
