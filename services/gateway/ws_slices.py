@@ -4,7 +4,7 @@ other connections: `SLICE`, `slices`.
 A 5 MB message (a map as JSON) handed to an asyncio transport in one write is copied into
 the kernel by one ``send`` call (most of it, on loopback), with the loop blocked meanwhile:
 five clients, five such calls in a row, and every small message to every other client waits
-for all of them. Sent as one fragmented WebSocket message (RFC 6455 §5.4: a first frame and
+for all of them. Sent as one fragmented WebSocket message (RFC 6455 section 5.4: a first frame and
 continuation frames, which every client library reassembles), a slice per frame, with the
 loop free between slices and each slice waiting for the socket to drain, no single write
 holds the loop for more than a slice's copy. The message is the same message to the client.
