@@ -146,6 +146,8 @@ def test_estop_holds_and_teleport(rig: dict[str, Any]) -> None:
     assert got["truth"].msg.pose.pose.position.x == 0.0  # held for 2 s of commands
     assert estop.call(SetBoolRequest(data=False), timeout=10).success
     assert drive(rig, 0.5, 0.0, lambda: got["truth"].msg.pose.pose.position.x > 0.2)
+    # halted before the teleport: a cmd_vel still on its way would move it off the new pose
+    assert drive(rig, 0.0, 0.0, lambda: abs(got["truth"].msg.twist.twist.linear.x) < 1e-9)
     tp = user.create_client(Teleport, "sim/teleport")
     res = tp.call(TeleportRequest(pose=Pose2D(x=5.0, y=0.5, theta=1.0)), timeout=10)
     assert res.success, res.message

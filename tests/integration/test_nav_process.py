@@ -52,7 +52,10 @@ def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
         handle = client.send_goal_async(NavigateToPoseGoal(
             pose=pose_stamped(Pose2(20.0, 0.0), Time())))
         assert handle.wait_accepted(10)
-        assert wait_for(lambda: bool(truth) and abs(truth[-1].twist.twist.linear.x) > 0.3, 20)
+        assert wait_for(lambda: bool(truth) and abs(truth[-1].twist.twist.linear.x) > 0.3, 20), (
+            f"goal {handle.status.name} {handle.reason!r}, last twist "
+            f"{truth[-1].twist.twist if truth else None}\nnav:\n{nav.output[-3000:]}"
+            f"\nchassis:\n{chassis.output[-2000:]}")
         nav.signal(signal.SIGINT)
         assert nav.wait(15) == 0, nav.output
         assert wait_for(lambda: abs(truth[-1].twist.twist.linear.x) < 1e-6, 5)

@@ -7,7 +7,9 @@ the commands' ``127.0.0.1:<default port>`` are rewritten to match. Each command 
 from a scratch directory of its page's own that links the repository's top-level entries (so
 files it writes stay out of the tree and out of other pages' way); ``zenros launch
 deploy/launch/sim.yaml`` lines are the sim itself and are not run again. Pages are checked
-side by side, each page's blocks in order; the blocks that drive the robot one at a time. A command passes when it exits 0, or, for a streaming one, when it was
+side by side (three at a time), each page's blocks in order; the blocks that drive the robot
+one at a time, in the pages' order (`DriveTurns`). A command passes when it exits 0, or, for a
+streaming one, when it was
 still running GRACE seconds after it first printed on stdout. Blocks and lines that cannot
 run against the sim are marked in the page (see docs_commands.py for the markers); blocks
 marked ``doc-check: fleet`` run against `deploy/launch/fleet.yaml robots:=3` (its gateway's
@@ -25,6 +27,7 @@ import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -49,7 +52,37 @@ DRIVES = re.compile(r"send_goal\s+/?(?!fibonacci)\w|/navigation/|move_to_index|/
                     r"|start_\w*(task|move|patrol|charge|dock)"
                     r"|param set /nav/|virtual_walls|import_map|system/speed|system/config")
 FLEET_ROBOTS = 3  # the fleet `doc-check: fleet` blocks run against
-WORKERS = 1  # pages one at a time: side by side, one page's task made another's goal a 409 (tasks.md, gateway.md)
+WORKERS = 3  # pages side by side; their driving blocks still take turns (DriveTurns)
+
+
+class DriveTurns:
+    """The blocks that drive the robot take turns, one at a time in the pages' order, while
+    the other blocks run beside them: a page may leave a task of its own running that a
+    later page's goal meets (tasks.md's before gateway.md's: a 409), and one nav goal
+    preempts another. A key is (page index, block index); a page ending releases its keys
+    not yet taken, so a page that failed early never holds the others up."""
+
+    def __init__(self, keys: list[tuple[int, int]]) -> None:
+        self._keys = keys
+        self._done: set[tuple[int, int]] = set()
+        self._cond = threading.Condition()
+
+    def _first_pending(self) -> tuple[int, int] | None:
+        return next((k for k in self._keys if k not in self._done), None)
+
+    @contextmanager
+    def turn(self, key: tuple[int, int]) -> Iterator[None]:
+        with self._cond:
+            self._cond.wait_for(lambda: self._first_pending() == key)
+        try:
+            yield
+        finally:
+            self.release([key])
+
+    def release(self, keys: list[tuple[int, int]]) -> None:
+        with self._cond:
+            self._done.update(keys)
+            self._cond.notify_all()
 
 
 @dataclass
@@ -202,7 +235,7 @@ def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
 def _drain(stream: IO[str] | None, sink: list[str]) -> None:
     assert stream is not None
     for line in stream:
-        sink.append(line)
+        sink.append(line)  # noqa: PERF402 -- one at a time: _run watches the list grow
 
 
 def _stop(p: subprocess.Popen[str]) -> None:
@@ -250,28 +283,41 @@ def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
     return failures
 
 
-def _run_page(page: Path, sim: Sim, robot: threading.Lock, fleet: Fleet) -> list[str] | None:
+def _runnable_blocks(page: Path) -> list[Block]:
+    return [b for b in doc_blocks(page, ROOT) if b.runnable()]
+
+
+def _run_page(index: int, page: Path, sim: Sim, turns: DriveTurns, fleet: Fleet
+              ) -> list[str] | None:
     """The failures of one page's blocks (in order, in a scratch folder of the page's own, so
     a file a block writes is there for the page's later blocks only); None if nothing of it
-    is runnable. A block that drives the robot holds ``robot`` while it runs; a
-    ``doc-check: fleet`` block runs against ``fleet``."""
-    blocks = [b for b in doc_blocks(page, ROOT) if b.runnable()]
+    is runnable. A block that drives the robot waits for its turn (``turns``, keyed by the
+    page's ``index`` and the block's); a ``doc-check: fleet`` block runs against ``fleet``."""
+    blocks = _runnable_blocks(page)
     if not blocks:
         return None
+    try:
+        return _run_blocks(index, blocks, page, sim, turns, fleet)
+    finally:
+        turns.release([(index, i) for i, b in enumerate(blocks) if _drives(b)])
+
+
+def _run_blocks(index: int, blocks: list[Block], page: Path, sim: Sim, turns: DriveTurns,
+                fleet: Fleet) -> list[str]:
     workdir = sim.workdir / "pages" / page.relative_to(ROOT).as_posix().replace("/", "_")
     workdir.mkdir(parents=True)
     for entry in sim.workdir.iterdir():
         if entry.name != "pages":
             (workdir / entry.name).symlink_to(entry.resolve())
     failures: list[str] = []
-    for b in blocks:
+    for i, b in enumerate(blocks):
         if b.fleet:
             try:
                 failures += _run_block(b, fleet.get(), workdir)
             except RuntimeError as exc:
                 failures.append(f"{b.page}:{b.line}: {exc}")
         elif _drives(b):
-            with robot:
+            with turns.turn((index, i)):
                 failures += _run_block(b, sim, workdir)
         else:
             failures += _run_block(b, sim, workdir)
@@ -289,17 +335,17 @@ def _drives(block: Block) -> bool:
 def results(sim: Sim, tmp_path_factory: pytest.TempPathFactory
             ) -> Iterator[dict[Path, list[str] | None]]:
     """Every page checked (each page's blocks in order), pages side by side; blocks that
-    drive the robot one at a time, since one nav goal preempts another (a page's patrol ended
-    "preempted by a new goal" when another page's goal came, under a CPU hog)."""
-    robot = threading.Lock()
+    drive the robot one at a time in the pages' order, since one nav goal preempts another (a
+    page's patrol ended "preempted by a new goal" when another page's goal came, under a CPU
+    hog). The pool starts pages in their order, so the page whose turn is next is always
+    running: none waits on a page not started."""
+    turns = DriveTurns([(i, j) for i, page in enumerate(PAGES)
+                        for j, b in enumerate(_runnable_blocks(page)) if _drives(b)])
     fleet = Fleet(sim, tmp_path_factory.mktemp("fleet"))
     try:
         with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-            # in the pages' own order: a page may leave a task of its own running that a
-            # later page's goal would meet (tasks.md's before gateway.md's: 409)
-            order = list(PAGES)
-            yield dict(zip(order, pool.map(lambda p: _run_page(p, sim, robot, fleet), order),
-                           strict=True))
+            yield dict(zip(PAGES, pool.map(lambda ip: _run_page(*ip, sim, turns, fleet),
+                                           enumerate(PAGES)), strict=True))
     finally:
         fleet.stop()
 

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 __all__ = ["RosNodes"]
 
 _ANY = SampleState.Any | ViewState.Any | InstanceState.Any
+_GONE_KEPT = 1024  # ended participants remembered, to drop their late announcements
 _INFO = "rmw_dds_common/msg/ParticipantEntitiesInfo"
 _INTERFACES = {  # rmw_dds_common 4.0 (Kilted; Jazzy's is the same): GIDs of 16 bytes
     "rmw_dds_common/msg/Gid": "char[16] data",
@@ -64,6 +65,7 @@ class RosNodes:
         self.participants = BuiltinDataReader(bridge.participant, BuiltinTopicDcpsParticipant)
         self.by_participant: dict[uuid.UUID, dict[str, Any]] = {}  # -> node fqn -> token
         self.writers: dict[uuid.UUID, str] = {}  # writer GID -> node fqn
+        self.gone: dict[uuid.UUID, None] = {}  # participants seen to end, oldest first
         self._start = time.time_ns()
 
     def node_of_writer(self, key: uuid.UUID) -> str:
@@ -73,9 +75,21 @@ class RosNodes:
         return sorted(n for nodes in self.by_participant.values() for n in nodes)
 
     def poll(self) -> None:
+        """Participants' announcements first, then which participants went: a participant's
+        last announcement and its end can wait in the two readers together (a busy box), and
+        an announcement taken after its participant's end would bring its nodes back for
+        good. One that comes from a participant already gone is dropped."""
+        self._take_announcements()
         for p in self.participants.take(64):
-            if p.sample_info.instance_state != InstanceState.Alive:
+            if p.sample_info.instance_state == InstanceState.Alive:
+                self.gone.pop(p.key, None)
+            else:
+                self.gone[p.key] = None
+                while len(self.gone) > _GONE_KEPT:
+                    del self.gone[next(iter(self.gone))]
                 self._set(p.key, {})
+
+    def _take_announcements(self) -> None:
         batch = ddspy_take(self.reader._ref, _ANY, 64)
         if isinstance(batch, int):
             return
@@ -88,7 +102,7 @@ class RosNodes:
                 self.bridge.bad_sample("ros_discovery_info", str(info.publication_handle), exc)
                 continue
             part = uuid.UUID(bytes=bytes(msg.gid.data))
-            if part == self.bridge.guid:
+            if part == self.bridge.guid or part in self.gone:
                 continue
             nodes: dict[str, list[uuid.UUID]] = {}
             for n in msg.node_entities_info_seq:
