@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -121,8 +121,8 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
         target.pose.orientation.w = 1.0
         goals[k] = client.send_goal_async(NavigateToPoseGoal(pose=target))
     results = {k: h.result(180) for k, h in goals.items()}
-    assert all(r.succeeded for r in results.values()), \
-        {k: (r.status.name, r.reason) for k, r in results.items()}
+    failed = {k: (r.status.name, r.reason) for k, r in results.items() if not r.succeeded}
+    assert not failed, f"{failed}\n{_robot_lines(fleet.proc.output, failed)}"
     assert wait_for(lambda: all(
         math.hypot(where[k].x - starts[k][0] - AHEAD, where[k].y) < 0.25 for k in goals), 10), \
         {k: (where[k].x - starts[k][0], where[k].y) for k in goals}
@@ -140,3 +140,9 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
             assert (t.x, t.y) == pytest.approx((where[k].x, where[k].y), abs=0.1)
         finally:
             tf_node.close()
+
+
+def _robot_lines(output: str, robots: Iterable[int]) -> str:
+    """The launch's lines of these robots (their warnings and errors), the last 40."""
+    tags = tuple(f"robot{k}/" for k in robots)
+    return "\n".join([ln for ln in output.splitlines() if any(t in ln for t in tags)][-40:])
