@@ -14,8 +14,11 @@ class Pacer:
     """Wall-clock schedule for steps of ``dt`` sim seconds at ``speed`` x real time.
 
     ``speed <= 0`` means as fast as possible. When a step is due more than ``max_lag``
-    wall seconds ago, the schedule restarts from now: the sim runs slower instead of
-    bursting to catch up, and `factor` reports what it achieved.
+    *sim* seconds ago (``max_lag / speed`` wall seconds), the schedule restarts from now: the
+    sim runs slower instead of bursting to catch up, and `factor` reports what it achieved.
+    The bound is in sim time so that a burst never outruns the robot's controllers: at 10x a
+    0.1 s wall stall caught up would be a second of robot time driven on the last command,
+    with no control tick in between (the nodes following ``/clock`` were stalled too).
     """
 
     def __init__(self, dt: float, speed: float, *, max_lag: float = 0.1,
@@ -24,7 +27,7 @@ class Pacer:
             raise ValueError(f"step must be > 0, got {dt}")
         self.dt = dt
         self.speed = speed
-        self.max_lag = max_lag
+        self.max_lag = max_lag / speed if speed > 0 else max_lag  # wall seconds
         self.window = window
         self._clock = clock
         self._anchor = clock()

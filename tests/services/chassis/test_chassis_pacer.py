@@ -40,6 +40,19 @@ def test_falls_behind_then_restarts_the_schedule_without_a_burst() -> None:
     assert p.delay() == pytest.approx(0.002)  # back to the normal period, no catch-up burst
 
 
+@pytest.mark.parametrize(("speed", "caught_up"), [(1.0, True), (10.0, False)])
+def test_the_catch_up_bound_is_sim_time(speed: float, caught_up: bool) -> None:
+    """A 50 ms stall is 0.05 s of sim time at 1x (caught up: within 0.1 s) but 0.5 s at 10x
+    (more than 0.1 s of robot time with no control tick: the schedule restarts instead)."""
+    wall = FakeWall()
+    p = Pacer(0.02, speed, clock=wall, max_lag=0.1)
+    p.stepped()
+    wall.t += p.period + 0.05
+    assert p.delay() == 0.0  # due now either way
+    p.stepped()
+    assert (p.delay() == 0.0) is caught_up  # still behind: catching up; else on schedule
+
+
 def test_unthrottled() -> None:
     p = Pacer(0.02, 0.0)
     assert p.period == 0.0 and p.delay() == 0.0
