@@ -1,5 +1,12 @@
 """zenros: a ROS-like robot runtime on Eclipse Zenoh."""
 
+import os as _os
+
+# Before numpy is imported: a robot process does small matrix math, where OpenBLAS's pool of
+# worker threads costs more than it gives (about 0.08 s of CPU at every interpreter start on
+# a 2-core box, and threads that spin after each call). A value the user set is kept.
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 from .clock import Duration, ManualClock, Rate, SteadyClock, SystemClock, Time
 from .context import Context
 from .errors import (
