@@ -5,7 +5,8 @@ Foxglove when foxglove-sdk is installed). The parent publishes nav_msgs/Odometry
 50 Hz (its send time, monotonic clock, in ``pose.pose.position.z``; the phase in ``.x``) and,
 in the second phase only, a 2 MB OccupancyGrid on /map at 1 Hz. Five client processes
 hold a WebSocket client each on one door, each subscribed to both topics (plain JSON, no
-fragments, no compression: the case a browser asks for); each reads every frame, parses
+fragments, no compression: the case a browser asks for; ``--map-compression cbor-raw`` asks
+rosbridge for the map as CBOR instead); each reads every frame, parses
 /odom's and records its age at arrival. The map frames are read whole but not parsed: a
 Python parse of 5 MB of JSON takes 0.4 s and would measure the client, not the server.
 """
@@ -70,15 +71,17 @@ def _odom_of(door: str, data: bytes | str) -> dict[str, Any] | None:
 
 
 async def _client(door: str, port: int, ages: dict[float, list[float]],
-                  warm: asyncio.Event, ended: asyncio.Event) -> None:
+                  warm: asyncio.Event, ended: asyncio.Event, map_compression: str) -> None:
     from websockets.asyncio.client import connect
 
     url = f"ws://127.0.0.1:{port}/"
     conns = []
     if door == "rosbridge":
         ws = await connect(url, max_size=None, compression=None)
-        for topic, typ in (("/odom", "nav_msgs/Odometry"), ("/map", "nav_msgs/OccupancyGrid")):
-            await ws.send(json.dumps({"op": "subscribe", "topic": topic, "type": typ}))
+        for topic, typ, compression in (("/odom", "nav_msgs/Odometry", "none"),
+                                        ("/map", "nav_msgs/OccupancyGrid", map_compression)):
+            await ws.send(json.dumps({"op": "subscribe", "topic": topic, "type": typ,
+                                      "compression": compression}))
         conns = [ws]
     elif door == "topicws":  # one connection per topic
         conns = [await connect(url + t, max_size=None, compression=None) for t in ("odom", "map")]
@@ -117,16 +120,17 @@ async def _client(door: str, port: int, ages: dict[float, list[float]],
         await ws.close()
 
 
-def child_clients(door: str, port: int, n: int) -> None:
+def child_clients(door: str, port: int, n: int, map_compression: str = "none") -> None:
     """``n`` clients of ``door``: "ready" once each heard /odom, then the ages (s) of each
-    phase as JSON."""
+    phase as JSON. On rosbridge the map may be asked for with ``map_compression`` (``cbor``,
+    ``cbor-raw``: binary frames, the reference server's answer to large messages)."""
 
     async def main() -> None:
         ages: list[dict[float, list[float]]] = [{} for _ in range(n)]
         warm = [asyncio.Event() for _ in range(n)]
         ended = [asyncio.Event() for _ in range(n)]
-        tasks = [asyncio.ensure_future(_client(door, port, ages[i], warm[i], ended[i]))
-                 for i in range(n)]
+        tasks = [asyncio.ensure_future(_client(door, port, ages[i], warm[i], ended[i],
+                                               map_compression)) for i in range(n)]
         await asyncio.wait_for(asyncio.gather(*(w.wait() for w in warm)), 60)
         print("ready", flush=True)
         await asyncio.wait(tasks, timeout=120)  # on a starved machine: report what came
@@ -201,14 +205,16 @@ def start_gateway(script: str, foxglove: bool) -> tuple[Child, dict[str, int], i
 
 
 def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
-                     n: int = 5, duration: float = 10.0, side: int = 1448) -> dict[str, Any]:
+                     n: int = 5, duration: float = 10.0, side: int = 1448,
+                     map_compression: str = "none") -> dict[str, Any]:
     """/odom's delivery age to ``n`` clients of ``door``, without then with the map."""
     pub = _Publisher(zport, prefix, side)
     clients: list[Child] = []
     try:
         for _ in range(n):  # a process each, as browsers are: one's reading holds up no other
             clients.append(Child(script, "--role", "fair_clients", "--door", door,
-                                 "--port", str(port), "--n", "1"))
+                                 "--port", str(port), "--n", "1",
+                                 "--map-compression", map_compression))
         pub.phase = PLAIN
         time.sleep(duration)  # a measuring phase, not a wait on a condition
         pub.phase = WITH_MAP

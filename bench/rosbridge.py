@@ -280,9 +280,11 @@ def measure_cbor(side: int = 1448) -> dict[str, Any]:
             if len(sizes) == 2 else None}
 
 
-def fairness(duration: float, doors: list[str]) -> dict[str, Any]:
+def fairness(duration: float, doors: list[str], map_compression: str = "none"
+             ) -> dict[str, Any]:
     """/odom's p99 delivery age (ms) to 5 clients without and with a 2 MB map at 1 Hz, on
-    rosbridge (no prefix), the topic WebSocket (``topicws_``) and Foxglove (``foxglove_``)."""
+    rosbridge (no prefix), the topic WebSocket (``topicws_``) and Foxglove (``foxglove_``);
+    rosbridge's clients take the map with ``map_compression``."""
     try:
         import foxglove  # noqa: F401
         has_foxglove = True
@@ -295,13 +297,15 @@ def fairness(duration: float, doors: list[str]) -> dict[str, Any]:
         for door in doors:
             if not ports.get(door):
                 continue
-            r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration)
+            r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration,
+                                 map_compression=map_compression)
             key = "" if door == "rosbridge" else f"{door}_"
             for phase in ("without_map", "with_map"):
                 for stat in ("p99", "p50", "max"):
                     value = r[phase][f"{stat}_ms"]
                     out[f"{key}odom_{stat}_ms_{phase}"] = None if value is None else round(value, 2)
             out[f"{key}odom_samples"] = r["with_map"]["n"]
+        out["map_compression"] = map_compression
     finally:
         gw.stop()
     return out
@@ -317,6 +321,8 @@ def main() -> None:
                     help="the doors whose fairness is measured (comma-separated)")
     ap.add_argument("--fair-duration", type=float, default=10.0,
                     help="seconds of /odom without, then with, the map (fairness)")
+    ap.add_argument("--map-compression", choices=["none", "cbor", "cbor-raw"], default="none",
+                    help="how rosbridge's fairness clients subscribe to the map")
     ap.add_argument("--n", type=int, default=1)
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--latency-rate", type=float, default=500.0,
@@ -338,11 +344,11 @@ def main() -> None:
         child_gateway(args.zport, args.prefix, bool(args.foxglove))
         return
     if args.role == "fair_clients":
-        child_fair_clients(args.door, args.port, args.n)
+        child_fair_clients(args.door, args.port, args.n, args.map_compression)
         return
     metrics: dict[str, Any] = measure_cbor() if args.only in (None, "cbor") else {}
     if args.only in (None, "fairness"):
-        metrics.update(fairness(args.fair_duration, args.doors.split(",")))
+        metrics.update(fairness(args.fair_duration, args.doors.split(","), args.map_compression))
     for n in (1, 10) if args.only in (None, "throughput") else ():
         # The relay's publisher is held back by TCP when the relay falls behind, so flat out
         # it offers what the relay path sustains; rosbridge (which never holds a publisher
