@@ -119,6 +119,7 @@ class Player:
         self.lateness: list[float] = []  # seconds each message went out after its deadline
         self._clock_pub = (node.create_publisher(ClockMsg, "/clock")
                            if self.options.clock and node is not None else None)
+        self._playing = threading.Event()  # the schedule is set: bag_now() means something
 
     def _out_for(self, topic: str, message_encoding: str, metadata: dict[str, str],
                  type_name: str) -> _Out:
@@ -274,6 +275,7 @@ class Player:
             self._base = time.perf_counter()
             if self._paused:
                 self._pause_at = self._base
+        self._playing.set()
         by_channel: dict[int, _Out | None] = {}
         now = time.perf_counter
         batch = first
@@ -325,9 +327,17 @@ class Player:
         return mime + (f";{m.schema.name}" if m.schema is not None and m.schema.name else "")
 
     def _clock_loop(self, stop: threading.Event) -> None:
+        """/clock from the start of play (the first message's time, at once), every
+        CLOCK_PERIOD, and once more at the end: a play shorter than a period still tells the
+        clock's subscribers where the bag's time went."""
         assert self._clock_pub is not None
+        while not self._playing.wait(CLOCK_PERIOD):
+            if stop.is_set():
+                return
+        self._clock_pub.publish(ClockMsg(clock=Time.from_nanoseconds(self.bag_now())))
         while not stop.wait(CLOCK_PERIOD):
             self._clock_pub.publish(ClockMsg(clock=Time.from_nanoseconds(self.bag_now())))
+        self._clock_pub.publish(ClockMsg(clock=Time.from_nanoseconds(self.bag_now())))
 
     def close(self) -> None:
         self.stop()

@@ -100,7 +100,9 @@ def test_rmw_zenoh_graph_appears_in_zenros(
     peer.token(EntityKind.PUBLISHER, base + "status", "action_msgs/msg/GoalStatusArray")
     g = ctx.graph
     assert g.wait_for_node("/ros_talker", 10)
-    assert wait_for(lambda: "/r_fib" in g.actions(), 10)
+    # the bridge mirrors each token as it comes, in no set order: wait for the last of them
+    assert wait_for(lambda: "/r_fib" in g.actions() and {"/r_chatter", "/r_cmd"} <= set(
+        g.topics()) and "/r_flag" in g.services() and bool(g.clients("/r_trigger")), 10)
     assert g.topics()["/r_chatter"] == ["std_msgs/String"]
     assert g.topics()["/r_cmd"] == ["geometry_msgs/Twist"]
     assert g.services()["/r_flag"] == ["std_srvs/SetBool"]
