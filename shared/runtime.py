@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import faulthandler
 import os
 import sys
 import threading
@@ -61,7 +62,9 @@ def node_kwargs(ns: argparse.Namespace) -> dict[str, Any]:
 
 
 def capture_signals(on_first: Callable[[], None]) -> AbstractContextManager[None]:
-    """SIGINT/SIGTERM: the first calls ``on_first`` (drain), the second forces exit (130).
+    """SIGINT/SIGTERM: the first calls ``on_first`` (drain), the second forces exit (130),
+    after writing every thread's stack to stderr: where the drain was stuck (a launch sends
+    SIGTERM when a node has not ended ``sigterm_timeout`` after its SIGINT).
 
     Restores the previous handlers on the way out. Only works in the main thread; elsewhere
     it does nothing.
@@ -74,7 +77,9 @@ def capture_signals(on_first: Callable[[], None]) -> AbstractContextManager[None
         if count == 1:
             on_first()
         else:
-            sys.stderr.write("forced exit\n")
+            sys.stderr.write("forced exit; the threads were at:\n")
+            faulthandler.dump_traceback(all_threads=True)
+            sys.stderr.flush()
             os._exit(130)
 
     return handling_signals(handler)

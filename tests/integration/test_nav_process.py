@@ -52,8 +52,10 @@ def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
         handle = client.send_goal_async(NavigateToPoseGoal(
             pose=pose_stamped(Pose2(20.0, 0.0), Time())))
         assert handle.wait_accepted(10)
-        assert wait_for(lambda: bool(truth) and abs(truth[-1].twist.twist.linear.x) > 0.3, 20), (
-            f"goal {handle.status.name} {handle.reason!r}, last twist "
+        moving = wait_for(lambda: bool(truth) and abs(truth[-1].twist.twist.linear.x) > 0.3, 20)
+        assert moving, (
+            f"goal {handle.status.name} {handle.reason!r}, result "
+            f"{handle.result(1).result if handle.done else None}, last twist "
             f"{truth[-1].twist.twist if truth else None}\nnav:\n{nav.output[-3000:]}"
             f"\nchassis:\n{chassis.output[-2000:]}")
         nav.signal(signal.SIGINT)
