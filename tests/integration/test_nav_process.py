@@ -13,6 +13,7 @@ from zenros.action import ActionClient
 from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import ListMaps, ListMapsRequest
 from zenros.node import Node
@@ -46,6 +47,11 @@ def test_nav_and_chassis_processes(router: str, prefix: str, observer: Context,
         assert (tmp_path / "office" / "office.yaml").is_file()
         truth: list[Odometry] = []
         user.create_subscription(Odometry, "sim/ground_truth", truth.append)
+        # as a Nav2 client waits for amcl_pose: nav knows where the robot is (else a goal
+        # is aborted, the pose unknown for localization_timeout: 0.5 s of wall time at 10x)
+        poses: list[PoseWithCovarianceStamped] = []
+        user.create_subscription(PoseWithCovarianceStamped, "robot_pose", poses.append)
+        assert wait_for(lambda: bool(poses), 20), nav.output
         client = ActionClient(user, NavigateToPose, "navigate_to_pose")
         assert client.wait_for_server(20)
         # a goal under way, then nav is stopped: it leaves the robot standing
