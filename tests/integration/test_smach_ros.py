@@ -40,7 +40,7 @@ from zenros.smach import (
     cb_interface,
 )
 from zenros.smach.doubles import SucceedState, WaitForPreempt
-from zenros.testing import Collector
+from zenros.testing import Collector, wait_for
 
 Nodes = Callable[..., Node]
 
@@ -112,7 +112,10 @@ def test_monitor_state_preempt_timeout_and_a_failing_condition(
     assert node.graph.wait_for(lambda: not node.graph.subscribers("/numbers"), 10)
     run = machine(MonitorState(node, "/numbers", Int32, broken)).execute_in_thread()
     assert pub.wait_for_subscribers(1, 10)
-    pub.publish(Int32(data=1))
+    # Published until the run ends: right after the last subscriber left, the publisher's
+    # match may still be the old one's (Zenoh's matching status lags the graph), and a first
+    # message can go nowhere.
+    assert wait_for(lambda: pub.publish(Int32(data=1)) or run.future.done(), 10, interval=0.1)
     with pytest.raises(InvalidUserCodeError, match="cond_cb of /S .*ValueError: bad reading"):
         run.result(10)
 
