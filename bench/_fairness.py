@@ -5,8 +5,8 @@ Foxglove when foxglove-sdk is installed). The parent publishes nav_msgs/Odometry
 50 Hz (its send time, monotonic clock, in ``pose.pose.position.z``; the phase in ``.x``) and,
 in the second phase only, a 2 MB OccupancyGrid on /map at 1 Hz. Five client processes
 hold a WebSocket client each on one door, each subscribed to both topics (plain JSON, no
-fragments, no compression: the case a browser asks for; ``--map-compression cbor-raw`` asks
-rosbridge for the map as CBOR instead); each reads every frame, parses
+fragments, no compression: the case a browser asks for; ``--map-compression`` asks rosbridge
+for the map as ``png``, ``cbor`` or ``cbor-raw`` instead); each reads every frame, parses
 /odom's and records its age at arrival. The map frames are read whole but not parsed: a
 Python parse of 5 MB of JSON takes 0.4 s and would measure the client, not the server.
 """
@@ -122,8 +122,9 @@ async def _client(door: str, port: int, ages: dict[float, list[float]],
 
 def child_clients(door: str, port: int, n: int, map_compression: str = "none") -> None:
     """``n`` clients of ``door``: "ready" once each heard /odom, then the ages (s) of each
-    phase as JSON. On rosbridge the map may be asked for with ``map_compression`` (``cbor``,
-    ``cbor-raw``: binary frames, the reference server's answer to large messages)."""
+    phase as JSON. On rosbridge the map may be asked for with ``map_compression`` (``png``:
+    the JSON deflated in a PNG, base64; ``cbor``, ``cbor-raw``: binary frames; the reference
+    server's answers to large messages)."""
 
     async def main() -> None:
         ages: list[dict[float, list[float]]] = [{} for _ in range(n)]

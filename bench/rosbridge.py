@@ -321,7 +321,8 @@ def main() -> None:
                     help="the doors whose fairness is measured (comma-separated)")
     ap.add_argument("--fair-duration", type=float, default=10.0,
                     help="seconds of /odom without, then with, the map (fairness)")
-    ap.add_argument("--map-compression", choices=["none", "cbor", "cbor-raw"], default="none",
+    ap.add_argument("--map-compression", choices=["none", "png", "cbor", "cbor-raw"],
+                    default="none",
                     help="how rosbridge's fairness clients subscribe to the map")
     ap.add_argument("--n", type=int, default=1)
     ap.add_argument("--duration", type=float, default=3.0)

@@ -38,6 +38,7 @@ class RmwPublisher:
         self.gid = gid
         self._seq = itertools.count(1)
         self._lock = threading.Lock()
+        self._closed = False
         reliable = qos.reliability is not Reliability.BEST_EFFORT
         cc = zenoh.CongestionControl.BLOCK if reliable else zenoh.CongestionControl.DROP
         self.latched = qos.durability is Durability.TRANSIENT_LOCAL
@@ -54,12 +55,21 @@ class RmwPublisher:
                                                   allowed_destination=zenoh.Locality.REMOTE)
 
     def put(self, data: bytes) -> None:
+        """Send ``data``; after `close`, nothing (a sample racing the route's removal)."""
         with self._lock:  # sequence numbers in the order the samples leave
+            if self._closed:
+                return
             att = Attachment(next(self._seq), time.time_ns(), self.gid).encode()
             self._pub.put(data, attachment=att)
 
     def close(self) -> None:
-        self._pub.undeclare()
+        # Under the lock: zenoh-python refuses to undeclare a publisher while another thread
+        # is in its put ("RuntimeError: Already borrowed").
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            self._pub.undeclare()
 
 
 def declare_rmw_subscriber(session: zenoh.Session, key: str, qos: Qos,
