@@ -143,7 +143,7 @@ class RmwZenohBridge(Node):
                         self._on_ros_token(kind, key)
             except (ZenrosError, ValueError, zenoh.ZError) as exc:
                 self.problems(f"token {key}", "cannot bridge %s: %s", key, exc)
-            except Exception:  # noqa: BLE001 -- the graph thread outlives one bad event
+            except Exception:  # the graph thread outlives one bad event
                 self.logger.exception("graph event %s of %s failed", kind, key)
 
     def _on_zenros_token(self, kind: zenoh.SampleKind, key: str) -> None:

@@ -211,7 +211,8 @@ def test_io_action_in_a_task(rig: Rig) -> None:
     assert [a["type"] for a in r.json()["sub_tasks"]] == ["nav_action", "local_move_action",
                                                          "io_action"]
     assert rig.finish(r.json(), 60)["state"] == "COMPLETE"
-    assert http.get("/system/io").json()["out3"] == "0"
+    # /system/io reports the chassis's latched IoState topic, which arrives a moment later
+    assert wait_for(lambda: http.get("/system/io").json()["out3"] == "0", 10)
     assert rig.pose is not None and math.hypot(rig.pose[0] - 2.2, rig.pose[1]) < 0.2
 
 

@@ -12,8 +12,8 @@ import pytest
 from zenros.action import ActionClient
 from zenros.context import Context
 from zenros.msgs.builtin_interfaces import Time
-from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import ListMaps, ListMapsRequest
 from zenros.node import Node

@@ -12,6 +12,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import itertools
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -24,6 +25,8 @@ from .frames import OpError
 __all__ = ["ServedAction"]
 
 Send = Callable[[dict[str, Any]], None]
+CANCEL_MARK_WAIT = 2.0
+"""Seconds a client's "canceled" result waits for the server to mark its goal canceling."""
 
 
 class ServedAction:
@@ -42,6 +45,7 @@ class ServedAction:
         self._send = send
         self._ids = itertools.count(1)
         self.goals: dict[str, tuple[concurrent.futures.Future[tuple[int, Message]], Any]] = {}
+        self._cancels: set[str] = set()  # goals whose cancel the client was sent
         self.server: Any = None
 
     async def execute(self, handle: Any) -> Message:
@@ -61,16 +65,30 @@ class ServedAction:
             self.goals.pop(gid, None)
         if status == GoalStatus.SUCCEEDED:
             handle.succeed()
-        elif status == GoalStatus.CANCELED and handle.is_cancel_requested:
+        elif status == GoalStatus.CANCELED and await self._cancel_applied(gid, handle):
             handle.canceled()
         else:
             handle.abort()
         return result
 
+    async def _cancel_applied(self, gid: str, handle: Any) -> bool:
+        """Whether the goal was asked to cancel. The client may answer ``cancel_action_goal``
+        before the server has marked the goal canceling (it forwards the request from its
+        cancel callback, which runs first): then wait, a bounded time, for the mark."""
+        forwarded = gid in self._cancels
+        self._cancels.discard(gid)
+        if not forwarded:
+            return bool(handle.is_cancel_requested)
+        deadline = time.monotonic() + CANCEL_MARK_WAIT
+        while not handle.is_cancel_requested and time.monotonic() < deadline:
+            await asyncio.sleep(0.005)
+        return bool(handle.is_cancel_requested)
+
     def on_cancel(self, handle: Any) -> bool:
         """The action server's cancel callback: tell the client; it decides how the goal ends."""
         for gid, (_, h) in list(self.goals.items()):
             if h is handle:
+                self._cancels.add(gid)
                 self._send({"op": "cancel_action_goal", "id": gid, "action": self.name})
         return True
 
