@@ -12,7 +12,6 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import itertools
-import time
 from collections.abc import Callable
 from typing import Any
 
@@ -63,26 +62,18 @@ class ServedAction:
             return self.action_type.Result()
         finally:
             self.goals.pop(gid, None)
+            forwarded = gid in self._cancels
+            self._cancels.discard(gid)
         if status == GoalStatus.SUCCEEDED:
             handle.succeed()
-        elif status == GoalStatus.CANCELED and await self._cancel_applied(gid, handle):
+        elif status == GoalStatus.CANCELED and (handle.is_cancel_requested or forwarded and (
+                await asyncio.to_thread(handle.wait_for_cancel, CANCEL_MARK_WAIT))):
+            # A client may answer the cancel_action_goal we forwarded before the server has
+            # marked the goal canceling (the cancel callback that forwards it runs first).
             handle.canceled()
         else:
             handle.abort()
         return result
-
-    async def _cancel_applied(self, gid: str, handle: Any) -> bool:
-        """Whether the goal was asked to cancel. The client may answer ``cancel_action_goal``
-        before the server has marked the goal canceling (it forwards the request from its
-        cancel callback, which runs first): then wait, a bounded time, for the mark."""
-        forwarded = gid in self._cancels
-        self._cancels.discard(gid)
-        if not forwarded:
-            return bool(handle.is_cancel_requested)
-        deadline = time.monotonic() + CANCEL_MARK_WAIT
-        while not handle.is_cancel_requested and time.monotonic() < deadline:
-            await asyncio.sleep(0.005)
-        return bool(handle.is_cancel_requested)
 
     def on_cancel(self, handle: Any) -> bool:
         """The action server's cancel callback: tell the client; it decides how the goal ends."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import threading
+import time
 from typing import Any
 
 from zenros.action import GoalStatus
@@ -19,6 +20,12 @@ class Handle:
         self.request = FibonacciGoal(order=3)
         self.is_cancel_requested = False
         self.ended: str | None = None
+
+    def wait_for_cancel(self, timeout: float | None = None) -> bool:
+        deadline = time.monotonic() + (timeout or 0.0)
+        while not self.is_cancel_requested and time.monotonic() < deadline:
+            time.sleep(0.001)
+        return self.is_cancel_requested
 
     def succeed(self) -> None:
         self.ended = "succeeded"
