@@ -21,6 +21,7 @@ of that kind; other tests need nothing.
 
 from __future__ import annotations
 
+import signal
 import sys
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -30,6 +31,14 @@ from zenros.context import Context
 from zenros.node import Node
 from zenros.session import SessionOptions
 from zenros.testing import Proc, free_port, linked_contexts, unique_prefix, wait_for
+
+# A suite started in the background of a non-interactive shell (`.ci/run &`, a CI runner)
+# inherits SIGINT ignored, and so would every process it starts: a CLI command that stops on
+# Ctrl-C (``topic echo``, ``tf echo``, ``hz``, ``pub -r``) then ignored the tests' SIGINT and
+# was killed 10 s later (docs check: every streaming command 13.5 s, not 3.5). The suite's
+# processes get SIGINT as a terminal gives it; a handler, unlike SIG_IGN, is not inherited.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture
