@@ -21,6 +21,7 @@ of that kind; other tests need nothing.
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -39,6 +40,7 @@ from zenros.testing import Proc, free_port, linked_contexts, unique_prefix, wait
 # processes get SIGINT as a terminal gives it; a handler, unlike SIG_IGN, is not inherited.
 if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 @pytest.fixture
