@@ -96,7 +96,11 @@ class PolledSubscription(Generic[M]):
             if self.closed:
                 return out
             mono, wall = time.monotonic(), time.time_ns()
-            while (sample := self._channel.try_recv()) is not None:
+            # At most a ring's worth: what arrives while this drains is the next take's (a
+            # publisher still sending had made this loop return depth + 1 under load).
+            for _ in range(self._local.maxlen or 1):
+                if (sample := self._channel.try_recv()) is None:
+                    break
                 if misrouted(sample.attachment, self._tag):
                     self.misrouted += 1
                     continue
@@ -113,6 +117,7 @@ class PolledSubscription(Generic[M]):
                 if at >= newest_at:
                     local, newest_at, newest = msg, at, None
         out.arrivals.sort()
+        del out.arrivals[:-(self._local.maxlen or 1)]  # remote and in-process: the newest
         out.count = len(out.arrivals)
         if decode:
             out.latest = local if newest is None else self._decode(newest)

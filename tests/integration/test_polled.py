@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 import time
 from typing import Any
 
@@ -63,6 +64,28 @@ def _drain_into(sub: Any, got: Taken[Any], last: str) -> bool:
     if t.latest is not None:
         got.latest = t.latest
     return got.latest is not None and got.latest.data == last
+
+
+def test_a_take_while_samples_keep_coming_returns_at_most_a_ring(make_node: Any) -> None:
+    """Samples arriving while `take` drains are the next take's (a take under load once
+    counted depth + 1)."""
+    talker, reader = make_node("talker", 0), make_node("reader", 1)
+    sub = reader.create_polled_subscription(String, "chatter", 3)
+    pub = talker.create_publisher(String, "chatter")
+    assert pub.wait_for_subscribers(1, 5)
+    done = threading.Event()
+
+    def flood() -> None:
+        for k in range(3000):
+            pub.publish(String(data=str(k)))
+        done.set()
+
+    threading.Thread(target=flood, daemon=True).start()
+    counts: list[int] = []
+    while not done.is_set():
+        counts.append(sub.take(decode=False).count)
+    assert wait_for(lambda: _drain_into(sub, Taken(), "2999"), 5)
+    assert max(counts) <= 3 and sum(counts) > 0, counts[:50]
 
 
 def test_without_decode_arrivals_are_counted(make_node: Any) -> None:
