@@ -22,8 +22,10 @@ of that kind; other tests need nothing.
 from __future__ import annotations
 
 import os
+import resource
 import signal
 import sys
+import time
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -122,6 +124,36 @@ def procs() -> Iterator[list[Proc]]:
     yield started
     for p in started:
         p.stop()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption("--cpu-report", metavar="FILE", default=None,
+                     help="append a line per test: node id, CPU of the worker and of the "
+                          "children it reaped, wall time, start, worker (tests/README.md)")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None
+                            ) -> Iterator[None]:
+    """``--cpu-report FILE``: where the suite's CPU goes, a test at a time. A child's CPU
+    counts when it is reaped: a module's rig shows at the test that ends it."""
+    path = item.config.getoption("--cpu-report")
+    if not path:
+        yield
+        return
+    before, start, wall = _cpu(), time.time(), time.monotonic()
+    yield
+    after = _cpu()
+    with open(path, "a", encoding="utf-8") as f:
+        f.write(f"{item.nodeid}\t{after[0] - before[0]:.3f}\t{after[1] - before[1]:.3f}\t"
+                f"{time.monotonic() - wall:.3f}\t{start:.3f}\t"
+                f"{os.environ.get('PYTEST_XDIST_WORKER', '-')}\n")
+
+
+def _cpu() -> tuple[float, float]:
+    own, children = (resource.getrusage(w) for w in (resource.RUSAGE_SELF,
+                                                      resource.RUSAGE_CHILDREN))
+    return own.ru_utime + own.ru_stime, children.ru_utime + children.ru_stime
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the groups
