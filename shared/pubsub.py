@@ -16,7 +16,7 @@ from zenoh import ext as zext
 from .callbacks import make_dispatch
 from .codec import codec_for
 from .context import is_session_failure
-from .errors import CodecError, EncodeError
+from .errors import CodecError, EncodeError, NodeClosedError
 from .executor import CallbackGroup
 from .gate import DeliveryGate, Held
 from .keytag import key_tag, misrouted
@@ -133,7 +133,10 @@ class Publisher(Generic[M]):
         return True
 
     def publish(self, msg: M) -> None:
-        """Send ``msg`` to every subscriber; raises `EncodeError` for a message of another type."""
+        """Send ``msg`` to every subscriber; raises `EncodeError` for a message of another type,
+        `NodeClosedError` once the publisher is closed."""
+        if self.closed:
+            raise NodeClosedError(f"the publisher on {self.topic} is closed")
         if type(msg) is not self.msg_type:
             raise EncodeError(
                 f"{self.topic} carries {self.type_name}, got {type(msg).__name__}"
@@ -145,7 +148,12 @@ class Publisher(Generic[M]):
                 data = self._encode(msg)
             except (TypeError, ValueError, NotImplementedError) as exc:
                 raise EncodeError(f"cannot encode {self.type_name} on {self.topic}: {exc}") from exc
-            self._put(data)
+            try:
+                self._put(data)
+            except (zenoh.ZError, RuntimeError):  # undeclared, or "Already mutably borrowed"
+                if self.closed:  # close() came between the check above and the put
+                    raise NodeClosedError(f"the publisher on {self.topic} is closed") from None
+                raise
 
     @property
     def subscription_count(self) -> int:
@@ -153,13 +161,31 @@ class Publisher(Generic[M]):
         return len(self._local.subs) + int(bool(self._remote))
 
     def close(self) -> None:
+        """Undeclare the publisher; `publish` refuses from now on. Safe while another thread
+        is in `publish`: its put ends first."""
         if self.closed:
             return
         self.closed = True
         if self._matching is not None:
             self._matching.undeclare()
         self._token.undeclare()  # type: ignore[no-untyped-call]
-        self._pub.undeclare()
+        undeclare_when_free(self._pub)
+
+
+def undeclare_when_free(entity: Any, timeout: float = 5.0) -> None:
+    """Undeclare a Zenoh entity that another thread may be using. zenoh-python refuses
+    (RuntimeError "Already borrowed") while a call on it is in progress in another thread (a
+    ``put``, a matching status read), and such a call ends within milliseconds: try again
+    until it has, for at most ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            entity.undeclare()
+            return
+        except RuntimeError as exc:
+            if "borrowed" not in str(exc) or time.monotonic() >= deadline:
+                raise
+            time.sleep(0.0005)
 
 
 class MessageInfo:

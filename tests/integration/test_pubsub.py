@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import zenoh
 from zenros import QOS_LATCHED, QOS_SENSOR, EncodeError, MutuallyExclusiveCallbackGroup
+from zenros.errors import NodeClosedError
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.sensor_msgs import LaserScan
 from zenros.msgs.std_msgs import Int64, String
@@ -168,6 +169,41 @@ def test_publishing_the_wrong_type_raises(make_node: Any) -> None:
     pub = make_node("a", 0).create_publisher(Twist, "cmd_vel")
     with pytest.raises(EncodeError, match="geometry_msgs/Twist"):
         pub.publish(String(data="oops"))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("latched", [False, True])
+def test_close_while_another_thread_publishes(make_node: Any, latched: bool) -> None:
+    """close() from one thread while another is in publish(): zenoh-python refused to
+    undeclare a publisher mid-put ("Already borrowed"), leaving it half closed. Now close()
+    returns, and the publishing thread's next publish() says the publisher is closed."""
+    talker, listener = make_node("talker", 0), make_node("listener", 1)
+    got = Collector[String]()
+    listener.create_subscription(String, "chatter", got)
+    qos = QOS_LATCHED if latched else QoSProfile()
+    for _ in range(5):
+        pub = talker.create_publisher(String, "chatter", qos)
+        assert pub.wait_for_subscribers(1, 5)
+        ended: list[BaseException] = []
+        sent = threading.Event()
+
+        def flood(p: Any = pub, out: list[BaseException] = ended, ev: threading.Event = sent
+                  ) -> None:
+            try:
+                while True:
+                    p.publish(String(data="x" * 100))
+                    ev.set()
+            except BaseException as exc:  # noqa: BLE001 what ended it is the point
+                out.append(exc)
+
+        thread = threading.Thread(target=flood, daemon=True)
+        thread.start()
+        assert sent.wait(5)
+        pub.close()
+        thread.join(5)
+        assert not thread.is_alive()
+        assert [type(e) for e in ended] == [NodeClosedError], ended
+        assert "closed" in str(ended[0])
+    assert got.wait(1, 5)
 
 
 def test_stock_zenoh_subscriber_reads_json(make_node: Any, ctx_pair: Any) -> None:
