@@ -81,14 +81,20 @@ class GoalRunner:
         if not (plan.preempt or plan.drop or plan.start):
             return []
         active = self.table.active
+        launch = []
         for key in plan.preempt:
-            self.request_cancel(active[key])
+            h = active.get(key)
+            if h is None:  # it ended without leaving the scheduler: what may run now, runs
+                self._logger.warning("action %s: goal %s had ended but was still scheduled as "
+                                     "running; dropped from the schedule", self.name, key.hex())
+                launch += self._apply(self.sched.finish(key))
+                continue
+            self.request_cancel(h)
         for key in plan.drop:
             h = active[key]
             h.transition(GoalEvent.CANCEL_GOAL)
             h.transition(GoalEvent.CANCELED)
             self._retire(h, self._result_type())
-        launch = []
         for key in plan.start:
             h = active[key]
             h.transition(GoalEvent.EXECUTE)

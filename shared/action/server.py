@@ -258,7 +258,13 @@ class ActionServer(Generic[G, R, F]):
                 handle._owed = query
                 handle._waiters.append(query)
             else:
-                self._respond(query, True, "", handle, finalize=not hold)
+                try:
+                    self._respond(query, True, "", handle, finalize=not hold)
+                except zenoh.ZError as exc:  # the client is gone (closed, timed out): the
+                    # goal was accepted all the same and runs (launched below), as in _settle
+                    self.logger.debug("action %s: acceptance of goal %s not sent: %s",
+                                      self.name, handle.goal_id, exc)
+                    hold = False
                 if hold:
                     if handle._result is None:
                         handle._waiters.append(query)

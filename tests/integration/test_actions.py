@@ -174,6 +174,26 @@ def test_simple_policy_new_goal_preempts_the_running_one(pair: Any) -> None:
     assert second.result(10).status is GoalStatus.CANCELED
 
 
+def test_simple_policy_a_goal_the_schedule_still_runs_after_it_ended_is_dropped(
+    pair: Any, caplog: pytest.LogCaptureFixture
+) -> None:
+    """The scheduler and the goal table disagreeing (a goal scheduled as running that had
+    ended, seen once under load in nav's drive_on_heading): the next goal's preemption of it
+    raised KeyError and the goal was refused. Now the stale entry is dropped with a warning
+    and the new goal runs."""
+    server, client = pair(fibonacci, policy="simple")
+    stale = uuid.uuid4().bytes
+    with server.lock:
+        server._runner.sched.running.append(stale)  # as if it had ended without finish()
+    with caplog.at_level(logging.WARNING):
+        h = client.send_goal_async(goal(5))
+        res = h.result(10)
+    assert res.status is GoalStatus.SUCCEEDED and res.result.sequence == [0, 1, 1, 2, 3, 5]
+    assert stale.hex() in caplog.text and "still scheduled as running" in caplog.text
+    assert stale not in server._runner.sched.running
+    assert client.send_goal_async(goal(3)).result(10).status is GoalStatus.SUCCEEDED
+
+
 def test_simple_policy_a_newer_goal_replaces_a_waiting_one(pair: Any) -> None:
     rec = Recorder(hold_canceled=True)  # `a` stays CANCELING until released: no race with c
     _, client = pair(rec, policy="simple")
