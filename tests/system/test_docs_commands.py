@@ -39,7 +39,7 @@ from zenros.testing import Proc, free_port, store_on_master, unique_prefix, wait
 pytestmark = pytest.mark.system
 
 ROOT = Path(__file__).resolve().parents[2]
-GRACE = 3.0  # a command still running this long after its first output is a streaming one
+GRACE = 1.5  # a command still running this long after its first output is a streaming one
 COMMAND_LIMIT = 45.0  # a command that neither ends nor prints fails after this long
 LAUNCHED = "zenros launch deploy/launch/sim.yaml"  # what the check runs: not run again
 GATEWAY_PORTS = {"rest_port": 3546, "ws_port": 3547, "modbus_port": 3551, "rosbridge_port": 9090}
