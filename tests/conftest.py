@@ -25,7 +25,9 @@ import os
 import resource
 import signal
 import sys
+import threading
 import time
+import traceback
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -154,6 +156,26 @@ def _cpu() -> tuple[float, float]:
     own, children = (resource.getrusage(w) for w in (resource.RUSAGE_SELF,
                                                       resource.RUSAGE_CHILDREN))
     return own.ru_utime + own.ru_stime, children.ru_utime + children.ru_stime
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]
+                              ) -> Iterator[None]:
+    """A failed test's report carries the stack of every thread of the process when it
+    failed: a rig in this process (a nav, a chassis, an action server) stuck on a lock or a
+    callback shows where, which a failure seen once under load otherwise never tells."""
+    outcome = yield
+    report = outcome.get_result()
+    if report.failed and call.excinfo is not None \
+            and not call.excinfo.errisinstance(KeyboardInterrupt):
+        report.sections.append(("threads at the failure", _thread_stacks()))
+
+
+def _thread_stacks() -> str:
+    names = {t.ident: t.name for t in threading.enumerate()}
+    return "\n".join(
+        f"--- {names.get(ident, '?')} ({ident})\n" + "".join(traceback.format_stack(frame))
+        for ident, frame in sys._current_frames().items())
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the groups

@@ -16,7 +16,12 @@ from .http.fleet import ROBOTS, FleetApi
 from .ports.topic_hub import TopicError, TopicHub
 from .robot import Robot, RobotOptions, RobotView, robot_name
 
-__all__ = ["Fleet"]
+__all__ = ["LOOK_PERIOD", "Fleet"]
+
+LOOK_PERIOD = 2.0
+"""Seconds between two looks at the graph for robots not served yet, besides the look each
+graph change asks for: a robot whose change was missed, or that could not be built, is
+served at the next look (a ten-robot fleet on a loaded box once left one robot unserved)."""
 
 
 class Fleet:
@@ -49,6 +54,7 @@ class Fleet:
         self.discovers = discover
         self._pending = threading.Event()  # a look at the graph is on its way
         self._loop: asyncio.AbstractEventLoop | None = None
+        self._failed: dict[str, str] = {}  # robot -> why it could not be built (logged once)
         for name in dict.fromkeys([*chosen, default]):
             self.add(name)
 
@@ -78,6 +84,13 @@ class Fleet:
         graph = self.node.context.graph
         self.node.on_close(graph.add_listener(lambda ev, tok: self._discover_soon()))
         self._discover_soon()  # the robots already there
+        loop.call_soon_threadsafe(self._look_again)
+
+    def _look_again(self) -> None:  # on the loop, every LOOK_PERIOD until the node closes
+        if self.node.closed or self._loop is None:
+            return
+        self.discover()
+        self._loop.call_later(LOOK_PERIOD, self._look_again)
 
     def _discover_soon(self) -> None:  # on Zenoh's thread: the work goes to the loop
         if self._loop is None or self.node.closed or self._pending.is_set():
@@ -100,9 +113,14 @@ class Fleet:
                 self.add(name)
             except NodeClosedError:
                 return
-            except Exception:  # one robot that cannot be built never stops the others
-                self.node.logger.exception("cannot serve robot %s", name)
+            except Exception as exc:  # one robot that cannot be built never stops the others
+                why = f"{type(exc).__name__}: {exc}"
+                if self._failed.get(name) != why:  # tried again at each look: logged once
+                    self._failed[name] = why
+                    self.node.logger.exception("cannot serve robot %s (tried again every "
+                                               "%g s)", name, LOOK_PERIOD)
                 continue
+            self._failed.pop(name, None)
             self.node.logger.info("serving robot %s (found in the graph)", name)
 
     def names(self) -> list[str]:

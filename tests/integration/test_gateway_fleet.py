@@ -166,6 +166,39 @@ def test_robots_found_in_the_graph(ctx_pair: list[Context], tmp_path: Path,
         assert r.json() == {"status": "Free"}
 
 
+def test_a_robot_that_could_not_be_built_is_served_at_a_later_look(
+        ctx_pair: list[Context], tmp_path: Path, make_node: object,
+        monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture) -> None:
+    """Each graph change asks for a look, and the gateway also looks every LOOK_PERIOD: a
+    robot whose first build failed (or whose change was missed) is served at a later look,
+    and the failure is logged once, not at every look."""
+    from zenros.services.gateway import fleet
+
+    builds: list[str] = []
+    real = fleet.RobotView
+
+    def flaky(namespace: str, *args: object, **kwargs: object) -> object:
+        builds.append(namespace)
+        if namespace == "/robot7" and builds.count("/robot7") <= 3:
+            raise RuntimeError("robot7's first builds fail")
+        return real(namespace, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(fleet, "RobotView", flaky)
+    with running_gateway(ctx_pair[0], tmp_path, discover_robots=True, default_robot="robot1",
+                         no_token_check=True) as gw:
+        base = f"http://127.0.0.1:{gw.rest_port}/api/v1"
+
+        def names() -> list[str]:
+            return [r["name"] for r in httpx.get(f"{base}/robots").json()["robots"]]
+
+        make_node("chassis", 1, namespace="/robot7")  # type: ignore[operator]
+        assert wait_for(lambda: names() == ["robot1", "robot7"], 10 + 4 * fleet.LOOK_PERIOD), \
+            (names(), builds)
+        assert builds.count("/robot7") == 4, builds  # three failed, the fourth served it
+    failures = [r for r in caplog.records if "cannot serve robot robot7" in r.getMessage()]
+    assert len(failures) == 1, [r.getMessage() for r in failures]
+
+
 @pytest.mark.parametrize(("params", "words"), [
     ({"robots": ["robot1", "a/b"]}, "robot name 'a/b': expected a namespace of one chunk"),
     ({"robots": ["robot 1"]}, "robot name 'robot 1'"),
