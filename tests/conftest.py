@@ -128,6 +128,39 @@ def procs() -> Iterator[list[Proc]]:
         p.stop()
 
 
+def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
+    """``-n auto`` (README's command 2, `.ci/run`): one worker more than the cores when the
+    box is idle, as many as the cores when something else keeps it busy.
+
+    Most tests wait (a sim driving, a link outage, a process starting), and the workers end
+    together, so on an idle 2-core box a third worker fills the waits: `.ci/run` 338 s against
+    462 s. Beside a CPU hog, three workers starved in-process rigs past their 1 s Zenoh lease
+    (tests/README.md), so a busy box gets one worker per core, as ``make -l`` starts no new
+    job above a load. Busy: more than half a core in use over a quarter of a second, by
+    /proc/stat (one worker per core where there is no /proc/stat).
+    """
+    cores = os.cpu_count() or 1
+    busy = _cores_in_use(0.25)
+    return cores if busy is None or busy > 0.5 else cores + 1
+
+
+def _cores_in_use(seconds: float) -> float | None:
+    """How many cores were busy over the next ``seconds``; None without /proc/stat."""
+    def sample() -> tuple[int, int]:
+        with open("/proc/stat", encoding="ascii") as f:
+            ticks = [int(v) for v in f.readline().split()[1:]]
+        return sum(ticks), ticks[3] + ticks[4]  # all, idle + iowait
+
+    try:
+        total0, idle0 = sample()
+        time.sleep(seconds)  # a measurement over an interval, not a wait for a condition
+        total1, idle1 = sample()
+    except (OSError, ValueError, IndexError):
+        return None
+    total = total1 - total0
+    return (os.cpu_count() or 1) * (total - (idle1 - idle0)) / total if total > 0 else None
+
+
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption("--cpu-report", metavar="FILE", default=None,
                      help="append a line per test: node id, CPU of the worker and of the "
