@@ -162,9 +162,11 @@ class GoalRunner:
                                    "default result", self.name, type(result).__name__,
                                    self._result_type.__name__)
                 result = self._result_type()
-            self._retire(h, result)
-            launch = self._apply(self.sched.finish(h._key))
-            self._idle.notify_all()
+            try:
+                self._retire(h, result)
+            finally:  # whatever answering its requests raised, the next goal starts
+                launch = self._apply(self.sched.finish(h._key))
+                self._idle.notify_all()
         self.launch(launch)
 
     def _retire(self, h: Handle, result: Any) -> None:

@@ -289,14 +289,22 @@ class ActionServer(Generic[G, R, F]):
         return "rejected by the goal callback"
 
     def _settle(self, h: Handle) -> None:
-        """Locked: send ``h``'s acceptance if it still owes it."""
-        query, h._owed = h._owed, None
-        if query is not None:
-            try:
-                self._respond(query, True, "", h, finalize=False)
-            except zenoh.ZError as exc:  # the query is gone (its client closed, timed out)
-                self.logger.debug("action %s: acceptance of goal %s not sent: %s", self.name,
-                                  h.goal_id, exc)
+        """Send ``h``'s acceptance if it still owes it. Takes the lock: the watchdog (a goal
+        past DETACH_DELAY), the goal's own thread (its first feedback) and `_deliver` (its
+        result) may each reach for the owed query, and zenoh-python refuses a second thread
+        on a query in use ("Already borrowed": seen beside a CPU hog, where it left a
+        preempted goal in the schedule and the next goal never started)."""
+        if h._owed is None:  # the usual case, feedback after the acceptance: no lock
+            return
+        with self.lock:
+            query, h._owed = h._owed, None
+            if query is not None:
+                try:
+                    self._respond(query, True, "", h, finalize=False)
+                except (zenoh.ZError, RuntimeError) as exc:  # the query is gone (client
+                    # closed, timed out) or refused: the goal runs on, its result still goes
+                    self.logger.debug("action %s: acceptance of goal %s not sent: %s: %s",
+                                      self.name, h.goal_id, type(exc).__name__, exc)
 
     def _respond(self, query: zenoh.Query, accepted: bool, reason: str,
                  handle: Handle | None = None, finalize: bool = True) -> None:
@@ -387,7 +395,12 @@ class ActionServer(Generic[G, R, F]):
         enc = self._enc[self._wire.GetResultResponse]
         owed, h._owed = h._owed, None
         for w in h._waiters:
-            answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
+            try:
+                answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
+            except (zenoh.ZError, RuntimeError) as exc:  # one request gone (its client
+                # closed or timed out) never keeps the others, or the goal's end, waiting
+                self.logger.warning("action %s: result of goal %s not sent to a request: "
+                                    "%s: %s", self.name, h.goal_id, type(exc).__name__, exc)
 
     # ------------------------------------------------------------------ GoalHost (the handles)
 

@@ -194,6 +194,64 @@ def test_simple_policy_a_goal_the_schedule_still_runs_after_it_ended_is_dropped(
     assert client.send_goal_async(goal(3)).result(10).status is GoalStatus.SUCCEEDED
 
 
+class _BusyQuery:
+    """A result request zenoh-python refuses to touch, as it does a query another thread is
+    replying to ("Already borrowed"); records whether the server's lock was held."""
+
+    def __init__(self, server: ActionServer) -> None:
+        self.server = server
+        self.key_expr = "busy"
+        self.locked: list[bool] = []
+
+    def reply(self, *args: Any, **kwargs: Any) -> None:
+        self.locked.append(self.server.lock._is_owned())  # type: ignore[attr-defined]
+        raise RuntimeError("Already borrowed")
+
+    def drop(self) -> None:
+        raise RuntimeError("Already borrowed")
+
+
+def test_a_result_request_that_cannot_be_answered_keeps_no_goal_waiting(
+    pair: Any, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Seen beside a CPU hog: answering a preempted goal's result request raised (another
+    thread held the query), the goal's end stopped halfway (retired, still scheduled as
+    running) and the goal that preempted it never started. Now the request is logged and
+    skipped, the other requests get the result, and the next goal runs."""
+    server, client = pair(until_canceled, policy="simple")
+    first = client.send_goal_async(goal(1))
+    assert wait_for(lambda: first.status is GoalStatus.EXECUTING, 10)
+    busy = _BusyQuery(server)
+    with server.lock:
+        server._table.lookup(first.goal_id.bytes)._waiters.append(busy)
+    with caplog.at_level(logging.WARNING):
+        second = client.send_goal_async(goal(2))
+        assert first.result(10).status is GoalStatus.CANCELED  # the real request answered
+        assert wait_for(lambda: second.status is GoalStatus.EXECUTING, 10)
+    assert busy.locked == [True]
+    assert "not sent to a request: RuntimeError: Already borrowed" in caplog.text
+    assert client.cancel_goal(second.goal_id) is not None
+    assert second.result(10).status is GoalStatus.CANCELED
+
+
+def test_an_owed_acceptance_is_sent_under_the_servers_lock(pair: Any) -> None:
+    """The watchdog (a goal past DETACH_DELAY) and the goal's first feedback send a held
+    acceptance from their own threads, while the goal's end may answer the same query:
+    `_settle` takes the server's lock, as `_deliver` runs under it, and a refused reply
+    stops nothing."""
+    server, client = pair(fibonacci, policy="simple")
+    done = client.send_goal_async(goal(2))
+    assert done.result(10).status is GoalStatus.SUCCEEDED
+    with server.lock:
+        h = server._table.lookup(done.goal_id.bytes)
+    busy = _BusyQuery(server)
+    h._owed = busy
+    server._settle(h)
+    assert busy.locked == [True] and h._owed is None
+    server._settle(h)  # owed nothing now: no reply
+    assert busy.locked == [True]
+
+
 def test_simple_policy_a_newer_goal_replaces_a_waiting_one(pair: Any) -> None:
     rec = Recorder(hold_canceled=True)  # `a` stays CANCELING until released: no race with c
     _, client = pair(rec, policy="simple")
