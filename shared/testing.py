@@ -62,14 +62,19 @@ def loopback_options(port: int | None = None, connect: Sequence[int] = ()) -> Se
 
 @contextmanager
 def linked_contexts(n: int = 2, prefix: str | None = None) -> Iterator[list[Context]]:
-    """``n`` contexts (separate Zenoh sessions) meshed on loopback, sharing one prefix."""
+    """``n`` contexts (separate Zenoh sessions) meshed on loopback, sharing one prefix.
+
+    Each connects to every one before it by its configured endpoints, not by gossip: Zenoh
+    1.10 connects again to a configured endpoint whose link was lost (a lease that ran out
+    while a loaded box starved the process), but never to a peer it had found by gossip, and
+    a router no longer forwards between two peers that lost their direct link (Zenoh 1.9
+    removed the failover brokering), so those two stay apart for good."""
     prefix = prefix or unique_prefix()
-    first = free_port()
+    ports = [free_port() for _ in range(n)]
     ctxs: list[Context] = []
     try:
-        ctxs.append(Context(loopback_options(first), prefix=prefix))
-        for _ in range(n - 1):
-            ctxs.append(Context(loopback_options(connect=[first]), prefix=prefix))
+        for i, port in enumerate(ports):
+            ctxs.append(Context(loopback_options(port, connect=ports[:i]), prefix=prefix))
         yield ctxs
     finally:
         for c in reversed(ctxs):
