@@ -328,7 +328,8 @@ def test_native_pause_resume_cancel_act_on_the_running_task(rig: Rig) -> None:
     rig.gw.core.send_native(b"i\x01")          # resume
     assert wait_for(lambda: state() == "WORKING", 10)
     rig.gw.core.send_native(b"i\x02")          # cancel
-    assert wait_for(lambda: state() == "CANCELLED", 10)
+    assert wait_for(lambda: state() == "CANCELLED", 10), \
+        rig.http.get("/task", params={"id": task["id"]}).json()  # once (quiet, -n 3): not so
 
 
 def test_put_speed_moves_the_robot_and_the_deadman_stops_it(rig: Rig) -> None:
