@@ -51,6 +51,24 @@ SERVER_WAIT: Final = 5.0
 RELOCALISED: Final = (0.05, 0.05)  # m, rad: robot_pose this close to an initial pose
 
 
+def cancel_and_wait(handle: Any, timeout: float) -> None:
+    """Cancel a goal and wait (up to ``timeout`` s in all) for its end. A goal sent an
+    instant ago may not be known to its server yet: a cancel that overtakes it is refused
+    (unknown goal id) and the goal would run to its end (a task stopped right after a resume
+    went on driving). So a refused cancel is asked again once the goal is accepted."""
+    deadline = time.monotonic() + timeout
+    try:
+        while True:
+            known = handle.accepted is not None  # the server had answered the goal
+            if handle.cancel(max(0.0, deadline - time.monotonic())) or handle.done or known:
+                break  # canceling, ended, or refused by a server that knew the goal
+            if not handle.wait_accepted(max(0.0, deadline - time.monotonic())):
+                break  # rejected: nothing runs
+        handle.result(max(0.0, deadline - time.monotonic()))
+    except ZenrosError:
+        pass
+
+
 class RobotLink:
     """Implements `Robot` for a tasks node; every call is bounded in time and cancellable."""
 
@@ -207,11 +225,7 @@ class RobotLink:
             handle = client.send_goal_async(goal, on_feedback)
             while not handle.done:
                 if cancelled() or (timeout > 0 and self.now() - start > timeout):
-                    try:
-                        handle.cancel()
-                        handle.result(SERVER_WAIT)
-                    except ZenrosError:
-                        pass
+                    cancel_and_wait(handle, SERVER_WAIT)
                     if cancelled():
                         return Outcome("preempted")
                     return Outcome("error", f"{what}: not done within {timeout:g} s")
