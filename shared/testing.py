@@ -13,10 +13,12 @@ import time
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, Generic, Self, TypeVar
 
 from .clock import ManualClock, Time
 from .context import Context
+from .errors import StartupError
 from .session import SessionOptions
 
 __all__ = [
@@ -38,12 +40,54 @@ __all__ = [
 T = TypeVar("T")
 
 
-def free_port() -> int:
-    """A TCP port on 127.0.0.1 that nothing listens on right now."""
+_LOWEST_PORT = 10000
+_port_lock = threading.Lock()
+_next_port = (0, 0)  # (pid, port): a forked child starts its own walk
+
+
+def _ephemeral_floor() -> int:
+    """The lowest port the kernel gives an outgoing connection (Linux; 32768 elsewhere)."""
+    try:
+        return int(Path("/proc/sys/net/ipv4/ip_local_port_range").read_text().split()[0])
+    except (OSError, ValueError, IndexError):
+        return 32768
+
+
+def _bindable(port: int) -> bool:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
+        try:
+            s.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+        return True
+
+
+def free_port() -> int:
+    """A TCP port on 127.0.0.1 that nothing uses right now, below the kernel's ephemeral range.
+
+    The port stays free until its user binds it: an outgoing connection, whose local port the
+    kernel picks from the ephemeral range, cannot take it in between (a port from ``bind(0)``
+    could be, and was: a Zenoh listener then failed with "Address already in use"). Each
+    process walks the range from its own starting point, so parallel test processes seldom
+    pick the same port."""
+    global _next_port
+    floor = _ephemeral_floor()
+    span = floor - _LOWEST_PORT
+    if span < 1000:  # a kernel that hands out (nearly) every port: let it choose
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+            s.bind(("127.0.0.1", 0))
+            chosen: int = s.getsockname()[1]
+            return chosen
+    with _port_lock:
+        pid, port = _next_port
+        if pid != os.getpid():
+            port = _LOWEST_PORT + (os.getpid() * 7919) % span
+        for _ in range(span):
+            _next_port = (os.getpid(), _LOWEST_PORT + (port + 1 - _LOWEST_PORT) % span)
+            if _bindable(port):
+                return port
+            port = _next_port[1]
+    raise RuntimeError(f"no free TCP port on 127.0.0.1 in {_LOWEST_PORT}..{floor - 1}")
 
 
 def unique_prefix() -> str:
@@ -70,15 +114,29 @@ def linked_contexts(n: int = 2, prefix: str | None = None) -> Iterator[list[Cont
     a router no longer forwards between two peers that lost their direct link (Zenoh 1.9
     removed the failover brokering), so those two stay apart for good."""
     prefix = prefix or unique_prefix()
-    ports = [free_port() for _ in range(n)]
+    ports: list[int] = []
     ctxs: list[Context] = []
     try:
-        for i, port in enumerate(ports):
-            ctxs.append(Context(loopback_options(port, connect=ports[:i]), prefix=prefix))
+        for _ in range(n):
+            ctx, port = _context_listening(prefix, connect=ports)
+            ctxs.append(ctx)
+            ports.append(port)
         yield ctxs
     finally:
         for c in reversed(ctxs):
             c.close()
+
+
+def _context_listening(prefix: str, connect: Sequence[int], attempts: int = 3) -> tuple[Context, int]:
+    """A context listening on a free port; another port when something took it meanwhile."""
+    for attempt in range(attempts):
+        port = free_port()
+        try:
+            return Context(loopback_options(port, connect=connect), prefix=prefix), port
+        except StartupError as e:
+            if "Address already in use" not in str(e) or attempt == attempts - 1:
+                raise
+    raise AssertionError("unreachable")
 
 
 def wait_for(pred: Callable[[], Any], timeout: float = 5.0, interval: float = 0.005) -> bool:
