@@ -18,7 +18,6 @@ from zenros.se2 import Pose2, angle_diff
 
 from .behavior import Behavior, Sense
 from .collision import first_collision
-from .recovery import Spin as SpinControl
 
 __all__ = ["DriveOnHeading", "LocalMoveTarget", "MoveCodes", "SpinInPlace"]
 
@@ -108,22 +107,30 @@ class DriveOnHeading(_Timed):
 
 
 class SpinInPlace(_Timed):
-    """Turn in place by ``angle`` radians (+ counter-clockwise), with recovery's spin
-    control law (`recovery.Spin`: fast while far, slowing over the last radian)."""
+    """Turn in place by ``angle`` radians (+ counter-clockwise), fast while far and slowing
+    over the last radian (recovery's spin law), done within ``tolerance`` of the angle.
+
+    The rotation is tracked signed, so a turn that went past the mark (a control tick late
+    on a loaded machine, the robot turning on meanwhile: 0.11 rad at a sim speed of 10)
+    turns back to it rather than ending off by the overshoot."""
 
     name = "spin"
 
     def __init__(self, angle: float, speed: float, time_allowance: float,
-                 codes: MoveCodes) -> None:
+                 codes: MoveCodes, tolerance: float = 0.02) -> None:
         super().__init__(time_allowance, codes)
-        self.angle = angle
-        self.control = SpinControl(angle, speed, timeout=math.inf)
-        self.turned = 0.0
+        self.angle, self.speed, self.tolerance = angle, abs(speed), tolerance
+        self.rotated = 0.0  # signed, + counter-clockwise
         self._last: float | None = None
+
+    @property
+    def turned(self) -> float:
+        """How far the robot has turned from its start (Nav2's angular_distance_traveled)."""
+        return abs(self.rotated)
 
     def measure(self, pose: Pose2) -> None:
         if self._last is not None:
-            self.turned += abs(angle_diff(pose.theta, self._last))
+            self.rotated += angle_diff(pose.theta, self._last)
         self._last = pose.theta
 
     def tick(self, s: Sense) -> tuple[float, float]:
@@ -131,10 +138,10 @@ class SpinInPlace(_Timed):
             return 0.0, 0.0
         assert s.pose is not None
         self.measure(s.pose)
-        cmd = self.control.tick(s)
-        if self.control.done:
+        left = self.angle - self.rotated
+        if abs(left) <= self.tolerance:
             return self.finish(True)
-        return cmd
+        return 0.0, math.copysign(min(self.speed, max(0.2, 2.0 * abs(left))), left)
 
 
 class LocalMoveTarget(_Timed):

@@ -93,6 +93,30 @@ def test_spin_turns_the_angle_both_ways() -> None:
     assert b.error_code == SpinResult.TIMEOUT
 
 
+def test_spin_turns_back_when_a_late_tick_let_it_overshoot() -> None:
+    """A control tick late on a loaded machine: the base turned on at its last command past
+    the mark (a local move at sim speed 10 ended 0.11 rad off so in CI). The spin turns back
+    to the angle instead of ending off by the overshoot."""
+    world = Unicycle(Pose2(0, 0, 1.0))
+    b = SpinInPlace(0.8, 1.0, 0.0, SPIN_CODES)
+    overshot = False
+    for _ in range(600):
+        v, w = b.step(Sense(now=world.t, dt=DT, pose=world.pose, obstacles=np.zeros((0, 2))))
+        if b.done.is_set():
+            break
+        # the tick that would have slowed it 0.3 rad before the mark comes 1 s late
+        late = not overshot and 0.8 - (world.pose.theta - 1.0) < 0.3
+        for _ in range(20 if late else 1):
+            world.pose = Pose2(0, 0, world.pose.theta + w * DT)
+            world.t += DT
+        if late:
+            overshot = True
+            assert world.pose.theta - 1.0 > 0.8 + 0.05  # past the mark
+    assert overshot
+    assert b.succeeded, b.error_msg
+    assert abs(angle_diff(world.pose.theta, 1.8)) <= 0.02 and abs(b.turned - 0.8) <= 0.02
+
+
 def _target(goal: Pose2, relative: bool, start_rotate: bool, target_rotate: bool
             ) -> LocalMoveTarget:
     return LocalMoveTarget(goal, relative, 0.02, 0.03, 0.0, start_rotate, target_rotate,
