@@ -3,8 +3,8 @@
 Encoding a 2 MB OccupancyGrid as JSON takes 100-160 ms in one C call (msgspec), and a C call
 keeps the GIL throughout: every other Python thread (Zenoh's receive thread, an event loop
 sending small messages) stops for that long. `json_chunks` encodes a message's big arrays
-slice by slice (`CHUNK` elements, a few ms each) and `encode_yielding` gives the GIL away
-between slices; `BulkEncoder` runs that on a worker thread of its own, so the thread that
+slice by slice (`CHUNK` elements, a few ms each) and `encode_yielding` rests between slices
+(`PACE`), giving the GIL away and leaving most of a core to the small messages; `BulkEncoder` runs that on a worker thread of its own, so the thread that
 received the message returns at once. The bytes are exactly `zenros.codec.json_bytes`'s.
 """
 
@@ -20,13 +20,16 @@ import numpy as np
 
 from .codec import json_bytes
 
-__all__ = ["BULK_ELEMENTS", "CHUNK", "BulkEncoder", "encode_yielding", "is_bulky",
+__all__ = ["BULK_ELEMENTS", "CHUNK", "PACE", "BulkEncoder", "encode_yielding", "is_bulky",
            "json_chunks"]
 
 CHUNK = 8192
 """Array elements encoded in one C call (well under 1 ms on a quiet machine of this class)."""
 BULK_ELEMENTS = 65536
 """A message with an array at least this long is encoded off the receiving thread."""
+PACE = 2.0
+"""`encode_yielding` rests this many times as long as each piece took: the encoding of a
+large message takes at most a third of a core."""
 
 
 def _fields(obj: msgspec.Struct) -> tuple[str, ...]:
@@ -69,13 +72,23 @@ def json_chunks(obj: Any, threshold: int = CHUNK) -> Iterator[bytes]:
         yield json_bytes(obj)
 
 
-def encode_yielding(obj: Any) -> bytes:
-    """``json_bytes(obj)``, giving the GIL to other threads between pieces."""
+def encode_yielding(obj: Any, rest: float = PACE) -> bytes:
+    """``json_bytes(obj)``, resting ``rest`` times as long as each piece took before the next.
+
+    The rest releases the GIL, so a waiting thread runs now, not after the whole map, and it
+    paces the encoding: at the default (`PACE`), a 2 MB map's 20-30 ms of encoding is spread
+    over three times as long and takes at most a third of a core meanwhile, which leaves
+    the rest to the small messages that arrive during it (docs/rosbridge.md, "Large
+    messages"). ``rest=0`` only gives the GIL away."""
     parts = []
-    for part in json_chunks(obj):
+    pieces, clock = json_chunks(obj), time.perf_counter
+    while True:
+        t0 = clock()
+        part = next(pieces, None)  # a piece is encoded here
+        if part is None:
+            return b"".join(parts)
         parts.append(part)
-        time.sleep(0)  # releases the GIL: a waiting thread runs now, not after the whole map
-    return b"".join(parts)
+        time.sleep(rest * (clock() - t0))
 
 
 class BulkEncoder:

@@ -20,6 +20,7 @@ from zenros.msgs.geometry_msgs import Twist
 from zenros.msgs.rosgraph_msgs import Clock
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
+from zenros.services.gateway.http import ws_protocol
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.testing import running_gateway
 from zenros.services.gateway.ws_slices import SLICE
@@ -173,6 +174,28 @@ async def test_a_large_message_goes_in_slices_and_replies_wait_for_its_end(
     assert max(len(p) for _, _, p in frames) == SLICE
     assert json.loads(b"".join(p for _, _, p in frames)) == {"data": text}
     assert len(error) == 1 and json.loads(error[0][2])["status"] == "error"
+
+
+async def test_a_large_messages_slices_are_paced(
+        gw: GatewayNode, make_node: object, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Slices of one large message go out `SLICE_PAUSE` apart (a 5 MB map over 80 ms, not
+    all at once to every client: on a small machine that burst delayed every other topic's
+    frames); here the pause is a quarter second, so the four slices take three of them."""
+    monkeypatch.setattr(ws_protocol, "SLICE_PAUSE", 0.25)
+    pubnode = make_node("bulk", 1)  # type: ignore[operator]
+    pub = pubnode.create_publisher(String, "paced_text", 10)
+    assert await asyncio.to_thread(
+        gw.graph.wait_for, lambda: bool(gw.graph.publishers("/paced_text")), 5)
+    text = "p" * (3 * SLICE + 5)
+    async with connect(f"ws://127.0.0.1:{gw.ws_port}/paced_text?token={token_of(gw)}",
+                       max_size=None) as ws:
+        assert await asyncio.to_thread(
+            wait_for, lambda: len(gw.hub.slots("/paced_text")) == 1, 5)
+        assert pub.wait_for_subscribers(1, 5)
+        sent = time.monotonic()
+        pub.publish(String(data=text))
+        assert json.loads(await asyncio.wait_for(ws.recv(), 10)) == {"data": text}
+        assert time.monotonic() - sent >= 3 * 0.25
 
 
 def frame_opcodes(data: bytes) -> list[int]:

@@ -6,10 +6,13 @@ from __future__ import annotations
 import threading
 
 import numpy as np
+import pytest
+from zenros import json_chunks as json_chunks_module
 from zenros.codec import json_bytes
 from zenros.json_chunks import (
     BULK_ELEMENTS,
     CHUNK,
+    PACE,
     BulkEncoder,
     encode_yielding,
     is_bulky,
@@ -86,3 +89,25 @@ def test_bulk_encoder_keeps_order() -> None:
         bulk.close()
     assert seen == list(range(50))
     assert bulk.submit(lambda: None) is None  # closed: a late message is dropped, no error
+
+
+def test_encoding_rests_twice_as_long_as_each_piece_took(monkeypatch: pytest.MonkeyPatch) -> None:
+    """`encode_yielding` paces a large message: after each piece it sleeps ``rest`` times
+    the time the piece took (`PACE` by default), so the encoding takes at most a third of a
+    core and the small messages arriving meanwhile keep the rest."""
+    now = [0.0]
+    rests: list[float] = []
+
+    def clock() -> float:
+        now[0] += 0.001  # every reading of the clock: a piece took 1 ms
+        return now[0]
+
+    monkeypatch.setattr(json_chunks_module.time, "perf_counter", clock)
+    monkeypatch.setattr(json_chunks_module.time, "sleep", rests.append)
+    grid = big_grid()
+    assert encode_yielding(grid) == json_bytes(grid)
+    assert len(rests) == len(list(json_chunks(grid)))
+    assert rests == pytest.approx([PACE * 0.001] * len(rests))
+    rests.clear()
+    encode_yielding(grid, rest=0.0)
+    assert set(rests) == {0.0}  # only the GIL given away

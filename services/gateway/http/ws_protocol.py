@@ -5,8 +5,8 @@ uvicorn writes a message as one ``transport.write`` of the whole frame, after tw
 copies of it (the text encoded, the frame serialized, the pieces joined): for a 5 MB map to
 five clients that kept the gateway's loop, which serves every other WebSocket and the REST
 API, for 25-30 ms per map. Here a large message goes out as frames of `SLICE` bytes,
-each written once the socket has taken the previous ones (the transport's flow control), the
-loop serving the other connections between slices. Sends on one connection are serialized
+each written once the socket has taken the previous ones (the transport's flow control) and
+`SLICE_PAUSE` after the previous one, the loop serving the other connections between slices. Sends on one connection are serialized
 (a lock), so no data frame ever lands inside another message's fragments; control frames
 (pings) may, as RFC 6455 allows.
 """
@@ -20,7 +20,7 @@ from uvicorn.protocols.utils import ClientDisconnected
 from uvicorn.protocols.websockets.websockets_sansio_impl import WebSocketsSansIOProtocol
 from websockets.exceptions import InvalidState
 
-from ..ws_slices import SLICE, Utf8Text, slices
+from ..ws_slices import SLICE, SLICE_PAUSE, Utf8Text, slices
 
 __all__ = ["SlicedWebSocketProtocol"]
 
@@ -66,4 +66,6 @@ class SlicedWebSocketProtocol(WebSocketsSansIOProtocol):
                 raise ClientDisconnected() from None
             self.transport.write(b"".join(self.conn.data_to_send()))
             if not fin:
-                await asyncio.sleep(0)  # the other connections' frames go out in between
+                # the other connections' frames go out in between, and the large one
+                # is paced (ws_slices.SLICE_PAUSE)
+                await asyncio.sleep(SLICE_PAUSE)
