@@ -73,7 +73,8 @@ def _odom_of(door: str, data: bytes | str) -> dict[str, Any] | None:
 
 
 async def _client(door: str, port: int, ages: dict[float, list[float]],
-                  warm: asyncio.Event, ended: asyncio.Event, map_compression: str) -> None:
+                  warm: asyncio.Event, ended: asyncio.Event, map_compression: str,
+                  map_fragment_size: int = 0) -> None:
     from websockets.asyncio.client import connect
     from websockets.exceptions import ConnectionClosed
 
@@ -83,8 +84,10 @@ async def _client(door: str, port: int, ages: dict[float, list[float]],
         ws = await connect(url, max_size=None, compression=None)
         for topic, typ, compression in (("/odom", "nav_msgs/Odometry", "none"),
                                         ("/map", "nav_msgs/OccupancyGrid", map_compression)):
-            await ws.send(json.dumps({"op": "subscribe", "topic": topic, "type": typ,
-                                      "compression": compression}))
+            op = {"op": "subscribe", "topic": topic, "type": typ, "compression": compression}
+            if topic == "/map" and map_fragment_size:
+                op["fragment_size"] = map_fragment_size
+            await ws.send(json.dumps(op))
         conns = [ws]
     elif door == "topicws":  # one connection per topic
         conns = [await connect(url + t, max_size=None, compression=None) for t in ("odom", "map")]
@@ -130,7 +133,8 @@ async def _client(door: str, port: int, ages: dict[float, list[float]],
         await ws.close()
 
 
-def child_clients(door: str, port: int, n: int, map_compression: str = "none") -> None:
+def child_clients(door: str, port: int, n: int, map_compression: str = "none",
+                  map_fragment_size: int = 0) -> None:
     """``n`` clients of ``door``: "ready" once each heard /odom, then the ages (s) of each
     phase as JSON. On rosbridge the map may be asked for with ``map_compression`` (``png``:
     the JSON deflated in a PNG, base64; ``cbor``, ``cbor-raw``: binary frames; the reference
@@ -141,7 +145,8 @@ def child_clients(door: str, port: int, n: int, map_compression: str = "none") -
         warm = [asyncio.Event() for _ in range(n)]
         ended = [asyncio.Event() for _ in range(n)]
         tasks = [asyncio.ensure_future(_client(door, port, ages[i], warm[i], ended[i],
-                                               map_compression)) for i in range(n)]
+                                               map_compression, map_fragment_size))
+                 for i in range(n)]
         await asyncio.wait_for(asyncio.gather(*(w.wait() for w in warm)), 60)
         print("ready", flush=True)
         await asyncio.wait(tasks, timeout=120)  # on a starved machine: report what came
@@ -217,7 +222,8 @@ def start_gateway(script: str, foxglove: bool) -> tuple[Child, dict[str, int], i
 
 def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
                      n: int = 5, duration: float = 10.0, side: int = 1448,
-                     map_compression: str = "none") -> dict[str, Any]:
+                     map_compression: str = "none", map_fragment_size: int = 0
+                     ) -> dict[str, Any]:
     """/odom's delivery age to ``n`` clients of ``door``, without then with the map."""
     pub = _Publisher(zport, prefix, side)
     clients: list[Child] = []
@@ -225,7 +231,8 @@ def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
         for _ in range(n):  # a process each, as browsers are: one's reading holds up no other
             clients.append(Child(script, "--role", "fair_clients", "--door", door,
                                  "--port", str(port), "--n", "1",
-                                 "--map-compression", map_compression))
+                                 "--map-compression", map_compression,
+                                 "--map-fragment-size", str(map_fragment_size)))
         pub.phase = PLAIN
         time.sleep(duration)  # a measuring phase, not a wait on a condition
         pub.phase = WITH_MAP

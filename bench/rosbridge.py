@@ -280,11 +280,12 @@ def measure_cbor(side: int = 1448) -> dict[str, Any]:
             if len(sizes) == 2 else None}
 
 
-def fairness(duration: float, doors: list[str], map_compression: str = "none"
-             ) -> dict[str, Any]:
+def fairness(duration: float, doors: list[str], map_compression: str = "none",
+             map_fragment_size: int = 0) -> dict[str, Any]:
     """/odom's p99 delivery age (ms) to 5 clients without and with a 2 MB map at 1 Hz, on
     rosbridge (no prefix), the topic WebSocket (``topicws_``) and Foxglove (``foxglove_``);
-    rosbridge's clients take the map with ``map_compression``."""
+    rosbridge's clients take the map with ``map_compression`` (in ``fragment`` ops of
+    ``map_fragment_size`` characters when given)."""
     try:
         import foxglove  # noqa: F401
         has_foxglove = True
@@ -298,7 +299,8 @@ def fairness(duration: float, doors: list[str], map_compression: str = "none"
             if not ports.get(door):
                 continue
             r = measure_fairness(script, door, ports[door], zport, prefix, duration=duration,
-                                 map_compression=map_compression)
+                                 map_compression=map_compression,
+                                 map_fragment_size=map_fragment_size)
             key = "" if door == "rosbridge" else f"{door}_"
             for phase in ("without_map", "with_map"):
                 for stat in ("p99", "p50", "max"):
@@ -306,6 +308,7 @@ def fairness(duration: float, doors: list[str], map_compression: str = "none"
                     out[f"{key}odom_{stat}_ms_{phase}"] = None if value is None else round(value, 2)
             out[f"{key}odom_samples"] = r["with_map"]["n"]
         out["map_compression"] = map_compression
+        out["map_fragment_size"] = map_fragment_size
     finally:
         gw.stop()
     return out
@@ -324,6 +327,9 @@ def main() -> None:
     ap.add_argument("--map-compression", choices=["none", "png", "cbor", "cbor-raw"],
                     default="none",
                     help="how rosbridge's fairness clients subscribe to the map")
+    ap.add_argument("--map-fragment-size", type=int, default=0,
+                    help="rosbridge's fairness clients take the map in fragment ops of this "
+                         "many characters (0: whole)")
     ap.add_argument("--n", type=int, default=1)
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--latency-rate", type=float, default=500.0,
@@ -345,11 +351,13 @@ def main() -> None:
         child_gateway(args.zport, args.prefix, bool(args.foxglove))
         return
     if args.role == "fair_clients":
-        child_fair_clients(args.door, args.port, args.n, args.map_compression)
+        child_fair_clients(args.door, args.port, args.n, args.map_compression,
+                           args.map_fragment_size)
         return
     metrics: dict[str, Any] = measure_cbor() if args.only in (None, "cbor") else {}
     if args.only in (None, "fairness"):
-        metrics.update(fairness(args.fair_duration, args.doors.split(","), args.map_compression))
+        metrics.update(fairness(args.fair_duration, args.doors.split(","), args.map_compression,
+                                args.map_fragment_size))
     for n in (1, 10) if args.only in (None, "throughput") else ():
         # The relay's publisher is held back by TCP when the relay falls behind, so flat out
         # it offers what the relay path sustains; rosbridge (which never holds a publisher

@@ -10,10 +10,12 @@ import io
 import json
 import math
 import struct
+import time
 from typing import Any
 
 import cbor2
 import numpy as np
+import pytest
 from PIL import Image
 from websockets.sync.client import ClientConnection, connect
 from zenros.message import Int8Array, to_array
@@ -21,6 +23,7 @@ from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.node import Node
 from zenros.ros2 import cdr_codec
 from zenros.services.gateway.rosbridge import RosbridgeServer
+from zenros.services.gateway.rosbridge import server as rosbridge_server
 from zenros.services.gateway.ws_slices import SLICE
 from zenros.testing import RawWebSocket, wait_for
 
@@ -238,3 +241,40 @@ def test_a_large_frame_is_sliced_and_others_keep_flowing(server: RosbridgeServer
     assert max(len(p) for _, _, p in frames) == SLICE
     whole = json.loads(b"".join(p for _, _, p in frames))
     assert whole["topic"] == "/map" and len(whole["msg"]["data"]) == 1448 * 1448
+
+
+def test_a_large_frames_fragments_are_paced_with_small_frames_between(
+        server: RosbridgeServer, robot: Node, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The pieces of a large frame go out `SLICE_PAUSE` apart (so five clients' maps do not
+    all burst at once on a small machine), and a small frame published meanwhile goes out
+    at once, between two pieces. Here the pause is a quarter second: the map's fragments
+    come that far apart, and the odometry arrives before the last."""
+    monkeypatch.setattr(rosbridge_server, "SLICE_PAUSE", 0.25)
+    maps = robot.create_publisher(OccupancyGrid, "/map")
+    odoms = robot.create_publisher(Odometry, "/odom")
+    with ws_of(server) as ws:
+        ws.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"}))
+        first_frame(ws, lambda: odoms.publish(Odometry()))
+        grid = big_map(200)  # 40 000 cells: about 80 000 characters of JSON
+        ws.send(json.dumps({"op": "subscribe", "topic": "/map", "type": "nav_msgs/OccupancyGrid",
+                            "fragment_size": 21_000}))
+        assert wait_for(lambda: bool(robot.graph.subscribers("/map")), TIMEOUT)
+        assert maps.wait_for_subscribers(1, TIMEOUT)
+        maps.publish(grid)
+        arrivals: list[float] = []
+        order: list[str] = []
+        total = 0
+        while not total or len(arrivals) < total:
+            frame = json.loads(ws.recv(timeout=TIMEOUT))
+            if frame["op"] == "fragment":
+                arrivals.append(time.monotonic())
+                order.append(f"fragment {frame['num']}")
+                total = frame["total"]
+                if len(arrivals) == 1:
+                    odom = Odometry()
+                    odom.pose.pose.position.x = 7.0
+                    odoms.publish(odom)
+            elif frame.get("topic") == "/odom" and frame["msg"]["pose"]["pose"]["position"]["x"]:
+                order.append("odom")
+    assert total >= 4 and order[-1] == f"fragment {total - 1}" and "odom" in order, order
+    assert arrivals[-1] - arrivals[0] >= (total - 1) * 0.25, arrivals

@@ -4,33 +4,77 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections import deque
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 from .convert import dumps
 
-__all__ = ["Defragmenter", "FragmentError", "fragment"]
+__all__ = ["Defragmenter", "FragmentError", "Fragments", "fragment"]
 
 _seed = itertools.count()
 
 
-def fragment(frame: bytes, size: int, mid: Any = None) -> list[bytes]:
+class Fragments(Sequence[bytes]):
+    """The ``fragment`` frames of one large frame, each made when first asked for.
+
+    A 5 MB map in 20 fragments is not decoded and re-encoded in one go on the event loop
+    (3 ms, during which no client got anything) but a piece at a time, as the writer sends
+    them; clients of the same message share the pieces. An ASCII frame (msgspec's JSON of
+    numbers) is cut by bytes, which are its characters; any other is decoded once."""
+
+    def __init__(self, frame: bytes, size: int, mid: Any) -> None:
+        self.frame, self.size, self.mid = frame, size, mid
+        self._text = None if frame.isascii() else frame.decode()
+        length = len(frame) if self._text is None else len(self._text)
+        self.total = math.ceil(length / size)
+        self._made: list[bytes | None] = [None] * self.total
+
+    def __len__(self) -> int:
+        return self.total
+
+    @overload
+    def __getitem__(self, i: int) -> bytes: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> list[bytes]: ...
+
+    def __getitem__(self, i: int | slice) -> bytes | list[bytes]:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(self.total))]
+        if i < 0:
+            i += self.total
+        piece = self._made[i]  # IndexError out of range, as a list
+        if piece is None:
+            cut = slice(i * self.size, (i + 1) * self.size)
+            data = self.frame[cut].decode() if self._text is None else self._text[cut]
+            piece = self._made[i] = dumps({"op": "fragment", "id": self.mid, "data": data,
+                                           "num": i, "total": self.total})
+        return piece
+
+
+_recent: deque[Fragments] = deque(maxlen=4)
+"""The last frames split (held, so ``is`` cannot match a new frame at a reused address)."""
+
+
+def fragment(frame: bytes, size: int, mid: Any = None) -> Sequence[bytes]:
     """``frame`` split into ``fragment`` frames of at most ``size`` characters of JSON text.
 
     A frame no longer than ``size`` is returned as is. ``mid`` names the fragments (the
-    message's id); without one a counter does, as in rosbridge.
+    message's id); without one a counter does, as in rosbridge. The same frame split again
+    (the same message to another client) gives the same pieces.
     """
     if size <= 0 or len(frame) <= size:
         return [frame]
-    text = frame.decode()
-    if len(text) <= size:
+    for done in _recent:
+        if done.frame is frame and done.size == size and (mid is None or mid == done.mid):
+            return done
+    if not frame.isascii() and len(frame.decode()) <= size:
         return [frame]
-    if mid is None:
-        mid = next(_seed)
-    total = math.ceil(len(text) / size)
-    return [dumps({"op": "fragment", "id": mid, "data": text[i * size:(i + 1) * size],
-                   "num": i, "total": total}) for i in range(total)]
+    pieces = Fragments(frame, size, next(_seed) if mid is None else mid)
+    _recent.append(pieces)
+    return pieces
 
 
 class FragmentError(ValueError):

@@ -19,7 +19,7 @@ out between the fragments of a large message. Topics with large frames take turn
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 
 __all__ = ["BIG", "BURST_LIMIT", "QUEUE_BYTES", "Outbox", "TopicQueue"]
@@ -89,7 +89,7 @@ class Outbox:
         self._clock = clock
         self.replies: deque[Out] = deque()
         self.topics: dict[str, TopicQueue] = {}
-        self._pieces: deque[bytes] = deque()  # the rest of the large frame being sent
+        self._pieces: Iterator[bytes] = iter(())  # the rest of the large frame being sent
         self._turn = 0  # the topic whose large frame goes next (round robin)
 
     def configure(self, topic: str, throttle_ms: float, queue_length: int,
@@ -146,17 +146,19 @@ class Outbox:
                 wake = due if wake is None else min(wake, due)
         return out, wake
 
-    def take_bulk(self, split: Callable[[bytes, int], list[bytes]]) -> bytes | None:
+    def take_bulk(self, split: Callable[[bytes, int], Iterable[bytes]]) -> bytes | None:
         """The next piece of a large frame, or None: the rest of the frame being sent, else
-        the first piece (``split(frame, fragment_size)``) of the next topic's due one."""
-        if self._pieces:
-            return self._pieces.popleft()
+        the first piece (``split(frame, fragment_size)``, made as they are taken) of the next
+        topic's due one."""
+        piece = next(self._pieces, None)
+        if piece is not None:
+            return piece
         now = self._clock()
         queues = list(self.topics.values())
         for i in range(len(queues)):
             q = queues[(self._turn + i) % len(queues)]
             if q.big_next and q.due(now) <= now:
                 self._turn = (self._turn + i + 1) % len(queues)
-                self._pieces.extend(split(q.pop(now), q.fragment_size))
-                return self._pieces.popleft()
+                self._pieces = iter(split(q.pop(now), q.fragment_size))
+                return next(self._pieces, None)
         return None

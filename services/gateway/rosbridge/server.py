@@ -6,6 +6,7 @@ from __future__ import annotations
 import asyncio
 import itertools
 import threading
+from collections.abc import Sequence
 from typing import Any
 
 from websockets.asyncio.server import Server, ServerConnection, broadcast, serve
@@ -13,7 +14,7 @@ from websockets.exceptions import ConnectionClosed
 from zenros.errors import ConfigError
 from zenros.node import Node
 
-from ..ws_slices import SLICE, paced_slices
+from ..ws_slices import SLICE, SLICE_PAUSE, paced_slices
 from .bridge import Bridge
 from .cbor import BinaryFrame
 from .client import ClientProtocol
@@ -117,6 +118,7 @@ class RosbridgeServer:
         """Sends what the client's `Outbox` gives: every small frame that waits, then one
         piece of a large frame (then waits for the socket to drain), and again."""
         loop = asyncio.get_running_loop()
+        next_piece = 0.0  # large pieces go SLICE_PAUSE apart; small frames go between them
         try:
             while True:
                 wake.clear()
@@ -128,16 +130,20 @@ class RosbridgeServer:
                             await ws.send(part, text=text)
                         else:  # written at once, no task switch per frame
                             broadcast((ws,), part, text=text)
-                piece = client.outbox.take_bulk(_split)
-                if piece is not None:
-                    lane.in_flight = len(piece)  # not congestion: the frame we just wrote
-                    text = not isinstance(piece, BinaryFrame)
-                    try:  # a large piece as a fragmented message: the loop is free between
-                        await ws.send(paced_slices(piece) if len(piece) > SLICE else piece,
-                                      text=text)
-                    finally:
-                        lane.in_flight = 0
-                    continue
+                if loop.time() < next_piece:
+                    due = next_piece if due is None else min(due, next_piece)
+                else:
+                    piece = client.outbox.take_bulk(_split)
+                    if piece is not None:
+                        lane.in_flight = len(piece)  # not congestion: the frame just written
+                        text = not isinstance(piece, BinaryFrame)
+                        try:  # a large piece as a fragmented message: the loop is free between
+                            await ws.send(paced_slices(piece) if len(piece) > SLICE else piece,
+                                          text=text)
+                        finally:
+                            lane.in_flight = 0
+                        next_piece = loop.time() + SLICE_PAUSE
+                        continue
                 if frames:
                     continue
                 if due is None:
@@ -218,7 +224,7 @@ class _Lane:
         return bool(transport.get_write_buffer_size() > CONGESTED_BYTES + self.in_flight)
 
 
-def _split(frame: bytes, size: int) -> list[bytes]:
+def _split(frame: bytes, size: int) -> Sequence[bytes]:
     """A large frame as the pieces it is sent in: ``fragment`` frames of ``size`` characters
     for a client that asked for them (text only: CBOR goes whole), else the frame."""
     if size and not isinstance(frame, BinaryFrame):
