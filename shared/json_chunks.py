@@ -13,7 +13,7 @@ from __future__ import annotations
 import concurrent.futures
 import time
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import Any, TypeVar
 
 import msgspec
 import numpy as np
@@ -21,7 +21,10 @@ import numpy as np
 from .codec import json_bytes
 
 __all__ = ["BULK_ELEMENTS", "CHUNK", "PACE", "BulkEncoder", "encode_yielding", "is_bulky",
-           "json_chunks"]
+           "json_chunks", "paced"]
+
+T = TypeVar("T")
+_END = object()
 
 CHUNK = 8192
 """Array elements encoded in one C call (well under 1 ms on a quiet machine of this class)."""
@@ -80,14 +83,19 @@ def encode_yielding(obj: Any, rest: float = PACE) -> bytes:
     over three times as long and takes at most a third of a core meanwhile, which leaves
     the rest to the small messages that arrive during it (docs/rosbridge.md, "Large
     messages"). ``rest=0`` only gives the GIL away."""
-    parts = []
-    pieces, clock = json_chunks(obj), time.perf_counter
+    return b"".join(paced(json_chunks(obj), rest))
+
+
+def paced(pieces: Iterator[T], rest: float = PACE) -> Iterator[T]:
+    """The items of ``pieces``, resting ``rest`` times as long as each took to make (with
+    the GIL given away) before asking for the next."""
+    clock = time.perf_counter
     while True:
         t0 = clock()
-        part = next(pieces, None)  # a piece is encoded here
-        if part is None:
-            return b"".join(parts)
-        parts.append(part)
+        piece = next(pieces, _END)  # a piece is made here
+        if piece is _END:
+            return
+        yield piece  # type: ignore[misc]
         time.sleep(rest * (clock() - t0))
 
 

@@ -7,10 +7,18 @@ import base64
 import io
 import json
 import math
+import zlib
 
 import pytest
 from PIL import Image
-from zenros.services.gateway.rosbridge.png import png_frame, png_text
+from zenros import json_chunks
+from zenros.services.gateway.rosbridge.png import (
+    DEFLATE_SLICE,
+    LEVEL,
+    _deflate,
+    png_frame,
+    png_text,
+)
 
 
 def _image(frame: bytes) -> Image.Image:
@@ -48,3 +56,16 @@ def test_png_text_refuses_what_is_not_a_png() -> None:
         png_text("not base64!")
     with pytest.raises(OSError):  # Pillow's UnidentifiedImageError
         png_text(base64.b64encode(b"GIF89a").decode())
+
+
+def test_a_large_text_is_deflated_in_paced_slices(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A map's text is deflated `DEFLATE_SLICE` bytes at a time, with a rest after each (the
+    same stream as one `zlib.compress`), so its deflating does not take the CPU from the
+    other clients in one go."""
+    rests: list[float] = []
+    monkeypatch.setattr(json_chunks.time, "sleep", rests.append)
+    text = b"1,0,-1,100," * 200_000  # 2.2 MB
+    frame = png_frame(text)
+    assert png_text(json.loads(frame)["data"]) == text
+    assert len(rests) == math.ceil(len(text) / DEFLATE_SLICE) + 1  # the slices and the flush
+    assert _deflate(text) == zlib.compress(text, LEVEL)
