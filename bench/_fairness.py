@@ -84,7 +84,8 @@ async def _client(door: str, port: int, ages: dict[float, list[float]],
         ws = await connect(url, max_size=None, compression=None)
         for topic, typ, compression in (("/odom", "nav_msgs/Odometry", "none"),
                                         ("/map", "nav_msgs/OccupancyGrid", map_compression)):
-            op = {"op": "subscribe", "topic": topic, "type": typ, "compression": compression}
+            op: dict[str, Any] = {"op": "subscribe", "topic": topic, "type": typ,
+                                  "compression": compression}
             if topic == "/map" and map_fragment_size:
                 op["fragment_size"] = map_fragment_size
             await ws.send(json.dumps(op))

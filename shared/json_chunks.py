@@ -4,8 +4,9 @@ Encoding a 2 MB OccupancyGrid as JSON takes 100-160 ms in one C call (msgspec), 
 keeps the GIL throughout: every other Python thread (Zenoh's receive thread, an event loop
 sending small messages) stops for that long. `json_chunks` encodes a message's big arrays
 slice by slice (`CHUNK` elements, a few ms each) and `encode_yielding` rests between slices
-(`PACE`), giving the GIL away and leaving most of a core to the small messages; `BulkEncoder` runs that on a worker thread of its own, so the thread that
-received the message returns at once. The bytes are exactly `zenros.codec.json_bytes`'s.
+(`PACE`), giving the GIL away and leaving most of a core to the small messages; `BulkEncoder`
+runs that on a worker thread of its own, so the thread that received the message returns at
+once. The bytes are exactly `zenros.codec.json_bytes`'s.
 """
 
 from __future__ import annotations
@@ -24,7 +25,6 @@ __all__ = ["BULK_ELEMENTS", "CHUNK", "PACE", "BulkEncoder", "encode_yielding", "
            "json_chunks", "paced"]
 
 T = TypeVar("T")
-_END = object()
 
 CHUNK = 8192
 """Array elements encoded in one C call (well under 1 ms on a quiet machine of this class)."""
@@ -90,13 +90,11 @@ def paced(pieces: Iterator[T], rest: float = PACE) -> Iterator[T]:
     """The items of ``pieces``, resting ``rest`` times as long as each took to make (with
     the GIL given away) before asking for the next."""
     clock = time.perf_counter
-    while True:
-        t0 = clock()
-        piece = next(pieces, _END)  # a piece is made here
-        if piece is _END:
-            return
-        yield piece  # type: ignore[misc]
+    t0 = clock()
+    for piece in pieces:  # a piece is made here
+        yield piece
         time.sleep(rest * (clock() - t0))
+        t0 = clock()
 
 
 class BulkEncoder:

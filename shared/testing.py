@@ -127,7 +127,8 @@ def linked_contexts(n: int = 2, prefix: str | None = None) -> Iterator[list[Cont
             c.close()
 
 
-def _context_listening(prefix: str, connect: Sequence[int], attempts: int = 3) -> tuple[Context, int]:
+def _context_listening(prefix: str, connect: Sequence[int],
+                       attempts: int = 3) -> tuple[Context, int]:
     """A context listening on a free port; another port when something took it meanwhile."""
     for attempt in range(attempts):
         port = free_port()

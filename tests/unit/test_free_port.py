@@ -36,4 +36,5 @@ def test_a_forked_process_starts_its_own_walk(monkeypatch: pytest.MonkeyPatch) -
     start = testing._LOWEST_PORT + (os.getpid() * 7919) % span
     port = testing.free_port()
     assert (port - start) % span < 100, (start, port)
-    assert testing._next_port == (os.getpid(), testing._LOWEST_PORT + (port + 1 - testing._LOWEST_PORT) % span)
+    after = testing._LOWEST_PORT + (port + 1 - testing._LOWEST_PORT) % span
+    assert testing._next_port == (os.getpid(), after)

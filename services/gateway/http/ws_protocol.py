@@ -6,9 +6,9 @@ copies of it (the text encoded, the frame serialized, the pieces joined): for a 
 five clients that kept the gateway's loop, which serves every other WebSocket and the REST
 API, for 25-30 ms per map. Here a large message goes out as frames of `SLICE` bytes,
 each written once the socket has taken the previous ones (the transport's flow control) and
-`SLICE_PAUSE` after the previous one, the loop serving the other connections between slices. Sends on one connection are serialized
-(a lock), so no data frame ever lands inside another message's fragments; control frames
-(pings) may, as RFC 6455 allows.
+`SLICE_PAUSE` after the previous one, the loop serving the other connections between slices.
+Sends on one connection are serialized (a lock), so no data frame ever lands inside another
+message's fragments; control frames (pings) may, as RFC 6455 allows.
 """
 
 from __future__ import annotations
