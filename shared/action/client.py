@@ -50,7 +50,8 @@ from .wire import wire_types
 
 __all__ = ["ActionClient"]
 
-LOST_GRACE = 0.25  # seconds between a server token's departure and declaring its goals lost
+LOST_TIMEOUT = 3.0  # seconds a goal's server may be away (its link made again) before LOST
+ABSENT_POLL = 0.1  # seconds between looks for a server that went away
 
 
 class ActionClient(Generic[G, R, F]):
@@ -64,14 +65,20 @@ class ActionClient(Generic[G, R, F]):
         send_timeout: seconds to wait for a server's answer to a goal.
         result_timeout: seconds one result request waits before it is renewed (a goal may run
             longer; the request is simply sent again).
+        lost_timeout: seconds the server that took a goal may be gone from the graph before
+            the goal is reported LOST. A session whose link dropped (a lease that ran out on
+            a starved box, a pulled cable) comes back with its goals still running; a server
+            back within this time is asked for the result again.
     """
 
     def __init__(self, node: ActionHost, action_type: ActionType[G, R, F], name: str, *,
-                 send_timeout: float = 10.0, result_timeout: float = 60.0) -> None:
+                 send_timeout: float = 10.0, result_timeout: float = 60.0,
+                 lost_timeout: float = LOST_TIMEOUT) -> None:
         self.action_type = action_type
         self.name = node.resolve_name(name, "action")
         self.send_timeout = send_timeout
         self.result_timeout = result_timeout
+        self.lost_timeout = lost_timeout
         self.logger = node.logger
         self._ctx = ctx = node.context
         self._wire = wire = wire_types(action_type)
@@ -351,16 +358,43 @@ class ActionClient(Generic[G, R, F]):
                                       f"{message}"))
 
     def _retry_or_lose(self, h: ClientGoalHandle, delay: float = 0.0) -> None:
-        """No result yet (query timed out, or no server answered): ask again, unless the
-        server that took the goal is gone."""
-        if not self._server_alive(h):
-            self._lose(h)
-        else:
+        """No result yet (query timed out, or no server answered): ask again, at once if the
+        server that took the goal is there, else once it is back (`_await_server`)."""
+        if self._server_alive(h):
             self._request_result_soon(h, delay)
+        else:
+            self._await_server(h)
 
     def _server_alive(self, h: ClientGoalHandle) -> bool:
         servers = self._graph.action_servers(self.name)
         return any(t.zid == h._server_zid for t in servers) if h._server_zid else bool(servers)
+
+    def _await_server(self, h: ClientGoalHandle) -> None:
+        """The goal's server is not in the graph: look again every `ABSENT_POLL` seconds; ask
+        for the result once it is back, report the goal LOST if it stays away for
+        `lost_timeout` seconds. One look-out per goal at a time."""
+        with self._lock:
+            if h._absent_since is not None:
+                return
+            h._absent_since = time.monotonic()
+        self._later(ABSENT_POLL, self._look_for_server, h)
+
+    def _look_for_server(self, h: ClientGoalHandle) -> None:
+        if h.done or self.closed:
+            return
+        since = h._absent_since
+        assert since is not None
+        if self._server_alive(h):
+            h._absent_since = None
+            self._request_result(h)
+        elif time.monotonic() - since >= self.lost_timeout:
+            self._lose(h)
+        else:
+            self._later(ABSENT_POLL, self._look_for_server, h)
+
+    def _later(self, delay: float, fn: Callable[..., object], *args: Any) -> None:
+        ex = self._ctx.executor
+        ex.call_soon(ex.loop.call_later, delay, fn, *args)
 
     def _lose(self, h: ClientGoalHandle) -> None:
         h._finish(GoalStatus.LOST, self.action_type.Result(),
@@ -368,20 +402,16 @@ class ActionClient(Generic[G, R, F]):
                   f"{h.status.name}")
 
     def _on_graph(self, event: str, tok: Token) -> None:
-        """A server token went away: its goals are lost, unless their results (sent before
-        the token went) arrive within `LOST_GRACE`. A killed server is usually noticed
-        sooner, by the result request it leaves unanswered."""
+        """A server token went away: its goals wait for it to come back (`_await_server`). A
+        killed or cut-off server is usually noticed sooner, by the result request it leaves
+        unanswered."""
         if event != "delete" or tok.kind != "act" or tok.name != self.name:
             return
-        ex = self._ctx.executor
-        ex.call_soon(ex.loop.call_later, LOST_GRACE, self._check_lost)
-
-    def _check_lost(self) -> None:
         with self._lock:
             handles = [h for h in self._handles.values() if h.accepted and not h.done]
         for h in handles:
             if not self._server_alive(h):
-                self._lose(h)
+                self._await_server(h)
 
     # ------------------------------------------------------------------ topics
 

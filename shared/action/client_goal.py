@@ -77,6 +77,7 @@ class ClientGoalHandle(Generic[G, R]):
         # client bookkeeping
         self._key = goal_id.bytes
         self._server_zid = ""
+        self._absent_since: float | None = None  # monotonic time the server was missed
         self._retry_result = False
         self._ended = False
 
