@@ -111,3 +111,9 @@ def test_encoding_rests_twice_as_long_as_each_piece_took(monkeypatch: pytest.Mon
     rests.clear()
     encode_yielding(grid, rest=0.0)
     assert set(rests) == {0.0}  # only the GIL given away
+
+
+def test_head_and_tail_go_around_the_json_in_one_join() -> None:
+    grid = OccupancyGrid(data=to_array(Int8Array, np.arange(100_000) % 100))
+    frame = encode_yielding(grid, rest=0.0, head=b'{"msg":', tail=b"}")
+    assert frame == b'{"msg":' + json_bytes(grid) + b"}"

@@ -27,7 +27,7 @@ from .frames import OpError, SubOptions
 from .ops_actions import ActionOps
 from .ops_services import ServiceOps
 from .ops_topics import TopicOps
-from .outbox import Outbox
+from .outbox import Outbox, Turnstile
 from .served_action import ServedAction
 
 __all__ = ["LEVELS", "ClientProtocol", "OpError"]
@@ -48,10 +48,11 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
     """
 
     def __init__(self, bridge: Bridge, client_id: int, wake: Send,
-                 congested: Callable[[], bool], logger: logging.Logger) -> None:
+                 congested: Callable[[], bool], logger: logging.Logger,
+                 turnstile: Turnstile | None = None) -> None:
         self.bridge = bridge
         self.client_id = client_id
-        self.outbox = Outbox(time.monotonic)
+        self.outbox = Outbox(time.monotonic, turnstile)
         self._wake = wake
         self._congested = congested
         self._log = logger

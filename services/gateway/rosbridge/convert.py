@@ -39,7 +39,13 @@ def to_json(msg: Message) -> Any:
 
 def publish_frame(topic: str, msg_json: bytes) -> bytes:
     """``{"op":"publish","topic":...,"msg":...}`` around an encoded message, without re-parsing."""
-    return b'{"op":"publish","topic":' + dumps(topic) + b',"msg":' + msg_json + b"}"
+    head, tail = publish_frame_ends(topic)
+    return head + msg_json + tail
+
+
+def publish_frame_ends(topic: str) -> tuple[bytes, bytes]:
+    """What goes before and after the message in `publish_frame`."""
+    return b'{"op":"publish","topic":' + dumps(topic) + b',"msg":', b"}"
 
 
 def long_type(name: str, kind: str = "msg") -> str:

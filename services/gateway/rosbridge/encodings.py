@@ -18,7 +18,7 @@ from zenros.message import Message
 from zenros.msgs.builtin_interfaces import Time
 
 from .cbor import cbor_frame, cbor_frame_from_json, cbor_raw_frame
-from .convert import encode_message, publish_frame
+from .convert import encode_message, publish_frame, publish_frame_ends
 from .png import png_frame
 
 __all__ = ["FORMATS", "Encodings"]
@@ -67,8 +67,10 @@ class Encodings:
         msg = self.msg
         if fmt == "json":
             assert msg is not None
-            text = encode_yielding(msg) if self._bulky else encode_message(msg)
-            return publish_frame(self.topic, text)
+            if self._bulky:  # the frame made in one join (`encode_yielding`)
+                head, tail = publish_frame_ends(self.topic)
+                return encode_yielding(msg, head=head, tail=tail)
+            return publish_frame(self.topic, encode_message(msg))
         if fmt == "png":
             return png_frame(self("json"))
         if msg is None:

@@ -22,7 +22,7 @@ from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 
-__all__ = ["BIG", "BURST_LIMIT", "QUEUE_BYTES", "Outbox", "TopicQueue"]
+__all__ = ["BIG", "BURST_LIMIT", "QUEUE_BYTES", "Outbox", "TopicQueue", "Turnstile"]
 
 BURST_LIMIT = 1000
 """Frames a topic may hold for a client that is not (yet) congested: a hard memory bound."""
@@ -30,6 +30,33 @@ BIG = 64 * 1024
 """Frames longer than this (bytes) go out through the large-frame lane (`Outbox.take_bulk`)."""
 QUEUE_BYTES = 32 * 1024 * 1024
 """Bytes a topic's queue may hold beyond its newest ``queue_length`` frames."""
+GAP = 0.002
+"""A whole large frame goes out within this many seconds after a small topic frame went out:
+into the gap before the next one of a periodic stream (`Outbox.take_bulk`)."""
+QUIET = 0.1
+"""... or when no small topic frame went out for this long (no stream to leave a gap in)."""
+HOLD = 0.25
+"""... or when it has waited this long for a gap (and its turn)."""
+READ_RATE = 200e6
+"""Bytes a second a client is taken to read a whole large frame at (`Turnstile`): a Python
+client reads the 5 MB of a map's JSON in about 10-20 ms on a small machine."""
+
+
+class Turnstile:
+    """Shared by the clients of one server: whole large frames start one at a time, each once
+    the last is read (at `READ_RATE`). Five clients reading 5 MB each at once on a small
+    machine all finish late, past the next small frame; one at a time, each reads its copy
+    in the gap after a small frame."""
+
+    def __init__(self) -> None:
+        self._free_at = float("-inf")
+
+    def free(self, now: float) -> bool:
+        return now >= self._free_at
+
+    def take(self, now: float, size: int) -> None:
+        self._free_at = now + size / READ_RATE
+
 
 Frame = bytes
 Out = tuple[bytes, int]
@@ -45,6 +72,7 @@ class TopicQueue:
     fragment_size: int = 0  # 0: never fragment
     frames: deque[Frame] = field(default_factory=deque)
     last_sent: float = float("-inf")
+    held_since: float | None = None  # when its large head frame began waiting for a gap
     dropped: int = 0
     size: int = 0  # bytes in frames
 
@@ -70,6 +98,7 @@ class TopicQueue:
         frame = self.frames.popleft()
         self.size -= len(frame)
         self.last_sent = now
+        self.held_since = None
         return frame
 
     @property
@@ -85,12 +114,15 @@ class Outbox:
         clock: monotonic seconds (``time.monotonic`` or a fake in tests).
     """
 
-    def __init__(self, clock: Callable[[], float]) -> None:
+    def __init__(self, clock: Callable[[], float], turnstile: Turnstile | None = None) -> None:
         self._clock = clock
+        self._turnstile = turnstile or Turnstile()
         self.replies: deque[Out] = deque()
         self.topics: dict[str, TopicQueue] = {}
         self._pieces: Iterator[bytes] = iter(())  # the rest of the large frame being sent
         self._turn = 0  # the topic whose large frame goes next (round robin)
+        self._last_small = float("-inf")  # when `take` last gave out a small topic frame
+        self.bulk_wake: float | None = None  # when a large frame held for a gap must go
 
     def configure(self, topic: str, throttle_ms: float, queue_length: int,
                   fragment_size: int = 0) -> None:
@@ -130,6 +162,7 @@ class Outbox:
         now = self._clock()
         out = list(self.replies)
         self.replies.clear()
+        replies = len(out)
         wake: float | None = None
         for q in self.topics.values():
             if not q.frames:
@@ -144,21 +177,49 @@ class Outbox:
                 due = now + q.throttle
             if q.frames:
                 wake = due if wake is None else min(wake, due)
+        if len(out) > replies:
+            self._last_small = now
         return out, wake
 
     def take_bulk(self, split: Callable[[bytes, int], Iterable[bytes]]) -> bytes | None:
         """The next piece of a large frame, or None: the rest of the frame being sent, else
         the first piece (``split(frame, fragment_size)``, made as they are taken) of the next
-        topic's due one."""
+        topic's due one.
+
+        A frame that goes whole (no ``fragment_size``) holds up every small frame behind it
+        on the WebSocket until the client has read it all, so it waits for a gap: it goes
+        within `GAP` of a small topic frame (a periodic stream's next one is then as far
+        off as it can be), when no small frame went out for `QUIET`, or after `HOLD`;
+        meanwhile `bulk_wake` says when it must go.
+        """
         piece = next(self._pieces, None)
         if piece is not None:
             return piece
         now = self._clock()
+        self.bulk_wake = None
         queues = list(self.topics.values())
         for i in range(len(queues)):
             q = queues[(self._turn + i) % len(queues)]
-            if q.big_next and q.due(now) <= now:
-                self._turn = (self._turn + i + 1) % len(queues)
-                self._pieces = iter(split(q.pop(now), q.fragment_size))
-                return next(self._pieces, None)
+            if not q.big_next or q.due(now) > now:
+                continue
+            if not q.fragment_size and not self._gap(q, now):
+                assert q.held_since is not None
+                wake = q.held_since + HOLD
+                self.bulk_wake = wake if self.bulk_wake is None else min(self.bulk_wake, wake)
+                continue
+            frame = q.pop(now)
+            if not q.fragment_size:
+                self._turnstile.take(now, len(frame))
+            self._turn = (self._turn + i + 1) % len(queues)
+            self._pieces = iter(split(frame, q.fragment_size))
+            return next(self._pieces, None)
         return None
+
+    def _gap(self, q: TopicQueue, now: float) -> bool:
+        """Whether ``q``'s whole large frame may go now (see `take_bulk`)."""
+        if q.held_since is None:
+            q.held_since = now
+        if now - q.held_since >= HOLD:
+            return True
+        since = now - self._last_small
+        return (since <= GAP or since >= QUIET) and self._turnstile.free(now)

@@ -19,6 +19,7 @@ from .bridge import Bridge
 from .cbor import BinaryFrame
 from .client import ClientProtocol
 from .fragments import fragment
+from .outbox import Turnstile
 
 __all__ = ["CONGESTED_BYTES", "DEFAULT_PORT", "RosbridgeServer"]
 
@@ -47,6 +48,7 @@ class RosbridgeServer:
         self.logger = node.logger.getChild("rosbridge")
         self.clients: set[ClientProtocol] = set()
         self._ids = itertools.count(1)
+        self._turnstile = Turnstile()  # whole large frames start one client at a time
         self._server: Server | None = None
         self._bridge: Bridge | None = None
         self._thread: threading.Thread | None = None
@@ -98,7 +100,7 @@ class RosbridgeServer:
         wake = asyncio.Event()
         lane = _Lane(ws)
         client = ClientProtocol(self.bridge, next(self._ids), wake.set, lane.congested,
-                                self.logger)
+                                self.logger, self._turnstile)
         self.clients.add(client)
         self.logger.info("client %d connected from %s", client.client_id, ws.remote_address)
         writer = asyncio.create_task(self._write(ws, client, wake, lane))
@@ -134,6 +136,9 @@ class RosbridgeServer:
                     due = next_piece if due is None else min(due, next_piece)
                 else:
                     piece = client.outbox.take_bulk(_split)
+                    held = client.outbox.bulk_wake
+                    if held is not None:  # a whole large frame waits for a gap
+                        due = held if due is None else min(due, held)
                     if piece is not None:
                         lane.in_flight = len(piece)  # not congestion: the frame just written
                         text = not isinstance(piece, BinaryFrame)

@@ -2,7 +2,17 @@
 
 from __future__ import annotations
 
-from zenros.services.gateway.rosbridge.outbox import BIG, BURST_LIMIT, QUEUE_BYTES, Outbox
+from zenros.services.gateway.rosbridge.outbox import (
+    BIG,
+    BURST_LIMIT,
+    GAP,
+    HOLD,
+    QUEUE_BYTES,
+    QUIET,
+    READ_RATE,
+    Outbox,
+    Turnstile,
+)
 
 
 class Clock:
@@ -136,7 +146,8 @@ def test_a_topic_keeps_its_order_around_a_large_frame() -> None:
 
 
 def test_large_frames_are_bounded_in_bytes_and_keep_the_newest() -> None:
-    box = Outbox(Clock())
+    clock = Clock()
+    box = Outbox(clock)
     box.configure("/map", 0, 1)
     frames_in = [bytes([65 + i]) * (QUEUE_BYTES // 4) for i in range(8)]
     for f in frames_in:
@@ -145,4 +156,78 @@ def test_large_frames_are_bounded_in_bytes_and_keep_the_newest() -> None:
     got = []
     while (piece := box.take_bulk(split_in(0))) is not None:
         got.append(piece)
+        clock.t += 1.0  # past the turnstile's read time for the next one
     assert got[-1] == frames_in[-1] and sum(map(len, got)) <= QUEUE_BYTES + len(frames_in[-1])
+
+
+def odom_and_map(clock: Clock, turnstile: Turnstile | None = None) -> Outbox:
+    box = Outbox(clock, turnstile)
+    box.configure("/map", 0, 0)
+    box.configure("/odom", 0, 0)
+    return box
+
+
+def test_a_whole_large_frame_goes_in_the_gap_after_a_small_frame() -> None:
+    """A map that arrives between two odometry frames of a 50 Hz stream waits for the next
+    one and goes right after it: the next odometry is then a whole period away."""
+    clock = Clock()
+    box = odom_and_map(clock)
+    big = b"m" * (BIG + 1)
+    box.publish("/odom", b"o1", congested=False)
+    assert frames(box.take()[0]) == [b"o1"]
+    clock.t += 0.007  # 7 ms into the 20 ms period: the map arrives
+    box.publish("/map", big, congested=False)
+    assert box.take() == ([], None)
+    assert box.take_bulk(split_in(0)) is None
+    assert box.bulk_wake == clock.t + HOLD  # the writer looks again then at the latest
+    clock.t += 0.013
+    box.publish("/odom", b"o2", congested=False)
+    assert frames(box.take()[0]) == [b"o2"]
+    clock.t += GAP / 2
+    assert box.take_bulk(split_in(0)) == big
+
+
+def test_a_held_large_frame_goes_after_HOLD_or_when_small_frames_stopped() -> None:
+    clock = Clock()
+    box = odom_and_map(clock)
+    box.publish("/odom", b"o1", congested=False)
+    box.take()
+    clock.t += 0.005
+    box.publish("/map", b"m" * (BIG + 1), congested=False)
+    assert box.take_bulk(split_in(0)) is None
+    clock.t += HOLD
+    assert box.take_bulk(split_in(0)) is not None  # waited long enough
+    clock.t += QUIET
+    box.publish("/map", b"n" * (BIG + 1), congested=False)
+    assert box.take_bulk(split_in(0)) is not None  # no stream to leave a gap in
+
+
+def test_fragments_do_not_wait_for_a_gap() -> None:
+    clock = Clock()
+    box = Outbox(clock)
+    box.configure("/map", 0, 0, fragment_size=BIG // 2)
+    box.configure("/odom", 0, 0)
+    box.publish("/odom", b"o1", congested=False)
+    box.take()
+    clock.t += 0.005
+    box.publish("/map", b"m" * (BIG * 2), congested=False)
+    assert box.take_bulk(split_in(0)) is not None
+
+
+def test_whole_large_frames_start_one_client_at_a_time() -> None:
+    """Clients of one server share a `Turnstile`: the second client's map waits until the
+    first one's is read (at READ_RATE), then goes in that client's next gap."""
+    clock = Clock()
+    gate = Turnstile()
+    one, two = odom_and_map(clock, gate), odom_and_map(clock, gate)
+    big = b"m" * 4_000_000
+    for box in (one, two):
+        box.publish("/map", big, congested=False)
+        box.publish("/odom", b"o1", congested=False)
+        assert frames(box.take()[0]) == [b"o1"]
+    assert one.take_bulk(split_in(0)) == big
+    assert two.take_bulk(split_in(0)) is None  # in its gap, but the first is being read
+    clock.t += len(big) / READ_RATE
+    two.publish("/odom", b"o2", congested=False)
+    assert frames(two.take()[0]) == [b"o2"]
+    assert two.take_bulk(split_in(0)) == big
