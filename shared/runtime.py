@@ -66,6 +66,12 @@ def capture_signals(on_first: Callable[[], None]) -> AbstractContextManager[None
     after writing every thread's stack to stderr: where the drain was stuck (a launch sends
     SIGTERM when a node has not ended ``sigterm_timeout`` after its SIGINT).
 
+    ``on_first`` runs on a thread of its own, not in the handler: the handler runs in the
+    main thread between two of its bytecodes, and a main thread waiting on
+    ``threading.Event.wait`` may hold the event's lock right then, so an ``Event.set`` in the
+    handler would wait on it forever (seen once: a talker that ignored its SIGINT until the
+    launch's SIGTERM).
+
     Restores the previous handlers on the way out. Only works in the main thread; elsewhere
     it does nothing.
     """
@@ -75,7 +81,7 @@ def capture_signals(on_first: Callable[[], None]) -> AbstractContextManager[None
         nonlocal count
         count += 1
         if count == 1:
-            on_first()
+            threading.Thread(target=on_first, name="zenros-signal", daemon=True).start()
         else:
             sys.stderr.write("forced exit; the threads were at:\n")
             faulthandler.dump_traceback(all_threads=True)
