@@ -151,12 +151,15 @@ def listen_endpoints(config: zenoh.Config) -> list[str]:
 
 
 def _stop_on_signals(stop: threading.Event) -> AbstractContextManager[None]:
-    """Set ``stop`` on SIGINT/SIGTERM (a second signal forces); restore the old handlers."""
+    """Set ``stop`` on SIGINT/SIGTERM (a second signal forces); restore the old handlers.
+
+    ``stop`` is set from a thread of its own: the main thread, waiting on it, may hold its
+    lock when the handler runs (`zenros.runtime.capture_signals`)."""
 
     def handle(signum: int, frame: FrameType | None) -> None:
         if stop.is_set():
             raise KeyboardInterrupt
-        stop.set()
+        threading.Thread(target=stop.set, name="zenros-signal", daemon=True).start()
 
     return handling_signals(handle)
 
