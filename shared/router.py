@@ -90,8 +90,8 @@ def build_router_config(
 
     Precedence, lowest first: zenoh's defaults; the config file; zenros's defaults for what the
     file leaves unset; ``listen``; ``multicast``; the ``cfg`` entries. zenros's defaults are:
-    listen on `DEFAULT_LISTEN`, multicast scouting off, multihop gossip, and
-    ``transport/link/tx`` lease `DEFAULT_LEASE_MS` with keep_alive `DEFAULT_KEEP_ALIVE`. A lease still at zenoh's own
+    listen on `DEFAULT_LISTEN`, multicast scouting off, and ``transport/link/tx`` lease
+    `DEFAULT_LEASE_MS` with keep_alive `DEFAULT_KEEP_ALIVE`. A lease still at zenoh's own
     default (10000) counts as unset; force it with ``cfg=[("transport/link/tx/lease", "10000")]``.
 
     Args:
@@ -121,10 +121,6 @@ def build_router_config(
         _put(conf, "listen/endpoints", [DEFAULT_LISTEN])
     if _get(conf, "scouting/multicast/enabled") is None:
         _put(conf, "scouting/multicast/enabled", False)
-    if _get(conf, "scouting/gossip/multihop") is None:
-        # A link between two peers that was lost (its lease ran out while both kept their
-        # links to this router) is made again only with multihop gossip (docs/zenoh-config.md).
-        _put(conf, "scouting/gossip/multihop", True)
     for key, ours in (("lease", DEFAULT_LEASE_MS), ("keep_alive", DEFAULT_KEEP_ALIVE)):
         if _get(conf, f"transport/link/tx/{key}") == _get(stock, f"transport/link/tx/{key}"):
             _put(conf, f"transport/link/tx/{key}", ours)

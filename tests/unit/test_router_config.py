@@ -41,12 +41,6 @@ def test_defaults() -> None:
     assert get(conf, "scouting/multicast/enabled") is False
     assert get(conf, "transport/link/tx/lease") == 1000
     assert get(conf, "transport/link/tx/keep_alive") == 4
-    assert get(conf, "scouting/gossip/multihop") is True  # lost peer links come back
-
-
-def test_a_file_may_turn_multihop_gossip_off(tmp_path: Path) -> None:
-    path = write(tmp_path, "{ scouting: { gossip: { multihop: false } } }")
-    assert get(build_router_config(config_file=path), "scouting/gossip/multihop") is False
 
 
 def test_listen_replaces_the_default() -> None:
