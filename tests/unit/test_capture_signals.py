@@ -4,12 +4,12 @@
 from __future__ import annotations
 
 import signal
-import subprocess
 import sys
 import threading
 
 import pytest
 from zenros.runtime import capture_signals
+from zenros.testing import Proc
 
 pytestmark = pytest.mark.timeout(30)
 
@@ -38,15 +38,12 @@ with capture_signals(stop.set):
 
 
 def test_first_signal_stops_second_forces_exit() -> None:
-    proc = subprocess.Popen([sys.executable, "-c", _CHILD], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc = Proc([sys.executable, "-c", _CHILD])
     try:
-        assert proc.stdout is not None and proc.stdout.readline() == "ready\n"
-        proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=20)
+        assert proc.wait_line("ready", 20), proc.output
+        proc.signal(signal.SIGINT)
+        assert proc.wait(20) == 130, proc.output
     finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    assert out == "stopping\n" and proc.returncode == 130
-    assert "forced exit; the threads were at:" in err
+        proc.stop()
+    assert "stopping" in proc.output
+    assert "forced exit; the threads were at:" in proc.output
