@@ -319,11 +319,10 @@ class ActionClient(Generic[G, R, F]):
     def _request_result_soon(self, h: ClientGoalHandle, delay: float = 0.0) -> None:
         """`_request_result` from the executor: reply callbacks run on Zenoh's own threads,
         where a new query could deadlock (found with a router between the peers)."""
-        ex = self._ctx.executor
         if delay <= 0:
-            ex.call_soon(self._request_result, h)
+            self._ctx.executor.call_soon(self._request_result, h)
         else:
-            ex.call_soon(ex.loop.call_later, delay, self._request_result, h)
+            self._later(delay, self._request_result, h)
 
     def _on_result_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
                          early: bool) -> None:
@@ -393,6 +392,8 @@ class ActionClient(Generic[G, R, F]):
             self._later(ABSENT_POLL, self._look_for_server, h)
 
     def _later(self, delay: float, fn: Callable[..., object], *args: Any) -> None:
+        """Run ``fn(*args)`` on the executor's loop ``delay`` seconds from now (from any
+        thread)."""
         ex = self._ctx.executor
         ex.call_soon(ex.loop.call_later, delay, fn, *args)
 
