@@ -11,7 +11,14 @@ from ..msgs.zenros_msgs import tasks as tm
 from ..msgs.zenros_msgs.result import ResultCode
 from ..names import resolve
 from ..rpc import Client
-from .common import CliError, add_common, open_context, parse_yaml_arg, print_data
+from .common import (
+    CliError,
+    add_common,
+    call_when_reachable,
+    open_context,
+    parse_yaml_arg,
+    print_data,
+)
 
 _VERBS = {
     "list": "list tasks: id, state, progress, name",
@@ -57,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
                                       parse_yaml_arg(args.body) if call == "create" else None)
         except msgspec.ValidationError as exc:
             raise CliError(f"{args.verb}: invalid task: {exc}") from None
-        reply = client.call(request, timeout=args.timeout)
+        reply = call_when_reachable(client, request, args.timeout)
         if reply.code != ResultCode.OK:
             raise CliError(f"{args.verb}: {reply.message} ({ResultCode(reply.code).name})")
         data = tm.response_data(reply, single=args.verb == "show")
