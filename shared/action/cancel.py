@@ -13,7 +13,7 @@ from ..msgs.builtin_interfaces import Time
 from .transport import encoding_for, parse_error, query_once
 from .types import CancelGoalRequest, CancelGoalResponse, GoalInfo, uuid_from_msg, uuid_msg
 
-__all__ = ["request_cancel"]
+__all__ = ["request_cancel", "send_cancel"]
 
 _REQ = codec_for(CancelGoalRequest)
 _RES = codec_for(CancelGoalResponse)
@@ -33,6 +33,15 @@ def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.
         ActionError: the server refused the request.
     """
     req = CancelGoalRequest(goal_info=GoalInfo(goal_id=uuid_msg(goal_id), stamp=stamp))
+    res = send_cancel(session, key, action, req, timeout, destination)
+    return [uuid_from_msg(g.goal_id) for g in res.goals_canceling]
+
+
+def send_cancel(session: zenoh.Session, key: str, action: str, req: CancelGoalRequest,
+                timeout: float, destination: zenoh.Locality = zenoh.Locality.ANY
+                ) -> CancelGoalResponse:
+    """Send ``req`` to the action's cancel service and return the server's whole answer
+    (``return_code`` and ``goals_canceling``); raises as `request_cancel`."""
     done = threading.Event()
     replies: list[zenoh.Reply | None] = []
 
@@ -52,5 +61,5 @@ def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.
         if kind == "Timeout":
             raise ZenrosTimeout(f"action {action} did not answer cancel within {timeout:g} s")
         raise ActionError(f"action {action}: cancel failed: {message}")
-    res = _RES.decode(reply.ok.payload.to_bytes())
-    return [uuid_from_msg(g.goal_id) for g in res.goals_canceling]
+    res: CancelGoalResponse = _RES.decode(reply.ok.payload.to_bytes())
+    return res

@@ -343,6 +343,59 @@ def test_action_cancel_and_failure(server: RosbridgeServer, fibonacci: Node) -> 
         assert frame["result"] is False and "unknown action type" in frame["values"]
 
 
+def test_the_hidden_cancel_goal_service_cancels_every_goal(server: RosbridgeServer,
+                                                           ctx_pair: list[Context]) -> None:
+    # roslibjs's Action.cancelAllGoals: call_service <action>/_action/cancel_goal with {}
+    from zenros.examples.fibonacci_server import FibonacciServer
+
+    fibonacci = FibonacciServer(context=ctx_pair[1],
+                                parameter_overrides={"period": 0.02, "policy": "parallel"})
+    assert wait_for(lambda: server.node.graph.actions().get("/fibonacci"), TIMEOUT)
+    with fibonacci, raw(server) as ws:
+        for gid in ("a", "b"):
+            ws.send(json.dumps({"op": "send_action_goal", "id": gid, "action": "/fibonacci",
+                                "action_type": "example_interfaces/action/Fibonacci",
+                                "args": {"order": 1000}, "feedback": True}))
+        seen: set[str] = set()
+        while seen != {"a", "b"}:
+            frame = recv_json(ws)
+            assert frame["op"] == "action_feedback", frame
+            seen.add(frame["id"])
+        ws.send(json.dumps({"op": "call_service", "id": "c1",
+                            "service": "/fibonacci/_action/cancel_goal", "args": {}}))
+        ended: dict[str, dict[str, Any]] = {}
+        answer: dict[str, Any] = {}
+        while len(ended) < 2 or not answer:
+            frame = recv_json(ws)
+            if frame["op"] == "action_result":
+                ended[frame["id"]] = frame
+            elif frame["op"] == "service_response":
+                answer = frame
+        assert answer["id"] == "c1" and answer["result"] is True, answer
+        assert answer["values"]["return_code"] == 0
+        assert len(answer["values"]["goals_canceling"]) == 2
+        assert all(len(g["goal_id"]["uuid"]) == 16 for g in answer["values"]["goals_canceling"])
+        assert {k: (f["status"], f["result"]) for k, f in ended.items()} == {
+            "a": (5, True), "b": (5, True)}  # CANCELED
+        # a goal that is not there: ERROR_UNKNOWN_GOAL_ID (2), nothing canceling
+        ws.send(json.dumps({"op": "call_service", "id": "c2",
+                            "service": "/fibonacci/_action/cancel_goal",
+                            "args": {"goal_info": {"goal_id": {"uuid": [7] * 16}}}}))
+        answer = recv_json(ws)
+        assert answer["id"] == "c2" and answer["values"]["return_code"] == 2, answer
+        assert answer["values"]["goals_canceling"] == []
+        # no such action: the service does not exist, as any unknown service
+        ws.send(json.dumps({"op": "call_service", "id": "c3",
+                            "service": "/nothing/_action/cancel_goal", "args": {}}))
+        answer = recv_json(ws)
+        assert answer["result"] is False and "does not exist" in answer["values"], answer
+        ws.send(json.dumps({"op": "call_service", "id": "c4",
+                            "service": "/fibonacci/_action/cancel_goal",
+                            "args": {"goal_info": {"goal_id": {"uuid": "x"}}}}))
+        answer = recv_json(ws)
+        assert answer["id"] == "c4" and answer["result"] is False, answer
+
+
 def test_a_browser_serves_a_zenros_action(server: RosbridgeServer, robot: Node) -> None:
     from zenros.action import ActionClient, GoalStatus
     from zenros.msgs.example_interfaces import Fibonacci, FibonacciGoal, FibonacciResult
@@ -425,6 +478,28 @@ def test_rosapi_parameters(ctx_pair: list[Context], tmp_path: Path, server: Rosb
         values = get.call(roslibpy.ServiceRequest({"name": "/talker:max_speed",
                                                    "default_value": "3"}), timeout=TIMEOUT)
         assert values["value"] == "3"
+    finally:
+        master.close()
+
+
+def test_rosapi_calls_of_one_client_are_answered_in_order(
+        ctx_pair: list[Context], tmp_path: Path, server: RosbridgeServer) -> None:
+    # roslibjs's Param.set then Param.get, back to back: the get sees the value just set
+    master = MasterNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path)})
+    try:
+        assert server.bridge.params.wait_for_master(TIMEOUT)
+        with raw(server) as ws:
+            for i in range(20):
+                ws.send(json.dumps({"op": "call_service", "id": f"set{i}",
+                                    "service": "/rosapi/set_param",
+                                    "args": {"name": "/order_test", "value": json.dumps(i)}}))
+                ws.send(json.dumps({"op": "call_service", "id": f"get{i}",
+                                    "service": "/rosapi/get_param",
+                                    "args": {"name": "/order_test"}}))
+            answers = [recv_json(ws) for _ in range(40)]
+        assert [a["id"] for a in answers] == [f"{op}{i}" for i in range(20)
+                                              for op in ("set", "get")]
+        assert [json.loads(a["values"]["value"]) for a in answers[1::2]] == list(range(20))
     finally:
         master.close()
 

@@ -8,6 +8,8 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Protocol
 
+from zenros.action.cancel import send_cancel
+from zenros.action.types import CancelGoalRequest, CancelGoalResponse
 from zenros.errors import InvalidNameError, UnknownTypeError, ZenrosError
 from zenros.json_chunks import BulkEncoder, is_bulky
 from zenros.message import ActionType, Message, ServiceType, normalize_type_name
@@ -266,6 +268,19 @@ class Bridge:
         if c is None:
             c = self._action_clients[key] = self.node.create_action_client(action_type, name)
         return c
+
+    def has_action(self, action: str) -> bool:
+        """Whether a zenros action server of ``action`` is in the graph."""
+        return bool(self.node.graph.actions().get(action))
+
+    def cancel_goals(self, action: str, request: CancelGoalRequest,
+                     timeout: float) -> CancelGoalResponse:
+        """The ROS 2 hidden service ``<action>/_action/cancel_goal`` of a zenros action: one
+        goal, every goal (zero ``goal_id``) or every goal accepted by ``stamp``. Blocks (call
+        it off the loop)."""
+        ctx = self.node.context
+        key = ctx.keys.action(action, "cancel_goal")
+        return send_cancel(ctx.session, key, action, request, timeout, ctx.destination(key))
 
     def serve(self, srv_type: ServiceType, name: str, handler: Callable[..., Any]) -> Any:
         """A zenros service whose requests ``handler`` answers (a browser's service)."""

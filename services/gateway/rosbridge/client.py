@@ -68,6 +68,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self.served_actions: dict[str, ServedAction] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
         self._request_ids = itertools.count(1)
+        self._rosapi_turn = asyncio.Lock()
         self._defrag = Defragmenter(time.monotonic)
         self.closed = False
         self._ops: dict[str, Callable[[dict[str, Any]], None]] = {

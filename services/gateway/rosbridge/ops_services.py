@@ -7,8 +7,9 @@ import asyncio
 import concurrent.futures
 import itertools
 from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
+from zenros.action.types import CancelGoalRequest
 from zenros.errors import ServiceError, UnknownTypeError, ZenrosError, ZenrosTimeout
 from zenros.message import Message, ServiceType
 from zenros.registry import lookup_service
@@ -23,10 +24,12 @@ from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 if TYPE_CHECKING:
     from .bridge import Bridge
 
-__all__ = ["CLIENT_SERVICE_TIMEOUT", "DEFAULT_SERVICE_TIMEOUT", "ServiceOps"]
+__all__ = ["ACTION_CANCEL", "CLIENT_SERVICE_TIMEOUT", "DEFAULT_SERVICE_TIMEOUT", "ServiceOps"]
 
 DEFAULT_SERVICE_TIMEOUT = 10.0  # seconds, when call_service carries no timeout
 CLIENT_SERVICE_TIMEOUT = 10.0  # seconds a browser has to answer a forwarded call
+ACTION_CANCEL = "/_action/cancel_goal"
+"""A ROS 2 action's hidden cancel service (roslibjs's ``Action.cancelAllGoals`` calls it)."""
 
 
 class ServiceOps:
@@ -36,6 +39,7 @@ class ServiceOps:
     services: dict[str, Any]
     pending: dict[str, tuple[concurrent.futures.Future[Any], str]]
     _request_ids: itertools.count[int]
+    _rosapi_turn: asyncio.Lock  # one rosapi call of this client at a time, in order
 
     if TYPE_CHECKING:  # provided by ClientProtocol
         def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
@@ -74,7 +78,15 @@ class ServiceOps:
             elif Rosapi.handles(service):
                 if not isinstance(args, dict):
                     raise OpError("rosapi services take an object of named args")
-                values = await asyncio.to_thread(self.bridge.rosapi.call, service, args)
+                async with self._rosapi_turn:  # answered in the order asked (set, then get)
+                    values = await asyncio.to_thread(self.bridge.rosapi.call, service, args)
+            elif service.endswith(ACTION_CANCEL) and self.bridge.has_action(
+                    service[:-len(ACTION_CANCEL)]):
+                request = cast(CancelGoalRequest, message_from_json(
+                    request_args(args, CancelGoalRequest), CancelGoalRequest))
+                values = to_json(await asyncio.to_thread(
+                    self.bridge.cancel_goals, service[:-len(ACTION_CANCEL)], request,
+                    _timeout(frame)))
             else:
                 values = await self._call_zenros(service, args, frame)
         except (OpError, BridgeError, RosapiError, ZenrosError, ValueError, TypeError) as exc:
@@ -96,9 +108,7 @@ class ServiceOps:
         except UnknownTypeError as exc:
             raise OpError(str(exc)) from None
         request = message_from_json(request_args(args, srv_type.Request), srv_type.Request)
-        timeout = frame.get("timeout")
-        if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or timeout <= 0:
-            timeout = DEFAULT_SERVICE_TIMEOUT
+        timeout = _timeout(frame)
         try:
             response = await self.bridge.client(srv_type, service).call_async(request, timeout)
         except ZenrosTimeout:
@@ -200,3 +210,10 @@ class ServiceOps:
                 fut.set_exception(ServiceError(service, "the service was unadvertised"))
                 self.pending.pop(cid, None)
 
+
+def _timeout(frame: dict[str, Any]) -> float:
+    """A ``call_service``'s ``timeout`` (seconds), `DEFAULT_SERVICE_TIMEOUT` if it has none."""
+    timeout = frame.get("timeout")
+    if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or timeout <= 0:
+        return DEFAULT_SERVICE_TIMEOUT
+    return float(timeout)
