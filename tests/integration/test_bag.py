@@ -245,7 +245,10 @@ def test_play_reproduces_sequence_and_timing(ctx_pair: list[Context], publisher:
     dev = sorted(abs(e - med) for e in errors)
     # most messages keep the recorded spacing; a loaded box may delay a few (not a burst)
     assert dev[int(0.9 * len(dev))] < 0.05 and dev[-1] < 0.5, (dev[int(0.9 * len(dev))], dev[-1])
-    assert statistics.median(player.lateness) < 0.005  # precision is measured by bench/bag.py
+    # the player keeps up with the schedule (its precision, well under 1 ms on a quiet box,
+    # is measured by bench/bag.py: beside a CPU hog and three test workers the median was
+    # once 9.8 ms)
+    assert statistics.median(player.lateness) < 0.05
 
 
 def test_play_rate_start_topics_and_clock(ctx_pair: list[Context], publisher: Node,
