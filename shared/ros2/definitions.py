@@ -138,6 +138,9 @@ ACTIONS: dict[str, str] = {
     "example_interfaces/action/Fibonacci": "int32 order\n---\nint32[] sequence\n---\nint32[] sequence",
     # the action the ROS 2 wheels ship (rclpy's tests use it); zenros.msgs.test_msgs has its classes
     "test_msgs/action/Fibonacci": "int32 order\n---\nint32[] sequence\n---\nint32[] sequence",
+    # the ROS 2 action tutorials' (roslibjs's ROS 2 examples); zenros.msgs.action_tutorials_interfaces
+    "action_tutorials_interfaces/action/Fibonacci":
+        "int32 order\n---\nint32[] sequence\n---\nint32[] partial_sequence",
 }
 
 # nav2_msgs: Nav2's own field lists (nav2_definitions.py), so their hashes are Nav2's

@@ -343,6 +343,30 @@ def test_action_cancel_and_failure(server: RosbridgeServer, fibonacci: Node) -> 
         assert frame["result"] is False and "unknown action type" in frame["values"]
 
 
+def test_a_goal_in_the_ros2_tutorial_type_reaches_the_example_interfaces_server(
+        server: RosbridgeServer, fibonacci: Node) -> None:
+    # roslibjs's ROS 2 example names action_tutorials_interfaces/action/Fibonacci for /fibonacci
+    assert wait_for(lambda: server.node.graph.actions().get("/fibonacci"), TIMEOUT)
+    with raw(server) as ws:
+        ws.send(json.dumps({"op": "send_action_goal", "id": "t1", "action": "/fibonacci",
+                            "action_type": "action_tutorials_interfaces/action/Fibonacci",
+                            "args": {"order": 8}, "feedback": True}))
+        feedback: list[Any] = []
+        while (frame := recv_json(ws))["op"] == "action_feedback":
+            feedback.append(frame["values"])
+        assert frame["op"] == "action_result" and frame["id"] == "t1", frame
+        assert frame["values"] == {"sequence": [0, 1, 1, 2, 3, 5, 8, 13, 21]}, frame
+        assert frame["status"] == 4 and frame["result"] is True
+        # the tutorial's feedback field, as a server of that type sends it
+        assert feedback[0] == {"partial_sequence": [0, 1, 1]}, feedback
+        assert feedback[-1] == {"partial_sequence": [0, 1, 1, 2, 3, 5, 8, 13, 21]}, feedback
+        # a type of another layout is not converted: the server refuses what it cannot read
+        ws.send(json.dumps({"op": "send_action_goal", "id": "t2", "action": "/fibonacci",
+                            "action_type": "nav2_msgs/action/Wait", "args": {}}))
+        frame = recv_json(ws)
+        assert frame["id"] == "t2" and frame["result"] is False, frame
+
+
 def test_the_hidden_cancel_goal_service_cancels_every_goal(server: RosbridgeServer,
                                                            ctx_pair: list[Context]) -> None:
     # roslibjs's Action.cancelAllGoals: call_service <action>/_action/cancel_goal with {}

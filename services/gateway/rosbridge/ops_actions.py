@@ -8,10 +8,12 @@ from collections.abc import Awaitable, Callable
 from typing import TYPE_CHECKING, Any
 
 from zenros.errors import ZenrosError
+from zenros.message import Message
 from zenros.registry import lookup_action
 
 from .bridge import BridgeError
 from .convert import message_from_json, to_json
+from .equivalents import convert, served_type
 from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
 from .served_action import ServedAction
 
@@ -53,9 +55,11 @@ class ActionOps:
             action = frame_name(frame, "action")
             action_type = frame_type(frame, "action_type", lookup_action)
             goal = message_from_json(frame.get("args") or {}, action_type.Goal)
-            client = self.bridge.action_client(action_type, action)
-            on_feedback = self._feedback_sender(given, mid) if frame.get("feedback") else None
-            handle = client.send_goal_async(goal, on_feedback)
+            served = served_type(action_type, self.bridge.node.graph.actions().get(action, []))
+            client = self.bridge.action_client(served, action)
+            on_feedback = (self._feedback_sender(given, mid, action_type.Feedback)
+                           if frame.get("feedback") else None)
+            handle = client.send_goal_async(convert(goal, served.Goal), on_feedback)
             if mid is not None:
                 self.goals[mid] = handle
             try:
@@ -71,14 +75,15 @@ class ActionOps:
         if result.reason and status == 0:
             reply(result.reason, 0, False)
             return
-        reply(to_json(result.result), status, True)
+        reply(to_json(convert(result.result, action_type.Result)), status, True)
 
-    def _feedback_sender(self, action: str, mid: Any) -> Callable[[Any], None]:
+    def _feedback_sender(self, action: str, mid: Any,
+                         feedback_type: type[Message]) -> Callable[[Any], None]:
         loop = self.bridge.loop
 
         def on_feedback(msg: Any) -> None:  # on the action client's feedback thread
             out: dict[str, Any] = {"op": "action_feedback", "action": action,
-                                   "values": to_json(msg.feedback)}
+                                   "values": to_json(convert(msg.feedback, feedback_type))}
             if mid is not None:
                 out["id"] = mid
             loop.call_soon_threadsafe(self.send, out)
