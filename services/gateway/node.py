@@ -12,6 +12,7 @@ from typing import Any
 from starlette.types import ASGIApp
 from zenros.errors import ConfigError
 from zenros.home import data_dir
+from zenros.memory import keep_freed_buffers
 from zenros.node import Node
 
 from .fleet import Fleet
@@ -45,6 +46,7 @@ class GatewayNode(Node):
     node_name = "gateway"
 
     def setup(self) -> None:
+        keep_freed_buffers()  # large frames reuse mapped memory (zenros.memory)
         p = self.params = self.declare_parameters(GatewayParameters)
         host = self.host = p.host
         self.data_dir = Path(p.data_dir or self._default_dir())
