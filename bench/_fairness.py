@@ -3,7 +3,9 @@
 One gateway child serves the three doors (rosbridge 9090-style, the topic WebSocket 3547-style,
 Foxglove when foxglove-sdk is installed). The parent publishes nav_msgs/Odometry on /odom at
 50 Hz (its send time, monotonic clock, in ``pose.pose.position.z``; the phase in ``.x``) and,
-in the second phase only, a 2 MB OccupancyGrid on /map at 1 Hz. Five client processes
+in the second phase only, a 2 MB OccupancyGrid on /map at 1 Hz from a process of its own
+(as a robot's map server is: the map's encoding, in the odometry's process, would hold up
+/odom there, before the gateway has it). Five client processes
 hold a WebSocket client each on one door, each subscribed to both topics (plain JSON, no
 fragments, no compression: the case a browser asks for; ``--map-compression`` asks rosbridge
 for the map as ``png``, ``cbor`` or ``cbor-raw`` instead); each reads every frame, parses
@@ -163,32 +165,29 @@ def child_clients(door: str, port: int, n: int, map_compression: str = "none",
 
 
 class _Publisher:
-    def __init__(self, zport: int, prefix: str, side: int) -> None:
-        from rosbridge import map_message  # the cbor bench's map
+    """/odom at 50 Hz from this process; the map from a child (`child_map`) told when."""
+
+    def __init__(self, script: str, zport: int, prefix: str, side: int) -> None:
         from zenros.context import Context
-        from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
+        from zenros.msgs.nav_msgs import Odometry
         from zenros.node import Node
         from zenros.testing import loopback_options
 
         self._ctx = Context(loopback_options(connect=[zport]), prefix=prefix)
         self._node = Node("bench_fair", context=self._ctx)
         self._odom = self._node.create_publisher(Odometry, "/odom")
-        self._map = self._node.create_publisher(OccupancyGrid, "/map")
         self._odom_type = Odometry
-        self._grid = map_message(side)
+        self._map = Child(script, "--role", "map", "--zport", str(zport), "--prefix", prefix,
+                          "--side", str(side))
         self.phase = WARMUP
         self._stop = threading.Event()
-        self._threads = [threading.Thread(target=self._odom_loop, daemon=True),
-                         threading.Thread(target=self._map_loop, daemon=True)]
-        for t in self._threads:
-            t.start()
+        self._thread = threading.Thread(target=self._odom_loop, daemon=True)
+        self._thread.start()
 
-    def _paced(self, hz: float, send: Any) -> None:
-        start, n = time.monotonic(), 0
-        while not self._stop.is_set():
-            n += 1
-            self._stop.wait(max(0.0, start + n / hz - time.monotonic()))
-            send()
+    def start_map(self) -> None:
+        assert self._map.p.stdin is not None
+        self._map.p.stdin.write("go\n")
+        self._map.p.stdin.flush()
 
     def _odom_loop(self) -> None:
         def send() -> None:
@@ -197,20 +196,44 @@ class _Publisher:
             msg.pose.pose.position.x = self.phase
             msg.pose.pose.position.z = time.monotonic()
             self._odom.publish(msg)
-        self._paced(ODOM_HZ, send)
-
-    def _map_loop(self) -> None:
-        def send() -> None:
-            if self.phase == WITH_MAP:
-                self._map.publish(self._grid)
-        self._paced(MAP_HZ, send)
+        _paced(ODOM_HZ, send, self._stop)
 
     def close(self) -> None:
         self._stop.set()
-        for t in self._threads:
-            t.join()
+        self._thread.join()
+        self._map.stop()
         self._node.close()
         self._ctx.close()
+
+
+def _paced(hz: float, send: Any, stop: threading.Event) -> None:
+    start, n = time.monotonic(), 0
+    while not stop.is_set():
+        n += 1
+        stop.wait(max(0.0, start + n / hz - time.monotonic()))
+        send()
+
+
+def child_map(zport: int, prefix: str, side: int) -> None:
+    """Publishes a ``side`` x ``side`` OccupancyGrid on /map at 1 Hz once told ("go" on
+    stdin), until stdin closes."""
+    from rosbridge import map_message  # the cbor bench's map
+    from zenros.context import Context
+    from zenros.msgs.nav_msgs import OccupancyGrid
+    from zenros.node import Node
+    from zenros.testing import loopback_options
+
+    ctx = Context(loopback_options(connect=[zport]), prefix=prefix)
+    node = Node("bench_fair_map", context=ctx)
+    pub = node.create_publisher(OccupancyGrid, "/map")
+    grid = map_message(side)
+    print("ready", flush=True)
+    stop = threading.Event()
+    if sys.stdin.readline():  # "go"
+        threading.Thread(target=lambda: (sys.stdin.read(), stop.set()), daemon=True).start()
+        _paced(MAP_HZ, lambda: pub.publish(grid), stop)
+    node.close()
+    ctx.close()
 
 
 def start_gateway(script: str, foxglove: bool) -> tuple[Child, dict[str, int], int, str]:
@@ -226,7 +249,7 @@ def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
                      map_compression: str = "none", map_fragment_size: int = 0
                      ) -> dict[str, Any]:
     """/odom's delivery age to ``n`` clients of ``door``, without then with the map."""
-    pub = _Publisher(zport, prefix, side)
+    pub = _Publisher(script, zport, prefix, side)
     clients: list[Child] = []
     try:
         for _ in range(n):  # a process each, as browsers are: one's reading holds up no other
@@ -237,6 +260,7 @@ def measure_fairness(script: str, door: str, port: int, zport: int, prefix: str,
         pub.phase = PLAIN
         time.sleep(duration)  # a measuring phase, not a wait on a condition
         pub.phase = WITH_MAP
+        pub.start_map()
         time.sleep(duration)
         pub.phase = END
         results = [c.result(120) for c in clients]

@@ -26,7 +26,7 @@ import time
 from typing import Any
 
 from _fairness import child_clients as child_fair_clients
-from _fairness import child_gateway, measure_fairness, start_gateway
+from _fairness import child_gateway, child_map, measure_fairness, start_gateway
 from _harness import Child, bench_parser, emit, free_port, percentile, unique_prefix
 
 TOPIC = "/bench_twist"
@@ -324,7 +324,7 @@ def fairness(duration: float, doors: list[str], map_compression: str = "none",
 
 
 def main() -> None:
-    ap = bench_parser(__doc__, ["relay", "rosbridge", "clients", "gateway", "fair_clients"],
+    ap = bench_parser(__doc__, ["relay", "rosbridge", "clients", "gateway", "fair_clients", "map"],
                       repeats=1)
     ap.add_argument("--zport", type=int, default=0)
     ap.add_argument("--door", choices=["rosbridge", "topicws", "foxglove"], default="rosbridge")
@@ -339,6 +339,7 @@ def main() -> None:
     ap.add_argument("--map-fragment-size", type=int, default=0,
                     help="rosbridge's fairness clients take the map in fragment ops of this "
                          "many characters (0: whole)")
+    ap.add_argument("--side", type=int, default=1448, help="the map's side in cells (fairness)")
     ap.add_argument("--n", type=int, default=1)
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--latency-rate", type=float, default=500.0,
@@ -358,6 +359,9 @@ def main() -> None:
         return
     if args.role == "gateway":
         child_gateway(args.zport, args.prefix, bool(args.foxglove))
+        return
+    if args.role == "map":
+        child_map(args.zport, args.prefix, args.side)
         return
     if args.role == "fair_clients":
         child_fair_clients(args.door, args.port, args.n, args.map_compression,
