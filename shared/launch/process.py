@@ -32,7 +32,7 @@ class Event:
         if self.kind == "signal":
             return f"sent {self.detail} to {self.label} (pid {self.pid})"
         if self.kind == "ready":
-            return f"{self.label} is ready"
+            return f"{self.label} is ready{self.detail}"
         if self.kind == "not_ready":
             return f"{self.label} did not become ready{self.detail}"
         return self.detail

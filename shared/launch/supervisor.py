@@ -43,6 +43,8 @@ __all__ = [
 ]
 T = TypeVar("T")
 
+READY_RECHECK = 1.0  # s between asks of a wait_ready hook that said "not yet"
+
 
 BeforeStart = Callable[[ProcessSpec], "ProcessSpec | Awaitable[ProcessSpec]"]
 WaitReady = Callable[[ProcessSpec], "bool | Awaitable[bool]"]
@@ -204,15 +206,30 @@ class Supervisor:
         return True
 
     async def _readiness(self, state: ProcessState, spec: ProcessSpec) -> None:
+        """Ask the ``wait_ready`` hook until the process is ready: a False answer is said once
+        (``did not become ready; still watching for it``) and the hook is asked again,
+        READY_RECHECK s apart, so a node that is only slow (a loaded host) is still reported
+        ready, with how long it took. A hook that raises is said and not asked again."""
         assert self.config.wait_ready is not None
-        try:
-            ok = await _maybe(self.config.wait_ready(spec))
-        except Exception as exc:  # noqa: BLE001 -- a failing hook is reported as "not ready"
-            ok, why = False, f": {exc}"
-        else:
-            why = ""
-        state.ready = ok
-        self._say(Event("ready" if ok else "not_ready", state.spec.label, detail=why))
+        started = time.monotonic()
+        late = False
+        while True:
+            try:
+                ok = await _maybe(self.config.wait_ready(spec))
+            except Exception as exc:  # noqa: BLE001 -- a failing hook is reported as "not ready"
+                state.ready = False
+                self._say(Event("not_ready", state.spec.label, detail=f": {exc}"))
+                return
+            if ok:
+                state.ready = True
+                took = f" ({time.monotonic() - started:.0f} s after its start)" if late else ""
+                self._say(Event("ready", state.spec.label, detail=took))
+                return
+            if not late:
+                late = True
+                state.ready = False
+                self._say(Event("not_ready", state.spec.label, detail="; still watching for it"))
+            await asyncio.sleep(READY_RECHECK)
 
     async def _supervise(self, state: ProcessState) -> None:
         spec = state.spec

@@ -443,8 +443,10 @@ async def test_hooks_before_start_and_wait_ready(harness: Callable[..., Harness]
         calls.append(spec.name)
         return ProcessSpec(spec.name, spec.cmd, env={**spec.env, "ZR_HOOK": "injected"})
 
+    late = asyncio.Event()  # "slow" is ready once this is set
+
     def wait_ready(spec: ProcessSpec) -> bool:
-        ready: bool = spec.name == "good"
+        ready: bool = spec.name == "good" or late.is_set()
         return ready
 
     code = "import os; print(os.environ['ZR_HOOK'], flush=True); import time; time.sleep(300)"
@@ -455,6 +457,13 @@ async def test_hooks_before_start_and_wait_ready(harness: Callable[..., Harness]
     await h.until(lambda: h.screen.getvalue().count("injected") == 2)
     assert calls == ["good", "slow"]
     assert h.sup.states["good"].ready is True and h.sup.states["slow"].ready is False
+    assert "[launch] slow did not become ready; still watching for it" in \
+        h.screen_err.getvalue() + h.screen.getvalue()
+    late.set()  # a slow node's readiness is still reported, with how long it took
+    await h.until(lambda: h.sup.states["slow"].ready is True)
+    assert re.search(r"\[launch\] slow is ready \(\d+ s after its start\)",
+                     h.screen_err.getvalue() + h.screen.getvalue())
+    assert h.kinds().count("not_ready") == 1
     h.sup.stop()
     assert await h.result() == 0
 
