@@ -24,7 +24,7 @@ from zenros.msgs.builtin_interfaces import Time
 from zenros.ros2 import cdr_codec, definition, ros_name_of
 from zenros.ros2.idl import MsgDef
 
-__all__ = ["BinaryFrame", "cbor_frame", "cbor_frame_from_json", "cbor_raw_frame", "cbor_values"]
+__all__ = ["cbor_frame", "cbor_frame_from_json", "cbor_raw_frame", "cbor_values", "is_binary"]
 
 TAGS: dict[str, tuple[int, str]] = {
     "uint16": (69, "<u2"),
@@ -40,8 +40,11 @@ TAGS: dict[str, tuple[int, str]] = {
 BYTES = ("uint8", "char", "byte")
 
 
-class BinaryFrame(bytes):
-    """A frame sent as a binary WebSocket message (CBOR), not as text."""
+def is_binary(frame: bytes | str) -> bool:
+    """Whether ``frame`` goes out as a binary WebSocket message: a CBOR frame (a map, first
+    byte 0xa0-0xbf), not JSON text (every text frame of the protocol is a JSON object, ``{``).
+    Told by its first byte, so a 2 MB CBOR frame is not copied into a marker type."""
+    return isinstance(frame, bytes) and frame[:1] != b"{"
 
 
 _DEFINITIONS: dict[type, MsgDef] = {}
@@ -82,18 +85,21 @@ def cbor_values(msg: Message) -> dict[str, Any]:
     return out
 
 
-def cbor_frame(topic: str, msg: Message) -> BinaryFrame:
+def cbor_frame(topic: str, msg: Message) -> bytes:
     """The ``cbor`` publish frame of ``msg``."""
-    return BinaryFrame(cbor2.dumps({"op": "publish", "topic": topic, "msg": cbor_values(msg)}))
+    frame: bytes = cbor2.dumps({"op": "publish", "topic": topic, "msg": cbor_values(msg)})
+    return frame
 
 
-def cbor_raw_frame(topic: str, msg: Message, now: Time) -> BinaryFrame:
+def cbor_raw_frame(topic: str, msg: Message, now: Time) -> bytes:
     """The ``cbor-raw`` publish frame of ``msg``: its CDR bytes and the time ``now``."""
     raw = cdr_codec(type(msg)).encode(msg)
-    return BinaryFrame(cbor2.dumps({"op": "publish", "topic": topic, "msg": {
-        "secs": now.sec, "nsecs": now.nanosec, "bytes": raw}}))
+    frame: bytes = cbor2.dumps({"op": "publish", "topic": topic, "msg": {
+        "secs": now.sec, "nsecs": now.nanosec, "bytes": raw}})
+    return frame
 
 
-def cbor_frame_from_json(obj: Any) -> BinaryFrame:
+def cbor_frame_from_json(obj: Any) -> bytes:
     """A frame already in JSON (a topic of a type zenros has no definition for) as CBOR."""
-    return BinaryFrame(cbor2.dumps(obj))
+    frame: bytes = cbor2.dumps(obj)
+    return frame

@@ -16,7 +16,7 @@ from zenros.node import Node
 
 from ..ws_slices import SLICE, SLICE_PAUSE, paced_slices
 from .bridge import Bridge
-from .cbor import BinaryFrame
+from .cbor import is_binary
 from .client import ClientProtocol
 from .fragments import fragment
 from .outbox import Turnstile
@@ -126,7 +126,7 @@ class RosbridgeServer:
                 wake.clear()
                 frames, due = client.outbox.take()
                 for frame, size in frames:
-                    text = not isinstance(frame, BinaryFrame)  # CBOR goes binary, whole
+                    text = not is_binary(frame)  # CBOR goes binary, whole
                     for part in fragment(frame, size) if size and text else (frame,):
                         if _congested(ws):  # ws.send waits until the socket drains
                             await ws.send(part, text=text)
@@ -141,7 +141,7 @@ class RosbridgeServer:
                         due = held if due is None else min(due, held)
                     if piece is not None:
                         lane.in_flight = len(piece)  # not congestion: the frame just written
-                        text = not isinstance(piece, BinaryFrame)
+                        text = not is_binary(piece)
                         try:  # a large piece as a fragmented message: the loop is free between
                             await ws.send(paced_slices(piece) if len(piece) > SLICE else piece,
                                           text=text)
@@ -232,7 +232,7 @@ class _Lane:
 def _split(frame: bytes, size: int) -> Sequence[bytes]:
     """A large frame as the pieces it is sent in: ``fragment`` frames of ``size`` characters
     for a client that asked for them (text only: CBOR goes whole), else the frame."""
-    if size and not isinstance(frame, BinaryFrame):
+    if size and not is_binary(frame):
         return fragment(frame, size)
     return [frame]
 

@@ -107,3 +107,24 @@ def test_incomplete_fragments_expire() -> None:
     now[0] = 11
     d.add({"id": "y", "data": "a", "num": 0, "total": 2})
     assert len(d) == 1
+
+
+def test_cbor_frames_go_binary_and_every_json_frame_text() -> None:
+    from zenros.msgs.builtin_interfaces import Time
+    from zenros.msgs.std_msgs import String
+    from zenros.services.gateway.rosbridge.cbor import (
+        cbor_frame,
+        cbor_frame_from_json,
+        cbor_raw_frame,
+        is_binary,
+    )
+    from zenros.services.gateway.rosbridge.convert import dumps
+    from zenros.services.gateway.rosbridge.fragments import fragment
+
+    msg = String(data="{not json")
+    for frame in (cbor_frame("/t", msg), cbor_raw_frame("/t", msg, Time(sec=1)),
+                  cbor_frame_from_json({"op": "publish", "topic": "/t", "msg": {"data": "x"}})):
+        assert is_binary(frame)
+    text = dumps({"op": "publish", "topic": "/t", "msg": {"data": "{x"}})
+    assert not is_binary(text)
+    assert not any(is_binary(f) for f in fragment(text * 3, 10))
