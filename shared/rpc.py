@@ -262,6 +262,11 @@ class Service:
             self._served.wait(2.0)  # a query being served finishes first
 
 
+REACH_GRACE = 1.0
+"""Seconds a service call asks again when no reply came but the graph lists a server
+(`Client.call`): the first query of a fresh session can find no route to it yet."""
+
+
 class Client:
     """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
 
@@ -312,14 +317,24 @@ class Client:
         """
         data = self._encode(request)
         start = time.monotonic()
-        replies = self._ctx.session.get(
-            self.key, payload=data, encoding=self._req_encoding, timeout=timeout,
-            target=zenoh.QueryTarget.BEST_MATCHING,
-            allowed_destination=self._ctx.destination(self.key),
-        )
-        for reply in replies:
-            return self._result(reply, timeout)
-        return self._no_reply(timeout, time.monotonic() - start)
+        pause = 0.02
+        while True:
+            replies = self._ctx.session.get(
+                self.key, payload=data, encoding=self._req_encoding,
+                timeout=max(0.01, timeout - (time.monotonic() - start)),
+                target=zenoh.QueryTarget.BEST_MATCHING,
+                allowed_destination=self._ctx.destination(self.key),
+            )
+            for reply in replies:
+                return self._result(reply, timeout)
+            # No reply at all. A server the graph lists may not be routable yet: a session
+            # sees a server's token a moment before it has a route to the server's queryable,
+            # and the query then ends at once. Ask again, for REACH_GRACE s at most.
+            elapsed = time.monotonic() - start
+            if elapsed + pause >= min(REACH_GRACE, timeout * 0.9) or not self.service_is_ready():
+                return self._no_reply(timeout, elapsed)
+            time.sleep(pause)
+            pause = min(pause * 2, 0.2)
 
     def _no_reply(self, timeout: float, elapsed: float) -> Any:
         if elapsed < timeout * 0.9:

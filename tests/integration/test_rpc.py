@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import json
 import threading
+import time
 from typing import Any
 
 import pytest
@@ -12,6 +13,7 @@ from zenros import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.errors import EncodeError
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse
 from zenros.msgs.std_srvs import Trigger, TriggerRequest, TriggerResponse
+from zenros.rpc import REACH_GRACE
 
 
 @pytest.fixture
@@ -173,3 +175,36 @@ def test_a_caller_beside_a_server_runs_one_request_on_one_server(make_node: Any)
     hits.clear()
     assert client.call(AddTwoIntsRequest(a=1, b=2)).sum == 3
     assert hits == ["remote"]
+
+
+def test_a_listed_server_not_yet_routable_is_asked_again(nodes: Any) -> None:
+    # the graph lists the server (its token) before its queryable is there, as a fresh
+    # session can see a server's token a moment before it has a route to it
+    server, caller = nodes
+    ctx = server.context
+    token = ctx.session.liveliness().declare_token(ctx.keys.entity_token(
+        "srv", server.fqn, "/late_add", AddTwoInts.name, "", ctx.zid,
+        ctx.next_eid()))
+    client = caller.create_client(AddTwoInts, "/late_add")
+    try:
+        assert client.wait_for_service(5)
+        t0 = time.monotonic()
+        with pytest.raises(ServiceUnavailableError, match="/late_add"):  # never served
+            client.call(AddTwoIntsRequest(a=1, b=2), timeout=5)
+        assert time.monotonic() - t0 >= REACH_GRACE / 2  # asked again meanwhile, not given up
+        asked = threading.Event()
+        results: list[int] = []
+
+        def call() -> None:
+            asked.set()
+            results.append(client.call(AddTwoIntsRequest(a=1, b=2), timeout=5).sum)
+
+        t = threading.Thread(target=call)
+        t.start()
+        assert asked.wait(5)
+        server.create_service(AddTwoInts, "/late_add",
+                              lambda r: AddTwoIntsResponse(sum=r.a + r.b))
+        t.join(10)
+        assert results == [3]
+    finally:
+        token.undeclare()
