@@ -9,7 +9,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import zenoh
 
@@ -266,6 +266,28 @@ REACH_GRACE = 1.0
 """Seconds a service call asks again when no reply came but the graph lists a server
 (`Client.call`): the first query of a fresh session can find no route to it yet."""
 
+R = TypeVar("R")
+
+
+def ask_while_listed(ask: Callable[[float], R | None], listed: Callable[[], bool],
+                     timeout: float, grace: float) -> R | None:
+    """``ask(seconds_left)`` until it answers (not None); again, after a short pause, while
+    ``listed()`` (the graph shows a server) and less than ``grace`` s (and 90 % of
+    ``timeout``) have passed: a session sees a server's token a moment before it has a
+    route to the server's queryable, and its first query then ends at once. None if
+    nothing answered."""
+    start = time.monotonic()
+    pause = 0.02
+    while True:
+        answer = ask(max(0.01, timeout - (time.monotonic() - start)))
+        if answer is not None:
+            return answer
+        elapsed = time.monotonic() - start
+        if elapsed + pause >= min(grace, timeout * 0.9) or not listed():
+            return None
+        time.sleep(pause)
+        pause = min(pause * 2, 0.2)
+
 
 class Client:
     """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
@@ -307,8 +329,12 @@ class Client:
             raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
         raise ServiceError(self.name, *_parse_error(data))
 
-    def call(self, request: Message, timeout: float = 5.0) -> Any:
+    def call(self, request: Message, timeout: float = 5.0,
+             grace: float = REACH_GRACE) -> Any:
         """Call the service and return its response.
+
+        A query that ends with no reply while the graph lists a server is sent again, for
+        ``grace`` s at most (`ask_while_listed`).
 
         Raises:
             ServiceError: the handler failed or rejected the request (carries the reason).
@@ -317,24 +343,19 @@ class Client:
         """
         data = self._encode(request)
         start = time.monotonic()
-        pause = 0.02
-        while True:
-            replies = self._ctx.session.get(
-                self.key, payload=data, encoding=self._req_encoding,
-                timeout=max(0.01, timeout - (time.monotonic() - start)),
-                target=zenoh.QueryTarget.BEST_MATCHING,
-                allowed_destination=self._ctx.destination(self.key),
-            )
-            for reply in replies:
-                return self._result(reply, timeout)
-            # No reply at all. A server the graph lists may not be routable yet: a session
-            # sees a server's token a moment before it has a route to the server's queryable,
-            # and the query then ends at once. Ask again, for REACH_GRACE s at most.
-            elapsed = time.monotonic() - start
-            if elapsed + pause >= min(REACH_GRACE, timeout * 0.9) or not self.service_is_ready():
-                return self._no_reply(timeout, elapsed)
-            time.sleep(pause)
-            pause = min(pause * 2, 0.2)
+
+        def ask(left: float) -> zenoh.Reply | None:
+            for reply in self._ctx.session.get(
+                    self.key, payload=data, encoding=self._req_encoding, timeout=left,
+                    target=zenoh.QueryTarget.BEST_MATCHING,
+                    allowed_destination=self._ctx.destination(self.key)):
+                return reply
+            return None
+
+        reply = ask_while_listed(ask, self.service_is_ready, timeout, grace)
+        if reply is None:
+            return self._no_reply(timeout, time.monotonic() - start)
+        return self._result(reply, timeout)
 
     def _no_reply(self, timeout: float, elapsed: float) -> Any:
         if elapsed < timeout * 0.9:

@@ -19,11 +19,10 @@ import yaml
 
 from ..codec import JSON, MSGPACK, decode_any, split_encoding, to_builtins
 from ..context import Context
-from ..errors import ServiceUnavailableError, StartupError, UnknownTypeError, ZenrosError
+from ..errors import StartupError, UnknownTypeError, ZenrosError
 from ..message import ActionType, Message, ServiceType, normalize_type_name
 from ..node import Node
 from ..registry import lookup_action, lookup_service, lookup_type
-from ..rpc import Client
 from ..session import DEFAULT_ROUTER, add_session_arguments, options_from_args
 
 __all__ = [
@@ -31,7 +30,6 @@ __all__ = [
     "CliError",
     "ToolNode",
     "add_common",
-    "call_when_reachable",
     "check_graph_type",
     "find_action_type",
     "find_message_type",
@@ -107,22 +105,6 @@ def open_context(args: argparse.Namespace, settle: bool = True, *,
     if settle:
         ctx.graph.settle()
     return ctx
-
-
-def call_when_reachable(client: Client, request: Message, timeout: float) -> Any:
-    """``client.call(request)``, asked again while its server is in the graph but no reply
-    came: a fresh session can see a server's token (through the router) a moment before it
-    has a route to the server itself, and the first query then ends unanswered."""
-    deadline = time.monotonic() + timeout
-    pause = 0.05
-    while True:
-        try:
-            return client.call(request, timeout=max(0.1, deadline - time.monotonic()))
-        except ServiceUnavailableError:
-            if time.monotonic() + pause >= deadline or not client.service_is_ready():
-                raise
-        time.sleep(pause)
-        pause = min(pause * 2, 0.5)
 
 
 def _reached_anyone(ctx: Context, wait: float = 0.3) -> bool:

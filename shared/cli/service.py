@@ -11,7 +11,6 @@ from ..rpc import Client
 from .common import (
     CliError,
     add_common,
-    call_when_reachable,
     check_graph_type,
     find_service_type,
     open_context,
@@ -59,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         if not client.wait_for_service(min(args.timeout, 5.0)):
             raise CliError(f"service {name} is not available")
         print(f"requester: making request: {request}")
-        response = call_when_reachable(client, request, args.timeout)
+        response = client.call(request, timeout=args.timeout, grace=args.timeout)
         print("response:")
         print_data(to_builtins(response), args.json, separator=False)
         return 0

@@ -14,7 +14,6 @@ from ..rpc import Client
 from .common import (
     CliError,
     add_common,
-    call_when_reachable,
     open_context,
     parse_yaml_arg,
     print_data,
@@ -64,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
                                       parse_yaml_arg(args.body) if call == "create" else None)
         except msgspec.ValidationError as exc:
             raise CliError(f"{args.verb}: invalid task: {exc}") from None
-        reply = call_when_reachable(client, request, args.timeout)
+        reply = client.call(request, timeout=args.timeout, grace=args.timeout)
         if reply.code != ResultCode.OK:
             raise CliError(f"{args.verb}: {reply.message} ({ResultCode(reply.code).name})")
         data = tm.response_data(reply, single=args.verb == "show")
