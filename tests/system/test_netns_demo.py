@@ -300,6 +300,27 @@ def _off(pose: dict[str, float], goal: tuple[float, float]) -> float:
     return math.hypot(pose["x"] - goal[0], pose["y"] - goal[1])
 
 
+def _pose_trail(demo: Demo, rest: Rest) -> dict[str, Any]:
+    """Where robot1's pose stops on its way to the station's REST, for a failure message: as
+    nav publishes it (on robot1), as a fresh session on the station hears it, and the
+    gateway's status (``visualStatus`` 2: its last pose is over a second old)."""
+    trail: dict[str, Any] = {}
+    for host in ("robot1", "station"):
+        out = subprocess.run(
+            [str(DEMO), "run", host, sys.executable, "-m", "zenros.cli", "topic", "echo",
+             "/robot1/robot_pose", "--once", "--json", "--timeout", "8"],
+            env=demo.env, capture_output=True, text=True, timeout=30, check=False)
+        try:
+            msg = json.loads(out.stdout.splitlines()[-1])
+            trail[f"robot_pose heard on {host}"] = [msg["header"]["stamp"],
+                                                    msg["pose"]["pose"]["position"]]
+        except (IndexError, KeyError, json.JSONDecodeError):
+            trail[f"robot_pose heard on {host}"] = (out.stdout + out.stderr)[-300:]
+    status, doc = rest.call(R1_PORT, "GET", "/system/galileo_status")
+    trail["gateway status"] = doc if status == 200 else (status, doc)
+    return trail
+
+
 def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
         demo: Demo, rest: Rest) -> None:
     # Both robots are up behind their gateways: the tasks service and nav answer.
@@ -401,7 +422,7 @@ def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
     def r1_arrived() -> bool:
         r1_pose.update(rest.ok(R1_PORT, "GET", "/navigation/pose"))
         return _off(r1_pose, R1_LEGS[-1]) < ARRIVED
-    assert wait_for(r1_arrived, 15, interval=0.3), r1_pose
+    assert wait_for(r1_arrived, 15, interval=0.3), (r1_pose, _pose_trail(demo, rest))
     t_r1_pose = time.monotonic()
 
     figures = {

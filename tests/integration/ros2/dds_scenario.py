@@ -233,6 +233,7 @@ def main(case: str) -> dict[str, Any]:
     prefix = unique_prefix()
     procs = Procs()
     res: dict[str, Any] = {"case": case}
+    started = time.monotonic()
     bridge = procs.start("-m", "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{port}",
                          "--prefix", prefix, "-p", "domain_id:=0",
                          "-p", "types:=zenros.msgs.test_msgs", stdout=subprocess.DEVNULL)
@@ -333,6 +334,10 @@ def main(case: str) -> dict[str, Any]:
             res["good_after"] = wait_for(lambda: (ddspy_write(w._ref, ok), len(got2) > 0)[1], 20,
                                          interval=0.1)
             res["items"] = [m.data for m in got2.items[:1]]
+    except Exception:  # noqa: BLE001 the JSON line carries the failure and the bridge's log
+        import traceback
+        res["error"] = traceback.format_exc()[-3000:]
+        res["failed_at_s"] = round(time.monotonic() - started, 2)
     finally:
         node.close()
         ctx.close()

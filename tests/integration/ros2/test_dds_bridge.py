@@ -56,6 +56,8 @@ def scenario(case: str) -> dict[str, Any]:
     lines = [ln for ln in out.splitlines() if ln.startswith("{")]
     assert lines, f"scenario {case} printed nothing; stderr:\n{err[-3000:]}"
     res: dict[str, Any] = json.loads(lines[-1])
+    assert "error" not in res, (f"scenario {case} failed {res['failed_at_s']} s in:\n"
+                                f"{res['error']}\nthe bridge's log:\n{res.get('bridge_log')}")
     return res
 
 
