@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import traceback
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -335,7 +336,6 @@ def main(case: str) -> dict[str, Any]:
                                          interval=0.1)
             res["items"] = [m.data for m in got2.items[:1]]
     except Exception:  # noqa: BLE001 the JSON line carries the failure and the bridge's log
-        import traceback
         res["error"] = traceback.format_exc()[-3000:]
         res["failed_at_s"] = round(time.monotonic() - started, 2)
     finally:
