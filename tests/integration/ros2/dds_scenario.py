@@ -318,10 +318,10 @@ def main(case: str) -> dict[str, Any]:
         elif case == "act_in":
             res.update(action_in(procs, node))
         elif case == "bad":
+            from cyclonedds._clayer import ddspy_write
             from cyclonedds.domain import DomainParticipant
             from cyclonedds.pub import DataWriter
             from cyclonedds.topic import Topic
-            from cyclonedds._clayer import ddspy_write
             from zenros.services.gateway.ros2.ddstypes import dds_type
             got2: Collector[Any] = Collector()
             node.create_subscription(String, "/bad", got2)
