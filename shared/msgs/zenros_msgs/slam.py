@@ -12,7 +12,17 @@ that map and that transform instead of its own map server and localiser (nav's m
   and at 1 Hz while mapping.
 - ``slam/track`` (nav_msgs/Path, latched): the corrected trajectory (one pose per graph node).
 - ``slam/pose`` (geometry_msgs/PoseWithCovarianceStamped): the robot in the map being built.
-- ``explore`` (action Explore): frontier exploration on the map being built.
+- ``explore`` (action Explore, served by the ``explore`` node, ``services/explore``): frontier
+  exploration on the map being built, with nav's planner and controller.
+
+Nav's side (served by nav):
+
+- ``nav/set_mapping_mode`` (SetMappingMode): ``enable`` true hands ``map`` and ``map -> odom``
+  to the mapping node (nav follows the ``map`` topic for its costmaps and the TF for its pose;
+  refused with CONFLICT while a goal is driven); false takes them back (nav reloads its map,
+  or ``map_name`` with the robot at ``map_to_odom`` in it, the transform the mapping node had).
+- ``map_server/save_grid`` (SaveGrid): store an occupancy grid as a map in the maps folder
+  (YAML + PGM + PNG, as map_saver writes them), so it is listed, served and navigable.
 
 slam_toolbox's own names (``slam_toolbox/save_map``, ``serialize_map``, ``deserialize_map``,
 ``pause_new_measurements``, ``reset``) are offered beside these by the mapping node.
@@ -24,6 +34,7 @@ import msgspec
 
 from ...message import Message, define_action, define_service
 from ..geometry_msgs import Pose2D
+from ..nav_msgs import OccupancyGrid
 from ..std_msgs import Header
 
 __all__ = [
@@ -32,9 +43,15 @@ __all__ = [
     "ExploreGoal",
     "ExploreResult",
     "MappingState",
+    "SaveGrid",
+    "SaveGridRequest",
+    "SaveGridResponse",
     "SaveSlamMap",
     "SaveSlamMapRequest",
     "SaveSlamMapResponse",
+    "SetMappingMode",
+    "SetMappingModeRequest",
+    "SetMappingModeResponse",
     "StartMapping",
     "StartMappingRequest",
     "StartMappingResponse",
@@ -164,3 +181,50 @@ class ExploreFeedback(Message):
 
 
 Explore = define_action("zenros_msgs/Explore", ExploreGoal, ExploreResult, ExploreFeedback)
+
+
+class SetMappingModeRequest(Message):
+    """``enable``: hand the map and ``map -> odom`` to the mapping node (true) or take them
+    back (false). On false, ``map_name`` (when set) is the map to navigate on next and
+    ``map_to_odom`` the robot's odometry frame in it (``use_map_to_odom``), so nav goes on
+    from where mapping left the robot without relocalising."""
+
+    __msgtype__ = "zenros_msgs/SetMappingModeRequest"
+    enable: bool = False
+    map_name: str = ""
+    map_to_odom: Pose2D = msgspec.field(default_factory=Pose2D)
+    use_map_to_odom: bool = False
+
+
+class SetMappingModeResponse(Message):
+    __msgtype__ = "zenros_msgs/SetMappingModeResponse"
+    code: int = 0
+    message: str = ""
+
+
+SetMappingMode = define_service("zenros_msgs/SetMappingMode", SetMappingModeRequest,
+                                SetMappingModeResponse)
+
+
+class SaveGridRequest(Message):
+    """Store ``grid`` as the map ``name`` (a name, never a path). ``type``/``levels`` as in
+    `MapInfo`. ``map_to_odom`` (with ``use_map_to_odom``) is where the robot's odometry
+    frame was in this map when it was saved (kept with the map, for navigating on it next)."""
+
+    __msgtype__ = "zenros_msgs/SaveGridRequest"
+    name: str = ""
+    grid: OccupancyGrid = msgspec.field(default_factory=OccupancyGrid)
+    type: str = "floor"
+    levels: list[int] = msgspec.field(default_factory=list)
+    map_to_odom: Pose2D = msgspec.field(default_factory=Pose2D)
+    use_map_to_odom: bool = False
+
+
+class SaveGridResponse(Message):
+    __msgtype__ = "zenros_msgs/SaveGridResponse"
+    code: int = 0
+    message: str = ""
+    name: str = ""
+
+
+SaveGrid = define_service("zenros_msgs/SaveGrid", SaveGridRequest, SaveGridResponse)
