@@ -11,6 +11,7 @@ import asyncio
 import math
 import time
 from collections import deque
+from dataclasses import replace
 from typing import Any
 
 from zenros.action import ActionClient
@@ -42,6 +43,7 @@ from zenros.tf.convert import yaw_to_msg
 from ..errors import NotFound, PortError, Refused
 from ..state.core import Core, NavUnavailable
 from ..state.status import GoalState
+from ..state.target import NO_ID, task_target
 from .tasks_link import TasksLink
 
 __all__ = ["Navigator", "pose_stamped"]
@@ -71,6 +73,7 @@ class Navigator:
         self._paused: tuple[float, float, float, int] | None = None
         self._last: tuple[float, float, float, int] | None = None
         self._handles: list[Any] = []
+        self._target = NO_ID          # §4 targetNumID of the goal being driven
         self.tasks: TasksLink | None = None  # the tasks service, for pause/resume/cancel
         self.navigate = ActionClient(node, NavigateToPose, "navigate_to_pose")
         self.dock = ActionClient(node, DockRobot, "dock_robot")
@@ -100,13 +103,16 @@ class Navigator:
         s.looping = msg.state == "patrolling" or bool(self.loop_task_id)
         s.docking_phase = {"docking": 4}.get(msg.state, 0)
         status, angle = _GOAL.get(msg.goal_status, (-1, -1))
-        g = s.goal
         if self._paused is not None:
             status = 2
-        s.goal = GoalState(num_id=g.num_id if msg.goal_status or self._paused else -1,
+        s.goal = GoalState(num_id=self._target if msg.goal_status or self._paused else -1,
                            status=status, distance=msg.target_distance, angle_status=angle)
 
     def on_task(self, msg: TaskStatus) -> None:
+        target = task_target(msg.task) if msg.state == "WORKING" else None
+        if target is not None:  # the task drives a goal: §4 names it from now on
+            self._target = target
+            self.core.state.goal = replace(self.core.state.goal, num_id=target)
         if msg.id == self.loop_task_id and msg.state not in ("WAITTING", "WORKING", "PAUSED"):
             self.loop_task_id = ""
             self.core.state.looping = False
@@ -126,6 +132,7 @@ class Navigator:
             await self._task_step("stop", running)
         self._paused = None
         self._last = (x, y, theta, num_id)
+        self._target = num_id
         self.stopped = False
         self.core.state.nav_open = True
         self.core.state.goal = GoalState(num_id=num_id, status=1, distance=-1.0, angle_status=0)

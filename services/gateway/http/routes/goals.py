@@ -52,10 +52,20 @@ async def only_path(ctx: Context, map_name: str) -> str:
     return str(res.paths[0].path_name)
 
 
+async def current_path(ctx: Context) -> str:
+    """The current path (``/navigation/start?path=``, else the map's first); 409 when the
+    map has none, 503 when nav does not answer."""
+    try:
+        return await ctx.calls.nav.current_path()
+    except NavUnavailable as exc:
+        raise ctx.core.presence.error("nav", str(exc)) from exc
+    except ValueError as exc:
+        raise ApiError(409, str(exc)) from exc
+
+
 async def start_nav_task(call: Call) -> Any:
     """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
     connections); returns the started navigation task."""
-    core = call.ctx.core
     nav = call.ctx.calls.nav
     link = call.ctx.calls.link
     run_task = call.ctx.calls.run_task
@@ -70,15 +80,12 @@ async def start_nav_task(call: Call) -> Any:
         nav.path_name = b.path
     else:
         same_map(b.map, b.path, current)
-    task = await run_task("navigation task", [action])
-    core.state.goal.num_id = -2
-    return task
+    return await run_task("navigation task", [action])
 
 
 async def move_to_index(call: Call) -> Any:
     """Go to nav point ``index`` of the current path, or of ``path`` on another
     ``map`` (across maps through the point connections); returns the started task."""
-    core = call.ctx.core
     nav = call.ctx.calls.nav
     link = call.ctx.calls.link
     run_task = call.ctx.calls.run_task
@@ -99,11 +106,9 @@ async def move_to_index(call: Call) -> Any:
         nav.path_name = res.path_name
     else:
         same_map(q.map, q.path, current)
-        x, y, th = await point(q.index)
-        action = zm.NavAction(x=x, y=y, theta=th)
-    task = await run_task("navigation task", [action])
-    core.state.goal.num_id = q.index
-    return task
+        await point(q.index)  # 404 now for a nav point that does not exist
+        action = zm.NavAction(index=q.index, path=await current_path(call.ctx))
+    return await run_task("navigation task", [action])
 
 
 async def stop_nav_task(call: Call) -> Any:
@@ -127,18 +132,13 @@ async def post_loop(call: Call) -> Any:
     link = call.ctx.calls.link
     run_task = call.ctx.calls.run_task
     b: LoopBody = call.body
-    try:
-        path = await nav.current_path()
-    except NavUnavailable as exc:
-        raise core.presence.error("nav", str(exc)) from exc
-    except ValueError as exc:
-        raise ApiError(409, str(exc)) from exc
+    path = await current_path(call.ctx)
     res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
     if not res.points:
         raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
     subs: list[zm.Action] = []
-    for p in res.points:
-        subs.append(zm.NavAction(x=p.x, y=p.y, theta=p.theta))
+    for i in range(len(res.points)):  # by index: each leg names its nav point (§4 targetNumID)
+        subs.append(zm.NavAction(index=i, path=res.path_name))
         if b.wait_time > 0:
             subs.append(zm.SleepAction(wait_time=b.wait_time))
     task = await run_task("loop task", subs, loop=True)
