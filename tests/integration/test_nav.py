@@ -279,6 +279,8 @@ def test_unreachable_goals_fail_with_the_planner_error_code(rig: Rig) -> None:
         assert out.status is GoalStatus.ABORTED, (x, y, out.result)
         assert out.result.error_code == code, (x, y, out.result)
         assert out.result.error_msg
+        if code == ComputePathToPoseResult.GOAL_OCCUPIED:  # in the user's terms (issue 37)
+            assert out.result.error_msg == "goal (1.50, -5.75) is inside an obstacle"
         assert rig.sim_time() - t < 30  # fails at planning, without driving
         plan = rig.compute.send_goal(ComputePathToPoseGoal(
             goal=pose_stamped(Pose2(x, y), Time())), timeout=10)

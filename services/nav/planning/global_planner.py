@@ -22,6 +22,7 @@ from zenros.se2 import Pose2
 from ..costmap.snapshot import CostSnapshot
 from .errors import PlanningError
 from .plan import PlannerParams, plan
+from .wording import in_map_terms
 
 __all__ = ["GlobalPlanner", "PlanOutcome", "PlanWorker"]
 
@@ -89,7 +90,8 @@ class GlobalPlanner:
                 res = plan(costs, s, g, params)
             except PlanningError as exc:
                 what = f"leg {i + 1} of {len(goals)}: " if len(goals) > 1 else ""
-                return PlanOutcome(None, exc.code, what + str(exc),
+                text = in_map_terms(exc, here, goal, params.timeout)
+                return PlanOutcome(None, exc.code, what + text,
                                    planning_time=time.perf_counter() - t0)
             pts = res.points(snap.resolution, snap.origin)
             if res.goal == g:  # end exactly on the requested point, not the cell centre

@@ -17,12 +17,13 @@ from zenros.services.nav.planning import PlannerParams
 from zenros.services.nav.planning.global_planner import GlobalPlanner, PlanWorker
 
 
-def room() -> Costmaps:
+def room(door: bool = True) -> Costmaps:
     """10 m x 6 m at 0.05 m, walled, with a wall at x = 5 and a door at y 4..5."""
     g = np.zeros((120, 200), dtype=np.int8)
     g[0, :] = g[-1, :] = g[:, 0] = g[:, -1] = 100
     g[:, 100] = 100
-    g[80:100, 100] = 0
+    if door:
+        g[80:100, 100] = 0
     cm = Costmaps(CostmapParams(robot_radius=0.2, inflation_radius=0.5, cost_scaling_factor=3.0))
     cm.set_map(GridMap(g, 0.05, (0.0, 0.0, 0.0)))
     return cm
@@ -50,6 +51,23 @@ def test_error_codes() -> None:
     assert planner.plan(snap, Pose2(-1.0, 1.0), [Pose2(2, 2)]).error_code == \
         Codes.START_OUTSIDE_MAP
     assert planner.plan(snap, Pose2(1.0, 1.0), []).error_code == Codes.UNKNOWN
+
+
+def test_errors_say_where_in_the_map_not_which_cell() -> None:
+    """Issue 37 item 3: a goal in a wall was "goal cell (100, 20) has cost 254"; the user
+    gave metres in map, and the error says them back. The codes stay Nav2's."""
+    planner = GlobalPlanner(PlannerParams(), 0.2, goal_tolerance=0.1)
+    snap = room().snapshot()
+    out = planner.plan(snap, Pose2(1.0, 1.0), [Pose2(5.02, 1.0)])
+    assert (out.error_code, out.error_msg) == (Codes.GOAL_OCCUPIED,
+                                               "goal (5.02, 1.00) is inside an obstacle")
+    out = planner.plan(snap, Pose2(1.0, 1.0), [Pose2(3.0, 1.0), Pose2(5.0, 2.5)])
+    assert (out.error_code, out.error_msg) == (
+        Codes.GOAL_OCCUPIED, "leg 2 of 2: goal (5.00, 2.50) is inside an obstacle")
+    out = planner.plan(room(door=False).snapshot(), Pose2(1.0, 1.0), [Pose2(8.0, 1.0)])
+    assert (out.error_code, out.error_msg) == (
+        Codes.NO_VALID_PATH, "no path from (1.00, 1.00) to (8.00, 1.00): every way there is "
+                             "blocked")
 
 
 def test_start_next_to_a_wall_is_planned_out_of() -> None:
