@@ -142,6 +142,17 @@ def test_move_to_index_and_nav_point_errors(rig: Rig) -> None:
     assert rig.http.get("/navigation/move_to_index", params={"index": -1}).status_code == 400
 
 
+def test_a_goal_inside_an_obstacle_is_refused_at_once(rig: Rig) -> None:
+    """The demo office's meeting table is in the map: ``start_nav_task`` there is a 400 in
+    nav's words, and no task is made (issue 37 item 3: 200, then the task in ERROR)."""
+    before = len(rig.http.get("/task").json())
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 1.5, "y": -5.75})
+    assert r.status_code == 400, r.text
+    assert r.json() == {"status": "error",
+                        "description": "goal (1.50, -5.75) is inside an obstacle"}
+    assert len(rig.http.get("/task").json()) == before
+
+
 def test_maps_paths_and_points(rig: Rig) -> None:
     current = rig.http.get("/navigation/current_map").json()
     assert current["name"] == rig.nav.core.maps.current and current["md5sum"]

@@ -9,7 +9,11 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, cast
 
+import numpy as np
 import pytest
+from zenros.maps import GridMap
+from zenros.msgs.nav_msgs import OccupancyGrid
+from zenros.msgs.zenros_msgs import GetCurrentMapResponse
 from zenros.msgs.zenros_msgs.chassis import IoState
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.msgs.zenros_msgs.task_docs import Task
@@ -60,6 +64,9 @@ class FakeTasks:
     async def loop(self, ident: str, flag: bool) -> Task:
         return self._answer("loop", ident, flag)
 
+    async def create(self, task: Task) -> Task:
+        return self._answer("create", task.name, task)
+
 
 class FakeIo:
     """The chassis IO port: raises ``error`` when set, else keeps the level."""
@@ -85,6 +92,17 @@ class FakeNav:
 
     loop_task_id = ""
     path_name = ""
+
+
+class FakeMapLink:
+    """nav's map as a goal on the current map reads it: the map's name and its grid."""
+
+    def __init__(self, grid: OccupancyGrid) -> None:
+        self.grid = grid
+
+    async def call(self, name: str, request: object) -> GetCurrentMapResponse:
+        assert name == "map_server/current_map", name
+        return GetCurrentMapResponse(name="office")
 
 
 class Rig:
@@ -156,6 +174,26 @@ def test_the_loop_task_is_navs_loop_task(rig: Rig) -> None:
     assert (stopped["id"], stopped["name"]) == ("loop1", "stop")
     assert rig.nav.loop_task_id == "" and rig.core.state.looping is False
     assert rig.http.get("/navigation/loop_task").status_code == 404
+
+
+def test_a_goal_inside_an_obstacle_is_refused_at_once(rig: Rig) -> None:
+    """Issue 37 item 3: ``start_nav_task`` into an obstacle of the map answered 200 and
+    the task failed later at planning; the gateway holds the map and refuses it (400, the
+    §1.2 body, nav's wording), making no task. A free goal still starts one."""
+    cells = np.zeros((40, 60), dtype=np.int8)
+    cells[20:30, 30:40] = 100  # a block: x 0.50..1.00, y 0.00..0.50
+    cells[0, 0] = -1           # unknown space is not an obstacle to nav
+    rig.ctx.calls.link = cast(Any, FakeMapLink(GridMap(cells, 0.05, (-1.0, -1.0, 0.0))
+                                              .to_msg()))
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 0.75, "y": 0.25})
+    assert r.status_code == 400, r.text
+    assert r.json() == {"status": "error",
+                        "description": "goal (0.75, 0.25) is inside an obstacle"}
+    assert rig.tasks.calls == []
+    for x, y in ((0.25, 0.25), (-0.99, -0.99), (40.0, 0.0)):  # free, unknown, off the map
+        r = rig.http.post("/navigation/start_nav_task", json={"x": x, "y": y})
+        assert r.status_code == 200, r.text
+    assert [c[0] for c in rig.tasks.calls] == ["create", "start"] * 3
 
 
 def test_one_table_maps_every_port_error() -> None:

@@ -15,6 +15,7 @@ from zenros.msgs.zenros_msgs.task_docs import as_document
 
 from ...errors import Conflict
 from ...ports.crossing import check_route
+from ...ports.map_goal import check_goal_free
 from ...ports.nav_calls import Angle, Coord, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
@@ -80,6 +81,7 @@ async def start_nav_task(call: Call) -> Any:
         nav.path_name = b.path
     else:
         same_map(b.map, b.path, current)
+        check_goal_free(link.grid, b.x, b.y)  # 400 now, not a task that fails at planning
     return await run_task("navigation task", [action])
 
 
@@ -106,7 +108,8 @@ async def move_to_index(call: Call) -> Any:
         nav.path_name = res.path_name
     else:
         same_map(q.map, q.path, current)
-        await point(q.index)  # 404 now for a nav point that does not exist
+        x, y, _ = await point(q.index)  # 404 now for a nav point that does not exist
+        check_goal_free(link.grid, x, y, f"nav point {q.index}")
         action = zm.NavAction(index=q.index, path=await current_path(call.ctx))
     return await run_task("navigation task", [action])
 
