@@ -1,6 +1,6 @@
-"""Goals and a patrol through the robot API of `zenros launch deploy/launch/sim.yaml speed:=10`
-(the demo office), as an outside client drives them: REST calls with a token, and the
-GalileoStatus polled (issue 37 items 1 and 2).
+"""Goals and a patrol through the robot API (docs/robot-api.md) of `zenros launch
+deploy/launch/sim.yaml speed:=10` (the demo office), as an outside client drives them: REST
+calls with a token, and the GalileoStatus polled (issue 37 items 1 and 2).
 
 One launch serves the module; its first goal is the first goal nav ever gets (the race of
 item 2 was on that goal). Its REST port and the gateway's other ports are free ones, given
