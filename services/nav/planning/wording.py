@@ -10,17 +10,18 @@ from __future__ import annotations
 
 from zenros.se2 import Pose2
 
-from .errors import (
-    GoalOccupied,
-    GoalOutsideMap,
-    NoValidPath,
-    PlanningError,
-    PlanningTimeout,
-    StartOccupied,
-    StartOutsideMap,
-)
+from . import errors
 
 __all__ = ["at", "in_map_terms"]
+
+_WORDS: dict[type[errors.PlanningError], str] = {
+    errors.GoalOccupied: "goal {goal} is inside an obstacle",
+    errors.StartOccupied: "start {start} is inside an obstacle",
+    errors.GoalOutsideMap: "goal {goal} is outside the map",
+    errors.StartOutsideMap: "start {start} is outside the map",
+    errors.NoValidPath: "no path from {start} to {goal}: every way there is blocked",
+    errors.PlanningTimeout: "no path from {start} to {goal} found within {timeout:g} s",
+}
 
 
 def at(p: Pose2) -> str:
@@ -28,18 +29,9 @@ def at(p: Pose2) -> str:
     return f"({p.x:.2f}, {p.y:.2f})"
 
 
-def in_map_terms(exc: PlanningError, start: Pose2, goal: Pose2, timeout: float) -> str:
+def in_map_terms(exc: errors.PlanningError, start: Pose2, goal: Pose2, timeout: float) -> str:
     """What went wrong planning from ``start`` to ``goal`` (``timeout``: the planner's, s)."""
-    if isinstance(exc, GoalOccupied):
-        return f"goal {at(goal)} is inside an obstacle"
-    if isinstance(exc, StartOccupied):
-        return f"start {at(start)} is inside an obstacle"
-    if isinstance(exc, GoalOutsideMap):
-        return f"goal {at(goal)} is outside the map"
-    if isinstance(exc, StartOutsideMap):
-        return f"start {at(start)} is outside the map"
-    if isinstance(exc, NoValidPath):
-        return f"no path from {at(start)} to {at(goal)}: every way there is blocked"
-    if isinstance(exc, PlanningTimeout):
-        return f"no path from {at(start)} to {at(goal)} found within {timeout:g} s"
-    return str(exc)
+    words = next((w for kind, w in _WORDS.items() if isinstance(exc, kind)), None)
+    if words is None:
+        return str(exc)
+    return words.format(start=at(start), goal=at(goal), timeout=timeout)

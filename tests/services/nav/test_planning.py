@@ -14,7 +14,9 @@ from zenros.se2 import Pose2
 from zenros.services.nav.costmap import CostmapParams
 from zenros.services.nav.costmap.live import Costmaps
 from zenros.services.nav.planning import PlannerParams
+from zenros.services.nav.planning import errors
 from zenros.services.nav.planning.global_planner import GlobalPlanner, PlanWorker
+from zenros.services.nav.planning.wording import in_map_terms
 
 
 def room(door: bool = True) -> Costmaps:
@@ -68,6 +70,22 @@ def test_errors_say_where_in_the_map_not_which_cell() -> None:
     assert (out.error_code, out.error_msg) == (
         Codes.NO_VALID_PATH, "no path from (1.00, 1.00) to (8.00, 1.00): every way there is "
                              "blocked")
+
+
+@pytest.mark.parametrize(("error", "text"), [
+    (errors.GoalOccupied, "goal (2.00, -3.25) is inside an obstacle"),
+    (errors.StartOccupied, "start (1.00, 0.50) is inside an obstacle"),
+    (errors.GoalOutsideMap, "goal (2.00, -3.25) is outside the map"),
+    (errors.StartOutsideMap, "start (1.00, 0.50) is outside the map"),
+    (errors.NoValidPath, "no path from (1.00, 0.50) to (2.00, -3.25): every way there is "
+                         "blocked"),
+    (errors.PlanningTimeout, "no path from (1.00, 0.50) to (2.00, -3.25) found within 1.5 s"),
+    (errors.PlanningError, "cell (3, 4) went wrong"),  # no wording of its own: as raised
+])
+def test_every_planning_error_has_words_in_the_map_frame(error: type[errors.PlanningError],
+                                                         text: str) -> None:
+    exc = error("cell (3, 4) went wrong")
+    assert in_map_terms(exc, Pose2(1.0, 0.5), Pose2(2.0, -3.25), 1.5) == text
 
 
 def test_start_next_to_a_wall_is_planned_out_of() -> None:
