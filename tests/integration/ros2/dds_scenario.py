@@ -236,8 +236,8 @@ def main(case: str) -> dict[str, Any]:
     res: dict[str, Any] = {"case": case}
     started = time.monotonic()
     bridge = procs.start("-m", "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{port}",
-                         "--prefix", prefix, "-p", "domain_id:=0",
-                         "-p", "types:=zenros.msgs.test_msgs", stdout=subprocess.DEVNULL)
+                         "--prefix", prefix, "-p", "domain_id:=0", stdout=subprocess.DEVNULL)
+    # no types:= for test_msgs (act_out, act_in): a shipped package loads by its name
     ctx = Context(SessionOptions(connect=[f"tcp/127.0.0.1:{port}"]), prefix=prefix)
     node = Node("zen_side", context=ctx)
     graph = ctx.graph
