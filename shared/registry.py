@@ -3,38 +3,99 @@
 `zenros.message` holds the tables types register in as they are defined; this module sits
 above `zenros.msgs` and imports it, so a lookup always sees the standard types and
 `zenros.message` never imports the messages defined on it.
+
+Every package zenros ships is a module of `zenros.msgs`; most are imported with it, and the
+rest (``test_msgs``, ``action_tutorials_interfaces``: their ``Fibonacci`` would make the short
+name ambiguous) are imported the first time a lookup names their package
+(``test_msgs/action/Fibonacci``), so every shipped type resolves by its ROS 2 name with no
+flag. Short names resolve among the packages imported with `zenros.msgs` (and whatever else
+registered) first, so loading a package on demand never makes a short name ambiguous.
 """
 
 from __future__ import annotations
 
-from . import msgs  # noqa: F401  (importing registers the standard types)
-from .message import TABLES, ActionType, Message, ServiceType, find_registered
+import importlib
+import pkgutil
+import sys
+from functools import cache
+from typing import Any, TypeVar
 
-__all__ = ["lookup_action", "lookup_service", "lookup_type", "registered_actions",
-           "registered_services", "registered_types"]
+from . import msgs
+from .errors import UnknownTypeError
+from .message import TABLES, ActionType, Message, ServiceType, find_registered, normalize_type_name
+
+__all__ = ["load_package", "lookup_action", "lookup_service", "lookup_type",
+           "registered_actions", "registered_services", "registered_types"]
+
+T = TypeVar("T")
+
+
+@cache
+def _on_demand() -> frozenset[str]:
+    """The packages of `zenros.msgs` that importing it leaves out (imported by name on demand)."""
+    return frozenset(info.name for info in pkgutil.iter_modules(msgs.__path__)
+                     if info.name not in msgs.__all__)
+
+
+def load_package(name: str) -> bool:
+    """Import the `zenros.msgs` module of the package a type name names (``test_msgs`` for
+    ``test_msgs/action/Fibonacci`` or ``test_msgs/action/Fibonacci_Goal``), if it is one that
+    importing `zenros.msgs` leaves out and it is not imported yet. True if it was imported now.
+
+    Only the modules `zenros.msgs` ships are ever imported (the name is matched against them,
+    never imported as given)."""
+    pkg = normalize_type_name(name).partition("/")[0]
+    if pkg not in _on_demand():
+        return False
+    module = f"{msgs.__name__}.{pkg}"
+    if module in sys.modules:
+        return False
+    importlib.import_module(module)
+    return True
+
+
+def _preferred(table: dict[str, T]) -> dict[str, T]:
+    """``table`` without the packages loaded on demand (where short names look first)."""
+    lazy = _on_demand()
+    return {k: v for k, v in table.items() if k.partition("/")[0] not in lazy}
+
+
+def _find(table: dict[str, Any], kind: str, name: str) -> Any:
+    if "/" not in normalize_type_name(name):
+        try:
+            return find_registered(_preferred(table), kind, name)
+        except UnknownTypeError:
+            pass
+    try:
+        return find_registered(table, kind, name)
+    except UnknownTypeError:
+        if not load_package(name):
+            raise
+    return find_registered(table, kind, name)
 
 
 def lookup_type(name: str) -> type[Message]:
     """The message class registered under a ROS type name (``pkg/Name``, ``pkg/msg/Name`` or
-    an unambiguous ``Name``).
+    an unambiguous ``Name``), its package's module imported if it is one `zenros.msgs` ships
+    and leaves out.
 
     Raises:
         UnknownTypeError: No such type (the message names the closest ones), or a short
             name more than one package defines.
     """
-    cls: type[Message] = find_registered(TABLES.messages, "message", name)
+    cls: type[Message] = _find(TABLES.messages, "message", name)
     return cls
 
 
 def lookup_service(name: str) -> ServiceType:
     """The service type registered under a ROS type name (as `lookup_type`)."""
-    srv: ServiceType = find_registered(TABLES.services, "service", name)
+    srv: ServiceType = _find(TABLES.services, "service", name)
     return srv
 
 
 def lookup_action(name: str) -> ActionType:
     """The action type registered under a ROS type name (as `lookup_type`)."""
-    act: ActionType = find_registered(TABLES.actions, "action", name)
+    act: ActionType = _find(TABLES.actions, "action", name)
     return act
 
 

@@ -1,8 +1,8 @@
-"""Test support: isolated sessions on loopback, `wait_for`, `Collector`, process helpers."""
+"""Test support: isolated sessions on loopback, `wait_for` (from `zenros.waiting`), `Collector`,
+process helpers."""
 
 from __future__ import annotations
 
-import asyncio
 import os
 import signal
 import socket
@@ -11,7 +11,7 @@ import sys
 import threading
 import time
 import uuid
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Generic, Self, TypeVar
@@ -20,12 +20,15 @@ from .clock import ManualClock, Time
 from .context import Context
 from .errors import StartupError
 from .session import SessionOptions
+from .waiting import Waited, WaitTimeout, wait_for, wait_for_async, wait_until
 
 __all__ = [
     "Collector",
     "Proc",
     "RawWebSocket",
     "RecordingClock",
+    "WaitTimeout",
+    "Waited",
     "free_port",
     "linked_contexts",
     "loopback_options",
@@ -35,6 +38,7 @@ __all__ = [
     "unique_prefix",
     "wait_for",
     "wait_for_async",
+    "wait_until",
 ]
 
 T = TypeVar("T")
@@ -138,26 +142,6 @@ def _context_listening(prefix: str, connect: Sequence[int],
             if "Address already in use" not in str(e) or attempt == attempts - 1:
                 raise
     raise AssertionError("unreachable")
-
-
-def wait_for(pred: Callable[[], Any], timeout: float = 5.0, interval: float = 0.005) -> bool:
-    """Poll ``pred`` until it is true; False when ``timeout`` runs out."""
-    deadline = time.monotonic() + timeout
-    while True:
-        if pred():
-            return True
-        if time.monotonic() >= deadline:
-            return False
-        time.sleep(interval)
-
-
-async def wait_for_async(pred: Callable[[], Any], timeout: float = 5.0) -> bool:
-    deadline = time.monotonic() + timeout
-    while not pred():
-        if time.monotonic() >= deadline:
-            return False
-        await asyncio.sleep(0.005)
-    return True
 
 
 class RecordingClock(ManualClock):  # type: ignore[misc, unused-ignore]

@@ -135,7 +135,7 @@ def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
     Most tests wait (a sim driving, a link outage, a process starting), and the workers end
     together, so on an idle 2-core box a third worker fills the waits: `.ci/run` 338 s against
     462 s. Beside a CPU hog, three workers starved in-process rigs past their 1 s Zenoh lease
-    (tests/README.md), so a busy box gets one worker per core, as ``make -l`` starts no new
+    (docs/benchmarks.md), so a busy box gets one worker per core, as ``make -l`` starts no new
     job above a load. Busy: more than half a core in use over a quarter of a second, by
     /proc/stat (one worker per core where there is no /proc/stat).
     """

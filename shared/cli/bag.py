@@ -15,7 +15,7 @@ from typing import Any
 from ..bag.info import bag_info, format_info
 from ..bag.keyboard import keyboard_controls
 from ..bag.player import Player, PlayOptions
-from ..bag.reader import BagError, bag_files, bags_home, resolve_bag
+from ..bag.reader import BagError, bag_files, resolve_bag
 from ..bag.recorder import Recorder, RecordOptions
 from ..bag.recover import recover_bag
 from ..bag.sink import FLUSH_INTERVAL, SplitPolicy
@@ -33,7 +33,8 @@ def add_record_arguments(v: argparse.ArgumentParser) -> None:
     v.add_argument("-a", "--all", action="store_true", dest="all_topics",
                    help="record every topic, also those that appear later")
     v.add_argument("-o", "--output", metavar="NAME",
-                   help="bag name (under $ZENROS_HOME/bags) or path (default: a dated name)")
+                   help="bag directory to create, relative to the working directory as with "
+                        "ros2 bag (default: rosbag2_<date>-<time> there)")
     g = v.add_mutually_exclusive_group()
     g.add_argument("--split-size", type=float, metavar="MB", default=0.0,
                    help="start a new file after MB megabytes")
@@ -83,17 +84,16 @@ def run(args: argparse.Namespace) -> int:
 
 
 def output_dir(name: str | None) -> Path:
-    """Where a new bag goes: a plain name under $ZENROS_HOME/bags, a path as given."""
-    if not name:
-        name = f"zenros_bag_{dt.datetime.now():%Y_%m_%d-%H_%M_%S}"
-    path = Path(name).expanduser()
-    if os.sep not in name and not path.is_absolute():
-        path = bags_home() / name
+    """Where a new bag goes, as ``ros2 bag record`` puts it: ``-o NAME`` relative to the
+    working directory (or an absolute path), ``rosbag2_YYYY_MM_DD-HH_MM_SS`` there without
+    ``-o``; a directory that already exists is refused (``Output folder ... already exists``).
+    """
+    path = Path(name or f"rosbag2_{dt.datetime.now():%Y_%m_%d-%H_%M_%S}").expanduser()
     if path.suffix == ".mcap":
         path = path.with_suffix("")
-    if path.exists() and any(path.iterdir()):
-        raise BagError(f"{path} already exists; choose another name with -o")
-    return path
+    if path.is_dir():
+        raise BagError(f"output folder '{path}' already exists; choose another name with -o")
+    return path.absolute()
 
 
 def _node_name(args: argparse.Namespace, default: str) -> tuple[str, str | None]:

@@ -7,6 +7,7 @@ from typing import Any
 
 import msgspec
 
+from ..context import Context
 from ..msgs.zenros_msgs import tasks as tm
 from ..msgs.zenros_msgs.result import ResultCode
 from ..names import resolve
@@ -38,6 +39,8 @@ def register(sub: Any) -> None:
         v = verbs.add_parser(verb, help=text)
         if verb == "create":
             v.add_argument("body", help="the task, YAML flow style or JSON")
+            v.add_argument("--start", action="store_true",
+                           help="start it once created (else it waits for `task start ID`)")
         elif verb == "stop":
             v.add_argument("id", nargs="?", default="")
         elif verb != "list":
@@ -53,22 +56,10 @@ def run(args: argparse.Namespace) -> int:
     ctx = open_context(args, settle=False)
     try:
         call = {"list": "get", "show": "get"}.get(args.verb, args.verb)
-        name = resolve(f"tasks/{call}", namespace=args.ns, kind="service")
-        client = Client(ctx, tm.TASK_SERVICES[call], name)
-        if not client.wait_for_service(min(args.timeout, 5.0)):
-            raise CliError(f"service {name} is not available: is the tasks service running?"
-                           " (zenros launch deploy/launch/sim.yaml starts it)")
-        try:
-            request = tm.task_request(call, getattr(args, "id", ""),
-                                      parse_yaml_arg(args.body) if call == "create" else None)
-        except msgspec.ValidationError as exc:
-            raise CliError(f"{args.verb}: invalid task: {exc}") from None
-        reply = client.call(request, timeout=args.timeout, grace=args.timeout)
-        if reply.code != ResultCode.OK:
-            raise CliError(f"{args.verb}: {reply.message} ({ResultCode(reply.code).name})")
-        data = tm.response_data(reply, single=args.verb == "show")
-        if data is None:
-            data = {}
+        body = parse_yaml_arg(args.body) if call == "create" else None
+        data = _call(ctx, args, args.verb, call, getattr(args, "id", ""), body)
+        if call == "create" and args.start:
+            data = _call(ctx, args, "start", "start", data["id"], None) or data
         if args.verb == "list" and not args.json:
             _table(data)
         else:
@@ -76,6 +67,25 @@ def run(args: argparse.Namespace) -> int:
         return 0
     finally:
         ctx.close()
+
+
+def _call(ctx: Context, args: argparse.Namespace, verb: str, call: str, ident: str,
+          body: Any) -> Any:
+    """One ``tasks/<call>`` service call: its answer's document(s) ({} if none)."""
+    name = resolve(f"tasks/{call}", namespace=args.ns, kind="service")
+    client = Client(ctx, tm.TASK_SERVICES[call], name)
+    if not client.wait_for_service(min(args.timeout, 5.0)):
+        raise CliError(f"service {name} is not available: is the tasks service running?"
+                       " (zenros launch deploy/launch/sim.yaml starts it)")
+    try:
+        request = tm.task_request(call, ident, body)
+    except msgspec.ValidationError as exc:
+        raise CliError(f"{verb}: invalid task: {exc}") from None
+    reply = client.call(request, timeout=args.timeout, grace=args.timeout)
+    if reply.code != ResultCode.OK:
+        raise CliError(f"{verb}: {reply.message} ({ResultCode(reply.code).name})")
+    data = tm.response_data(reply, single=verb == "show")
+    return {} if data is None else data
 
 
 def _table(tasks: list[dict[str, Any]]) -> None:

@@ -1,7 +1,8 @@
 """action_tutorials_interfaces: the Fibonacci action of the ROS 2 action tutorials (its
 feedback is ``partial_sequence``), as roslibjs's ROS 2 examples name it. Not imported by
 `zenros.msgs` (its short name would make ``Fibonacci`` ambiguous with example_interfaces's);
-the rosbridge server imports it (docs/rosbridge.md, "Tutorial action types")."""
+`zenros.registry` imports it the first time a name names its package, and the rosbridge
+server imports it (docs/rosbridge.md, "Tutorial action types")."""
 
 from __future__ import annotations
 

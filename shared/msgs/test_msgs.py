@@ -1,7 +1,8 @@
 """test_msgs: the Fibonacci action of ROS 2's test_msgs package (the interface the ROS 2
 wheels ship, which rclpy tests and the ROS 2 bridges' tests use). Not imported by
 `zenros.msgs` (its short name would make ``Fibonacci`` ambiguous with example_interfaces's):
-import this module, or give it to the DDS bridge as ``-p types:=zenros.msgs.test_msgs``."""
+`zenros.registry` imports it the first time a name names its package
+(``test_msgs/action/Fibonacci``), in every tool and bridge."""
 
 from __future__ import annotations
 

@@ -16,8 +16,8 @@ from typing import Any
 import msgspec
 
 from ..errors import UnknownTypeError
-from ..message import Message, _TypedArray, normalize_type_name
-from ..registry import registered_actions, registered_services, registered_types
+from ..message import TABLES, Message, _TypedArray, normalize_type_name
+from ..registry import load_package, registered_actions, registered_services, registered_types
 from . import definitions
 from .idl import (
     EMPTY_FIELD,
@@ -148,8 +148,13 @@ def definition(name: str) -> MsgDef:
 # ------------------------------------------------------------ zenros class <-> ROS 2 name
 
 
-@cache
 def _class_names() -> tuple[dict[type, str], dict[str, type]]:
+    """Both maps, rebuilt when a type has registered since (a package loaded on demand)."""
+    return _class_names_of(len(TABLES.messages), len(TABLES.services), len(TABLES.actions))
+
+
+@cache
+def _class_names_of(*_sizes: int) -> tuple[dict[type, str], dict[str, type]]:
     to_ros: dict[type, str] = {}
     for srv in registered_services().values():
         pkg, _, short = srv.name.partition("/")
@@ -179,9 +184,13 @@ def ros_name_of(cls: type[Message]) -> str:
 
 
 def zenros_class_of(ros_name: str) -> type[Message] | None:
-    """The zenros class registered for a ROS 2 structure name, or None."""
+    """The zenros class registered for a ROS 2 structure name, or None (its package's module
+    imported first if it is one `zenros.msgs` ships and leaves out: `zenros.registry`)."""
     _, from_ros = _class_names()
     cls: type[Message] | None = from_ros.get(ros_name)
+    if cls is None and load_package(ros_name):
+        _, from_ros = _class_names()
+        cls = from_ros.get(ros_name)
     return cls
 
 

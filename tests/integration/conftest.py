@@ -1,16 +1,21 @@
-"""Rigs shared by the rosbridge integration tests: a server on a free port, a robot-side node,
-a roslibpy client. A module that needs another shape of server defines its own fixture of the
-same name (pytest takes the module's)."""
+"""Rigs shared by the integration tests: a rosbridge server on a free port, a robot-side node,
+a roslibpy client; a gateway (token check off) and an HTTP client of its REST API. A module
+that needs another shape defines its own fixture of the same name (pytest takes the module's).
+The simulated robot (chassis, nav, tasks, a gateway) is `sim_robot.py`'s."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
+from pathlib import Path
 
+import httpx
 import pytest
 import roslibpy
 from zenros.context import Context
 from zenros.node import Node
+from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.rosbridge import RosbridgeServer
+from zenros.services.gateway.testing import running_gateway
 from zenros.testing import roslibpy_connect
 
 ROSBRIDGE_TIMEOUT = 10.0
@@ -41,3 +46,17 @@ def ros(server: RosbridgeServer) -> Iterator[roslibpy.Ros]:
     client = roslibpy_connect("127.0.0.1", server.port, ROSBRIDGE_TIMEOUT)
     yield client
     client.close()
+
+
+@pytest.fixture
+def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
+    """A gateway on the first session, token check off, its settings under ``tmp_path``."""
+    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as node:
+        yield node
+
+
+@pytest.fixture
+def http(gw: GatewayNode) -> Iterator[httpx.Client]:
+    """An HTTP client of ``gw``'s REST API (``/api/v1``)."""
+    with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=15) as c:
+        yield c

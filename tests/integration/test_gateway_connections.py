@@ -14,30 +14,24 @@ from typing import Any
 
 import httpx
 import pytest
+from sim_robot import GatewayRobot, gateway_robot
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import Teleport, TeleportRequest
-from zenros.node import Node
-from zenros.services.chassis.node import ChassisNode
-from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.testing import running_gateway
-from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import DEMO_MAP
-from zenros.services.tasks.node import TasksNode
-from zenros.testing import linked_contexts, wait_for
+from zenros.testing import wait_for
 
 OFFICE = "2 0 0 0 0.1 0.1 0 a\n4 0 0 0 0.1 0.1 0 door\n"
 OFFICE2 = "4 0 0 0 0.1 0.1 0 door\n2 1.5 0 1.57 0.1 0.1 0 desk\n"
 
 
 class Rig:
-    def __init__(self, gw: GatewayNode, nav: NavNode, user: Node) -> None:
-        self.gw, self.nav = gw, nav
+    def __init__(self, robot: GatewayRobot) -> None:
+        self.gw, self.nav, self.http = robot.gw, robot.nav, robot.http
+        user = robot.user
         self.truth: tuple[float, float] | None = None
         user.create_subscription(Odometry, "sim/ground_truth", self._on_truth)
         self.teleport = user.create_client(Teleport, "sim/teleport")
-        self.http = httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
-                                 timeout=20)
 
     def _on_truth(self, msg: Odometry) -> None:
         p = msg.pose.pose.position
@@ -63,33 +57,11 @@ class Rig:
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
     tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
-    with linked_contexts(4) as ctxs:
-        nodes: list[Node] = []
-        try:
-            nodes.append(ChassisNode("chassis", context=ctxs[0],
-                                     parameter_overrides={"speed": 10.0, "seed": 1}))
-            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
-                "use_sim_time": True, "maps_dir": str(tmp / "maps")})
-            nodes.append(nav)
-            nodes.append(TasksNode(context=ctxs[2], parameter_overrides={
-                "data_dir": str(tmp / "tasks"), "use_sim_time": True}))
-            user = Node("user", context=ctxs[3])
-            nodes.append(user)
-            nav.core.maps.store.import_map(DEMO_MAP, "office2")
-            with running_gateway(ctxs[2], tmp, no_token_check=True) as gw:
-                r = Rig(gw, nav, user)
-                assert gw.navigator.navigate.wait_for_server(10)
-                assert gw.graph.wait_for_service("/tasks/create", 10)
-                assert wait_for(lambda: nav.core.localizer.pose() is not None, 10)
-                for name, text in (("office", OFFICE), ("office2", OFFICE2)):
-                    res = r.http.post("/navigation/nav_points", json={
-                        "map_name": name, "path_name": "p1", "path_data": text})
-                    assert res.status_code == 200, res.text
-                yield r
-                r.http.close()
-        finally:
-            for n in reversed(nodes):
-                n.close()
+    with gateway_robot(tmp) as robot:
+        robot.nav.core.maps.store.import_map(DEMO_MAP, "office2")
+        for name, text in (("office", OFFICE), ("office2", OFFICE2)):
+            robot.add_nav_points(name, "p1", text)
+        yield Rig(robot)
 
 
 def error(r: httpx.Response, code: int, text: str) -> None:

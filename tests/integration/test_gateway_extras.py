@@ -3,31 +3,16 @@ parameters (with a real master), and the 504/404/503 answers when something is m
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
-import pytest
 from zenros.context import Context
 from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.testing import running_gateway
 from zenros.services.master.node import MasterNode
 from zenros.testing import Collector, wait_for
-
-
-@pytest.fixture
-def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
-    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as node:
-        yield node
-
-
-@pytest.fixture
-def http(gw: GatewayNode) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=10) as c:
-        yield c
 
 
 def test_tts_log_topic_self_test(gw: GatewayNode, http: httpx.Client,

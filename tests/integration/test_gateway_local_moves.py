@@ -8,9 +8,9 @@ import math
 from collections.abc import Iterator
 from typing import Any
 
-import httpx
 import pytest
 from pymodbus.client import ModbusTcpClient
+from sim_robot import GatewayRobot, gateway_robot
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import (
@@ -20,13 +20,7 @@ from zenros.msgs.zenros_msgs import (
     Teleport,
     TeleportRequest,
 )
-from zenros.node import Node
-from zenros.services.chassis.node import ChassisNode
-from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.testing import running_gateway
-from zenros.services.nav.node import NavNode
-from zenros.services.tasks.node import TasksNode
-from zenros.testing import linked_contexts, wait_for
+from zenros.testing import wait_for
 from zenros.tf.quaternion import yaw_from_quaternion
 
 POINTS = "2 0 0 0 0.1 0.1 0 first\n1.5 0.5 0 1.57 0.1 0.1 0 second\n"
@@ -34,14 +28,13 @@ DONE = ("COMPLETE", "ERROR", "CANCELLED")
 
 
 class Rig:
-    def __init__(self, gw: GatewayNode, nav: NavNode, chassis: ChassisNode, user: Node) -> None:
-        self.gw, self.nav, self.chassis = gw, nav, chassis
+    def __init__(self, robot: GatewayRobot) -> None:
+        self.gw, self.nav, self.chassis, self.http = robot.gw, robot.nav, robot.chassis, robot.http
+        user = robot.user
         self.pose: tuple[float, float, float] | None = None
         user.create_subscription(Odometry, "sim/ground_truth", self._on_truth)
         self.teleport = user.create_client(Teleport, "sim/teleport")
         self.obstacles = user.create_client(SetObstacles, "sim/set_obstacles")
-        self.http = httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
-                                 timeout=20)
 
     def _on_truth(self, msg: Odometry) -> None:
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
@@ -70,33 +63,10 @@ class Rig:
 @pytest.fixture(scope="module")
 def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
     tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
-    with linked_contexts(4) as ctxs:
-        nodes: list[Node] = []
-        try:
-            chassis = ChassisNode("chassis", context=ctxs[0],
-                                  parameter_overrides={"speed": 10.0, "seed": 1})
-            nodes.append(chassis)
-            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
-                "use_sim_time": True, "maps_dir": str(tmp / "maps")})
-            nodes.append(nav)
-            nodes.append(TasksNode(context=ctxs[2], parameter_overrides={
-                "data_dir": str(tmp / "tasks"), "use_sim_time": True}))
-            user = Node("user", context=ctxs[3])
-            nodes.append(user)
-            with running_gateway(ctxs[2], tmp, no_token_check=True) as gw:
-                rig = Rig(gw, nav, chassis, user)
-                assert gw.graph.wait_for_service("/tasks/create", 10)
-                assert gw.graph.wait_for_service("/chassis/set_io", 10)
-                assert wait_for(lambda: nav.core.localizer.pose() is not None, 10)
-                r = rig.http.post("/navigation/nav_points", json={
-                    "map_name": nav.core.maps.current, "path_name": "p1",
-                    "path_data": POINTS})
-                assert r.status_code == 200, r.text
-                yield rig
-                rig.http.close()
-        finally:
-            for n in reversed(nodes):
-                n.close()
+    with gateway_robot(tmp) as robot:
+        assert robot.gw.graph.wait_for_service("/chassis/set_io", 10)
+        robot.add_nav_points(robot.nav.core.maps.current, "p1", POINTS)
+        yield Rig(robot)
 
 
 @pytest.fixture

@@ -11,42 +11,36 @@ import math
 import time
 from collections.abc import Iterator
 
-import httpx
 import pytest
 import serial
 from PIL import Image
 from pymodbus.client import AsyncModbusTcpClient, ModbusTcpClient
+from sim_robot import GatewayRobot, gateway_robot
 from websockets.asyncio.client import connect
 from zenros.action import ActionClient
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav2_msgs import NavigateToPose
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import SetChargePose, SetChargePoseRequest, Teleport, TeleportRequest
-from zenros.node import Node
-from zenros.services.chassis.node import ChassisNode
-from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.serial.bridge import SerialBridge
 from zenros.services.gateway.serial.frame import command_frame
-from zenros.services.gateway.testing import NullModem, running_gateway
-from zenros.services.nav.node import NavNode
-from zenros.services.tasks.node import TasksNode
-from zenros.testing import linked_contexts, wait_for
+from zenros.services.gateway.testing import NullModem
+from zenros.testing import wait_for
 
 DT = ModbusTcpClient.DATATYPE
 POINTS = "2 0 0 0 0.1 0.1 0 first\n4 0 0 1.57 0.1 0.1 0 second\n"
 
 
 class Rig:
-    def __init__(self, gw: GatewayNode, nav: NavNode, user: Node) -> None:
-        self.gw, self.nav, self.user = gw, nav, user
+    def __init__(self, robot: GatewayRobot) -> None:
+        self.gw, self.nav, self.user, self.http = robot.gw, robot.nav, robot.user, robot.http
+        user = robot.user
         self.truth: list[tuple[float, float]] = []
         self.track: list[tuple[float, float, float]] = []  # (sim time of the stamp, x, y)
         self.speed = 0.0
         user.create_subscription(Odometry, "sim/ground_truth", self._on_truth)
         self.teleport = user.create_client(Teleport, "sim/teleport")
         self.navigate = ActionClient(user, NavigateToPose, "navigate_to_pose")
-        self.http = httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
-                                 timeout=20)
 
     def _on_truth(self, msg: Odometry) -> None:
         p = msg.pose.pose.position
@@ -70,32 +64,9 @@ class Rig:
 @pytest.fixture(scope="module")
 def module_rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
     tmp = tmp_path_factory.mktemp("rig")  # removed by pytest (it keeps the last 3 runs)
-    with linked_contexts(4) as ctxs:
-        nodes: list[Node] = []
-        try:
-            nodes.append(ChassisNode("chassis", context=ctxs[0],
-                                     parameter_overrides={"speed": 10.0, "seed": 1}))
-            nav = NavNode("nav", context=ctxs[1], parameter_overrides={
-                "use_sim_time": True, "maps_dir": str(tmp / "maps")})
-            nodes.append(nav)
-            nodes.append(TasksNode(context=ctxs[2], parameter_overrides={
-                "data_dir": str(tmp / "tasks"), "use_sim_time": True}))
-            user = Node("user", context=ctxs[3])
-            nodes.append(user)
-            with running_gateway(ctxs[2], tmp, no_token_check=True) as gw:
-                rig = Rig(gw, nav, user)
-                assert gw.navigator.navigate.wait_for_server(10)
-                assert gw.graph.wait_for_service("/tasks/create", 10)
-                assert wait_for(lambda: nav.core.localizer.pose() is not None, 10)
-                r = rig.http.post("/navigation/nav_points", json={
-                    "map_name": nav.core.maps.current, "path_name": "p1",
-                    "path_data": POINTS})
-                assert r.status_code == 200, r.text
-                yield rig
-                rig.http.close()
-        finally:
-            for n in reversed(nodes):
-                n.close()
+    with gateway_robot(tmp) as robot:
+        robot.add_nav_points(robot.nav.core.maps.current, "p1", POINTS)
+        yield Rig(robot)
 
 
 @pytest.fixture

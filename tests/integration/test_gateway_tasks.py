@@ -10,21 +10,8 @@ import httpx
 import pytest
 from zenros.context import Context
 from zenros.services.gateway.node import GatewayNode
-from zenros.services.gateway.testing import running_gateway
 from zenros.services.tasks.node import TasksNode
 from zenros.testing import wait_for
-
-
-@pytest.fixture
-def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
-    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as node:
-        yield node
-
-
-@pytest.fixture
-def http(gw: GatewayNode) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=15) as c:
-        yield c
 
 
 @pytest.fixture

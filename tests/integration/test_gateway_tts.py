@@ -3,29 +3,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
-import pytest
 from zenros.context import Context
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.testing import running_gateway
 from zenros.testing import Collector, wait_for
-
-
-@pytest.fixture
-def gw(ctx_pair: list[Context], tmp_path: Path) -> Iterator[GatewayNode]:
-    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as node:
-        yield node
-
-
-@pytest.fixture
-def http(gw: GatewayNode) -> Iterator[httpx.Client]:
-    with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=10) as c:
-        yield c
 
 
 def test_alias_playing_stop(gw: GatewayNode, http: httpx.Client, make_node: object) -> None:

@@ -38,6 +38,13 @@ def test_rosbridge_process(router: str, prefix: str, observer: Context,
             roslibpy.Topic(ros, "/chatter", "std_msgs/String").subscribe(got.append)
             assert pub.wait_for_subscribers(1, 10)
             assert wait_for(lambda: (pub.publish(String(data="hi")), bool(got))[1], 10)
+            # a type whose module zenros.msgs leaves out, by its ROS 2 name (issue 37.6)
+            details = roslibpy.Service(ros, "/rosapi/action_goal_details",
+                                       "rosapi_msgs/srv/ActionGoalDetails")
+            typedefs = details.call(roslibpy.ServiceRequest(
+                {"type": "test_msgs/action/Fibonacci"}), timeout=10)["typedefs"]
+            assert [(t["type"], t["fieldnames"]) for t in typedefs] == [
+                ("test_msgs/msg/FibonacciGoal", ["order"])], typedefs
         finally:
             ros.close()
     finally:

@@ -106,3 +106,28 @@ def test_cli_list_info_and_send_goal(router: str, prefix: str, client_node: Node
     rc, out = run_cli(router, prefix, "send_goal", "/fibonacci", "example_interfaces/Fibonacci",
                       "{order: -1}")
     assert rc == 1 and "Goal was rejected: order must be in [0, 10000], got -1" in out, out
+
+
+def test_cli_send_goal_names_a_type_by_its_ros2_name(router: str, prefix: str,
+                                                      client_node: Node) -> None:
+    """test_msgs/action/Fibonacci, whose module `zenros.msgs` leaves out (its Fibonacci would
+    make the short name ambiguous): the CLI loads it by name (issue 37.6)."""
+    from zenros.action import ActionServer, ServerGoalHandle
+    from zenros.msgs import test_msgs
+
+    def execute(handle: ServerGoalHandle[test_msgs.FibonacciGoal]) -> test_msgs.FibonacciResult:
+        seq = [0, 1]
+        while len(seq) <= handle.request.order:
+            seq.append(seq[-1] + seq[-2])
+        handle.succeed()
+        return test_msgs.FibonacciResult(sequence=seq)
+
+    server = ActionServer(client_node, test_msgs.Fibonacci, "/acc_fib", execute)
+    try:
+        assert client_node.graph.wait_for_action("/acc_fib", 15)
+        for spelled in ("test_msgs/action/Fibonacci", "test_msgs/Fibonacci"):
+            rc, out = run_cli(router, prefix, "send_goal", "/acc_fib", spelled, "{order: 5}")
+            assert rc == 0, out
+            assert "Result:\nsequence:\n- 0\n- 1\n- 1\n- 2\n- 3\n- 5\n" in out, out
+    finally:
+        server.close()

@@ -194,6 +194,8 @@ def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
 
     It worked if it exited 0; or if it printed on stdout and was still running GRACE seconds
     later (a streaming command: echo, hz, pub -r, tf echo), when it is stopped with SIGINT.
+    Either way it must not print a DeprecationWarning: a reader copying it would meet one
+    (docs/fleet.md's websockets one-liners did, issue 37.11).
     """
     text = cmd.text
     for default, port in sim.ports.items():
@@ -224,9 +226,11 @@ def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
     for f in (p.stdout, p.stderr):
         if f is not None:
             f.close()
-    if streaming or p.returncode == 0:
+    warned = "DeprecationWarning" in "".join(err)
+    if (streaming or p.returncode == 0) and not warned:
         return None
-    how = (f"neither ended nor printed in {COMMAND_LIMIT:g} s" if p.returncode is None
+    how = ("printed a DeprecationWarning" if warned
+           else f"neither ended nor printed in {COMMAND_LIMIT:g} s" if p.returncode is None
            or p.returncode < 0 else f"exit {p.returncode}")
     return (f"{cmd.where}: `{cmd.text}`: {how}\n  stdout: {''.join(out)[-600:]!r}\n"
             f"  stderr: {''.join(err)[-600:]!r}")
@@ -331,21 +335,31 @@ def _drives(block: Block) -> bool:
                if not c.text.startswith("zenros bag record"))
 
 
+def _selected_pages(request: pytest.FixtureRequest) -> list[Path]:
+    """The pages whose test this session runs, in `PAGES` order (``-k README`` checks the
+    README alone)."""
+    chosen = {item.callspec.params["page"] for item in request.session.items
+              if item.module is request.module and hasattr(item, "callspec")
+              and "page" in item.callspec.params}
+    return [p for p in PAGES if p in chosen]
+
+
 @pytest.fixture(scope="module")
-def results(sim: Sim, tmp_path_factory: pytest.TempPathFactory
+def results(sim: Sim, tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest
             ) -> Iterator[dict[Path, list[str] | None]]:
-    """Every page checked (each page's blocks in order), pages side by side; blocks that
-    drive the robot one at a time in the pages' order, since one nav goal preempts another (a
-    page's patrol ended "preempted by a new goal" when another page's goal came, under a CPU
-    hog). The pool starts pages in their order, so the page whose turn is next is always
-    running: none waits on a page not started."""
-    turns = DriveTurns([(i, j) for i, page in enumerate(PAGES)
+    """Every selected page checked (each page's blocks in order), pages side by side; blocks
+    that drive the robot one at a time in the pages' order, since one nav goal preempts
+    another (a page's patrol ended "preempted by a new goal" when another page's goal came,
+    under a CPU hog). The pool starts pages in their order, so the page whose turn is next is
+    always running: none waits on a page not started."""
+    pages = _selected_pages(request)
+    turns = DriveTurns([(i, j) for i, page in enumerate(pages)
                         for j, b in enumerate(_runnable_blocks(page)) if _drives(b)])
     fleet = Fleet(sim, tmp_path_factory.mktemp("fleet"))
     try:
         with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-            yield dict(zip(PAGES, pool.map(lambda ip: _run_page(*ip, sim, turns, fleet),
-                                           enumerate(PAGES)), strict=True))
+            yield dict(zip(pages, pool.map(lambda ip: _run_page(*ip, sim, turns, fleet),
+                                           enumerate(pages)), strict=True))
     finally:
         fleet.stop()
 
@@ -379,6 +393,19 @@ def test_the_markers_are_read(tmp_path: Path) -> None:
     assert second.runnable()[0].where == "docs/page.md:13"
 
 
+_CURL_FAIL = re.compile(r"\bcurl\s+(?:\S+\s+)*?-[a-zA-Z]*f[a-zA-Z]*\b")
+
+
+def test_no_curl_command_hides_the_error_body() -> None:
+    """``curl -f`` (``-sf``) prints nothing when the gateway answers an error, hiding why (a
+    stale token's 401 says "invalid token"): the pages use ``--fail-with-body`` or ``-s``
+    (issue 37.9)."""
+    hiding = [f"{c.where}: {c.text}" for page in doc_pages(ROOT)
+              for block in doc_blocks(page, ROOT) for c in block.commands
+              if _CURL_FAIL.search(c.text) and "--fail-with-body" not in c.text]
+    assert not hiding, "\n".join(hiding)
+
+
 def test_every_type_the_sim_serves_is_callable_from_the_cli(sim: Sim) -> None:
     """`zenros service list -t` / `action list -t` name only types `service call` and
     `action send_goal` can build."""
@@ -393,3 +420,30 @@ def test_every_type_the_sim_serves_is_callable_from_the_cli(sim: Sim) -> None:
         assert types, r.stdout
         for name in sorted(types):
             find(name)  # raises UnknownTypeError with the name
+
+
+def test_the_websocket_one_liners_print_no_deprecation_warning(tmp_path: Path) -> None:
+    """docs/fleet.md's and docs/gateway.md's ``python3 -c`` websockets clients, run by the
+    docs check's own `_run` against a local WebSocket server on their ports: each works and
+    prints no DeprecationWarning (``connect()`` used as a context manager; issue 37.11)."""
+    from websockets.sync.server import ServerConnection, serve
+
+    def hello_then_echo(ws: ServerConnection) -> None:
+        ws.send('{"op": "hello"}')
+        for message in ws:
+            ws.send(message)
+
+    commands = [c for page in doc_pages(ROOT) for block in doc_blocks(page, ROOT)
+                for c in block.runnable() if "from websockets" in c.text]
+    assert len(commands) >= 3, [c.where for c in commands]
+    (tmp_path / "token").write_text("0" * 32)
+    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}"
+                                 f"{os.environ.get('PATH', '')}"}
+    with serve(hello_then_echo, "127.0.0.1", 0) as server:
+        port = server.socket.getsockname()[1]
+        worker = threading.Thread(target=server.serve_forever, daemon=True)
+        worker.start()
+        sim = Sim(env, tmp_path, {default: port for default in GATEWAY_PORTS.values()})
+        failures = [why for c in commands if (why := _run(c, sim, tmp_path, env)) is not None]
+        server.shutdown()
+    assert not failures, "\n".join(failures)

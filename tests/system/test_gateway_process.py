@@ -67,3 +67,28 @@ def test_port_in_use_is_a_startup_failure(router: str, prefix: str, tmp_path: Pa
             proc.stop()
     assert "startup failed: cannot listen on 127.0.0.1" in proc.output, proc.output
     assert "Traceback" not in proc.output
+
+
+def test_streams_a_topic_whose_type_module_loads_on_demand(router: str, prefix: str,
+                                                           observer: Context,
+                                                           tmp_path: Path) -> None:
+    """A topic of test_msgs/FibonacciFeedback (a module `zenros.msgs` leaves out): the
+    gateway's WebSocket API finds the type by the name the graph lists (issue 37.6)."""
+    from websockets.sync.client import connect
+    from zenros.msgs.test_msgs import FibonacciFeedback
+
+    ws_port = free_port()
+    proc = gateway(router, prefix, tmp_path, f"rest_port:={free_port()}", f"ws_port:={ws_port}",
+                   f"modbus_port:={free_port()}", "discovery_port:=-1",
+                   "no_token_check:=true")
+    node = Node("fib_talker", context=observer)
+    try:
+        assert proc.wait_line("started", 20), proc.output
+        pub = node.create_publisher(FibonacciFeedback, "/fib_feedback", 10)
+        with connect(f"ws://127.0.0.1:{ws_port}/fib_feedback", open_timeout=10) as ws:
+            assert pub.wait_for_subscribers(1, 10), proc.output
+            pub.publish(FibonacciFeedback(sequence=[0, 1, 1]))
+            assert json.loads(ws.recv(timeout=10)) == {"sequence": [0, 1, 1]}
+    finally:
+        node.close()
+        proc.stop()

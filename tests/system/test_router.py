@@ -7,32 +7,29 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 
 import pytest
 import zenoh
 from zenros.router import build_router_config, router_reachable, serve_router
 from zenros.testing import free_port
+from zenros.testing import wait_until as until
 
 pytestmark = pytest.mark.system
 
 
 def wait_until(condition: threading.Event | subprocess.Popen[str] | str, timeout: float = 10.0
                ) -> None:
-    """Wait for an event to be set, a process to exit, or an endpoint to accept TCP."""
-    deadline = time.monotonic() + timeout
-    while True:
-        if isinstance(condition, threading.Event):
-            done = condition.is_set()
-        elif isinstance(condition, str):
-            done = router_reachable(condition, 0.2)
-        else:
-            done = condition.poll() is not None
-        if done:
-            return
-        if time.monotonic() > deadline:
-            pytest.fail(f"timed out after {timeout} s waiting for {condition}")
-        time.sleep(0.01)
+    """Wait for an event to be set, a process to exit, or an endpoint to accept TCP
+    (`zenros.testing.wait_until`: a timeout says which)."""
+    if isinstance(condition, threading.Event):
+        pred, what = condition.is_set, "the event to be set"
+    elif isinstance(condition, str):
+        endpoint = condition
+        pred, what = (lambda: router_reachable(endpoint, 0.2)), f"{endpoint} to accept TCP"
+    else:
+        proc = condition
+        pred, what = (lambda: proc.poll() is not None), f"process {proc.pid} to exit"
+    until(pred, timeout, 0.01, what=what)
 
 
 def start(*args: str) -> subprocess.Popen[str]:

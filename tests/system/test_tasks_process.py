@@ -68,3 +68,22 @@ def test_kill_9_mid_task_loses_nothing(router: str, prefix: str, tmp_path: Path,
     assert wait_for(lambda: call(observer, "get", long["id"])["state"] == "COMPLETE", 10)
     out = cli(router, prefix, "start", "nope")
     assert out.returncode == 1 and "no task with id 'nope'" in out.stderr
+
+
+def test_cli_create_with_start_starts_the_task(router: str, prefix: str, tmp_path: Path,
+                                               observer: Context, procs: list[Proc]) -> None:
+    """``zenros task create ... --start``: the README's task runs, not waits (issue 37.8)."""
+    import json
+
+    procs.append(start_tasks(router, prefix, tmp_path))
+    out = cli(router, prefix, "create", "{name: demo, sub_tasks: [{type: wait_req_action}]}",
+              "--start", "--json")
+    assert out.returncode == 0, out.stderr
+    task = json.loads(out.stdout)
+    assert task["name"] == "demo" and task["state"] in ("WORKING", "COMPLETE"), task
+    assert wait_for(lambda: call(observer, "get", task["id"])["state"] == "WORKING", 10)
+    call(observer, "update_wait_req")
+    assert wait_for(lambda: call(observer, "get", task["id"])["state"] == "COMPLETE", 10)
+    out = cli(router, prefix, "create", "{name: later, sub_tasks: []}", "--json")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["state"] == "WAITTING"  # without --start it waits

@@ -447,3 +447,66 @@ def test_time_and_duration_are_frozen_and_hashable() -> None:
         t.sec = 2  # type: ignore[misc, unused-ignore]
     assert {Time(sec=1): "a"}[Time(sec=1)] == "a"
     assert len({Duration(sec=1), Duration.from_seconds(1.0)}) == 1
+
+
+_SHIPPED = """
+import importlib, json, pkgutil
+import zenros.msgs as msgs
+for info in pkgutil.walk_packages(msgs.__path__, msgs.__name__ + "."):
+    importlib.import_module(info.name)
+from zenros.message import TABLES
+print(json.dumps({"msg": sorted(TABLES.messages), "srv": sorted(TABLES.services),
+                  "action": sorted(TABLES.actions)}))
+"""
+
+_LOOKUP = """
+import json, sys
+from zenros.registry import lookup_action, lookup_service, lookup_type
+shipped = json.loads(sys.stdin.read())
+find = {"msg": lookup_type, "srv": lookup_service, "action": lookup_action}
+failed = []
+for kind, names in shipped.items():
+    for name in names:
+        pkg, _, short = name.partition("/")
+        for spelled in (f"{pkg}/{kind}/{short}", name):
+            try:
+                find[kind](spelled)
+            except Exception as exc:
+                failed.append(f"{spelled}: {exc}")
+print(json.dumps({"failed": failed, "short": lookup_action("Fibonacci").name}))
+"""
+
+
+def test_every_shipped_type_resolves_by_its_ros2_name_in_a_fresh_process() -> None:
+    """`zenros.msgs` leaves some packages out (test_msgs, action_tutorials_interfaces: their
+    Fibonacci would make the short name ambiguous); a lookup by ``pkg/msg|srv|action/Name`` or
+    ``pkg/Name`` imports them on demand, and a short name still means the standard type."""
+    import json
+    import subprocess
+    import sys
+
+    shipped = subprocess.run([sys.executable, "-c", _SHIPPED], capture_output=True, text=True,
+                             check=True, timeout=60).stdout
+    assert "test_msgs/Fibonacci" in json.loads(shipped)["action"]
+    out = subprocess.run([sys.executable, "-c", _LOOKUP], input=shipped, capture_output=True,
+                         text=True, check=True, timeout=60).stdout
+    result = json.loads(out)
+    assert result["failed"] == [], result["failed"]
+    assert result["short"] == "example_interfaces/Fibonacci"
+
+
+_ROS2_CLASS = """
+from zenros.ros2.registry import zenros_class_of
+cls = zenros_class_of("test_msgs/action/Fibonacci_Goal")
+print(cls.__module__ if cls else None)
+"""
+
+
+def test_ros2_structure_name_loads_its_package_on_demand() -> None:
+    """What both ROS 2 bridges ask for a topic's DDS or rmw_zenoh type (`zenros_class_of`)."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", _ROS2_CLASS], capture_output=True, text=True,
+                         check=True, timeout=60).stdout
+    assert out.strip() == "zenros.msgs.test_msgs"

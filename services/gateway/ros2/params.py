@@ -23,5 +23,5 @@ class DdsBridgeParameters(BridgeScope, kw_only=True):
         gt=0, description="seconds one result request of a ROS 2 action waits (a zenros "
                           "client then asks again)")] = 60.0
     types: Annotated[str, Meta(
-        description="Python modules to import first, comma-separated: the types they define "
-                    "are bridged too")] = ""
+        description="Python modules of your own to import first, comma-separated: the types "
+                    "they define are bridged too (the types zenros ships load by name)")] = ""

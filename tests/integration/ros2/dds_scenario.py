@@ -23,7 +23,7 @@ from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.session import SessionOptions
-from zenros.testing import Collector, free_port, unique_prefix, wait_for
+from zenros.testing import Collector, Waited, free_port, unique_prefix, wait_for
 
 HERE = Path(__file__).parent
 PY = sys.executable
@@ -236,8 +236,8 @@ def main(case: str) -> dict[str, Any]:
     res: dict[str, Any] = {"case": case}
     started = time.monotonic()
     bridge = procs.start("-m", "zenros.services.gateway.ros2", "-l", f"tcp/127.0.0.1:{port}",
-                         "--prefix", prefix, "-p", "domain_id:=0",
-                         "-p", "types:=zenros.msgs.test_msgs", stdout=subprocess.DEVNULL)
+                         "--prefix", prefix, "-p", "domain_id:=0", stdout=subprocess.DEVNULL)
+    # no types:= for test_msgs (act_out, act_in): a shipped package loads by its name
     ctx = Context(SessionOptions(connect=[f"tcp/127.0.0.1:{port}"]), prefix=prefix)
     node = Node("zen_side", context=ctx)
     graph = ctx.graph
@@ -346,5 +346,12 @@ def main(case: str) -> dict[str, Any]:
     return res
 
 
+def _plain(value: object) -> object:
+    """A wait's result as the bool it stands for (``res["received"] = wait_for(...)``)."""
+    if isinstance(value, Waited):
+        return value.ok
+    raise TypeError(f"{type(value).__name__} is not JSON serializable")
+
+
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1])), flush=True)
+    print(json.dumps(main(sys.argv[1]), default=_plain), flush=True)

@@ -127,3 +127,28 @@ def test_rmw_zenoh_graph_appears_in_zenros(
     peer.close()  # the ROS 2 node leaves: so does its mirror
     assert wait_for(lambda: "/ros_talker" not in g.node_names(), 10)
     assert "/r_fib" not in g.actions()
+
+
+def test_bridge_process_knows_a_type_whose_module_loads_on_demand(router: str,
+                                                                 prefix: str) -> None:
+    """An rmw_zenoh action server of test_msgs/action/Fibonacci (a module `zenros.msgs` leaves
+    out) is routed into zenros by a bridge process given no ``types`` (issue 37.6)."""
+    from zenros.testing import Proc
+
+    domain = 59  # below make_rmw_rig's domains
+    proc = Proc([sys.executable, "-m", "zenros.services.rmw_zenoh", "-e", router,
+                 "--prefix", prefix, "-p", f"domain_id:={domain}"])
+    peer = RmwPeer(router, domain, node="ros_fib")
+    try:
+        assert proc.wait_line("bridging zenros and rmw_zenoh", 20), proc.output
+        base = "/r_fib/_action/"
+        for part, t in (("send_goal", "test_msgs/action/Fibonacci_SendGoal"),
+                        ("cancel_goal", "action_msgs/srv/CancelGoal"),
+                        ("get_result", "test_msgs/action/Fibonacci_GetResult")):
+            peer.token(EntityKind.SERVICE, base + part, t)
+        assert proc.wait_line("rmw_zenoh action /r_fib (test_msgs/action/Fibonacci) -> zenros",
+                              20), proc.output
+        assert "not bridged" not in proc.output
+    finally:
+        peer.close()
+        proc.stop()
