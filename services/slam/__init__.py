@@ -1,0 +1,1 @@
+"""The mapping service: occupancy-grid SLAM from ``scan`` and ``odom`` (docs/mapping.md)."""

@@ -1,0 +1,260 @@
+"""Mapper: occupancy-grid SLAM from scans and odometry, the way Karto/slam_toolbox does it.
+
+Each scan is placed at ``map_to_odom ∘ odom``. Once the base has moved
+``minimum_travel_distance`` or turned ``minimum_travel_heading`` since the last node, the scan
+is matched against the running buffer (the last ``scan_buffer_size`` nodes), becomes a node
+with an edge from the previous one, and is ray-cast into the grid; ``map_to_odom`` takes the
+correction. Then the loop closer looks for an old place near it; an accepted closure adds a
+loop edge, the graph is optimised and the grid re-rasterised from the corrected poses.
+
+The first scan's pose is its odometry pose: ``map_to_odom`` starts at identity, so the map
+frame is the odometry frame (the robot's pose when mapping started, for a fresh odometry).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from zenros.se2 import Pose2
+
+from .graph import Node, PoseGraph, relative
+from .grid import LogOddsGrid
+from .loop import LoopCandidate, LoopCloser, thin
+from .matcher import CorrelationGrid, MatchResult, Window, match
+from .optimizer import optimize
+from .params import SlamParameters
+from .scan import RangeScan, points_in
+
+__all__ = ["Mapper", "ScanOutcome"]
+
+_MIN_SEQ_SIGMA = (0.02, 0.01)  # m, rad: a match is never trusted more than this
+_ODOM_ONLY_SIGMA = (0.1, 0.05)
+
+
+@dataclass(frozen=True)
+class ScanOutcome:
+    """What one scan did: ``pose`` of the base in map; ``node`` its index if it became one;
+    ``closure`` the loop closure it tried (accepted or not); ``rebuilt`` the grid was
+    re-rasterised."""
+
+    pose: Pose2
+    node: int | None = None
+    response: float = 0.0
+    closure: LoopCandidate | None = None
+    rebuilt: bool = False
+
+
+def _fuse(prev: Pose2, step: Pose2, step_cov: np.ndarray, matched: Pose2,
+          match_cov: np.ndarray) -> tuple[Pose2, np.ndarray]:
+    """The covariance-weighted mean of the odometry's and the match's relative step from
+    ``prev`` (both in ``prev``'s frame), and its covariance."""
+    z = relative(prev, matched)
+    c, s = math.cos(prev.theta), math.sin(prev.theta)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    # the match's covariance is in the map frame: bring it into prev's
+    mc = rot.T @ match_cov @ rot
+    a, b = np.linalg.inv(step_cov), np.linalg.inv(mc)
+    cov = np.linalg.inv(a + b)
+    za = np.array(step)
+    zb = np.array(z)
+    zb[2] = za[2] + math.remainder(zb[2] - za[2], 2 * math.pi)
+    mean = cov @ (a @ za + b @ zb)
+    return prev * Pose2(float(mean[0]), float(mean[1]), float(mean[2])), cov
+
+
+class Mapper:
+    """Holds the graph, the grid and ``map_to_odom``; `add_scan` folds one scan in."""
+
+    def __init__(self, params: SlamParameters = SlamParameters()) -> None:
+        self.p = params
+        p = params
+        self.graph = PoseGraph()
+        self._grid = self._new_grid()
+        self._stale = False
+        self._closed_at = -math.inf
+        self.loops = LoopCloser(p)
+        self.map_to_odom = Pose2()
+        self.pose = Pose2()
+        self.scans = 0
+        self.loop_closures = 0
+        self.last_closure: LoopCandidate | None = None
+        self._since_attempt = 0
+        half = p.correlation_search_space_dimension / 2
+        self.window = Window(
+            xy=half, xy_step=p.resolution, theta=p.coarse_search_angle_offset,
+            theta_step=p.coarse_angle_resolution, fine_xy=p.resolution / 4,
+            fine_theta=p.fine_search_angle_offset,
+            penalty=(p.distance_variance_penalty, p.angle_variance_penalty,
+                     p.minimum_distance_penalty, p.minimum_angle_penalty))
+
+    def _new_grid(self) -> LogOddsGrid:
+        p = self.p
+        return LogOddsGrid(p.resolution, p.hit_probability, p.miss_probability,
+                           p.clamp_min, p.clamp_max)
+
+    # ---------------------------------------------------------------- state
+
+    @property
+    def nodes(self) -> int:
+        return len(self.graph.nodes)
+
+    def pose_at(self, odom: Pose2) -> Pose2:
+        return self.map_to_odom * odom
+
+    @property
+    def grid(self) -> LogOddsGrid:
+        """The occupancy grid, re-rasterised first if a closure moved the nodes."""
+        if self._stale:
+            self.rebuild()
+        return self._grid
+
+    def reset(self) -> None:
+        self.graph = PoseGraph()
+        self._grid = self._new_grid()
+        self._stale = False
+        self._closed_at = -math.inf
+        self.map_to_odom = Pose2()
+        self.pose = Pose2()
+        self.scans = self.loop_closures = self._since_attempt = 0
+        self.last_closure = None
+
+    def set_map_to_odom(self, odom: Pose2, pose: Pose2) -> None:
+        """Say the base, at ``odom`` in its odometry, stands at ``pose`` in the map (a
+        continued map: the next scan is matched from there)."""
+        self.map_to_odom = pose * odom.inverse()
+        self.pose = pose
+
+    # ---------------------------------------------------------------- scans
+
+    def moved_enough(self, odom: Pose2) -> bool:
+        if not self.graph.nodes:
+            return True
+        last = self.graph.nodes[-1].odom
+        d = relative(last, odom)
+        return (math.hypot(d.x, d.y) >= self.p.minimum_travel_distance
+                or abs(d.theta) >= self.p.minimum_travel_heading)
+
+    def add_scan(self, stamp: float, odom: Pose2, scan: RangeScan) -> ScanOutcome:
+        """Fold one scan taken with the odometry at ``odom`` in."""
+        self.scans += 1
+        predicted = self.map_to_odom * odom
+        if not self.moved_enough(odom):
+            self.pose = predicted
+            return ScanOutcome(predicted)
+        graph = self.graph
+        if not graph.nodes:
+            node = graph.add_node(predicted, odom, stamp, scan)
+            self._grid.add_scan(node.pose, scan)
+            self.pose = predicted
+            return ScanOutcome(predicted, node.index, 1.0)
+        prev = graph.nodes[-1]
+        result = self._match_sequential(predicted, scan)
+        step = relative(prev.odom, odom)
+        odom_cov = self._odom_covariance(step)
+        if result.response >= self.p.link_match_minimum_response_fine:
+            match_cov = result.covariance.copy()
+            sx, st = _MIN_SEQ_SIGMA
+            match_cov[0, 0] = max(match_cov[0, 0], sx * sx)
+            match_cov[1, 1] = max(match_cov[1, 1], sx * sx)
+            match_cov[2, 2] = max(match_cov[2, 2], st * st)
+            pose, cov = _fuse(prev.pose, step, odom_cov, result.pose, match_cov)
+        else:
+            pose, cov = predicted, odom_cov
+        node = graph.add_node(pose, odom, stamp, scan)
+        graph.add_edge(prev.index, node.index, relative(prev.pose, pose), cov)
+        self.map_to_odom = pose * odom.inverse()
+        self.pose = pose
+        if not self._stale:
+            self._grid.add_scan(pose, scan)
+        closure = self._try_loop(node)
+        rebuilt = False
+        if closure is not None and closure.accepted:
+            self._close(closure)
+            rebuilt = True
+        return ScanOutcome(self.pose, node.index, result.response, closure, rebuilt)
+
+    def _odom_covariance(self, step: Pose2) -> np.ndarray:
+        """The covariance of an odometry step (in the earlier node's frame)."""
+        p = self.p
+        dist = math.hypot(step.x, step.y)
+        sxy = p.odom_translation_sigma * dist + 0.002
+        sth = p.odom_rotation_sigma * abs(step.theta) + p.odom_drift_sigma * dist + 0.001
+        return np.diag([sxy * sxy, sxy * sxy, sth * sth])
+
+    def _match_sequential(self, guess: Pose2, scan: RangeScan) -> MatchResult:
+        p = self.p
+        buffer: list[Node] = []
+        newest = self.graph.nodes[-1]
+        for n in reversed(self.graph.nodes):
+            if len(buffer) >= p.scan_buffer_size:
+                break
+            if n.pose.distance(newest.pose) > p.scan_buffer_maximum_scan_distance:
+                break
+            buffer.append(n)
+        ref = np.vstack([n.world_points() for n in buffer])
+        pts = thin(scan.points, p.match_points)
+        if len(ref) < 10 or len(pts) < 10:
+            return MatchResult(guess, 0.0, np.diag([500.0, 500.0, 500.0]))
+        world = points_in(guess, pts)
+        margin = p.correlation_search_space_dimension / 2 + 0.5
+        lo, hi = world.min(axis=0), world.max(axis=0)
+        # only the reference near where the scan can land matters
+        keep = np.all((ref >= lo - margin) & (ref <= hi + margin), axis=1)
+        cg = CorrelationGrid(ref[keep], p.resolution, p.correlation_search_space_smear_deviation,
+                             margin, (lo[0], lo[1], hi[0], hi[1]))
+        return match(cg, pts, guess, self.window, scan.points)
+
+    # ---------------------------------------------------------------- loops
+
+    def _try_loop(self, node: Node) -> LoopCandidate | None:
+        if not self.p.do_loop_closing:
+            return None
+        self._since_attempt += 1
+        if self._since_attempt < self.p.loop_attempt_every:
+            return None
+        # one closure per stretch of loop_search_maximum_distance travelled
+        if node.travelled - self._closed_at < self.p.loop_search_maximum_distance:
+            return None
+        candidate = self.loops.try_close(self.graph, node)
+        if candidate is not None:
+            self._since_attempt = 0
+            self.last_closure = candidate
+        return candidate
+
+    def _close(self, closure: LoopCandidate) -> None:
+        graph = self.graph
+        node = graph.nodes[closure.j]
+        # the edge from the chain's middle node to the new one, as matched
+        anchor = graph.nodes[closure.chain[len(closure.chain) // 2]]
+        cov = closure.result.covariance.copy()
+        sx, st = _MIN_SEQ_SIGMA
+        cov[0, 0], cov[1, 1] = max(cov[0, 0], sx * sx), max(cov[1, 1], sx * sx)
+        cov[2, 2] = max(cov[2, 2], st * st)
+        graph.add_edge(anchor.index, node.index, relative(anchor.pose, closure.result.pose),
+                       cov, "loop")
+        self.loop_closures += 1
+        self.optimize()
+        self._closed_at = node.travelled
+
+    def optimize(self) -> None:
+        graph = self.graph
+        res = optimize(graph.poses(), graph.edges, self.p.optimizer_iterations,
+                       self.p.loop_huber_scale)
+        graph.set_poses(res.poses)
+        last = graph.nodes[-1]
+        self.map_to_odom = last.pose * last.odom.inverse()
+        self.pose = last.pose
+        self._stale = True
+
+    def rebuild(self) -> None:
+        """Re-rasterise the grid from every node at its corrected pose."""
+        grid = self._new_grid()
+        for n in self.graph.nodes:
+            grid.add_scan(n.pose, n.scan)
+        self._grid = grid
+        self._stale = False
+
+    def track(self) -> list[tuple[float, Pose2]]:
+        return [(n.stamp, n.pose) for n in self.graph.nodes]
