@@ -81,6 +81,7 @@ class Mapper:
         self.loop_closures = 0
         self.last_closure: LoopCandidate | None = None
         self._since_attempt = 0
+        self._resume_at: Pose2 | None = None
         half = p.correlation_search_space_dimension / 2
         self.window = Window(
             xy=half, xy_step=p.resolution, theta=p.coarse_search_angle_offset,
@@ -119,12 +120,21 @@ class Mapper:
         self.pose = Pose2()
         self.scans = self.loop_closures = self._since_attempt = 0
         self.last_closure = None
+        self._resume_at = None
 
-    def set_map_to_odom(self, odom: Pose2, pose: Pose2) -> None:
-        """Say the base, at ``odom`` in its odometry, stands at ``pose`` in the map (a
-        continued map: the next scan is matched from there)."""
-        self.map_to_odom = pose * odom.inverse()
-        self.pose = pose
+    def resume(self, graph: PoseGraph, at: Pose2 | None = None) -> None:
+        """Map on from a saved ``graph``: the robot stands at ``at`` (default: the graph's
+        last node). The next scan is placed there, relocalised against the old nodes near
+        it (the wide loop window), and linked to the nearest of them."""
+        self.reset()
+        self.graph = graph
+        self._stale = True
+        self.loop_closures = graph.loop_closures
+        if graph.nodes:
+            self._closed_at = graph.nodes[-1].travelled
+        self._resume_at = at if at is not None else (
+            graph.nodes[-1].pose if graph.nodes else Pose2())
+        self.pose = self._resume_at
 
     # ---------------------------------------------------------------- scans
 
@@ -139,6 +149,8 @@ class Mapper:
     def add_scan(self, stamp: float, odom: Pose2, scan: RangeScan) -> ScanOutcome:
         """Fold one scan taken with the odometry at ``odom`` in."""
         self.scans += 1
+        if self._resume_at is not None:
+            return self._first_resumed(stamp, odom, scan, self._resume_at)
         predicted = self.map_to_odom * odom
         if not self.moved_enough(odom):
             self.pose = predicted
@@ -205,6 +217,34 @@ class Mapper:
         cg = CorrelationGrid(ref[keep], p.resolution, p.correlation_search_space_smear_deviation,
                              margin, (lo[0], lo[1], hi[0], hi[1]))
         return match(cg, pts, guess, self.window, scan.points)
+
+    def _first_resumed(self, stamp: float, odom: Pose2, scan: RangeScan,
+                       at: Pose2) -> ScanOutcome:
+        self._resume_at = None
+        graph = self.graph
+        if not graph.nodes:
+            self.map_to_odom = at * odom.inverse()
+            node = graph.add_node(at, odom, stamp, scan)
+            self._stale = True
+            self.pose = at
+            return ScanOutcome(at, node.index, 1.0)
+        xy = np.array([(n.pose.x, n.pose.y) for n in graph.nodes])
+        d = np.hypot(xy[:, 0] - at.x, xy[:, 1] - at.y)
+        nearest = int(np.argmin(d))
+        lo = max(0, nearest - self.p.loop_match_minimum_chain_size // 2)
+        chain = tuple(range(lo, min(len(graph.nodes),
+                                    lo + self.p.loop_match_minimum_chain_size)))
+        probe = graph.add_node(at, odom, stamp, scan)
+        found = self.loops.measure(graph, probe, chain)
+        pose = found.result.pose if found.accepted else at
+        probe.pose = pose
+        anchor = graph.nodes[nearest]
+        cov = found.result.covariance if found.accepted else np.diag([0.25, 0.25, 0.1])
+        graph.add_edge(anchor.index, probe.index, relative(anchor.pose, pose), cov, "loop")
+        self.map_to_odom = pose * odom.inverse()
+        self.pose = pose
+        self._stale = True
+        return ScanOutcome(pose, probe.index, found.result.response, found)
 
     # ---------------------------------------------------------------- loops
 

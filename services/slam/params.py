@@ -17,10 +17,14 @@ NonNegative = Annotated[float, Meta(ge=0)]
 class SlamParameters(msgspec.Struct, kw_only=True, frozen=True):
     """Everything the mapper and the node read; names as slam_toolbox's where it has one."""
 
+    graph_dir: Annotated[str, Meta(
+        description="where pose graphs are saved (default: $ZENROS_HOME/slam)")] = ""
     # frames and topics
     map_frame: str = "map"
     odom_frame: str = "odom"
     base_frame: str = "base_link"
+    laser_frame: Annotated[str, Meta(description="the scan's frame; its base_frame -> "
+                                                 "laser_frame on /tf_static places it")] = "laser"
     laser_x: Annotated[float, Meta(description="laser on the base (m), until /tf_static "
                                                "says otherwise")] = 0.1
     laser_y: float = 0.0

@@ -1,0 +1,204 @@
+"""MappingSession: one mapping run's state between the node and the mapper, without Zenoh.
+
+It keeps the odometry of the last seconds (to place each scan at its stamp), hands scans to
+the `ScanWorker`, and guards the `Mapper` with a lock so the node's timers can read the map,
+the track and ``map -> odom`` while the worker folds scans in.
+"""
+
+from __future__ import annotations
+
+import bisect
+import threading
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from zenros.se2 import Pose2, wrap_angle
+
+from .graph import PoseGraph
+from .mapper import Mapper, ScanOutcome
+from .params import SlamParameters
+from .scan import RangeScan
+from .worker import ScanWorker
+
+__all__ = ["MapSnapshot", "MappingSession", "OdomBuffer"]
+
+_ODOM_KEEP = 5.0  # seconds of odometry kept
+_ODOM_LATE = 0.25  # a scan this much newer than the last odometry uses the last one
+
+
+class OdomBuffer:
+    """Odometry poses by stamp (seconds), interpolated at a scan's stamp."""
+
+    def __init__(self) -> None:
+        self._t: deque[float] = deque()
+        self._p: deque[Pose2] = deque()
+
+    def add(self, t: float, pose: Pose2) -> None:
+        if self._t and t < self._t[-1]:  # time went back (a restarted sim): start over
+            self._t.clear()
+            self._p.clear()
+        self._t.append(t)
+        self._p.append(pose)
+        while self._t and self._t[0] < t - _ODOM_KEEP:
+            self._t.popleft()
+            self._p.popleft()
+
+    def at(self, t: float) -> Pose2 | None:
+        """The odometry at ``t``, or None if it is not known (none yet, too old or too new)."""
+        if not self._t or t < self._t[0] or t > self._t[-1] + _ODOM_LATE:
+            return None
+        if t >= self._t[-1]:
+            return self._p[-1]
+        ts = list(self._t)
+        k = bisect.bisect_left(ts, t)
+        if ts[k] == t or k == 0:
+            return self._p[k]
+        t0, t1 = ts[k - 1], ts[k]
+        a, b = self._p[k - 1], self._p[k]
+        f = (t - t0) / (t1 - t0)
+        return Pose2(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y),
+                     wrap_angle(a.theta + f * wrap_angle(b.theta - a.theta)))
+
+
+@dataclass(frozen=True)
+class MapSnapshot:
+    cells: np.ndarray
+    resolution: float
+    origin: tuple[float, float]
+    area_m2: float
+
+
+@dataclass(frozen=True)
+class ScanItem:
+    stamp: float
+    scan: RangeScan
+
+
+class MappingSession:
+    """Folds scans into a `Mapper` on a worker thread; every read goes through ``lock``.
+
+    ``on_folded(outcome, stamp)`` is called on the worker after each scan.
+    """
+
+    def __init__(self, params: SlamParameters,
+                 on_folded: Callable[[ScanOutcome, float], None] | None = None,
+                 on_error: Callable[[BaseException], None] | None = None,
+                 queue: int = 50) -> None:
+        self.p = params
+        self.mapper = Mapper(params)
+        self.lock = threading.Lock()
+        self.odom = OdomBuffer()
+        self.mount = Pose2(params.laser_x, params.laser_y, params.laser_yaw)
+        self.paused = False
+        self.active = False
+        self.no_odom = 0
+        self.last_stamp = 0.0
+        self.closures_seen = 0
+        self._on_folded = on_folded
+        self.worker: ScanWorker[ScanItem] = ScanWorker(self._fold, queue, on_error=on_error)
+
+    # ---------------------------------------------------------------- control
+
+    def begin(self, graph: PoseGraph | None = None, at: Pose2 | None = None) -> None:
+        """Start mapping: empty, or on from ``graph`` with the robot at ``at``."""
+        self.worker.clear()
+        self.worker.wait_idle(5.0)
+        with self.lock:
+            if graph is None:
+                self.mapper.reset()
+            else:
+                self.mapper.resume(graph, at)
+            self.closures_seen = self.mapper.loop_closures
+            self.no_odom = 0
+            self.active = True
+        self.worker.start()
+
+    def end(self) -> None:
+        self.active = False
+        self.worker.clear()
+        self.worker.wait_idle(5.0)
+
+    def reset(self) -> None:
+        self.worker.clear()
+        self.worker.wait_idle(5.0)
+        with self.lock:
+            self.mapper.reset()
+
+    def close(self) -> None:
+        self.active = False
+        self.worker.close()
+
+    # ---------------------------------------------------------------- inputs
+
+    def on_odom(self, t: float, pose: Pose2) -> None:
+        self.odom.add(t, pose)
+
+    def on_scan(self, t: float, ranges: np.ndarray | list[float], angle_min: float,
+                angle_increment: float, range_min: float, range_max: float) -> bool:
+        """Queue a scan; False (with nothing queued) while not mapping or paused.
+
+        Raises:
+            ValueError: a scan with no beams or non-finite angles.
+        """
+        if not self.active or self.paused:
+            return False
+        p = self.p
+        scan = RangeScan.from_laser(ranges, angle_min, angle_increment, self.mount,
+                                    range_min, range_max, p.max_laser_range, p.max_clear_range)
+        self.worker.submit(ScanItem(t, scan))
+        return True
+
+    def _fold(self, item: ScanItem) -> None:
+        odom = self.odom.at(item.stamp)
+        if odom is None:
+            self.no_odom += 1
+            return
+        with self.lock:
+            if not self.active:
+                return
+            out = self.mapper.add_scan(item.stamp, odom, item.scan)
+            self.last_stamp = item.stamp
+        if self._on_folded is not None:
+            self._on_folded(out, item.stamp)
+
+    # ---------------------------------------------------------------- reads
+
+    @property
+    def skipped(self) -> int:
+        return self.worker.skipped
+
+    def snapshot(self) -> MapSnapshot | None:
+        """The occupancy grid now (re-rasterised if a closure moved the nodes), or None
+        before the first node."""
+        with self.lock:
+            if not self.mapper.graph.nodes:
+                return None
+            grid = self.mapper.grid
+            cells = grid.occupancy()
+            res = grid.res
+            origin = (grid.ox, grid.oy)
+        area = float(np.count_nonzero(cells >= 0)) * res * res
+        return MapSnapshot(cells, res, origin, area)
+
+    def track(self) -> tuple[list[Pose2], list[float]]:
+        with self.lock:
+            nodes = self.mapper.graph.nodes
+            return [n.pose for n in nodes], [n.stamp for n in nodes]
+
+    def pose(self) -> tuple[Pose2, Pose2, float]:
+        """(base pose in map, map -> odom, stamp of the last folded scan)."""
+        with self.lock:
+            return self.mapper.pose, self.mapper.map_to_odom, self.last_stamp
+
+    def counts(self) -> tuple[int, int, int]:
+        """(scans folded, nodes, loop closures)."""
+        with self.lock:
+            m = self.mapper
+            return m.scans, m.nodes, m.loop_closures
+
+    def has_map(self) -> bool:
+        with self.lock:
+            return bool(self.mapper.graph.nodes)
+
