@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[2]
 ROBOTS = 10
 SPACING = 2.5  # fleet.yaml: robot k starts at ((k - 1) * 2.5, 0, 0)
 AHEAD = 1.2  # each robot's goal: this far ahead of where it starts
-SERVICES = ("chassis", "nav", "tf", "tasks")
+SERVICES = ("chassis", "nav", "slam", "tf", "tasks")
 
 
 @dataclass
