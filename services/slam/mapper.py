@@ -216,7 +216,7 @@ class Mapper:
         keep = np.all((ref >= lo - margin) & (ref <= hi + margin), axis=1)
         cg = CorrelationGrid(ref[keep], p.resolution, p.correlation_search_space_smear_deviation,
                              margin, (lo[0], lo[1], hi[0], hi[1]))
-        return match(cg, pts, guess, self.window, scan.points)
+        return match(cg, pts, guess, self.window, thin(scan.points, 2 * p.match_points))
 
     def _first_resumed(self, stamp: float, odom: Pose2, scan: RangeScan,
                        at: Pose2) -> ScanOutcome:

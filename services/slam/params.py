@@ -45,9 +45,12 @@ class SlamParameters(msgspec.Struct, kw_only=True, frozen=True):
         description="s between map -> odom sends (0: off)")] = 0.05
     transform_timeout: Annotated[NonNegative, Meta(
         description="map -> odom is stamped this far past the scan (s)")] = 0.2
+    scan_queue_size: Annotated[int, Meta(
+        ge=1, description="scans that may wait for the mapper; past it the oldest is "
+                          "skipped (and the state says so)")] = 100
     # scan gating (Karto HasMovedEnough)
-    minimum_travel_distance: Annotated[NonNegative, Meta(description="m")] = 0.3
-    minimum_travel_heading: Annotated[NonNegative, Meta(description="rad")] = 0.3
+    minimum_travel_distance: Annotated[NonNegative, Meta(description="m")] = 0.5
+    minimum_travel_heading: Annotated[NonNegative, Meta(description="rad")] = 0.5
     # sequential matching against the running buffer
     scan_buffer_size: Annotated[int, Meta(ge=1)] = 10
     scan_buffer_maximum_scan_distance: Annotated[Positive, Meta(description="m")] = 10.0
@@ -65,7 +68,7 @@ class SlamParameters(msgspec.Struct, kw_only=True, frozen=True):
     minimum_angle_penalty: Annotated[NonNegative, Meta()] = 0.9
     link_match_minimum_response_fine: Annotated[NonNegative, Meta(
         description="below this a scan is placed by odometry alone")] = 0.1
-    match_points: Annotated[int, Meta(ge=10, description="scan points used to match")] = 180
+    match_points: Annotated[int, Meta(ge=10, description="scan points used to match (twice as many refine it)")] = 120
     # odometry, fused with each match by their covariances
     odom_translation_sigma: Annotated[NonNegative, Meta(
         description="odometry's position error per metre driven (m/m)")] = 0.05

@@ -8,7 +8,9 @@ the track and ``map -> odom`` while the worker folds scans in.
 from __future__ import annotations
 
 import bisect
+import math
 import threading
+import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -16,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from zenros.se2 import Pose2, wrap_angle
 
-from .graph import PoseGraph
+from .graph import PoseGraph, relative
 from .mapper import Mapper, ScanOutcome
 from .params import SlamParameters
 from .scan import RangeScan
@@ -74,6 +76,8 @@ class MapSnapshot:
 class ScanItem:
     stamp: float
     scan: RangeScan
+    odom: Pose2 | None
+    """The odometry at ``stamp`` when the scan came (None: not known yet)."""
 
 
 class MappingSession:
@@ -84,8 +88,7 @@ class MappingSession:
 
     def __init__(self, params: SlamParameters,
                  on_folded: Callable[[ScanOutcome, float], None] | None = None,
-                 on_error: Callable[[BaseException], None] | None = None,
-                 queue: int = 50) -> None:
+                 on_error: Callable[[BaseException], None] | None = None) -> None:
         self.p = params
         self.mapper = Mapper(params)
         self.lock = threading.Lock()
@@ -95,9 +98,15 @@ class MappingSession:
         self.active = False
         self.no_odom = 0
         self.last_stamp = 0.0
+        self._latest = (0.0, Pose2())  # the newest scan's stamp and base pose in map
+        self._latest_lock = threading.Lock()
         self.closures_seen = 0
+        self.moved_only = 0
+        self.node_cpu_ms: deque[float] = deque(maxlen=1000)
+        self._last_node_odom: Pose2 | None = None
         self._on_folded = on_folded
-        self.worker: ScanWorker[ScanItem] = ScanWorker(self._fold, queue, on_error=on_error)
+        self.worker: ScanWorker[ScanItem] = ScanWorker(self._fold, params.scan_queue_size,
+                                                           on_error=on_error)
 
     # ---------------------------------------------------------------- control
 
@@ -111,7 +120,9 @@ class MappingSession:
             else:
                 self.mapper.resume(graph, at)
             self.closures_seen = self.mapper.loop_closures
-            self.no_odom = 0
+            self.no_odom = self.moved_only = 0
+            self._last_node_odom = None
+            self._latest = (0.0, self.mapper.pose)
             self.active = True
         self.worker.start()
 
@@ -125,6 +136,7 @@ class MappingSession:
         self.worker.wait_idle(5.0)
         with self.lock:
             self.mapper.reset()
+            self._last_node_odom = None
 
     def close(self) -> None:
         self.active = False
@@ -137,7 +149,12 @@ class MappingSession:
 
     def on_scan(self, t: float, ranges: np.ndarray | list[float], angle_min: float,
                 angle_increment: float, range_min: float, range_max: float) -> bool:
-        """Queue a scan; False (with nothing queued) while not mapping or paused.
+        """Fold a scan in; False (with nothing done) while not mapping or paused.
+
+        A scan taken before the base moved ``minimum_travel_distance`` or turned
+        ``minimum_travel_heading`` since the last node only moves the pose by odometry
+        (Karto's gating, decided on the odometry alone): that is done here at once. The
+        others, which the mapper matches and adds to the graph, go to the worker in order.
 
         Raises:
             ValueError: a scan with no beams or non-finite angles.
@@ -147,19 +164,44 @@ class MappingSession:
         p = self.p
         scan = RangeScan.from_laser(ranges, angle_min, angle_increment, self.mount,
                                     range_min, range_max, p.max_laser_range, p.max_clear_range)
-        self.worker.submit(ScanItem(t, scan))
+        odom = self.odom.at(t)
+        last = self._last_node_odom
+        if odom is not None and last is not None and not self._moved(last, odom):
+            self.moved_only += 1
+            pose = self.mapper.map_to_odom * odom  # one attribute read: no lock needed
+            self._note(t, pose)
+            if self._on_folded is not None:
+                self._on_folded(ScanOutcome(pose), t)
+            return True
+        if odom is not None:
+            self._last_node_odom = odom
+        self.worker.submit(ScanItem(t, scan, odom))
         return True
 
+    def _note(self, t: float, pose: Pose2) -> None:
+        with self._latest_lock:
+            if t >= self._latest[0]:
+                self._latest = (t, pose)
+
+    def _moved(self, last: Pose2, odom: Pose2) -> bool:
+        d = relative(last, odom)
+        return (math.hypot(d.x, d.y) >= self.p.minimum_travel_distance
+                or abs(d.theta) >= self.p.minimum_travel_heading)
+
     def _fold(self, item: ScanItem) -> None:
-        odom = self.odom.at(item.stamp)
+        odom = item.odom if item.odom is not None else self.odom.at(item.stamp)
         if odom is None:
             self.no_odom += 1
             return
         with self.lock:
             if not self.active:
                 return
+            t0 = time.thread_time()
             out = self.mapper.add_scan(item.stamp, odom, item.scan)
-            self.last_stamp = item.stamp
+            if out.node is not None:
+                self.node_cpu_ms.append((time.thread_time() - t0) * 1e3)
+            self.last_stamp = max(self.last_stamp, item.stamp)
+        self._note(item.stamp, out.pose)
         if self._on_folded is not None:
             self._on_folded(out, item.stamp)
 
@@ -188,15 +230,16 @@ class MappingSession:
             return [n.pose for n in nodes], [n.stamp for n in nodes]
 
     def pose(self) -> tuple[Pose2, Pose2, float]:
-        """(base pose in map, map -> odom, stamp of the last folded scan)."""
-        with self.lock:
-            return self.mapper.pose, self.mapper.map_to_odom, self.last_stamp
+        """(base pose in map, map -> odom, stamp of the newest scan folded in)."""
+        with self._latest_lock:
+            stamp, pose = self._latest
+        return pose, self.mapper.map_to_odom, stamp
 
     def counts(self) -> tuple[int, int, int]:
         """(scans folded, nodes, loop closures)."""
         with self.lock:
             m = self.mapper
-            return m.scans, m.nodes, m.loop_closures
+            return m.scans + self.moved_only, m.nodes, m.loop_closures
 
     def has_map(self) -> bool:
         with self.lock:

@@ -36,14 +36,19 @@ def test_scans_are_folded_on_the_worker() -> None:
         session.begin()
         for k in range(6):
             t = 0.1 * k
-            truth = Pose2(2.0 + 0.4 * k, 1.5, 0.0)
-            session.on_odom(t, Pose2(0.4 * k, 0.0, 0.0))
+            truth = Pose2(2.0 + 0.6 * k, 1.5, 0.0)
+            session.on_odom(t, Pose2(0.6 * k, 0.0, 0.0))
             r = cast(ROOM, truth).ranges
             assert session.on_scan(t, r, -math.pi, 2 * math.pi / 360, 0.05, 12.0)
         assert session.worker.wait_idle(30)
         assert len(folded) == 6 and session.counts()[1] == 6
         pose, m2o, stamp = session.pose()
-        assert math.hypot(pose.x - 2.0, pose.y) < 0.05 and stamp == pytest.approx(0.5)
+        assert math.hypot(pose.x - 3.0, pose.y) < 0.05 and stamp == pytest.approx(0.5)
+        # a small move is folded at once by odometry alone (no node, not queued)
+        session.on_odom(0.6, Pose2(3.1, 0.0, 0.0))
+        assert session.on_scan(0.6, r, -math.pi, 2 * math.pi / 360, 0.05, 12.0)
+        assert folded[-1].node is None and session.counts()[1] == 6
+        assert session.pose()[0].x == pytest.approx(3.1, abs=0.05)
         snap = session.snapshot()
         assert snap is not None and (snap.cells == 100).sum() > 100
         with pytest.raises(ValueError):
