@@ -49,12 +49,11 @@ import numpy as np
 from scipy import ndimage
 from zenros.se2 import Pose2, wrap_angle
 from zenros.services.chassis.config import ChassisParameters, chassis_config
-from zenros.services.chassis.laser import Laser, LaserConfig
+from zenros.services.chassis.laser import Laser
 from zenros.services.chassis.sim import Simulation
 from zenros.services.slam.graph import relative
 from zenros.services.slam.mapper import Mapper, ScanOutcome
 from zenros.services.slam.params import SlamParameters
-from zenros.services.slam.scan import RangeScan
 from zenros.services.slam.session import MappingSession
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -121,13 +120,6 @@ def make_lap(seed: int, odom_noise: float, range_noise: float) -> Lap:
             if sim.bumper or sim.time > 600:
                 raise RuntimeError(f"the lap's driver got stuck at {sim.truth}")
     return lap
-
-
-def to_scan(lap: Lap, k: int, p: SlamParameters) -> RangeScan:
-    mount = lap.sim.laser_mount
-    return RangeScan.from_laser(lap.ranges[k], lap.angle_min, lap.angle_increment, mount,
-                                lap.range_min, lap.range_max, p.max_laser_range,
-                                p.max_clear_range)
 
 
 @dataclass

@@ -37,6 +37,7 @@ from .store import check_name, load_graph, save_graph
 __all__ = ["SlamNode"]
 
 _NAV_TIMEOUT = 3.0
+_POSE_COV = np.diag([0.0025, 0.0025, 0.003])  # as nav's robot_pose
 _MODES = ("laser", "explore")
 
 
@@ -117,10 +118,7 @@ class SlamNode(Node):
     def _on_folded(self, out: ScanOutcome, stamp: float) -> None:
         """On the worker, after each scan: the pose, and the track when a node was added."""
         s = _time(stamp)
-        cov = out.closure.result.covariance if out.closure is not None else None
-        if cov is None:
-            cov = [[0.0025, 0, 0], [0, 0.0025, 0], [0, 0, 0.003]]
-        self.pose_pub.publish(pose_with_covariance(out.pose, np.asarray(cov), s,
+        self.pose_pub.publish(pose_with_covariance(out.pose, _POSE_COV, s,
                                                    self.params.map_frame))
         if out.node is not None:
             poses, stamps = self.session.track()

@@ -100,7 +100,6 @@ class MappingSession:
         self.last_stamp = 0.0
         self._latest = (0.0, Pose2())  # the newest scan's stamp and base pose in map
         self._latest_lock = threading.Lock()
-        self.closures_seen = 0
         self.moved_only = 0
         self.node_cpu_ms: deque[float] = deque(maxlen=1000)
         self._last_node_odom: Pose2 | None = None
@@ -119,7 +118,6 @@ class MappingSession:
                 self.mapper.reset()
             else:
                 self.mapper.resume(graph, at)
-            self.closures_seen = self.mapper.loop_closures
             self.no_odom = self.moved_only = 0
             self._last_node_odom = None
             self._latest = (0.0, self.mapper.pose)

@@ -20,10 +20,10 @@ class ScanWorker(Generic[T]):
 
     ``capacity`` items may wait; one more drops the oldest waiting (``skipped`` counts them).
     ``lag`` is the wall time the last item waited before its fold began; ``max_lag`` the
-    largest; ``fold_times`` the seconds each fold took (the last ``keep`` of them).
+    largest.
     """
 
-    def __init__(self, fold: Callable[[T], None], capacity: int = 50, keep: int = 10000,
+    def __init__(self, fold: Callable[[T], None], capacity: int = 50,
                  on_error: Callable[[BaseException], None] | None = None) -> None:
         self._fold = fold
         self._queue: deque[tuple[float, T]] = deque()
@@ -36,7 +36,6 @@ class ScanWorker(Generic[T]):
         self.done = 0
         self.lag = 0.0
         self.max_lag = 0.0
-        self.fold_times: deque[float] = deque(maxlen=keep)
         self._thread: threading.Thread | None = None
 
     def start(self) -> None:
@@ -89,8 +88,7 @@ class ScanWorker(Generic[T]):
                     return
                 queued, item = self._queue.popleft()
                 self._busy = True
-            t0 = time.perf_counter()
-            self.lag = t0 - queued
+            self.lag = time.perf_counter() - queued
             self.max_lag = max(self.max_lag, self.lag)
             try:
                 self._fold(item)
@@ -98,7 +96,6 @@ class ScanWorker(Generic[T]):
                 if self._on_error is not None:
                     self._on_error(exc)
             finally:
-                self.fold_times.append(time.perf_counter() - t0)
                 with self._cond:
                     self._busy = False
                     self.done += 1
