@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from zenros.maps import GridMap
 from zenros.msgs.builtin_interfaces import Time
@@ -11,14 +13,12 @@ from zenros.msgs.geometry_msgs import (
     Pose2D,
     PoseStamped,
     PoseWithCovarianceStamped,
-    Transform,
     TransformStamped,
-    Vector3,
 )
 from zenros.msgs.nav_msgs import OccupancyGrid, Path
 from zenros.msgs.std_msgs import Header
 from zenros.se2 import Pose2
-from zenros.tf.convert import yaw_to_msg
+from zenros.tf.convert import transform_stamped, yaw_to_msg
 
 __all__ = ["grid_msg", "pose2d", "pose_msg", "pose_with_covariance", "track_msg",
            "transform_msg"]
@@ -56,6 +56,6 @@ def pose_with_covariance(p: Pose2, cov: np.ndarray, stamp: Time,
 
 
 def transform_msg(p: Pose2, stamp: Time, parent: str, child: str) -> TransformStamped:
-    return TransformStamped(
-        header=Header(stamp=stamp, frame_id=parent), child_frame_id=child,
-        transform=Transform(translation=Vector3(x=p.x, y=p.y), rotation=yaw_to_msg(p.theta)))
+    half = p.theta / 2
+    return transform_stamped(parent, child,
+                             (p.x, p.y, 0.0, 0.0, 0.0, math.sin(half), math.cos(half)), stamp)
