@@ -10,6 +10,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+import zenoh
+from zenros.codec import codec_for
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.msgs.nav_msgs import OccupancyGrid
 from zenros.msgs.nav_msgs import Path as PathMsg
@@ -170,3 +172,18 @@ def test_nav_refusal_is_passed_on(rig: Rig) -> None:
         rig.nav.refuse = ""
     assert res.code == ResultCode.CONFLICT and "goal" in res.message
     assert wait_for(lambda: rig.state.state == "idle" and "goal" in rig.state.message, 10)
+
+
+def test_garbage_requests_are_refused_and_the_node_keeps_serving(rig: Rig) -> None:
+    ctx = rig.user.context
+    for client, typ, wrong in ((rig.start, sm.StartMappingRequest, b'{"mode": ["laser"]}'),
+                               (rig.save, sm.SaveSlamMapRequest, b'{"name": 5}')):
+        codec = codec_for(typ)
+        enc = zenoh.Encoding(codec.mime).with_schema(codec.type_name)
+        for payload in (b"{not json", wrong, b"\xff\x00", b"[1, 2]"):
+            replies = list(ctx.session.get(client.key, payload=payload, encoding=enc,
+                                           timeout=5.0, target=zenoh.QueryTarget.BEST_MATCHING))
+            assert len(replies) == 1 and replies[0].err is not None, payload
+    assert rig.state.state == "idle"
+    res = rig.save.call(sm.SaveSlamMapRequest(name="x"), timeout=10)
+    assert res.code == ResultCode.CONFLICT  # still answering, still nothing mapped
