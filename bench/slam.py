@@ -21,7 +21,10 @@ Prints one JSON line:
   the laser saw (the cells the noiseless beams of the lap end in).
 - ``slam_scan_ms_p50`` / ``_p95``: ms of the worker thread's CPU time (``time.thread_time``,
   so other work on a shared machine does not count) to fold in one scan that becomes a node
-  (match, ray cast, loop attempt, a closure's optimisation);
+  (match, loop attempt, a closure's optimisation); the ray casting of new nodes into the grid
+  happens when the map is next read (every ``map_update_interval``, as slam_toolbox builds its
+  map): ``slam_map_update_ms_p50``/``_max`` are those reads (CPU ms; after a closure every
+  node is cast again);
   ``slam_odometry_only_scans``: the scans taken before the base had moved enough for a new
   node (Karto's gating), which only move the pose by odometry, at once.
 - ``slam_keeps_up``: no scan skipped by the worker at ``speed``; ``slam_max_lag_ms``.
@@ -127,6 +130,7 @@ class Run:
     mapper: Mapper
     online: list[Pose2]
     node_ms: list[float]
+    map_ms: list[float]
     moved_only: int
     skipped: int
     max_lag: float
@@ -145,6 +149,8 @@ def run_mapper(lap: Lap, params: SlamParameters, speed: float) -> Run:
     session = MappingSession(params, folded)
     session.mount = lap.sim.laser_mount
     session.begin()
+    map_ms: list[float] = []
+    next_map = lap.stamps[0]
     t_start = time.perf_counter()
     for k, stamp in enumerate(lap.stamps):
         if speed > 0:
@@ -156,8 +162,13 @@ def run_mapper(lap: Lap, params: SlamParameters, speed: float) -> Run:
                         lap.range_min, lap.range_max)
         if speed <= 0:
             session.worker.wait_idle(600)
+        if stamp >= next_map:  # the node's map update, every map_update_interval
+            t0 = time.thread_time()
+            session.snapshot()
+            map_ms.append((time.thread_time() - t0) * 1e3)
+            next_map = stamp + params.map_update_interval
     session.worker.wait_idle(600)
-    run = Run(session.mapper, online, list(session.node_cpu_ms), session.moved_only,
+    run = Run(session.mapper, online, list(session.node_cpu_ms), map_ms, session.moved_only,
               session.skipped, session.worker.max_lag)
     session.close()
     return run
@@ -251,6 +262,8 @@ def figures(prefix: str, lap: Lap, run: Run, seen: np.ndarray, speed: float) -> 
         f"{prefix}_wall_recall": round(rc, 4),
         f"{prefix}_scan_ms_p50": round(statistics.median(run.node_ms), 3),
         f"{prefix}_scan_ms_p95": round(float(np.percentile(run.node_ms, 95)), 3),
+        f"{prefix}_map_update_ms_p50": round(statistics.median(run.map_ms), 2),
+        f"{prefix}_map_update_ms_max": round(max(run.map_ms), 2),
         f"{prefix}_odometry_only_scans": run.moved_only,
         f"{prefix}_keeps_up": run.skipped == 0,
         f"{prefix}_skipped": run.skipped,

@@ -36,8 +36,8 @@ _ODOM_ONLY_SIGMA = (0.1, 0.05)
 @dataclass(frozen=True)
 class ScanOutcome:
     """What one scan did: ``pose`` of the base in map; ``node`` its index if it became one;
-    ``closure`` the loop closure it tried (accepted or not); ``rebuilt`` the grid was
-    re-rasterised."""
+    ``closure`` the loop closure it tried (accepted or not); ``rebuilt``: a closure moved
+    the nodes (the grid is re-rasterised from them when next read)."""
 
     pose: Pose2
     node: int | None = None
@@ -72,6 +72,7 @@ class Mapper:
         p = params
         self.graph = PoseGraph()
         self._grid = self._new_grid()
+        self._rasterised = 0  # nodes ray-cast into _grid
         self._stale = False
         self._closed_at = -math.inf
         self.loops = LoopCloser(p)
@@ -106,14 +107,21 @@ class Mapper:
 
     @property
     def grid(self) -> LogOddsGrid:
-        """The occupancy grid, re-rasterised first if a closure moved the nodes."""
+        """The occupancy grid: the nodes added since it was last read are ray-cast into it
+        now, or all of them again if a closure moved the nodes (slam_toolbox too builds its
+        map at each map update, not at each scan)."""
         if self._stale:
             self.rebuild()
+        nodes = self.graph.nodes
+        for n in nodes[self._rasterised:]:
+            self._grid.add_scan(n.pose, n.scan)
+        self._rasterised = len(nodes)
         return self._grid
 
     def reset(self) -> None:
         self.graph = PoseGraph()
         self._grid = self._new_grid()
+        self._rasterised = 0
         self._stale = False
         self._closed_at = -math.inf
         self.map_to_odom = Pose2()
@@ -158,7 +166,6 @@ class Mapper:
         graph = self.graph
         if not graph.nodes:
             node = graph.add_node(predicted, odom, stamp, scan)
-            self._grid.add_scan(node.pose, scan)
             self.pose = predicted
             return ScanOutcome(predicted, node.index, 1.0)
         prev = graph.nodes[-1]
@@ -178,8 +185,6 @@ class Mapper:
         graph.add_edge(prev.index, node.index, relative(prev.pose, pose), cov)
         self.map_to_odom = pose * odom.inverse()
         self.pose = pose
-        if not self._stale:
-            self._grid.add_scan(pose, scan)
         closure = self._try_loop(node)
         rebuilt = False
         if closure is not None and closure.accepted:
@@ -289,11 +294,9 @@ class Mapper:
         self._stale = True
 
     def rebuild(self) -> None:
-        """Re-rasterise the grid from every node at its corrected pose."""
-        grid = self._new_grid()
-        for n in self.graph.nodes:
-            grid.add_scan(n.pose, n.scan)
-        self._grid = grid
+        """Re-rasterise the grid from every node at its corrected pose (on the next read)."""
+        self._grid = self._new_grid()
+        self._rasterised = 0
         self._stale = False
 
     def track(self) -> list[tuple[float, Pose2]]:
