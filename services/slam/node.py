@@ -23,6 +23,7 @@ from zenros.msgs import slam_toolbox as st
 from zenros.msgs.zenros_msgs import slam as sm
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.node import Node
+from zenros.pubsub import Publisher
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.se2 import Pose2
 from zenros.tf import TransformBroadcaster, yaw_from_msg
@@ -60,7 +61,9 @@ class SlamNode(Node):
         self._closures_published = 0
         self._nodes_published = -1
 
-        self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
+        # declared while mapping only: once nav takes the map back, no latched cache of ours
+        # may serve a late joiner the SLAM map beside nav's
+        self.map_pub: Publisher[OccupancyGrid] | None = None
         self.track_pub = self.create_publisher(PathMsg, "slam/track", QOS_LATCHED)
         self.state_pub = self.create_publisher(sm.MappingState, "slam/state", QOS_LATCHED)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "slam/pose")
@@ -156,9 +159,10 @@ class SlamNode(Node):
 
     def _publish_map(self) -> None:
         snap = self.session.snapshot()
-        if snap is None:
+        pub = self.map_pub
+        if snap is None or pub is None:
             return
-        self.map_pub.publish(grid_msg(snap.cells, snap.resolution, snap.origin, self.now(),
+        pub.publish(grid_msg(snap.cells, snap.resolution, snap.origin, self.now(),
                                       self.params.map_frame))
         self.state.width, self.state.height = snap.cells.shape[1], snap.cells.shape[0]
         self.state.resolution = snap.resolution
@@ -229,6 +233,8 @@ class SlamNode(Node):
         if code != ResultCode.OK:
             self._publish_state(state="idle", message=why)
             return sm.StartMappingResponse(code=code, message=why)
+        if self.map_pub is None:
+            self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
         self.session.begin(graph, at)
         self.saved_name = req.map_name
         self._closures_published = self.session.counts()[2]
@@ -246,6 +252,9 @@ class SlamNode(Node):
         self._publish_state(state="stopping")
         _, m2o, _ = self.session.pose()
         self.session.end()
+        if self.map_pub is not None:
+            self.destroy(self.map_pub)
+            self.map_pub = None
         nav_req = sm.SetMappingModeRequest(enable=False, map_name=self.saved_name,
                                            map_to_odom=pose2d(m2o),
                                            use_map_to_odom=bool(self.saved_name))

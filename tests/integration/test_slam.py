@@ -146,7 +146,9 @@ def test_maps_saves_stops_and_continues(rig: Rig) -> None:
     off = rig.nav.modes[-1]
     assert not off.enable and off.map_name == "site2" and off.use_map_to_odom
     assert wait_for(lambda: rig.state.state == "idle", 10)
+    assert rig.slam.map_pub is None  # no latched SLAM map left beside nav's
     assert rig.stop.call(sm.StopMappingRequest(), timeout=10).code == ResultCode.CONFLICT
+    maps_before = len(rig.maps)
 
     res = rig.start.call(sm.StartMappingRequest(map_name="nope"), timeout=10)
     assert res.code == ResultCode.NOT_FOUND, res
@@ -161,6 +163,7 @@ def test_maps_saves_stops_and_continues(rig: Rig) -> None:
     assert wait_for(lambda: rig.state.state == "mapping" and rig.state.map_name == "site2", 10)
     assert wait_for(lambda: rig.state.nodes > nodes, 20), rig.state
     assert rig.state.pose.x > 1.5
+    assert wait_for(lambda: len(rig.maps) > maps_before, 20)
     assert rig.stop.call(sm.StopMappingRequest(), timeout=10).code == ResultCode.OK
 
 
