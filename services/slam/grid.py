@@ -50,6 +50,22 @@ class LogOddsGrid:
         self.logodds = np.zeros((0, 0), dtype=np.float32)
         self.seen = np.zeros((0, 0), dtype=bool)
 
+    def seed(self, cells: np.ndarray, origin: tuple[float, float]) -> None:
+        """Start from a stored map (``cells`` at this resolution, map_server values, row 0 at
+        ``origin``): its occupied and free cells at the clamps, as sure as the grid gets, so
+        new scans can still overturn them."""
+        h, w = cells.shape
+        r = self.res
+        self._ensure(origin[0], origin[1], origin[0] + (w - 0.5) * r, origin[1] + (h - 0.5) * r)
+        c0 = round((origin[0] - self.ox) / r)
+        r0 = round((origin[1] - self.oy) / r)
+        view = self.logodds[r0:r0 + h, c0:c0 + w]
+        seen = self.seen[r0:r0 + h, c0:c0 + w]
+        occupied, free = cells >= 65, (cells >= 0) & (cells <= 25)
+        view[occupied] = self.l_max
+        view[free] = self.l_min
+        seen |= occupied | free
+
     def _ensure(self, x0: float, y0: float, x1: float, y1: float) -> None:
         """Grow so [x0, x1] × [y0, y1] is inside."""
         h, w = self.shape

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from zenros.se2 import Pose2
@@ -27,7 +28,7 @@ from .optimizer import optimize
 from .params import SlamParameters
 from .scan import RangeScan, points_in
 
-__all__ = ["Mapper", "ScanOutcome"]
+__all__ = ["Mapper", "Prior", "ScanOutcome"]
 
 _MIN_SEQ_SIGMA = (0.02, 0.01)  # m, rad: a match is never trusted more than this
 _ODOM_ONLY_SIGMA = (0.1, 0.05)
@@ -64,6 +65,32 @@ def _fuse(prev: Pose2, step: Pose2, step_cov: np.ndarray, matched: Pose2,
     return prev * Pose2(float(mean[0]), float(mean[1]), float(mean[2])), cov
 
 
+@dataclass(frozen=True)
+class Prior:
+    """A stored occupancy grid mapping goes on from: ``cells`` (map_server values, row 0 at
+    ``origin``, yaw 0) and its occupied cells' centres as reference points."""
+
+    cells: np.ndarray
+    resolution: float
+    origin: tuple[float, float]
+
+    @cached_property
+    def walls(self) -> np.ndarray:
+        rows, cols = np.nonzero(self.cells >= 65)
+        return np.column_stack([self.origin[0] + (cols + 0.5) * self.resolution,
+                                self.origin[1] + (rows + 0.5) * self.resolution])
+
+    def near(self, pts: np.ndarray, margin: float) -> np.ndarray:
+        """The walls within the bounding box of ``pts`` grown by ``margin``."""
+        walls = self.walls
+        if not len(pts) or not len(walls):
+            return walls[:0]
+        lo, hi = pts.min(axis=0) - margin, pts.max(axis=0) + margin
+        keep = np.all((walls >= lo) & (walls <= hi), axis=1)
+        out: np.ndarray = walls[keep]
+        return out
+
+
 class Mapper:
     """Holds the graph, the grid and ``map_to_odom``; `add_scan` folds one scan in."""
 
@@ -71,6 +98,7 @@ class Mapper:
         self.p = params
         p = params
         self.graph = PoseGraph()
+        self._prior: Prior | None = None
         self._grid = self._new_grid()
         self._rasterised = 0  # nodes ray-cast into _grid
         self._stale = False
@@ -93,8 +121,12 @@ class Mapper:
 
     def _new_grid(self) -> LogOddsGrid:
         p = self.p
-        return LogOddsGrid(p.resolution, p.hit_probability, p.miss_probability,
+        grid = LogOddsGrid(p.resolution, p.hit_probability, p.miss_probability,
                            p.clamp_min, p.clamp_max)
+        prior = self._prior
+        if prior is not None and abs(prior.resolution - p.resolution) < 1e-9:
+            grid.seed(prior.cells, prior.origin)
+        return grid
 
     # ---------------------------------------------------------------- state
 
@@ -120,6 +152,7 @@ class Mapper:
 
     def reset(self) -> None:
         self.graph = PoseGraph()
+        self._prior = None
         self._grid = self._new_grid()
         self._rasterised = 0
         self._stale = False
@@ -129,6 +162,16 @@ class Mapper:
         self.scans = self.loop_closures = self._since_attempt = 0
         self.last_closure = None
         self._resume_at = None
+
+    def resume_on_grid(self, prior: Prior, at: Pose2) -> None:
+        """Map on from a stored grid (a map not built here, with no pose graph): it is the
+        map's frame and first layer, and the reference the first scans are matched against;
+        the robot stands at ``at`` in it (relocalised with the loop window)."""
+        self.reset()
+        self._prior = prior
+        self._grid = self._new_grid()
+        self._resume_at = at
+        self.pose = at
 
     def resume(self, graph: PoseGraph, at: Pose2 | None = None) -> None:
         """Map on from a saved ``graph``: the robot stands at ``at`` (default: the graph's
@@ -212,6 +255,8 @@ class Mapper:
             buffer.append(n)
         ref = np.vstack([n.world_points() for n in buffer])
         pts = thin(scan.points, p.match_points)
+        if self._prior is not None:  # the stored map's walls are part of the reference
+            ref = np.vstack([ref, self._prior.near(points_in(guess, pts), 1.0)])
         if len(ref) < 10 or len(pts) < 10:
             return MatchResult(guess, 0.0, np.diag([500.0, 500.0, 500.0]))
         world = points_in(guess, pts)
@@ -228,11 +273,14 @@ class Mapper:
         self._resume_at = None
         graph = self.graph
         if not graph.nodes:
-            self.map_to_odom = at * odom.inverse()
-            node = graph.add_node(at, odom, stamp, scan)
-            self._stale = True
-            self.pose = at
-            return ScanOutcome(at, node.index, 1.0)
+            pose, response = at, 1.0
+            if self._prior is not None:
+                found = self._relocalise_on_prior(scan, at)
+                pose, response = found.pose, found.response
+            self.map_to_odom = pose * odom.inverse()
+            node = graph.add_node(pose, odom, stamp, scan)
+            self.pose = pose
+            return ScanOutcome(pose, node.index, response)
         xy = np.array([(n.pose.x, n.pose.y) for n in graph.nodes])
         d = np.hypot(xy[:, 0] - at.x, xy[:, 1] - at.y)
         nearest = int(np.argmin(d))
@@ -250,6 +298,24 @@ class Mapper:
         self.pose = pose
         self._stale = True
         return ScanOutcome(pose, probe.index, found.result.response, found)
+
+    def _relocalise_on_prior(self, scan: RangeScan, at: Pose2) -> MatchResult:
+        """``scan`` matched against the prior's walls round ``at`` with the loop window; ``at``
+        itself if the match is too weak to trust."""
+        assert self._prior is not None
+        p = self.p
+        pts = thin(scan.points, p.match_points)
+        ref = self._prior.near(points_in(at, pts), p.loop_search_space_dimension / 2 + 1.0)
+        if len(ref) < 10 or len(pts) < 10:
+            return MatchResult(at, 0.0, np.diag([500.0, 500.0, 500.0]))
+        margin = p.loop_search_space_dimension / 2 + 1.0
+        lo, hi = ref.min(axis=0), ref.max(axis=0)
+        cg = CorrelationGrid(ref, p.resolution, p.correlation_search_space_smear_deviation,
+                             margin, (lo[0], lo[1], hi[0], hi[1]))
+        found = match(cg, pts, at, self.loops.window, thin(scan.points, 2 * p.match_points))
+        if found.response < p.loop_match_minimum_response_fine:
+            return MatchResult(at, found.response, found.covariance)
+        return found
 
     # ---------------------------------------------------------------- loops
 

@@ -11,8 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.errors import MapError, ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.home import data_dir
+from zenros.maps import load_map
 from zenros.msgs.builtin_interfaces import Time
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path as PathMsg
@@ -29,7 +30,7 @@ from zenros.se2 import Pose2
 from zenros.tf import TransformBroadcaster, yaw_from_msg
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
-from .mapper import ScanOutcome
+from .mapper import Prior, ScanOutcome
 from .messages import grid_msg, pose2d, pose_with_covariance, track_msg, transform_msg
 from .params import SlamParameters
 from .session import MappingSession
@@ -210,23 +211,22 @@ class SlamNode(Node):
             return sm.StartMappingResponse(
                 code=ResultCode.INVALID,
                 message=f"unknown mode {req.mode!r}: use one of {', '.join(_MODES)}")
-        graph, at = None, None
+        graph, at, prior = None, None, None
         if req.map_name:
-            try:
-                path = self._graph_path(req.map_name)
-                graph, _, _ = load_graph(path)
-            except FileNotFoundError:
-                return sm.StartMappingResponse(
-                    code=ResultCode.NOT_FOUND,
-                    message=f"no pose graph saved for map {req.map_name!r}")
-            except ValueError as exc:
-                return sm.StartMappingResponse(code=ResultCode.INVALID, message=str(exc))
             if req.use_initial_pose:
                 ip = req.initial_pose
                 at = Pose2(ip.x, ip.y, ip.theta)
                 if not at.is_finite():
                     return sm.StartMappingResponse(code=ResultCode.INVALID,
                                                    message="initial_pose must be finite")
+            try:
+                graph, _, _ = load_graph(self._graph_path(req.map_name))
+            except FileNotFoundError:
+                code, why, prior = self._stored_grid(req.map_name, at)
+                if code != ResultCode.OK:
+                    return sm.StartMappingResponse(code=code, message=why)
+            except ValueError as exc:
+                return sm.StartMappingResponse(code=ResultCode.INVALID, message=str(exc))
         self._publish_state(state="starting", mode=req.mode, map_name=req.map_name,
                             message="")
         code, why = await self._set_nav_mode(sm.SetMappingModeRequest(enable=True))
@@ -235,7 +235,7 @@ class SlamNode(Node):
             return sm.StartMappingResponse(code=code, message=why)
         if self.map_pub is None:
             self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
-        self.session.begin(graph, at)
+        self.session.begin(graph, at, prior)
         self.saved_name = req.map_name
         self._closures_published = self.session.counts()[2]
         self._nodes_published = -1
@@ -296,6 +296,27 @@ class SlamNode(Node):
             self.saved_name = name
             self.logger.info("map %r saved (%s)", name, path)
         return int(res.code), res.message
+
+    def _stored_grid(self, name: str, at: Pose2 | None) -> tuple[int, str, Prior | None]:
+        """The map ``name`` of nav's store as a prior, for a map with no pose graph."""
+        root = Path(self.params.maps_dir) if self.params.maps_dir else data_dir() / "maps"
+        path = root / name / f"{name}.yaml"
+        if not path.is_file():
+            return (ResultCode.NOT_FOUND,
+                    f"no pose graph saved and no stored map named {name!r}", None)
+        if at is None:
+            return (ResultCode.INVALID,
+                    f"map {name!r} has no pose graph: give initial_pose (use_initial_pose) to "
+                    "extend its stored grid", None)
+        try:
+            grid = load_map(path)
+        except (MapError, OSError) as exc:
+            return ResultCode.FAILED, f"map {name!r} could not be read: {exc}", None
+        if abs(grid.origin[2]) > 1e-9:
+            return ResultCode.INVALID, f"map {name!r}: its origin must have yaw 0", None
+        self.logger.info("map %r has no pose graph: extending its stored grid", name)
+        return (ResultCode.OK, "",
+                Prior(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1])))
 
     def _graph_path(self, name: str) -> Path:
         return self.graph_dir / f"{check_name(name)}.posegraph"

@@ -19,6 +19,9 @@ class SlamParameters(msgspec.Struct, kw_only=True, frozen=True):
 
     graph_dir: Annotated[str, Meta(
         description="where pose graphs are saved (default: $ZENROS_HOME/slam)")] = ""
+    maps_dir: Annotated[str, Meta(
+        description="nav's maps folder, for extending a map with no pose graph (default: "
+                    "$ZENROS_HOME/maps)")] = ""
     # frames and topics
     map_frame: str = "map"
     odom_frame: str = "odom"

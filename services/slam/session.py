@@ -19,7 +19,7 @@ import numpy as np
 from zenros.se2 import Pose2, wrap_angle
 
 from .graph import PoseGraph, relative
-from .mapper import Mapper, ScanOutcome
+from .mapper import Mapper, Prior, ScanOutcome
 from .params import SlamParameters
 from .scan import RangeScan
 from .worker import ScanWorker
@@ -109,15 +109,19 @@ class MappingSession:
 
     # ---------------------------------------------------------------- control
 
-    def begin(self, graph: PoseGraph | None = None, at: Pose2 | None = None) -> None:
-        """Start mapping: empty, or on from ``graph`` with the robot at ``at``."""
+    def begin(self, graph: PoseGraph | None = None, at: Pose2 | None = None,
+              prior: Prior | None = None) -> None:
+        """Start mapping: empty, on from ``graph``, or on from the stored grid ``prior``,
+        with the robot at ``at``."""
         self.worker.clear()
         self.worker.wait_idle(5.0)
         with self.lock:
-            if graph is None:
-                self.mapper.reset()
-            else:
+            if graph is not None:
                 self.mapper.resume(graph, at)
+            elif prior is not None:
+                self.mapper.resume_on_grid(prior, at or Pose2())
+            else:
+                self.mapper.reset()
             self.no_odom = self.moved_only = 0
             self._last_node_odom = None
             self._latest = (0.0, self.mapper.pose)

@@ -4,6 +4,8 @@ map_server/save_grid as the contract says nav does (docs/mapping.md)."""
 
 from __future__ import annotations
 
+import math
+import shutil
 import threading
 import time
 from collections.abc import Iterator
@@ -13,7 +15,8 @@ import pytest
 import zenoh
 from zenros.codec import codec_for
 from zenros.msgs.geometry_msgs import Twist, Vector3
-from zenros.msgs.nav_msgs import OccupancyGrid
+from zenros.msgs.geometry_msgs import Pose2D
+from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.msgs.nav_msgs import Path as PathMsg
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import slam as sm
@@ -21,6 +24,7 @@ from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 from zenros.services.chassis.node import ChassisNode
+from zenros.services.nav.params import DEMO_MAP
 from zenros.services.slam.node import SlamNode
 from zenros.testing import linked_contexts, wait_for
 
@@ -56,6 +60,8 @@ class Rig:
         self.states: list[sm.MappingState] = []
         self.tracks: list[PathMsg] = []
         self.map_to_odom: list[TFMessage] = []
+        self.truth: list[Odometry] = []
+        user.create_subscription(Odometry, "sim/ground_truth", self.truth.append)
         user.create_subscription(OccupancyGrid, "map", self.maps.append, QOS_LATCHED)
         user.create_subscription(sm.MappingState, "slam/state", self.states.append, QOS_LATCHED)
         user.create_subscription(PathMsg, "slam/track", self.tracks.append, QOS_LATCHED)
@@ -89,13 +95,17 @@ class Rig:
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
     graphs = tmp_path_factory.mktemp("slam")
+    maps = tmp_path_factory.mktemp("maps")
+    (maps / "office").mkdir()
+    for f in DEMO_MAP.parent.iterdir():  # nav's store: a map built elsewhere, no pose graph
+        shutil.copy(f, maps / "office" / f.name.replace(DEMO_MAP.stem, "office"))
     with linked_contexts(3) as ctxs:
         chassis = ChassisNode("chassis", context=ctxs[0], parameter_overrides={
             "speed": SPEED, "seed": 3, "odom_noise": 0.05, "range_noise": 0.02})
         slam = user = None
         try:
             slam = SlamNode("slam", context=ctxs[1], parameter_overrides={
-                "use_sim_time": True, "graph_dir": str(graphs)})
+                "use_sim_time": True, "graph_dir": str(graphs), "maps_dir": str(maps)})
             user = Node("user", context=ctxs[2])
             r = Rig(slam, user, graphs)
             assert r.start.wait_for_service(10) and r.save.wait_for_service(10)
@@ -190,3 +200,26 @@ def test_garbage_requests_are_refused_and_the_node_keeps_serving(rig: Rig) -> No
     assert rig.state.state == "idle"
     res = rig.save.call(sm.SaveSlamMapRequest(name="x"), timeout=10)
     assert res.code == ResultCode.CONFLICT  # still answering, still nothing mapped
+
+
+def test_extends_a_stored_map_with_no_pose_graph(rig: Rig) -> None:
+    assert wait_for(lambda: rig.truth, 10)
+    p = rig.truth[-1].pose.pose
+    truth = (p.position.x, p.position.y, 2 * math.atan2(p.orientation.z, p.orientation.w))
+    res = rig.start.call(sm.StartMappingRequest(map_name="office"), timeout=10)
+    assert res.code == ResultCode.INVALID and "initial_pose" in res.message
+    # told a pose 0.25 m and 3 degrees off: the first scan is relocalised on the stored walls
+    guess = Pose2D(x=truth[0] + 0.2, y=truth[1] - 0.15, theta=truth[2] + 0.05)
+    res = rig.start.call(sm.StartMappingRequest(map_name="office", initial_pose=guess,
+                                                use_initial_pose=True), timeout=10)
+    assert res.code == ResultCode.OK, res.message
+    try:
+        assert wait_for(lambda: rig.state.state == "mapping" and rig.state.nodes >= 1, 20)
+        pose = rig.state.pose
+        # within two cells of the stored 5 cm grid (its walls are cell centres)
+        assert math.hypot(pose.x - truth[0], pose.y - truth[1]) < 0.1, (pose, truth)
+        assert abs(pose.theta - truth[2]) < 0.02
+        # the stored map is the first layer: the whole office is known at once
+        assert wait_for(lambda: rig.maps and rig.state.area_m2 > 300, 20), rig.state
+    finally:
+        assert rig.stop.call(sm.StopMappingRequest(), timeout=10).code == ResultCode.OK
