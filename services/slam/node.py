@@ -8,6 +8,7 @@ Idle until ``slam/start``. While mapping it publishes ``map`` (latched), ``map -
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -72,8 +73,8 @@ class SlamNode(Node):
         self.nav_mode = self.create_client(sm.SetMappingMode, "nav/set_mapping_mode")
         self.nav_save = self.create_client(sm.SaveGrid, "map_server/save_grid")
 
-        self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR)
-        self.create_subscription(LaserScan, "scan", self.on_scan, QOS_SENSOR)
+        # scan and odom are subscribed while mapping only: an idle node costs nothing
+        self._inputs: list[Any] = []
         self.create_subscription(TFMessage, "/tf_static", self.on_tf_static, STATIC_LISTENER_QOS)
 
         for srv, name, handler in (
@@ -236,6 +237,10 @@ class SlamNode(Node):
         if self.map_pub is None:
             self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
         self.session.begin(graph, at, prior)
+        if not self._inputs:
+            self._inputs = [
+                self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR),
+                self.create_subscription(LaserScan, "scan", self.on_scan, QOS_SENSOR)]
         self.saved_name = req.map_name
         self._closures_published = self.session.counts()[2]
         self._nodes_published = -1
@@ -252,6 +257,9 @@ class SlamNode(Node):
         self._publish_state(state="stopping")
         _, m2o, _ = self.session.pose()
         self.session.end()
+        for sub in self._inputs:
+            self.destroy(sub)
+        self._inputs = []
         if self.map_pub is not None:
             self.destroy(self.map_pub)
             self.map_pub = None
