@@ -17,7 +17,7 @@ Prints one JSON line:
   ``slam_online_max_pose_err_m``: the same for the pose the mapper gave when the scan came.
 - ``slam_wall_f1`` (and ``_precision``/``_recall``): the built map's occupied cells against
   the world's, 1-cell tolerance (8-neighbourhood), 0.05 m cells, the built map put in the
-  world by the start pose (specs/mapping.md §9). Recall counts the world's occupied cells
+  world by the start pose (specs/mapping.md, section 9). Recall counts the world's occupied cells
   the laser saw (the cells the noiseless beams of the lap end in).
 - ``slam_scan_ms_p50`` / ``_p95``: ms of the worker thread's CPU time (``time.thread_time``,
   so other work on a shared machine does not count) to fold in one scan that becomes a node

@@ -1,4 +1,4 @@
-"""Pose-graph optimisation on SE(2): Levenberg-Marquardt with scipy.sparse (specs/mapping.md §7).
+"""Pose-graph optimisation on SE(2): Levenberg-Marquardt with scipy.sparse (specs/mapping.md, section 7).
 
 The residual of an edge i→j with measurement z is Karto/Ceres's
 ``[R(θi)ᵀ(pj − pi) − z_xy; wrap(θj − θi − zθ)]``, weighted by the upper Cholesky factor
