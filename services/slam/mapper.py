@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from zenros.se2 import Pose2
+from zenros.se2 import Pose2, angle_diff
 
 from .graph import Node, PoseGraph, relative
 from .grid import LogOddsGrid
@@ -60,7 +60,7 @@ def _fuse(prev: Pose2, step: Pose2, step_cov: np.ndarray, matched: Pose2,
     cov = np.linalg.inv(a + b)
     za = np.array(step)
     zb = np.array(z)
-    zb[2] = za[2] + math.remainder(zb[2] - za[2], 2 * math.pi)
+    zb[2] = za[2] + angle_diff(zb[2], za[2])
     mean = cov @ (a @ za + b @ zb)
     return prev * Pose2(float(mean[0]), float(mean[1]), float(mean[2])), cov
 
