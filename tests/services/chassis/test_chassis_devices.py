@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-import importlib.util
 import logging
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import msgspec
@@ -162,22 +160,10 @@ def test_a_change_publishes_off_the_schedule() -> None:
     assert len(sent) == 2 and isinstance(sent[-1], ChassisState) and sent[-1].estop
 
 
-def doc_lift(folder: Path) -> Any:
-    """The lift of docs/chassis.md's "Adding a device", imported as the module it says it is."""
-    page = (Path(__file__).resolve().parents[3] / "docs" / "chassis.md").read_text()
-    code = page.split("# services/chassis/devices/lift.py\n", 1)[1].split("```", 1)[0]
-    (folder / "lift.py").write_text(code)
-    spec = importlib.util.spec_from_file_location("zenros.services.chassis.devices.lift",
-                                                  folder / "lift.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.LiftDevice
-
-
 def test_the_documented_new_device_is_one_module_and_one_registry_line(
-        monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
-    lift_device = doc_lift(tmp_path)
+        monkeypatch: pytest.MonkeyPatch, doc_module: Callable[[str, str], Any]) -> None:
+    """The lift of docs/chassis.md's "Adding a device", as written there."""
+    lift_device = doc_module("chassis.md", "# services/chassis/devices/lift.py").LiftDevice
     monkeypatch.setattr(config, "DEVICES", (*DEVICES, lift_device))
     chassis, node = build({"lift_speed": 0.02})
     lift = chassis.device(lift_device)
