@@ -132,13 +132,16 @@ def _refusal(value: Any, spec: ParameterSpec, hint: Any) -> str | None:
     return why
 
 
-def declare_parameters(params: Parameters, config: type[C], *, read_only: bool = False) -> C:
+def declare_parameters(params: Parameters, config: type[C], *, read_only: bool = False,
+                       prefix: str = "") -> C:
     """Declare every field of ``config`` on ``params`` and return the values as a ``config``.
 
     Args:
         params: the node's parameters (``node.parameters``).
         config: a msgspec Struct whose fields all have defaults.
         read_only: declare every parameter read-only.
+        prefix: put before each field's name (``"GridBased."``: Nav2's per-plugin names,
+            ``GridBased.tolerance``, as a params file's nested mapping flattens to).
 
     Returns:
         The configuration with each parameter's current value (override, params file or
@@ -149,15 +152,15 @@ def declare_parameters(params: Parameters, config: type[C], *, read_only: bool =
         InvalidParameterValueError: a value of the wrong type or out of its limits (the
             message names the parameter and the limits).
     """
-    specs = {s.name: s for s in parameter_specs(config)}
+    specs = {prefix + s.name: s for s in parameter_specs(config)}
     hints = typing.get_type_hints(config, include_extras=True)
     values = {}
-    for s in specs.values():
-        value = params.declare(s.name, s.default, description=s.description,
+    for name, s in specs.items():
+        value = params.declare(name, s.default, description=s.description,
                                read_only=read_only, constraints=s.constraints)
         why = _refusal(value, s, hints[s.name])
         if why is not None:
-            raise InvalidParameterValueError(f"parameter {s.name!r}: {why}")
+            raise InvalidParameterValueError(f"parameter {name!r}: {why}")
         values[s.name] = value
     try:
         cfg = msgspec.convert(values, config)
@@ -167,13 +170,14 @@ def declare_parameters(params: Parameters, config: type[C], *, read_only: bool =
     def validate(changed: list[Parameter]) -> SetParametersResult:
         for p in changed:
             if p.name in specs:
-                why = _refusal(p.value, specs[p.name], hints[p.name])
+                spec = specs[p.name]
+                why = _refusal(p.value, spec, hints[spec.name])
                 if why is not None:
                     return SetParametersResult(False, why)
         return SetParametersResult(True)
 
     params.add_validator(validate)
     if not config.__struct_config__.frozen:
-        for name in specs:
-            params.on_change(lambda p: setattr(cfg, p.name, p.value), name)
+        for name, spec in specs.items():
+            params.on_change(lambda p, field=spec.name: setattr(cfg, field, p.value), name)
     return cfg

@@ -21,6 +21,7 @@ of that kind; other tests need nothing.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import resource
 import signal
@@ -29,6 +30,8 @@ import threading
 import time
 import traceback
 from collections.abc import Callable, Iterator
+from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import pytest
@@ -223,6 +226,31 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
         if any(d.scope in ("module", "class", "package")
                for defs in info.name2fixturedefs.values() for d in defs):
             item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::", 1)[0]))
+
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def doc_module(tmp_path: Path) -> Callable[[str, str], ModuleType]:
+    """``doc_module(page, first_line)``: the Python block of ``docs/<page>`` that opens with
+    the comment ``first_line`` (``# services/chassis/devices/lift.py``), imported as the
+    module that comment names, so that an example of "one new module" is run as written."""
+
+    def load(page: str, first_line: str) -> ModuleType:
+        text = (ROOT / "docs" / page).read_text()
+        code = text.split(first_line + "\n", 1)[1].split("```", 1)[0]
+        path = first_line.removeprefix("# ")
+        name = "zenros." + path.removeprefix("shared/").removesuffix(".py").replace("/", ".")
+        (tmp_path / Path(path).name).write_text(code)
+        spec = importlib.util.spec_from_file_location(name, tmp_path / Path(path).name)
+        assert spec is not None and spec.loader is not None, first_line
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load
 
 
 __all__ = ["wait_for"]

@@ -1,23 +1,18 @@
-"""`ChassisNode`: wires the simulated base (`Simulation`) to topics, TF and services."""
+"""`ChassisNode`: wires the simulated chassis (body and devices) to topics, TF and services."""
 
 from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
+from typing import Any, TypeVar
 
 from zenros.clock import Time
-from zenros.msgs.geometry_msgs import Twist
-from zenros.msgs.nav_msgs import Odometry
+from zenros.message import Message, ServiceType
+from zenros.msgs.geometry_msgs import TransformStamped, Twist
 from zenros.msgs.rosgraph_msgs import Clock
-from zenros.msgs.sensor_msgs import BatteryState, LaserScan
-from zenros.msgs.std_msgs import Header
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest, SetBoolResponse
 from zenros.msgs.zenros_msgs import (
-    ChassisState,
-    IoState,
-    SetIo,
-    SetIoRequest,
-    SetIoResponse,
     SetObstacles,
     SetObstaclesRequest,
     SetObstaclesResponse,
@@ -25,78 +20,62 @@ from zenros.msgs.zenros_msgs import (
     TeleportRequest,
     TeleportResponse,
 )
-from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.node import Node
-from zenros.qos import QOS_LATCHED, QOS_SENSOR
+from zenros.qos import QOS_SENSOR
 from zenros.se2 import Pose2
 from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
-from . import messages
-from .config import ChassisParameters, chassis_config
+from .config import declare_chassis
+from .device import Device, Schedule
 from .drive import CommandError
-from .ioports import IoError, IoPorts
 from .obstacle_requests import apply_request, to_msgs
-from .pacer import Pacer
-from .shared_world import BODY_PREFIX, SharedWorld
+from .shared_world import BODY_PREFIX
 
 __all__ = ["ChassisNode"]
 
 _NS = 1_000_000_000
 
+M = TypeVar("M", bound=Message)
+D = TypeVar("D", bound=Device[Any])
+
 
 class ChassisNode(Node):
-    """The simulated chassis: a diff-drive base with a laser, battery and dock in a 2-D world.
+    """The simulated chassis: a diff-drive base in a 2-D world, with its devices.
 
-    Publishes ``odom``, ``/tf`` (odom -> base_link), ``/tf_static`` (base_link -> laser),
-    ``scan``, ``battery_state``, ``chassis/state``, ``sim/ground_truth`` and ``/clock``;
-    takes ``cmd_vel``; serves ``sim/teleport``, ``sim/set_obstacles`` and
-    ``chassis/set_estop``; IO ports on ``chassis/io`` (latched) and ``chassis/set_io``
-    (`IoPorts`). Parameters: `ChassisParameters` and docs/chassis.md.
+    The base: ``cmd_vel``, ``chassis/set_estop``, ``sim/teleport``, ``sim/set_obstacles``
+    and ``/clock``. The devices (`devices.DEVICES`) publish the rest: ``odom`` and ``/tf``,
+    ``sim/ground_truth``, ``battery_state``, ``scan`` and ``/tf_static``, ``chassis/io``
+    and ``chassis/set_io``, ``chassis/state``, the shared world's bodies. This node is
+    their `Endpoints`: what they open runs its callbacks under the simulation's lock.
+    Parameters: `ChassisParameters`, each device's, and docs/chassis.md.
     """
 
     node_name = "chassis"
 
     def setup(self) -> None:
-        params = self.declare_parameters(ChassisParameters, read_only=True)
-        cfg = chassis_config(params)
+        cfg = declare_chassis(self.parameters)
         self.cfg = cfg
-        self.sim = cfg.build(self.logger)
+        self.chassis = cfg.build(self.logger)
+        self.sim = self.chassis.sim
+        self.pacer = self.chassis.pacer
         self.dt = 1.0 / cfg.rate
-        self.pacer = Pacer(self.dt, cfg.speed)
         self._dt_ns = round(self.dt * _NS)
         self._start_ns = time.time_ns()
         self._sim_lock = threading.RLock()
         self._steps = 0
-        self._state_sent: tuple[bool, ...] | None = None
         self._bad_cmds = 0
+        self._tf: TransformBroadcaster | None = None
+        self._static_tf: StaticTransformBroadcaster | None = None
 
-        self.odom_pub = self.create_publisher(Odometry, "odom")
-        self.truth_pub = self.create_publisher(Odometry, "sim/ground_truth")
-        self.scan_pub = self.create_publisher(LaserScan, "scan", QOS_SENSOR)
-        self.battery_pub = self.create_publisher(BatteryState, "battery_state")
-        self.state_pub = self.create_publisher(ChassisState, "chassis/state")
         self.clock_pub = (self.create_publisher(Clock, "/clock", QOS_SENSOR)
                           if cfg.publish_clock else None)
-        self.tf = TransformBroadcaster(self) if cfg.publish_tf else None
         self.cmd_sub = self.create_subscription(Twist, "cmd_vel", self.on_cmd_vel)
-        self.create_service(Teleport, "sim/teleport", self.handle_teleport)
-        self.create_service(SetObstacles, "sim/set_obstacles", self.handle_set_obstacles)
-        self.create_service(SetBool, "chassis/set_estop", self.handle_set_estop)
-        self.io = IoPorts(bool(self.declare_parameter("io_extension_board", True)))
-        self.io_pub = self.create_publisher(IoState, "chassis/io", QOS_LATCHED)
-        self.create_service(SetIo, "chassis/set_io", self.handle_set_io)
-        self.io_pub.publish(self._io_state())
-        self._pose_cov = messages.covariance(self.sim.odometry.pose_covariance())
-        self._twist_cov = messages.covariance(self.sim.odometry.twist_covariance())
-        self.shared: SharedWorld | None = None
-        if params.world_topic:
-            self.shared = SharedWorld(self.sim.world, self.namespace, cfg.robot_radius)
-            self._world_every = max(1, round(cfg.rate / params.world_rate))
-            self.body_pub = self.create_publisher(ObstacleMsg, params.world_topic)
-            self.create_subscription(ObstacleMsg, params.world_topic, self.on_body)
-        self.static_tf = StaticTransformBroadcaster(self)
-        self.static_tf.send_transform(messages.transform(
-            self.stamp(), cfg.base_frame, cfg.laser_frame, cfg.laser_mount, cfg.laser_z))
+        self.serve(Teleport, "sim/teleport", self.handle_teleport)
+        self.serve(SetObstacles, "sim/set_obstacles", self.handle_set_obstacles)
+        self.serve(SetBool, "chassis/set_estop", self.handle_set_estop)
+        for device in self.chassis.devices:
+            device.open(self)
+        self.schedule = Schedule(self.chassis.devices, cfg.rate)
         t = self.sim.truth
         self.logger.info("world %s (%dx%d cells at %g m), robot at (%.2f, %.2f, %.2f), "
                          "speed %s, /clock %s", cfg.map_path, self.sim.world.width,
@@ -108,6 +87,10 @@ class ChassisNode(Node):
         self._thread.start()
         self.on_close(self._stop_loop)
 
+    def device(self, kind: type[D]) -> D | None:
+        """The chassis's device of type ``kind`` (`devices.DEVICES`), or None."""
+        return self.chassis.device(kind)
+
     # ------------------------------------------------------------------ time
 
     def stamp(self) -> Time:
@@ -116,7 +99,38 @@ class ChassisNode(Node):
             return Time.from_nanoseconds(self._start_ns + self._steps * self._dt_ns)
         return Time.from_nanoseconds(time.time_ns())
 
-    # ------------------------------------------------------------------ inputs
+    # ------------------------------------------------------------------ what devices open
+
+    def listen(self, msg_type: type[M], topic: str, callback: Callable[[M], object]) -> None:
+        """Subscribe ``callback`` to ``topic``; it runs under the simulation's lock."""
+        def locked(msg: M) -> None:
+            with self._sim_lock:
+                callback(msg)
+
+        self.create_subscription(msg_type, topic, locked)
+
+    def serve(self, srv_type: ServiceType, name: str,
+              handler: Callable[[Any], Message]) -> None:
+        """Serve ``name`` with ``handler``; it runs under the simulation's lock."""
+        def locked(req: Any) -> Message:
+            with self._sim_lock:
+                return handler(req)
+
+        self.create_service(srv_type, name, locked)
+
+    def transforms(self) -> TransformBroadcaster:
+        """The node's one ``/tf`` broadcaster."""
+        if self._tf is None:
+            self._tf = TransformBroadcaster(self)
+        return self._tf
+
+    def static_transform(self, transform: TransformStamped) -> None:
+        """Add a link to the node's ``/tf_static``."""
+        if self._static_tf is None:
+            self._static_tf = StaticTransformBroadcaster(self)
+        self._static_tf.send_transform(transform)
+
+    # ------------------------------------------------------------------ the base's inputs
 
     def on_cmd_vel(self, msg: Twist) -> None:
         with self._sim_lock:
@@ -125,15 +139,8 @@ class ChassisNode(Node):
             except CommandError as exc:
                 self.logger.warning("cmd_vel refused, stopping: %s", exc)
 
-    def on_body(self, msg: ObstacleMsg) -> None:
-        """Another robot's body in the shared world (`SharedWorld`)."""
-        assert self.shared is not None
-        with self._sim_lock:
-            self.shared.on_body(msg)
-
     def handle_teleport(self, req: TeleportRequest) -> TeleportResponse:
-        with self._sim_lock:
-            why = self.sim.teleport(Pose2(req.pose.x, req.pose.y, req.pose.theta))
+        why = self.sim.teleport(Pose2(req.pose.x, req.pose.y, req.pose.theta))
         if why:
             return TeleportResponse(success=False, message=why)
         self.logger.info("teleported to (%.2f, %.2f, %.2f)", req.pose.x, req.pose.y,
@@ -141,35 +148,16 @@ class ChassisNode(Node):
         return TeleportResponse(success=True, message="")
 
     def handle_set_obstacles(self, req: SetObstaclesRequest) -> SetObstaclesResponse:
-        with self._sim_lock:
-            why = apply_request(self.sim, req)
-            now = to_msgs(o for o in self.sim.world.obstacles.values()
-                          if not o.id.startswith(BODY_PREFIX))
+        why = apply_request(self.sim, req)
+        now = to_msgs(o for o in self.sim.world.obstacles.values()
+                      if not o.id.startswith(BODY_PREFIX))
         return SetObstaclesResponse(success=not why, message=why, obstacles=now)
 
     def handle_set_estop(self, req: SetBoolRequest) -> SetBoolResponse:
-        with self._sim_lock:
-            self.sim.drive.set_estop(bool(req.data))
+        self.sim.drive.set_estop(bool(req.data))
         self.logger.warning("e-stop %s", "ENGAGED" if req.data else "released")
         return SetBoolResponse(success=True,
                                message="e-stop engaged" if req.data else "e-stop released")
-
-    def _io_state(self) -> IoState:
-        main, ext_out, ext_in = self.io.snapshot()
-        return IoState(header=Header(stamp=self.stamp(), frame_id=self.cfg.base_frame),
-                       outputs=main, ext_outputs=ext_out, ext_inputs=ext_in)
-
-    def handle_set_io(self, req: SetIoRequest) -> SetIoResponse:
-        try:
-            changed = self.io.set(req.board, req.port, req.level)
-        except IoError as exc:
-            return SetIoResponse(success=False, message=str(exc), state=self._io_state())
-        state = self._io_state()
-        if changed:
-            self.io_pub.publish(state)
-            self.logger.info("IO %s port %d set %s", req.board, req.port,
-                             "high" if req.level else "low")
-        return SetIoResponse(success=True, message="", state=state)
 
     # ------------------------------------------------------------------ the loop
 
@@ -181,7 +169,7 @@ class ChassisNode(Node):
                     break
                 with self._sim_lock:
                     self._check_bad_cmds()
-                    self.sim.step(self.dt)
+                    self.chassis.step(self.dt)
                     self._steps += 1
                     self._publish()
                 self.pacer.stepped()
@@ -200,49 +188,11 @@ class ChassisNode(Node):
     def _publish(self) -> None:
         # a message nobody subscribes to is not built (publish would drop it unencoded);
         # latched publishers always count a subscriber, so their cache stays filled
-        cfg, sim, k = self.cfg, self.sim, self._steps
         stamp = self.stamp()
         if self.clock_pub is not None and self.clock_pub.subscription_count:
             self.clock_pub.publish(Clock(clock=stamp))
-        if k % cfg.odom_every == 0:
-            odom = sim.odometry
-            self.odom_pub.publish(messages.odometry(
-                stamp, cfg.odom_frame, cfg.base_frame, odom.pose, odom.linear, odom.angular,
-                self._pose_cov, self._twist_cov))
-            if self.tf is not None:
-                self.tf.send_transform(messages.transform(
-                    stamp, cfg.odom_frame, cfg.base_frame, odom.pose))
-            if self.truth_pub.subscription_count:
-                self.truth_pub.publish(messages.odometry(
-                    stamp, cfg.map_frame, cfg.base_frame, sim.truth, sim.drive.linear,
-                    sim.drive.angular))
-        if k % cfg.scan_every == 0 and self.scan_pub.subscription_count:
-            self.scan_pub.publish(messages.laser_scan(
-                stamp, cfg.laser_frame, sim.laser.config, sim.scan(), 1.0 / cfg.scan_rate))
-        flags = self._flags()
-        if k % cfg.state_every == 0 or flags != self._state_sent:
-            self._state_sent = flags
-            estop, bumper, docked, charging, timeout = flags
-            self.state_pub.publish(ChassisState(
-                header=Header(stamp=stamp, frame_id=cfg.base_frame), estop=estop,
-                bumper=bumper, docked=docked, charging=charging, cmd_timeout=timeout,
-                speed=cfg.speed, real_time_factor=self.pacer.factor,
-                battery_percentage=sim.battery.percentage))
-        if self.shared is not None and k % self._world_every == 0:
-            body = self.shared.body(sim.truth)
-            if self.shared.due(body):
-                self.body_pub.publish(body)
-            self.shared.prune()
-        if k % cfg.battery_every == 0:
-            self.battery_pub.publish(messages.battery_state(
-                stamp, cfg.base_frame, sim.battery, sim.docked))
-
-    def _flags(self) -> tuple[bool, bool, bool, bool, bool]:
-        s = self.sim
-        return (s.drive.estop, s.bumper, s.docked, s.battery.charging,
-                s.drive.timed_out(s.time))
+        self.schedule.publish(self._steps, stamp)
 
     def _stop_loop(self) -> None:
         self._stop.set()
         self._thread.join(timeout=5)
-

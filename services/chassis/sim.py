@@ -1,9 +1,9 @@
-"""Simulation: one robot in a `World`, stepped at a fixed rate; the chassis node's whole state.
+"""Simulation: the robot's round body in a `World`, stepped at a fixed rate.
 
 Each `step` runs the drive (limits, dead-man, e-stop), moves the round body along its arc
 unless that would overlap the map or an obstacle (then it stops at contact and the bumper
-is pressed), integrates odometry, and updates the dock and the battery. Times are seconds
-of sim time since the start.
+is pressed). The devices (odometry, battery, laser, ...: `device.Device`) are not here: the
+`device.Chassis` steps them after the body. Times are seconds of sim time since the start.
 """
 
 from __future__ import annotations
@@ -12,16 +12,11 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-import numpy as np
 from zenros.se2 import Pose2, wrap_angle
 
-from .battery import Battery
-from .dock import Dock
 from .drive import Drive
 from .kinematics import integrate
-from .laser import Laser
 from .obstacles import Obstacle
-from .odometry import Odometry
 from .world import World
 
 __all__ = ["Simulation", "start_pose"]
@@ -31,31 +26,30 @@ _CONTACT_ITERATIONS = 10
 
 @dataclass
 class Simulation:
-    """The robot (a disc of ``radius``) and its devices; ``truth`` is its pose in ``map``."""
+    """The robot (a disc of ``radius``) in its world; ``truth`` is its pose in ``map``.
+
+    ``linear`` and ``angular`` are what the base did over the last step (the drive's speeds,
+    less what a contact cut short): what the odometry and the battery see. ``bumper`` is
+    the body's contact: pressed by a step that stopped at contact, released by one that
+    moved freely. ``powered`` false (an empty battery) holds the base still.
+    """
 
     world: World
     drive: Drive
-    laser: Laser
-    odometry: Odometry
-    battery: Battery
-    dock: Dock | None
     truth: Pose2
     radius: float = 0.2
-    laser_mount: Pose2 = Pose2(0.0, 0.0, 0.0)
     time: float = 0.0
     bumper: bool = False
-    docked: bool = False
-
-    def __post_init__(self) -> None:
-        self.start = self.truth  # odom's origin in map
-        self.docked = self.dock is not None and self.dock.docked(self.truth)
+    powered: bool = True
+    linear: float = 0.0
+    angular: float = 0.0
 
     # ---------------------------------------------------------------- stepping
 
     def step(self, dt: float) -> None:
         """Advance the world by ``dt`` seconds."""
         v, w = self.drive.step(self.time, dt)
-        if self.battery.empty and (v or w):
+        if not self.powered and (v or w):
             self.drive.stop_now()
             v = w = 0.0
         moved = 1.0
@@ -68,9 +62,7 @@ class Simulation:
                 moved = self._contact(v, w, dt)
                 self.drive.stop_now()
                 self.bumper = True
-        self.odometry.update(v * moved, w * moved, dt)
-        self.docked = self.dock is not None and self.dock.docked(self.truth)
-        self.battery.update(dt, v * moved, w * moved, self.docked)
+        self.linear, self.angular = v * moved, w * moved
         self.time += dt
 
     def _contact(self, v: float, w: float, dt: float) -> float:
@@ -87,16 +79,6 @@ class Simulation:
             self.truth = integrate(self.truth, v, w, dt * lo)
         return lo
 
-    def scan(self) -> np.ndarray:
-        """The laser's ranges from where it is now."""
-        p = self.truth * self.laser_mount
-        return self.laser.ranges(p.x, p.y, p.theta)
-
-    @property
-    def odom_in_map(self) -> Pose2:
-        """The ``odom`` frame's pose in ``map`` as the simulator knows it (truth ∘ odom⁻¹)."""
-        return self.truth * self.odometry.pose.inverse()
-
     # ---------------------------------------------------------------- requests
 
     def teleport(self, pose: Pose2) -> str:
@@ -111,7 +93,6 @@ class Simulation:
         self.truth = Pose2(pose.x, pose.y, wrap_angle(pose.theta))
         self.drive.stop_now()
         self.bumper = False
-        self.docked = self.dock is not None and self.dock.docked(self.truth)
         return ""
 
     def check_obstacles(self, obstacles: Iterable[Obstacle]) -> str:

@@ -31,6 +31,8 @@ from .motion.docking import DockParams
 from .motion.navigate import Codes, Navigate
 from .planning import PlannerParams
 from .planning.global_planner import GlobalPlanner, PlanWorker
+from .planning.interface import PlannerContext
+from .planning.registry import PlannerSpec, build_planners, default_specs
 
 __all__ = ["NavConfig", "NavCore"]
 
@@ -43,6 +45,7 @@ class NavConfig:
     controller: ControllerParams = field(default_factory=ControllerParams)
     costmap: CostmapParams = field(default_factory=CostmapParams)
     planner: PlannerParams = field(default_factory=PlannerParams)
+    planners: tuple[PlannerSpec, ...] = field(default_factory=default_specs)
     dock: DockParams = field(default_factory=DockParams)
     planner_tolerance: float = 0.25
     localization: Mode = "ground_truth"
@@ -65,8 +68,11 @@ class NavCore:
                                  config.costmap_update_rate)
         self.maps = MapServer(MapStore(maps_root), self._on_map)
         self.records = Records(self.maps, self.localizer.pose, self._on_keepout)
+        context = PlannerContext(config.planner, config.nav.robot_radius,
+                                 config.planner_tolerance)
         self.planner = GlobalPlanner(config.planner, config.nav.robot_radius,
-                                     config.planner_tolerance)
+                                     config.planner_tolerance,
+                                     build_planners(config.planners, context))
         self.worker = PlanWorker(self.planner, self.costmaps.snapshot)
         self.motion = Motion()
         self._on_plan_cb = on_plan

@@ -72,7 +72,7 @@ class NavNode(Node):
 
     def setup(self) -> None:
         p = self.params = self.declare_parameters(NavParameters)
-        cfg = nav_config(p)
+        cfg = nav_config(p, self.parameters)
         self.autocharge = AutoCharge(p.auto_charge, p.go_charge_percentage)
         self.on_parameter_change(lambda p: setattr(self.autocharge, "enabled", bool(p.value)),
                                  "auto_charge")

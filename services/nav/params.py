@@ -8,6 +8,9 @@ from typing import Annotated
 
 import msgspec
 from msgspec import Meta
+from zenros.errors import InvalidParameterValueError
+from zenros.param_config import declare_parameters
+from zenros.params import Parameters
 
 from .core import NavConfig
 from .costmap import CostmapParams, ObstacleParams
@@ -17,8 +20,15 @@ from .motion.controller import ControllerParams
 from .motion.docking import DockParams
 from .planning import PlannerParams
 from .planning.plan import MAX_COST_WEIGHT
+from .planning.registry import (
+    DEFAULT_PLANNERS,
+    DEFAULT_TYPES,
+    PlannerSpec,
+    check_names,
+    plugin_type,
+)
 
-__all__ = ["DEMO_MAP", "NavParameters", "nav_config"]
+__all__ = ["DEMO_MAP", "NavParameters", "nav_config", "planner_specs"]
 
 DEMO_MAP = Path(__file__).resolve().parents[2] / "deploy" / "maps" / "office" / "office.yaml"
 
@@ -57,6 +67,10 @@ class NavParameters(msgspec.Struct, kw_only=True):
         description="obstacle updates per second")] = 2.0
     local_costmap_size: Annotated[Positive, Meta(description="m")] = 3.0
     # planner
+    planner_plugins: Annotated[list[str], Meta(
+        description="planner ids, the default first; each one's type is <id>.plugin "
+                    "(Nav2's planner_plugins)")] = msgspec.field(
+        default_factory=lambda: list(DEFAULT_PLANNERS))
     cost_travel_multiplier: Annotated[float, Meta(
         ge=0, le=MAX_COST_WEIGHT, description="Smac 2D's cost weight")] = 2.0
     allow_unknown: Annotated[bool, Meta(description="plan through unknown cells")] = True
@@ -118,11 +132,39 @@ class NavParameters(msgspec.Struct, kw_only=True):
         description="fraction of each match's correction applied")] = 0.5
 
 
-def nav_config(p: NavParameters) -> NavConfig:
-    """The core's configuration from the parameters.
+def planner_specs(names: list[str], parameters: Parameters | None = None
+                  ) -> tuple[PlannerSpec, ...]:
+    """The planners ``planner_plugins`` names, with each one's ``<id>.plugin`` and its own
+    parameters (``<id>.<field>``) declared read-only on ``parameters`` (None: defaults).
+
+    Raises:
+        InvalidParameterValueError: no id, a repeated one, an unknown plugin type (the
+            message lists the known ones), a plugin parameter out of its limits.
+    """
+    try:
+        check_names(names)
+        specs = []
+        for name in names:
+            default = DEFAULT_TYPES.get(name, "")
+            plugin = default if parameters is None else parameters.declare(
+                f"{name}.plugin", default, read_only=True,
+                description=f"the type of planner {name} (one of nav's planner plugins)")
+            kind = plugin_type(name, plugin)
+            params = kind.Parameters() if parameters is None else declare_parameters(
+                parameters, kind.Parameters, read_only=True, prefix=f"{name}.")
+            specs.append(PlannerSpec(name, plugin, params))
+    except ValueError as exc:
+        raise InvalidParameterValueError(str(exc)) from None
+    return tuple(specs)
+
+
+def nav_config(p: NavParameters, parameters: Parameters | None = None) -> NavConfig:
+    """The core's configuration from the parameters; with ``parameters`` (the node's), the
+    planners' own parameters are declared there (`planner_specs`).
 
     Raises:
         ValueError: a combination the controller refuses (`ControllerParams.check`).
+        InvalidParameterValueError: a planner that cannot be built (`planner_specs`).
     """
     controller = ControllerParams(
         max_linear_vel=p.max_linear_vel, max_angular_vel=p.max_angular_vel,
@@ -161,6 +203,7 @@ def nav_config(p: NavParameters) -> NavConfig:
             staging_offset=p.staging_x_offset, docking_threshold=p.docking_threshold,
             wait_charge_timeout=p.wait_charge_timeout, max_retries=p.dock_max_retries,
             use_battery_status=p.use_battery_status),
+        planners=planner_specs(p.planner_plugins, parameters),
         planner_tolerance=p.planner_tolerance, localization=p.localization,
         costmap_update_rate=p.costmap_update_rate, local_costmap_size=p.local_costmap_size,
         scan_match_rate=p.scan_match_rate, scan_match_gain=p.scan_match_gain)

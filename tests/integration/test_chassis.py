@@ -5,13 +5,15 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import msgspec
 import numpy as np
 import pytest
+from zenros.clock import Time
 from zenros.msgs.geometry_msgs import Pose2D, Twist, Vector3
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.rosgraph_msgs import Clock
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
-from zenros.msgs.std_msgs import String
+from zenros.msgs.std_msgs import Float64, String
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest
 from zenros.msgs.zenros_msgs import (
     ChassisState,
@@ -21,6 +23,9 @@ from zenros.msgs.zenros_msgs import (
     Teleport,
     TeleportRequest,
 )
+from zenros.services.chassis import config
+from zenros.services.chassis.device import Chassis, Device, Endpoints
+from zenros.services.chassis.devices import DEVICES
 from zenros.services.chassis.node import ChassisNode
 from zenros.testing import wait_for
 from zenros.tf import Buffer, TransformListener
@@ -201,3 +206,65 @@ def test_robots_sharing_a_world_see_each_other_and_forget_a_gone_one(make_node: 
         (ahead("robot1"), ahead("robot2"))
     two.close()
     assert wait_for(lambda: ahead("robot1") > 2.0, 20), ahead("robot1")
+
+
+class TripParameters(msgspec.Struct, kw_only=True, frozen=True):
+    trip_rate: float = 4.0
+
+
+class TripMeter(Device[TripParameters]):
+    """A device that is not in the registry: the distance driven, on ``trip`` (std_msgs/Float64)
+    at ``trip_rate``; ``trip/reset`` (std_srvs/SetBool) zeroes it."""
+
+    Parameters = TripParameters
+
+    def __init__(self, params: TripParameters, chassis: Chassis) -> None:
+        super().__init__(params, chassis)
+        self.rate = params.trip_rate
+        self.metres = 0.0
+
+    def open(self, node: Endpoints) -> None:
+        self.pub = node.create_publisher(Float64, "trip")
+        node.serve(SetBool, "trip/reset", self.reset)
+
+    def reset(self, req: SetBoolRequest) -> SetBool.Response:
+        self.metres = 0.0
+        return SetBool.Response(success=True, message="")
+
+    def step(self, dt: float) -> None:
+        self.metres += abs(self.chassis.sim.linear) * dt
+
+    def publish(self, stamp: Time) -> None:
+        self.pub.publish(Float64(data=self.metres))
+
+
+def test_a_registered_device_gets_its_parameters_topic_rate_and_service(
+        make_node: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(config, "DEVICES", (*DEVICES, TripMeter))
+    chassis: ChassisNode = make_node("chassis", 0, cls=ChassisNode, parameter_overrides={
+        "speed": SPEED, "trip_rate": 2.0})
+    assert chassis.get_parameter("trip_rate") == 2.0
+    user = make_node("user", 1)
+    trip, clock = Latest(), Latest()
+    user.create_subscription(Float64, "trip", trip)
+    user.create_subscription(Clock, "/clock", clock)
+    cmd = user.create_publisher(Twist, "cmd_vel")
+    assert wait_for(lambda: trip.count > 0 and clock.count > 0, 20), (trip.count, clock.count)
+    n0, t0 = trip.count, clock.msg.clock.to_sec()
+    assert wait_for(lambda: clock.msg.clock.to_sec() > t0 + 5.0, 20)
+    assert 8 <= trip.count - n0 <= 12, trip.count - n0  # 2 Hz of sim time, for 5 s
+    rig = {"cmd": cmd, "got": {"clock": clock}}
+    assert drive(rig, 0.5, 0.0, lambda: trip.msg.data > 0.2), trip.msg.data
+    last = (trip.count, -1.0)
+
+    def halted() -> bool:  # two trip messages in a row alike: the base has stopped
+        nonlocal last
+        if trip.count == last[0]:
+            return False
+        same, last = trip.msg.data == last[1], (trip.count, trip.msg.data)
+        return same
+
+    assert drive(rig, 0.0, 0.0, halted), trip.msg.data
+    reset = user.create_client(SetBool, "trip/reset")
+    assert reset.call(SetBoolRequest(data=True), timeout=10).success
+    assert wait_for(lambda: trip.msg.data == 0.0, 10), trip.msg.data

@@ -20,6 +20,7 @@ from zenros.msgs.zenros_msgs import (
     Teleport,
     TeleportRequest,
 )
+from zenros.services.chassis.devices import IoDevice
 from zenros.testing import wait_for
 from zenros.tf.quaternion import yaw_from_quaternion
 
@@ -151,7 +152,8 @@ def test_io_through_rest(rig: Rig) -> None:
     assert http.post("/system/io", json={"level": "1", "port": "2"}).json() == {"status": "ok"}
     assert http.get("/system/io").json() == {"status": "ok", "out1": "0", "out2": "1",
                                              "out3": "0"}
-    assert rig.chassis.io.snapshot()[0] == [0, 1, 0]
+    io = rig.chassis.device(IoDevice)
+    assert io is not None and io.io.snapshot()[0] == [0, 1, 0]
     assert http.post("/system/io", json={"level": "0", "port": "2"}).status_code == 200
     assert http.get("/system/io").json()["out2"] == "0"
     r = http.put("/system/bw_io", json={"level": 1, "port": 7})

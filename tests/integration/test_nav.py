@@ -13,6 +13,7 @@ import time
 from collections.abc import Iterator
 from typing import Any
 
+import numpy as np
 import pytest
 from zenros.action import ActionClient, GoalStatus
 from zenros.msgs.builtin_interfaces import Time
@@ -300,6 +301,15 @@ def test_compute_path_to_pose_returns_a_path(rig: Rig) -> None:
     bad = rig.compute.send_goal(ComputePathToPoseGoal(
         goal=pose_stamped(Pose2(10.0, 0.0), Time()), planner_id="Smac"), timeout=10)
     assert bad.result.error_code == ComputePathToPoseResult.INVALID_PLANNER
+    assert "this server has GridBased, Coverage" in bad.result.error_msg
+    # the coverage plugin (planner_plugins), chosen by id: the area from the start to the goal
+    mow = rig.compute.send_goal(ComputePathToPoseGoal(
+        goal=pose_stamped(Pose2(2.0, -1.0), Time()), start=pose_stamped(Pose2(0.0, 0.0), Time()),
+        use_start=True, planner_id="Coverage"), timeout=10)
+    assert mow.status is GoalStatus.SUCCEEDED, mow.result
+    xy = np.array([(p.pose.position.x, p.pose.position.y) for p in mow.result.path.poses])
+    assert float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) > 6.0  # back and forth
+    assert xy[-1] == pytest.approx([2.0, -1.0], abs=0.25)  # planner_tolerance
 
 
 def test_navigate_through_poses_visits_each(rig: Rig) -> None:

@@ -16,7 +16,7 @@ from zenros.context import Context
 from zenros.errors import InvalidParameterValueError
 from zenros.node import Node
 from zenros.param_config import parameter_specs
-from zenros.services.chassis.config import ChassisParameters
+from zenros.services.chassis.config import parameter_structs
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.gateway.foxglove.node import FoxgloveParameters
 from zenros.services.gateway.params import GatewayParameters
@@ -78,7 +78,8 @@ def test_nav_declares_its_config(ctxs: list[Context], tmp_path: Path) -> None:
 
 def test_chassis_declares_its_config(ctxs: list[Context]) -> None:
     with ChassisNode("chassis", context=ctxs[0]) as chassis:
-        agree(chassis, ChassisParameters, read_only=True)
+        for struct in parameter_structs():  # its own, then each device's
+            agree(chassis, struct, read_only=True)
 
 
 @pytest.mark.parametrize(("cls", "config"), [

@@ -98,3 +98,17 @@ def test_a_field_without_a_default_or_of_another_type_is_a_programming_error() -
         parameter_specs(NoDefault)
     with pytest.raises(TypeError, match="Odd.when"):
         parameter_specs(Odd)
+
+
+def test_a_prefix_names_each_parameter_and_is_followed() -> None:
+    params = Parameters("/planner", {"GridBased.rate": 4, "rate": 9})
+    cfg = declare_parameters(params, TalkerConfig, prefix="GridBased.")
+    assert cfg.rate == 4.0 and params.get("GridBased.mode") == "fast"
+    assert not params.has("rate")  # only the prefixed names are declared
+    with pytest.raises(InvalidParameterValueError, match="> 0"):
+        params.set("GridBased.rate", -1.0)
+    params.set("GridBased.share", 0.25)
+    assert cfg.share == 0.25
+    with pytest.raises(InvalidParameterValueError, match="parameter 'Other.share'"):
+        declare_parameters(Parameters("/p", {"Other.share": 2.0}), TalkerConfig,
+                           prefix="Other.")

@@ -168,9 +168,6 @@ class NavActions(ActionBase):
             gh.abort()
             return result
 
-        if goal.planner_id not in ("", "GridBased"):
-            return fail(ComputePathToPoseResult.INVALID_PLANNER,
-                        f"unknown planner_id {goal.planner_id!r}; this server has GridBased")
         try:
             target = self._map_pose(goal.goal)
             vias = [self._map_pose(v) for v in goal.viapoints]
@@ -188,7 +185,7 @@ class NavActions(ActionBase):
             snap = self.core.costmaps.snapshot()
         except RuntimeError as exc:
             return fail(ComputePathToPoseResult.UNKNOWN, str(exc))
-        out = self.core.planner.plan(snap, start, [*vias, target])
+        out = self.core.planner.plan(snap, start, [*vias, target], goal.planner_id)
         result.planning_time = Duration.from_seconds(out.planning_time)
         if not out.ok:
             return fail(out.error_code, out.error_msg)

@@ -1,10 +1,11 @@
-"""GlobalPlanner: plans through a list of poses on a costmap snapshot, with error codes.
+"""GlobalPlanner: nav's planner server: plans through a list of poses on a costmap snapshot
+with the planner plugin a request names, with error codes.
 
-Wraps this package's search (cost-aware 8-connected A*) for navigation: one search per leg
-(start → pose 1 → pose 2 ...), concatenated, with the arc length at which each pose is
-reached. A start inside the inflated zone (the robot next to a wall or on its dock) is
-planned out of: the costs within the robot's radius of the start are lowered to 252.
-`PlanWorker` runs requests on a thread of its own so the control loop never waits.
+As Nav2's planner server: the plugin (`interface.Planner`, by id, ``planner_plugins``) plans
+each leg (start → pose 1 → pose 2 ...); the legs are concatenated, with the arc length at
+which each pose is reached. A start inside the inflated zone (the robot next to a wall or on
+its dock) is planned out of: the costs within the robot's radius of the start are lowered to
+252. `PlanWorker` runs requests on a thread of its own so the control loop never waits.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import dataclasses
 import math
 import threading
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,8 +23,9 @@ from zenros.se2 import Pose2
 
 from ..costmap.snapshot import CostSnapshot
 from .errors import PlanningError
-from .plan import PlannerParams, plan
-from .wording import in_map_terms
+from .grid_based import AStarPlanner
+from .interface import NoParameters, Planner, PlannerContext
+from .plan import PlannerParams
 
 __all__ = ["GlobalPlanner", "PlanOutcome", "PlanWorker"]
 
@@ -45,15 +48,29 @@ class PlanOutcome:
 
 
 class GlobalPlanner:
-    """Plans on the snapshot its ``source`` returns."""
+    """Plans with its plugins (by id; the first is the default), on the snapshot given.
+
+    Without ``planners`` it has one, ``GridBased``: the A* plugin with ``params``."""
 
     def __init__(self, params: PlannerParams, robot_radius: float,
-                 goal_tolerance: float = 0.25) -> None:
+                 goal_tolerance: float = 0.25,
+                 planners: Mapping[str, Planner] | None = None) -> None:
         self.params = params
         self.robot_radius = robot_radius
         self.goal_tolerance = goal_tolerance
+        if planners is None:
+            context = PlannerContext(params, robot_radius, goal_tolerance)
+            planners = {"GridBased": AStarPlanner(NoParameters(), context)}
+        if not planners:
+            raise ValueError("a planner server needs at least one planner")
+        self.planners = dict(planners)
 
-    def _free_start(self, snap: CostSnapshot, cell: tuple[int, int]) -> np.ndarray:
+    @property
+    def ids(self) -> list[str]:
+        """The planner ids, the default first."""
+        return list(self.planners)
+
+    def _free_start(self, snap: CostSnapshot, cell: tuple[int, int]) -> CostSnapshot:
         costs = snap.costs.copy()
         r = max(1, math.ceil(self.robot_radius / snap.resolution))
         h, w = costs.shape
@@ -63,15 +80,20 @@ class GlobalPlanner:
         disc = (xs - cell[0]) ** 2 + (ys - cell[1]) ** 2 <= r * r
         win = costs[y0:y1, x0:x1]
         win[disc & (win >= 253) & (win != 255)] = 252
-        return costs
+        return dataclasses.replace(snap, costs=costs)
 
-    def plan(self, snap: CostSnapshot, start: Pose2, goals: list[Pose2]) -> PlanOutcome:
-        """Plan from ``start`` through every pose of ``goals`` in order."""
+    def plan(self, snap: CostSnapshot, start: Pose2, goals: list[Pose2],
+             planner_id: str = "") -> PlanOutcome:
+        """Plan from ``start`` through every pose of ``goals`` in order with the planner
+        ``planner_id`` ("": the default)."""
         t0 = time.perf_counter()
+        planner = self.planners.get(planner_id or self.ids[0])
+        if planner is None:
+            return PlanOutcome(None, Codes.INVALID_PLANNER,
+                               f"unknown planner_id {planner_id!r}; this server has "
+                               f"{', '.join(self.planners)}")
         if not goals:
             return PlanOutcome(None, Codes.UNKNOWN, "no goal poses given")
-        params = dataclasses.replace(
-            self.params, goal_tolerance=round(self.goal_tolerance / snap.resolution))
         pieces: list[np.ndarray] = []
         leg_ends: list[float] = []
         here = start
@@ -81,23 +103,22 @@ class GlobalPlanner:
             if s is None:
                 code = Codes.START_OUTSIDE_MAP if i == 0 else Codes.GOAL_OUTSIDE_MAP
                 return PlanOutcome(None, code, f"({here.x:.2f}, {here.y:.2f}) is outside the map")
-            g = snap.world_to_map(goal.x, goal.y)
-            if g is None:
+            if snap.world_to_map(goal.x, goal.y) is None:
                 return PlanOutcome(None, Codes.GOAL_OUTSIDE_MAP,
                                    f"goal ({goal.x:.2f}, {goal.y:.2f}) is outside the map")
-            costs = self._free_start(snap, s) if i == 0 else snap.costs
+            what = f"leg {i + 1} of {len(goals)}: " if len(goals) > 1 else ""
             try:
-                res = plan(costs, s, g, params)
+                pts = np.asarray(planner.create_plan(
+                    self._free_start(snap, s) if i == 0 else snap, here, goal), np.float64)
+                if pts.ndim != 2 or pts.shape[1] != 2 or not len(pts):
+                    raise TypeError(f"a path of shape {pts.shape}, not (N, 2)")
             except PlanningError as exc:
-                what = f"leg {i + 1} of {len(goals)}: " if len(goals) > 1 else ""
-                text = in_map_terms(exc, here, goal, params.timeout)
-                return PlanOutcome(None, exc.code, what + text,
+                return PlanOutcome(None, exc.code, what + str(exc),
                                    planning_time=time.perf_counter() - t0)
-            pts = res.points(snap.resolution, snap.origin)
-            if res.goal == g:  # end exactly on the requested point, not the cell centre
-                pts[-1] = (goal.x, goal.y)
-            if i == 0:
-                pts[0] = (start.x, start.y)
+            except Exception as exc:  # noqa: BLE001 - a plugin's bug fails this plan only
+                return PlanOutcome(None, Codes.UNKNOWN,
+                                   f"{what}planner {planner_id or self.ids[0]!r} failed: "
+                                   f"{exc!r}", planning_time=time.perf_counter() - t0)
             end = pts[-1].copy()
             if pieces:  # this leg starts where the last one ended
                 pts = np.vstack([pieces[-1][-1:], pts[1:]])

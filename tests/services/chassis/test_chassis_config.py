@@ -6,36 +6,41 @@ import logging
 
 import pytest
 from zenros.errors import InvalidParameterValueError, MapError
-from zenros.param_config import declare_parameters
 from zenros.params import Parameters
 from zenros.se2 import Pose2
-from zenros.services.chassis.config import (
-    DEMO_MAP,
-    ChassisConfig,
-    ChassisParameters,
-    chassis_config,
-)
+from zenros.services.chassis.config import DEMO_MAP, ChassisConfig, declare_chassis
+from zenros.services.chassis.device import Chassis, Schedule
+from zenros.services.chassis.devices import BatteryDevice, DockDevice, LaserDevice
 
 
 def declare_config(values: dict[str, object]) -> ChassisConfig:
     """What the node does: the parameters declared (``values`` as its overrides), then checked."""
-    params = Parameters("/chassis", values)
-    return chassis_config(declare_parameters(params, ChassisParameters, read_only=True))
+    return declare_chassis(Parameters("/chassis", values))
+
+
+def dock_pose(chassis: Chassis) -> Pose2:
+    dock = chassis.device(DockDevice)
+    assert dock is not None and dock.dock is not None
+    return dock.dock.pose
 
 
 def test_defaults_build_the_demo_office() -> None:
     cfg = declare_config({})
-    assert cfg.map_path == DEMO_MAP and cfg.scan_every == 5 and cfg.battery_every == 50
-    sim = cfg.build(logging.getLogger("test"))
-    assert sim.truth == Pose2(0.0, 0.0, 0.0)  # the office's start pose
-    assert sim.dock is not None and sim.dock.pose.y == pytest.approx(-8.78)
+    assert cfg.map_path == DEMO_MAP
+    chassis = cfg.build(logging.getLogger("test"))
+    schedule = Schedule(chassis.devices, cfg.rate)
+    laser, battery = chassis.device(LaserDevice), chassis.device(BatteryDevice)
+    assert laser is not None and battery is not None
+    assert schedule.every(laser) == 5 and schedule.every(battery) == 50
+    assert chassis.sim.truth == Pose2(0.0, 0.0, 0.0)  # the office's start pose
+    assert dock_pose(chassis).y == pytest.approx(-8.78)
 
 
 def test_pose_parameters_override_the_map_folder() -> None:
     cfg = declare_config({"start_pose": [5.0, 0.5], "dock_pose": [1.0, 0.0, 3.0]})
-    sim = cfg.build(logging.getLogger("test"))
-    assert sim.truth == Pose2(5.0, 0.5, 0.0)
-    assert sim.dock is not None and sim.dock.pose == Pose2(1.0, 0.0, 3.0)
+    chassis = cfg.build(logging.getLogger("test"))
+    assert chassis.sim.truth == Pose2(5.0, 0.5, 0.0)
+    assert dock_pose(chassis) == Pose2(1.0, 0.0, 3.0)
 
 
 @pytest.mark.parametrize(("values", "match"), [

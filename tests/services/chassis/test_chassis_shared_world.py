@@ -34,24 +34,24 @@ def test_own_body_is_published_and_not_taken_back(room: World) -> None:
 
 
 def test_another_body_is_an_obstacle_the_laser_sees(room: World) -> None:
-    sim = make_sim(room, Pose2(1.0, 1.5, 0.0))
+    rig = make_sim(room, Pose2(1.0, 1.5, 0.0))
     ahead = 4  # 8 beams from -pi: beam 4 looks along +x, to the wall at 4.95 m
-    before = sim.scan()[ahead]
+    before = rig.scan()[ahead]
     shared = SharedWorld(room, "/robot1", 0.2, FakeClock())
     assert shared.on_body(body("/robot2", 2.5, 1.5))
     assert set(room.obstacles) == {BODY_PREFIX + "/robot2"}
-    after = sim.scan()[ahead]
+    after = rig.scan()[ahead]
     # the laser sits 0.1 m ahead of the centre: 2.5 - 0.2 (the body) - 1.1
     assert after == pytest.approx(1.2, abs=0.02)
     assert before > 3.5
 
 
 def test_a_body_stops_the_robot_driving_into_it(room: World) -> None:
-    sim = make_sim(room, Pose2(1.0, 1.5, 0.0))
+    rig = make_sim(room, Pose2(1.0, 1.5, 0.0))
     SharedWorld(room, "/robot1", 0.2, FakeClock()).on_body(body("/robot2", 2.0, 1.5))
-    run(sim, 0.5, 0.0, 4.0)
-    assert sim.bumper
-    assert sim.truth.x == pytest.approx(2.0 - 0.4, abs=0.02)  # the two radii apart
+    run(rig, 0.5, 0.0, 4.0)
+    assert rig.bumper
+    assert rig.truth.x == pytest.approx(2.0 - 0.4, abs=0.02)  # the two radii apart
 
 
 def test_a_moved_body_moves_and_a_silent_one_leaves(room: World) -> None:

@@ -1,0 +1,34 @@
+"""The chassis's devices, registered in one place: `DEVICES`.
+
+Their order is the order they are built, stepped after the body and published in, so a
+device comes after those it reads (the battery after the dock, chassis/state after both).
+A new device is one module here and one line below (docs/chassis.md, Adding a device).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..device import Device
+from .battery import BatteryDevice
+from .dock import DockDevice
+from .fleet import FleetDevice
+from .io import IoDevice
+from .laser import LaserDevice
+from .odometry import OdometryDevice
+from .state import StateDevice
+from .truth import GroundTruthDevice
+
+__all__ = ["DEVICES", "BatteryDevice", "DockDevice", "FleetDevice", "GroundTruthDevice",
+           "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice"]
+
+DEVICES: tuple[type[Device[Any]], ...] = (
+    OdometryDevice,
+    GroundTruthDevice,
+    DockDevice,
+    BatteryDevice,
+    LaserDevice,
+    IoDevice,
+    StateDevice,
+    FleetDevice,
+)

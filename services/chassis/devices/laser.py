@@ -1,0 +1,98 @@
+"""The 2-D laser: ``scan`` (sensor_msgs/LaserScan) at ``scan_rate``, base_link -> laser on
+``/tf_static``."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+import msgspec
+import numpy as np
+from msgspec import Meta
+from zenros.clock import Time
+from zenros.message import Float32Array, to_array
+from zenros.msgs.sensor_msgs import LaserScan
+from zenros.msgs.std_msgs import Header
+from zenros.pubsub import Publisher
+from zenros.qos import QOS_SENSOR
+from zenros.se2 import Pose2
+
+from .. import messages
+from ..device import Chassis, Device, Endpoints
+from ..laser import Laser, LaserConfig
+from ..param_types import NonNegative, Positive
+
+__all__ = ["LaserDevice", "LaserParameters", "laser_scan"]
+
+
+class LaserParameters(msgspec.Struct, kw_only=True, frozen=True):
+    scan_rate: Annotated[Positive, Meta(description="scans per sim second")] = 10.0
+    scan_beams: int = 360
+    range_min: NonNegative = 0.05
+    range_max: Positive = 12.0
+    scan_fov: NonNegative = 2 * math.pi
+    range_noise: Annotated[NonNegative, Meta(
+        description="std dev of laser range noise (m)")] = 0.0
+    laser_x: float = 0.1
+    laser_y: float = 0.0
+    laser_yaw: float = 0.0
+    laser_z: float = 0.2
+    laser_frame: str = "laser"
+
+    def __post_init__(self) -> None:
+        if self.range_min >= self.range_max:
+            raise ValueError(
+                f"parameters 'range_min' ({self.range_min:g}) and 'range_max' "
+                f"({self.range_max:g}): range_min must be below range_max")
+        self.config()
+
+    def config(self) -> LaserConfig:
+        """The ray caster's configuration (raises ValueError for a bad combination)."""
+        return LaserConfig(beams=self.scan_beams, range_min=self.range_min,
+                           range_max=self.range_max, fov=self.scan_fov, noise=self.range_noise)
+
+    @property
+    def mount(self) -> Pose2:
+        """The laser's pose on the base."""
+        return Pose2(self.laser_x, self.laser_y, self.laser_yaw)
+
+
+class LaserDevice(Device[LaserParameters]):
+    """A `Laser` at ``mount`` on the body, ray cast against the world (map, obstacles and
+    the other robots) when a scan is due and someone listens."""
+
+    Parameters = LaserParameters
+    _pub: Publisher[LaserScan]
+
+    def __init__(self, params: LaserParameters, chassis: Chassis) -> None:
+        super().__init__(params, chassis)
+        self.laser = Laser(chassis.sim.world, params.config(), chassis.rng)
+        self.mount = params.mount
+        self.rate = params.scan_rate
+
+    def ranges(self) -> np.ndarray:
+        """The ranges from where the laser is now."""
+        p = self.chassis.sim.truth * self.mount
+        return self.laser.ranges(p.x, p.y, p.theta)
+
+    def open(self, node: Endpoints) -> None:
+        self._pub = node.create_publisher(LaserScan, "scan", QOS_SENSOR)
+        node.static_transform(messages.transform(
+            node.stamp(), self.chassis.frames.base, self.params.laser_frame, self.mount,
+            self.params.laser_z))
+
+    def publish(self, stamp: Time) -> None:
+        if self._pub.subscription_count:
+            self._pub.publish(laser_scan(stamp, self.params.laser_frame, self.laser.config,
+                                         self.ranges(), 1.0 / self.rate))
+
+
+def laser_scan(stamp: Time, frame: str, config: LaserConfig, ranges: np.ndarray,
+               scan_time: float) -> LaserScan:
+    scan_ranges: Float32Array = to_array(Float32Array, ranges)  # a view: float32 already
+    return LaserScan(
+        header=Header(stamp=stamp, frame_id=frame),
+        angle_min=config.angle_min, angle_max=config.angle_max,
+        angle_increment=config.angle_increment, time_increment=0.0, scan_time=scan_time,
+        range_min=config.range_min, range_max=config.range_max, ranges=scan_ranges,
+    )

@@ -1,0 +1,188 @@
+"""The device seam: the registry's parameters, the schedule, devices against a stand-in node."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from typing import Any
+
+import msgspec
+import pytest
+from zenros.clock import Time
+from zenros.msgs.std_srvs import SetBoolRequest
+from zenros.msgs.zenros_msgs import ChassisState, IoState, SetIoRequest
+from zenros.params import Parameters
+from zenros.services.chassis import config
+from zenros.services.chassis.config import declare_chassis, parameter_structs
+from zenros.services.chassis.device import Chassis, Device, NoParameters, Schedule
+from zenros.services.chassis.devices import DEVICES, IoDevice, StateDevice
+
+# every parameter the chassis had before its devices were split out: users' launch files and
+# `-p name:=value` keep working only while these stay
+NAMES = {
+    "map", "speed", "publish_clock", "publish_tf", "rate", "scan_rate", "max_linear_velocity",
+    "max_reverse_velocity", "max_angular_velocity", "max_linear_acceleration",
+    "max_linear_deceleration", "max_angular_acceleration", "cmd_timeout", "scan_beams",
+    "range_min", "range_max", "scan_fov", "range_noise", "battery_capacity", "battery_voltage",
+    "battery_idle_current", "battery_motion_current", "battery_turn_current",
+    "battery_charge_current", "battery_initial", "robot_radius", "odom_noise", "laser_x",
+    "laser_y", "laser_yaw", "laser_z", "start_pose", "dock_pose", "dock_tolerance",
+    "dock_yaw_tolerance", "seed", "map_frame", "odom_frame", "base_frame", "laser_frame",
+    "world_topic", "world_rate", "io_extension_board",
+}
+STAMP = Time(sec=1, nanosec=0)
+
+
+class StandInPublisher:
+    def __init__(self, topic: str) -> None:
+        self.topic = topic
+        self.sent: list[Any] = []
+        self.subscription_count = 1
+
+    def publish(self, msg: Any) -> None:
+        self.sent.append(msg)
+
+    send_transform = publish  # as a /tf broadcaster
+
+
+class StandInNode:
+    """`Endpoints` without Zenoh: records what the devices open and publish."""
+
+    namespace = "/robot1"
+    logger = logging.getLogger("test")
+
+    def __init__(self) -> None:
+        self.publishers: dict[str, StandInPublisher] = {}
+        self.services: dict[str, Callable[[Any], Any]] = {}
+        self.listening: dict[str, Callable[[Any], object]] = {}
+        self.static: list[Any] = []
+        self.broadcasters = 0
+
+    def create_publisher(self, msg_type: type[Any], topic: str, qos: Any = 10) -> Any:
+        self.publishers[topic] = StandInPublisher(topic)
+        return self.publishers[topic]
+
+    def listen(self, msg_type: type[Any], topic: str, callback: Callable[[Any], object]) -> None:
+        self.listening[topic] = callback
+
+    def serve(self, srv_type: Any, name: str, handler: Callable[[Any], Any]) -> None:
+        self.services[name] = handler
+
+    def transforms(self) -> Any:
+        self.broadcasters += 1
+        return StandInPublisher("/tf")
+
+    def static_transform(self, transform: Any) -> None:
+        self.static.append(transform)
+
+    def stamp(self) -> Time:
+        return STAMP
+
+
+def build(values: dict[str, object] | None = None) -> tuple[Chassis, StandInNode]:
+    cfg = declare_chassis(Parameters("/chassis", values or {}))
+    chassis = cfg.build(logging.getLogger("test"))
+    node = StandInNode()
+    for d in chassis.devices:
+        d.open(node)
+    return chassis, node
+
+
+def test_the_parameter_names_are_the_ones_users_know() -> None:
+    names = [n for s in parameter_structs() for n in s.__struct_fields__]
+    assert len(names) == len(set(names))
+    assert set(names) == NAMES
+
+
+def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    class Clash(msgspec.Struct, frozen=True):
+        scan_rate: float = 1.0
+
+    class Clashing(Device[Clash]):
+        Parameters = Clash
+
+    monkeypatch.setattr(config, "DEVICES", (*DEVICES, Clashing))
+    with pytest.raises(TypeError, match="'scan_rate' is declared by both LaserParameters "
+                                        "and Clash"):
+        parameter_structs()
+
+
+def test_the_devices_open_their_topics_and_services() -> None:
+    _, node = build()
+    assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
+                                    "chassis/io", "chassis/state"}
+    assert set(node.services) == {"chassis/set_io"} and node.listening == {}
+    assert node.broadcasters == 1  # odom -> base_link
+    [laser] = node.static
+    assert (laser.header.frame_id, laser.child_frame_id) == ("base_link", "laser")
+    [io] = node.publishers["chassis/io"].sent  # latched, at start
+    assert isinstance(io, IoState) and io.outputs == [0, 0, 0]
+    _, alone = build({"publish_tf": False, "world_topic": "/sim/world"})
+    assert alone.broadcasters == 0
+    assert "/sim/world" in alone.publishers and "/sim/world" in alone.listening
+
+
+def test_a_device_service_answers_and_publishes() -> None:
+    chassis, node = build({"io_extension_board": False})
+    res = node.services["chassis/set_io"](SetIoRequest(board="main", port=2, level=1))
+    assert res.success and res.state.outputs == [0, 1, 0]
+    assert node.publishers["chassis/io"].sent[-1].outputs == [0, 1, 0]
+    refused = node.services["chassis/set_io"](SetIoRequest(board="ext", port=0, level=1))
+    assert not refused.success and "no extension IO board" in refused.message
+    io = chassis.device(IoDevice)
+    assert io is not None and io.io.snapshot() == ([0, 1, 0], [], [])
+
+
+def test_each_device_publishes_at_its_rate() -> None:
+    chassis, node = build({"rate": 50.0, "scan_rate": 10.0})
+    schedule = Schedule(chassis.devices, 50.0)
+    for step in range(1, 101):  # two sim seconds
+        chassis.step(0.02)
+        schedule.publish(step, STAMP)
+    counts = {t: len(p.sent) for t, p in node.publishers.items()}
+    # chassis/state: 5 Hz, and once at the first step (its flags were never sent)
+    assert counts == {"odom": 100, "sim/ground_truth": 100, "scan": 20, "battery_state": 2,
+                      "chassis/state": 11, "chassis/io": 1}
+
+
+def test_a_change_publishes_off_the_schedule() -> None:
+    chassis, node = build()
+    schedule = Schedule(chassis.devices, chassis.step_rate)
+    state = chassis.device(StateDevice)
+    assert state is not None and schedule.every(state) == 10
+    sent = node.publishers["chassis/state"].sent
+    schedule.publish(10, STAMP)  # due
+    assert len(sent) == 1 and not sent[-1].estop
+    schedule.publish(11, STAMP)  # not due, nothing changed
+    assert len(sent) == 1
+    chassis.sim.drive.set_estop(True)
+    schedule.publish(12, STAMP)  # not due, but the e-stop changed
+    assert len(sent) == 2 and isinstance(sent[-1], ChassisState) and sent[-1].estop
+
+
+def test_the_documented_new_device_is_one_module_and_one_registry_line(
+        monkeypatch: pytest.MonkeyPatch, doc_module: Callable[[str, str], Any]) -> None:
+    """The lift of docs/chassis.md's "Adding a device", as written there."""
+    lift_device = doc_module("chassis.md", "# services/chassis/devices/lift.py").LiftDevice
+    monkeypatch.setattr(config, "DEVICES", (*DEVICES, lift_device))
+    chassis, node = build({"lift_speed": 0.02})
+    lift = chassis.device(lift_device)
+    assert lift is not None and lift.params.lift_speed == 0.02
+    assert node.services["lift/move"](SetBoolRequest(data=True)).success
+    schedule = Schedule(chassis.devices, 50.0)
+    assert schedule.every(lift) == 10
+    for step in range(1, 51):  # one sim second at 0.02 m/s
+        chassis.step(0.02)
+        schedule.publish(step, STAMP)
+    heights = [m.data for m in node.publishers["lift/height"].sent]
+    assert len(heights) == 5 and heights[-1] == pytest.approx(0.02)
+    assert heights == sorted(heights)
+
+
+def test_a_device_without_parameters_or_publishing_is_inert() -> None:
+    chassis, _ = build()
+    device: Device[NoParameters] = Device(NoParameters(), chassis)
+    device.open(StandInNode())
+    device.step(0.02)
+    device.publish(STAMP)
+    assert Schedule([device], 50.0).every(device) == 0 and not device.changed()
