@@ -27,6 +27,7 @@ from ..log import Throttle
 from ..message import ActionType, F, G, R, normalize_type_name
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
+from ..reach import REACH_GRACE, Reach
 from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
 from .host import ActionHost
@@ -69,16 +70,21 @@ class ActionClient(Generic[G, R, F]):
             the goal is reported LOST. A session whose link dropped (a lease that ran out on
             a starved box, a pulled cable) comes back with its goals still running; a server
             back within this time is asked for the result again.
+        reach_grace: seconds a goal or cancel request no server answered is sent again
+            while the graph lists a server (`zenros.reach`; the CLI waits its
+            ``--server-timeout``).
     """
 
     def __init__(self, node: ActionHost, action_type: ActionType[G, R, F], name: str, *,
                  send_timeout: float = 10.0, result_timeout: float = 60.0,
-                 lost_timeout: float = LOST_TIMEOUT) -> None:
+                 lost_timeout: float = LOST_TIMEOUT,
+                 reach_grace: float = REACH_GRACE) -> None:
         self.action_type = action_type
         self.name = node.resolve_name(name, "action")
         self.send_timeout = send_timeout
         self.result_timeout = result_timeout
         self.lost_timeout = lost_timeout
+        self.reach_grace = reach_grace
         self.logger = node.logger
         self._ctx = ctx = node.context
         self._wire = wire = wire_types(action_type)
@@ -136,40 +142,47 @@ class ActionClient(Generic[G, R, F]):
         gid, data = self._encode_goal(goal)
         wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
         h = None if feedback_callback is None else self._register(gid, goal, feedback_callback)
-        replies = self._ctx.session.get(
-            self._send_key, payload=data, encoding=self._enc["send_goal"],
-            target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
-            timeout=wait, attachment=RESULT_ON_GOAL,
-            allowed_destination=self._ctx.destination(self._keys["send_goal"]))
-        first: zenoh.Reply | None = None  # the acceptance (or the refusal)
-        for reply in replies:
-            ok = reply.ok
-            if ok is not None and ok.encoding == self._result_enc:
-                # the server held the query (it accepted the goal): the acceptance came first,
-                # or rides on this result (a goal that ended before it was sent)
-                stamp = None if first is not None else accepted_stamp(ok)
-                if h is None and (first is not None or stamp is not None):
-                    done = self._quick_result(gid, ok)
-                    if done is not None:
-                        return done
-                if h is None:  # replay the acceptance to a handle made now
-                    h = self._register(gid, goal, None)
-                    if first is not None:
-                        self._on_send_reply(h, first, wait)
-                if stamp is not None:
-                    self._accept(h, stamp, reply)
-                self._on_result_reply(h, reply, False)
-                break
-            if first is None:
-                first = reply
-                if h is not None:
-                    self._on_send_reply(h, reply, wait)
-        else:  # the query ended without the result
-            if h is None or first is None:  # the answer (if any) is not yet on a handle
-                h = h or self._register(gid, goal, None)
-                self._on_send_reply(h, first, wait)
-            if h.accepted and not h.done:
-                self._request_result(h)  # a long goal: ask for its result
+        reach = Reach(self.server_is_ready, wait, self.reach_grace)
+        while True:  # again while no server answered but the graph lists one
+            replies = self._ctx.session.get(
+                self._send_key, payload=data, encoding=self._enc["send_goal"],
+                target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
+                timeout=reach.left(), attachment=RESULT_ON_GOAL,
+                allowed_destination=self._ctx.destination(self._keys["send_goal"]))
+            first: zenoh.Reply | None = None  # the acceptance (or the refusal)
+            for reply in replies:
+                ok = reply.ok
+                if ok is not None and ok.encoding == self._result_enc:
+                    # the server held the query (it accepted the goal): the acceptance came first,
+                    # or rides on this result (a goal that ended before it was sent)
+                    stamp = None if first is not None else accepted_stamp(ok)
+                    if h is None and (first is not None or stamp is not None):
+                        done = self._quick_result(gid, ok)
+                        if done is not None:
+                            return done
+                    if h is None:  # replay the acceptance to a handle made now
+                        h = self._register(gid, goal, None)
+                        if first is not None:
+                            self._on_send_reply(h, first, wait)
+                    if stamp is not None:
+                        self._accept(h, stamp, reply)
+                    self._on_result_reply(h, reply, False)
+                    break
+                if first is None:
+                    first = reply
+                    if h is not None:
+                        self._on_send_reply(h, reply, wait)
+            else:  # the query ended without the result
+                pause = None if first is not None else reach.again()
+                if pause is not None:  # no answer at all, but the graph lists a server
+                    time.sleep(pause)
+                    continue
+                if h is None or first is None:  # the answer (if any) is not yet on a handle
+                    h = h or self._register(gid, goal, None)
+                    self._on_send_reply(h, first, wait)
+                if h.accepted and not h.done:
+                    self._request_result(h)  # a long goal: ask for its result
+            break
         if timeout is None:
             return h.result()
         try:
@@ -236,7 +249,14 @@ class ActionClient(Generic[G, R, F]):
     def _send(self, h: ClientGoalHandle, data: bytes) -> None:
         """One query for the goal and its result: the server replies the acceptance at once
         and (asked by the attachment) the result when the goal ends. A goal still running
-        when the query times out (``send_timeout``) gets its result by get_result requests."""
+        when the query times out (``send_timeout``) gets its result by get_result requests.
+        A query no server answered is sent again while the graph lists one (`Reach`)."""
+        reach = Reach(self.server_is_ready, self.send_timeout, self.reach_grace)
+        self._send_once(h, data, reach)
+
+    def _send_once(self, h: ClientGoalHandle, data: bytes, reach: Reach) -> None:
+        if h.done:  # closed meanwhile
+            return
         state = {"answered": False, "result": False}
 
         def on_reply(reply: zenoh.Reply) -> None:
@@ -256,13 +276,17 @@ class ActionClient(Generic[G, R, F]):
 
         def on_final() -> None:
             if not state["answered"]:
+                pause = None if self.closed else reach.again()
+                if pause is not None:  # not from here: a Zenoh thread must not query
+                    self._later(pause, self._send_once, h, data, reach)
+                    return
                 state["answered"] = True
                 self._on_send_reply(h, None)
             elif not state["result"] and h.accepted and not h.done:
                 self._request_result_soon(h)
 
         query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
-                      self.send_timeout, on_reply, on_final, RESULT_ON_GOAL,
+                      reach.left(), on_reply, on_final, RESULT_ON_GOAL,
                       self._ctx.destination(self._keys["send_goal"]))
 
     def _forget(self, handle: ClientGoalHandle) -> None:
@@ -494,7 +518,8 @@ class ActionClient(Generic[G, R, F]):
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
         key = self._keys["cancel_goal"]
         return request_cancel(self._ctx.session, key, self.name, goal_id, stamp, timeout,
-                              self._ctx.destination(key))
+                              self._ctx.destination(key), Reach(self.server_is_ready, timeout,
+                                                                self.reach_grace))
 
     # ------------------------------------------------------------------ lifecycle
 
