@@ -323,11 +323,18 @@ def test_a_node_launched_after_master_waits_for_its_services_before_reading(
     assert "parameter server unreachable" not in caplog.text
 
 
-def _attached_planner(make_node: Any, master: MasterNode) -> Node:
-    node = make_node("planner", 1)
+def _master_gone(make_node: Any, ctx: Context, data: Path, monkeypatch: pytest.MonkeyPatch,
+                 grace: float) -> Node:
+    """A planner whose parameters follow a master, then that master closed (with the grace
+    ``grace``): returns once the planner's graph lists no master."""
+    monkeypatch.setattr(param_backend, "MASTER_GONE_GRACE", grace)
+    master = start_master(ctx, data)
+    node: Node = make_node("planner", 1)
     assert node.graph.wait_for_service(SET_PARAM, 10)
     attach_parameter_backend(node)
     node.declare_parameter("speed", 1.0)
+    master.close()
+    assert node.graph.wait_for(lambda: not node.graph.servers(SET_PARAM), 10)
     return node
 
 
@@ -339,16 +346,11 @@ def test_master_gone_and_back_within_the_grace_is_not_reported(
     # and "reachable again" a moment later while master never exited: master's tokens left
     # the graph and came back (a link made again). Here master's tokens go and come back (a
     # master restarted on the same session) well within the grace.
-    monkeypatch.setattr(param_backend, "MASTER_GONE_GRACE", 30.0)
-    master = start_master(ctx_pair[0], tmp_path)
-    node = _attached_planner(make_node, master)
-    graph = node.graph
     with caplog.at_level(logging.INFO, logger="zenros"):
-        master.close()
-        assert graph.wait_for(lambda: not graph.servers(SET_PARAM), 10)
+        node = _master_gone(make_node, ctx_pair[0], tmp_path, monkeypatch, 30.0)
         master = start_master(ctx_pair[0], tmp_path)
         try:
-            assert graph.wait_for_service(SET_PARAM, 10)
+            assert node.graph.wait_for_service(SET_PARAM, 10)
             ParameterClient(ctx_pair[1]).set("/planner/speed", 4.0)
             assert wait_for(lambda: node.get_parameter("speed") == 4.0, 10)
         finally:
@@ -361,11 +363,7 @@ def test_master_gone_for_good_is_reported_after_the_grace(
     ctx_pair: list[Context], make_node: Any, tmp_path: Path, caplog: pytest.LogCaptureFixture,
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    monkeypatch.setattr(param_backend, "MASTER_GONE_GRACE", 0.5)
-    master = start_master(ctx_pair[0], tmp_path)
-    node = _attached_planner(make_node, master)
     with caplog.at_level(logging.WARNING, logger="zenros"):
-        master.close()
-        assert node.graph.wait_for(lambda: not node.graph.servers(SET_PARAM), 10)
+        _master_gone(make_node, ctx_pair[0], tmp_path, monkeypatch, 0.5)
         assert wait_for(lambda: "parameter server unreachable (master left the graph 0.5 s ago)"
                         in caplog.text, 10), caplog.text
