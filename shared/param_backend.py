@@ -19,8 +19,8 @@ if TYPE_CHECKING:
     from .param_client import ParamEvent
     from .params import Parameters
 
-__all__ = ["MASTER_IN_LAUNCH", "MASTER_JOIN_WAIT", "MasterBackend", "ParameterOwner",
-           "attach_parameter_backend"]
+__all__ = ["MASTER_GONE_GRACE", "MASTER_IN_LAUNCH", "MASTER_JOIN_WAIT", "MasterBackend",
+           "ParameterOwner", "attach_parameter_backend"]
 
 _UNREACHABLE = (ServiceUnavailableError, ZenrosTimeout)
 
@@ -29,6 +29,11 @@ MASTER_IN_LAUNCH = "ZENROS_MASTER_IN_LAUNCH"
 waited for it), and the node's fresh session only has to learn its services."""
 MASTER_JOIN_WAIT = 3.0
 """How long such a node waits for master's services before its first parameter read."""
+MASTER_GONE_GRACE = 3.0
+"""Seconds master's services may be gone from the graph before a node reports master gone: a
+link that dropped and was made again (a lease that ran out on a starved box) takes master's
+tokens away and back within a second, and a healthy system must not report its master gone
+(as an action client waits `zenros.action.client.LOST_TIMEOUT` for its goal's server)."""
 
 
 class ParameterOwner(Owner, Protocol):
@@ -47,7 +52,8 @@ class MasterBackend:
 
     With master unreachable, `fetch` reports nothing stored (so declared defaults and
     overrides apply), `store` keeps the value to push later, and one warning is logged per
-    outage. When a master's services appear in the graph, `resync` runs on a thread of its
+    outage: when an operation finds no master, or when master's services stay out of the
+    graph for `MASTER_GONE_GRACE` seconds (a blip shorter than that is no outage). When a master's services appear in the graph, `resync` runs on a thread of its
     own: pending writes are pushed, every other declared parameter is fetched again.
     """
 
@@ -57,6 +63,7 @@ class MasterBackend:
         self._lock = threading.Lock()
         self._pending: dict[str, Any] = {}
         self._down = False
+        self._gone: threading.Timer | None = None  # master's tokens left: report after a grace
         self.closed = False
         self._sub = client.subscribe(node.fqn, self._on_event)
         graph = node.graph
@@ -164,10 +171,23 @@ class MasterBackend:
             else:
                 self._masters.discard((tok.zid, tok.eid))
             has = bool(self._masters)
+            if has and self._gone is not None:  # back within the grace: not reported gone
+                self._gone.cancel()
+                self._gone = None
+            elif had and not has:
+                self._gone = threading.Timer(MASTER_GONE_GRACE, self._confirm_gone)
+                self._gone.daemon = True
+                self._gone.start()
         if has and not had:
             self._spawn(self.resync)
-        elif had and not has:
-            self._mark_down("master left the graph")
+
+    def _confirm_gone(self) -> None:
+        """`MASTER_GONE_GRACE` s after master's services left the graph: still gone?"""
+        with self._lock:
+            gone = not self._masters and not self.closed
+            self._gone = None
+        if gone:
+            self._mark_down(f"master left the graph {MASTER_GONE_GRACE:g} s ago")
 
     def _mark_down(self, why: object) -> None:
         with self._lock:
@@ -206,6 +226,9 @@ class MasterBackend:
         if self.closed:
             return
         self.closed = True
+        with self._lock:
+            if self._gone is not None:
+                self._gone.cancel()
         self._sub.close()
         if self._node.parameters.backend is self:
             self._node.parameters.backend = None

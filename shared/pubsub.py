@@ -23,6 +23,7 @@ from .keytag import key_tag, misrouted
 from .log import ErrorLog, Throttle
 from .message import Message
 from .qos import QoSProfile, Reliability
+from .receivers import receiver_for
 
 if TYPE_CHECKING:
     from typing_extensions import TypeIs
@@ -311,78 +312,30 @@ class Subscription(Generic[M]):
         if gate is not None and not gate.is_open:
             self._dispatch = Held(gate, self._dispatch, qos.depth)
             self._direct = None
-        self._sub: Any
-        self._taker: threading.Thread | None = None  # the thread `_take` runs on
-        self._take = self._sample_path()
-        if qos.latched:
-            self._sub = zext.declare_advanced_subscriber(
-                ctx.session, self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE,
-                history=zext.HistoryConfig(detect_late_publishers=True, max_samples=qos.depth),
-                recovery=zext.RecoveryConfig(heartbeat=True, periodic_queries=None),
-                subscriber_detection=True,
-            )
-        elif self._codec.bulk:
-            # Large samples (maps, scans) sit in Zenoh's shared-memory pool until handled: the
-            # per-sample callback releases each one at once, where a queue would hold the pool
-            # (measured: 1 MiB 0.94-1.05x raw this way, 0.79-1.0x through a channel).
-            self._sub = ctx.session.declare_subscriber(
-                self.key, self._on_sample, allowed_origin=zenoh.Locality.REMOTE
-            )
-        elif qos.reliability == Reliability.RELIABLE:
-            # Zenoh queues samples in a channel without taking the GIL (its default FIFO,
-            # pushing back when full: nothing dropped), and one thread of zenoh-python's
-            # drains it (an indirect callback; measured faster than a per-sample callback on
-            # Zenoh's thread). That thread waits without waking: one that reads a channel
-            # itself wakes ten times a second to check for signals (docs/fleet.md).
-            self._drained = threading.Event()  # the callback's thread has ended
-            self._sub = ctx.session.declare_subscriber(
-                self.key, zenoh.handlers.Callback(self._take, self._drained.set),
-                allowed_origin=zenoh.Locality.REMOTE,
-            )
-        else:
-            # Best effort: keep the last `depth` in a ring, drained by a thread of ours.
-            self._sub = ctx.session.declare_subscriber(
-                self.key, zenoh.handlers.RingChannel(qos.depth),
-                allowed_origin=zenoh.Locality.REMOTE
-            )
-            # Taken here, not in the thread: reading `.handler` while `close()` undeclares
-            # the subscriber on another thread raises pyo3's "Already mutably borrowed".
-            self._channel = self._sub.handler
-            self._pump_thread = threading.Thread(
-                target=self._pump, name=f"zenros-sub:{topic}", daemon=True
-            )
-            self._pump_thread.start()
-        # Latched history, including that of publishers in this very session, comes from
-        # the advanced subscriber's history query; live in-process samples from the bus.
-        # Joined before the token is declared: once the graph shows this subscription, an
-        # in-process publisher reaches it.
+        self._receiver = receiver_for(ctx.session, self.key, qos, self._codec.bulk,
+                                      self._on_sample, self._sample_path,
+                                      f"zenros-sub:{topic}")
+        # Live in-process samples come from the context's bus, joined before the token is
+        # declared: once the graph shows this subscription, an in-process publisher reaches it.
         ctx.add_local(topic, "subs", self)
         self._token = entity_token(ctx, "sub", node, topic, self._codec.type_name, qos)
         self.closed = False
 
-    def _pump(self) -> None:
-        """Drain the ring channel (best effort)."""
-        take = self._take
-        try:
-            for sample in self._channel:  # ends when the subscriber is undeclared
-                take(sample)
-        except zenoh.ZError:  # the channel closed under us at shutdown
-            return
-
-    def _sample_path(self) -> Callable[[zenoh.Sample], None]:
-        """The per-sample path, on the thread that drains Zenoh's queue: decode, hand to the
-        callback (called right there when it needs no executor). What it reads is bound as
-        locals: the hot path of a subscription."""
+    def _sample_path(self, first: Callable[[threading.Thread], None]
+                     ) -> Callable[[zenoh.Sample], None]:
+        """The per-sample path of a queue-drained receiver, on the thread that drains Zenoh's
+        queue (``first(thread)`` on its first sample): decode, hand to the callback (called
+        right there when it needs no executor). What it reads is bound as locals: the hot
+        path of a subscription."""
         encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
         direct, info, tag = self._direct, self._info, self._tag
         named = False
 
         def take(sample: zenoh.Sample) -> None:
             nonlocal named
-            if not named:  # the thread that drains this subscription, named after it
+            if not named:
                 named = True
-                self._taker = threading.current_thread()
-                self._taker.name = f"zenros-sub:{self.topic}"
+                first(threading.current_thread())
             try:
                 if misrouted(sample.attachment, tag):
                     self._misrouted(sample)
@@ -497,10 +450,4 @@ class Subscription(Generic[M]):
         self.closed = True
         self._ctx.remove_local(self.topic, "subs", self)
         self._token.undeclare()  # type: ignore[no-untyped-call]
-        self._sub.undeclare()
-        pump = getattr(self, "_pump_thread", None)
-        if pump is not None and pump is not threading.current_thread():
-            pump.join(2.0)
-        drained = getattr(self, "_drained", None)
-        if drained is not None and self._taker is not threading.current_thread():
-            drained.wait(2.0)  # a sample being handled finishes first
+        self._receiver.close()  # a sample being handled finishes first

@@ -9,7 +9,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any
 
 import zenoh
 
@@ -29,11 +29,13 @@ from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .log import ErrorLog
 from .message import Message, ServiceType, normalize_type_name
+from .reach import REACH_GRACE, ask_while_listed, ask_while_listed_async
 
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["Client", "Service", "error_payload", "wildcard_refusal"]
+__all__ = ["REACH_GRACE", "Client", "Service", "ask_while_listed", "error_payload",
+           "wildcard_refusal"]
 
 QUERY_QUEUE = 256  # queries a service buffers before Zenoh pushes back (its default channel)
 
@@ -262,33 +264,6 @@ class Service:
             self._served.wait(2.0)  # a query being served finishes first
 
 
-REACH_GRACE = 1.0
-"""Seconds a service call asks again when no reply came but the graph lists a server
-(`Client.call`): the first query of a fresh session can find no route to it yet."""
-
-R = TypeVar("R")
-
-
-def ask_while_listed(ask: Callable[[float], R | None], listed: Callable[[], bool],
-                     timeout: float, grace: float) -> R | None:
-    """``ask(seconds_left)`` until it answers (not None); again, after a short pause, while
-    ``listed()`` (the graph shows a server) and less than ``grace`` s (and 90 % of
-    ``timeout``) have passed: a session sees a server's token a moment before it has a
-    route to the server's queryable, and its first query then ends at once. None if
-    nothing answered."""
-    start = time.monotonic()
-    pause = 0.02
-    while True:
-        answer = ask(max(0.01, timeout - (time.monotonic() - start)))
-        if answer is not None:
-            return answer
-        elapsed = time.monotonic() - start
-        if elapsed + pause >= min(grace, timeout * 0.9) or not listed():
-            return None
-        time.sleep(pause)
-        pause = min(pause * 2, 0.2)
-
-
 class Client:
     """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
 
@@ -334,7 +309,8 @@ class Client:
         """Call the service and return its response.
 
         A query that ends with no reply while the graph lists a server is sent again, for
-        ``grace`` s at most (`ask_while_listed`).
+        ``grace`` s at most (`zenros.reach`: a session can list a server a moment before a
+        query can reach it).
 
         Raises:
             ServiceError: the handler failed or rejected the request (carries the reason).
@@ -362,42 +338,39 @@ class Client:
             raise ServiceUnavailableError(f"no server for service {self.name}")
         raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
 
-    async def call_async(self, request: Message, timeout: float = 5.0) -> Any:
-        """Awaitable `call`; the reply is delivered to the awaiting loop."""
+    async def call_async(self, request: Message, timeout: float = 5.0,
+                         grace: float = REACH_GRACE) -> Any:
+        """Awaitable `call` (the same asking again, `zenros.reach`); the reply is delivered to
+        the awaiting loop."""
         data = self._encode(request)
         loop = asyncio.get_running_loop()
-        fut: asyncio.Future[Any] = loop.create_future()
         start = time.monotonic()
-        got: list[zenoh.Reply] = []
 
-        def on_reply(reply: zenoh.Reply) -> None:
-            if not got:
-                got.append(reply)
+        async def ask(left: float) -> zenoh.Reply | None:
+            fut: asyncio.Future[zenoh.Reply | None] = loop.create_future()
 
-        def on_done() -> None:
-            loop.call_soon_threadsafe(_settle)
+            def settle(reply: zenoh.Reply | None) -> None:
+                if not fut.done():
+                    fut.set_result(reply)
 
-        def _settle() -> None:
-            if fut.done():
-                return
-            if not got:
-                try:
-                    self._no_reply(timeout, time.monotonic() - start)
-                except Exception as exc:  # noqa: BLE001 (delivered to the awaiting caller)
-                    fut.set_exception(exc)
-                return
-            try:
-                fut.set_result(self._result(got[0], timeout))
-            except Exception as exc:  # noqa: BLE001 (delivered to the awaiting caller)
-                fut.set_exception(exc)
+            def on_reply(reply: zenoh.Reply) -> None:
+                loop.call_soon_threadsafe(settle, reply)
 
-        self._ctx.session.get(
-            self.key, zenoh.handlers.Callback(on_reply, on_done), payload=data,
-            encoding=self._req_encoding, timeout=timeout,
-            target=zenoh.QueryTarget.BEST_MATCHING,
-            allowed_destination=self._ctx.destination(self.key),
-        )
-        return await fut
+            def on_done() -> None:
+                loop.call_soon_threadsafe(settle, None)
+
+            self._ctx.session.get(
+                self.key, zenoh.handlers.Callback(on_reply, on_done), payload=data,
+                encoding=self._req_encoding, timeout=left,
+                target=zenoh.QueryTarget.BEST_MATCHING,
+                allowed_destination=self._ctx.destination(self.key),
+            )
+            return await fut
+
+        reply = await ask_while_listed_async(ask, self.service_is_ready, timeout, grace)
+        if reply is None:
+            return self._no_reply(timeout, time.monotonic() - start)
+        return self._result(reply, timeout)
 
     def service_is_ready(self) -> bool:
         return bool(self._ctx.graph.servers(self.name))

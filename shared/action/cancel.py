@@ -10,6 +10,7 @@ import zenoh
 from ..codec import codec_for
 from ..errors import ActionError, ActionServerUnavailableError, ZenrosTimeout
 from ..msgs.builtin_interfaces import Time
+from ..reach import Reach
 from .transport import encoding_for, parse_error, query_once
 from .types import CancelGoalRequest, CancelGoalResponse, GoalInfo, uuid_from_msg, uuid_msg
 
@@ -22,7 +23,8 @@ _ENC = encoding_for(CancelGoalRequest)
 
 def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.UUID,
                    stamp: Time, timeout: float,
-                   destination: zenoh.Locality = zenoh.Locality.ANY) -> list[uuid.UUID]:
+                   destination: zenoh.Locality = zenoh.Locality.ANY,
+                   reach: Reach | None = None) -> list[uuid.UUID]:
     """Send one ``action_msgs/CancelGoal`` request (ROS 2 semantics: a zero ``goal_id`` names
     every goal, a non-zero ``stamp`` adds every goal accepted at or before it) and return the
     goals now canceling. Blocks; call it from your own thread, not a Zenoh callback.
@@ -33,26 +35,32 @@ def request_cancel(session: zenoh.Session, key: str, action: str, goal_id: uuid.
         ActionError: the server refused the request.
     """
     req = CancelGoalRequest(goal_info=GoalInfo(goal_id=uuid_msg(goal_id), stamp=stamp))
-    res = send_cancel(session, key, action, req, timeout, destination)
+    res = send_cancel(session, key, action, req, timeout, destination, reach)
     return [uuid_from_msg(g.goal_id) for g in res.goals_canceling]
 
 
 def send_cancel(session: zenoh.Session, key: str, action: str, req: CancelGoalRequest,
-                timeout: float, destination: zenoh.Locality = zenoh.Locality.ANY
-                ) -> CancelGoalResponse:
+                timeout: float, destination: zenoh.Locality = zenoh.Locality.ANY,
+                reach: Reach | None = None) -> CancelGoalResponse:
     """Send ``req`` to the action's cancel service and return the server's whole answer
-    (``return_code`` and ``goals_canceling``); raises as `request_cancel`."""
-    done = threading.Event()
-    replies: list[zenoh.Reply | None] = []
+    (``return_code`` and ``goals_canceling``); raises as `request_cancel`. With ``reach``,
+    a request no server answered is sent again while the graph lists one."""
+    data = _REQ.encode(req)
 
-    def on_reply(reply: zenoh.Reply | None) -> None:
-        replies.append(reply)
-        done.set()
+    def ask(left: float) -> zenoh.Reply | None:
+        done = threading.Event()
+        replies: list[zenoh.Reply | None] = []
 
-    query_once(session, key, _REQ.encode(req), _ENC, timeout, on_reply, destination)
-    if not done.wait(timeout + 1.0):
-        raise ZenrosTimeout(f"action {action} did not answer cancel within {timeout:g} s")
-    reply = replies[0]
+        def on_reply(reply: zenoh.Reply | None) -> None:
+            replies.append(reply)
+            done.set()
+
+        query_once(session, key, data, _ENC, left, on_reply, destination)
+        if not done.wait(left + 1.0):
+            raise ZenrosTimeout(f"action {action} did not answer cancel within {timeout:g} s")
+        return replies[0]
+
+    reply = ask(timeout) if reach is None else reach.ask(ask)
     if reply is None:
         raise ActionServerUnavailableError(f"no action server answered cancel on {action}")
     if reply.ok is None:

@@ -27,6 +27,7 @@ from ..log import Throttle
 from ..message import ActionType, F, G, R, normalize_type_name
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
+from ..reach import REACH_GRACE, Reach
 from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
 from .host import ActionHost
@@ -69,16 +70,21 @@ class ActionClient(Generic[G, R, F]):
             the goal is reported LOST. A session whose link dropped (a lease that ran out on
             a starved box, a pulled cable) comes back with its goals still running; a server
             back within this time is asked for the result again.
+        reach_grace: seconds a goal or cancel request no server answered is sent again
+            while the graph lists a server (`zenros.reach`; the CLI waits its
+            ``--server-timeout``).
     """
 
     def __init__(self, node: ActionHost, action_type: ActionType[G, R, F], name: str, *,
                  send_timeout: float = 10.0, result_timeout: float = 60.0,
-                 lost_timeout: float = LOST_TIMEOUT) -> None:
+                 lost_timeout: float = LOST_TIMEOUT,
+                 reach_grace: float = REACH_GRACE) -> None:
         self.action_type = action_type
         self.name = node.resolve_name(name, "action")
         self.send_timeout = send_timeout
         self.result_timeout = result_timeout
         self.lost_timeout = lost_timeout
+        self.reach_grace = reach_grace
         self.logger = node.logger
         self._ctx = ctx = node.context
         self._wire = wire = wire_types(action_type)
@@ -94,6 +100,7 @@ class ActionClient(Generic[G, R, F]):
         self._send_key = zenoh.KeyExpr(self._keys["send_goal"])  # parsed once, not per goal
         self._lock = threading.Lock()
         self._handles: dict[bytes, ClientGoalHandle[G, R]] = {}
+        self._absent_since: dict[bytes, float] = {}  # goals whose server was missed: since when
         self._throttle = Throttle(5.0)
         self._status_lock = threading.Lock()
         self._status_raw: bytes | None = None
@@ -104,8 +111,14 @@ class ActionClient(Generic[G, R, F]):
             self._keys["feedback"], zenoh.handlers.Callback(self._on_feedback, indirect=False))
         self._status_sub: Any = status_subscriber(s, self._keys["status"], self._on_status)
         self._graph = ctx.graph
-        ref = weakref.ref(self)
-        self._unlisten = self._graph.add_listener(lambda ev, tok: _forward(ref, ev, tok))
+        on_graph = weakref.WeakMethod(self._on_graph)  # the graph does not keep the client
+
+        def forward(event: str, tok: Token) -> None:
+            method = on_graph()
+            if method is not None:
+                method(event, tok)
+
+        self._unlisten = self._graph.add_listener(forward)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "actc", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
         node.add_waitable(self)
@@ -136,40 +149,47 @@ class ActionClient(Generic[G, R, F]):
         gid, data = self._encode_goal(goal)
         wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
         h = None if feedback_callback is None else self._register(gid, goal, feedback_callback)
-        replies = self._ctx.session.get(
-            self._send_key, payload=data, encoding=self._enc["send_goal"],
-            target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
-            timeout=wait, attachment=RESULT_ON_GOAL,
-            allowed_destination=self._ctx.destination(self._keys["send_goal"]))
-        first: zenoh.Reply | None = None  # the acceptance (or the refusal)
-        for reply in replies:
-            ok = reply.ok
-            if ok is not None and ok.encoding == self._result_enc:
-                # the server held the query (it accepted the goal): the acceptance came first,
-                # or rides on this result (a goal that ended before it was sent)
-                stamp = None if first is not None else accepted_stamp(ok)
-                if h is None and (first is not None or stamp is not None):
-                    done = self._quick_result(gid, ok)
-                    if done is not None:
-                        return done
-                if h is None:  # replay the acceptance to a handle made now
-                    h = self._register(gid, goal, None)
-                    if first is not None:
-                        self._on_send_reply(h, first, wait)
-                if stamp is not None:
-                    self._accept(h, stamp, reply)
-                self._on_result_reply(h, reply, False)
-                break
-            if first is None:
-                first = reply
-                if h is not None:
-                    self._on_send_reply(h, reply, wait)
-        else:  # the query ended without the result
-            if h is None or first is None:  # the answer (if any) is not yet on a handle
-                h = h or self._register(gid, goal, None)
-                self._on_send_reply(h, first, wait)
-            if h.accepted and not h.done:
-                self._request_result(h)  # a long goal: ask for its result
+        reach = Reach(self.server_is_ready, wait, self.reach_grace)
+        while True:  # again while no server answered but the graph lists one
+            replies = self._ctx.session.get(
+                self._send_key, payload=data, encoding=self._enc["send_goal"],
+                target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
+                timeout=reach.left(), attachment=RESULT_ON_GOAL,
+                allowed_destination=self._ctx.destination(self._keys["send_goal"]))
+            first: zenoh.Reply | None = None  # the acceptance (or the refusal)
+            for reply in replies:
+                ok = reply.ok
+                if ok is not None and ok.encoding == self._result_enc:
+                    # the server held the query (it accepted the goal): the acceptance came first,
+                    # or rides on this result (a goal that ended before it was sent)
+                    stamp = None if first is not None else accepted_stamp(ok)
+                    if h is None and (first is not None or stamp is not None):
+                        done = self._quick_result(gid, ok)
+                        if done is not None:
+                            return done
+                    if h is None:  # replay the acceptance to a handle made now
+                        h = self._register(gid, goal, None)
+                        if first is not None:
+                            self._on_send_reply(h, first, wait)
+                    if stamp is not None:
+                        self._accept(h, stamp, reply)
+                    self._on_result_reply(h, reply, False)
+                    break
+                if first is None:
+                    first = reply
+                    if h is not None:
+                        self._on_send_reply(h, reply, wait)
+            else:  # the query ended without the result
+                pause = None if first is not None else reach.again()
+                if pause is not None:  # no answer at all, but the graph lists a server
+                    time.sleep(pause)
+                    continue
+                if h is None or first is None:  # the answer (if any) is not yet on a handle
+                    h = h or self._register(gid, goal, None)
+                    self._on_send_reply(h, first, wait)
+                if h.accepted and not h.done:
+                    self._request_result(h)  # a long goal: ask for its result
+            break
         if timeout is None:
             return h.result()
         try:
@@ -178,7 +198,7 @@ class ActionClient(Generic[G, R, F]):
             if h.done:  # the goal failed with a timeout of its own (no answer)
                 raise
             raise ZenrosTimeout(f"goal {h.goal_id} on {self.name} did not end within "
-                                f"{timeout:g} s (status {h._status.name})") from None
+                                f"{timeout:g} s (status {h.status.name})") from None
 
     def _quick_result(self, gid: uuid.UUID, ok: zenoh.Sample) -> GoalResult[R] | None:
         """The result a held send_goal query carried, or None if it does not decode."""
@@ -229,14 +249,20 @@ class ActionClient(Generic[G, R, F]):
         handle: ClientGoalHandle[G, R] = ClientGoalHandle(self, gid, goal, dispatch,
                                                           self._ctx.executor, self._inbox)
         with self._lock:
-            self._handles[handle._key] = handle
-        handle._future.add_done_callback(lambda _f: self._forget(handle))
+            self._handles[handle.key] = handle
         return handle
 
     def _send(self, h: ClientGoalHandle, data: bytes) -> None:
         """One query for the goal and its result: the server replies the acceptance at once
         and (asked by the attachment) the result when the goal ends. A goal still running
-        when the query times out (``send_timeout``) gets its result by get_result requests."""
+        when the query times out (``send_timeout``) gets its result by get_result requests.
+        A query no server answered is sent again while the graph lists one (`Reach`)."""
+        reach = Reach(self.server_is_ready, self.send_timeout, self.reach_grace)
+        self._send_once(h, data, reach)
+
+    def _send_once(self, h: ClientGoalHandle, data: bytes, reach: Reach) -> None:
+        if h.done:  # closed meanwhile
+            return
         state = {"answered": False, "result": False}
 
         def on_reply(reply: zenoh.Reply) -> None:
@@ -256,18 +282,24 @@ class ActionClient(Generic[G, R, F]):
 
         def on_final() -> None:
             if not state["answered"]:
+                pause = None if self.closed else reach.again()
+                if pause is not None:  # not from here: a Zenoh thread must not query
+                    self._later(pause, self._send_once, h, data, reach)
+                    return
                 state["answered"] = True
                 self._on_send_reply(h, None)
             elif not state["result"] and h.accepted and not h.done:
                 self._request_result_soon(h)
 
         query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
-                      self.send_timeout, on_reply, on_final, RESULT_ON_GOAL,
+                      reach.left(), on_reply, on_final, RESULT_ON_GOAL,
                       self._ctx.destination(self._keys["send_goal"]))
 
-    def _forget(self, handle: ClientGoalHandle) -> None:
+    def forget(self, handle: ClientGoalHandle) -> None:
+        """A goal ended (its handle says so): stop following it."""
         with self._lock:
-            self._handles.pop(handle._key, None)
+            self._handles.pop(handle.key, None)
+            self._absent_since.pop(handle.key, None)
 
     def _get(self, part: str, payload: bytes, timeout: float,
              done: Callable[[zenoh.Reply | None], None]) -> None:
@@ -278,12 +310,12 @@ class ActionClient(Generic[G, R, F]):
     def _accept(self, h: ClientGoalHandle, stamp: Time, reply: zenoh.Reply) -> None:
         """The acceptance a result reply carried (its result follows at once)."""
         rid = reply.replier_id
-        h._set_accepted(True, stamp, "", str(rid.zid) if rid else "")
+        h.set_accepted(True, stamp, "", str(rid.zid) if rid else "")
 
     def _on_send_reply(self, h: ClientGoalHandle, reply: zenoh.Reply | None,
                        waited: float | None = None) -> None:
         if reply is None:
-            h._fail(None, ActionServerUnavailableError(
+            h.set_exception(None, ActionServerUnavailableError(
                 f"no action server answered goal {h.goal_id} on {self.name}"))
             return
         if reply.ok is None:
@@ -291,19 +323,19 @@ class ActionClient(Generic[G, R, F]):
             kind, message = parse_error(reply.err.payload.to_bytes())
             if kind == "Timeout":
                 waited = self.send_timeout if waited is None else waited
-                h._fail(None, ZenrosTimeout(f"action {self.name} did not answer goal {h.goal_id} "
-                                            f"within {waited:g} s"))
+                h.set_exception(None, ZenrosTimeout(
+                    f"action {self.name} did not answer goal {h.goal_id} within {waited:g} s"))
             else:
-                h._fail(GoalStatus.REJECTED, GoalRejectedError(
+                h.set_exception(GoalStatus.REJECTED, GoalRejectedError(
                     f"action {self.name} refused goal {h.goal_id}: {message}"), message)
             return
         try:
             res = self._sg_res.decode(reply.ok.payload.to_bytes())
         except CodecError as exc:
-            h._fail(None, ActionError(f"action {self.name}: bad send_goal response: {exc}"))
+            h.set_exception(None, ActionError(f"action {self.name}: bad send_goal response: {exc}"))
             return
         rid = reply.replier_id
-        if h._set_accepted(res.accepted, res.stamp, res.reason, str(rid.zid) if rid else ""):
+        if h.set_accepted(res.accepted, res.stamp, res.reason, str(rid.zid) if rid else ""):
             self._request_result_soon(h)
 
     # ------------------------------------------------------------------ results
@@ -332,28 +364,28 @@ class ActionClient(Generic[G, R, F]):
             try:
                 res = self._gr_res.decode(reply.ok.payload.to_bytes())
             except CodecError as exc:
-                h._fail(None, ActionError(f"action {self.name}: bad result for goal "
+                h.set_exception(None, ActionError(f"action {self.name}: bad result for goal "
                                           f"{h.goal_id}: {exc}"))
                 return
-            h._finish(_status(res.status), res.result)
+            h.set_result(_status(res.status), res.result)
             return
         kind, message = ("", "") if reply is None or reply.err is None else \
             parse_error(reply.err.payload.to_bytes())
         if kind == "GoalRejected":
-            h._fail(GoalStatus.REJECTED, GoalRejectedError(
+            h.set_exception(GoalStatus.REJECTED, GoalRejectedError(
                 f"action {self.name} rejected goal {h.goal_id}: {message}"), message)
         elif early and kind in ("UnknownGoal", ""):
             # The pipelined request overtook the goal: ask again once the goal is accepted.
-            if not h._defer_result_request():
+            if not h.defer_result_request():
                 self._request_result_soon(h)
         elif kind == "UnknownGoal":
-            h._finish(GoalStatus.LOST, self.action_type.Result(), message)
+            h.set_result(GoalStatus.LOST, self.action_type.Result(), message)
         elif kind == "Timeout":
             self._retry_or_lose(h)
         elif not kind:
             self._retry_or_lose(h, delay=0.1)
         else:
-            h._fail(None, ActionError(f"action {self.name}: result of goal {h.goal_id}: "
+            h.set_exception(None, ActionError(f"action {self.name}: result of goal {h.goal_id}: "
                                       f"{message}"))
 
     def _retry_or_lose(self, h: ClientGoalHandle, delay: float = 0.0) -> None:
@@ -366,25 +398,27 @@ class ActionClient(Generic[G, R, F]):
 
     def _server_alive(self, h: ClientGoalHandle) -> bool:
         servers = self._graph.action_servers(self.name)
-        return any(t.zid == h._server_zid for t in servers) if h._server_zid else bool(servers)
+        return any(t.zid == h.server_zid for t in servers) if h.server_zid else bool(servers)
 
     def _await_server(self, h: ClientGoalHandle) -> None:
         """The goal's server is not in the graph: look again every `ABSENT_POLL` seconds; ask
         for the result once it is back, report the goal LOST if it stays away for
         `lost_timeout` seconds. One look-out per goal at a time."""
         with self._lock:
-            if h._absent_since is not None:
+            if h.key in self._absent_since:
                 return
-            h._absent_since = time.monotonic()
+            self._absent_since[h.key] = time.monotonic()
         self._later(ABSENT_POLL, self._look_for_server, h)
 
     def _look_for_server(self, h: ClientGoalHandle) -> None:
         if h.done or self.closed:
             return
-        since = h._absent_since
-        assert since is not None
+        since = self._absent_since.get(h.key)
+        if since is None:  # ended meanwhile (forget)
+            return
         if self._server_alive(h):
-            h._absent_since = None
+            with self._lock:
+                self._absent_since.pop(h.key, None)
             self._request_result(h)
         elif time.monotonic() - since >= self.lost_timeout:
             self._lose(h)
@@ -398,7 +432,7 @@ class ActionClient(Generic[G, R, F]):
         ex.call_soon(ex.loop.call_later, delay, fn, *args)
 
     def _lose(self, h: ClientGoalHandle) -> None:
-        h._finish(GoalStatus.LOST, self.action_type.Result(),
+        h.set_result(GoalStatus.LOST, self.action_type.Result(),
                   f"action server {self.name} went away while goal {h.goal_id} was "
                   f"{h.status.name}")
 
@@ -406,7 +440,7 @@ class ActionClient(Generic[G, R, F]):
         """A server token went away: its goals wait for it to come back (`_await_server`). A
         killed or cut-off server is usually noticed sooner, by the result request it leaves
         unanswered."""
-        if event != "delete" or tok.kind != "act" or tok.name != self.name:
+        if self.closed or event != "delete" or tok.kind != "act" or tok.name != self.name:
             return
         with self._lock:
             handles = [h for h in self._handles.values() if h.accepted and not h.done]
@@ -433,8 +467,8 @@ class ActionClient(Generic[G, R, F]):
             self._bad_sample("feedback", exc, sample)
             return
         h = self._handles.get(bytes(msg.goal_id.uuid))
-        if h is not None and h._on_feedback is not None:
-            self._inbox.put(lambda: h._feedback(msg))
+        if h is not None and h.wants_feedback:
+            self._inbox.put(lambda: h.deliver_feedback(msg))
 
     def _on_status(self, sample: zenoh.Sample) -> None:
         if misrouted(sample.attachment, self._tags["status"]):
@@ -459,7 +493,7 @@ class ActionClient(Generic[G, R, F]):
             for st in arr.status_list:
                 h = self._handles.get(bytes(st.goal_info.goal_id.uuid))
                 if h is not None:
-                    h._advance(GoalStatus(st.status))
+                    h.advance(GoalStatus(st.status))
 
     def _bad_sample(self, part: str, exc: Exception | str,
                     sample: zenoh.Sample | None = None) -> None:
@@ -494,7 +528,8 @@ class ActionClient(Generic[G, R, F]):
     def _cancel(self, goal_id: uuid.UUID, stamp: Time, timeout: float) -> list[uuid.UUID]:
         key = self._keys["cancel_goal"]
         return request_cancel(self._ctx.session, key, self.name, goal_id, stamp, timeout,
-                              self._ctx.destination(key))
+                              self._ctx.destination(key), Reach(self.server_is_ready, timeout,
+                                                                self.reach_grace))
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -510,7 +545,7 @@ class ActionClient(Generic[G, R, F]):
         with self._lock:
             handles = list(self._handles.values())
         for h in handles:
-            h._fail(None, ActionError(f"action client {self.name} closed before goal "
+            h.set_exception(None, ActionError(f"action client {self.name} closed before goal "
                                       f"{h.goal_id} ended"))
         self._inbox.close()
 
@@ -524,9 +559,4 @@ def _status(value: int) -> GoalStatus:
     except ValueError:
         return GoalStatus.UNKNOWN
 
-
-def _forward(ref: weakref.ReferenceType[ActionClient], event: str, tok: Token) -> None:
-    client = ref()
-    if client is not None and not client.closed:
-        client._on_graph(event, tok)
 

@@ -35,6 +35,9 @@ class GoalClient(Protocol):
     def cancel_goal(self, goal_id: uuid.UUID, timeout: float = 5.0) -> list[uuid.UUID]:
         """Ask the server to cancel one goal; the goals now canceling."""
 
+    def forget(self, handle: ClientGoalHandle[Any, Any]) -> None:
+        """The goal ended: the client stops following it."""
+
 
 @dataclass(frozen=True)
 class GoalResult(Generic[R]):
@@ -74,10 +77,8 @@ class ClientGoalHandle(Generic[G, R]):
         self._cond = threading.Condition()
         self._future: concurrent.futures.Future[GoalResult[R]] = concurrent.futures.Future()
         self._on_feedback = on_feedback
-        # client bookkeeping
-        self._key = goal_id.bytes
+        self.key = goal_id.bytes  # the id as the client's table and the wire have it
         self._server_zid = ""
-        self._absent_since: float | None = None  # monotonic time the server was missed
         self._retry_result = False
         self._ended = False
 
@@ -138,9 +139,20 @@ class ClientGoalHandle(Generic[G, R]):
         CANCELED, or otherwise if its execute callback decides so)."""
         return self.goal_id in self._client.cancel_goal(self.goal_id, timeout)
 
-    # ------------------------------------------------------------------ updates (client side)
+    @property
+    def server_zid(self) -> str:
+        """The session of the server that answered the goal ('' before the answer)."""
+        return self._server_zid
 
-    def _advance(self, status: GoalStatus) -> bool:
+    @property
+    def wants_feedback(self) -> bool:
+        return self._on_feedback is not None
+
+    # ------------------------------------------------------------------ updates (its client's)
+    # Called by the goal's `ActionClient` only, as an asyncio Future is set by its owner: the
+    # handle keeps the goal's state and changes it itself.
+
+    def advance(self, status: GoalStatus) -> bool:
         """Move forward only: statuses from the topic may arrive late or repeated."""
         with self._cond:
             if self._ended or self._status.terminal or status <= self._status:
@@ -149,7 +161,7 @@ class ClientGoalHandle(Generic[G, R]):
             self._cond.notify_all()
             return True
 
-    def _set_accepted(self, accepted: bool, stamp: Time, reason: str, zid: str) -> bool:
+    def set_accepted(self, accepted: bool, stamp: Time, reason: str, zid: str) -> bool:
         """Record the server's answer; True if a deferred result request is now due."""
         with self._cond:
             self._accepted = accepted
@@ -158,13 +170,13 @@ class ClientGoalHandle(Generic[G, R]):
             retry, self._retry_result = self._retry_result, False
             self._cond.notify_all()
         if accepted:
-            self._advance(GoalStatus.ACCEPTED)
+            self.advance(GoalStatus.ACCEPTED)
             return retry
-        self._fail(GoalStatus.REJECTED, GoalRejectedError(
+        self.set_exception(GoalStatus.REJECTED, GoalRejectedError(
             f"action {self._client.name} rejected goal {self.goal_id}: {reason}"), reason)
         return False
 
-    def _defer_result_request(self) -> bool:
+    def defer_result_request(self) -> bool:
         """If the server has not answered the goal yet, mark the result request to be sent
         again once it does (True); False if it already answered."""
         with self._cond:
@@ -184,17 +196,21 @@ class ClientGoalHandle(Generic[G, R]):
             self._cond.notify_all()
         return True
 
-    def _finish(self, status: GoalStatus, result: R, reason: str = "") -> None:
+    def set_result(self, status: GoalStatus, result: R, reason: str = "") -> None:
+        """The goal ended with ``status`` (terminal) and ``result``."""
         def finish() -> None:
             if self._end(status, reason):
                 self._future.set_result(GoalResult(self.goal_id, status, result, reason))
+                self._client.forget(self)
 
         self._in_order(finish)
 
-    def _fail(self, status: GoalStatus | None, exc: Exception, reason: str = "") -> None:
+    def set_exception(self, status: GoalStatus | None, exc: Exception, reason: str = "") -> None:
+        """The goal failed (rejected, never answered, client closed): `result` raises ``exc``."""
         def fail() -> None:
             if self._end(status, reason or str(exc)):
                 self._future.set_exception(exc)
+                self._client.forget(self)
 
         self._in_order(fail)
 
@@ -205,7 +221,7 @@ class ClientGoalHandle(Generic[G, R]):
         else:
             self._inbox.put(fn)
 
-    def _feedback(self, msg: Any) -> None:
+    def deliver_feedback(self, msg: Any) -> None:
         """Hand one feedback message to the callback (on the client's inbox thread)."""
         if not self._ended and self._on_feedback is not None:
             self._on_feedback(msg)

@@ -52,7 +52,7 @@ class ServerGoalHandle(Generic[G, F]):
     def __init__(self, server: GoalHost, goal_id: uuid.UUID | bytes, request: G,
                  goal_id_msg: UUID | None = None) -> None:
         # The id as 16 bytes (the server's key); the UUID object is made when first read.
-        self._key = goal_id.bytes if isinstance(goal_id, uuid.UUID) else bytes(goal_id)
+        self.key = goal_id.bytes if isinstance(goal_id, uuid.UUID) else bytes(goal_id)
         self._goal_id = goal_id if isinstance(goal_id, uuid.UUID) else None
         self.request = request
         self.stamp = Time()
@@ -63,20 +63,20 @@ class ServerGoalHandle(Generic[G, F]):
         self._status = GoalStatus.UNKNOWN
         self._cancel_requested = False
         self._cancel_event: threading.Event | None = None  # made for wait_for_cancel only
-        # server bookkeeping, guarded by the server's lock;
-        # stamp set on acceptance; the wire id as received, when the server has it
+        # The server's bookkeeping, changed through the methods below under the server's lock:
+        # the wire id as received (when the server has it), stamped on acceptance; the result
+        # once set; the requests waiting for it; a send_goal query still owed its acceptance.
         self._info = GoalInfo(goal_id=goal_id_msg or uuid_msg(self.goal_id))
         self._result: Any = None
         self._waiters: list[zenoh.Query] = []
-        self._owed: zenoh.Query | None = None  # a send_goal query still owed its acceptance
-        self._finished_at = 0.0
+        self._owed: zenoh.Query | None = None
 
     @property
     def goal_id(self) -> uuid.UUID:
         """The client-chosen UUID."""
         gid = self._goal_id
         if gid is None:
-            gid = self._goal_id = uuid.UUID(bytes=self._key)
+            gid = self._goal_id = uuid.UUID(bytes=self.key)
         return gid
 
     def __str__(self) -> str:
@@ -158,6 +158,61 @@ class ServerGoalHandle(Generic[G, F]):
     def canceled(self) -> None:
         """End the goal as CANCELED (only after a cancel request: from CANCELING)."""
         self.transition(GoalEvent.CANCELED)
+
+    # ------------------------------------------------------------------ the server's bookkeeping
+    # Called by the server under its lock (as asyncio's Future is set by its owner): the
+    # handle keeps the state, the server decides when it changes.
+
+    @property
+    def info(self) -> GoalInfo:
+        """The goal's id and acceptance stamp, as the status array and cancel replies list it."""
+        return self._info
+
+    def accept_at(self, stamp: Time) -> None:
+        """The server accepted the goal at ``stamp``."""
+        self.stamp = self._info.stamp = stamp
+
+    @property
+    def has_result(self) -> bool:
+        return self._result is not None
+
+    @property
+    def result(self) -> Any:
+        """The result message once set (None before)."""
+        return self._result
+
+    def set_result(self, result: Any) -> list[zenoh.Query]:
+        """Record the result; returns the requests that waited for it (now the server's to
+        answer) and forgets them."""
+        self._result = result
+        waiters, self._waiters = self._waiters, []
+        return waiters
+
+    def add_waiter(self, query: zenoh.Query) -> None:
+        """A request to answer with the result once it is set."""
+        self._waiters.append(query)
+
+    def take_waiters(self) -> list[zenoh.Query]:
+        """The requests waiting for the result (a goal that will have none: rejected)."""
+        waiters, self._waiters = self._waiters, []
+        return waiters
+
+    def owe_acceptance(self, query: zenoh.Query) -> None:
+        """Hold back the acceptance of the goal on ``query`` (it rides on the result reply
+        if the goal ends soon); the query also waits for the result."""
+        self._owed = query
+        self._waiters.append(query)
+
+    @property
+    def owes_acceptance(self) -> bool:
+        """Whether a send_goal query still waits for its acceptance (read without the lock:
+        a hint; `take_owed` under the lock decides)."""
+        return self._owed is not None
+
+    def take_owed(self) -> zenoh.Query | None:
+        """The send_goal query still owed its acceptance, if any (it is owed no longer)."""
+        owed, self._owed = self._owed, None
+        return owed
 
     def __repr__(self) -> str:
         return f"<ServerGoalHandle {self.goal_id} {self._status.name}>"

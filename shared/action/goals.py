@@ -36,7 +36,7 @@ class GoalTable:
         self.status_history = status_history
         self._all: dict[bytes, Handle] = {}
         self.active: dict[bytes, Handle] = {}
-        self.finished: deque[Handle] = deque()
+        self._finished: deque[tuple[float, Handle]] = deque()  # (when it ended, goal)
 
     def __len__(self) -> int:
         return len(self._all)
@@ -46,42 +46,41 @@ class GoalTable:
 
     def add_pending(self, handle: Handle) -> bool:
         """Register a goal the goal callback is deciding on; False if the id is taken."""
-        if handle._key in self._all:
+        if handle.key in self._all:
             return False
-        self._all[handle._key] = handle
+        self._all[handle.key] = handle
         return True
 
     def remove(self, handle: Handle) -> None:
         """Forget a rejected goal."""
-        self._all.pop(handle._key, None)
-        self.active.pop(handle._key, None)
+        self._all.pop(handle.key, None)
+        self.active.pop(handle.key, None)
 
     def activate(self, handle: Handle) -> None:
-        self.active[handle._key] = handle
+        self.active[handle.key] = handle
 
     def retire(self, handle: Handle, now: float) -> None:
         """The goal's result is set: keep it until ``now + result_timeout``."""
-        self.active.pop(handle._key, None)
-        handle._finished_at = now
-        self.finished.append(handle)
+        self.active.pop(handle.key, None)
+        self._finished.append((now, handle))
 
     def next_expiry(self) -> float | None:
         """When the oldest kept result expires (monotonic seconds), if any."""
-        return self.finished[0]._finished_at + self.result_timeout if self.finished else None
+        return self._finished[0][0] + self.result_timeout if self._finished else None
 
     def expire(self, now: float) -> list[Handle]:
         """Drop the results older than ``result_timeout``; return the dropped goals."""
         dropped = []
-        while self.finished and self.finished[0]._finished_at + self.result_timeout <= now:
-            h = self.finished.popleft()
-            self._all.pop(h._key, None)
+        while self._finished and self._finished[0][0] + self.result_timeout <= now:
+            h = self._finished.popleft()[1]
+            self._all.pop(h.key, None)
             dropped.append(h)
         return dropped
 
     def status_list(self) -> list[Handle]:
         """What the status array shows: every active goal (in acceptance order), then the
         ``status_history`` most recently finished ones."""
-        recent = list(islice(reversed(self.finished), self.status_history))
+        recent = [h for _, h in islice(reversed(self._finished), self.status_history)]
         recent.reverse()
         return list(self.active.values()) + recent
 
@@ -91,7 +90,7 @@ class GoalTable:
         for h in list(self.active.values()):
             if not h.status.active:
                 continue
-            if key is not None and h._key == key or key is None and stamp_ns == 0 or stamp_ns > 0 and _ns(h) <= stamp_ns:
+            if key is not None and h.key == key or key is None and stamp_ns == 0 or stamp_ns > 0 and _ns(h) <= stamp_ns:
                 yield h
 
     def terminal_or_unknown(self, key: bytes) -> GoalStatus:

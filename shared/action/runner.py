@@ -8,7 +8,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from ..executor import Executor
 from ..message import ActionType
@@ -18,6 +18,9 @@ from .policies import GoalPolicy, Plan, Scheduler
 from .states import GoalEvent
 from .types import GoalStatus
 from .workers import WorkerPool
+
+if TYPE_CHECKING:
+    import zenoh
 
 __all__ = ["GoalRunner"]
 
@@ -39,13 +42,13 @@ class GoalRunner:
     seconds. Every method marked "locked" expects the caller to hold ``lock``.
 
     Args:
-        deliver: answers the result requests waiting on a goal once its result is set.
+        deliver: answers the result requests that waited on a goal once its result is set.
     """
 
     def __init__(self, name: str, action_type: ActionType, execute: Callable[[Handle], Any],
                  is_async: bool, policy: GoalPolicy, table: GoalTable, status: StatusSink,
                  lock: threading.RLock, executor: Executor, logger: logging.Logger,
-                 deliver: Callable[[Handle], None]) -> None:
+                 deliver: Callable[[Handle, list[zenoh.Query]], None]) -> None:
         self.name = name
         self.lock = lock
         self.table = table
@@ -106,7 +109,7 @@ class GoalRunner:
         that was only waiting ends CANCELED at once."""
         if h.status in (GoalStatus.ACCEPTED, GoalStatus.EXECUTING):
             h.transition(GoalEvent.CANCEL_GOAL)
-        if self.sched.withdraw(h._key):
+        if self.sched.withdraw(h.key):
             h.transition(GoalEvent.CANCELED)
             self._retire(h, self._result_type())
 
@@ -146,7 +149,7 @@ class GoalRunner:
     def _complete(self, h: Handle, result: Any) -> None:
         """The execute callback returned (or raised): settle state and result, start the next."""
         with self.lock:
-            if h._result is not None:  # already ended by shutdown
+            if h.has_result:  # already ended by shutdown
                 return
             if h.is_active:
                 event = GoalEvent.CANCELED if h.status is GoalStatus.CANCELING else GoalEvent.ABORT
@@ -165,17 +168,16 @@ class GoalRunner:
             try:
                 self._retire(h, result)
             finally:  # whatever answering its requests raised, the next goal starts
-                launch = self._apply(self.sched.finish(h._key))
+                launch = self._apply(self.sched.finish(h.key))
                 self._idle.notify_all()
         self.launch(launch)
 
     def _retire(self, h: Handle, result: Any) -> None:
         """Locked: record the result, answer waiting result requests, start expiry."""
-        h._result = result
+        waiters = h.set_result(result)
         self.table.retire(h, time.monotonic())
-        if h._waiters:
-            self._deliver(h)
-            h._waiters.clear()
+        if waiters:
+            self._deliver(h, waiters)
         if not self._purge_armed and not self.closed:
             self._purge_armed = True
             self._executor.call_soon(self._schedule_purge)

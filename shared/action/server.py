@@ -234,15 +234,15 @@ class ActionServer(Generic[G, R, F]):
         with self.lock:
             if not reason and self._closing:
                 reason = "server is shutting down"
-            plan = None if reason else self._runner.sched.offer(handle._key)
+            plan = None if reason else self._runner.sched.offer(handle.key)
             if plan is None or plan.reject:
                 reason = reason or (plan.reject if plan else "")
                 self._table.remove(handle)
-                for w in handle._waiters:
+                for w in handle.take_waiters():
                     self._reply_err(w, "GoalRejected", reason)
                 self._respond(query, False, reason)
                 return None
-            handle.stamp = handle._info.stamp = self._node.now()
+            handle.accept_at(self._node.now())
             launch = self._runner.accept(handle, plan)
             hold = _wants_result(query)  # the client asked for the result on this query too
             if (self._runner.on_workers and handle in launch
@@ -255,8 +255,7 @@ class ActionServer(Generic[G, R, F]):
                 # Its acceptance is held back: it rides on the result reply if the goal ends
                 # within DETACH_DELAY (one message instead of two), else it is sent when the
                 # goal is detached; feedback sends it first.
-                handle._owed = query
-                handle._waiters.append(query)
+                handle.owe_acceptance(query)
             else:
                 try:
                     self._respond(query, True, "", handle, finalize=not hold)
@@ -266,8 +265,8 @@ class ActionServer(Generic[G, R, F]):
                                       self.name, handle.goal_id, exc)
                     hold = False
                 if hold:
-                    if handle._result is None:
-                        handle._waiters.append(query)
+                    if not handle.has_result:
+                        handle.add_waiter(query)
                     else:  # the plan already ended it (a queue that dropped it)
                         self._answer_result(query, handle)
             self._runner.launch(launch)
@@ -294,10 +293,10 @@ class ActionServer(Generic[G, R, F]):
         result) may each reach for the owed query, and zenoh-python refuses a second thread
         on a query in use ("Already borrowed": seen beside a CPU hog, where it left a
         preempted goal in the schedule and the next goal never started)."""
-        if h._owed is None:  # the usual case, feedback after the acceptance: no lock
+        if not h.owes_acceptance:  # the usual case, feedback after the acceptance: no lock
             return
         with self.lock:
-            query, h._owed = h._owed, None
+            query = h.take_owed()
             if query is not None:
                 try:
                     self._respond(query, True, "", h, finalize=False)
@@ -353,7 +352,7 @@ class ActionServer(Generic[G, R, F]):
         return verdict is CancelResponse.ACCEPT or verdict is True
 
     def _reply_cancel(self, query: zenoh.Query, code: CancelCode, goals: list[Handle]) -> None:
-        res = CancelGoalResponse(return_code=int(code), goals_canceling=[h._info for h in goals])
+        res = CancelGoalResponse(return_code=int(code), goals_canceling=[h.info for h in goals])
         answer(query, self._cg_res.encode(res), self._enc[CancelGoalResponse])
 
     # ------------------------------------------------------------------ get_result
@@ -368,8 +367,8 @@ class ActionServer(Generic[G, R, F]):
             if self._table.expire(time.monotonic()):
                 self._status.mark()
             h = self._table.lookup(gid.bytes)
-            if h is not None and h._result is None:
-                h._waiters.append(query)  # answered when the goal's result is set
+            if h is not None and not h.has_result:
+                h.add_waiter(query)  # answered when the goal's result is set
                 return True
             data = None if h is None else self._result_payload(h)
         if data is not None:
@@ -381,20 +380,20 @@ class ActionServer(Generic[G, R, F]):
         return None
 
     def _result_payload(self, h: Handle) -> bytes:
-        res = self._wire.GetResultResponse(status=int(h.status), result=h._result)
+        res = self._wire.GetResultResponse(status=int(h.status), result=h.result)
         return self._gr_res.encode(res)
 
     def _answer_result(self, query: zenoh.Query, h: Handle) -> None:
         answer(query, self._result_payload(h), self._enc[self._wire.GetResultResponse])
 
-    def _deliver(self, h: Handle) -> None:
-        """Answer the result requests waiting on ``h`` (its result was just set). A send_goal
-        query still owed its acceptance gets one reply: the result, with the acceptance in
-        its attachment."""
+    def _deliver(self, h: Handle, waiters: list[zenoh.Query]) -> None:
+        """Answer the result requests that waited on ``h`` (its result was just set). A
+        send_goal query still owed its acceptance gets one reply: the result, with the
+        acceptance in its attachment."""
         data = self._result_payload(h)
         enc = self._enc[self._wire.GetResultResponse]
-        owed, h._owed = h._owed, None
-        for w in h._waiters:
+        owed = h.take_owed()
+        for w in waiters:
             try:
                 answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
             except (zenoh.ZError, RuntimeError) as exc:  # one request gone (its client
@@ -413,7 +412,7 @@ class ActionServer(Generic[G, R, F]):
                               f"{codec_for(self.action_type.Feedback).type_name}, "
                               f"got {type(feedback).__name__}")
         data: bytes = self._fb.encode(self._wire.FeedbackMessage(
-            goal_id=handle._info.goal_id, feedback=feedback))
+            goal_id=handle.info.goal_id, feedback=feedback))
         return data
 
     def put_feedback(self, handle: Handle, data: bytes) -> None:

@@ -69,7 +69,7 @@ class StatusPublisher:
             self._dirty = False
             self._last = time.monotonic()
             arr = GoalStatusArray(status_list=[
-                GoalStatusMsg(goal_info=h._info, status=int(h.status))
+                GoalStatusMsg(goal_info=h.info, status=int(h.status))
                 for h in self._snapshot()])
             self._pub.put(self._codec.encode(arr), attachment=self._tag)
 

@@ -92,7 +92,8 @@ def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
     check_graph_type("action", name, action.name, ctx.graph.actions().get(name))
     node = ToolNode(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
     try:
-        client = ActionClient(node, action, name)
+        # a goal no server answered is sent again while the graph lists one (zenros.reach)
+        client = ActionClient(node, action, name, reach_grace=args.server_timeout)
         print("Waiting for an action server to become available...")
         if not client.wait_for_server(args.server_timeout):
             raise CliError(f"action server {client.name} is not available "

@@ -348,6 +348,21 @@ class Container(State):
     def _info(self) -> dict[str, Any]:
         return {}
 
+    def get_transitions(self) -> list[TransitionInfo]:
+        """The container's internal edges (for introspection; each container type has its
+        own)."""
+        return self._edges()
+
+    def get_info(self) -> dict[str, Any]:
+        """Container-type details for introspection (a sequence's order, an iterator's
+        progress, ...)."""
+        return self._info()
+
+    def get_run_state(self) -> tuple[bool, list[str]]:
+        """Whether it runs and its active children, read together (one consistent view)."""
+        with self._lock:
+            return self.is_running, self.get_active_states()
+
     def get_structure(self) -> StateStructure:
         """Outcomes, keys, transitions and children, recursively, as plain data."""
         return structure_of(self, State.get_structure(self))

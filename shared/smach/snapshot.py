@@ -20,17 +20,15 @@ def structure_of(container: Parent, own: StateStructure) -> StateStructure:
     node = own
     node.is_container = True
     node.initial_states = container.get_initial_states()
-    node.transitions = container._edges()
-    node.info = container._info()
+    node.transitions = container.get_transitions()
+    node.info = container.get_info()
     node.children = children
     return node
 
 
 def status_of(container: Parent) -> ContainerStatus:
     """What the container and every container inside it are doing now."""
-    with container._lock:
-        running = container.is_running
-        active = container.get_active_states()
+    running, active = container.get_run_state()
     plain, skipped = snapshot_userdata(container.userdata.snapshot())
     return ContainerStatus(
         path=container.path,
@@ -42,7 +40,7 @@ def status_of(container: Parent) -> ContainerStatus:
         userdata=plain,
         unserializable=skipped,
         last_outcome=container.last_outcome,
-        info=container._info(),
+        info=container.get_info(),
         children=[c.get_status() for c in container.children.values() if isinstance(c, Parent)],
     )
 

@@ -245,9 +245,9 @@ def test_an_owed_acceptance_is_sent_under_the_servers_lock(pair: Any) -> None:
     with server.lock:
         h = server._table.lookup(done.goal_id.bytes)
     busy = _BusyQuery(server)
-    h._owed = busy
+    h.owe_acceptance(busy)
     server._settle(h)
-    assert busy.locked == [True] and h._owed is None
+    assert busy.locked == [True] and not h.owes_acceptance
     server._settle(h)  # owed nothing now: no reply
     assert busy.locked == [True]
 

@@ -21,7 +21,9 @@ from zenros.errors import (
 )
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
+from zenros import param_backend
 from zenros.param_backend import MASTER_IN_LAUNCH, attach_parameter_backend
+from zenros.param_protocol import SET_PARAM
 from zenros.param_client import ParameterClient, ParamEvent
 from zenros.param_protocol import DELETE_PARAM, DeleteParam, DeleteParamRequest
 from zenros.rpc import Client
@@ -319,3 +321,49 @@ def test_a_node_launched_after_master_waits_for_its_services_before_reading(
             node.close()
             master.close()
     assert "parameter server unreachable" not in caplog.text
+
+
+def _master_gone(make_node: Any, ctx: Context, data: Path, monkeypatch: pytest.MonkeyPatch,
+                 grace: float) -> Node:
+    """A planner whose parameters follow a master, then that master closed (with the grace
+    ``grace``): returns once the planner's graph lists no master."""
+    monkeypatch.setattr(param_backend, "MASTER_GONE_GRACE", grace)
+    master = start_master(ctx, data)
+    node: Node = make_node("planner", 1)
+    assert node.graph.wait_for_service(SET_PARAM, 10)
+    attach_parameter_backend(node)
+    node.declare_parameter("speed", 1.0)
+    master.close()
+    assert node.graph.wait_for(lambda: not node.graph.servers(SET_PARAM), 10)
+    return node
+
+
+def test_master_gone_and_back_within_the_grace_is_not_reported(
+    ctx_pair: list[Context], make_node: Any, tmp_path: Path, caplog: pytest.LogCaptureFixture,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # issue 37.7: every node logged "parameter server unreachable (master left the graph)"
+    # and "reachable again" a moment later while master never exited: master's tokens left
+    # the graph and came back (a link made again). Here master's tokens go and come back (a
+    # master restarted on the same session) well within the grace.
+    with caplog.at_level(logging.INFO, logger="zenros"):
+        node = _master_gone(make_node, ctx_pair[0], tmp_path, monkeypatch, 30.0)
+        master = start_master(ctx_pair[0], tmp_path)
+        try:
+            assert node.graph.wait_for_service(SET_PARAM, 10)
+            ParameterClient(ctx_pair[1]).set("/planner/speed", 4.0)
+            assert wait_for(lambda: node.get_parameter("speed") == 4.0, 10)
+        finally:
+            master.close()
+    assert "parameter server unreachable" not in caplog.text
+    assert "reachable again" not in caplog.text
+
+
+def test_master_gone_for_good_is_reported_after_the_grace(
+    ctx_pair: list[Context], make_node: Any, tmp_path: Path, caplog: pytest.LogCaptureFixture,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    with caplog.at_level(logging.WARNING, logger="zenros"):
+        _master_gone(make_node, ctx_pair[0], tmp_path, monkeypatch, 0.5)
+        assert wait_for(lambda: "parameter server unreachable (master left the graph 0.5 s ago)"
+                        in caplog.text, 10), caplog.text

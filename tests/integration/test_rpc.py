@@ -13,7 +13,7 @@ from zenros import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.errors import EncodeError
 from zenros.msgs.example_interfaces import AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse
 from zenros.msgs.std_srvs import Trigger, TriggerRequest, TriggerResponse
-from zenros.rpc import REACH_GRACE
+from zenros.reach import REACH_GRACE
 
 
 @pytest.fixture

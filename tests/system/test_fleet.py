@@ -39,25 +39,25 @@ class Fleet:
     proc: Proc
     ctx: Context
     node: Node
+    env: dict[str, str]  # what a fresh CLI process needs to join the fleet
 
 
 @pytest.fixture(scope="module")
 def fleet(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Fleet]:
     home = tmp_path_factory.mktemp("fleet")
     prefix, endpoint = unique_prefix(), f"tcp/127.0.0.1:{free_port()}"
+    env = {"ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix, "ZENROS_CONNECT": endpoint}
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
                  str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={ROBOTS}",
                  f"data:={home}", *(f"{name}:={free_port()}" for name in (
-                     "rest_port", "ws_port", "rosbridge_port", "modbus_port"))],
-                env={"ZENROS_HOME": str(home), "ZENROS_PREFIX": prefix,
-                     "ZENROS_CONNECT": endpoint})
+                     "rest_port", "ws_port", "rosbridge_port", "modbus_port"))], env=env)
     ctx: Context | None = None
     try:
         for k in range(1, ROBOTS + 1):
             assert proc.wait_line(f"robot{k}/robot is ready", 240), proc.output
         ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
         node = Node("fleet_test", context=ctx)
-        yield Fleet(proc, ctx, node)
+        yield Fleet(proc, ctx, node, env)
         node.close()
     finally:
         if ctx is not None:
@@ -146,3 +146,27 @@ def _robot_lines(output: str, robots: Iterable[int]) -> str:
     """The launch's lines of these robots (their warnings and errors), the last 40."""
     tags = tuple(f"robot{k}/" for k in robots)
     return "\n".join([ln for ln in output.splitlines() if any(t in ln for t in tags)][-40:])
+
+
+def test_goals_from_fresh_cli_processes_reach_every_robot(fleet: Fleet) -> None:
+    # issue 37.4: `zenros action send_goal /robot9/navigate_to_pose ...` from a new shell
+    # found no server while robot9 was up. Here ten fresh CLI processes at once, one goal
+    # each (the robot's own pose: nav accepts it and ends at once), and every one is taken.
+    where = truth(fleet)
+    estop = fleet.node.create_client(SetBool, "/robot3/chassis/set_estop")
+    assert estop.call(SetBoolRequest(data=False), timeout=20).success
+    clis = {}
+    try:
+        for k in range(1, ROBOTS + 1):
+            goal = (f"{{pose: {{header: {{frame_id: map}}, pose: {{position: "
+                    f"{{x: {where[k].x:.3f}, y: {where[k].y:.3f}}}, orientation: {{w: 1.0}}}}}}}}")
+            clis[k] = Proc([sys.executable, "-m", "zenros.cli", "action", "send_goal",
+                            f"/robot{k}/navigate_to_pose", "nav2_msgs/action/NavigateToPose",
+                            goal, "--server-timeout", "60"], env=fleet.env)
+        for k, cli in clis.items():
+            assert cli.wait(120) == 0, f"robot{k}: {cli.output}"
+            assert "Goal accepted with ID" in cli.output, f"robot{k}: {cli.output}"
+            assert "Goal finished with status: SUCCEEDED" in cli.output, f"robot{k}: {cli.output}"
+    finally:
+        for cli in clis.values():
+            cli.stop(10)

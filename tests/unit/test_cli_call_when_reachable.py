@@ -1,11 +1,12 @@
-"""`zenros.rpc.ask_while_listed` (what `Client.call` and the CLI's ``service call`` and
-``task`` verbs ask through): a server in the graph whose first queries end unanswered (a fresh
+"""`zenros.reach.ask_while_listed` (what every client asks through: `Client.call` and
+`call_async`, the action client, the CLI's ``service call``, ``action send_goal`` and ``task``
+verbs): a server in the graph whose first queries end unanswered (a fresh
 session routes to it a moment after it sees its token) is asked again; one not in the graph is
 not waited for."""
 
 from __future__ import annotations
 
-from zenros.rpc import ask_while_listed
+from zenros.reach import ask_while_listed
 
 
 class FlakyServer:

@@ -105,7 +105,7 @@ def test_results_expire_oldest_first() -> None:
     assert t.next_expiry() == 110.0
     assert t.expire(109.9) == []
     assert t.expire(110.0) == [a]
-    assert t.lookup(a._key) is None and t.lookup(b._key) is b
+    assert t.lookup(a.key) is None and t.lookup(b.key) is b
     assert t.expire(200.0) == [b] and len(t) == 0 and t.next_expiry() is None
 
 
@@ -127,11 +127,11 @@ def test_cancel_targets_follow_ros2_rules() -> None:
         t.add_pending(h)
         t.activate(h)
     hs[3]._status = GoalStatus.SUCCEEDED  # ended, result not yet set: not cancelable
-    assert list(t.cancel_targets(hs[1]._key, 0)) == [hs[1]]
+    assert list(t.cancel_targets(hs[1].key, 0)) == [hs[1]]
     assert list(t.cancel_targets(None, 0)) == hs[:3]
     assert list(t.cancel_targets(None, 2_000_000_000)) == hs[:2]
-    assert list(t.cancel_targets(hs[2]._key, 1_000_000_000)) == [hs[0], hs[2]]
-    assert t.terminal_or_unknown(hs[3]._key) is GoalStatus.SUCCEEDED
+    assert list(t.cancel_targets(hs[2].key, 1_000_000_000)) == [hs[0], hs[2]]
+    assert t.terminal_or_unknown(hs[3].key) is GoalStatus.SUCCEEDED
     assert t.terminal_or_unknown(b"x" * 16) is GoalStatus.UNKNOWN
 
 

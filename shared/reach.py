@@ -1,0 +1,104 @@
+"""`Reach`: when a query that got no reply is sent again, the one rule every client follows.
+
+A Zenoh query finds its servers in the session's routing table when it is sent; when no
+queryable matches, it ends at once with no reply (not after its timeout: eclipse-zenoh/zenoh
+#2516). A server's liveliness token (what the graph lists) and its queryable are two
+declarations that travel and are processed separately, with no order between them: a server
+may declare them in either order (rmw_zenoh's and a restarting zenros server alike), and a link
+made again re-declares the tokens before the queryables (eclipse-zenoh/zenoh #588). So a
+session can list a server a moment before a query can reach it (seen beside a CPU hog: the
+first query ended unanswered 0.7 ms after the graph listed the server). Being listed is no
+proof of a route; only a query is. Every client (`Client.call`, `Client.call_async`, the
+action client's send_goal and cancel, the CLI) therefore asks again, with growing pauses,
+while the graph lists a server, for ``grace`` seconds at most, and gives up at once when the
+graph lists none.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections.abc import Awaitable, Callable
+from typing import TypeVar
+
+__all__ = ["REACH_GRACE", "Reach", "ask_while_listed", "ask_while_listed_async"]
+
+REACH_GRACE = 1.0
+"""Seconds a client asks again, by default, when no reply came but the graph lists a server."""
+
+FIRST_PAUSE = 0.02
+MAX_PAUSE = 0.2
+
+R = TypeVar("R")
+
+
+class Reach:
+    """The asking-again of one request: ``left()`` seconds for the next query, ``again()`` the
+    pause before it (None: give up).
+
+    Args:
+        listed: whether the graph lists a server now.
+        timeout: the whole request's timeout (seconds).
+        grace: seconds (at most 90 % of ``timeout``) to ask again while no reply comes.
+    """
+
+    def __init__(self, listed: Callable[[], bool], timeout: float,
+                 grace: float = REACH_GRACE) -> None:
+        self._listed = listed
+        self._timeout = timeout
+        self._limit = min(grace, timeout * 0.9)
+        self._start = time.monotonic()
+        self._pause = FIRST_PAUSE
+
+    def elapsed(self) -> float:
+        return time.monotonic() - self._start
+
+    def left(self) -> float:
+        """The timeout of the next query: what is left of the request's (10 ms at least)."""
+        return max(0.01, self._timeout - self.elapsed())
+
+    def again(self) -> float | None:
+        """A query ended with no reply: the pause before sending it again, or None when the
+        graph lists no server or the grace is spent."""
+        pause = self._pause
+        if self.elapsed() + pause >= self._limit or not self._listed():
+            return None
+        self._pause = min(pause * 2, MAX_PAUSE)
+        return pause
+
+    def ask(self, ask: Callable[[float], R | None]) -> R | None:
+        """``ask(seconds_left)`` until it answers (not None), again after the pauses of
+        `again`; None if nothing answered."""
+        while True:
+            answer = ask(self.left())
+            if answer is not None:
+                return answer
+            pause = self.again()
+            if pause is None:
+                return None
+            time.sleep(pause)
+
+    async def ask_async(self, ask: Callable[[float], Awaitable[R | None]]) -> R | None:
+        """`ask` on an event loop: ``await ask(seconds_left)``, pauses by ``asyncio.sleep``."""
+        while True:
+            answer = await ask(self.left())
+            if answer is not None:
+                return answer
+            pause = self.again()
+            if pause is None:
+                return None
+            await asyncio.sleep(pause)
+
+
+def ask_while_listed(ask: Callable[[float], R | None], listed: Callable[[], bool],
+                     timeout: float, grace: float = REACH_GRACE) -> R | None:
+    """``ask(seconds_left)`` until it answers (not None), again while ``listed()`` for
+    ``grace`` s at most (`Reach.ask`); None if nothing answered."""
+    return Reach(listed, timeout, grace).ask(ask)
+
+
+async def ask_while_listed_async(ask: Callable[[float], Awaitable[R | None]],
+                                 listed: Callable[[], bool], timeout: float,
+                                 grace: float = REACH_GRACE) -> R | None:
+    """`ask_while_listed` for an event loop (`Reach.ask_async`)."""
+    return await Reach(listed, timeout, grace).ask_async(ask)
