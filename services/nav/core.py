@@ -14,14 +14,18 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from zenros.errors import MapError
 from zenros.maps import GridMap
+from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.se2 import Pose2
 
 from .costmap import CostmapParams
 from .costmap.live import Costmaps
-from .localization.localizer import Localizer, Mode
+from .localization.localizer import MODES, Localizer, Mode
 from .localization.scanmatch import ScanMatcher
+from .maps.mapmeta import MapRecord
 from .maps.records import Records
+from .maps.saver import GridSaver
 from .maps.server import MapServer
 from .maps.store import MapStore
 from .motion.active import Motion
@@ -34,7 +38,15 @@ from .planning.global_planner import GlobalPlanner, PlanWorker
 from .planning.interface import PlannerContext
 from .planning.registry import PlannerSpec, build_planners, default_specs
 
-__all__ = ["NavConfig", "NavCore"]
+__all__ = ["MappingRefused", "NavConfig", "NavCore"]
+
+
+class MappingRefused(Exception):
+    """A mapping-mode change that cannot be made now (``code``: a zenros ResultCode)."""
+
+    def __init__(self, code: ResultCode, reason: str) -> None:
+        super().__init__(reason)
+        self.code = code
 
 
 @dataclass(frozen=True)
@@ -91,6 +103,13 @@ class NavCore:
         self.matcher: ScanMatcher | None = None
         self._last_match = -math.inf
         self._pending_scan: tuple[int, np.ndarray] | None = None
+        self.saver = GridSaver(self.maps.store, lambda: self.maps.current)
+        self.mapping = False
+        """Mapping mode: the SLAM node owns ``map`` and ``map -> odom`` (`enter_mapping`)."""
+        self.built = False
+        """The current map was built by SLAM: localise by scan matching, never the truth."""
+        self._mode: Mode = config.localization  # the ``localization`` parameter's mode
+        self._start_at: Pose2 | None = None  # map -> odom for the next map (leave_mapping)
 
     # ------------------------------------------------------------------ NavTools
 
@@ -110,10 +129,89 @@ class NavCore:
     # ------------------------------------------------------------------ maps
 
     def _on_map(self, name: str, grid: GridMap) -> None:
+        start, self._start_at = self._start_at, None
+        if self.mapping:
+            return  # chosen for after mapping (`leave_mapping` loads it)
         self.costmaps.set_map(grid, self.maps.store.nav_data(name))
         self.matcher = ScanMatcher(grid)
+        try:
+            record = self.maps.store.record(name)
+        except MapError:
+            record = MapRecord()
+        was_built, self.built = self.built, record.built_by_slam
+        if self.built or was_built:
+            self.localizer.set_mode(self._map_mode())
+        if self.built and start is None and record.map_to_odom is not None:
+            m = record.map_to_odom
+            start = Pose2(m.x, m.y, m.theta)
+        if start is not None:
+            self.localizer.set_map_to_odom(start)
         if self._on_map_cb is not None:
             self._on_map_cb(name, grid)
+
+    def _map_mode(self) -> Mode:
+        """The localisation mode on the current map: the parameter's, except that a map
+        the robot built is not in the simulator's frame, so no ground truth there."""
+        return "scan_match" if self.built and self._mode == "ground_truth" else self._mode
+
+    def set_localization(self, mode: str) -> None:
+        """The ``localization`` parameter changed (ValueError for an unknown mode)."""
+        if mode not in MODES:
+            raise ValueError(f"unknown localization mode {mode!r}; valid: {', '.join(MODES)}")
+        self._mode = mode  # type: ignore[assignment]
+        self.localizer.set_mode(self._map_mode())
+
+    # ------------------------------------------------------------------ mapping mode
+
+    def enter_mapping(self) -> None:
+        """Hand ``map`` and ``map -> odom`` to the SLAM node: the costmaps wait for its map
+        (`on_slam_map`), the pose follows its transform (`on_slam_map_to_odom`). Refused
+        (`MappingRefused` CONFLICT) while a behaviour drives the robot."""
+        if self.mapping:
+            return
+        active = self.motion.active
+        if active is not None:
+            raise MappingRefused(ResultCode.CONFLICT, f"navigation is busy ({type(active).__name__.lower()} "
+                                    "running): cancel it before mapping")
+        self.mapping = True
+        self.localizer.set_external(True)
+        self.costmaps.drop()
+        self.matcher = None
+        self._pending_scan = None
+
+    def leave_mapping(self, map_name: str = "", map_to_odom: Pose2 | None = None) -> str:
+        """Take ``map`` and ``map -> odom`` back: load ``map_name`` (default: the map of
+        before) with the robot's odometry frame at ``map_to_odom`` in it when given.
+        Refused (`MappingRefused` NOT_FOUND, still mapping) for an unknown map."""
+        name = map_name or self.maps.current
+        try:
+            self.maps.store.require(name)
+        except (MapError, ValueError) as exc:
+            raise MappingRefused(ResultCode.NOT_FOUND, str(exc)) from exc
+        was = self.mapping
+        self.mapping = False
+        self.localizer.set_external(False)
+        self._start_at = map_to_odom
+        try:
+            self.maps.switch(name)
+        except (MapError, ValueError) as exc:
+            self._start_at = None
+            if was:  # the map would not load: the SLAM node's map stays in use
+                self.mapping = True
+                self.localizer.set_external(True)
+            raise MappingRefused(ResultCode.INVALID, str(exc)) from exc
+        return name
+
+    def on_slam_map(self, grid: GridMap) -> None:
+        """A new grid from the SLAM node (it grows; origin and size change): the costmaps
+        are rebuilt on it; the planner's next snapshot (at most `replan_period` away) uses
+        it."""
+        if self.mapping:
+            self.costmaps.set_map(grid)
+
+    def on_slam_map_to_odom(self, map_to_odom: Pose2) -> None:
+        if self.mapping:
+            self.localizer.follow(map_to_odom)
 
     def _on_keepout(self, name: str) -> None:
         if name == self.maps.current:
@@ -148,7 +246,7 @@ class NavCore:
             r, a = ranges[ok], angles[ok] + mount.theta
             self.obstacles = np.column_stack([mount.x + r * np.cos(a), mount.y + r * np.sin(a)])
             self._scan_key, self._scan_ranges = key, ranges
-        if self.localizer.mode == "scan_match":
+        if self.localizer.mode == "scan_match" and not self.mapping:
             self._match(scan, ranges, angles, mount, now)
         pose = self.localizer.pose()
         if pose is not None:
@@ -177,9 +275,12 @@ class NavCore:
         guess = self.localizer.pose_at(stamp)
         if guess is None:
             return
-        found, score = matcher.match(pts, guess)
+        wide = self.localizer.relocalize
+        found, score = matcher.match(pts, guess, wide=wide)
+        if wide:  # then the tracking window, from where the wide search put it
+            found, score = matcher.match(pts, found)
         if score >= matcher.p.min_score:
-            self.localizer.correct(stamp, found, self.config.scan_match_gain)
+            self.localizer.correct(stamp, found, 1.0 if wide else self.config.scan_match_gain)
 
     def on_battery(self, percentage: float, charging: bool) -> None:
         if math.isfinite(percentage):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -23,6 +25,9 @@ from zenros.msgs.nav2_msgs import (
     LoadMap,
     NavigateThroughPoses,
     NavigateToPose,
+    SaveMap,
+    SaveMapRequest,
+    SaveMapResponse,
     Spin,
     UndockRobot,
 )
@@ -30,13 +35,15 @@ from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
+from zenros.msgs.zenros_msgs import slam as slammsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
+from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.se2 import Pose2
 from zenros.tf import TransformBroadcaster, yaw_from_msg
-from zenros.tf.listener import STATIC_LISTENER_QOS
+from zenros.tf.listener import DYNAMIC_LISTENER_QOS, STATIC_LISTENER_QOS
 
 from .actions.base import Ledger
 from .actions.behavior_server import BehaviorActions
@@ -50,8 +57,9 @@ from .actions.coverage import handle_compute_coverage_path
 from .actions.navigation import NavActions
 from .actions.routines import RoutineActions
 from .actions.status import nav_status
-from .core import NavCore
+from .core import MappingRefused, NavCore
 from .maps.connections import Connections
+from .maps.saver import SaveRefused
 from .motion.autocharge import AutoCharge
 from .motion.docking import Dock
 from .motion.loop import ControlLoop
@@ -80,7 +88,9 @@ class NavNode(Node):
                                  "go_charge_percentage")
         self.on_parameter_change(self._on_localization_param, "localization")
 
-        self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
+        self.map_pub: Any = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
+        self._mapping_lock = threading.Lock()
+        self._mapping_subs: list[Any] = []
         # before the core: open until the core has halted (`_halt` sends the last command)
         self.cmd_pub = self.create_publisher(Twist, "cmd_vel")
         self.core = self.own(NavCore(cfg, p.maps_dir or data_dir() / "maps",
@@ -155,6 +165,12 @@ class NavNode(Node):
              self.handle_clear_costmap),
         ):
             self.create_service(srv, name, coded(handler))
+        # these answer a ResultCode in the response, as the mapping contract has it
+        self.create_service(slammsgs.SetMappingMode, "nav/set_mapping_mode",
+                            self.handle_set_mapping_mode)
+        self.create_service(slammsgs.SaveGrid, "map_server/save_grid",
+                            self.core.saver.handle_save_grid)
+        self.create_service(SaveMap, "map_saver/save_map", self.handle_save_map)
 
     def _serve_actions(self) -> None:
         a, r, b = self.actions, self.routines, self.behaviors
@@ -184,6 +200,115 @@ class NavNode(Node):
     def handle_clear_costmap(self, req: ClearEntireCostmapRequest) -> ClearEntireCostmapResponse:
         self.core.clear_obstacles()
         return ClearEntireCostmapResponse()
+
+    # ------------------------------------------------------------------ mapping mode
+
+    def handle_set_mapping_mode(self, req: slammsgs.SetMappingModeRequest
+                                ) -> slammsgs.SetMappingModeResponse:
+        """Hand ``map`` and ``map -> odom`` to the SLAM node, or take them back."""
+        resp = slammsgs.SetMappingModeResponse
+        try:
+            with self._mapping_lock:
+                if req.enable:
+                    self._enter_mapping()
+                    return resp(code=int(ResultCode.OK), message="mapping mode: following "
+                                "the SLAM node's map and map -> odom")
+                start = None
+                if req.use_map_to_odom:
+                    m = req.map_to_odom
+                    start = Pose2(float(m.x), float(m.y), float(m.theta))
+                    if not all(math.isfinite(v) for v in (start.x, start.y, start.theta)):
+                        return resp(code=int(ResultCode.INVALID),
+                                    message="map_to_odom must be finite")
+                name = self._leave_mapping(req.map_name, start)
+                return resp(code=int(ResultCode.OK), message=f"navigating on map {name!r}")
+        except MappingRefused as exc:
+            return resp(code=int(exc.code), message=str(exc))
+
+    def _enter_mapping(self) -> None:
+        if self.core.mapping:
+            return
+        self.core.enter_mapping()
+        self._follow_slam()
+        self.logger.info("mapping mode: the SLAM node's map and map -> odom are followed")
+
+    def _follow_slam(self) -> None:
+        # a latched publisher's cache would give late joiners the old map: undeclare it
+        if self.map_pub is not None:
+            self.destroy(self.map_pub)
+            self.map_pub = None
+        self._mapping_subs = [
+            self.create_subscription(OccupancyGrid, "map", self.on_slam_map, QOS_LATCHED),
+            self.create_subscription(TFMessage, "/tf", self.on_slam_tf, DYNAMIC_LISTENER_QOS),
+        ]
+
+    def _leave_mapping(self, map_name: str, start: Pose2 | None) -> str:
+        was = self.core.mapping
+        subs, self._mapping_subs = self._mapping_subs, []
+        for sub in subs:
+            self.destroy(sub)
+        if self.map_pub is None:
+            self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
+        try:
+            name = self.core.leave_mapping(map_name, start)
+        except MappingRefused:
+            if self.core.mapping:  # still mapping: follow the SLAM node again
+                self._follow_slam()
+            raise
+        if was:
+            self.logger.info("mapping mode left: navigating on map %r", name)
+        return name
+
+    def on_slam_map(self, msg: OccupancyGrid) -> None:
+        try:
+            grid = GridMap.from_msg(msg)
+        except (ValueError, TypeError) as exc:
+            self.logger.warning("map from the SLAM node ignored: %s", exc)
+            return
+        if grid.width and grid.height:
+            self.core.on_slam_map(grid)
+
+    def on_slam_tf(self, msg: TFMessage) -> None:
+        for t in msg.transforms:
+            if t.header.frame_id.lstrip("/") == "map" and t.child_frame_id.lstrip("/") == "odom":
+                tr, q = t.transform.translation, t.transform.rotation
+                try:
+                    pose = Pose2(float(tr.x), float(tr.y), yaw_from_msg(q))
+                except (ValueError, TypeError):
+                    continue
+                if math.isfinite(pose.x) and math.isfinite(pose.y) and math.isfinite(pose.theta):
+                    self.core.on_slam_map_to_odom(pose)
+
+    def handle_save_map(self, req: SaveMapRequest) -> SaveMapResponse:
+        """Nav2's map_saver: take one grid from ``map_topic`` (default ``map``), write it to
+        ``map_url`` (`GridSaver.save_map`); ``result`` false with the reason logged."""
+        topic = req.map_topic or "map"
+        got: list[OccupancyGrid] = []
+        ready = threading.Event()
+
+        def on_grid(msg: OccupancyGrid) -> None:
+            got.append(msg)
+            ready.set()
+
+        try:
+            sub = self.create_subscription(OccupancyGrid, topic, on_grid, QOS_LATCHED)
+        except (ValueError, TypeError) as exc:
+            self.logger.warning("map_saver: bad map_topic %r: %s", topic, exc)
+            return SaveMapResponse(result=False)
+        try:
+            if not ready.wait(self.params.save_map_timeout):
+                self.logger.warning("map_saver: no map on %r within %.1f s", topic,
+                                    self.params.save_map_timeout)
+                return SaveMapResponse(result=False)
+        finally:
+            self.destroy(sub)
+        try:
+            where = self.core.saver.save_map(got[0], req)
+        except SaveRefused as exc:
+            self.logger.warning("map_saver: %s", exc)
+            return SaveMapResponse(result=False)
+        self.logger.info("map_saver: map from %r saved as %s", topic, where)
+        return SaveMapResponse(result=True)
 
     # ------------------------------------------------------------------ inputs
 
@@ -235,7 +360,7 @@ class NavNode(Node):
                     tr.x, tr.y, yaw_from_msg(q))
 
     def _on_localization_param(self, p: Parameter) -> None:
-        self.core.localizer.set_mode(str(p.value))
+        self.core.set_localization(str(p.value))
 
     # ------------------------------------------------------------------ timers
 
@@ -272,6 +397,8 @@ class NavNode(Node):
             return
         stamp = self.now()
         self.pose_pub.publish(pose_with_covariance(pose, stamp, 0.0025, 0.003))
+        if self.core.mapping:
+            return  # map -> odom is the SLAM node's
         tol = 100_000_000  # 0.1 s ahead, as amcl's transform_tolerance
         odom_stamp = type(stamp).from_nanoseconds(loc.odom_stamp_ns + tol)
         self.tf.send_transform(transform_stamped(loc.map_to_odom, odom_stamp, "map", "odom"))
@@ -298,7 +425,10 @@ class NavNode(Node):
         self.plan_pub.publish(path_to_msg(xy, self.now()))
 
     def _publish_map(self, name: str, grid: GridMap) -> None:
-        self.map_pub.publish(grid.to_msg("map", self.now()))
+        pub = self.map_pub
+        if pub is None:
+            return
+        pub.publish(grid.to_msg("map", self.now()))
         self.logger.info("map %r: %dx%d cells at %g m", name, grid.width, grid.height,
                          grid.resolution)
 

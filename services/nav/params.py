@@ -130,6 +130,8 @@ class NavParameters(msgspec.Struct, kw_only=True):
         description="scan matches per second (scan_match mode)")] = 5.0
     scan_match_gain: Annotated[NonNegative, Meta(
         description="fraction of each match's correction applied")] = 0.5
+    save_map_timeout: Annotated[NonNegative, Meta(
+        description="map_saver/save_map: seconds to wait for a grid on map_topic")] = 2.0
 
 
 def planner_specs(names: list[str], parameters: Parameters | None = None

@@ -19,8 +19,10 @@ __all__ = ["nav_status"]
 
 def nav_status(core: NavCore, ledger: Ledger, stamp: Time) -> NavStatus:
     pose = core.localizer.pose()
-    msg = NavStatus(header=Header(stamp=stamp, frame_id="map"), map_name=core.maps.current,
-                    localized=pose is not None, pose=pose2_to_pose2d(pose or Pose2()))
+    msg = NavStatus(header=Header(stamp=stamp, frame_id="map"),
+                    map_name="" if core.mapping else core.maps.current,
+                    localized=pose is not None, pose=pose2_to_pose2d(pose or Pose2()),
+                    mapping=core.mapping)
     b = core.motion.active
     if b is None:
         msg.state = "charging" if core.charging else "idle"

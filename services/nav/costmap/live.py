@@ -60,6 +60,12 @@ class Costmaps:
             self._last_update = -math.inf
             self._applied = None
 
+    def drop(self) -> None:
+        """Forget the map (until the next `set_map`): the costmaps are empty, plans fail."""
+        with self._lock:
+            self._cm = None
+            self._applied = None
+
     def _apply_keepout(self, cm: Costmap2D, data: MapNavData) -> None:
         cm.set_keepout(polygons=[_xy(a.points) for a in data.forbidden_areas],
                        walls=[_xy(w.points) for w in data.virtual_walls])

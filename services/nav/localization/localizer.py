@@ -11,7 +11,13 @@ The estimate is ``map_T_odom * odom_T_base``. Modes:
   odom's origin, the map origin in the simulator) unless an initial pose is given.
 
 `set_pose` (``initialpose``) puts the robot at a pose now; in ``ground_truth`` mode it
-switches to ``odometry``, since the truth would overwrite it at the next sample.
+switches to ``odometry``, since the truth would overwrite it at the next sample. In
+``scan_match`` mode a pose given (`set_pose`, `set_map_to_odom`) may be off by more than the
+tracking window: ``relocalize`` asks the next match to search wide round it.
+
+While another node owns ``map -> odom`` (nav's mapping mode: the SLAM node), `follow` takes
+its transform as it is (``external``): neither the truth nor the matcher nor an initial
+pose moves it then.
 """
 
 from __future__ import annotations
@@ -42,6 +48,8 @@ class Localizer:
         self.odom_stamp_ns = 0
         self.corrections = 0
         self._pending_truth: tuple[int, Pose2] | None = None
+        self.external = False
+        self.relocalize = False
 
     def set_mode(self, mode: str) -> None:
         if mode not in MODES:
@@ -49,6 +57,30 @@ class Localizer:
         self.mode = mode
         if mode == "scan_match":
             self.localized = True
+
+    def set_external(self, on: bool) -> None:
+        """``map -> odom`` comes from elsewhere (`follow`) while ``on``; unknown until then."""
+        with self._lock:
+            self.external = on
+            self._pending_truth = None
+            if on:
+                self.localized = False
+            self.relocalize = False
+
+    def follow(self, map_to_odom: Pose2) -> None:
+        """The transform the owner of ``map -> odom`` published (only while external)."""
+        with self._lock:
+            if self.external:
+                self.map_to_odom = map_to_odom
+                self.localized = True
+
+    def set_map_to_odom(self, map_to_odom: Pose2) -> None:
+        """Where odometry's frame is in the map (a map just built, where mapping left the
+        robot); in ``scan_match`` mode the next match searches wide round it."""
+        with self._lock:
+            self.map_to_odom = map_to_odom
+            self.localized = True
+            self.relocalize = self.mode == "scan_match"
 
     def on_odom(self, stamp_ns: int, odom_base: Pose2) -> None:
         with self._lock:
@@ -59,7 +91,7 @@ class Localizer:
             pending = self._pending_truth
             if pending is not None and pending[0] <= stamp_ns:
                 self._pending_truth = None
-                if self.mode == "ground_truth":
+                if self.mode == "ground_truth" and not self.external:
                     self._apply_truth(*pending)
 
     def _odom_at(self, stamp_ns: int) -> Pose2 | None:
@@ -78,7 +110,7 @@ class Localizer:
     def on_ground_truth(self, stamp_ns: int, map_base: Pose2) -> None:
         """The true pose at ``stamp_ns``; used once the odometry of that stamp is in (it
         may arrive after the truth), so the two always describe the same instant."""
-        if self.mode != "ground_truth":
+        if self.mode != "ground_truth" or self.external:
             return
         with self._lock:
             if not self._odom or self._odom[-1][0] < stamp_ns:
@@ -108,8 +140,9 @@ class Localizer:
         ``stamp_ns``, found by the scan matcher) puts it."""
         with self._lock:
             odom = self._odom_at(stamp_ns)
-            if odom is None or self.mode != "scan_match":
+            if odom is None or self.mode != "scan_match" or self.external:
                 return
+            self.relocalize = False
             target = map_base * odom.inverse()
             cur = self.map_to_odom
             self.map_to_odom = Pose2(cur.x + gain * (target.x - cur.x),
@@ -120,11 +153,14 @@ class Localizer:
     def set_pose(self, map_base: Pose2) -> None:
         """Put the robot at ``map_base`` now (``initialpose``)."""
         with self._lock:
+            if self.external:
+                return
             odom = self._odom[-1][1] if self._odom else Pose2()
             self.map_to_odom = map_base * odom.inverse()
             self.localized = True
             if self.mode == "ground_truth":
                 self.mode = "odometry"
+            self.relocalize = self.mode == "scan_match"
 
     def pose(self) -> Pose2 | None:
         """The robot in ``map`` (None before the first odometry and localisation)."""

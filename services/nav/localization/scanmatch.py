@@ -26,6 +26,11 @@ class MatchParams:
     """Metres: how fast a point's score falls off with its distance to a map obstacle."""
     window_xy: float = 0.15
     window_theta: float = 0.06
+    wide_xy: float = 0.5
+    wide_theta: float = 0.35
+    """The window of a relocalisation (`match` with ``wide``): a pose given by hand or kept
+    from an earlier session, which may be off by more than tracking's window (Karto's
+    correlation window is ±0.25 m, ±0.349 rad)."""
     coarse_xy: float = 0.05
     coarse_theta: float = 0.02
     fine_xy: float = 0.0125
@@ -83,14 +88,16 @@ class ScanMatcher:
         gx, gy, gt = np.meshgrid(center.x + d, center.y + d, center.theta + t, indexing="ij")
         return np.column_stack([gx.ravel(), gy.ravel(), gt.ravel()])
 
-    def match(self, pts: np.ndarray, guess: Pose2) -> tuple[Pose2, float]:
-        """The best pose within the window round ``guess`` for scan points ``pts`` (in the
-        robot frame), and its score (0..1). Returns ``guess`` if there are no points."""
+    def match(self, pts: np.ndarray, guess: Pose2, wide: bool = False) -> tuple[Pose2, float]:
+        """The best pose within the window round ``guess`` (the wide one with ``wide``) for
+        scan points ``pts`` (in the robot frame), and its score (0..1). Returns ``guess`` if
+        there are no points."""
         pts = self._thin(pts)
         if len(pts) < 10:
             return guess, 0.0
         p = self.p
-        coarse = self._grid(guess, p.window_xy, p.coarse_xy, p.window_theta, p.coarse_theta)
+        wxy, wth = (p.wide_xy, p.wide_theta) if wide else (p.window_xy, p.window_theta)
+        coarse = self._grid(guess, wxy, p.coarse_xy, wth, p.coarse_theta)
         sc = self._scores(pts, coarse)
         best = coarse[int(np.argmax(sc))]
         fine = self._grid(Pose2(*best), p.coarse_xy / 2, p.fine_xy, p.coarse_theta / 2,

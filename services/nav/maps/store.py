@@ -1,8 +1,9 @@
 """MapStore: the maps folder ``$ZENROS_HOME/maps/<name>/`` (map YAML + image + nav data).
 
 Each map folder holds ``<name>.yaml`` and its image (``<name>.pgm`` or ``.png``) in
-map_server format, the simulator's ``poses.yaml`` when the source map had one, and
-``nav.yaml`` (`MapNavData`). Importing copies a map_server map in; the source is checked
+map_server format, the simulator's ``poses.yaml`` when the source map had one,
+``nav.yaml`` (`MapNavData`) and, for a saved grid, ``record.yml`` (`MapRecord`: type,
+levels, built by SLAM). Importing copies a map_server map in; the source is checked
 first (`zenros.maps.load_map`), so a bad file never replaces a good one.
 """
 
@@ -20,6 +21,8 @@ from zenros.errors import MapError, MapItemNotFoundError
 from zenros.maps import (
     GridMap,
     MapMeta,
+    encode_image,
+    grid_to_pixels,
     load_map,
     load_poses,
     poses_path,
@@ -30,6 +33,7 @@ from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.zenros_msgs.nav import MapInfo
 
 from .navdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
+from .mapmeta import RECORD_FILE, MapRecord, read_record, write_record
 
 __all__ = ["MapStore"]
 
@@ -77,12 +81,49 @@ class MapStore:
         meta = read_meta(path)
         if grid is None:
             grid = load_map(path)
+        try:
+            rec = self.record(name)
+        except MapError:
+            rec = MapRecord()  # a damaged record: the map itself is still good
         return MapInfo(
             name=name, resolution=meta.resolution, origin=list(meta.origin),
             width=grid.width, height=grid.height, occupied_thresh=meta.occupied_thresh,
             free_thresh=meta.free_thresh, negate=int(meta.negate), mode=meta.mode,
-            md5sum=hashlib.md5(meta.image.read_bytes()).hexdigest(),
+            md5sum=hashlib.md5(meta.image.read_bytes()).hexdigest(), type=rec.type,
+            levels=list(rec.levels), slam_type=rec.slam_type,
             yaml_path=str(path.resolve()), image_path=str(meta.image))
+
+    def record(self, name: str) -> MapRecord:
+        """The map's `MapRecord` (defaults for an imported map; `MapError` if malformed)."""
+        return read_record(self.folder(self.require(name)))
+
+    def save_grid(self, name: str, grid: GridMap, record: MapRecord) -> str:
+        """Store ``grid`` as the map ``name`` as map_saver writes it (trinary: 254 free,
+        0 occupied, 205 unknown; thresholds 0.65/0.196), a PGM (the YAML's image) and a PNG
+        of the same pixels, with ``record``. A map of that name is replaced, its nav data
+        kept. Returns the name."""
+        name = check_name("map", name)
+        if grid.width == 0 or grid.height == 0:
+            raise ValueError(f"map {name!r}: the grid is empty ({grid.width}x{grid.height})")
+        pixels = grid_to_pixels(grid.grid)
+        ox, oy, oyaw = (float(v) for v in grid.origin)
+        with self._lock:
+            dst = self.folder(name)
+            dst.mkdir(parents=True, exist_ok=True)
+            meta = MapMeta(image=dst / f"{name}.pgm", resolution=grid.resolution,
+                           origin=(ox, oy, oyaw), negate=False, occupied_thresh=0.65,
+                           free_thresh=0.196, mode="trinary")
+            for old in dst.glob(f"{name}.*"):
+                if old.suffix == ".bmp":
+                    old.unlink(missing_ok=True)
+            _atomic(dst / f"{name}.pgm", lambda tmp: tmp.write_bytes(encode_image(pixels, "pgm")))
+            _atomic(dst / f"{name}.png", lambda tmp: tmp.write_bytes(encode_image(pixels, "png")))
+            _atomic(dst / RECORD_FILE, lambda tmp: write_record(tmp, record))
+            # the YAML last: a reader that sees it sees the image and the record it names
+            _atomic(self.yaml_path(name), lambda tmp: write_meta(meta, tmp))
+            poses_path(dst).unlink(missing_ok=True)  # the simulator's poses were another map's
+            self._nav.pop(name, None)
+        return name
 
     def import_map(self, source: str | Path, name: str = "", *, overwrite: bool = True) -> str:
         """Copy a map_server map into the store as ``name`` (default: the YAML's stem).
@@ -114,6 +155,7 @@ class MapStore:
                 image=image, resolution=meta.resolution, origin=meta.origin,
                 negate=meta.negate, occupied_thresh=meta.occupied_thresh,
                 free_thresh=meta.free_thresh, mode=meta.mode), tmp))
+            (dst / RECORD_FILE).unlink(missing_ok=True)  # another map's record (a saved grid)
             poses = load_poses(src)
             if poses_path(src).is_file():
                 _atomic(poses_path(dst), lambda tmp: shutil.copyfile(poses_path(src), tmp))

@@ -188,7 +188,8 @@ class NavStatus(Message):
     ``state``: ``idle``, ``navigating``, ``recovering``, ``docking``, ``undocking``,
     ``charging`` or ``patrolling``. ``goal_status``: 0 none / 1 working / 2 succeeded /
     3 failed / 4 canceled (for the robot API's targetStatus). ``target_distance`` is the
-    path length left, -1 without a goal.
+    path length left, -1 without a goal. ``mapping``: nav is in mapping mode (the SLAM
+    node owns ``map`` and ``map -> odom``; ``map_name`` is empty then).
     """
 
     __msgtype__ = "zenros_msgs/NavStatus"
@@ -202,6 +203,7 @@ class NavStatus(Message):
     error_code: int = 0
     error_msg: str = ""
     pose: Pose2D = msgspec.field(default_factory=Pose2D)
+    mapping: bool = False
 
 
 # ------------------------------------------------------------------ maps
