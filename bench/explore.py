@@ -1,0 +1,166 @@
+"""Exploration benchmark: the demo office explored with no one driving.
+
+Prints one JSON line with:
+
+- ``explore_coverage``: the free area mapped when the ``explore`` goal succeeds / the free
+  area the robot could reach (the world's free cells connected to the start), >= 0.95 wanted;
+- ``explore_sim_s`` / ``explore_wall_s``: sim and wall time of the whole exploration,
+  return to the start included; ``explore_goals`` reached and failed;
+- the reference, in the same run: the same explorer with the robot put at each goal at once
+  and a ray-cast 360-beam laser (no driving, no noise, no mapping delay):
+  ``ref_coverage`` and ``ref_goals``, what the frontier rules alone achieve.
+
+The chassis is a process of its own at ``speed:=10``; nav, the explorer and the mapper run
+in this process. The mapper is the stand-in of the tests (tests/integration/standin_slam.py:
+the grid from the scans at the simulator's true pose, ``map`` and ``map -> odom`` as the SLAM
+node publishes them) until the SLAM node lands; then its bench (bench/slam.py) takes these
+keys through its hook.
+
+Run: ``python bench/explore.py``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage
+from zenros.action import ActionClient, GoalStatus
+from zenros.context import Context
+from zenros.maps import GridMap, load_map
+from zenros.msgs.zenros_msgs.slam import (
+    Explore,
+    ExploreGoal,
+    SetMappingMode,
+    SetMappingModeRequest,
+)
+from zenros.node import Node
+from zenros.se2 import Pose2
+from zenros.services.explore.explorer import ExploreParams, Explorer
+from zenros.services.explore.node import ExploreNode
+from zenros.services.nav.node import NavNode
+from zenros.services.nav.params import DEMO_MAP
+from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wait_for
+
+sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "integration"))
+from _harness import emit
+from standin_slam import TruthMapper
+
+SPEED = 10.0
+
+
+def reachable_free(world: GridMap, start: tuple[float, float]) -> np.ndarray:
+    labels, _ = ndimage.label((world.grid >= 0) & (world.grid <= 25))
+    r, c = world.world_to_cell(*start)
+    return labels == labels[r, c]
+
+
+def coverage(world: GridMap, built: GridMap, reach: np.ndarray) -> float:
+    """Share of ``reach`` (world cells) known in ``built`` (same frame)."""
+    rows, cols = np.nonzero(reach)
+    xs = world.origin[0] + (cols + 0.5) * world.resolution
+    ys = world.origin[1] + (rows + 0.5) * world.resolution
+    br = np.floor((ys - built.origin[1]) / built.resolution).astype(int)
+    bc = np.floor((xs - built.origin[0]) / built.resolution).astype(int)
+    ok = (br >= 0) & (br < built.height) & (bc >= 0) & (bc < built.width)
+    known = np.zeros(len(rows), dtype=bool)
+    known[ok] = built.grid[br[ok], bc[ok]] >= 0
+    return float(known.mean())
+
+
+def reference(world: GridMap, reach: np.ndarray) -> tuple[float, int]:
+    """The explorer with the robot teleported to each goal and a ray-cast laser."""
+    g, res = world.grid, world.resolution
+    seen = np.zeros(g.shape, dtype=bool)
+    pose = Pose2(0.0, 0.0, 0.0)
+    ex = Explorer(ExploreParams(), pose)
+    steps = np.arange(0.0, 12.0, res / 2)
+    angles = np.linspace(-math.pi, math.pi, 360, endpoint=False)
+    built = world
+    for t in range(500):
+        xs = pose.x + np.outer(np.cos(angles), steps)
+        ys = pose.y + np.outer(np.sin(angles), steps)
+        cols = np.floor((xs - world.origin[0]) / res).astype(int).clip(0, world.width - 1)
+        rows = np.floor((ys - world.origin[1]) / res).astype(int).clip(0, world.height - 1)
+        blocked = np.cumsum(g[rows, cols] >= 65, axis=1)
+        # a ray sees up to and including its first occupied cell
+        visible = (blocked == 0) | ((blocked == 1) & (g[rows, cols] >= 65))
+        seen[rows[visible], cols[visible]] = True
+        built = GridMap(np.where(seen, g, -1).astype(np.int8), res, world.origin)
+        d = ex.step(built, pose, float(t))
+        if d.action == "done" or d.target is None:
+            break
+        pose = d.target
+        if d.action == "home":
+            ex.returned(True)
+        else:
+            ex.reached(d.target)
+    return coverage(world, built, reach), ex.goals_reached
+
+
+def explore(world: GridMap, reach: np.ndarray) -> dict[str, float]:
+    port, prefix = free_port(), unique_prefix()
+    chassis = Proc([sys.executable, "-m", "zenros.services.chassis", "-l",
+                    f"tcp/127.0.0.1:{port}", "--prefix", prefix,
+                    "-p", f"speed:={SPEED}", "-p", "seed:=1", "--log-level", "warn"])
+    ctx = Context(loopback_options(connect=[port]), prefix=prefix)
+    home = tempfile.TemporaryDirectory()
+    nodes: list[Node] = []
+    try:
+        nav = NavNode("nav", context=ctx, parameter_overrides={
+            "use_sim_time": True, "maps_dir": home.name})
+        nodes.append(nav)
+        nodes.append(ExploreNode("explore", context=ctx, parameter_overrides={
+            "use_sim_time": True}))
+        user = Node("bench_user", context=ctx)
+        nodes.append(user)
+        client = ActionClient(user, Explore, "explore")
+        mode = user.create_client(SetMappingMode, "nav/set_mapping_mode")
+        assert client.wait_for_server(20) and mode.wait_for_service(20)
+        assert wait_for(lambda: nav.core.localizer.pose() is not None, 30)
+        assert mode.call(SetMappingModeRequest(enable=True), timeout=10).code == 0
+        mapper = TruthMapper(user, world, period=1.0)
+        mapper.start()
+        assert wait_for(lambda: mapper.published > 0, 30)
+        sim0, wall0 = nav.now().to_sec(), time.monotonic()
+        out = client.send_goal(ExploreGoal(), timeout=1800)
+        sim, wall = nav.now().to_sec() - sim0, time.monotonic() - wall0
+        assert out.status is GoalStatus.SUCCEEDED, out.result
+        built = mapper.grid()
+        assert built is not None
+        return {"coverage": coverage(world, built, reach), "sim": sim, "wall": wall,
+                "reached": out.result.goals_reached, "failed": out.result.goals_failed}
+    finally:
+        for n in reversed(nodes):
+            n.close()
+        ctx.close()
+        chassis.stop()
+        home.cleanup()
+
+
+def main() -> None:
+    logging.basicConfig(level=logging.WARNING)
+    world = load_map(DEMO_MAP)
+    reach = reachable_free(world, (0.0, 0.0))
+    ref_cov, ref_goals = reference(world, reach)
+    run = explore(world, reach)
+    emit("explore", {
+        "explore_coverage": round(run["coverage"], 3),
+        "explore_sim_s": round(run["sim"], 1),
+        "explore_wall_s": round(run["wall"], 1),
+        "explore_goals": run["reached"],
+        "explore_goals_failed": run["failed"],
+        "ref_coverage": round(ref_cov, 3),
+        "ref_goals": ref_goals,
+        "mapper": "standin (truth)",
+    }, speed=SPEED)
+
+
+if __name__ == "__main__":
+    main()

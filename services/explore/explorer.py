@@ -1,0 +1,146 @@
+"""Explorer: where to drive next, explore_lite's loop (EX src/explore.cpp) as plain Python.
+
+At each planning step (``planner_frequency``, 1 Hz) the node hands `step` the latest map and
+the robot's pose. The cheapest frontier whose goal is not blacklisted becomes the target; a
+target within ``same_goal_radius`` of the current one is the same goal (no new
+navigate_to_pose, since the map moves the centroid a little at every update). A goal that
+nav aborts, or that makes no progress (the robot no closer to it by ``progress_distance``)
+for ``progress_timeout`` seconds, is blacklisted; so is one reached (the laser saw what it
+could from there), and a frontier whose goal lies within ``blacklist_radius`` of a
+blacklisted goal is skipped. A goal whose frontier is mapped (or moves away) while the robot
+drives to it is overtaken by the next one, and counted with the reached ones in
+``goals_reached``. With no frontier left the explorer returns to the start pose
+(``return_to_start``), then is done.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+from zenros.maps import GridMap
+from zenros.se2 import Pose2
+
+from .frontiers import Frontier, FrontierParams, find_frontiers, known_area
+
+__all__ = ["Decision", "ExploreParams", "Explorer", "NO_MAP", "RETURN_FAILED"]
+
+NO_MAP = 1
+"""ExploreResult.error_code: no map or no robot pose came in time."""
+RETURN_FAILED = 2
+"""ExploreResult.error_code: exploring is done but the robot could not drive back."""
+
+
+@dataclass(frozen=True)
+class ExploreParams:
+    frontiers: FrontierParams = field(default_factory=FrontierParams)
+    progress_timeout: float = 30.0
+    progress_distance: float = 0.1
+    same_goal_radius: float = 0.5
+    blacklist_radius: float = 0.5
+    return_to_start: bool = True
+
+
+Stage = Literal["exploring", "returning", "done"]
+
+
+@dataclass
+class Decision:
+    """What the node does now: ``goto`` a new goal (``target``), ``keep`` driving to the
+    current one, ``home`` (drive to the start pose), ``done`` (nothing left)."""
+
+    action: Literal["goto", "keep", "home", "done"]
+    target: Pose2 | None = None
+    frontiers_left: int = 0
+
+
+class Explorer:
+    """The state of one exploration (one ``explore`` goal)."""
+
+    def __init__(self, params: ExploreParams, start: Pose2) -> None:
+        self.p = params
+        self.start = start
+        self.stage: Stage = "exploring"
+        self.target: Pose2 | None = None
+        self.blacklist: list[tuple[float, float]] = []
+        self.goals_reached = 0
+        self.goals_failed = 0
+        self.explored_area = 0.0
+        self.frontiers_left = 0
+        self.return_ok = False
+        self._best = math.inf
+        self._last_progress = 0.0
+
+    # ------------------------------------------------------------------ planning
+
+    def _allowed(self, f: Frontier) -> bool:
+        r = self.p.blacklist_radius
+        return all(math.hypot(f.goal[0] - x, f.goal[1] - y) > r for x, y in self.blacklist)
+
+    def frontiers(self, grid: GridMap, robot: Pose2) -> list[Frontier]:
+        found = find_frontiers(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1]),
+                               (robot.x, robot.y), self.p.frontiers)
+        return [f for f in found if self._allowed(f)]
+
+    def step(self, grid: GridMap, robot: Pose2, now: float) -> Decision:
+        """The decision at ``now`` (seconds) for the map ``grid`` and the robot at ``robot``."""
+        self.explored_area = known_area(grid.grid, grid.resolution)
+        if self.stage != "exploring":
+            return Decision("keep" if self.stage == "returning" else "done", self.target)
+        found = self.frontiers(grid, robot)
+        self.frontiers_left = len(found)
+        if not found:
+            if self.target is not None:
+                self.goals_reached += 1  # overtaken: the last frontier was mapped on the way
+            self.target = None
+            if self.p.return_to_start:
+                self.stage = "returning"
+                self.target = self.start
+                return Decision("home", self.start)
+            self.stage = "done"
+            return Decision("done")
+        best = found[0]
+        gx, gy = best.goal
+        dist = math.hypot(gx - robot.x, gy - robot.y)
+        cur = self.target
+        same = cur is not None and math.hypot(cur.x - gx, cur.y - gy) <= self.p.same_goal_radius
+        if not same or dist < self._best - self.p.progress_distance:
+            self._last_progress = now
+            self._best = dist if not same else min(self._best, dist)
+        if same and now - self._last_progress > self.p.progress_timeout:
+            assert cur is not None
+            self.fail(cur)  # no progress: blacklisted; the next step picks another one
+            return self.step(grid, robot, now)
+        if same:
+            return Decision("keep", cur, len(found))
+        if cur is not None:
+            self.goals_reached += 1  # overtaken: its frontier was mapped (or moved) on the way
+        heading = math.atan2(gy - robot.y, gx - robot.x)
+        self.target = Pose2(gx, gy, heading)
+        self._best, self._last_progress = dist, now
+        return Decision("goto", self.target, len(found))
+
+    # ------------------------------------------------------------------ outcomes
+
+    def reached(self, target: Pose2) -> None:
+        """Nav reached ``target``: counted, and not a goal again."""
+        self.goals_reached += 1
+        self._forget(target)
+
+    def fail(self, target: Pose2) -> None:
+        """Nav aborted ``target`` (or it made no progress): blacklisted."""
+        self.goals_failed += 1
+        self._forget(target)
+
+    def _forget(self, target: Pose2) -> None:
+        self.blacklist.append((target.x, target.y))
+        if self.target is not None and self.target == target:
+            self.target = None
+            self._best = math.inf
+
+    def returned(self, ok: bool) -> None:
+        """The drive back to the start ended (``ok``: reached)."""
+        self.stage = "done"
+        self.target = None
+        self.return_ok = ok

@@ -1,0 +1,189 @@
+"""Frontier search on an occupancy grid, with explore_lite's rules (specs/mapping.md §6).
+
+From the free cell nearest the robot, a breadth-first walk over the free cells the robot's
+body fits in (at least ``clearance`` from every occupied cell) finds what is reachable. An
+unknown cell with a free 4-neighbour, found beside a reached cell, seeds a frontier, grown
+over 8-neighbours through every such cell; frontiers of fewer than ``min_frontier_size``
+metres of cells are dropped. Each one's cost is explore_lite's,
+``potential_scale * distance * resolution - gain_scale * size * resolution`` (``size`` in
+metres, ``distance`` the walk's length in metres to the nearest reached cell beside it:
+nearest *reachable*, where explore_lite takes the straight line), cheapest first. Its goal is
+its centroid moved to the nearest reached cell beside the frontier (so a goal is never in
+a wall or in unknown space, and the laser sees into the unknown from there).
+
+Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each map.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+__all__ = ["Frontier", "FrontierParams", "find_frontiers", "is_free", "known_area"]
+
+FREE_MAX = 25  # map_saver's free: values 0..25 (trinary 254 on save)
+OCCUPIED_MIN = 65
+
+
+@dataclass(frozen=True)
+class FrontierParams:
+    min_frontier_size: float = 0.5
+    """Metres of frontier cells (cells x resolution) a frontier needs (explore_lite 0.5)."""
+    potential_scale: float = 1e-3
+    gain_scale: float = 1.0
+    clearance: float = 0.25
+    """Metres from the nearest occupied cell the walk keeps (the robot's radius and a bit)."""
+
+
+@dataclass
+class Frontier:
+    """A frontier: ``size`` cells; ``distance`` (m) the walk to it; ``centroid`` and ``goal``
+    (x, y in the map's frame); ``cells`` (row, col) of its cells."""
+
+    size: int
+    distance: float
+    cost: float
+    centroid: tuple[float, float]
+    goal: tuple[float, float]
+    cells: np.ndarray = field(repr=False)
+
+
+def is_free(grid: np.ndarray) -> np.ndarray:
+    return (grid >= 0) & (grid <= FREE_MAX)
+
+
+def known_area(grid: np.ndarray, resolution: float) -> float:
+    """Square metres of known (free or occupied) cells."""
+    return float(np.count_nonzero(grid >= 0)) * resolution * resolution
+
+
+_N4 = ((1, 0), (-1, 0), (0, 1), (0, -1))
+
+
+def _walk(walkable: np.ndarray, start: tuple[int, int]) -> np.ndarray:
+    """Steps (4-connected) from ``start`` to every walkable cell; -1 where not reached.
+    (A breadth-first walk, as explore_lite's, run as scipy's Dijkstra on unit steps: the
+    walk in Python took a second on the office.)"""
+    h, w = walkable.shape
+    idx = np.full(walkable.shape, -1, dtype=np.int64)
+    n = int(np.count_nonzero(walkable))
+    idx[walkable] = np.arange(n)
+    pairs = []
+    for a, b in ((idx[:, :-1], idx[:, 1:]), (idx[:-1, :], idx[1:, :])):
+        both = (a >= 0) & (b >= 0)
+        pairs.append((a[both], b[both]))
+    src = np.concatenate([p[0] for p in pairs])
+    dst = np.concatenate([p[1] for p in pairs])
+    graph = csr_matrix((np.ones(len(src)), (src, dst)), shape=(n, n))
+    d = dijkstra(graph, directed=False, indices=int(idx[start]), unweighted=True)
+    out = np.full(walkable.shape, -1, dtype=np.int32)
+    ok = np.isfinite(d)
+    vals = np.full(n, -1, dtype=np.int32)
+    vals[ok] = d[ok].astype(np.int32)
+    out[walkable] = vals
+    return out
+
+
+def _nearest(mask: np.ndarray, row: float, col: float) -> tuple[int, int] | None:
+    rows, cols = np.nonzero(mask)
+    if len(rows) == 0:
+        return None
+    k = int(np.argmin((rows - row) ** 2 + (cols - col) ** 2))
+    return int(rows[k]), int(cols[k])
+
+
+def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, float],
+                   robot: tuple[float, float], params: FrontierParams = FrontierParams()
+                   ) -> list[Frontier]:
+    """The reachable frontiers of ``grid`` (int8, row 0 at the bottom, -1 unknown, 0..100),
+    cheapest first. ``origin``: the map point of cell (0, 0)'s lower-left corner; ``robot``:
+    (x, y) in the map's frame. Empty when the robot is off the map or nothing is free."""
+    g = np.asarray(grid)
+    if g.ndim != 2 or g.size == 0 or not resolution > 0:
+        return []
+    free = is_free(g)
+    unknown = g < 0
+    occupied = g >= OCCUPIED_MIN
+    clear = ndimage.distance_transform_edt(~occupied) * resolution if occupied.any() \
+        else np.full(g.shape, np.inf)
+    walkable = free & (clear >= params.clearance)
+    ox, oy = origin
+    rc = ((robot[1] - oy) / resolution - 0.5, (robot[0] - ox) / resolution - 0.5)
+    start = _nearest(walkable, *rc)
+    if start is None:
+        return []
+    steps = _walk(walkable, start)
+    reached = steps >= 0
+    # frontier cells: unknown, with a free 4-neighbour
+    free4 = np.zeros_like(free)
+    reached4 = np.zeros_like(free)
+    near = np.full(g.shape, np.iinfo(np.int32).max, dtype=np.int64)
+    for dr, dc in _N4:
+        free4 |= _shift_mask(free, dr, dc)
+        reached4 |= _shift_mask(reached, dr, dc)
+        s = _shift_values(steps, dr, dc)
+        near = np.where(s >= 0, np.minimum(near, s), near)
+    candidate = unknown & free4
+    labels, n = ndimage.label(candidate, structure=np.ones((3, 3), dtype=bool))
+    if n == 0:
+        return []
+    seeded = np.unique(labels[candidate & reached4])
+    seeded = seeded[seeded > 0]
+    min_cells = params.min_frontier_size / resolution
+    out: list[Frontier] = []
+    sizes = np.bincount(labels.ravel(), minlength=n + 1)
+    boxes = ndimage.find_objects(labels)
+    h, w = g.shape
+    for lab in seeded:
+        if sizes[lab] < min_cells:
+            continue
+        box = boxes[lab - 1]
+        r0, c0 = max(box[0].start - 1, 0), max(box[1].start - 1, 0)
+        win = (slice(r0, min(box[0].stop + 1, h)), slice(c0, min(box[1].stop + 1, w)))
+        mine = labels[win] == lab
+        rows, cols = np.nonzero(mine)
+        by = near[win][rows, cols]
+        distance = (float(by[by < np.iinfo(np.int32).max].min()) + 1) * resolution
+        rows, cols = rows + r0, cols + c0
+        cr, cc = float(rows.mean()), float(cols.mean())
+        # the goal: the reached cell beside this frontier nearest its centroid (from there
+        # the laser sees into the unknown); the centroid itself may be unknown or in a wall
+        beside = np.zeros_like(mine)
+        for dr, dc in _N4:
+            beside |= _shift_mask(mine, dr, dc)
+        spot = _nearest(beside & reached[win], cr - r0, cc - c0)
+        if spot is None:
+            continue  # only seeded frontiers get here: one of its cells touches a reached one
+        gr, gc = spot[0] + r0, spot[1] + c0
+        size_m = len(rows) * resolution
+        cost = params.potential_scale * distance * resolution \
+            - params.gain_scale * size_m * resolution
+        out.append(Frontier(
+            size=len(rows), distance=distance, cost=cost,
+            centroid=(ox + (cc + 0.5) * resolution, oy + (cr + 0.5) * resolution),
+            goal=(ox + (gc + 0.5) * resolution, oy + (gr + 0.5) * resolution),
+            cells=np.column_stack([rows, cols])))
+    out.sort(key=lambda f: f.cost)
+    return out
+
+
+def _shift_values(a: np.ndarray, dr: int, dc: int) -> np.ndarray:
+    """``out[r, c] = a[r + dr, c + dc]`` (-1 off the grid)."""
+    out = np.full_like(a, -1)
+    h, w = a.shape
+    rs = slice(max(-dr, 0), h - max(dr, 0))
+    cs = slice(max(-dc, 0), w - max(dc, 0))
+    out[rs, cs] = a[max(dr, 0):h + min(dr, 0), max(dc, 0):w + min(dc, 0)]
+    return out
+
+
+def _shift_mask(mask: np.ndarray, dr: int, dc: int) -> np.ndarray:
+    out = np.zeros_like(mask)
+    h, w = mask.shape
+    out[max(-dr, 0):h - max(dr, 0), max(-dc, 0):w - max(dc, 0)] = \
+        mask[max(dr, 0):h + min(dr, 0), max(dc, 0):w + min(dc, 0)]
+    return out

@@ -1,0 +1,158 @@
+"""Frontier search and the explorer's decisions, without Zenoh: explore_lite's rules
+(specs/mapping.md §6) on small hand-made grids, and a whole exploration of the demo office
+on a simulated laser with the robot moved to each goal."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from zenros.maps import GridMap, load_map
+from zenros.se2 import Pose2
+from zenros.services.explore.explorer import ExploreParams, Explorer
+from zenros.services.explore.frontiers import FrontierParams, find_frontiers, known_area
+from zenros.services.nav.params import DEMO_MAP
+
+RES = 0.05
+
+
+def room(w: int = 60, h: int = 40) -> np.ndarray:
+    """A free room with walls, unknown outside; cell (row, col)."""
+    g = np.full((h, w), -1, dtype=np.int8)
+    g[5:h - 5, 5:w - 5] = 0
+    g[5, 5:w - 5] = g[h - 6, 5:w - 5] = 100
+    g[5:h - 5, 5] = g[5:h - 5, w - 6] = 100
+    return g
+
+
+def test_a_closed_room_has_no_frontier_and_an_opening_has_one() -> None:
+    g = room()
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0)) == []
+    g[15:25, 54] = 0  # a 0.5 m door in the east wall, unknown beyond
+    (f,) = find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0))
+    assert f.size == 10 and f.cells[:, 1].tolist() == [55] * 10
+    assert math.isclose(f.centroid[0], 55.5 * RES) and math.isclose(f.centroid[1], 20 * RES)
+    gx, gy = f.goal  # a reached free cell beside the frontier, not the unknown centroid
+    r, c = int(gy / RES), int(gx / RES)
+    assert g[r, c] == 0 and c == 54
+
+
+def test_small_frontiers_are_dropped_and_unreachable_ones_never_found() -> None:
+    g = room()
+    g[15:19, 54] = 0  # 4 cells: 0.2 m < min_frontier_size
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0)) == []
+    assert len(find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0),
+                              FrontierParams(min_frontier_size=0.1, clearance=0.0))) == 1
+    # a second room, open to the unknown, that the robot cannot reach
+    g = np.concatenate([room(), room()], axis=1)
+    g[15:30, 114] = 0
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0)) == []
+    (f,) = find_frontiers(g, RES, (0.0, 0.0), (4.5, 1.0))
+    assert f.size == 15
+
+
+def test_a_gap_narrower_than_the_robot_is_not_a_way_through() -> None:
+    g = room(100)
+    g[5:35, 50] = 100  # a wall across, with a 0.3 m gap
+    g[18:24, 50] = 0
+    g[15:25, 94] = 0   # the door out is beyond the wall
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0)) == []
+    g[14:28, 50] = 0   # a 0.7 m gap
+    assert len(find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0))) == 1
+
+
+def test_cost_prefers_near_and_large_with_explore_lite_scales() -> None:
+    g = room(100)
+    g[10:30, 94] = 0  # far east, 1.0 m
+    g[14:26, 5] = 0   # near west, 0.6 m
+    fs = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(min_frontier_size=0.2))
+    assert [f.size for f in fs] == [20, 12]  # gain dominates at potential_scale 1e-3
+    for f in fs:
+        assert math.isclose(f.cost, 1e-3 * f.distance * RES - f.size * RES * RES)
+    fs = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(
+        min_frontier_size=0.2, potential_scale=1.0))
+    assert [f.size for f in fs] == [12, 20]  # distance dominates
+    assert fs[0].distance < fs[1].distance
+
+
+def test_bad_inputs_find_nothing() -> None:
+    assert find_frontiers(np.zeros((0, 0), np.int8), RES, (0, 0), (0, 0)) == []
+    assert find_frontiers(np.full((5, 5), -1, np.int8), RES, (0, 0), (0, 0)) == []
+    assert find_frontiers(room(), 0.0, (0, 0), (1.5, 1.0)) == []
+
+
+def test_explorer_blacklists_failures_keeps_its_goal_and_goes_home() -> None:
+    g = room(100)
+    g[10:30, 94] = 0
+    g[14:26, 5] = 0
+    grid = GridMap(g, RES, (0.0, 0.0, 0.0))
+    ex = Explorer(ExploreParams(frontiers=FrontierParams(min_frontier_size=0.2),
+                                progress_timeout=5.0), Pose2(1.0, 1.0, 0.0))
+    d = ex.step(grid, Pose2(1.0, 1.0), 0.0)
+    assert d.action == "goto" and d.frontiers_left == 2 and d.target is not None
+    assert d.target.x > 4.0
+    assert ex.step(grid, Pose2(1.5, 1.0), 1.0).action == "keep"  # progress
+    assert ex.step(grid, Pose2(1.5, 1.0), 5.5).action == "keep"
+    d = ex.step(grid, Pose2(1.5, 1.0), 6.6)  # no progress for 5 s: the next frontier
+    assert d.action == "goto" and d.target is not None and d.target.x < 1.0
+    assert ex.goals_failed == 1 and ex.goals_reached == 0
+    ex.fail(d.target)  # nav aborted it
+    d = ex.step(grid, Pose2(1.5, 1.0), 7.0)
+    assert d.action == "home" and d.target == Pose2(1.0, 1.0, 0.0) and ex.frontiers_left == 0
+    ex.returned(True)
+    assert ex.step(grid, Pose2(1.0, 1.0), 8.0).action == "done"
+
+
+def laser_view(world: np.ndarray, seen: np.ndarray, pose: Pose2, max_range: float = 8.0
+               ) -> None:
+    """Mark what a 360-beam laser at ``pose`` sees of ``world`` into ``seen`` (in place)."""
+    h, w = world.shape
+    steps = np.arange(0.0, max_range, RES / 2)
+    for a in np.linspace(-math.pi, math.pi, 360, endpoint=False):
+        xs = pose.x + steps * math.cos(a)
+        ys = pose.y + steps * math.sin(a)
+        cols = ((xs + 3.0) / RES).astype(int)
+        rows = ((ys + 9.75) / RES).astype(int)
+        ok = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+        rows, cols = rows[ok], cols[ok]
+        hit = np.nonzero(world[rows, cols] >= 65)[0]
+        end = hit[0] + 1 if len(hit) else len(rows)
+        seen[rows[:end], cols[:end]] = True
+
+
+def test_exploring_the_office_covers_its_reachable_free_space() -> None:
+    world = load_map(DEMO_MAP)
+    g = world.grid
+    seen = np.zeros(g.shape, dtype=bool)
+    pose = Pose2(0.0, 0.0, 0.0)
+    ex = Explorer(ExploreParams(), pose)
+    t = 0.0
+    for _ in range(200):
+        laser_view(g, seen, pose)
+        built = GridMap(np.where(seen, g, -1).astype(np.int8), RES, world.origin)
+        d = ex.step(built, pose, t)
+        if d.action == "done":
+            break
+        assert d.target is not None
+        pose = d.target  # the robot gets there
+        if d.action == "home":
+            ex.returned(True)
+        else:
+            ex.reached(d.target)
+        t += 10.0
+    assert ex.stage == "done" and pose == Pose2(0.0, 0.0, 0.0)
+    # the free space the robot could reach, against what was seen of it
+    reach = find_reachable(g)
+    coverage = np.count_nonzero(seen & reach) / np.count_nonzero(reach)
+    print(f"office: {ex.goals_reached} goals, coverage {coverage:.3f}, "
+          f"{known_area(built.grid, RES):.0f} m2 known")
+    assert coverage >= 0.95
+
+
+def find_reachable(g: np.ndarray) -> np.ndarray:
+    from scipy import ndimage
+
+    free = (g >= 0) & (g <= 25)
+    labels, _ = ndimage.label(free)
+    r, c = int(9.75 / RES), int(3.0 / RES)
+    return labels == labels[r, c]
