@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 
 import numpy as np
 from zenros.maps import GridMap
@@ -75,6 +76,8 @@ class TruthMapper:
         self.pub: object | None = None
         self.tf_pub = node.create_publisher(TFMessage, "/tf")
         self.published = 0
+        self.scan_rate = 10.0
+        self._last_scan = -math.inf
         node.create_subscription(Odometry, "sim/ground_truth", self._on_truth, QOS_SENSOR)
         node.create_subscription(Odometry, "odom", self._on_odom, QOS_SENSOR)
         node.create_subscription(LaserScan, "scan", self._on_scan, QOS_SENSOR)
@@ -101,10 +104,14 @@ class TruthMapper:
                 self.map_to_odom = pose * odom.inverse()
 
     def _on_scan(self, msg: LaserScan) -> None:
+        now = time.monotonic()
         with self.lock:
             pose = self.truth
-        if pose is None or self.pub is None:
-            return
+            # at most `scan_rate` scans a wall second: at 10x the laser sends 100, and folding
+            # each in would hold up this session's other callbacks (the truth, odom)
+            if pose is None or self.pub is None or now - self._last_scan < 1 / self.scan_rate:
+                return
+            self._last_scan = now
         r = np.asarray(msg.ranges, dtype=np.float64)
         a = msg.angle_min + msg.angle_increment * np.arange(len(r)) + pose.theta
         hit = np.isfinite(r) & (r < msg.range_max)

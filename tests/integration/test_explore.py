@@ -133,7 +133,8 @@ def test_explore_maps_a_small_world_and_comes_back(
                if f.stage == "exploring" and f.frontiers_left > 0}
     assert res.explored_area_m2 > 60 and res.goals_reached >= 1 and len(targets) >= 2
     assert feedback[-1].stage == "returning"
-    assert math.hypot(truth[-1].x, truth[-1].y) < 0.5  # back where it started
+    # back where it started (the truth samples may lag a little behind on a loaded box)
+    assert wait_for(lambda: math.hypot(truth[-1].x, truth[-1].y) < 0.5, 10), truth[-1]
 
 
 def test_explore_without_a_map_fails_and_cancel_stops_the_robot(

@@ -64,3 +64,41 @@ def test_correction_moves_map_to_odom_by_the_gain() -> None:
     loc.correct(1, Pose2(1.2, 0.0, 0.0), gain=0.5)  # the matcher says 20 cm further
     assert loc.pose() == pytest.approx(Pose2(1.1, 0.0, 0.0))
     assert loc.corrections == 1
+
+
+@pytest.mark.parametrize("truth", [Pose2(10.0, 0.3, 0.5), Pose2(5.0, 4.0, -2.0)])
+def test_the_wide_window_finds_a_pose_given_off_by_more_than_tracking_s(
+        office: tuple[GridMap, ScanMatcher], truth: Pose2) -> None:
+    """A relocalisation (initial pose, a built map's saved map -> odom): 0.35 m and 0.25 rad
+    off is outside the tracking window, inside the wide one."""
+    grid, sm = office
+    pts = cast(grid, truth)
+    guess = Pose2(truth.x - 0.25, truth.y + 0.25, truth.theta - 0.25)
+    narrow, _ = sm.match(pts, guess)
+    assert narrow.distance(truth) > 0.1
+    wide, score = sm.match(pts, guess, wide=True)
+    found, score = sm.match(pts, wide)
+    assert found.distance(truth) < 0.02 and score > 0.8
+
+
+def test_external_map_to_odom_is_taken_as_it_is() -> None:
+    """Mapping mode: the SLAM node's transform only; truth, matches, initial poses ignored."""
+    loc = Localizer("ground_truth")
+    loc.on_odom(1, Pose2(1.0, 0.0, 0.0))
+    loc.set_external(True)
+    assert loc.pose() is None
+    loc.on_ground_truth(1, Pose2(5.0, 5.0, 0.0))
+    loc.set_pose(Pose2(7.0, 7.0, 0.0))
+    assert loc.pose() is None
+    loc.follow(Pose2(0.5, 0.0, 0.0))
+    assert loc.pose() == Pose2(1.5, 0.0, 0.0)
+    loc.set_mode("scan_match")
+    loc.correct(1, Pose2(9.0, 9.0, 0.0), 1.0)
+    assert loc.pose() == Pose2(1.5, 0.0, 0.0)
+    loc.set_external(False)
+    loc.follow(Pose2(3.0, 0.0, 0.0))  # no longer followed
+    assert loc.map_to_odom == Pose2(0.5, 0.0, 0.0)
+    loc.set_pose(Pose2(2.0, 0.0, 0.0))
+    assert loc.relocalize and loc.pose() == Pose2(2.0, 0.0, 0.0)
+    loc.correct(1, Pose2(2.1, 0.0, 0.0), 1.0)
+    assert not loc.relocalize
