@@ -128,7 +128,9 @@ def test_mapping_mode_hands_over_the_map_and_the_transform(
                 nav_m2o.append(Pose2(tr.x, tr.y, 0.0))
 
     user.create_subscription(TFMessage, "/tf", on_tf)
-    timer = user.create_timer(0.05, lambda: tf_pub.publish(map_to_odom_tf(m2o, user.now())))
+    # first as if odometry had drifted 0.25 m unnoticed, corrected mid-drive (a jump)
+    sent = [m2o * Pose2(0.2, -0.15, 0.04)]
+    timer = user.create_timer(0.05, lambda: tf_pub.publish(map_to_odom_tf(sent[0], user.now())))
     assert wait_for(lambda: nav.core.costmaps.ready and nav.core.localizer.pose() is not None,
                     10)
     late = latched_map(user)  # a late joiner gets the SLAM map, never nav's old one
@@ -137,8 +139,18 @@ def test_mapping_mode_hands_over_the_map_and_the_transform(
                     and statuses[-1].map_name == "", 10)
 
     goal_b = B_IN_WORLD.inverse() * Pose2(5.0, 4.0, 0.0)
-    assert drive(navigate, goal_b, truth) < GOAL_TOLERANCE
-    assert all(math.hypot(p.x - m2o.x, p.y - m2o.y) < 1e-6 for p in nav_m2o[-50:])
+    handle = navigate.send_goal_async(NavigateToPoseGoal(pose=pose_stamped(goal_b, Time())))
+    start = truth.pose
+    assert start is not None
+    assert wait_for(lambda: truth.pose is not None and truth.pose.distance(start) > 1.5, 60)
+    sent[0] = m2o  # the SLAM node's correction: the pose jumps 0.25 m, the plan is redone
+    seen = len(nav_m2o) + 2  # what is on /tf from here on is the correction, from nobody else
+    out = handle.result(timeout=90)
+    assert out.status is GoalStatus.SUCCEEDED, out.result
+    want = B_IN_WORLD * goal_b
+    assert truth.pose.distance(want) < GOAL_TOLERANCE  # type: ignore[union-attr]
+    assert len(nav_m2o) > seen + 10
+    assert all(math.hypot(p.x - m2o.x, p.y - m2o.y) < 1e-6 for p in nav_m2o[seen:])
 
     timer.cancel()
     user.destroy(pub)
