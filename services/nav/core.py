@@ -183,11 +183,7 @@ class NavCore:
         """Take ``map`` and ``map -> odom`` back: load ``map_name`` (default: the map of
         before) with the robot's odometry frame at ``map_to_odom`` in it when given.
         Refused (`MappingRefused` NOT_FOUND, still mapping) for an unknown map."""
-        name = map_name or self.maps.current
-        try:
-            self.maps.store.require(name)
-        except (MapError, ValueError) as exc:
-            raise MappingRefused(ResultCode.NOT_FOUND, str(exc)) from exc
+        name = self.map_after_mapping(map_name)
         was = self.mapping
         self.mapping = False
         self.localizer.set_external(False)
@@ -201,6 +197,14 @@ class NavCore:
                 self.localizer.set_external(True)
             raise MappingRefused(ResultCode.INVALID, str(exc)) from exc
         return name
+
+    def map_after_mapping(self, map_name: str) -> str:
+        """The map `leave_mapping` would load (`MappingRefused` NOT_FOUND if not stored)."""
+        name = map_name or self.maps.current
+        try:
+            return self.maps.store.require(name)
+        except (MapError, ValueError) as exc:
+            raise MappingRefused(ResultCode.NOT_FOUND, str(exc)) from exc
 
     def on_slam_map(self, grid: GridMap) -> None:
         """A new grid from the SLAM node (it grows; origin and size change): the costmaps

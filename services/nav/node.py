@@ -244,6 +244,7 @@ class NavNode(Node):
 
     def _leave_mapping(self, map_name: str, start: Pose2 | None) -> str:
         was = self.core.mapping
+        self.core.map_after_mapping(map_name)  # refused before anything changes
         subs, self._mapping_subs = self._mapping_subs, []
         for sub in subs:
             self.destroy(sub)
@@ -252,7 +253,7 @@ class NavNode(Node):
         try:
             name = self.core.leave_mapping(map_name, start)
         except MappingRefused:
-            if self.core.mapping:  # still mapping: follow the SLAM node again
+            if self.core.mapping:  # the map would not load: follow the SLAM node again
                 self._follow_slam()
             raise
         if was:

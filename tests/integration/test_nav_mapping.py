@@ -229,3 +229,6 @@ def test_navigation_on_a_built_map_by_scan_matching(
     assert nav.core.maps.store.load("copy") == nav.core.maps.store.load("site2")
     assert not saver.call(SaveMapRequest(map_url="copy", map_topic="nothing_here"),
                           timeout=20).result
+    assert not saver.call(SaveMapRequest(map_url="copy", map_topic="no good!"),
+                          timeout=20).result
+    assert not saver.call(SaveMapRequest(map_url="../copy"), timeout=20).result
