@@ -1,4 +1,4 @@
-"""Frontier search on an occupancy grid, with explore_lite's rules (specs/mapping.md §6).
+"""Frontier search on an occupancy grid, with explore_lite's rules (specs/mapping.md, section 6).
 
 From the free cell nearest the robot, a breadth-first walk over the free cells the robot's
 body fits in (at least ``clearance`` from every occupied cell) finds what is reachable. An

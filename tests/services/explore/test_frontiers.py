@@ -1,5 +1,5 @@
 """Frontier search and the explorer's decisions, without Zenoh: explore_lite's rules
-(specs/mapping.md §6) on small hand-made grids, and a whole exploration of the demo office
+(specs/mapping.md, section 6) on small hand-made grids, and a whole exploration of the demo office
 on a simulated laser with the robot moved to each goal."""
 
 from __future__ import annotations
