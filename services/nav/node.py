@@ -377,6 +377,8 @@ class NavNode(Node):
 
     def _maybe_autocharge(self, now: float) -> None:
         core = self.core
+        if core.mapping:
+            return  # the dock is in the saved map's frame, not the one being built
         if not self.autocharge.due(core.battery, core.charging, core.docked,
                                    core.motion.active is not None, now):
             return
