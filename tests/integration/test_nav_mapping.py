@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from standin_slam import map_to_odom_tf, reframe
@@ -232,3 +233,22 @@ def test_navigation_on_a_built_map_by_scan_matching(
     assert not saver.call(SaveMapRequest(map_url="copy", map_topic="no good!"),
                           timeout=20).result
     assert not saver.call(SaveMapRequest(map_url="../copy"), timeout=20).result
+
+
+def test_no_automatic_docking_while_mapping(tmp_path: Path) -> None:
+    """The dock pose is in the saved map's frame: a low battery in mapping mode waits."""
+    with linked_contexts(1) as ctxs:
+        nav = NavNode("nav", context=ctxs[0], parameter_overrides={
+            "maps_dir": str(tmp_path / "maps"), "auto_charge": True})
+        try:
+            nav.core.on_odom(1, Pose2(), 0.0, 0.0)
+            nav.core.localizer.set_pose(Pose2())
+            nav.core.on_battery(0.05, False)
+            nav.core.enter_mapping()
+            nav._maybe_autocharge(100.0)
+            assert nav.core.motion.active is None
+            nav.core.leave_mapping()
+            nav._maybe_autocharge(200.0)
+            assert nav.core.motion.active is not None  # the same battery, on its map: docks
+        finally:
+            nav.close()
