@@ -29,11 +29,12 @@ from zenros.maps import (
     read_meta,
     write_meta,
 )
+from zenros.maps.meta import check_meta
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.zenros_msgs.nav import MapInfo
 
 from .navdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
-from .mapmeta import RECORD_FILE, MapRecord, read_record, write_record
+from .mapmeta import RECORD_FILE, MapRecord, check_record, read_record, write_record
 
 __all__ = ["MapStore"]
 
@@ -109,10 +110,12 @@ class MapStore:
         ox, oy, oyaw = (float(v) for v in grid.origin)
         with self._lock:
             dst = self.folder(name)
-            dst.mkdir(parents=True, exist_ok=True)
             meta = MapMeta(image=dst / f"{name}.pgm", resolution=grid.resolution,
                            origin=(ox, oy, oyaw), negate=False, occupied_thresh=0.65,
                            free_thresh=0.196, mode="trinary")
+            check_meta(meta, f"map {name!r}")  # before any file: a bad grid changes nothing
+            check_record(record)
+            dst.mkdir(parents=True, exist_ok=True)
             for old in dst.glob(f"{name}.*"):
                 if old.suffix == ".bmp":
                     old.unlink(missing_ok=True)

@@ -86,10 +86,18 @@ def test_save_grid_refuses_the_map_in_use_bad_grids_and_types(core: NavCore) -> 
     assert resp.code == ResultCode.INVALID and "values" in resp.message
     resp = core.saver.handle_save_grid(SaveGridRequest(name="x"))  # 0 x 0
     assert resp.code == ResultCode.INVALID
+    core.saver.handle_save_grid(SaveGridRequest(name="lab", grid=built_grid().to_msg()))
+    before = {p.name: p.read_bytes() for p in core.maps.store.folder("lab").iterdir()}
+    msg = built_grid().to_msg()
+    msg.info.origin.position.x = math.inf
+    msg.data[:] = 100
+    resp = core.saver.handle_save_grid(SaveGridRequest(name="lab", grid=msg))
+    assert resp.code == ResultCode.INVALID and "origin" in resp.message
+    assert {p.name: p.read_bytes() for p in core.maps.store.folder("lab").iterdir()} == before
     resp = core.saver.handle_save_grid(SaveGridRequest(name="x", grid=built_grid().to_msg(),
                                                        type="basement"))
     assert resp.code == ResultCode.INVALID and "type" in resp.message
-    assert core.maps.store.names() == ["office"]
+    assert core.maps.store.names() == ["lab", "office"]
 
 
 def test_map_saver_writes_a_file_path_or_a_stored_name(core: NavCore, tmp_path: Path) -> None:
