@@ -94,11 +94,14 @@ class ExploreNode(Node):
             with self._lock:
                 self._pose = pose
 
-    def _fresh_map(self) -> None:
-        """Subscribe to ``map`` anew: the latched sample it brings is the current publisher's
-        (the SLAM node's once nav has handed the map over), never a map kept from before."""
+    def _fresh_inputs(self) -> None:
+        """Forget the map and the pose, and subscribe to ``map`` anew: the latched sample it
+        brings is the current publisher's (the SLAM node's once nav has handed the map
+        over), and the next ``robot_pose`` is in its frame; never a map or a pose kept from
+        before mapping started (the frame of the map nav had)."""
         with self._lock:
             self._grid = None
+            self._pose = None
         old = self._map_sub
         self._map_sub = self.create_subscription(OccupancyGrid, "map", self.on_map,
                                                  QOS_LATCHED)
@@ -131,7 +134,7 @@ class ExploreNode(Node):
 
     def execute(self, gh: ServerGoalHandle[ExploreGoal]) -> ExploreResult:
         goal: ExploreGoal = gh.request
-        self._fresh_map()
+        self._fresh_inputs()
         waited = 0.0
         grid, pose = self._inputs()
         while (grid is None or pose is None) and waited < self.params.wait_for_map:
