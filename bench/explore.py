@@ -8,7 +8,7 @@ Prints one JSON line with:
   return to the start included; ``explore_goals`` reached and failed;
 - the reference, in the same run: the same explorer with the robot put at each goal at once
   and a ray-cast 360-beam laser (no driving, no noise, no mapping delay):
-  ``ref_coverage`` and ``ref_goals``, what the frontier rules alone achieve.
+  ``explore_ref_coverage`` and ``explore_ref_goals``, what the frontier rules alone achieve.
 
 The chassis is a process of its own at ``speed:=10``; nav, the explorer and the mapper run
 in this process. The mapper is the stand-in of the tests (tests/integration/standin_slam.py:
@@ -144,22 +144,28 @@ def explore(world: GridMap, reach: np.ndarray) -> dict[str, float]:
         home.cleanup()
 
 
-def main() -> None:
-    logging.basicConfig(level=logging.WARNING)
+def figures(args: object = None) -> dict[str, object]:
+    """The exploration keys, for this script's line or another bench's (bench/slam.py's
+    ``FIGURES`` hook takes a callable of its parsed arguments)."""
     world = load_map(DEMO_MAP)
     reach = reachable_free(world, (0.0, 0.0))
     ref_cov, ref_goals = reference(world, reach)
     run = explore(world, reach)
-    emit("explore", {
+    return {
         "explore_coverage": round(run["coverage"], 3),
         "explore_sim_s": round(run["sim"], 1),
         "explore_wall_s": round(run["wall"], 1),
         "explore_goals": run["reached"],
         "explore_goals_failed": run["failed"],
-        "ref_coverage": round(ref_cov, 3),
-        "ref_goals": ref_goals,
-        "mapper": "standin (truth)",
-    }, speed=SPEED)
+        "explore_ref_coverage": round(ref_cov, 3),
+        "explore_ref_goals": ref_goals,
+        "explore_mapper": "standin (truth)",
+    }
+
+
+def main() -> None:
+    logging.basicConfig(level=logging.WARNING)
+    emit("explore", figures(), speed=SPEED)
 
 
 if __name__ == "__main__":
