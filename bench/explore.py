@@ -29,7 +29,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy import ndimage
 from zenros.action import ActionClient, GoalStatus
 from zenros.context import Context
 from zenros.maps import GridMap, load_map
@@ -50,28 +49,9 @@ from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wai
 sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "integration"))
 from _harness import emit
-from standin_slam import TruthMapper
+from standin_slam import TruthMapper, coverage, reachable_free
 
 SPEED = 10.0
-
-
-def reachable_free(world: GridMap, start: tuple[float, float]) -> np.ndarray:
-    labels, _ = ndimage.label((world.grid >= 0) & (world.grid <= 25))
-    r, c = world.world_to_cell(*start)
-    return labels == labels[r, c]
-
-
-def coverage(world: GridMap, built: GridMap, reach: np.ndarray) -> float:
-    """Share of ``reach`` (world cells) known in ``built`` (same frame)."""
-    rows, cols = np.nonzero(reach)
-    xs = world.origin[0] + (cols + 0.5) * world.resolution
-    ys = world.origin[1] + (rows + 0.5) * world.resolution
-    br = np.floor((ys - built.origin[1]) / built.resolution).astype(int)
-    bc = np.floor((xs - built.origin[0]) / built.resolution).astype(int)
-    ok = (br >= 0) & (br < built.height) & (bc >= 0) & (bc < built.width)
-    known = np.zeros(len(rows), dtype=bool)
-    known[ok] = built.grid[br[ok], bc[ok]] >= 0
-    return float(known.mean())
 
 
 def reference(world: GridMap, reach: np.ndarray) -> tuple[float, int]:

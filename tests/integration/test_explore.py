@@ -10,13 +10,11 @@ import math
 from collections.abc import Iterator
 from pathlib import Path
 
-import numpy as np
 import pytest
-from scipy import ndimage
-from standin_slam import TruthMapper
+from standin_slam import TruthMapper, coverage, reachable_free, small_world
 from zenros.action import ActionClient, GoalStatus
 from zenros.errors import GoalRejectedError
-from zenros.maps import GridMap, load_map, save_map
+from zenros.maps import load_map
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.msgs.zenros_msgs.slam import (
@@ -33,34 +31,6 @@ from zenros.services.explore.explorer import NO_MAP
 from zenros.services.explore.node import ExploreNode
 from zenros.services.nav.node import NavNode
 from zenros.testing import linked_contexts, wait_for
-
-RES = 0.05
-
-
-def small_world(folder: Path) -> Path:
-    """14 m x 8 m: a corridor along the south (the robot at (0, 0) in it), two rooms north
-    of it behind 0.9 m doors (walls the laser does not see through), a box in the east
-    room; the rooms can only be mapped from inside."""
-    g = np.zeros((160, 280), dtype=np.int8)
-
-    def wall(x0: float, y0: float, x1: float, y1: float, v: int = 100) -> None:
-        g[round((y0 + 1) / RES):round((y1 + 1) / RES),
-          round((x0 + 1) / RES):round((x1 + 1) / RES)] = v
-
-    wall(-1, -1, 13, -0.9)
-    wall(-1, 6.9, 13, 7)
-    wall(-1, -1, -0.9, 7)
-    wall(12.9, -1, 13, 7)
-    wall(-1, 1.5, 13, 1.6)          # corridor | rooms
-    wall(1.5, 1.5, 2.4, 1.6, 0)      # west door
-    wall(8.0, 1.5, 8.9, 1.6, 0)      # east door
-    wall(5.5, 1.5, 5.6, 7)           # west room | east room
-    wall(10.0, 4.0, 10.6, 4.6)       # a box
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / "small.yaml"
-    save_map(GridMap(g, RES, (-1.0, -1.0, 0.0)), path)
-    return path
-
 
 @pytest.fixture
 def rig(tmp_path: Path) -> Iterator[tuple[ChassisNode, NavNode, ExploreNode, Node, Path]]:
@@ -80,13 +50,6 @@ def rig(tmp_path: Path) -> Iterator[tuple[ChassisNode, NavNode, ExploreNode, Nod
         finally:
             for n in reversed(nodes):
                 n.close()
-
-
-def reachable_free(world: GridMap, start: tuple[float, float]) -> np.ndarray:
-    free = (world.grid >= 0) & (world.grid <= 25)
-    labels, _ = ndimage.label(free)
-    r, c = world.world_to_cell(*start)
-    return labels == labels[r, c]
 
 
 def test_explore_maps_a_small_world_and_comes_back(
@@ -116,19 +79,10 @@ def test_explore_maps_a_small_world_and_comes_back(
     built = mapper.grid()
     assert built is not None
     # coverage: the free cells the robot could reach, known in the built map (same frame)
-    reach = reachable_free(world, (0.0, 0.0))
-    rows, cols = np.nonzero(reach)
-    xs = world.origin[0] + (cols + 0.5) * RES
-    ys = world.origin[1] + (rows + 0.5) * RES
-    br = np.floor((ys - built.origin[1]) / RES).astype(int)
-    bc = np.floor((xs - built.origin[0]) / RES).astype(int)
-    inside = (br >= 0) & (br < built.height) & (bc >= 0) & (bc < built.width)
-    known = np.zeros(len(rows), dtype=bool)
-    known[inside] = built.grid[br[inside], bc[inside]] >= 0
-    coverage = float(known.mean())
-    print(f"explored: coverage {coverage:.3f}, {res.goals_reached} goals reached, "
+    cov = coverage(world, built, reachable_free(world, (0.0, 0.0)))
+    print(f"explored: coverage {cov:.3f}, {res.goals_reached} goals reached, "
           f"{res.goals_failed} failed, {res.explored_area_m2:.1f} m2")
-    assert coverage >= 0.95
+    assert cov >= 0.95
     targets = {(round(f.target.x, 1), round(f.target.y, 1)) for f in feedback
                if f.stage == "exploring" and f.frontiers_left > 0}
     assert res.explored_area_m2 > 60 and res.goals_reached >= 1 and len(targets) >= 2
