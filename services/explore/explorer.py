@@ -10,7 +10,8 @@ could from there), and a frontier whose goal lies within ``blacklist_radius`` of
 blacklisted goal is skipped. A goal whose frontier is mapped (or moves away) while the robot
 drives to it is overtaken by the next one, and counted with the reached ones in
 ``goals_reached``. With no frontier left the explorer returns to the start pose
-(``return_to_start``), then is done.
+(``return_to_start``), then is done. A map with no free space round the robot is not
+explored but not known yet: the explorer waits (`Decision` ``wait``).
 """
 
 from __future__ import annotations
@@ -48,9 +49,10 @@ Stage = Literal["exploring", "returning", "done"]
 @dataclass
 class Decision:
     """What the node does now: ``goto`` a new goal (``target``), ``keep`` driving to the
-    current one, ``home`` (drive to the start pose), ``done`` (nothing left)."""
+    current one, ``home`` (drive to the start pose), ``done`` (nothing left), ``wait`` (the
+    map does not show the robot's surroundings yet: turn round to let the mapper see)."""
 
-    action: Literal["goto", "keep", "home", "done"]
+    action: Literal["goto", "keep", "home", "done", "wait"]
     target: Pose2 | None = None
     frontiers_left: int = 0
 
@@ -78,10 +80,12 @@ class Explorer:
         r = self.p.blacklist_radius
         return all(math.hypot(f.goal[0] - x, f.goal[1] - y) > r for x, y in self.blacklist)
 
-    def frontiers(self, grid: GridMap, robot: Pose2) -> list[Frontier]:
+    def frontiers(self, grid: GridMap, robot: Pose2) -> list[Frontier] | None:
+        """The frontiers not blacklisted, cheapest first; None while the map does not show
+        free space round the robot."""
         found = find_frontiers(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1]),
                                (robot.x, robot.y), self.p.frontiers)
-        return [f for f in found if self._allowed(f)]
+        return None if found is None else [f for f in found if self._allowed(f)]
 
     def step(self, grid: GridMap, robot: Pose2, now: float) -> Decision:
         """The decision at ``now`` (seconds) for the map ``grid`` and the robot at ``robot``."""
@@ -89,6 +93,8 @@ class Explorer:
         if self.stage != "exploring":
             return Decision("keep" if self.stage == "returning" else "done", self.target)
         found = self.frontiers(grid, robot)
+        if found is None:
+            return Decision("wait", self.target)
         self.frontiers_left = len(found)
         if not found:
             if self.target is not None:

@@ -16,6 +16,7 @@ Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,6 +38,9 @@ class FrontierParams:
     gain_scale: float = 1.0
     clearance: float = 0.25
     """Metres from the nearest occupied cell the walk keeps (the robot's radius and a bit)."""
+    start_radius: float = 1.0
+    """Metres from the robot within which the walk must find a free cell to start from; with
+    none (a map that does not show the robot's surroundings yet) there is no answer."""
 
 
 @dataclass
@@ -98,13 +102,15 @@ def _nearest(mask: np.ndarray, row: float, col: float) -> tuple[int, int] | None
 
 def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, float],
                    robot: tuple[float, float], params: FrontierParams = FrontierParams()
-                   ) -> list[Frontier]:
+                   ) -> list[Frontier] | None:
     """The reachable frontiers of ``grid`` (int8, row 0 at the bottom, -1 unknown, 0..100),
-    cheapest first. ``origin``: the map point of cell (0, 0)'s lower-left corner; ``robot``:
-    (x, y) in the map's frame. Empty when the robot is off the map or nothing is free."""
+    cheapest first (empty: all explored). ``origin``: the map point of cell (0, 0)'s
+    lower-left corner; ``robot``: (x, y) in the map's frame. None when the map shows no free
+    cell the robot fits in within ``start_radius`` of it: not explored, not known yet (a
+    mapper's first grid may hold only the walls its first scan hit)."""
     g = np.asarray(grid)
     if g.ndim != 2 or g.size == 0 or not resolution > 0:
-        return []
+        return None
     free = is_free(g)
     unknown = g < 0
     occupied = g >= OCCUPIED_MIN
@@ -114,8 +120,9 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
     ox, oy = origin
     rc = ((robot[1] - oy) / resolution - 0.5, (robot[0] - ox) / resolution - 0.5)
     start = _nearest(walkable, *rc)
-    if start is None:
-        return []
+    if start is None or math.hypot(start[0] - rc[0], start[1] - rc[1]) * resolution \
+            > params.start_radius:
+        return None
     steps = _walk(walkable, start)
     reached = steps >= 0
     # frontier cells: unknown, with a free 4-neighbour

@@ -18,7 +18,7 @@ from zenros.action import ActionClient, GoalStatus, ServerGoalHandle
 from zenros.errors import GoalRejectedError
 from zenros.maps import GridMap
 from zenros.msgs.geometry_msgs import Pose2D, PoseWithCovarianceStamped
-from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal
+from zenros.msgs.nav2_msgs import NavigateToPose, NavigateToPoseGoal, Spin, SpinGoal
 from zenros.msgs.nav_msgs import OccupancyGrid
 from zenros.msgs.zenros_msgs.slam import Explore, ExploreFeedback, ExploreGoal, ExploreResult
 from zenros.node import Node
@@ -73,6 +73,7 @@ class ExploreNode(Node):
                                                  QOS_LATCHED)
         self.create_subscription(PoseWithCovarianceStamped, "robot_pose", self.on_pose)
         self.nav = ActionClient(self, NavigateToPose, "navigate_to_pose")
+        self.spin = ActionClient(self, Spin, "spin")
         self.create_action_server(Explore, "explore", self.execute,
                                   goal_callback=self.on_goal)
 
@@ -166,6 +167,9 @@ class _Run:
         self.handle: Any = None
         self.target: Pose2 | None = None
         self.home_tries = 0
+        self.spun = False
+        self.spin: Any = None  # the turn on the spot that shows the mapper the surroundings
+        self.waiting_since: float | None = None
 
     def result(self, code: int = 0, msg: str = "") -> ExploreResult:
         ex = self.ex
@@ -174,12 +178,13 @@ class _Run:
                              goals_reached=ex.goals_reached, goals_failed=ex.goals_failed)
 
     def stop_driving(self) -> None:
-        h, self.handle = self.handle, None
-        if h is not None and not h.done:
-            try:
-                h.cancel()
-            except Exception as exc:  # noqa: BLE001 - nav gone: nothing drives then
-                self.node.logger.warning("could not cancel the navigation goal: %s", exc)
+        for h in (self.handle, self.spin):
+            if h is not None and not h.done:
+                try:
+                    h.cancel()
+                except Exception as exc:  # noqa: BLE001 - nav gone: nothing drives then
+                    self.node.logger.warning("could not cancel the navigation goal: %s", exc)
+        self.handle = None
 
     def _send(self, target: Pose2) -> None:
         self.target = target
@@ -238,7 +243,13 @@ class _Run:
                 next_plan = now + period
                 grid, pose = node._inputs()
                 if grid is not None and pose is not None:
-                    self._act(ex.step(grid, pose, now))
+                    self._act(ex.step(grid, pose, now), now)
+                    if self._waited_too_long(now):
+                        self.stop_driving()
+                        gh.abort()
+                        return self.result(NO_MAP, "the map shows no free space round the "
+                                           "robot, even after a turn on the spot (is the "
+                                           "mapping node running?)")
                     gh.publish_feedback(ExploreFeedback(
                         stage="returning" if ex.stage == "returning" else "exploring",
                         explored_area_m2=ex.explored_area, frontiers_left=ex.frontiers_left,
@@ -252,7 +263,33 @@ class _Run:
         gh.succeed()
         return self.result(msg="no frontier left")
 
-    def _act(self, d: Decision) -> None:
+    def _waited_too_long(self, now: float) -> bool:
+        """Waited ``wait_for_map`` since the turn ended with still no free space in sight."""
+        if self.waiting_since is None:
+            return False
+        if self.spin is not None:
+            if not self.spin.done:
+                return False
+            self.spin = None
+            self.waiting_since = now  # the mapper's next grid shows what the turn saw
+        return now - self.waiting_since > self.node.params.wait_for_map
+
+    def _act(self, d: Decision, now: float) -> None:
+        if d.action == "wait":
+            if self.waiting_since is None:
+                self.waiting_since = now
+            if not self.spun:
+                self.spun = True
+                # what a mapper that adds a scan only after a move sees of a robot at rest
+                # is its first scan alone; a full turn shows it the surroundings
+                self.node.logger.info("the map shows no free space round the robot yet: "
+                                      "turning round once")
+                try:
+                    self.spin = self.node.spin.send_goal_async(SpinGoal(target_yaw=2 * math.pi))
+                except Exception as exc:  # noqa: BLE001 - then only waiting
+                    self.node.logger.warning("spin not sent: %s", exc)
+            return
+        self.waiting_since = None
         if d.action in ("goto", "home") and d.target is not None:
             self.node.logger.info("%s (%.2f, %.2f), %d frontiers left",
                                   "to" if d.action == "goto" else "back to the start at",

@@ -70,9 +70,13 @@ class TruthMapper:
     """Builds a grid from ``scan`` at the true pose (world frame = map frame) on ``node``;
     `start` declares the latched ``map`` publisher (after nav handed it over), `stop` drops it.
     Hits mark, rays clear (counts, as Karto's grid); published every ``period`` seconds of
-    wall time, cropped to the known cells plus a margin."""
+    wall time, cropped to the known cells plus a margin. With ``gated`` it behaves as Karto
+    does at the start: a scan is folded in only after a move of 0.5 m or a turn of 0.5 rad,
+    and a cell is free only once two scans crossed it, so a robot at rest has a map of the
+    walls its first scan hit and nothing free."""
 
-    def __init__(self, node: Node, bounds: GridMap, period: float = 1.0) -> None:
+    def __init__(self, node: Node, bounds: GridMap, period: float = 1.0,
+                 gated: bool = False) -> None:
         self.node = node
         self.res = bounds.resolution
         self.ox, self.oy = bounds.origin[0], bounds.origin[1]
@@ -87,6 +91,8 @@ class TruthMapper:
         self.published = 0
         self.scan_rate = 10.0
         self._last_scan = -math.inf
+        self.gated = gated
+        self._folded_at: Pose2 | None = None
         node.create_subscription(Odometry, "sim/ground_truth", self._on_truth, QOS_SENSOR)
         node.create_subscription(Odometry, "odom", self._on_odom, QOS_SENSOR)
         node.create_subscription(LaserScan, "scan", self._on_scan, QOS_SENSOR)
@@ -120,7 +126,11 @@ class TruthMapper:
             # each in would hold up this session's other callbacks (the truth, odom)
             if pose is None or self.pub is None or now - self._last_scan < 1 / self.scan_rate:
                 return
-            self._last_scan = now
+            last = self._folded_at
+            if self.gated and last is not None and last.distance(pose) < 0.5 \
+                    and abs(math.remainder(pose.theta - last.theta, 2 * math.pi)) < 0.5:
+                return
+            self._last_scan, self._folded_at = now, pose
         r = np.asarray(msg.ranges, dtype=np.float64)
         a = msg.angle_min + msg.angle_increment * np.arange(len(r)) + pose.theta
         hit = np.isfinite(r) & (r < msg.range_max)
@@ -142,8 +152,8 @@ class TruthMapper:
 
     def grid(self) -> GridMap | None:
         with self.lock:
-            seen = (self.passes + self.hits) > 0
             occ = self.hits > self.passes
+            seen = (self.passes >= (2 if self.gated else 1)) | occ
             rows, cols = np.nonzero(seen)
             if len(rows) == 0:
                 return None

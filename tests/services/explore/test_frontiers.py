@@ -75,10 +75,22 @@ def test_cost_prefers_near_and_large_with_explore_lite_scales() -> None:
     assert fs[0].distance < fs[1].distance
 
 
+def test_a_map_that_does_not_show_the_robot_s_surroundings_is_no_answer() -> None:
+    """A mapper's first grid may hold only the walls the first scan hit: not "explored"."""
+    g = room()
+    walls_only = np.where(g == 100, 100, -1).astype(np.int8)
+    assert find_frontiers(walls_only, RES, (0.0, 0.0), (1.5, 1.0)) is None
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.5, 1.0)) == []  # explored: nothing left
+    assert find_frontiers(g, RES, (0.0, 0.0), (9.0, 9.0)) is None  # the robot off its map
+    ex = Explorer(ExploreParams(), Pose2(1.5, 1.0, 0.0))
+    d = ex.step(GridMap(walls_only, RES, (0.0, 0.0, 0.0)), Pose2(1.5, 1.0), 0.0)
+    assert d.action == "wait" and ex.stage == "exploring"
+
+
 def test_bad_inputs_find_nothing() -> None:
-    assert find_frontiers(np.zeros((0, 0), np.int8), RES, (0, 0), (0, 0)) == []
-    assert find_frontiers(np.full((5, 5), -1, np.int8), RES, (0, 0), (0, 0)) == []
-    assert find_frontiers(room(), 0.0, (0, 0), (1.5, 1.0)) == []
+    assert find_frontiers(np.zeros((0, 0), np.int8), RES, (0, 0), (0, 0)) is None
+    assert find_frontiers(np.full((5, 5), -1, np.int8), RES, (0, 0), (0, 0)) is None
+    assert find_frontiers(room(), 0.0, (0, 0), (1.5, 1.0)) is None
 
 
 def test_explorer_blacklists_failures_keeps_its_goal_and_goes_home() -> None:
