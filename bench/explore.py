@@ -11,22 +11,26 @@ Prints one JSON line with:
   ``explore_ref_coverage`` and ``explore_ref_goals``, what the frontier rules alone achieve.
 
 The chassis is a process of its own at ``speed:=10``; nav, the explorer and the mapper run
-in this process. The mapper is the stand-in of the tests (tests/integration/standin_slam.py:
-the grid from the scans at the simulator's true pose, ``map`` and ``map -> odom`` as the SLAM
-node publishes them) until the SLAM node lands; then its bench (bench/slam.py) takes these
-keys through its hook.
+in this process. The mapper is the slam node (services/slam) when it is installed, with the
+chassis' ``odom_noise:=0.05 range_noise:=0.02``, and the map it saves at the end is measured;
+else (or with ``--mapper standin``) the stand-in of the tests (tests/integration/standin_slam.py:
+the grid from the scans at the simulator's true pose, ``map`` and ``map -> odom`` as the slam
+node publishes them), without noise. ``explore_mapper`` says which. bench/slam.py may take
+these keys through its ``FIGURES`` hook (`figures`).
 
-Run: ``python bench/explore.py``.
+Run: ``python bench/explore.py [--mapper standin]``.
 """
 
 from __future__ import annotations
 
+import argparse
 import logging
 import math
 import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from zenros.action import ActionClient, GoalStatus
@@ -35,8 +39,12 @@ from zenros.maps import GridMap, load_map
 from zenros.msgs.zenros_msgs.slam import (
     Explore,
     ExploreGoal,
+    SaveSlamMap,
+    SaveSlamMapRequest,
     SetMappingMode,
     SetMappingModeRequest,
+    StartMapping,
+    StartMappingRequest,
 )
 from zenros.node import Node
 from zenros.se2 import Pose2
@@ -84,11 +92,21 @@ def reference(world: GridMap, reach: np.ndarray) -> tuple[float, int]:
     return coverage(world, built, reach), ex.goals_reached
 
 
-def explore(world: GridMap, reach: np.ndarray) -> dict[str, float]:
+def slam_node_type() -> type[Node] | None:
+    """The mapping node's class when it is installed (services/slam), else None."""
+    try:
+        from zenros.services.slam.node import SlamNode
+    except ImportError:
+        return None
+    return SlamNode  # type: ignore[no-any-return]
+
+
+def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]:
     port, prefix = free_port(), unique_prefix()
+    noise = ["-p", "odom_noise:=0.05", "-p", "range_noise:=0.02"] if use_slam else []
     chassis = Proc([sys.executable, "-m", "zenros.services.chassis", "-l",
                     f"tcp/127.0.0.1:{port}", "--prefix", prefix,
-                    "-p", f"speed:={SPEED}", "-p", "seed:=1", "--log-level", "warn"])
+                    "-p", f"speed:={SPEED}", "-p", "seed:=1", *noise, "--log-level", "warn"])
     ctx = Context(loopback_options(connect=[port]), prefix=prefix)
     home = tempfile.TemporaryDirectory()
     nodes: list[Node] = []
@@ -104,18 +122,35 @@ def explore(world: GridMap, reach: np.ndarray) -> dict[str, float]:
         mode = user.create_client(SetMappingMode, "nav/set_mapping_mode")
         assert client.wait_for_server(20) and mode.wait_for_service(20)
         assert wait_for(lambda: nav.core.localizer.pose() is not None, 30)
-        assert mode.call(SetMappingModeRequest(enable=True), timeout=10).code == 0
-        mapper = TruthMapper(user, world, period=1.0)
-        mapper.start()
-        assert wait_for(lambda: mapper.published > 0, 30)
+        slam = slam_node_type() if use_slam else None
+        if slam is not None:
+            nodes.append(slam("slam", context=ctx, parameter_overrides={
+                "use_sim_time": True, "graph_dir": home.name}))
+            start = user.create_client(StartMapping, "slam/start")
+            assert start.wait_for_service(20)
+            res = start.call(StartMappingRequest(mode="explore"), timeout=20)
+            assert res.code == 0, res.message
+        else:
+            assert mode.call(SetMappingModeRequest(enable=True), timeout=10).code == 0
+            mapper = TruthMapper(user, world, period=1.0)
+            mapper.start()
+            assert wait_for(lambda: mapper.published > 0, 30)
         sim0, wall0 = nav.now().to_sec(), time.monotonic()
         out = client.send_goal(ExploreGoal(), timeout=1800)
         sim, wall = nav.now().to_sec() - sim0, time.monotonic() - wall0
         assert out.status is GoalStatus.SUCCEEDED, out.result
-        built = mapper.grid()
+        if slam is not None:  # the map the robot built, as saved (its frame: the start pose)
+            save = user.create_client(SaveSlamMap, "slam/save")
+            res = save.call(SaveSlamMapRequest(name="explored"), timeout=30)
+            assert res.code == 0, res.message
+            built = nav.core.maps.store.load("explored")
+        else:
+            built = mapper.grid()
         assert built is not None
         return {"coverage": coverage(world, built, reach), "sim": sim, "wall": wall,
-                "reached": out.result.goals_reached, "failed": out.result.goals_failed}
+                "reached": out.result.goals_reached, "failed": out.result.goals_failed,
+                "mapper": "slam (odom_noise 0.05, range_noise 0.02)" if slam is not None
+                else "standin (truth, no noise)"}
     finally:
         for n in reversed(nodes):
             n.close()
@@ -130,7 +165,7 @@ def figures(args: object = None) -> dict[str, object]:
     world = load_map(DEMO_MAP)
     reach = reachable_free(world, (0.0, 0.0))
     ref_cov, ref_goals = reference(world, reach)
-    run = explore(world, reach)
+    run = explore(world, reach, use_slam=getattr(args, "mapper", "auto") != "standin")
     return {
         "explore_coverage": round(run["coverage"], 3),
         "explore_sim_s": round(run["sim"], 1),
@@ -139,13 +174,16 @@ def figures(args: object = None) -> dict[str, object]:
         "explore_goals_failed": run["failed"],
         "explore_ref_coverage": round(ref_cov, 3),
         "explore_ref_goals": ref_goals,
-        "explore_mapper": "standin (truth)",
+        "explore_mapper": run["mapper"],
     }
 
 
 def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--mapper", choices=("auto", "standin"), default="auto",
+                    help="auto: the slam node when installed, else the tests' stand-in")
     logging.basicConfig(level=logging.WARNING)
-    emit("explore", figures(), speed=SPEED)
+    emit("explore", figures(ap.parse_args()), speed=SPEED)
 
 
 if __name__ == "__main__":
