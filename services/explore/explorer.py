@@ -5,9 +5,10 @@ the robot's pose. The cheapest frontier whose goal is not blacklisted becomes th
 target within ``same_goal_radius`` of the current one is the same goal (no new
 navigate_to_pose, since the map moves the centroid a little at every update). A goal that
 nav aborts, or that makes no progress (the robot no closer to it by ``progress_distance``)
-for ``progress_timeout`` seconds, is blacklisted; so is one reached (the laser saw what it
-could from there), and a frontier whose goal lies within ``blacklist_radius`` of a
-blacklisted goal is skipped. A goal whose frontier is mapped (or moves away) while the robot
+for ``progress_timeout`` seconds, is blacklisted; so is one reached (the robot turned round
+there, Yamauchi's sweep, so the laser saw what it could from there). A frontier's goal is
+never within ``blacklist_radius`` of a blacklisted one: it takes its next best spot, and a
+frontier with none left is skipped. A goal whose frontier is mapped (or moves away) while the robot
 drives to it is overtaken by the next one, and counted with the reached ones in
 ``goals_reached``. With no frontier left the explorer returns to the start pose
 (``return_to_start``), then is done. A map with no free space round the robot is not
@@ -76,16 +77,12 @@ class Explorer:
 
     # ------------------------------------------------------------------ planning
 
-    def _allowed(self, f: Frontier) -> bool:
-        r = self.p.blacklist_radius
-        return all(math.hypot(f.goal[0] - x, f.goal[1] - y) > r for x, y in self.blacklist)
-
     def frontiers(self, grid: GridMap, robot: Pose2) -> list[Frontier] | None:
-        """The frontiers not blacklisted, cheapest first; None while the map does not show
-        free space round the robot."""
-        found = find_frontiers(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1]),
-                               (robot.x, robot.y), self.p.frontiers)
-        return None if found is None else [f for f in found if self._allowed(f)]
+        """The frontiers with a goal away from the blacklisted ones, cheapest first; None
+        while the map does not show free space round the robot."""
+        return find_frontiers(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1]),
+                              (robot.x, robot.y), self.p.frontiers, self.blacklist,
+                              self.p.blacklist_radius)
 
     def step(self, grid: GridMap, robot: Pose2, now: float) -> Decision:
         """The decision at ``now`` (seconds) for the map ``grid`` and the robot at ``robot``."""

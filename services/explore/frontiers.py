@@ -9,7 +9,8 @@ metres of cells are dropped. Each one's cost is explore_lite's,
 metres, ``distance`` the walk's length in metres to the nearest reached cell beside it:
 nearest *reachable*, where explore_lite takes the straight line), cheapest first. Its goal is
 its centroid moved to the nearest reached cell beside the frontier (so a goal is never in
-a wall or in unknown space, and the laser sees into the unknown from there).
+a wall or in unknown space, and the laser sees into the unknown from there), away from the
+goals tried before.
 
 Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each map.
 """
@@ -17,6 +18,7 @@ Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -101,13 +103,16 @@ def _nearest(mask: np.ndarray, row: float, col: float) -> tuple[int, int] | None
 
 
 def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, float],
-                   robot: tuple[float, float], params: FrontierParams = FrontierParams()
+                   robot: tuple[float, float], params: FrontierParams = FrontierParams(),
+                   avoid: Sequence[tuple[float, float]] = (), avoid_radius: float = 0.5
                    ) -> list[Frontier] | None:
     """The reachable frontiers of ``grid`` (int8, row 0 at the bottom, -1 unknown, 0..100),
     cheapest first (empty: all explored). ``origin``: the map point of cell (0, 0)'s
     lower-left corner; ``robot``: (x, y) in the map's frame. None when the map shows no free
     cell the robot fits in within ``start_radius`` of it: not explored, not known yet (a
-    mapper's first grid may hold only the walls its first scan hit)."""
+    mapper's first grid may hold only the walls its first scan hit). A goal is never within
+    ``avoid_radius`` of an ``avoid`` point (goals tried before): a frontier takes its next
+    best spot, and is left out when it has none."""
     g = np.asarray(grid)
     if g.ndim != 2 or g.size == 0 or not resolution > 0:
         return None
@@ -162,9 +167,12 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
         beside = np.zeros_like(mine)
         for dr, dc in _N4:
             beside |= _shift_mask(mine, dr, dc)
-        spot = _nearest(beside & reached[win], cr - r0, cc - c0)
+        spots = beside & reached[win]
+        if avoid:
+            spots &= ~_near_any(spots.shape, r0, c0, origin, resolution, avoid, avoid_radius)
+        spot = _nearest(spots, cr - r0, cc - c0)
         if spot is None:
-            continue  # only seeded frontiers get here: one of its cells touches a reached one
+            continue  # every spot beside it was tried
         gr, gc = spot[0] + r0, spot[1] + c0
         size_m = len(rows) * resolution
         cost = params.potential_scale * distance * resolution \
@@ -175,6 +183,24 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
             goal=(ox + (gc + 0.5) * resolution, oy + (gr + 0.5) * resolution),
             cells=np.column_stack([rows, cols])))
     out.sort(key=lambda f: f.cost)
+    return out
+
+
+def _near_any(shape: tuple[int, ...], r0: int, c0: int, origin: tuple[float, float],
+              resolution: float, points: Sequence[tuple[float, float]], radius: float
+              ) -> np.ndarray:
+    """Cells of a window (its corner at row ``r0``, col ``c0``) within ``radius`` of any of
+    ``points`` (map coordinates)."""
+    rows = (r0 + np.arange(shape[0]) + 0.5) * resolution + origin[1]
+    cols = (c0 + np.arange(shape[1]) + 0.5) * resolution + origin[0]
+    out = np.zeros(shape, dtype=bool)
+    r2 = radius * radius
+    for x, y in points:
+        dy = (rows - y) ** 2
+        dx = (cols - x) ** 2
+        if dy.min() > r2 or dx.min() > r2:
+            continue
+        out |= (dy[:, None] + dx[None, :]) <= r2
     return out
 
 

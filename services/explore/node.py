@@ -50,6 +50,9 @@ class ExploreParameters(msgspec.Struct, kw_only=True):
         "frontiers with a goal this close to a failed or reached goal are skipped"))] = 0.5
     wait_for_map: Annotated[Positive, Meta(
         description="seconds a goal waits for the first map and robot pose")] = 10.0
+    sweep: Annotated[bool, Meta(description=(
+        "turn round once at each goal reached (Yamauchi's sweep), so a mapper that adds "
+        "scans by the turn sees all round"))] = True
 
 
 def _pose_goal(p: Pose2, stamp: Any) -> NavigateToPoseGoal:
@@ -168,6 +171,7 @@ class _Run:
         self.target: Pose2 | None = None
         self.home_tries = 0
         self.spun = False
+        self.sweep: Any = None  # the turn round at a goal reached
         self.spin: Any = None  # the turn on the spot that shows the mapper the surroundings
         self.waiting_since: float | None = None
 
@@ -178,7 +182,7 @@ class _Run:
                              goals_reached=ex.goals_reached, goals_failed=ex.goals_failed)
 
     def stop_driving(self) -> None:
-        for h in (self.handle, self.spin):
+        for h in (self.handle, self.spin, self.sweep):
             if h is not None and not h.done:
                 try:
                     h.cancel()
@@ -233,11 +237,19 @@ class _Run:
                     ex.returned(outcome and not away)
                 elif outcome:
                     ex.reached(self.target)
+                    if node.params.sweep:
+                        self.sweep = self._turn_round()
                 else:
                     ex.fail(self.target)
                 next_plan = -math.inf  # plan the next goal now
             if ex.stage == "done":
                 break
+            if self.sweep is not None:
+                if not self.sweep.done:
+                    gh.wait_for_cancel(0.05)
+                    continue
+                self.sweep = None
+                next_plan = -math.inf
             now = node._seconds()
             if now >= next_plan or now < next_plan - 2 * period:
                 next_plan = now + period
@@ -263,6 +275,14 @@ class _Run:
         gh.succeed()
         return self.result(msg="no frontier left")
 
+    def _turn_round(self) -> Any:
+        """A full turn on the spot (nav's ``spin``); None if it could not be sent."""
+        try:
+            return self.node.spin.send_goal_async(SpinGoal(target_yaw=2 * math.pi))
+        except Exception as exc:  # noqa: BLE001 - then no turn
+            self.node.logger.warning("spin not sent: %s", exc)
+            return None
+
     def _waited_too_long(self, now: float) -> bool:
         """Waited ``wait_for_map`` since the turn ended with still no free space in sight."""
         if self.waiting_since is None:
@@ -284,10 +304,7 @@ class _Run:
                 # is its first scan alone; a full turn shows it the surroundings
                 self.node.logger.info("the map shows no free space round the robot yet: "
                                       "turning round once")
-                try:
-                    self.spin = self.node.spin.send_goal_async(SpinGoal(target_yaw=2 * math.pi))
-                except Exception as exc:  # noqa: BLE001 - then only waiting
-                    self.node.logger.warning("spin not sent: %s", exc)
+                self.spin = self._turn_round()
             return
         self.waiting_since = None
         if d.action in ("goto", "home") and d.target is not None:

@@ -75,6 +75,21 @@ def test_cost_prefers_near_and_large_with_explore_lite_scales() -> None:
     assert fs[0].distance < fs[1].distance
 
 
+def test_a_tried_goal_moves_the_frontier_s_goal_along_it() -> None:
+    """A mapper that needs several scans per cell leaves a frontier where the robot stood:
+    its next goal is elsewhere along it, and it is left out when no spot is left."""
+    g = room(100)
+    g[8:32, 94] = 0  # a 1.2 m open side
+    (f,) = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(clearance=0.0))
+    (f2,) = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(clearance=0.0),
+                           avoid=[f.goal], avoid_radius=0.3)
+    assert f2.size == f.size and math.dist(f2.goal, f.goal) > 0.3
+    assert math.isclose(f2.goal[0], f.goal[0])  # still beside the frontier
+    spots = [(f.goal[0], 0.4 + 0.1 * k) for k in range(13)]
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(clearance=0.0),
+                          avoid=spots, avoid_radius=0.3) == []
+
+
 def test_a_map_that_does_not_show_the_robot_s_surroundings_is_no_answer() -> None:
     """A mapper's first grid may hold only the walls the first scan hit: not "explored"."""
     g = room()
