@@ -207,8 +207,13 @@ class _Run:
         self.handle = None
         try:
             res = h.result(timeout=0)
-        except Exception:  # noqa: BLE001 - lost or never sent
+        except Exception as exc:  # noqa: BLE001 - lost or never sent
+            self.node.logger.info("navigation goal lost: %s", exc)
             return False
+        if res.status is not GoalStatus.SUCCEEDED:
+            r = res.result
+            self.node.logger.info("navigation goal ended %s: %s %s", res.status.name,
+                                  getattr(r, "error_code", ""), getattr(r, "error_msg", ""))
         return res.status is GoalStatus.SUCCEEDED
 
     def loop(self, gh: ServerGoalHandle[ExploreGoal]) -> ExploreResult:
@@ -228,9 +233,9 @@ class _Run:
                     pose = node._inputs()[1]
                     away = pose is None or math.hypot(pose.x - ex.start.x,
                                                       pose.y - ex.start.y) > HOME_TOLERANCE
-                    if outcome and away and self.home_tries < HOME_TRIES:
-                        # nav said reached but the robot is not there (a goal that ended
-                        # as another was preempted): drive back again
+                    if away and self.home_tries < HOME_TRIES:
+                        # nav gave up (a map corrected under it, a goal that ended as another
+                        # was preempted): drive back again
                         self.home_tries += 1
                         self._send(ex.start)
                         continue
