@@ -3,7 +3,10 @@
 Prints one JSON line with:
 
 - ``explore_coverage``: the free area mapped when the ``explore`` goal succeeds / the free
-  area the robot could reach (the world's free cells connected to the start), >= 0.95 wanted;
+  area the robot could reach (the world's free cells connected to the start), >= 0.95 wanted,
+  the built map first put in the world's frame by matching its walls to the world's
+  (``explore_map_offset``: x, y, theta of that transform; ``explore_coverage_unaligned``
+  without it);
 - ``explore_sim_s`` / ``explore_wall_s``: sim and wall time of the whole exploration,
   return to the start included; ``explore_goals`` reached and failed;
 - the reference, in the same run: the same explorer with the robot put at each goal at once
@@ -57,7 +60,7 @@ from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wai
 sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(Path(__file__).parents[1] / "tests" / "integration"))
 from _harness import emit
-from standin_slam import TruthMapper, coverage, reachable_free
+from standin_slam import TruthMapper, align, coverage, reachable_free
 
 SPEED = 10.0
 
@@ -147,7 +150,9 @@ def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]
         else:
             built = mapper.grid()
         assert built is not None
-        return {"coverage": coverage(world, built, reach), "sim": sim, "wall": wall,
+        at = align(world, built)
+        return {"coverage": coverage(world, built, reach, at), "sim": sim, "wall": wall,
+                "unaligned": coverage(world, built, reach), "offset": at,
                 "reached": out.result.goals_reached, "failed": out.result.goals_failed,
                 "mapper": "slam (odom_noise 0.05, range_noise 0.02)" if slam is not None
                 else "standin (truth, no noise)"}
@@ -168,6 +173,8 @@ def figures(args: object = None) -> dict[str, object]:
     run = explore(world, reach, use_slam=getattr(args, "mapper", "auto") != "standin")
     return {
         "explore_coverage": round(run["coverage"], 3),
+        "explore_coverage_unaligned": round(run["unaligned"], 3),
+        "explore_map_offset": [round(v, 3) for v in run["offset"]],
         "explore_sim_s": round(run["sim"], 1),
         "explore_wall_s": round(run["wall"], 1),
         "explore_goals": run["reached"],

@@ -32,9 +32,8 @@ from .frontiers import FrontierParams
 __all__ = ["ExploreNode", "ExploreParameters"]
 
 Positive = Annotated[float, Meta(gt=0)]
-HOME_TOLERANCE = 0.5
-"""Metres from the start pose at which the robot counts as back."""
-HOME_TRIES = 3
+HOME_TRIES = 2
+"""Drives back to the start tried again after the first fails."""
 
 
 class ExploreParameters(msgspec.Struct, kw_only=True):
@@ -230,16 +229,13 @@ class _Run:
                 node.logger.info("goal (%.2f, %.2f) %s", self.target.x, self.target.y,
                                  "reached" if outcome else "failed")
                 if ex.stage == "returning":
-                    pose = node._inputs()[1]
-                    away = pose is None or math.hypot(pose.x - ex.start.x,
-                                                      pose.y - ex.start.y) > HOME_TOLERANCE
-                    if away and self.home_tries < HOME_TRIES:
-                        # nav gave up (a map corrected under it, a goal that ended as another
-                        # was preempted): drive back again
+                    if not outcome and self.home_tries < HOME_TRIES:
+                        # nav gave up (a path blocked for a while, the map corrected under
+                        # it): drive back again
                         self.home_tries += 1
                         self._send(ex.start)
                         continue
-                    ex.returned(outcome and not away)
+                    ex.returned(outcome)
                 elif outcome:
                     ex.reached(self.target)
                     if node.params.sweep:

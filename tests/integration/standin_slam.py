@@ -9,7 +9,7 @@ and a mapper that grows a grid from the scans at the simulator's true pose.
   as it does) and ``map -> odom`` on ``/tf``, as the SLAM node does, from the truth.
 - `small_world`: a world to explore (two rooms off a corridor); `reachable_free`: the free
   cells of a world the robot can reach from a point; `coverage`: the share of them a built
-  map knows (the explorer's figure).
+  map knows (the explorer's figure), after `align` put the built map in the world's frame.
 """
 
 from __future__ import annotations
@@ -216,14 +216,36 @@ def reachable_free(world: GridMap, start: tuple[float, float]) -> np.ndarray:
     return labels == labels[r, c]
 
 
-def coverage(world: GridMap, built: GridMap, reach: np.ndarray) -> float:
-    """Share of ``reach`` (world cells) known in ``built`` (same frame)."""
+def coverage(world: GridMap, built: GridMap, reach: np.ndarray,
+             built_in_world: Pose2 | None = None) -> float:
+    """Share of ``reach`` (world cells) known in ``built``, whose frame is at
+    ``built_in_world`` in the world's (default: the same frame)."""
     rows, cols = np.nonzero(reach)
     xs = world.origin[0] + (cols + 0.5) * world.resolution
     ys = world.origin[1] + (rows + 0.5) * world.resolution
+    if built_in_world is not None:
+        t = built_in_world
+        c, s = math.cos(t.theta), math.sin(t.theta)
+        xs, ys = c * (xs - t.x) + s * (ys - t.y), -s * (xs - t.x) + c * (ys - t.y)
     br = np.floor((ys - built.origin[1]) / built.resolution).astype(int)
     bc = np.floor((xs - built.origin[0]) / built.resolution).astype(int)
     ok = (br >= 0) & (br < built.height) & (bc >= 0) & (bc < built.width)
     known = np.zeros(len(rows), dtype=bool)
     known[ok] = built.grid[br[ok], bc[ok]] >= 0
     return float(known.mean())
+
+
+def align(world: GridMap, built: GridMap) -> Pose2:
+    """Where ``built``'s frame sits in the world's: its occupied cells matched against the
+    world's walls (nav's correlative matcher, wide window round the identity), as the
+    accuracy measures put a built map in the truth frame first (specs/mapping.md, section
+    9): a map built with noise is a little rotated and shifted."""
+    from zenros.services.nav.localization.scanmatch import MatchParams, ScanMatcher
+
+    rows, cols = np.nonzero(built.grid >= 65)
+    pts = np.column_stack([built.origin[0] + (cols + 0.5) * built.resolution,
+                           built.origin[1] + (rows + 0.5) * built.resolution])
+    matcher = ScanMatcher(world, MatchParams(max_points=3000))
+    found, _ = matcher.match(pts, Pose2(), wide=True)
+    found, _ = matcher.match(pts, found)
+    return found
