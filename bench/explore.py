@@ -14,9 +14,9 @@ Prints one JSON line with:
   ``explore_ref_coverage`` and ``explore_ref_goals``, what the frontier rules alone achieve.
 
 The chassis is a process of its own at ``speed:=10``; nav, the explorer and the mapper run
-in this process. The mapper is the slam node (services/slam) when it is installed, with the
-chassis' ``odom_noise:=0.05 range_noise:=0.02``, and the map it saves at the end is measured;
-else (or with ``--mapper standin``) the stand-in of the tests (tests/integration/standin_slam.py:
+in this process. The mapper is the slam node (services/slam), with the chassis'
+``odom_noise:=0.05 range_noise:=0.02``, and the map it saves at the end is measured; with
+``--mapper standin`` the stand-in of the tests (tests/integration/standin_slam.py:
 the grid from the scans at the simulator's true pose, ``map`` and ``map -> odom`` as the slam
 node publishes them), without noise. ``explore_mapper`` says which. bench/slam.py may take
 these keys through its ``FIGURES`` hook (`figures`).
@@ -55,6 +55,7 @@ from zenros.services.explore.explorer import ExploreParams, Explorer
 from zenros.services.explore.node import ExploreNode
 from zenros.services.nav.node import NavNode
 from zenros.services.nav.params import DEMO_MAP
+from zenros.services.slam.node import SlamNode
 from zenros.testing import Proc, free_port, loopback_options, unique_prefix, wait_for
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -95,15 +96,6 @@ def reference(world: GridMap, reach: np.ndarray) -> tuple[float, int]:
     return coverage(world, built, reach), ex.goals_reached
 
 
-def slam_node_type() -> type[Node] | None:
-    """The mapping node's class when it is installed (services/slam), else None."""
-    try:
-        from zenros.services.slam.node import SlamNode
-    except ImportError:
-        return None
-    return SlamNode  # type: ignore[no-any-return]
-
-
 def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]:
     port, prefix = free_port(), unique_prefix()
     noise = ["-p", "odom_noise:=0.05", "-p", "range_noise:=0.02"] if use_slam else []
@@ -125,9 +117,8 @@ def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]
         mode = user.create_client(SetMappingMode, "nav/set_mapping_mode")
         assert client.wait_for_server(20) and mode.wait_for_service(20)
         assert wait_for(lambda: nav.core.localizer.pose() is not None, 30)
-        slam = slam_node_type() if use_slam else None
-        if slam is not None:
-            nodes.append(slam("slam", context=ctx, parameter_overrides={
+        if use_slam:
+            nodes.append(SlamNode("slam", context=ctx, parameter_overrides={
                 "use_sim_time": True, "graph_dir": home.name}))
             start = user.create_client(StartMapping, "slam/start")
             assert start.wait_for_service(20)
@@ -142,7 +133,7 @@ def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]
         out = client.send_goal(ExploreGoal(), timeout=1800)
         sim, wall = nav.now().to_sec() - sim0, time.monotonic() - wall0
         assert out.status is GoalStatus.SUCCEEDED, out.result
-        if slam is not None:  # the map the robot built, as saved (its frame: the start pose)
+        if use_slam:  # the map the robot built, as saved (its frame: the start pose)
             save = user.create_client(SaveSlamMap, "slam/save")
             res = save.call(SaveSlamMapRequest(name="explored"), timeout=30)
             assert res.code == 0, res.message
@@ -154,7 +145,7 @@ def explore(world: GridMap, reach: np.ndarray, use_slam: bool) -> dict[str, Any]
         return {"coverage": coverage(world, built, reach, at), "sim": sim, "wall": wall,
                 "unaligned": coverage(world, built, reach), "offset": at,
                 "reached": out.result.goals_reached, "failed": out.result.goals_failed,
-                "mapper": "slam (odom_noise 0.05, range_noise 0.02)" if slam is not None
+                "mapper": "slam (odom_noise 0.05, range_noise 0.02)" if use_slam
                 else "standin (truth, no noise)"}
     finally:
         for n in reversed(nodes):
@@ -170,7 +161,7 @@ def figures(args: object = None) -> dict[str, object]:
     world = load_map(DEMO_MAP)
     reach = reachable_free(world, (0.0, 0.0))
     ref_cov, ref_goals = reference(world, reach)
-    run = explore(world, reach, use_slam=getattr(args, "mapper", "auto") != "standin")
+    run = explore(world, reach, use_slam=getattr(args, "mapper", "slam") != "standin")
     return {
         "explore_coverage": round(run["coverage"], 3),
         "explore_coverage_unaligned": round(run["unaligned"], 3),
@@ -187,8 +178,8 @@ def figures(args: object = None) -> dict[str, object]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--mapper", choices=("auto", "standin"), default="auto",
-                    help="auto: the slam node when installed, else the tests' stand-in")
+    ap.add_argument("--mapper", choices=("slam", "standin"), default="slam",
+                    help="the slam node (with the chassis' noise) or the tests' stand-in")
     logging.basicConfig(level=logging.WARNING)
     emit("explore", figures(ap.parse_args()), speed=SPEED)
 

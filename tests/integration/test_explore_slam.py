@@ -2,7 +2,7 @@
 (odom_noise 0.05, range_noise 0.02) in a world it has never seen, the slam node, nav and
 the explorer: slam/start (nav hands over the map), explore until no frontier is left and back,
 slam/save, slam/stop (nav takes the map back, on the saved one), then a goal on the built
-map reached where it is in the world. Skipped until the slam node (services/slam) is there."""
+map reached where it is in the world."""
 
 from __future__ import annotations
 
@@ -25,9 +25,9 @@ from zenros.services.chassis.node import ChassisNode
 from zenros.services.explore.node import ExploreNode
 from zenros.services.nav.actions.convert import pose_stamped
 from zenros.services.nav.node import NavNode
+from zenros.services.slam.node import SlamNode
 from zenros.testing import linked_contexts, wait_for
 
-slam_node = pytest.importorskip("zenros.services.slam.node")
 
 
 @pytest.fixture
@@ -42,7 +42,7 @@ def rig(tmp_path: Path) -> Iterator[tuple[NavNode, Node, Path]]:
             nav = NavNode("nav", context=ctxs[1], parameter_overrides={
                 "use_sim_time": True, "maps_dir": str(tmp_path / "maps"), "map": str(world)})
             nodes.append(nav)
-            nodes.append(slam_node.SlamNode("slam", context=ctxs[2], parameter_overrides={
+            nodes.append(SlamNode("slam", context=ctxs[2], parameter_overrides={
                 "use_sim_time": True, "graph_dir": str(tmp_path / "graphs")}))
             nodes.append(ExploreNode("explore", context=ctxs[3], parameter_overrides={
                 "use_sim_time": True}))
