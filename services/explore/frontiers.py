@@ -2,15 +2,16 @@
 
 From the free cell nearest the robot, a breadth-first walk over the free cells the robot's
 body fits in (at least ``clearance`` from every occupied cell) finds what is reachable. An
-unknown cell with a free 4-neighbour, found beside a reached cell, seeds a frontier, grown
-over 8-neighbours through every such cell; frontiers of fewer than ``min_frontier_size``
-metres of cells are dropped. Each one's cost is explore_lite's,
-``potential_scale * distance * resolution - gain_scale * size * resolution`` (``size`` in
-metres, ``distance`` the walk's length in metres to the nearest reached cell beside it:
-nearest *reachable*, where explore_lite takes the straight line), cheapest first. Its goal is
-its centroid moved to the nearest reached cell beside the frontier (so a goal is never in
-a wall or in unknown space, and the laser sees into the unknown from there), away from the
-goals tried before.
+unknown cell with a free 4-neighbour seeds a frontier when it lies beside a reached cell, or
+beside a free cell within ``clearance`` of one (a doorway a mapper still draws narrower than
+the robot is looked through); it is grown over 8-neighbours through every such cell;
+frontiers of fewer than ``min_frontier_size`` metres of cells are dropped. Each one's cost
+is explore_lite's, ``potential_scale * distance * resolution - gain_scale * size *
+resolution`` (``size`` in metres, ``distance`` the walk's length in metres to the frontier:
+nearest *reachable*, where explore_lite takes the straight line), cheapest first. Its goal
+is the reached cell within the robot's reach of it nearest its centroid (so a goal is never
+in a wall or in unknown space, and the laser sees into the unknown from there), away from
+the goals tried before.
 
 Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each map.
 """
@@ -130,49 +131,52 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
         return None
     steps = _walk(walkable, start)
     reached = steps >= 0
-    # frontier cells: unknown, with a free 4-neighbour
+    # how far each cell is from the reached ones, and the walk's length to the nearest
+    gap, (ir, ic) = ndimage.distance_transform_edt(~reached, return_indices=True)
+    gap *= resolution
+    via = steps[ir, ic] * resolution + gap
+    # the free cells the robot's body reaches over from a reached one (a doorway the map
+    # draws narrower than the robot is still looked through)
+    touch = reached | (free & (gap <= params.clearance + resolution))
+    # frontier cells: unknown, with a free 4-neighbour; seeded beside a touched cell
     free4 = np.zeros_like(free)
-    reached4 = np.zeros_like(free)
-    near = np.full(g.shape, np.iinfo(np.int32).max, dtype=np.int64)
+    touch4 = np.zeros_like(free)
     for dr, dc in _N4:
         free4 |= _shift_mask(free, dr, dc)
-        reached4 |= _shift_mask(reached, dr, dc)
-        s = _shift_values(steps, dr, dc)
-        near = np.where(s >= 0, np.minimum(near, s), near)
+        touch4 |= _shift_mask(touch, dr, dc)
     candidate = unknown & free4
     labels, n = ndimage.label(candidate, structure=np.ones((3, 3), dtype=bool))
     if n == 0:
         return []
-    seeded = np.unique(labels[candidate & reached4])
+    seeded = np.unique(labels[candidate & touch4])
     seeded = seeded[seeded > 0]
     min_cells = params.min_frontier_size / resolution
     out: list[Frontier] = []
     sizes = np.bincount(labels.ravel(), minlength=n + 1)
     boxes = ndimage.find_objects(labels)
     h, w = g.shape
+    pad_m = params.clearance + 2 * resolution
+    pad = int(math.ceil(pad_m / resolution)) + 1
     for lab in seeded:
         if sizes[lab] < min_cells:
             continue
         box = boxes[lab - 1]
-        r0, c0 = max(box[0].start - 1, 0), max(box[1].start - 1, 0)
-        win = (slice(r0, min(box[0].stop + 1, h)), slice(c0, min(box[1].stop + 1, w)))
+        r0, c0 = max(box[0].start - pad, 0), max(box[1].start - pad, 0)
+        win = (slice(r0, min(box[0].stop + pad, h)), slice(c0, min(box[1].stop + pad, w)))
         mine = labels[win] == lab
         rows, cols = np.nonzero(mine)
-        by = near[win][rows, cols]
-        distance = (float(by[by < np.iinfo(np.int32).max].min()) + 1) * resolution
+        distance = float(via[win][rows, cols].min())
         rows, cols = rows + r0, cols + c0
         cr, cc = float(rows.mean()), float(cols.mean())
-        # the goal: the reached cell beside this frontier nearest its centroid (from there
-        # the laser sees into the unknown); the centroid itself may be unknown or in a wall
-        beside = np.zeros_like(mine)
-        for dr, dc in _N4:
-            beside |= _shift_mask(mine, dr, dc)
-        spots = beside & reached[win]
+        # the goal: the reached cell next to this frontier (within the robot's reach of it)
+        # nearest its centroid, from where the laser sees into the unknown; the centroid
+        # itself may be unknown or in a wall
+        spots = reached[win] & (ndimage.distance_transform_edt(~mine) * resolution <= pad_m)
         if avoid:
             spots &= ~_near_any(spots.shape, r0, c0, origin, resolution, avoid, avoid_radius)
         spot = _nearest(spots, cr - r0, cc - c0)
         if spot is None:
-            continue  # every spot beside it was tried
+            continue  # every spot next to it was tried
         gr, gc = spot[0] + r0, spot[1] + c0
         size_m = len(rows) * resolution
         cost = params.potential_scale * distance * resolution \

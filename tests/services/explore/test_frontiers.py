@@ -61,6 +61,19 @@ def test_a_gap_narrower_than_the_robot_is_not_a_way_through() -> None:
     assert len(find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0))) == 1
 
 
+def test_unknown_seen_through_a_gap_narrower_than_the_robot_is_a_frontier() -> None:
+    """A mapper draws a doorway narrower than it is until it has seen it from several
+    sides: what lies behind it is still explored, from a goal in front of it."""
+    g = room(100)
+    g[5:35, 50] = 100
+    g[17:24, 50] = 0    # a 0.35 m gap
+    g[6:34, 51:94] = -1  # unknown behind it
+    (f,) = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(
+        min_frontier_size=0.3))
+    assert f.cells[:, 1].min() == 51 and f.size == 7
+    assert 2.1 < f.goal[0] < 2.5 and 0.85 < f.goal[1] < 1.2  # in front of the gap
+
+
 def test_cost_prefers_near_and_large_with_explore_lite_scales() -> None:
     g = room(100)
     g[10:30, 94] = 0  # far east, 1.0 m
@@ -120,11 +133,20 @@ def test_explorer_blacklists_failures_keeps_its_goal_and_goes_home() -> None:
     assert d.target.x > 4.0
     assert ex.step(grid, Pose2(1.5, 1.0), 1.0).action == "keep"  # progress
     assert ex.step(grid, Pose2(1.5, 1.0), 5.5).action == "keep"
-    d = ex.step(grid, Pose2(1.5, 1.0), 6.6)  # no progress for 5 s: the next frontier
-    assert d.action == "goto" and d.target is not None and d.target.x < 1.0
+    first = d.target
+    d = ex.step(grid, Pose2(1.5, 1.0), 6.6)  # no progress for 5 s: blacklisted, another goal
+    assert d.action == "goto" and d.target is not None
+    assert d.target.distance(first) > ex.p.blacklist_radius
     assert ex.goals_failed == 1 and ex.goals_reached == 0
-    ex.fail(d.target)  # nav aborted it
-    d = ex.step(grid, Pose2(1.5, 1.0), 7.0)
+    tried = [first]
+    for t in range(20):  # nav aborts every goal: each spot of each frontier is tried once
+        if d.action == "home":
+            break
+        assert d.target is not None and all(d.target.distance(p) > 0.5 for p in tried)
+        tried.append(d.target)
+        ex.fail(d.target)
+        d = ex.step(grid, Pose2(1.5, 1.0), 7.0 + t)
+    assert any(p.x < 1.0 for p in tried) and any(p.x > 4.0 for p in tried)  # both doors
     assert d.action == "home" and d.target == Pose2(1.0, 1.0, 0.0) and ex.frontiers_left == 0
     ex.returned(True)
     assert ex.step(grid, Pose2(1.0, 1.0), 8.0).action == "done"
