@@ -86,6 +86,8 @@ def reference(world: GridMap, reach: np.ndarray) -> tuple[float, int]:
         seen[rows[visible], cols[visible]] = True
         built = GridMap(np.where(seen, g, -1).astype(np.int8), res, world.origin)
         d = ex.step(built, pose, float(t))
+        if d.action == "wait":
+            continue
         if d.action == "done" or d.target is None:
             break
         pose = d.target

@@ -12,7 +12,8 @@ frontier with none left is skipped. A goal whose frontier is mapped (or moves aw
 drives to it is overtaken by the next one, and counted with the reached ones in
 ``goals_reached``. With no frontier left the explorer returns to the start pose
 (``return_to_start``), then is done. A map with no free space round the robot is not
-explored but not known yet: the explorer waits (`Decision` ``wait``).
+explored but not known yet: the explorer waits (`Decision` ``wait``); so does one with no
+frontier left until ``confirm_steps`` planning steps in a row agree.
 """
 
 from __future__ import annotations
@@ -42,6 +43,9 @@ class ExploreParams:
     same_goal_radius: float = 0.5
     blacklist_radius: float = 0.5
     return_to_start: bool = True
+    confirm_steps: int = 3
+    """Planning steps in a row that must find no frontier before exploring ends: a mapper's
+    correction can cut the robot's surroundings off for a moment."""
 
 
 Stage = Literal["exploring", "returning", "done"]
@@ -72,6 +76,7 @@ class Explorer:
         self.explored_area = 0.0
         self.frontiers_left = 0
         self.return_ok = False
+        self.empty_steps = 0
         self._best = math.inf
         self._last_progress = 0.0
 
@@ -93,6 +98,9 @@ class Explorer:
         if found is None:
             return Decision("wait", self.target)
         self.frontiers_left = len(found)
+        self.empty_steps = self.empty_steps + 1 if not found else 0
+        if not found and self.empty_steps < self.p.confirm_steps:
+            return Decision("wait", self.target)
         if not found:
             if self.target is not None:
                 self.goals_reached += 1  # overtaken: the last frontier was mapped on the way

@@ -299,7 +299,7 @@ class _Run:
         if d.action == "wait":
             if self.waiting_since is None:
                 self.waiting_since = now
-            if not self.spun:
+            if not self.spun and (self.handle is None or self.handle.done):
                 self.spun = True
                 # what a mapper that adds a scan only after a move sees of a robot at rest
                 # is its first scan alone; a full turn shows it the surroundings
@@ -308,6 +308,7 @@ class _Run:
                 self.spin = self._turn_round()
             return
         self.waiting_since = None
+        self.spun = False  # a later wait may turn round again
         if d.action in ("goto", "home") and d.target is not None:
             self.node.logger.info("%s (%.2f, %.2f), %d frontiers left",
                                   "to" if d.action == "goto" else "back to the start at",
