@@ -171,7 +171,14 @@ class Context:
             self._graph.close()
         self.executor.stop()
         if self._own_session:
-            self.session.close()  # type: ignore[no-untyped-call]
+            try:
+                self.session.close()  # type: ignore[no-untyped-call]
+            except zenoh.ZError as exc:
+                # Zenoh gives up closing after its own timeout (links flushed, peers told)
+                # on a starved box; the work is done and the OS closes the sockets at exit,
+                # so a CLI whose goal succeeded must not exit 1 over it.
+                _log.warning("the Zenoh session did not close in time (%s); leaving it to "
+                             "the process's exit", str(exc).split(" at ")[0])
 
     def __enter__(self) -> Self:
         return self
