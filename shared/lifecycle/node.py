@@ -170,8 +170,15 @@ class LifecycleNode(Node):
         self._bond_period = float(self.parameters.declare(
             "bond_heartbeat_period", 0.25,
             description="seconds between bond heartbeats while active (0: no bond)"))
-        if not self._interface:
-            return
+
+    def _announce(self) -> None:
+        """Offer the services once `setup` has returned: a transition never meets a node
+        whose setup() is still running."""
+        if self._interface:
+            self._open_interface()
+        super()._announce()
+
+    def _open_interface(self) -> None:
         self._events = self.create_publisher(TransitionEvent, "~/transition_event", 10)
         self.create_service(ChangeState, "~/change_state", self._on_change_state)
         self.create_service(GetState, "~/get_state", lambda _req: GetStateResponse(
@@ -231,6 +238,12 @@ class LifecycleNode(Node):
         p: LifecyclePublisher[M] = self.add_waitable(pub)
         self.add_managed_entity(p)
         return p
+
+    def destroy_lifecycle_publisher(self, pub: LifecyclePublisher[Any]) -> None:
+        """Close ``pub`` and stop managing it (rclpy's name)."""
+        if pub in self._managed:
+            self._managed.remove(pub)
+        self.destroy(pub)
 
     def _run_callback(self, state_id: int, starting: LifecycleState) -> TransitionCallbackReturn:
         name = _CALLBACK_NAMES[state_id]
