@@ -170,6 +170,8 @@ class LifecycleNode(Node):
         self._bond_period = float(self.parameters.declare(
             "bond_heartbeat_period", 0.25,
             description="seconds between bond heartbeats while active (0: no bond)"))
+        if self._bond_period > 0:
+            self._bond_pub = self.create_publisher(Status, "bond", 10)
 
     def _announce(self) -> None:
         """Offer the services once `setup` has returned: a transition never meets a node
@@ -279,9 +281,7 @@ class LifecycleNode(Node):
     def _follow_bond(self) -> None:
         """Heartbeat while active; a last ``active=False`` when leaving active."""
         active = self._machine.state_id == ACTIVE
-        if active and self._heartbeat is None and self._bond_period > 0 and not self.closed:
-            if self._bond_pub is None:
-                self._bond_pub = self.create_publisher(Status, "bond", 10)
+        if active and self._heartbeat is None and self._bond_pub is not None and not self.closed:
             self._beat()
             self._heartbeat = self.create_timer(self._bond_period, self._beat,
                                                 clock=SteadyClock())
@@ -289,6 +289,15 @@ class LifecycleNode(Node):
             self._heartbeat.cancel()
             self._heartbeat = None
             self._beat(active=False)
+
+    def close(self) -> None:
+        """Close the node; an active one first leaves its bond (``active=False``), so a
+        manager learns at once that it is gone rather than after its bond timeout."""
+        heartbeat, self._heartbeat = self._heartbeat, None
+        if heartbeat is not None and not self.closed:
+            heartbeat.cancel()
+            self._beat(active=False)
+        super().close()
 
     def _beat(self, active: bool = True) -> None:
         pub = self._bond_pub

@@ -169,3 +169,8 @@ def test_an_active_node_sends_bond_heartbeats(make_node: Any) -> None:
     assert {(b.id, b.active) for b in beats.items} == {("bonded", True)}
     node.trigger_deactivate()
     assert wait_for(lambda: not beats.items[-1].active, 10)
+    node.trigger_activate()
+    n = len(beats)
+    assert wait_for(lambda: len(beats) > n and beats.items[-1].active, 10)
+    node.close()  # an active node that closes leaves its bond
+    assert wait_for(lambda: not beats.items[-1].active, 10)
