@@ -1,4 +1,4 @@
-"""rcl's lifecycle state machine, row by row (specs/rclpy-parity.md §1)."""
+"""rcl's lifecycle state machine, row by row (specs/rclpy-parity.md, "Lifecycle")."""
 
 from __future__ import annotations
 
