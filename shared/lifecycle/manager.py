@@ -298,10 +298,12 @@ class LifecycleManager(Node):
         return False
 
     def _answers(self, m: _Managed) -> bool:
+        """Whether the node's get_state answers (whatever the state: Nav2's check)."""
         try:
-            return m.get.call(GetStateRequest(), timeout=1.0).current_state.id == 1
+            m.get.call(GetStateRequest(), timeout=1.0)
         except ZenrosError:
             return False
+        return True
 
     def _autostart(self) -> bool:
         for m in self._nodes:
