@@ -12,7 +12,8 @@ from ..exits import EXIT_ERROR, EXIT_STARTUP
 from .common import stdout_closed
 
 # The nouns, each a module of this package with register(subparsers).
-NOUNS = ("topic", "service", "node", "graph", "tf", "param", "action", "smach", "task", "bag")
+NOUNS = ("topic", "service", "node", "graph", "tf", "param", "action", "smach", "task", "bag",
+         "lifecycle")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:

@@ -1,10 +1,12 @@
 """The standard message, service and action types; importing registers them all."""
 
 from . import (
+    bond,
     builtin_interfaces,
     example_interfaces,
     galileo_msgs,
     geometry_msgs,
+    lifecycle_msgs,
     nav2_msgs,
     nav_msgs,
     rcl_interfaces,
@@ -19,10 +21,12 @@ from . import (
 )
 
 __all__ = [
+    "bond",
     "builtin_interfaces",
     "example_interfaces",
     "galileo_msgs",
     "geometry_msgs",
+    "lifecycle_msgs",
     "nav2_msgs",
     "nav_msgs",
     "rcl_interfaces",

@@ -49,6 +49,9 @@ __all__ = [
     "LoadMap",
     "LoadMapRequest",
     "LoadMapResponse",
+    "ManageLifecycleNodes",
+    "ManageLifecycleNodesRequest",
+    "ManageLifecycleNodesResponse",
     "NavigateThroughPoses",
     "NavigateThroughPosesFeedback",
     "NavigateThroughPosesGoal",
@@ -410,6 +413,31 @@ class ClearEntireCostmapResponse(Message):
 
 ClearEntireCostmap = define_service(
     "nav2_msgs/ClearEntireCostmap", ClearEntireCostmapRequest, ClearEntireCostmapResponse
+)
+
+
+class ManageLifecycleNodesRequest(Message):
+    """A command to a lifecycle manager (`zenros.lifecycle.manager`), Nav2's constants."""
+
+    __msgtype__ = "nav2_msgs/ManageLifecycleNodesRequest"
+    command: UInt8 = 0
+
+    STARTUP = 0
+    PAUSE = 1
+    RESUME = 2
+    RESET = 3
+    SHUTDOWN = 4
+    CONFIGURE = 5
+    CLEANUP = 6
+
+
+class ManageLifecycleNodesResponse(Message):
+    __msgtype__ = "nav2_msgs/ManageLifecycleNodesResponse"
+    success: bool = False
+
+
+ManageLifecycleNodes = define_service(
+    "nav2_msgs/ManageLifecycleNodes", ManageLifecycleNodesRequest, ManageLifecycleNodesResponse
 )
 
 

@@ -111,6 +111,20 @@ MESSAGES: dict[str, str] = {
         string file
         string function
         uint32 line""",
+    # ros/bond_core's bond/msg/Status (no wheel here: checked by hand)
+    "bond/msg/Status": """
+        std_msgs/Header header
+        string id
+        string instance_id
+        bool active
+        float32 heartbeat_timeout
+        float32 heartbeat_period""",
+    "lifecycle_msgs/msg/State": "uint8 id\nstring label",
+    "lifecycle_msgs/msg/Transition": "uint8 id\nstring label",
+    "lifecycle_msgs/msg/TransitionDescription":
+        "Transition transition\nState start_state\nState goal_state",
+    "lifecycle_msgs/msg/TransitionEvent":
+        "uint64 timestamp\nTransition transition\nState start_state\nState goal_state",
     "rosgraph_msgs/msg/Clock": "builtin_interfaces/Time clock",
     "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms",
     "tf2_msgs/msg/TF2Error": "uint8 error\nstring error_string",
@@ -130,6 +144,11 @@ SERVICES: dict[str, str] = {
     "std_srvs/srv/Empty": "---",
     "std_srvs/srv/Trigger": "---\nbool success\nstring message",
     "std_srvs/srv/SetBool": "bool data\n---\nbool success\nstring message",
+    "lifecycle_msgs/srv/ChangeState": "Transition transition\n---\nbool success",
+    "lifecycle_msgs/srv/GetState": "---\nState current_state",
+    "lifecycle_msgs/srv/GetAvailableStates": "---\nState[] available_states",
+    "lifecycle_msgs/srv/GetAvailableTransitions":
+        "---\nTransitionDescription[] available_transitions",
     "example_interfaces/srv/AddTwoInts": "int64 a\nint64 b\n---\nint64 sum",
     "action_msgs/srv/CancelGoal": "GoalInfo goal_info\n---\nint8 return_code\nGoalInfo[] goals_canceling",
 }

@@ -42,6 +42,7 @@ float32 occupied_thresh
 ---
 bool result""",
     "nav2_msgs/srv/ClearEntireCostmap": "std_msgs/Empty request\n---\nstd_msgs/Empty response",
+    "nav2_msgs/srv/ManageLifecycleNodes": "uint8 command\n---\nbool success",
 }
 
 _RESULT = "uint16 error_code\nstring error_msg"

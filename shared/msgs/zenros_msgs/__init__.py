@@ -6,6 +6,8 @@ One module per service that owns them; importing this package registers them all
 
 from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
+from .lifecycle import *  # noqa: F403
+from .lifecycle import __all__ as _lifecycle_all
 from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
 from .result import *  # noqa: F403
@@ -19,5 +21,5 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_chassis_all, *_nav_all, *_result_all, *_slam_all, *_task_actions_all,
-           *_task_docs_all, *_tasks_all]
+__all__ = [*_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_slam_all,
+           *_task_actions_all, *_task_docs_all, *_tasks_all]

@@ -96,3 +96,14 @@ def test_the_launch_files_dirname_reaches_the_demo_map() -> None:
         maps = [Path(p["map"]) for spec in load_launch(launch_dir() / name).processes
                 for p in spec.params if isinstance(p, dict) and "map" in p]
         assert maps and all(m.resolve() == demo.resolve() for m in maps), (name, maps)
+
+
+def test_lifecycle_launch_file_runs_a_manager_over_its_nodes() -> None:
+    desc = load_launch(launch_dir() / "lifecycle.yaml", {"bond_timeout": "2.5"})
+    names = [p.name for p in desc.processes]
+    assert names == ["cam", "planner", "driver", "lifecycle_manager"]
+    manager = desc.processes[-1]
+    assert manager.cmd[1:] == ("-m", "zenros.lifecycle.manager")
+    assert manager.params[-1] == {"node_names": ["cam", "planner", "driver"],
+                                  "autostart": True, "bond_timeout": 2.5}
+    assert all(p.respawn for p in desc.processes[:3])

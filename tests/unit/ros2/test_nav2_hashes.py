@@ -25,6 +25,8 @@ NAV2_HASHES = {
     "nav2_msgs/srv/LoadMap": "RIHS01_eb875de5ea9bb394573effc3f239015b19869dd7a8988136768372c6ef907ec1",
     "nav2_msgs/srv/SaveMap": "RIHS01_fd31bfe2c69b4e15bf86155148940d27d762296b058bda8d450a7f38b6c557e7",
     "nav2_msgs/srv/ClearEntireCostmap": "RIHS01_553f54f9cadab44553fdf5627433fcb6701f71c1fc2eb55a7b4a004fdeeab952",
+    # ManageLifecycleNodes.srv of navigation2 3f650828c (unchanged since Humble), same tools
+    "nav2_msgs/srv/ManageLifecycleNodes": "RIHS01_1850f4f677251bb8f7744e3c0a87ef4f66c205e2f8740a8330251af7d1804460",
     "nav2_msgs/action/NavigateToPose": "RIHS01_a56dba8a3234a1215e610180dc703ae25bbf406dded8b54887891c9732857eab",
     "nav2_msgs/action/NavigateThroughPoses": "RIHS01_4e680a34fd27772095da6ffdb32ae348adbc3d948248d38cf8d5ca3fc7a3a6c4",  # Jazzy
     "nav2_msgs/action/ComputePathToPose": "RIHS01_b11d50c914791956069419b8f4ad441e3c66fcfbd9461f8e87110b77dc6febe9",

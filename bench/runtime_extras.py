@@ -1,0 +1,178 @@
+"""Runtime extras benchmark (issue 40): what rclpy offers beyond pub/sub, timed.
+
+Prints one JSON line; each figure is one function returning its keys, merged at the end.
+
+``lifecycle_transition_ms``: ten zenros LifecycleNodes in one process; a client in another
+session calls each one's ``change_state`` (configure, then activate) in turn, as a lifecycle
+manager does; the figure is the wall time per node (both calls and their answers, the
+callbacks, the four transition events), the median of 5 rounds (target <= 50).
+``lifecycle_transition_ms_rclpy``: the same with rclpy's LifecycleNode (ten in one process
+spinning a multi-threaded executor) and an rclpy client in this process, measured in the same
+run inside a network namespace (``unshare -n``, loopback with multicast: DDS discovery stays
+on this machine), as bench/ros2.py does; null with a reason without root or the ``ros2``
+extra.
+
+Run: ``python bench/runtime_extras.py``.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from _harness import emit
+
+HERE = Path(__file__).resolve()
+NETNS = ("ip link set lo up && ip link set lo multicast on && "
+         "ip route add 224.0.0.0/4 dev lo && exec \"$@\"")
+N_NODES, ROUNDS = 10, 5
+
+
+# ------------------------------------------------------------------ lifecycle_transition_ms
+
+def _zenros_lifecycle_round() -> float:
+    from zenros import Node
+    from zenros.lifecycle import LifecycleNode
+    from zenros.msgs.lifecycle_msgs import ChangeState, ChangeStateRequest, Transition
+    from zenros.testing import linked_contexts, unique_prefix
+
+    with linked_contexts(2, unique_prefix()) as (a, b):
+        nodes = [LifecycleNode(f"lc{i}", context=a) for i in range(N_NODES)]
+        client = Node("lc_bench_client", context=b)
+        clients = [client.create_client(ChangeState, f"/lc{i}/change_state")
+                   for i in range(N_NODES)]
+        for c in clients:
+            assert c.wait_for_service(30)
+        t0 = time.perf_counter()
+        for c in clients:
+            for tid in (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE):
+                assert c.call(ChangeStateRequest(transition=Transition(id=tid)), timeout=10).success
+        dt = time.perf_counter() - t0
+        client.close()
+        for n in nodes:
+            n.close()
+    return dt / N_NODES * 1000
+
+
+def lifecycle_transition_ms() -> dict[str, Any]:
+    _zenros_lifecycle_round()  # warm-up
+    per_node = statistics.median(_zenros_lifecycle_round() for _ in range(ROUNDS))
+    out: dict[str, Any] = {"lifecycle_transition_ms": round(per_node, 2)}
+    ref, why = _rclpy_lifecycle()
+    out["lifecycle_transition_ms_rclpy"] = None if ref is None else round(ref, 2)
+    if why:
+        out["lifecycle_transition_ms_rclpy_reason"] = why
+    elif ref:
+        out["lifecycle_transition_ratio"] = round(per_node / ref, 3)
+    return out
+
+
+def _rclpy_lifecycle() -> tuple[float | None, str | None]:
+    """Re-run this file's rclpy part inside a network namespace; (ms per node, reason)."""
+    try:
+        import lifecycle_msgs.srv  # noqa: F401
+        import rclpy.lifecycle  # noqa: F401
+    except ModuleNotFoundError as e:
+        return None, f"the ros2 extra is not installed ({e.name}): pip install -e '.[ros2]'"
+    if os.geteuid() != 0:
+        return None, "needs root for a network namespace (unshare -n), as bench/ros2.py"
+    p = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE),
+                        "--rclpy-lifecycle"], capture_output=True, text=True, timeout=300,
+                       check=False)
+    last = p.stdout.strip().splitlines()[-1:] or [""]
+    try:
+        return float(last[0]), None
+    except ValueError:
+        return None, f"the rclpy run failed: {(p.stderr or p.stdout).strip()[-300:]}"
+
+
+def _rclpy_nodes() -> None:
+    """Ten rclpy LifecycleNodes spinning until stdin closes."""
+    import threading
+
+    import rclpy
+    from rclpy.executors import MultiThreadedExecutor
+    from rclpy.lifecycle import LifecycleNode
+
+    rclpy.init()
+    ex = MultiThreadedExecutor(4)
+    nodes = [LifecycleNode(f"lc{i}") for i in range(N_NODES)]
+    for n in nodes:
+        ex.add_node(n)
+    threading.Thread(target=ex.spin, daemon=True).start()
+    print("ready", flush=True)
+    sys.stdin.read()
+    ex.shutdown()
+    rclpy.shutdown()
+
+
+def _rclpy_round(node: Any, clients: list[Any]) -> float:
+    import rclpy
+    from lifecycle_msgs.msg import Transition
+    from lifecycle_msgs.srv import ChangeState
+
+    t0 = time.perf_counter()
+    for c in clients:
+        for tid in (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE):
+            req = ChangeState.Request()
+            req.transition.id = tid
+            fut = c.call_async(req)
+            rclpy.spin_until_future_complete(node, fut, timeout_sec=10)
+            assert fut.result() is not None and fut.result().success
+    return (time.perf_counter() - t0) / N_NODES * 1000
+
+
+def _rclpy_measure() -> None:
+    import rclpy
+    from lifecycle_msgs.srv import ChangeState
+
+    per_round: list[float] = []
+    for r in range(ROUNDS + 1):
+        srv = subprocess.Popen([sys.executable, str(HERE), "--rclpy-nodes"],
+                               stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        try:
+            assert srv.stdout is not None and srv.stdout.readline().strip() == "ready"
+            rclpy.init()
+            node = rclpy.create_node(f"lc_bench_client{r}")
+            clients = [node.create_client(ChangeState, f"/lc{i}/change_state")
+                       for i in range(N_NODES)]
+            for c in clients:
+                assert c.wait_for_service(timeout_sec=30)
+            ms = _rclpy_round(node, clients)
+            if r:  # the first round warms up
+                per_round.append(ms)
+            node.destroy_node()
+            rclpy.shutdown()
+        finally:
+            assert srv.stdin is not None
+            srv.stdin.close()
+            srv.wait(30)
+    print(statistics.median(per_round), flush=True)
+
+
+# ------------------------------------------------------------------ main
+
+FIGURES: list[Callable[[], dict[str, Any]]] = [lifecycle_transition_ms]
+
+
+def main() -> None:
+    if sys.argv[1:] == ["--rclpy-nodes"]:
+        _rclpy_nodes()
+        return
+    if sys.argv[1:] == ["--rclpy-lifecycle"]:
+        _rclpy_measure()
+        return
+    metrics: dict[str, Any] = {}
+    for figure in FIGURES:
+        metrics.update(figure())
+    emit("runtime_extras", metrics, targets={"lifecycle_transition_ms": "<= 50"})
+
+
+if __name__ == "__main__":
+    main()
