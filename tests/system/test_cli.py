@@ -66,7 +66,9 @@ def test_topic_pub_once_reaches_echo(system: tuple[str, str]) -> None:
     echo = Proc([sys.executable, "-m", "zenros.cli", "topic", "echo", "/cmd_vel", "--once",
                  "--json", "--timeout", "20", "-e", system[0], "--prefix", system[1]])
     try:
-        r = zenros(*system, "node", "list")  # settles: by now the echo subscriber is known
+        # the echo says it waits once its subscriber is declared (a loaded box can take
+        # seconds to start it: a publish before that was lost, 2 runs in 5 beside CPU hogs)
+        assert echo.wait_line("waiting for one", 30), echo.output
         r = zenros(*system, "topic", "pub", "/cmd_vel", "geometry_msgs/Twist",
                    "{linear: {x: 0.5}, angular: {z: 0.1}}", "--once")
         assert r.returncode == 0, r.stderr
