@@ -86,7 +86,7 @@ def test_streams_a_topic_whose_type_module_loads_on_demand(router: str, prefix: 
         assert proc.wait_line("started", 20), proc.output
         pub = node.create_publisher(FibonacciFeedback, "/fib_feedback", 10)
         with connect(f"ws://127.0.0.1:{ws_port}/fib_feedback", open_timeout=10) as ws:
-            assert pub.wait_for_subscribers(1, 10), proc.output
+            assert pub.wait_for_subscribers(1, 30), proc.output
             pub.publish(FibonacciFeedback(sequence=[0, 1, 1]))
             assert json.loads(ws.recv(timeout=10)) == {"sequence": [0, 1, 1]}
     finally:
