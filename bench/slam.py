@@ -279,7 +279,12 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=7, help="noise seed")
     ap.add_argument("--odom-noise", type=float, default=0.05)
     ap.add_argument("--range-noise", type=float, default=0.02)
+    ap.add_argument("--no-explore", action="store_true",
+                    help="leave out the exploration keys (bench/explore.py: minutes of sim)")
     args = ap.parse_args()
+    if not args.no_explore:
+        from explore import figures as explore_figures  # bench/explore.py, beside this one
+        FIGURES.append(explore_figures)
     lap = make_lap(args.seed, args.odom_noise, args.range_noise)
     seen = seen_walls(lap)
     params = SlamParameters()
