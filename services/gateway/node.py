@@ -61,8 +61,10 @@ class GatewayNode(Node):
         robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
         self.robots = self.fleet.robots if self.fleet else {robot.name: robot}
         self.robot = robot
-        self.core, self.link, self.tasks, self.hub = robot.core, robot.link, robot.tasks, robot.hub
-        self.navigator, self.nav_link, self.io = robot.navigator, robot.nav_link, robot.io
+        self.core, self.topics, self.tasks, self.hub = (robot.core, robot.topics, robot.tasks,
+                                                        robot.hub)
+        self.nav_actions, self.nav_services, self.io = (robot.nav_actions, robot.nav_services,
+                                                        robot.io)
         self.files, self.speech, self.audio, self.api = files, robot.speech, robot.audio, robot.api
         self.runner = AsyncRunner()
         self.on_close(self.runner.stop)  # after every server on it has stopped
@@ -96,7 +98,7 @@ class GatewayNode(Node):
         self.modbus_port = self.runner.call(self.modbus.start(host, p.modbus_port))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
         self.native = NativeCommands(self.core, self.logger, self.runner.loop)
-        self.link.on_native = self.native
+        self.topics.on_native = self.native
         self.serial: SerialBridge | None = None
         if p.serial_port:
             self.serial = self.own(SerialBridge(self.core, p.serial_port, self.logger,

@@ -10,7 +10,7 @@ import msgspec
 from zenros.msgs.geometry_msgs import Point
 from zenros.msgs.zenros_msgs import ComputeCoveragePathRequest, CoverageHole
 
-from ...ports.nav_calls import Coord
+from ..fields import Coord
 from ..api import Api, ApiError, Call
 
 __all__ = ["CoverageBody", "add_coverage_routes"]

@@ -53,7 +53,7 @@ async def _params(fn: Callable[[], Any]) -> Any:
 
 async def log(call: Call) -> Any:
     """The recent system log (``/rosout``), oldest first."""
-    link = call.ctx.link
+    link = call.ctx.topics
     return {"log": "\n".join(link.log)}
 
 
@@ -80,7 +80,7 @@ async def topic(call: Call) -> Any:
 
 async def self_test(call: Call) -> Any:
     """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
-    link = call.ctx.link
+    link = call.ctx.topics
     return {"motor_driver": link.fresh("odom"), "camera": False,
             "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
             "bluetooth": False, "battery": link.fresh("battery_state")}

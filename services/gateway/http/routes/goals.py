@@ -16,10 +16,10 @@ from zenros.msgs.zenros_msgs.task_docs import as_document
 from ...errors import Conflict
 from ...ports.crossing import check_route
 from ...ports.map_goal import check_goal_free
-from ...ports.nav_calls import Angle, Coord, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
 from ..context import Context
+from ..fields import Angle, Coord, OptName
 
 __all__ = ["add_goal_routes"]
 
@@ -44,8 +44,8 @@ class LoopBody(msgspec.Struct, forbid_unknown_fields=True):
 
 
 async def only_path(ctx: Context, map_name: str) -> str:
-    link = ctx.calls.link
-    res = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
+    link = ctx.nav_services
+    res = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=map_name))
     if len(res.paths) != 1:
         names = ", ".join(p.path_name for p in res.paths) or "none"
         raise ApiError(400, f"give the path: map {map_name!r} has {len(res.paths)} "
@@ -57,7 +57,7 @@ async def current_path(ctx: Context) -> str:
     """The current path (``/navigation/start?path=``, else the map's first); 409 when the
     map has none, 503 when nav does not answer."""
     try:
-        return await ctx.calls.nav.current_path()
+        return await ctx.nav_actions.current_path()
     except NavUnavailable as exc:
         raise ctx.core.presence.error("nav", str(exc)) from exc
     except ValueError as exc:
@@ -67,11 +67,11 @@ async def current_path(ctx: Context) -> str:
 async def start_nav_task(call: Call) -> Any:
     """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
     connections); returns the started navigation task."""
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
-    current_map = call.ctx.calls.current_map
-    same_map = call.ctx.calls.same_map
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
+    current_map = call.ctx.nav_services.current_map
+    same_map = call.ctx.nav_actions.same_map
     b: NavTaskBody = call.body
     action = zm.NavAction(x=b.x, y=b.y, theta=b.theta)
     current = await current_map()
@@ -88,16 +88,16 @@ async def start_nav_task(call: Call) -> Any:
 async def move_to_index(call: Call) -> Any:
     """Go to nav point ``index`` of the current path, or of ``path`` on another
     ``map`` (across maps through the point connections); returns the started task."""
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
-    point = call.ctx.calls.point
-    current_map = call.ctx.calls.current_map
-    same_map = call.ctx.calls.same_map
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
+    point = call.ctx.nav_actions.point
+    current_map = call.ctx.nav_services.current_map
+    same_map = call.ctx.nav_actions.same_map
     q: IndexQuery = call.query
     current = await current_map()
     if q.map and q.map != current:  # across maps (§6.7): the task finds the route
-        res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+        res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
             map_name=q.map, path_name=q.path or await only_path(call.ctx, q.map)))
         if not 0 <= q.index < len(res.points):
             n = len(res.points)
@@ -116,13 +116,13 @@ async def move_to_index(call: Call) -> Any:
 
 async def stop_nav_task(call: Call) -> Any:
     """Stop the running (navigation) task; returns it."""
-    tasks = call.ctx.calls.tasks
+    tasks = call.ctx.tasks
     return as_document(await tasks.step("stop"))
 
 
 async def get_loop(call: Call) -> Any:
     """The patrol (loop) task, or 404 when none is running."""
-    nav, tasks = call.ctx.calls.nav, call.ctx.calls.tasks
+    nav, tasks = call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
     return as_document(await tasks.get(nav.loop_task_id))
@@ -131,12 +131,12 @@ async def get_loop(call: Call) -> Any:
 async def post_loop(call: Call) -> Any:
     """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
     core = call.ctx.core
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
     b: LoopBody = call.body
     path = await current_path(call.ctx)
-    res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
+    res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(path_name=path))
     if not res.points:
         raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
     subs: list[zm.Action] = []
@@ -152,7 +152,7 @@ async def post_loop(call: Call) -> Any:
 
 async def delete_loop(call: Call) -> Any:
     """Stop patrolling; returns the stopped loop task."""
-    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
+    core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task is running")
     task = as_document(await tasks.step("stop", nav.loop_task_id))
@@ -163,8 +163,8 @@ async def delete_loop(call: Call) -> Any:
 
 async def go_charge(call: Call) -> Any:
     """Go to the charging station and dock; returns the task (one ``charge_action``)."""
-    link, run_task = call.ctx.calls.link, call.ctx.calls.run_task
-    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    link, run_task = call.ctx.nav_services, call.ctx.tasks.run_task
+    res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
     if not res.is_set:
         raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
                             "POST /navigation/charge_pose first")
@@ -175,7 +175,7 @@ async def go_charge(call: Call) -> Any:
 async def stop_charge(call: Call) -> Any:
     """Stop charging, whatever the task state: stops the running task (the charge task,
     while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
-    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
+    core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
     task = None
     running = [t for t in await tasks.tasks() if t.state in ("WORKING", "PAUSED")]
     if running:
@@ -192,8 +192,8 @@ async def stop_charge(call: Call) -> Any:
 
 async def get_charge_pose(call: Call) -> Any:
     """The stored charging-station pose: ``x``, ``y``, ``theta``."""
-    link = call.ctx.calls.link
-    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    link = call.ctx.nav_services
+    res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
     if not res.is_set:
         raise ApiError(404, f"map {res.map_name!r} has no charge pose yet")
     return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
@@ -201,8 +201,8 @@ async def get_charge_pose(call: Call) -> Any:
 
 async def post_charge_pose(call: Call) -> Any:
     """Store the robot's current pose as the charging-station pose."""
-    link = call.ctx.calls.link
-    res = await link.call("set_charge_pose",
+    link = call.ctx.nav_services
+    res = await link.call(zm.SetChargePose,
                           zm.SetChargePoseRequest(use_current_pose=True))
     return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
 

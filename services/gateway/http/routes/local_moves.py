@@ -20,7 +20,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     NavAction,
 )
 
-from ...ports.nav_calls import Angle, Coord
+from ..fields import Angle, Coord
 from ..api import Api, Call
 from ..context import Context
 
@@ -78,31 +78,30 @@ def _move(q: MoveQuery | NavMoveQuery | NavMoveIoQuery) -> LocalMoveAction:
 
 
 async def nav_to(ctx: Context, index: int) -> NavAction:
-    calls = ctx.calls
-    x, y, theta = await calls.point(index)
+    x, y, theta = await ctx.nav_actions.point(index)
     return NavAction(x=x, y=y, theta=theta)
 
 
 async def start_local_move(call: Call) -> Any:
     """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) from where the
     robot is; ``method`` 0 moves then turns, 1 turns then moves. Returns the task."""
-    calls = call.ctx.calls
-    return await calls.run_task(TASK_NAME, [_move(call.query)])
+    tasks = call.ctx.tasks
+    return await tasks.run_task(TASK_NAME, [_move(call.query)])
 
 
 async def start_nav_and_local_move(call: Call) -> Any:
     """Go to nav point ``index``, then make the local move. Returns the task."""
-    calls = call.ctx.calls
+    tasks = call.ctx.tasks
     q: NavMoveQuery = call.query
-    return await calls.run_task(TASK_NAME, [await nav_to(call.ctx, q.index), _move(q)])
+    return await tasks.run_task(TASK_NAME, [await nav_to(call.ctx, q.index), _move(q)])
 
 
 async def start_nav_local_move_io(call: Call) -> Any:
     """Go to nav point ``index``, make the local move, then set output ``port`` to
     ``level``. Returns the task."""
-    calls = call.ctx.calls
+    tasks = call.ctx.tasks
     q: NavMoveIoQuery = call.query
-    return await calls.run_task(TASK_NAME, [
+    return await tasks.run_task(TASK_NAME, [
         await nav_to(call.ctx, q.index), _move(q),
         IoAction(level=q.level, port=q.port)])
 
@@ -110,19 +109,19 @@ async def start_nav_local_move_io(call: Call) -> Any:
 async def start_local_move_target(call: Call) -> Any:
     """A precise short move to (``x``, ``y``, ``theta``) in ``map`` or relative to
     ``base_link``, without the planner. Returns the task."""
-    calls = call.ctx.calls
+    tasks = call.ctx.tasks
     q: TargetQuery = call.query
-    return await calls.run_task(TASK_NAME, [
+    return await tasks.run_task(TASK_NAME, [
         LocalMoveTargetAction(**msgspec.structs.asdict(q))])
 
 
 async def start_local_move_index(call: Call) -> Any:
     """A precise short move to nav point ``index`` without the planner. Returns the
     task."""
-    calls = call.ctx.calls
+    tasks = call.ctx.tasks
     q: TargetIndexQuery = call.query
-    x, y, theta = await calls.point(q.index)
-    return await calls.run_task(TASK_NAME, [LocalMoveTargetAction(
+    x, y, theta = await call.ctx.nav_actions.point(q.index)
+    return await tasks.run_task(TASK_NAME, [LocalMoveTargetAction(
         x=x, y=y, theta=theta, frame_id="map", start_rotate_enable=q.start_rotate_enable,
         target_rotate_enable=q.target_rotate_enable)])
 

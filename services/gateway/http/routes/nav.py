@@ -9,7 +9,7 @@ import msgspec
 from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Angle, Coord, Name, OptName
+from ..fields import Angle, Coord, Name, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
 from ..context import Context
@@ -58,18 +58,18 @@ class InitPose(msgspec.Struct, forbid_unknown_fields=True):
 async def start(call: Call) -> Any:
     """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
     core = call.ctx.core
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    current_map = call.ctx.calls.current_map
-    point = call.ctx.calls.point
-    publish_initialpose = call.ctx.calls.publish_initialpose
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    current_map = call.ctx.nav_services.current_map
+    point = call.ctx.nav_actions.point
+    publish_initialpose = call.ctx.nav_services.publish_initialpose
     q: StartQuery = call.query
     if not nav.available():
         raise core.presence.error("nav", "navigation is not available")
     core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
     try:
         if q.map and q.map != await current_map():
-            res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+            res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=q.map))
             if not res.success:
                 raise ApiError(400, res.message)
         if q.path:
@@ -85,10 +85,10 @@ async def start(call: Call) -> Any:
 
 async def reload(call: Call) -> Any:
     """Load ``map`` (when not loaded) and make ``path`` the current path."""
-    nav, link, current_map = call.ctx.calls.nav, call.ctx.calls.link, call.ctx.calls.current_map
+    nav, link, current_map = call.ctx.nav_actions, call.ctx.nav_services, call.ctx.nav_services.current_map
     q: ReloadQuery = call.query
     if q.map != await current_map():
-        res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+        res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=q.map))
         if not res.success:
             raise ApiError(400, res.message)
     if q.path:
@@ -98,7 +98,7 @@ async def reload(call: Call) -> Any:
 
 async def stop(call: Call) -> Any:
     """Stop navigation: cancel the goal; navStatus goes to 0."""
-    core, nav = call.ctx.core, call.ctx.calls.nav
+    core, nav = call.ctx.core, call.ctx.nav_actions
     try:
         await nav.stop()
     except NavUnavailable as exc:
@@ -115,7 +115,7 @@ async def pose(call: Call) -> Any:
 
 async def current_path(call: Call) -> Any:
     """The loaded ``map`` and ``path``."""
-    core, nav, current_map = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.current_map
+    core, nav, current_map = call.ctx.core, call.ctx.nav_actions, call.ctx.nav_services.current_map
     try:
         path = await nav.current_path()
     except NavUnavailable as exc:
@@ -140,25 +140,25 @@ def map_object(m: Any) -> dict[str, Any]:
 
 async def saved_maps(call: Call) -> Any:
     """The stored maps (§6.3 map objects), optionally one ``name`` or one slam ``type``."""
-    link = call.ctx.calls.link
+    link = call.ctx.nav_services
     q: SavedMapsQuery = call.query
-    res = await link.call("map_server/list_maps", zm.ListMapsRequest(name=q.name))
+    res = await link.call(zm.ListMaps, zm.ListMapsRequest(name=q.name))
     return [map_object(m) for m in res.maps if not q.type or m.slam_type == q.type]
 
 
 async def get_current_map(call: Call) -> Any:
     """The map in use: ``name`` and ``md5sum``."""
-    link = call.ctx.calls.link
-    res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
+    link = call.ctx.nav_services
+    res = await link.call(zm.GetCurrentMap, zm.GetCurrentMapRequest())
     return {"name": res.name, "md5sum": res.md5sum}
 
 
 async def loaded_grid(ctx: Context, name: str) -> Any:
     """The loaded map's grid; ``name`` must be it (or empty)."""
-    core, link, current_map = ctx.core, ctx.calls.link, ctx.calls.current_map
+    core, link, current_map = ctx.core, ctx.nav_services, ctx.nav_services.current_map
     current = await current_map()
     if name and name != current:
-        listed = await link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
+        listed = await link.call(zm.ListMaps, zm.ListMapsRequest(name=name))
         if not listed.maps:
             raise ApiError(404, f"unknown map {name!r}")
         raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
@@ -182,7 +182,7 @@ async def map_pgm(call: Call) -> Any:
 async def robot_tracks(call: Call) -> Any:
     """Where the robot has been on ``map_name`` (default: the current map), one
     ``{x, y, z}`` a second, the last hour, since the gateway started."""
-    nav, current_map = call.ctx.calls.nav, call.ctx.calls.current_map
+    nav, current_map = call.ctx.nav_actions, call.ctx.nav_services.current_map
     name = call.query.map_name or await current_map()
     return {"map_name": name,
             "track": [{"x": x, "y": y, "z": 0.0} for x, y in nav.tracks.get(name, ())]}
@@ -190,8 +190,8 @@ async def robot_tracks(call: Call) -> Any:
 
 async def switch_map(call: Call) -> Any:
     """Load another stored map."""
-    link = call.ctx.calls.link
-    res = await link.call("switch_map", zm.SwitchMapRequest(map_name=call.query.map_name))
+    link = call.ctx.nav_services
+    res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=call.query.map_name))
     if not res.success:
         raise ApiError(400, res.message)
     return {"status": "ok"}
@@ -199,7 +199,7 @@ async def switch_map(call: Call) -> Any:
 
 async def init_pose(call: Call) -> Any:
     """Set the robot's pose for relocalisation (``z`` is the heading)."""
-    publish_initialpose = call.ctx.calls.publish_initialpose
+    publish_initialpose = call.ctx.nav_services.publish_initialpose
     b: InitPose = call.body
     publish_initialpose(b.x, b.y, b.z)
     return {"status": "ok"}

@@ -9,7 +9,7 @@ from typing import Annotated, Any
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Name, OptName
+from ..fields import Name, OptName
 from ..api import Api, ApiError, Call
 from ..context import Context
 from ..path_data import (
@@ -69,8 +69,8 @@ def _parsed(fn: Callable[[str], Any], text: str) -> Any:
 
 
 async def listing(ctx: Context, q: ListQuery) -> Any:
-    link = ctx.nav_link
-    res = await link.call("list_paths", zm.ListPathsRequest(map_name=q.map_name))
+    link = ctx.nav_services
+    res = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=q.map_name))
     if q.map_name:
         return [p.path_name for p in res.paths]
     out: dict[str, list[str]] = {}
@@ -81,11 +81,11 @@ async def listing(ctx: Context, q: ListQuery) -> Any:
 
 async def get_path(call: Call) -> Any:
     """A path's points (``path_data`` lines ``x y z``), or the path names (§6.6)."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: ListQuery = call.query
     if not (q.map_name and q.path_name):
         return await listing(call.ctx, q)
-    res = await link.call("get_path", zm.GetPathRequest(map_name=q.map_name,
+    res = await link.call(zm.GetPath, zm.GetPathRequest(map_name=q.map_name,
                                                        path_name=q.path_name))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_points(res.points)}
@@ -93,10 +93,10 @@ async def get_path(call: Call) -> Any:
 
 async def set_path(call: Call) -> Any:
     """Create or replace a path's points."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     b: PathBody = call.body
     points = _parsed(parse_points, b.path_data)
-    res = await link.call("set_path", zm.SetPathRequest(
+    res = await link.call(zm.SetPath, zm.SetPathRequest(
         map_name=b.map_name, path_name=b.path_name, points=points))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_points(res.points)}
@@ -104,20 +104,20 @@ async def set_path(call: Call) -> Any:
 
 async def delete_path(call: Call) -> Any:
     """Delete a path and its nav points."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: PathRefQuery = call.query
-    await link.call("delete_path", zm.DeletePathRequest(map_name=q.map_name,
+    await link.call(zm.DeletePath, zm.DeletePathRequest(map_name=q.map_name,
                                                        path_name=q.path_name))
     return {"status": "ok"}
 
 
 async def get_points(call: Call) -> Any:
     """A path's nav points (lines ``x y z theta errorX errorY direction [name]``)."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: ListQuery = call.query
     if not (q.map_name and q.path_name):
         return await listing(call.ctx, q)
-    res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+    res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
         map_name=q.map_name, path_name=q.path_name))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_nav_points(res.points)}
@@ -125,10 +125,10 @@ async def get_points(call: Call) -> Any:
 
 async def set_points(call: Call) -> Any:
     """Create or replace a path's nav points."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     b: PathBody = call.body
     points = _parsed(parse_nav_points, b.path_data)
-    res = await link.call("set_nav_points", zm.SetNavPointsRequest(
+    res = await link.call(zm.SetNavPoints, zm.SetNavPointsRequest(
         map_name=b.map_name, path_name=b.path_name, points=points))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_nav_points(res.points)}
@@ -136,18 +136,18 @@ async def set_points(call: Call) -> Any:
 
 async def delete_points(call: Call) -> Any:
     """Delete a path's nav points."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: PathRefQuery = call.query
-    await link.call("delete_nav_points", zm.DeleteNavPointsRequest(
+    await link.call(zm.DeleteNavPoints, zm.DeleteNavPointsRequest(
         map_name=q.map_name, path_name=q.path_name))
     return {"status": "ok"}
 
 
 async def get_walls(call: Call) -> Any:
     """The map's virtual walls (``x y`` per line; an empty line between walls)."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: MapRefQuery = call.query
-    res = await link.call("get_virtual_walls",
+    res = await link.call(zm.GetVirtualWalls,
                           zm.GetVirtualWallsRequest(map_name=q.map_name))
     return {"map_name": q.map_name, "path_name": q.path_name,
             "virtual_wall": format_walls(res.walls)}
@@ -155,10 +155,10 @@ async def get_walls(call: Call) -> Any:
 
 async def set_walls(call: Call) -> Any:
     """Replace the map's virtual walls."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     b: WallBody = call.body
     walls = _parsed(parse_walls, b.virtual_wall)
-    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(
+    await link.call(zm.SetVirtualWalls, zm.SetVirtualWallsRequest(
         map_name=b.map_name, walls=walls))
     return {"map_name": b.map_name, "path_name": b.path_name,
             "virtual_wall": format_walls(walls)}
@@ -166,17 +166,17 @@ async def set_walls(call: Call) -> Any:
 
 async def delete_walls(call: Call) -> Any:
     """Remove the map's virtual walls."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: MapRefQuery = call.query
-    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(map_name=q.map_name))
+    await link.call(zm.SetVirtualWalls, zm.SetVirtualWallsRequest(map_name=q.map_name))
     return {"status": "ok"}
 
 
 async def get_areas(call: Call) -> Any:
     """The map's forbidden areas (``x1 y1 x2 y2`` rectangles, one per line)."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: MapRefQuery = call.query
-    res = await link.call("get_forbidden_areas",
+    res = await link.call(zm.GetForbiddenAreas,
                           zm.GetForbiddenAreasRequest(map_name=q.map_name))
     return {"map_name": q.map_name, "path_name": q.path_name,
             "skip_area": format_areas(res.areas)}
@@ -184,10 +184,10 @@ async def get_areas(call: Call) -> Any:
 
 async def set_areas(call: Call) -> Any:
     """Replace the map's forbidden areas."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     b: AreaBody = call.body
     areas = _parsed(parse_areas, b.skip_area)
-    await link.call("set_forbidden_areas", zm.SetForbiddenAreasRequest(
+    await link.call(zm.SetForbiddenAreas, zm.SetForbiddenAreasRequest(
         map_name=b.map_name, areas=areas))
     return {"map_name": b.map_name, "path_name": b.path_name,
             "skip_area": format_areas(areas)}
@@ -195,9 +195,9 @@ async def set_areas(call: Call) -> Any:
 
 async def delete_areas(call: Call) -> Any:
     """Remove the map's forbidden areas."""
-    link = call.ctx.nav_link
+    link = call.ctx.nav_services
     q: MapRefQuery = call.query
-    await link.call("set_forbidden_areas",
+    await link.call(zm.SetForbiddenAreas,
                     zm.SetForbiddenAreasRequest(map_name=q.map_name))
     return {"status": "ok"}
 

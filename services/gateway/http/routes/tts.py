@@ -31,7 +31,7 @@ async def tts(call: Call) -> Any:
     The simulated robot has no speaker; the speech counts as playing for
     len(text) / 15 s of the robot's clock.
     """
-    link, speech, store = call.ctx.link, call.ctx.speech, call.ctx.audio
+    link, speech, store = call.ctx.topics, call.ctx.speech, call.ctx.audio
     text = store.apply_alias(call.query.text)
     speech.say(text)
     link.tts_pub.publish(String(data=text))
