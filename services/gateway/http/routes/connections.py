@@ -8,9 +8,9 @@ from typing import Annotated, Any, Literal
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ..fields import Name
 from ..api import Api, Call
 from ..context import Context
+from ..fields import Name
 
 __all__ = ["add_connection_routes"]
 

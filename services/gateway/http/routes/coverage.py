@@ -10,8 +10,8 @@ import msgspec
 from zenros.msgs.geometry_msgs import Point
 from zenros.msgs.zenros_msgs import ComputeCoveragePathRequest, CoverageHole
 
-from ..fields import Coord
 from ..api import Api, ApiError, Call
+from ..fields import Coord
 
 __all__ = ["CoverageBody", "add_coverage_routes"]
 

@@ -20,9 +20,9 @@ from zenros.msgs.zenros_msgs.task_actions import (
     NavAction,
 )
 
-from ..fields import Angle, Coord
 from ..api import Api, Call
 from ..context import Context
+from ..fields import Angle, Coord
 
 __all__ = ["TASK_NAME", "add_local_move_routes"]
 

@@ -9,10 +9,10 @@ import msgspec
 from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
 
-from ..fields import Angle, Coord, Name, OptName
 from ...state.core import NavUnavailable
 from ..api import Api, ApiError, Call
 from ..context import Context
+from ..fields import Angle, Coord, Name, OptName
 from ..map_image import grid_pgm, grid_png
 
 __all__ = ["add_nav_routes"]

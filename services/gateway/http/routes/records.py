@@ -9,9 +9,9 @@ from typing import Annotated, Any
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ..fields import Name, OptName
 from ..api import Api, ApiError, Call
 from ..context import Context
+from ..fields import Name, OptName
 from ..path_data import (
     format_areas,
     format_nav_points,
