@@ -7,8 +7,9 @@ from __future__ import annotations
 import re
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, cast
+from typing import Any, cast, get_args, get_type_hints
 
+import msgspec
 import numpy as np
 import pytest
 from zenros.maps import GridMap
@@ -26,7 +27,7 @@ from zenros.services.gateway.errors import (
     Unavailable,
     port_error,
 )
-from zenros.services.gateway.http.api import STATUS, api_error
+from zenros.services.gateway.http.api import STATUS, Answer, Call, api_error
 from zenros.services.gateway.http.app import HttpApp, build_api
 from zenros.services.gateway.http.context import Context
 from zenros.services.gateway.http.fleet import FleetApi
@@ -282,3 +283,34 @@ def test_a_fleet_gateways_openapi_lists_every_robots_paths() -> None:
     # a single robot's gateway documents its own paths only
     alone = AsgiClient(build_api(_bare_context()), "/api/v1").get("/openapi.json").json()
     assert set(alone["paths"]) == set(single)
+
+
+class _Point(msgspec.Struct, forbid_unknown_fields=True):
+    x: float
+
+
+async def _moved(call: Call[_Point, None]) -> Answer:
+    """Echo the body's ``x`` (typed: ``call.body`` is a `_Point`)."""
+    return {"x": call.body.x}
+
+
+def test_a_handlers_call_annotation_is_what_the_request_decodes_into() -> None:
+    """``Call[Body, Query]`` in a handler's signature is the one place its input is typed:
+    `Api.add` takes the body and query types from it (a request that does not fit is a 400
+    naming the field), and a route that says otherwise is refused when it is added."""
+    api = build_api(_bare_context())
+    ep = api.add("POST", "/test/moved", _moved)
+    assert (ep.body, ep.query) == (_Point, None)
+    http = AsgiClient(api, "/api/v1")
+    assert http.post("/test/moved", json={"x": 1.5}).json() == {"x": 1.5}
+    bad = http.post("/test/moved", json={"x": "far"})
+    assert bad.status_code == 400 and "`x`" in bad.json()["description"]
+    with pytest.raises(ValueError, match="takes a body of _Point"):
+        api.add("PUT", "/test/moved", _moved, body=Task)
+    for e in build_api(_bare_context()).endpoints():  # every route agrees with its handler
+        hinted = get_type_hints(e.handler)
+        args = get_args(next(v for k, v in hinted.items() if k != "return"))
+        if args and args[0] is not Any:
+            assert e.body == (None if args[0] is type(None) else args[0]), e.path
+        if args:
+            assert e.query == (None if args[1] is type(None) else args[1]), e.path

@@ -8,7 +8,7 @@ from typing import Annotated, Any, Literal
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ..api import Api, Call
+from ..api import Answer, Api, Call
 from ..context import Context
 from ..fields import Name
 
@@ -56,7 +56,7 @@ def connection(c: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any
             "type": c.type, "is_available": c.is_available, "id": c.id}
 
 
-async def get_connections(call: Call) -> Any:
+async def get_connections(call: Call[None, None]) -> Answer:
     """Every nav point of every map (``points``) and every connection
     (``connections``)."""
     link = call.ctx.nav_services
@@ -68,18 +68,18 @@ async def get_connections(call: Call) -> Any:
             "connections": [connection(c, kinds) for c in res.connections]}
 
 
-async def post_connection(call: Call) -> Any:
+async def post_connection(call: Call[ConnectionBody, None]) -> Answer:
     """Connect two existing nav points, ``direct`` (the same spot in two maps) or via
     an ``elevator``; returns the connection with its ``id``."""
     link = call.ctx.nav_services
-    b: ConnectionBody = call.body
+    b = call.body
     res = await link.call(zm.AddPointConnection, zm.AddPointConnectionRequest(
         points=[zm.PointRef(map_name=p.map, path_name=p.path, index=p.index)
                 for p in b.points], type=b.type, is_available=b.is_available))
     return connection(res.connection, await floors(call.ctx))
 
 
-async def delete_connection(call: Call) -> Any:
+async def delete_connection(call: Call[None, IdQuery]) -> Answer:
     """Delete the connection ``id``."""
     link = call.ctx.nav_services
     await link.call(zm.DeletePointConnection,
@@ -90,5 +90,5 @@ async def delete_connection(call: Call) -> Any:
 def add_connection_routes(api: Api) -> None:
     """Route the point-connection operations."""
     api.add("GET", "/navigation/point_connections", get_connections)
-    api.add("POST", "/navigation/point_connections", post_connection, body=ConnectionBody)
-    api.add("DELETE", "/navigation/point_connections", delete_connection, query=IdQuery)
+    api.add("POST", "/navigation/point_connections", post_connection)
+    api.add("DELETE", "/navigation/point_connections", delete_connection)

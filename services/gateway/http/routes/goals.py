@@ -7,7 +7,7 @@ paused and stopped like any other.
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated
 
 import msgspec
 from zenros.msgs import zenros_msgs as zm
@@ -17,7 +17,7 @@ from ...errors import Conflict
 from ...ports.crossing import check_route
 from ...ports.map_goal import check_goal_free
 from ...state.core import NavUnavailable
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
 from ..fields import Angle, Coord, OptName
 
@@ -64,7 +64,7 @@ async def current_path(ctx: Context) -> str:
         raise ApiError(409, str(exc)) from exc
 
 
-async def start_nav_task(call: Call) -> Any:
+async def start_nav_task(call: Call[NavTaskBody, None]) -> Answer:
     """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
     connections); returns the started navigation task."""
     nav = call.ctx.nav_actions
@@ -72,7 +72,7 @@ async def start_nav_task(call: Call) -> Any:
     run_task = call.ctx.tasks.run_task
     current_map = call.ctx.nav_services.current_map
     same_map = call.ctx.nav_actions.same_map
-    b: NavTaskBody = call.body
+    b = call.body
     action = zm.NavAction(x=b.x, y=b.y, theta=b.theta)
     current = await current_map()
     if b.map and b.map != current:  # across maps (§6.7): the task finds the route
@@ -85,7 +85,7 @@ async def start_nav_task(call: Call) -> Any:
     return await run_task("navigation task", [action])
 
 
-async def move_to_index(call: Call) -> Any:
+async def move_to_index(call: Call[None, IndexQuery]) -> Answer:
     """Go to nav point ``index`` of the current path, or of ``path`` on another
     ``map`` (across maps through the point connections); returns the started task."""
     nav = call.ctx.nav_actions
@@ -94,7 +94,7 @@ async def move_to_index(call: Call) -> Any:
     point = call.ctx.nav_actions.point
     current_map = call.ctx.nav_services.current_map
     same_map = call.ctx.nav_actions.same_map
-    q: IndexQuery = call.query
+    q = call.query
     current = await current_map()
     if q.map and q.map != current:  # across maps (§6.7): the task finds the route
         res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
@@ -114,13 +114,13 @@ async def move_to_index(call: Call) -> Any:
     return await run_task("navigation task", [action])
 
 
-async def stop_nav_task(call: Call) -> Any:
+async def stop_nav_task(call: Call[None, None]) -> Answer:
     """Stop the running (navigation) task; returns it."""
     tasks = call.ctx.tasks
     return as_document(await tasks.step("stop"))
 
 
-async def get_loop(call: Call) -> Any:
+async def get_loop(call: Call[None, None]) -> Answer:
     """The patrol (loop) task, or 404 when none is running."""
     nav, tasks = call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
@@ -128,13 +128,13 @@ async def get_loop(call: Call) -> Any:
     return as_document(await tasks.get(nav.loop_task_id))
 
 
-async def post_loop(call: Call) -> Any:
+async def post_loop(call: Call[LoopBody, None]) -> Answer:
     """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
     core = call.ctx.core
     nav = call.ctx.nav_actions
     link = call.ctx.nav_services
     run_task = call.ctx.tasks.run_task
-    b: LoopBody = call.body
+    b = call.body
     path = await current_path(call.ctx)
     res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(path_name=path))
     if not res.points:
@@ -150,7 +150,7 @@ async def post_loop(call: Call) -> Any:
     return task
 
 
-async def delete_loop(call: Call) -> Any:
+async def delete_loop(call: Call[None, None]) -> Answer:
     """Stop patrolling; returns the stopped loop task."""
     core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
@@ -161,7 +161,7 @@ async def delete_loop(call: Call) -> Any:
     return task
 
 
-async def go_charge(call: Call) -> Any:
+async def go_charge(call: Call[None, None]) -> Answer:
     """Go to the charging station and dock; returns the task (one ``charge_action``)."""
     link, run_task = call.ctx.nav_services, call.ctx.tasks.run_task
     res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
@@ -172,7 +172,7 @@ async def go_charge(call: Call) -> Any:
     return await run_task("charge task", [zm.ChargeAction(x=p.x, y=p.y, theta=p.theta)])
 
 
-async def stop_charge(call: Call) -> Any:
+async def stop_charge(call: Call[None, None]) -> Answer:
     """Stop charging, whatever the task state: stops the running task (the charge task,
     while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
     core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
@@ -190,7 +190,7 @@ async def stop_charge(call: Call) -> Any:
     return {"status": "ok", "task": task}
 
 
-async def get_charge_pose(call: Call) -> Any:
+async def get_charge_pose(call: Call[None, None]) -> Answer:
     """The stored charging-station pose: ``x``, ``y``, ``theta``."""
     link = call.ctx.nav_services
     res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
@@ -199,7 +199,7 @@ async def get_charge_pose(call: Call) -> Any:
     return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
 
 
-async def post_charge_pose(call: Call) -> Any:
+async def post_charge_pose(call: Call[None, None]) -> Answer:
     """Store the robot's current pose as the charging-station pose."""
     link = call.ctx.nav_services
     res = await link.call(zm.SetChargePose,
@@ -209,11 +209,11 @@ async def post_charge_pose(call: Call) -> Any:
 
 def add_goal_routes(api: Api) -> None:
     """Route the goal, patrol and charging operations."""
-    api.add("POST", "/navigation/start_nav_task", start_nav_task, body=NavTaskBody)
-    api.add("GET", "/navigation/move_to_index", move_to_index, query=IndexQuery)
+    api.add("POST", "/navigation/start_nav_task", start_nav_task)
+    api.add("GET", "/navigation/move_to_index", move_to_index)
     api.add("GET", "/navigation/stop_nav_task", stop_nav_task)
     api.add("GET", "/navigation/loop_task", get_loop)
-    api.add("POST", "/navigation/loop_task", post_loop, body=LoopBody)
+    api.add("POST", "/navigation/loop_task", post_loop)
     api.add("DELETE", "/navigation/loop_task", delete_loop)
     api.add("GET", "/navigation/go_charge", go_charge)
     api.add("GET", "/navigation/stop_charge", stop_charge)
