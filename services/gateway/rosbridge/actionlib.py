@@ -41,7 +41,8 @@ from .opaque import ROS1_DEFAULTS
 if TYPE_CHECKING:
     from .bridge import Bridge
 
-__all__ = ["ActionlibBridge", "ros1_status", "ros2_outcome", "zenros_action_type"]
+__all__ = ["ActionlibBridge", "actionlib_topics", "ros1_action_name", "ros1_status",
+           "ros2_outcome", "zenros_action_type"]
 
 # actionlib_msgs/GoalStatus
 PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
@@ -54,6 +55,26 @@ KEEP_ENDED = 5.0  # s an ended goal stays in the status list (actionlib's status
 ROS1_EQUIVALENTS = {"actionlib_tutorials/Fibonacci": "example_interfaces/Fibonacci"}
 """ROS 1 action types whose ROS 2 counterpart lives in another package (besides the same
 ``<pkg>/<Name>``); each is used only if the field layouts agree."""
+
+
+def ros1_action_name(action_type: ActionType) -> str | None:
+    """The ROS 1 action ``pkg/Name`` a ROS 1 client would use for a zenros action type: its
+    counterpart in ROS1_EQUIVALENTS, else the same name; None if their layouts disagree."""
+    ours = normalize_type_name(action_type.name)
+    for ros1, zenros in ROS1_EQUIVALENTS.items():
+        if zenros == ours and layouts_agree(ros1, action_type):
+            return ros1
+    return ours if layouts_agree(ours, action_type) else None
+
+
+def actionlib_topics(name: str, ros1: str) -> dict[str, str]:
+    """The topics an actionlib server of ROS 1 action ``ros1`` (``pkg/Name``) on ``name``
+    publishes, with their types (long form, as rosapi lists them): ``status``, ``feedback``
+    and ``result``, from its start."""
+    pkg, _, short = ros1.partition("/")
+    return {f"{name}/status": "actionlib_msgs/msg/GoalStatusArray",
+            f"{name}/feedback": f"{pkg}/msg/{short}ActionFeedback",
+            f"{name}/result": f"{pkg}/msg/{short}ActionResult"}
 
 
 def ros1_status(status: GoalStatus, was_active: bool) -> int:
@@ -412,6 +433,21 @@ class ActionlibBridge:
         hooks[name + "/cancel"] = proxy.on_cancel
         proxy.task = self.bridge.loop.create_task(proxy.run())
         proxy.task.add_done_callback(lambda _: self._drop_proxy(name, proxy))
+
+    def offered_topics(self) -> dict[str, str]:
+        """The actionlib topics of every zenros action a ROS 1 client can use through the
+        bridge (`advertised`), with their ROS 1 types: what a ROS 1 master lists of an
+        actionlib server from its start (rosapi ``topics``), before any client sends a goal."""
+        out: dict[str, str] = {}
+        for name, types in self.bridge.node.graph.actions().items():
+            try:
+                action_type = lookup_action(types[0]) if types else None
+            except UnknownTypeError:
+                continue
+            ros1 = None if action_type is None else ros1_action_name(action_type)
+            if ros1 is not None:
+                out.update(actionlib_topics(name, ros1))
+        return out
 
     def _drop_proxy(self, name: str, proxy: ActionProxy) -> None:
         if self.proxies.get(name) is proxy:
