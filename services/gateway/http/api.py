@@ -112,7 +112,7 @@ def _decoded_types(handler: Callable[..., object]) -> tuple[type[Any] | None, ty
     """(body, query) from a handler's ``call: Call[Body, Query]`` annotation; (None, None) for
     a bare ``Call`` (then `Api.add`'s arguments say)."""
     try:
-        hints = get_type_hints(handler)
+        hints = get_type_hints(handler, include_extras=True)  # Annotated limits kept
     except NameError as exc:  # a handler's annotation names what its module does not have
         raise ValueError(f"{handler.__qualname__}: {exc}") from exc
     hints.pop("return", None)

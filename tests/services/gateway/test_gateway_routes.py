@@ -308,7 +308,7 @@ def test_a_handlers_call_annotation_is_what_the_request_decodes_into() -> None:
     with pytest.raises(ValueError, match="takes a body of _Point"):
         api.add("PUT", "/test/moved", _moved, body=Task)
     for e in build_api(_bare_context()).endpoints():  # every route agrees with its handler
-        hinted = get_type_hints(e.handler)
+        hinted = get_type_hints(e.handler, include_extras=True)
         args = get_args(next(v for k, v in hinted.items() if k != "return"))
         if args and args[0] is not Any:
             assert e.body == (None if args[0] is type(None) else args[0]), e.path
