@@ -122,7 +122,11 @@ class GatewayNode(Node):
                 self.serial = SerialBridge(self.core, p.serial_port, self.logger,
                                            baud=p.serial_baud)
 
-            start(Door("serial", start_serial, lambda: self.serial and self.serial.close()))
+            def stop_serial() -> None:
+                if self.serial is not None:
+                    self.serial.close()
+
+            start(Door("serial", start_serial, stop_serial))
         else:
             self.logger.info("serial bridge off (parameter serial_port is empty)")
         self.discovery: Discovery | None = None
