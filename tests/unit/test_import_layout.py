@@ -82,6 +82,17 @@ def test_the_library_has_no_import_circle(graph_mod: ModuleType,
     assert graph_mod.library_circles(arrows) == []
 
 
+def test_no_service_has_an_import_circle_inside(graph_mod: ModuleType,
+                                                arrows: dict[str, set[str]]) -> None:
+    """Nor does a module of a service reach itself, type-checking imports included: the
+    helpers of the rosbridge, the DDS bridge and the rmw_zenoh bridge see the bridge that
+    makes them as a protocol of what they use (each package's ``host.BridgeHost``)."""
+    assert graph_mod.service_circles(arrows) == []
+    two = {"zenros.services.gateway.ros2.bridge": {"zenros.services.gateway.ros2.graph"},
+           "zenros.services.gateway.ros2.graph": {"zenros.services.gateway.ros2.bridge"}}
+    assert len(graph_mod.service_circles(two)) == 1
+
+
 def test_the_message_base_does_not_import_the_messages(arrows: dict[str, set[str]]) -> None:
     assert not {t for t in arrows["zenros.message"] if t.startswith("zenros.msgs")}
     assert "zenros.msgs" in arrows["zenros.registry"]

@@ -26,7 +26,7 @@ import concurrent.futures
 import itertools
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import msgspec
 from zenros.action import GoalStatus
@@ -36,10 +36,8 @@ from zenros.registry import lookup_action
 
 from .convert import message_from_json, to_json
 from .frames import OpError
+from .host import BridgeHost
 from .opaque import ROS1_DEFAULTS
-
-if TYPE_CHECKING:
-    from .bridge import Bridge
 
 __all__ = ["ActionlibBridge", "actionlib_topics", "ros1_action_name", "ros1_status",
            "ros2_outcome", "zenros_action_type"]
@@ -188,7 +186,7 @@ class _ClientGoal:
 class ActionProxy:
     """A zenros action seen by ROS 1 clients as actionlib topics."""
 
-    bridge: Bridge
+    bridge: BridgeHost
     name: str
     action_type: ActionType
     goals: dict[str, _ClientGoal] = field(default_factory=dict)
@@ -312,7 +310,7 @@ class Ros1Server:
     """A ROS 1 action server of a rosbridge client (roslibpy ``SimpleActionServer``), served
     as a zenros action."""
 
-    def __init__(self, bridge: Bridge, name: str,
+    def __init__(self, bridge: BridgeHost, name: str,
                  action_type: ActionType[Message, Message, Message], owner: Any) -> None:
         self.bridge = bridge
         self.name = name
@@ -401,7 +399,7 @@ class Ros1Server:
 class ActionlibBridge:
     """The actionlib proxies and served actions of one bridge (on its loop)."""
 
-    def __init__(self, bridge: Bridge) -> None:
+    def __init__(self, bridge: BridgeHost) -> None:
         self.bridge = bridge
         self.proxies: dict[str, ActionProxy] = {}
         self.served: dict[str, Ros1Server] = {}
