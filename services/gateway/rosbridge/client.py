@@ -1,4 +1,7 @@
-"""`ClientProtocol`: one rosbridge v2 connection: parses frames, runs the ops, queues replies.
+"""`ClientProtocol`: one rosbridge v2 connection: parses frames, hands each to the op's
+handler, queues replies. The ops come from its capabilities (`CAPABILITIES`, each a
+`capability.Capability` that registers its op codes, as rosbridge_suite's), besides the
+session's own ``set_level``, ``fragment`` and ``auth``.
 
 Errors follow the reference server: a failed ``call_service`` or ``send_action_goal`` is
 answered (``result: false`` and the reason in ``values``, with the request's id); anything
@@ -10,8 +13,6 @@ always stays up.
 from __future__ import annotations
 
 import asyncio
-import concurrent.futures
-import itertools
 import json
 import logging
 import time
@@ -21,23 +22,26 @@ from typing import Any
 from zenros.errors import ZenrosError
 
 from .bridge import Bridge, BridgeError, Encode
+from .capability import Capability, OpHandler, Session
 from .convert import dumps
 from .fragments import Defragmenter, FragmentError
-from .frames import OpError, SubOptions
+from .frames import OpError
 from .ops_actions import ActionOps
 from .ops_services import ServiceOps
 from .ops_topics import TopicOps
 from .outbox import Outbox, Turnstile
-from .served_action import ServedAction
 
-__all__ = ["LEVELS", "ClientProtocol", "OpError"]
+__all__ = ["CAPABILITIES", "LEVELS", "ClientProtocol", "OpError"]
 
 LEVELS = {"info": 0, "warning": 1, "warn": 1, "error": 2, "none": 3}
 
 Send = Callable[[], None]
 
+CAPABILITIES: tuple[Callable[[Session], Capability], ...] = (TopicOps, ServiceOps, ActionOps)
+"""The capabilities of every session, in order: they are closed in this order too."""
 
-class ClientProtocol(TopicOps, ServiceOps, ActionOps):
+
+class ClientProtocol:
     """The rosbridge session of one client.
 
     Args:
@@ -57,42 +61,25 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self._congested = congested
         self._log = logger
         self.level = LEVELS["none"]
-        self.subs: dict[str, dict[Any, SubOptions]] = {}
-        self.compression: dict[str, str] = {}
-        """Topics sent compressed (``png``, ``cbor`` or ``cbor-raw``), the others as JSON
-        (encodings.py)."""
-        self.advertised: set[str] = set()
-        self.services: dict[str, Any] = {}
-        self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
-        self.goals: dict[Any, Any] = {}
-        self.served_actions: dict[str, ServedAction] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
-        self._request_ids = itertools.count(1)
-        self._rosapi_turn = asyncio.Lock()
         self._defrag = Defragmenter(time.monotonic)
         self.closed = False
-        self._ops: dict[str, Callable[[dict[str, Any]], None]] = {
-            "advertise": self.op_advertise,
-            "unadvertise": self.op_unadvertise,
-            "publish": self.op_publish,
-            "subscribe": self.op_subscribe,
-            "unsubscribe": self.op_unsubscribe,
-            "call_service": self.op_call_service,
-            "service_response": self.op_service_response,
-            "advertise_service": self.op_advertise_service,
-            "unadvertise_service": self.op_unadvertise_service,
-            "send_action_goal": self.op_send_action_goal,
-            "cancel_action_goal": self.op_cancel_action_goal,
-            "set_level": self.op_set_level,
-            "fragment": self.op_fragment,
-            "auth": lambda frame: None,  # accepted silently: rosauth is not supported
-        }
-        self._ops.update({
-            "advertise_action": self.op_advertise_action,
-            "unadvertise_action": self.op_unadvertise_action,
-            "action_feedback": self.op_action_feedback,
-            "action_result": self.op_action_result,
-        })
+        self._ops: dict[str, OpHandler] = {}
+        self.register_operation("set_level", self.op_set_level)
+        self.register_operation("fragment", self.op_fragment)
+        self.register_operation("auth", lambda frame: None)  # rosauth is not supported
+        self.capabilities = [make(self) for make in CAPABILITIES]
+        for capability in self.capabilities:
+            for op, handler in capability.handlers().items():
+                self.register_operation(op, handler)
+        self.topics = next(c for c in self.capabilities if isinstance(c, TopicOps))
+
+    def register_operation(self, op: str, handler: OpHandler) -> None:
+        """Answer ``op`` with ``handler`` (rosbridge_suite's ``register_operation``); an op
+        registered twice is a bug."""
+        if op in self._ops:
+            raise ValueError(f"rosbridge op {op!r} is registered twice")
+        self._ops[op] = handler
 
     # ------------------------------------------------------------------ in and out
 
@@ -108,7 +95,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
             self._wake()
 
     def format_of(self, topic: str) -> str:
-        return self.compression.get(topic, "json")
+        return self.topics.format_of(topic)
 
     def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None:
         """Queue a reply frame (never dropped)."""
@@ -195,21 +182,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         if self.closed:
             return
         self.closed = True
-        for topic in list(self.subs):
-            self._drop_subscription(topic)
-        for topic in list(self.advertised):
-            self.bridge.unadvertise(topic, self)
-        self.advertised.clear()
-        for topic in [t for t, e in self.bridge.opaque.topics.items() if self in e.advertisers]:
-            self.bridge.opaque.unadvertise(topic, self)
-        for action in list(self.served_actions):
-            self.stop_served_action(action)
-        for service in list(self.services):
-            self._stop_service(service)
+        for capability in self.capabilities:
+            capability.close()
         for task in list(self._tasks):
             task.cancel()
-        loop = self.bridge.loop
-        for handle in list(self.goals.values()):
-            if not handle.done:  # a goal of a client that left is canceled, not orphaned
-                loop.run_in_executor(None, handle.cancel)
-        self.goals.clear()

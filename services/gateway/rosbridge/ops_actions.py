@@ -4,37 +4,37 @@ zenros actions, with ``action_feedback`` and ``action_result`` back."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any
 
 from zenros.errors import ZenrosError
 from zenros.message import Message
 from zenros.registry import lookup_action
 
 from .bridge import BridgeError
+from .capability import Capability, Session
 from .convert import message_from_json, to_json
 from .equivalents import convert, served_type
 from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
 from .served_action import ServedAction
 
-if TYPE_CHECKING:
-    from .bridge import Bridge
-
 __all__ = ["ActionOps"]
 
 
-class ActionOps:
-    """Mixed into `ClientProtocol`: the goals this client sent, by interaction id, and the
-    actions it serves (`ServedAction`), by name."""
+class ActionOps(Capability):
+    """The goals one client sent, by interaction id, and the actions it serves
+    (`ServedAction`), by name."""
 
-    bridge: Bridge
-    goals: dict[Any, Any]
-    served_actions: dict[str, ServedAction]
+    ops = {"send_action_goal": "op_send_action_goal",
+           "cancel_action_goal": "op_cancel_action_goal",
+           "advertise_action": "op_advertise_action",
+           "unadvertise_action": "op_unadvertise_action",
+           "action_feedback": "op_action_feedback", "action_result": "op_action_result"}
 
-    if TYPE_CHECKING:  # provided by ClientProtocol
-        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
-        def report(self, level: str, message: str, mid: Any = None) -> None: ...
-        def spawn(self, coro: Awaitable[Any]) -> None: ...
+    def __init__(self, session: Session) -> None:
+        super().__init__(session)
+        self.goals: dict[Any, Any] = {}
+        self.served_actions: dict[str, ServedAction] = {}
 
     def op_send_action_goal(self, frame: dict[str, Any]) -> None:
         mid = legacy_id(frame, "action")
@@ -143,3 +143,14 @@ class ActionOps:
             return
         served.close()
         self.bridge.loop.run_in_executor(None, served.server.close)
+
+    def close(self) -> None:
+        """Stop the actions this client serves; cancel its goals (a goal of a client that
+        left is canceled, not orphaned)."""
+        for action in list(self.served_actions):
+            self.stop_served_action(action)
+        loop = self.bridge.loop
+        for handle in list(self.goals.values()):
+            if not handle.done:
+                loop.run_in_executor(None, handle.cancel)
+        self.goals.clear()

@@ -1,13 +1,14 @@
 """`ServiceOps`: rosbridge service calls, to zenros services and rosapi, and services a
-client serves (``advertise_service``; its answers come back as ``service_response``)."""
+client serves (``advertise_service``; its answers come back as ``service_response``): a
+`Capability` of one client's session."""
 
 from __future__ import annotations
 
 import asyncio
 import concurrent.futures
 import itertools
-from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any, cast
+from collections.abc import Callable
+from typing import Any, cast
 
 from zenros.action.types import CancelGoalRequest
 from zenros.errors import ServiceError, UnknownTypeError, ZenrosError, ZenrosTimeout
@@ -15,14 +16,12 @@ from zenros.message import Message, ServiceType
 from zenros.registry import lookup_service
 
 from .bridge import BridgeError
+from .capability import Capability, Session
 from .convert import message_from_json, request_args, to_json
 from .frames import OpError, frame_int, frame_name, frame_text, frame_type, legacy_id
 from .opaque import OpaqueService
 from .rosapi import Rosapi, RosapiError
 from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
-
-if TYPE_CHECKING:
-    from .bridge import Bridge
 
 __all__ = ["ACTION_CANCEL", "CLIENT_SERVICE_TIMEOUT", "DEFAULT_SERVICE_TIMEOUT", "ServiceOps"]
 
@@ -32,19 +31,20 @@ ACTION_CANCEL = "/_action/cancel_goal"
 """A ROS 2 action's hidden cancel service (roslibjs's ``Action.cancelAllGoals`` calls it)."""
 
 
-class ServiceOps:
-    """Mixed into `ClientProtocol`: calls out, and the services this client serves."""
+class ServiceOps(Capability):
+    """One client's calls out, and the services it serves (the owner of those of a type
+    zenros does not know, `opaque.OpaqueService`)."""
 
-    bridge: Bridge
-    services: dict[str, Any]
-    pending: dict[str, tuple[concurrent.futures.Future[Any], str]]
-    _request_ids: itertools.count[int]
-    _rosapi_turn: asyncio.Lock  # one rosapi call of this client at a time, in order
+    ops = {"call_service": "op_call_service", "service_response": "op_service_response",
+           "advertise_service": "op_advertise_service",
+           "unadvertise_service": "op_unadvertise_service"}
 
-    if TYPE_CHECKING:  # provided by ClientProtocol
-        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
-        def report(self, level: str, message: str, mid: Any = None) -> None: ...
-        def spawn(self, coro: Awaitable[Any]) -> None: ...
+    def __init__(self, session: Session) -> None:
+        super().__init__(session)
+        self.services: dict[str, Any] = {}
+        self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
+        self._request_ids = itertools.count(1)
+        self._rosapi_turn = asyncio.Lock()  # one rosapi call of this client at a time, in order
 
     def op_call_service(self, frame: dict[str, Any]) -> None:
         mid = legacy_id(frame, "service")
@@ -209,6 +209,10 @@ class ServiceOps:
             if name == service and not fut.done():
                 fut.set_exception(ServiceError(service, "the service was unadvertised"))
                 self.pending.pop(cid, None)
+
+    def close(self) -> None:
+        for service in list(self.services):
+            self._stop_service(service)
 
 
 def _timeout(frame: dict[str, Any]) -> float:
