@@ -5,7 +5,8 @@ registers them, hands each frame to the op's handler and closes them when the cl
 
 A new op goes in the capability of its kind (`ops_topics.TopicOps`, `ops_services.ServiceOps`,
 `ops_actions.ActionOps`), or in a new module that copies one of them: a `Capability`
-subclass with ``ops = {"<op>": "<method>"}``, listed in `client.CAPABILITIES`.
+subclass with ``ops = {<Frame type>: "<method>"}`` (the frame type, tagged with the op code,
+in `frames.py`), listed in `client.CAPABILITIES`.
 """
 
 from __future__ import annotations
@@ -14,13 +15,14 @@ from collections.abc import Awaitable, Callable
 from typing import Any, ClassVar, Protocol
 
 from .bridge import Bridge, Encode
+from .frames import Frame, op_of
 from .outbox import Outbox
 
 __all__ = ["Capability", "OpHandler", "Session"]
 
-OpHandler = Callable[[dict[str, Any]], None]
-"""An op's handler: takes the request frame; raises `frames.OpError` (and the like) to have
-it reported with the frame's id."""
+OpHandler = Callable[[Any], None]
+"""An op's handler: takes the request frame (its op's `frames.Frame` type); raises
+`frames.OpError` (and the like) to have it reported with the frame's id."""
 
 
 class Session(Protocol):
@@ -43,17 +45,18 @@ class Session(Protocol):
 
 
 class Capability:
-    """Ops of one kind for one client: ``ops`` maps each op code to the method answering it."""
+    """Ops of one kind for one client: ``ops`` maps each op's frame type (a `frames.Frame`
+    tagged with the op code) to the name of the method answering it."""
 
-    ops: ClassVar[dict[str, str]] = {}
+    ops: ClassVar[dict[type[Frame], str]] = {}
 
     def __init__(self, session: Session) -> None:
         self.session = session
         self.bridge = session.bridge
 
-    def handlers(self) -> dict[str, OpHandler]:
-        """The op codes this capability answers, with their handlers (for the session)."""
-        return {op: getattr(self, name) for op, name in self.ops.items()}
+    def handlers(self) -> dict[str, tuple[type[Frame], OpHandler]]:
+        """The op codes this capability answers, with their frame types and handlers."""
+        return {op_of(kind): (kind, getattr(self, name)) for kind, name in self.ops.items()}
 
     def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None:
         """Queue a reply frame to the client."""

@@ -1,5 +1,7 @@
 """`ClientProtocol`: one rosbridge v2 connection: parses frames, hands each to the op's
-handler, queues replies. The ops come from its capabilities (`CAPABILITIES`, each a
+handler, queues replies. A frame decodes in one step into its op's type (a `frames.Frame`
+tagged by ``op``; a frame msgspec will not take, NaN in it say, is read as Python's json
+reads it, then converted). The ops come from its capabilities (`CAPABILITIES`, each a
 `capability.Capability` that registers its op codes, as rosbridge_suite's), besides the
 session's own ``set_level``, ``fragment`` and ``auth``.
 
@@ -19,13 +21,14 @@ import time
 from collections.abc import Awaitable, Callable
 from typing import Any
 
+import msgspec
 from zenros.errors import ZenrosError
 
 from .bridge import Bridge, BridgeError, Encode
 from .capability import Capability, OpHandler, Session
 from .convert import dumps
 from .fragments import Defragmenter, FragmentError
-from .frames import OpError
+from .frames import Auth, Fragment, Frame, OpError, SetLevel, frame_decoder, op_of
 from .ops_actions import ActionOps
 from .ops_services import ServiceOps
 from .ops_topics import TopicOps
@@ -65,21 +68,25 @@ class ClientProtocol:
         self._defrag = Defragmenter(time.monotonic)
         self.closed = False
         self._ops: dict[str, OpHandler] = {}
-        self.register_operation("set_level", self.op_set_level)
-        self.register_operation("fragment", self.op_fragment)
-        self.register_operation("auth", lambda frame: None)  # rosauth is not supported
+        self._frames: list[type[Frame]] = []
+        self.register_operation(SetLevel, self.op_set_level)
+        self.register_operation(Fragment, self.op_fragment)
+        self.register_operation(Auth, lambda frame: None)  # rosauth is not supported
         self.capabilities = [make(self) for make in CAPABILITIES]
         for capability in self.capabilities:
-            for op, handler in capability.handlers().items():
-                self.register_operation(op, handler)
+            for kind, handler in capability.handlers().values():
+                self.register_operation(kind, handler)
         self.topics = next(c for c in self.capabilities if isinstance(c, TopicOps))
+        self._decoder = frame_decoder(tuple(self._frames))
 
-    def register_operation(self, op: str, handler: OpHandler) -> None:
-        """Answer ``op`` with ``handler`` (rosbridge_suite's ``register_operation``); an op
-        registered twice is a bug."""
+    def register_operation(self, kind: type[Frame], handler: OpHandler) -> None:
+        """Answer the op of frame type ``kind`` with ``handler`` (rosbridge_suite's
+        ``register_operation``); an op registered twice is a bug."""
+        op = op_of(kind)
         if op in self._ops:
             raise ValueError(f"rosbridge op {op!r} is registered twice")
         self._ops[op] = handler
+        self._frames.append(kind)
 
     # ------------------------------------------------------------------ in and out
 
@@ -121,31 +128,49 @@ class ClientProtocol:
             self.report("error", "binary frames are not supported: send JSON text frames")
             return
         try:
-            frame = json.loads(text)
+            frame: Frame | None = self._decoder.decode(text)
+        except (msgspec.DecodeError, RecursionError):
+            frame = self._leniently(text)
+        if frame is not None:
+            self.handle(frame)
+
+    def _leniently(self, text: str) -> Frame | None:
+        """A frame msgspec refused, read as Python's json reads it (NaN, say) and converted;
+        None, once reported with the reference's words, if it still is not one."""
+        try:
+            obj = json.loads(text)
         except ValueError as exc:
             self.report("error", f"Unable to parse JSON: {exc}; message was: {text[:200]}")
-            return
+            return None
         except RecursionError:
             self.report("error", "Unable to parse JSON: nested too deep;"
                                  f" message was: {text[:200]}")
-            return
-        if not isinstance(frame, dict):
-            self.report("error", f"Expected a JSON object, got {type(frame).__name__}")
-            return
-        self.handle(frame)
-
-    def handle(self, frame: dict[str, Any]) -> None:
-        mid = frame.get("id")
-        op = frame.get("op")
+            return None
+        if not isinstance(obj, dict):
+            self.report("error", f"Expected a JSON object, got {type(obj).__name__}")
+            return None
+        mid = obj.get("id")
+        op = obj.get("op")
         if op is None:
             self.report("error", "Received a message without an op. All messages require 'op' "
                         f"field with value one of: {list(self._ops)}.", mid)
-            return
-        handler = self._ops.get(op) if isinstance(op, str) else None
-        if handler is None:
+            return None
+        if not isinstance(op, str) or op not in self._ops:
             self.report("error", f"Unknown operation: {op}. Allowed operations: "
                         f"{list(self._ops)}", mid)
-            return
+            return None
+        try:
+            frame: Frame = msgspec.convert(obj, self._decoder.type)
+        except (msgspec.ValidationError, RecursionError) as exc:
+            self.report("error", f"{op}: {exc}", mid)
+            return None
+        return frame
+
+    def handle(self, frame: Frame) -> None:
+        """Run ``frame``'s op; an op that fails is reported with the frame's id."""
+        mid = frame.id
+        op = op_of(type(frame))
+        handler = self._ops[op]
         try:
             handler(frame)
         except (OpError, BridgeError, ZenrosError, ValueError, TypeError) as exc:
@@ -161,15 +186,15 @@ class ClientProtocol:
 
     # ------------------------------------------------------------------ misc
 
-    def op_set_level(self, frame: dict[str, Any]) -> None:
-        level = frame.get("level")
+    def op_set_level(self, frame: SetLevel) -> None:
+        level = frame.level
         if level not in LEVELS:
             raise OpError(f"level must be one of {', '.join(LEVELS)}, got {level!r}")
         self.level = LEVELS[str(level)]
 
-    def op_fragment(self, frame: dict[str, Any]) -> None:
+    def op_fragment(self, frame: Fragment) -> None:
         try:
-            text = self._defrag.add(frame)
+            text = self._defrag.add(msgspec.structs.asdict(frame))
         except FragmentError as exc:
             raise OpError(str(exc)) from None
         if text is not None:

@@ -7,7 +7,18 @@ from typing import Any
 
 from .capability import Capability, Session
 from .convert import message_from_json
-from .frames import OpError, SubOptions, frame_int, frame_name, frame_text
+from .frames import (
+    Advertise,
+    OpError,
+    Publish,
+    SubOptions,
+    Subscribe,
+    Unadvertise,
+    Unsubscribe,
+    frame_int,
+    frame_name,
+    frame_text,
+)
 
 __all__ = ["CBOR", "COMPRESSIONS", "TopicOps"]
 
@@ -21,9 +32,8 @@ class TopicOps(Capability):
     """One client's advertisements and subscriptions; its session is the bridge `Sink` the
     topics are fed to, in the format `compression` says."""
 
-    ops = {"advertise": "op_advertise", "unadvertise": "op_unadvertise",
-           "publish": "op_publish", "subscribe": "op_subscribe",
-           "unsubscribe": "op_unsubscribe"}
+    ops = {Advertise: "op_advertise", Unadvertise: "op_unadvertise", Publish: "op_publish",
+           Subscribe: "op_subscribe", Unsubscribe: "op_unsubscribe"}
 
     def __init__(self, session: Session) -> None:
         super().__init__(session)
@@ -37,7 +47,7 @@ class TopicOps(Capability):
     def format_of(self, topic: str) -> str:
         return self.compression.get(topic, "json")
 
-    def op_advertise(self, frame: dict[str, Any]) -> None:
+    def op_advertise(self, frame: Advertise) -> None:
         topic = frame_name(frame, "topic")
         type_name = frame_text(frame, "type")
         if not self.bridge.known(type_name):  # carried between rosbridge clients, unchecked
@@ -47,23 +57,23 @@ class TopicOps(Capability):
         msg_type = self.bridge.topic_type(topic, type_name)
         if topic in self.advertised and self.bridge.publishers[topic][0].msg_type is msg_type:
             return  # a replay after reconnect, or a second advertise: nothing to do
-        self.bridge.advertise(topic, msg_type, self.session, bool(frame.get("latch", False)),
+        self.bridge.advertise(topic, msg_type, self.session, frame.latch,
                               frame_int(frame, "queue_size", 100))
         self.advertised.add(topic)
 
-    def op_unadvertise(self, frame: dict[str, Any]) -> None:
+    def op_unadvertise(self, frame: Unadvertise) -> None:
         topic = frame_name(frame, "topic")
         self.bridge.opaque.unadvertise(topic, self.session)
         if topic in self.advertised:
             self.advertised.discard(topic)
             self.bridge.unadvertise(topic, self.session)
 
-    def op_publish(self, frame: dict[str, Any]) -> None:
+    def op_publish(self, frame: Publish) -> None:
         topic = frame_name(frame, "topic")
         if topic not in self.advertised and topic in self.bridge.opaque.topics:
             if topic not in self.bridge.opaque.hooks:  # the zenros action may have come since
                 self.bridge.actionlib.advertised(topic, self.bridge.opaque.topics[topic].type_name)
-            self.bridge.opaque.publish(topic, frame.get("msg"))
+            self.bridge.opaque.publish(topic, frame.msg)
             return
         if topic not in self.advertised:
             entry = self.bridge.publishers.get(topic)
@@ -73,18 +83,16 @@ class TopicOps(Capability):
                               "advertised")
             msg_type = entry[0].msg_type if entry else self.bridge.topic_type(topic, None)
             self.bridge.advertise(topic, msg_type, self.session,
-                                  bool(frame.get("latch", False)), 100)
+                                  frame.latch, 100)
             self.advertised.add(topic)
         pub = self.bridge.publishers[topic][0]
-        msg = message_from_json(frame.get("msg"), pub.msg_type, self.bridge.node.now())
+        msg = message_from_json(frame.msg, pub.msg_type, self.bridge.node.now())
         pub.publish(msg)
 
-    def op_subscribe(self, frame: dict[str, Any]) -> None:
+    def op_subscribe(self, frame: Subscribe) -> None:
         topic = frame_name(frame, "topic")
-        type_name = frame.get("type")
-        if type_name is not None and not isinstance(type_name, str):
-            raise OpError("Expected 'type' to be a string")
-        compression = frame.get("compression")
+        type_name = frame.type
+        compression = frame.compression
         opts = SubOptions(throttle_rate=frame_int(frame, "throttle_rate"),
                           queue_length=frame_int(frame, "queue_length"),
                           fragment_size=frame_int(frame, "fragment_size"),
@@ -104,7 +112,7 @@ class TopicOps(Capability):
             feed = self.bridge.feeds[topic]
             if self.bridge.topic_type(topic, type_name) is not feed.msg_type:
                 raise OpError(f"{topic} is already subscribed with type {feed.type_name}")
-        self.subs[topic][frame.get("id")] = opts
+        self.subs[topic][frame.id] = opts
         self._configure(topic)
 
     def _configure(self, topic: str) -> None:
@@ -120,12 +128,12 @@ class TopicOps(Capability):
         else:
             self.compression[topic] = fmt
 
-    def op_unsubscribe(self, frame: dict[str, Any]) -> None:
+    def op_unsubscribe(self, frame: Unsubscribe) -> None:
         topic = frame_name(frame, "topic")
         ids = self.subs.get(topic)
         if ids is None:
             return
-        mid = frame.get("id")
+        mid = frame.id
         if mid is not None and mid in ids and len(ids) > 1:
             del ids[mid]
             self._configure(topic)
