@@ -1,4 +1,4 @@
-"""`RobotLink`: the gateway's zenros side: robot topics into `Core`, commands out.
+"""`RobotTopics`: the robot's topics into `Core`, the gateway's commands and status out.
 
 Subscribes ``odom`` and ``scan`` (polled at each status tick), ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
 (relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
@@ -28,7 +28,7 @@ from zenros.tf.convert import yaw_from_msg
 
 from ..state.core import Core
 
-__all__ = ["RobotLink"]
+__all__ = ["RobotTopics"]
 
 POLL_DEPTH = 256  # samples kept between two status ticks: 50 Hz odometry for 5 s
 DEADMAN_PERIOD = 0.05  # s between dead-man commands on cmd_vel while driven
@@ -37,7 +37,7 @@ POWER_SUPPLY_STATUS_CHARGING = 1
 POWER_SUPPLY_STATUS_FULL = 4
 
 
-class RobotLink:
+class RobotTopics:
     """Feeds ``core.state`` from the robot's topics and publishes the gateway's topics."""
 
     def __init__(self, node: Node, core: Core, rate: float = 30.0) -> None:
