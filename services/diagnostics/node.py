@@ -11,6 +11,8 @@ from zenros.errors import ConfigError
 from zenros.msgs.diagnostic_msgs import DiagnosticArray, DiagnosticStatus
 from zenros.qos import QoSProfile
 
+from .robot import ROBOT_ANALYZERS
+
 __all__ = ["AggregatorNode"]
 
 
@@ -18,7 +20,8 @@ class AggregatorNode(Node):
     """Parameters (diagnostic_aggregator's): ``pub_rate`` (Hz, 1.0), ``path`` (the tree's
     base), ``other_as_errors``, ``critical`` (publish at once when an item turns ERROR or
     worse), ``history_depth`` (1000), and the analyzers as ``analyzers.<name>.type``
-    (``diagnostic_aggregator/GenericAnalyzer``), ``analyzers.<name>.path`` and their keys."""
+    (``diagnostic_aggregator/GenericAnalyzer``), ``analyzers.<name>.path`` and their keys;
+    with none given, the robot's own (`ROBOT_ANALYZERS`)."""
 
     node_name = "diagnostic_aggregator"
 
@@ -32,7 +35,7 @@ class AggregatorNode(Node):
         self.critical = bool(self.declare_parameter("critical", False, read_only=True))
         depth = int(self.declare_parameter("history_depth", 1000, read_only=True))
         flat = {k: v for k, v in self.parameters.overrides.items()
-                if k.startswith("analyzers.")}
+                if k.startswith("analyzers.")} or ROBOT_ANALYZERS
         for k, v in flat.items():
             self.declare_parameter(k, v, read_only=True)
         self.aggregator = Aggregator(analyzers_from_params(flat, base, self.now().nanoseconds),

@@ -12,6 +12,7 @@ from zenros.home import data_dir
 from zenros.memory import keep_freed_buffers
 from zenros.node import Node
 
+from .diagnostics import gateway_diagnostics
 from .fleet import Fleet
 from .front_ends import AsgiServer, Door, FrontEnds
 from .http.app import HttpApp
@@ -71,6 +72,7 @@ class GatewayNode(Node):
         self._start_doors(p, robot)
         if self.fleet is not None:
             self.fleet.start(self.runner.loop)
+        self.diagnostics = gateway_diagnostics(self)  # front ends, clients on /diagnostics
 
     def _start_doors(self, p: GatewayParameters, robot: Robot) -> None:
         """Start the front ends in order: rosbridge, Foxglove, REST, the topic WebSocket,
