@@ -16,6 +16,7 @@ from zenros.errors import (
     ZenrosError,
     ZenrosTimeout,
 )
+from zenros.msgs.diagnostic_msgs import DiagnosticStatus
 
 from ...ports.topic_hub import Slot, TopicError
 from ..api import Answer, Api, ApiError, Call
@@ -79,11 +80,19 @@ async def topic(call: Call[None, TopicQuery]) -> Answer:
 
 
 async def self_test(call: Call[None, None]) -> Answer:
-    """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
-    link = call.ctx.topics
-    return {"motor_driver": link.fresh("odom"), "camera": False,
-            "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
-            "bluetooth": False, "battery": link.fresh("battery_state")}
+    """Which parts are OK now: from the aggregated diagnostics (docs/diagnostics.md) where
+    the aggregator reports the part (not ERROR or STALE), else whether its topic answers:
+    motor driver (odom), lidar (scan), battery; the charger (chassis/state)."""
+    topics = call.ctx.topics
+    tree = topics.diagnostics()
+
+    def part(name: str, topic: str) -> bool:
+        status = tree.get(name) if tree is not None else None
+        return status.level < DiagnosticStatus.ERROR if status is not None else topics.fresh(topic)
+
+    return {"motor_driver": part("/Chassis/motors", "odom"), "camera": False,
+            "charge": topics.fresh("chassis/state"), "lidar": part("/Chassis/laser", "scan"),
+            "bluetooth": False, "battery": part("/Chassis/battery", "battery_state")}
 
 
 async def get_param(call: Call[None, ParamQuery]) -> Answer:
