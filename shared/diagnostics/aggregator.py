@@ -34,10 +34,8 @@ def remove_leading_chaff(full: str, chaff: str) -> str:
         return full
     cut = full.rfind("/")
     head, tail = full[:cut + 1], full[cut + 1:]
-    if tail.startswith(chaff):
-        tail = tail[len(chaff):]
-    if tail.startswith(":"):
-        tail = tail[1:]
+    tail = tail.removeprefix(chaff)
+    tail = tail.removeprefix(":")
     return head + tail.lstrip(" ")
 
 

@@ -36,16 +36,15 @@ class DiagnosticStatusWrapper(DiagnosticStatus):
             self.message += message
         elif level > self.level:
             self.message = message
-        if level > self.level:
-            self.level = level
+        self.level = max(self.level, level)
 
     def add(self, key: str, value: V) -> V:
         """Add ``key: str(value)`` to the values; returns ``value``."""
         self.values.append(KeyValue(key=str(key), value=str(value)))
         return value
 
-    clearSummary = clear_summary  # noqa: N815
-    mergeSummary = merge_summary  # noqa: N815
+    clearSummary = clear_summary
+    mergeSummary = merge_summary
 
 
 def _level_message(args: tuple[Any, ...]) -> tuple[int, str]:

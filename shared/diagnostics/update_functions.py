@@ -120,7 +120,12 @@ class TimeStampStatus(DiagnosticTask):
     def tick(self, stamp: Time | float | Any) -> None:
         """A message stamped ``stamp`` (a `Time`, anything with ``nanoseconds``, or seconds)."""
         ns = getattr(stamp, "nanoseconds", None)
-        secs = ns / 1e9 if isinstance(ns, int) else float(stamp)
+        if isinstance(ns, int):
+            secs = ns / 1e9
+        elif isinstance(stamp, (int, float)) and not isinstance(stamp, bool):
+            secs = float(stamp)
+        else:
+            raise TypeError(f"tick: a Time or seconds, got {type(stamp).__name__}")
         with self._lock:
             if secs == 0:
                 self.zero_seen = True

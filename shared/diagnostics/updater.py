@@ -21,7 +21,7 @@ class DiagnosticTask:
     def __init__(self, name: str) -> None:
         self.name = name
 
-    def getName(self) -> str:  # noqa: N802
+    def getName(self) -> str:
         return self.name
 
     def run(self, stat: DiagnosticStatusWrapper) -> DiagnosticStatusWrapper:
@@ -48,7 +48,7 @@ class CompositeDiagnosticTask(DiagnosticTask):
         super().__init__(name)
         self.tasks: list[DiagnosticTask] = []
 
-    def addTask(self, task: DiagnosticTask) -> None:  # noqa: N802
+    def addTask(self, task: DiagnosticTask) -> None:
         self.tasks.append(task)
 
     add_task = addTask
@@ -94,7 +94,7 @@ class Updater:
         with self._lock:
             return list(self._tasks)
 
-    def setHardwareID(self, hwid: str) -> None:  # noqa: N802
+    def setHardwareID(self, hwid: str) -> None:
         self.hardware_id = hwid
 
     def add(self, task: DiagnosticTask | str, fn: TaskFn | None = None) -> DiagnosticTask:
@@ -110,7 +110,7 @@ class Updater:
         self._publish([stat])
         return task
 
-    def removeByName(self, name: str) -> bool:  # noqa: N802
+    def removeByName(self, name: str) -> bool:
         with self._lock:
             for k, t in enumerate(self._tasks):
                 if t.name == name:

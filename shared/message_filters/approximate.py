@@ -90,7 +90,7 @@ class ApproximateTimeSynchronizer(SimpleFilter):
             self._clock = clock_of(fs[0], clock)
         connect_inputs(self, fs)
 
-    def connectInput(self, fs: Sequence[SimpleFilter]) -> None:  # noqa: N802
+    def connectInput(self, fs: Sequence[SimpleFilter]) -> None:
         connect_inputs(self, fs)
 
     def add(self, msg: Any, index: int) -> None:
@@ -243,7 +243,7 @@ class ApproximateTimeSynchronizer(SimpleFilter):
         """Try to prove the candidate best with what the lower bounds say could still come."""
         moves = [0] * self.n_inputs
         while True:
-            si, st, ei, et = self._bounds_of(
+            si, st, _ei, et = self._bounds_of(
                 [self._virtual_time(k) for k in range(self.n_inputs)])
             if self._worse(et, self._pivot_time):
                 self._publish()

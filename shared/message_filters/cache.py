@@ -51,7 +51,7 @@ class Cache(SimpleFilter):
         if f is not None:
             self.connectInput(f)
 
-    def connectInput(self, f: SimpleFilter) -> None:  # noqa: N802
+    def connectInput(self, f: SimpleFilter) -> None:
         self._clock = clock_of(f, self._clock)
         f.registerCallback(self.add)
 
@@ -70,34 +70,34 @@ class Cache(SimpleFilter):
             self._items.append((ns, msg))
         self.signalMessage(msg)
 
-    def getInterval(self, from_stamp: StampLike, to_stamp: StampLike) -> list[Any]:  # noqa: N802
+    def getInterval(self, from_stamp: StampLike, to_stamp: StampLike) -> list[Any]:
         lo, hi = _ns(from_stamp), _ns(to_stamp)
         if lo > hi:
             raise ValueError(f"getInterval: from_stamp ({lo} ns) is after to_stamp ({hi} ns)")
         with self._lock:
             return [m for t, m in self._items if lo <= t <= hi]
 
-    def getElemAfterTime(self, stamp: StampLike) -> Any | None:  # noqa: N802
+    def getElemAfterTime(self, stamp: StampLike) -> Any | None:
         t0 = _ns(stamp)
         with self._lock:
             return next((m for t, m in self._items if t >= t0), None)
 
-    def getElemBeforeTime(self, stamp: StampLike) -> Any | None:  # noqa: N802
+    def getElemBeforeTime(self, stamp: StampLike) -> Any | None:
         t0 = _ns(stamp)
         with self._lock:
             return next((m for t, m in reversed(self._items) if t <= t0), None)
 
-    def getLatestTime(self) -> Time | None:  # noqa: N802
+    def getLatestTime(self) -> Time | None:
         with self._lock:
             return Time.from_nanoseconds(self._items[-1][0]) if self._items else None
 
-    getLastestTime = getLatestTime  # rclpy's spelling  # noqa: N815
+    getLastestTime = getLatestTime  # rclpy's spelling
 
-    def getOldestTime(self) -> Time | None:  # noqa: N802
+    def getOldestTime(self) -> Time | None:
         with self._lock:
             return Time.from_nanoseconds(self._items[0][0]) if self._items else None
 
-    def getLast(self) -> Any | None:  # noqa: N802
+    def getLast(self) -> Any | None:
         """rclpy's: the oldest message stamped at or after the newest one's stamp."""
         latest = self.getLatestTime()
         return None if latest is None else self.getElemAfterTime(latest)

@@ -41,10 +41,10 @@ class TimeSynchronizer(SimpleFilter):
         self._drop = SimpleFilter()
         connect_inputs(self, fs)
 
-    def connectInput(self, fs: Sequence[SimpleFilter]) -> None:  # noqa: N802
+    def connectInput(self, fs: Sequence[SimpleFilter]) -> None:
         connect_inputs(self, fs)
 
-    def registerDropCallback(self, cb: Callable[..., Any], *args: Any) -> int:  # noqa: N802
+    def registerDropCallback(self, cb: Callable[..., Any], *args: Any) -> int:
         return self._drop.registerCallback(cb, *args)
 
     def add(self, msg: Any, index: int) -> None:

@@ -23,7 +23,7 @@ class SimpleFilter:
         self._ids = itertools.count()
         self._cb_lock = threading.Lock()
 
-    def registerCallback(self, cb: Callable[..., Any], *args: Any) -> int:  # noqa: N802
+    def registerCallback(self, cb: Callable[..., Any], *args: Any) -> int:
         """Call ``cb(*msgs, *args)`` on every signal; returns a connection id."""
         with self._cb_lock:
             conn = next(self._ids)
@@ -35,7 +35,7 @@ class SimpleFilter:
         with self._cb_lock:
             self._callbacks.pop(conn, None)
 
-    def signalMessage(self, *msgs: Any) -> None:  # noqa: N802
+    def signalMessage(self, *msgs: Any) -> None:
         with self._cb_lock:
             callbacks = list(self._callbacks.values())
         for cb, args in callbacks:
@@ -57,7 +57,7 @@ class Subscriber(SimpleFilter):
     def callback(self, msg: Any) -> None:
         self.signalMessage(msg)
 
-    def getTopic(self) -> str:  # noqa: N802
+    def getTopic(self) -> str:
         return str(self.sub.topic)
 
     def close(self) -> None:

@@ -5,7 +5,15 @@ from __future__ import annotations
 from typing import Any
 
 from zenros import Node
-from zenros.diagnostics import ERROR, OK, STALE, WARN, FrequencyStatus, FrequencyStatusParam, Updater
+from zenros.diagnostics import (
+    ERROR,
+    OK,
+    STALE,
+    WARN,
+    FrequencyStatus,
+    FrequencyStatusParam,
+    Updater,
+)
 from zenros.msgs.diagnostic_msgs import DiagnosticArray, DiagnosticStatus
 from zenros.services.diagnostics.node import AggregatorNode
 from zenros.waiting import wait_until

@@ -7,13 +7,12 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from sim_robot import GatewayRobot, gateway_robot
 from zenros.diagnostics import ERROR, OK, STALE
 from zenros.msgs.diagnostic_msgs import DiagnosticArray, DiagnosticStatus
 from zenros.msgs.std_srvs import SetBool, SetBoolRequest
 from zenros.services.diagnostics.node import AggregatorNode
 from zenros.waiting import wait_until
-
-from sim_robot import GatewayRobot, gateway_robot
 
 
 @pytest.fixture(scope="module")

@@ -7,6 +7,7 @@ Cache and the Python synchronizer those of test_message_filters_cache.py / test_
 
 from __future__ import annotations
 
+import itertools
 import logging
 import random
 from typing import Any
@@ -204,10 +205,10 @@ def test_callback_args_follow_the_messages() -> None:
     assert got == [(a, b, "extra")]
 
 
-@pytest.mark.parametrize("kw", [dict(queue_size=0), dict(slop=-1), dict(age_penalty=-0.5),
-                                dict(inter_message_lower_bounds=[1.0])])
+@pytest.mark.parametrize("kw", [{"queue_size": 0}, {"slop": -1}, {"age_penalty": -0.5},
+                                {"inter_message_lower_bounds": [1.0]}])
 def test_bad_arguments_are_refused(kw: dict[str, Any]) -> None:
-    args: dict[str, Any] = dict(queue_size=10) | kw
+    args: dict[str, Any] = {"queue_size": 10} | kw
     with pytest.raises(ValueError):
         ApproximateTimeSynchronizer([SimpleFilter(), SimpleFilter()], **args)
 
@@ -226,7 +227,7 @@ def test_random_streams_keep_the_policy_invariants() -> None:
     assert len(out) > 250
     for s in out:
         assert max(s) - min(s) <= 0.08 + 1e-9
-    for prev, nxt in zip(out, out[1:]):
+    for prev, nxt in itertools.pairwise(out):
         assert all(p < q for p, q in zip(prev, nxt))  # per topic, strictly later
 
 
@@ -264,7 +265,7 @@ def test_exact_queue_size_evicts_partial_sets() -> None:
 
 
 def test_exact_drop_callback() -> None:
-    fs, got, dropped = exact(2, 1)
+    fs, _got, dropped = exact(2, 1)
     first = msg(0)
     fs[0].signalMessage(first)
     assert dropped == []
