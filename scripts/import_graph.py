@@ -27,7 +27,8 @@ GATEWAY = "zenros.services.gateway"
 GATEWAY_LAYERS: dict[str, int] = {
     "errors": 0, "params": 0, "ws_slices": 0, "state": 1, "ports": 2, "runner": 2,
     "http": 3, "modbus": 3, "serial": 3, "udp": 3, "rosbridge": 3, "foxglove": 3, "ros2": 3,
-    "robot": 4, "fleet": 4, "front_ends": 4, "node": 4, "testing": 5, "__main__": 5,
+    "robot": 4, "fleet": 4, "front_ends": 4, "diagnostics": 4, "node": 4, "testing": 5,
+    "__main__": 5,
 }
 DOORS = frozenset(k for k, v in GATEWAY_LAYERS.items() if v == 3)
 
