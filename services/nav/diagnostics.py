@@ -31,6 +31,8 @@ def nav_diagnostics(node: Any) -> Updater:
                 and score < matcher.p.min_score:
             stat.summary(WARN, f"scan does not fit the map (score {score:.2f} < "
                                f"{matcher.p.min_score:.2f})")
+        elif loc.external:
+            stat.summary(OK, "mapping: the SLAM node localizes")
         else:
             stat.summary(OK, f"localized ({loc.mode})")
         stat.add("mode", loc.mode)
