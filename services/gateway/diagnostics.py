@@ -14,15 +14,11 @@ def gateway_diagnostics(node: Any) -> Updater:
     """An Updater on ``node`` (a `GatewayNode`): ``front ends`` and ``clients``."""
     up = Updater(node)
     up.setHardwareID("none")
-    ports = {"REST": lambda: node.rest_port, "topic WebSocket": lambda: node.ws_port,
-             "Modbus": lambda: node.modbus_port,
-             "rosbridge": lambda: node.rosbridge.port if node.rosbridge else None}
-
     def front_ends(stat: DiagnosticStatusWrapper) -> None:
         names = [end.name for end in node.front_ends.started]
         stat.summary(OK, f"{len(names)} up: {', '.join(names)}")
         for name in names:
-            port = ports.get(name, lambda: None)()
+            port = _port(node, name)
             stat.add(name, port if port is not None else "on")
 
     def clients(stat: DiagnosticStatusWrapper) -> None:
@@ -40,3 +36,14 @@ def gateway_diagnostics(node: Any) -> Updater:
     up.add("front ends", front_ends)
     up.add("clients", clients)
     return up
+
+
+def _port(node: Any, front_end: str) -> int | None:
+    """The TCP port a front end of ``node`` listens on (None: not a TCP server)."""
+    attr = {"REST": "rest_port", "topic WebSocket": "ws_port", "Modbus": "modbus_port"}.get(
+        front_end)
+    if attr is not None:
+        return int(getattr(node, attr))
+    if front_end == "rosbridge" and node.rosbridge is not None:
+        return int(node.rosbridge.port)
+    return None
