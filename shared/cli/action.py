@@ -41,7 +41,8 @@ def register(sub: Any) -> None:
     v.add_argument("goal", nargs="?", default="{}", help="the goal in YAML, e.g. '{order: 5}'")
     v.add_argument("-f", "--feedback", action="store_true", help="print feedback")
     v.add_argument("--server-timeout", type=float, default=10.0,
-                   help="seconds to wait for the action server (default 10)")
+                   help="seconds to wait for the action server, and for its answer to the "
+                        "goal (default 10)")
     v.add_argument("--json", action="store_true", help="print messages as JSON lines")
     for verb in verbs.choices.values():
         add_common(verb)
@@ -93,7 +94,10 @@ def _send_goal(ctx: Context, args: argparse.Namespace) -> int:
     node = ToolNode(f"zenros_action_send_goal_{os.getpid()}", context=ctx)
     try:
         # a goal no server answered is sent again while the graph lists one (zenros.reach)
-        client = ActionClient(node, action, name, reach_grace=args.server_timeout)
+        # and a server slow to answer it (a loaded fleet process) is waited for as long as
+        # one slow to appear: ros2 action send_goal waits for the goal response unbounded
+        client = ActionClient(node, action, name, reach_grace=args.server_timeout,
+                              send_timeout=max(10.0, args.server_timeout))
         print("Waiting for an action server to become available...")
         if not client.wait_for_server(args.server_timeout):
             raise CliError(f"action server {client.name} is not available "
