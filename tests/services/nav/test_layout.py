@@ -17,7 +17,7 @@ LAYERS: list[set[str]] = [
     {"motion"},
     {"core"},
     {"params"},
-    {"actions"},
+    {"actions", "diagnostics"},
     {"node"},
     {"__main__"},
 ]
