@@ -222,14 +222,17 @@ cmd_start() {
         # master and one gateway for the fleet (it finds the robots in the graph)
         start_host st fleet.yaml robots:=0 --no-router
         for h in "${HOSTS[@]:1}"; do
-            start_host "$h" robot.yaml "robot:=robot${h#r}" compose:=true examples:=false \
+            start_host "$h" robot.yaml "robot:=robot${h#r}" compose:=true examples:=false mapping:=false \
                 --no-router
         done
     else
         start_host st station.yaml
         until_ok 30 "the station's router on $ROUTER" router_up
-        start_host r1 robot.yaml robot:=robot1 --no-router
-        start_host r2 robot.yaml robot:=robot2 --no-router
+        # mapping:=false: the 8 processes a robot ran when ZENOH_RUNTIME's 16 rx threads were
+        # measured (above); with slam and explore, 10, and robot2's nav dropped out of its
+        # gateway's view during robot1's outage in 2 of 3 suite runs
+        start_host r1 robot.yaml robot:=robot1 mapping:=false --no-router
+        start_host r2 robot.yaml robot:=robot2 mapping:=false --no-router
     fi
     until_ok "${ZR_WAIT:-120}" "the robots' nodes, seen from the station" robots_seen
     say "the station sees all $ROBOTS robots, $((SECONDS - t0)) s after start; try '$0 show'"
