@@ -22,6 +22,7 @@ from .ports.link import RobotLink
 from .ports.nav_calls import NavCalls
 from .ports.nav_link import NavLink
 from .ports.navigator import Navigator
+from .ports.slam_link import SlamLink
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
 from .state.config import GatewayConfig
@@ -95,13 +96,15 @@ class Robot:
         self.io = IoLink(node)
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
+        self.slam = SlamLink(node, self.core)
         nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
         self.api: Api = build_api(Context(
             core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
             io=self.io, link=self.link, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(node, self.core.presence)), options.max_body, node.logger)
+            coverage=CoverageLink(node, self.core.presence), slam=self.slam),
+            options.max_body, node.logger)
 
 
 class RobotView(Node):
