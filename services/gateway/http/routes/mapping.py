@@ -88,12 +88,16 @@ def _mapping_reason(slam: SlamPort) -> str:
     return ""
 
 
-async def _open(ctx: Context, slam: SlamPort, mode: str, map_name: str = "",
-                initial_pose: Pose2D | None = None) -> None:
-    """Free → Busy → Mapping: start the mapping node, navigation off while it maps."""
+def _refuse_while_busy(ctx: Context, slam: SlamPort) -> None:
     reason = _mapping_reason(slam) or driving_reason(ctx)
     if reason:
         raise ApiError(409, f"cannot start mapping: {reason}")
+
+
+async def _open(ctx: Context, slam: SlamPort, mode: str, map_name: str = "",
+                initial_pose: Pose2D | None = None) -> None:
+    """Free → Busy → Mapping: start the mapping node, navigation off while it maps."""
+    _refuse_while_busy(ctx, slam)
     core = ctx.core
     core.state.busy = True
     try:
@@ -131,11 +135,13 @@ async def stop(call: Call) -> Any:
     ctx = call.ctx
     slam = slam_port(ctx)
     core = ctx.core
-    core.state.busy = True
+    core.state.busy, core.state.mapping = True, False   # Mapping → Busy
     try:
         await slam.cancel_explore()
         await slam.stop()
-        core.state.mapping = False
+    except BaseException:
+        core.state.mapping = slam.mapping()
+        raise
     finally:
         core.state.busy = False
     return {"result": True, "description": "mapping stopped"}
@@ -167,6 +173,7 @@ async def update(call: Call) -> Any:
     ctx = call.ctx
     slam = slam_port(ctx)
     q: UpdateQuery = call.query
+    _refuse_while_busy(ctx, slam)
     name = q.map or await ctx.calls.current_map()
     listed = await ctx.nav_link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
     if not listed.maps:
