@@ -22,6 +22,7 @@ __all__ = ["NavLink"]
 SERVICES: dict[str, ServiceType] = {
     "map_server/list_maps": zm.ListMaps,
     "map_server/current_map": zm.GetCurrentMap,
+    "map_server/import_map": zm.ImportMap,
     "switch_map": zm.SwitchMap,
     "list_paths": zm.ListPaths,
     "get_path": zm.GetPath,
