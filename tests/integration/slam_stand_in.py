@@ -33,7 +33,8 @@ from zenros.action import ActionServer
 from zenros.context import Context
 from zenros.maps import GridMap, save_map
 from zenros.msgs.geometry_msgs import Pose, Pose2D, PoseStamped, PoseWithCovarianceStamped
-from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path as PathMsg
+from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
+from zenros.msgs.nav_msgs import Path as PathMsg
 from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs import ImportMap, ImportMapRequest
 from zenros.msgs.zenros_msgs.result import ResultCode
