@@ -169,7 +169,7 @@ class Rig:
         self.http = AsgiClient(build_api(self.ctx), "/api/v1")
 
     def status(self) -> str:
-        return system_status_name(self.core.refresh())
+        return str(system_status_name(self.core.refresh()))
 
 
 @pytest.fixture
