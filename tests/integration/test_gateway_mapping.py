@@ -175,7 +175,7 @@ def test_the_map_goes_out_as_an_archive_and_back_in(rig: Rig) -> None:
 def test_hostile_input_to_the_mapping_rows_gets_no_500(rig: Rig) -> None:
     """The fuzz of test_gateway_rest (every implemented row, hostile queries and bodies),
     here with a mapping node that maps, so the inputs reach past the 503."""
-    from test_gateway_rest import HOSTILE_BODIES, HOSTILE_QUERIES
+    from test_gateway_rest import assert_no_500
     assert rig.http is not None
     assert rig.get("/map/start").json()["result"] is True
     try:
@@ -185,21 +185,8 @@ def test_hostile_input_to_the_mapping_rows_gets_no_500(rig: Rig) -> None:
                 if "/map/" in e or "update_map" in e or "_map_" in e]
         assert len(rows) == 12, rows
         for entry in rows:
-            method, url = entry.split(" ", 1)
-            path = url.removeprefix("/api/v1")
-            if method == "GET" and path in ("/map/start", "/map/stop", "/map/update"):
+            if entry.split(" ", 1)[0] == "GET" and entry.endswith(("/start", "/stop", "/update")):
                 continue  # they change what the others read; their inputs: test_gateway_mapping
-            tries: list[tuple[dict[str, str], bytes | None]] = [({}, None)] + [
-                (q, None) for q in HOSTILE_QUERIES]
-            if method in ("POST", "PUT"):
-                tries += [({}, b) for b in HOSTILE_BODIES]
-            for params, body in tries:
-                r = rig.http.request(method, path, params=params, content=body,
-                                     headers={"content-type": "application/json"})
-                assert r.status_code != 500, (entry, params, body, r.text)
-                if r.status_code >= 400:
-                    err = r.json()
-                    assert err.get("status") == "error" or err.get("result") is False, err
-                    assert err["description"], err
+            assert_no_500(rig.http, entry, {})
     finally:
         assert rig.get("/map/stop").json()["result"] is True
