@@ -96,7 +96,7 @@ class Robot:
         self.io = IoLink(node)
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
-        self.slam = SlamLink(node, self.core)
+        self.slam = SlamLink(node, self.core, lambda: self.nav_link.grid)
         nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
         self.api: Api = build_api(Context(
             core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,

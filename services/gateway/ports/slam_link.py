@@ -4,8 +4,9 @@ gateway's doors use them (docs/robot-api.md §5, docs/mapping.md "The robot API"
 Calls: ``slam/start``, ``slam/stop``, ``slam/save`` (each refusal the port error of the node's
 `ResultCode`, with its reason) and the ``explore`` goal. Topics: ``slam/state`` (latched; it
 drives GalileoStatus ``mapStatus`` and ``busyStatus``, §7), ``slam/pose``, ``slam/track``
-(latched) and ``map`` (the grid as it grows: only grids that arrived after mapping started are
-taken for the map being built, never nav's stored map).
+(latched), and the grid on ``map`` as it grows (read from the gateway's one subscription to
+``map``, `NavLink`'s: the grid there when mapping started is nav's stored map, never taken for
+the map being built; nav stops publishing ``map`` while the mapping node maps).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import asyncio
 import math
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -98,7 +100,7 @@ class TrackPoint:
 class _Latest:
     state: MappingState = field(default_factory=MappingState)
     state_seen: bool = False
-    grid: OccupancyGrid | None = None
+    stale: OccupancyGrid | None = None   # the grid on `map` when mapping started: nav's
     pose: Pose2D | None = None
     keyframes: list[TrackPoint] = field(default_factory=list)
     raw: list[TrackPoint] = field(default_factory=list)
@@ -132,18 +134,20 @@ class SlamLink:
     Args:
         node: the gateway's node of that robot.
         core: its state; ``slam/state`` sets ``mapping`` and ``busy`` (§4, §7).
+        grids: the latest grid on ``map`` (`NavLink.grid`: one subscription decodes it).
         timeout: s a call waits (slam/start asks nav first; slam/save writes the map).
     """
 
-    def __init__(self, node: Node, core: Core, timeout: float = 20.0) -> None:
+    def __init__(self, node: Node, core: Core, grids: Callable[[], OccupancyGrid | None],
+                 timeout: float = 20.0) -> None:
         self.core = core
         self.presence = core.presence
         self.timeout = timeout
         self.update_map = False   # PUT /navigation/update_map started this mapping
         self._lock = threading.Lock()
         self._latest = _Latest()
+        self._grids = grids
         self._since = 0.0          # time.monotonic() mapping (last) started
-        self._grid_at = 0.0
         self._explore = ExploreProgress()
         self._goal: ClientGoalHandle[ExploreGoal, ExploreResult] | None = None
         self._start = node.create_client(StartMapping, "slam/start")
@@ -153,7 +157,6 @@ class SlamLink:
         node.create_subscription(MappingState, "slam/state", self.on_state, QOS_LATCHED)
         node.create_subscription(PoseWithCovarianceStamped, "slam/pose", self.on_pose, 10)
         node.create_subscription(Path, "slam/track", self.on_track, QOS_LATCHED)
-        node.create_subscription(OccupancyGrid, "map", self.on_map, QOS_LATCHED)
         self.presence.watch("slam", self.available)
         self.presence.watch("explore", self.explore_available)
 
@@ -173,7 +176,7 @@ class SlamLink:
         with self._lock:
             self._since = time.monotonic()
             latest = self._latest
-            latest.grid, latest.pose = None, None
+            latest.stale, latest.pose = self._grids(), None
             latest.keyframes, latest.raw = [], []
 
     def on_state(self, msg: MappingState) -> None:
@@ -206,12 +209,6 @@ class SlamLink:
         with self._lock:
             self._latest.keyframes = points
 
-    def on_map(self, msg: OccupancyGrid) -> None:
-        with self._lock:
-            if self._since and time.monotonic() >= self._since:
-                self._latest.grid = msg
-                self._grid_at = time.monotonic()
-
     # ------------------------------------------------------------------ reads
 
     def state(self) -> MappingState:
@@ -224,8 +221,11 @@ class SlamLink:
 
     def grid(self) -> OccupancyGrid | None:
         """The map being built, once its first grid came (None before, or when idle)."""
+        grid = self._grids()
         with self._lock:
-            return self._latest.grid if self._latest.state.state != "idle" else None
+            if self._latest.state.state == "idle" or grid is self._latest.stale:
+                return None
+            return grid
 
     def pose(self) -> Pose2D | None:
         """The robot in the map being built: ``slam/pose``, else the state's pose."""
