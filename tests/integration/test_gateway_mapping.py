@@ -16,8 +16,11 @@ import httpx
 import pytest
 from PIL import Image
 from slam_stand_in import SlamStandIn
+from zenros.action import ActionClient
+from zenros.action.types import GoalStatus
 from zenros.msgs.geometry_msgs import Point, Quaternion
 from zenros.msgs.nav_msgs import Odometry
+from zenros.msgs.zenros_msgs.slam import Explore, ExploreGoal
 from zenros.node import Node
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.testing import running_gateway
@@ -141,6 +144,17 @@ def test_explore_runs_to_done_and_stop_cancels_it(rig: Rig) -> None:
     explore = rig.get("/system/info").json()["mapping"]["explore"]
     assert explore["goals_reached"] == 3 and explore["frontiers_left"] == 0
     assert rig.get("/map/stop").json()["result"] is True
+    assert wait_for(lambda: rig.status() == "Free", TIMEOUT)
+
+
+def test_stop_cancels_exploring_whoever_started_it(rig: Rig) -> None:
+    assert rig.get("/map/start").json()["result"] is True
+    client = ActionClient(rig.chassis, Explore, "explore")  # a ROS client's goal
+    assert client.wait_for_server(TIMEOUT)
+    handle = client.send_goal_async(ExploreGoal())
+    assert handle.wait_accepted(TIMEOUT)
+    assert rig.get("/map/stop").json()["result"] is True
+    assert handle.result(TIMEOUT).status is GoalStatus.CANCELED
     assert wait_for(lambda: rig.status() == "Free", TIMEOUT)
 
 

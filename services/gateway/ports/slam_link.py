@@ -356,13 +356,13 @@ class SlamLink:
                 message=r.error_msg or outcome.reason)
 
     async def cancel_explore(self) -> None:
-        """Cancel the explore goal, if one runs (nothing to do otherwise)."""
+        """Cancel exploring: every goal of the ``explore`` action, whoever sent it (this
+        gateway, the dashboard through rosbridge, a ROS client); nothing without an explorer."""
         with self._lock:
-            handle = self._goal
             self._goal = None
-        if handle is None or handle.done:
+        if not self.explore_available():
             return
         try:
-            await asyncio.to_thread(handle.cancel, self.timeout)
+            await asyncio.to_thread(self._explorer.cancel_all_goals, self.timeout)
         except ZenrosError as exc:
-            raise Unavailable(f"the explore goal could not be canceled: {exc}") from exc
+            raise Unavailable(f"exploring could not be canceled: {exc}") from exc
