@@ -125,7 +125,11 @@ def test_build_save_and_navigate_on_a_new_map(sim: Sim) -> None:
 
 def test_explore_maps_by_itself_and_comes_back(sim: Sim) -> None:
     sim.get("/navigation/stop")
-    assert sim.get("/map/start", mode="explore")["result"] is True
+    # the last goal's end reaches GalileoStatus with nav's next status: until then a start
+    # is refused as "navigating to a goal"
+    assert wait_for(lambda: sim.get("/system/galileo_status")["targetStatus"] != 1, 30)
+    started = sim.get("/map/start", mode="explore")
+    assert started["result"] is True, started
     assert wait_for(lambda: sim.get("/system/info")["mapping"]["explore"]["state"]
                     in ("done", "failed"), 780)
     explore = sim.get("/system/info")["mapping"]["explore"]
