@@ -200,7 +200,7 @@ def test_hostile_input_to_the_mapping_rows_gets_no_500(rig: Rig) -> None:
         assert len(rows) == 12, rows
         for entry in rows:
             if entry.split(" ", 1)[0] == "GET" and entry.endswith(("/start", "/stop", "/update")):
-                continue  # they change what the others read; their inputs: test_gateway_mapping
+                continue  # they change what the others read; their inputs: test_gateway_mapping_routes
             assert_no_500(rig.http, entry, {})
     finally:
         assert rig.get("/map/stop").json()["result"] is True
