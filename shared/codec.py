@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import cache
 from typing import Any, Generic, TypeVar
 
 import msgspec
@@ -197,10 +196,16 @@ def _null_floats_to_nan(t: mi.Type, obj: Any) -> Any:
     return obj
 
 
-@cache
+_CODECS: dict[type[Message], Codec[Any]] = {}
+
+
 def codec_for(msg_type: type[M]) -> Codec[M]:
-    """The cached codec of a message type."""
-    return Codec(msg_type)
+    """The cached codec of a message type (a dict, not `functools.cache`: the type checker
+    takes any message class here, a generic one's ``type[Any]`` included)."""
+    codec: Codec[M] | None = _CODECS.get(msg_type)
+    if codec is None:
+        codec = _CODECS[msg_type] = Codec(msg_type)
+    return codec
 
 
 def encoding_of(msg_type: type[Message]) -> str:

@@ -35,7 +35,7 @@ __all__ = [
 ]
 
 _MESSAGES: dict[str, type[Message]] = {}
-_SERVICES: dict[str, ServiceType] = {}
+_SERVICES: dict[str, ServiceType[Any, Any]] = {}
 _ACTIONS: dict[str, ActionType] = {}
 
 M = TypeVar("M", bound="Message")
@@ -44,6 +44,9 @@ M = TypeVar("M", bound="Message")
 G = DefaultTypeVar("G", bound="Message", default=Any)
 R = DefaultTypeVar("R", bound="Message", default=Any)
 F = DefaultTypeVar("F", bound="Message", default=Any)
+# A service's request and response types (`ServiceType`), Any where not spelled out.
+Q = DefaultTypeVar("Q", bound="Message", default=Any)
+S = DefaultTypeVar("S", bound="Message", default=Any)
 
 
 class Message(msgspec.Struct, kw_only=True):
@@ -121,12 +124,16 @@ def similar_type_names(name: str, names: Any, n: int = 3) -> list[str]:
 
 
 @dataclass(frozen=True)
-class ServiceType:
-    """A service type: a request and a response message under one name."""
+class ServiceType(Generic[Q, S]):
+    """A service type: a request and a response message under one name.
+
+    Generic in the two (``ServiceType[AddTwoIntsRequest, AddTwoIntsResponse]``), so the
+    clients made from it are typed: ``await client.call_async(request)`` is the response
+    (`Node.create_client`), and a port's ``call(srv, request)`` too."""
 
     name: str
-    Request: type[Message]
-    Response: type[Message]
+    Request: type[Q]
+    Response: type[S]
 
 
 @dataclass(frozen=True)
@@ -142,8 +149,8 @@ class ActionType(Generic[G, R, F]):
     Feedback: type[F]
 
 
-def define_service(name: str, request: type[Message], response: type[Message]) -> ServiceType:
-    """Register and return a service type."""
+def define_service(name: str, request: type[Q], response: type[S]) -> ServiceType[Q, S]:
+    """Register and return a service type, typed by its request and response."""
     srv = ServiceType(normalize_type_name(name), request, response)
     _SERVICES[srv.name] = srv
     return srv
@@ -163,7 +170,7 @@ class TypeTables:
     """The registered types by normalized name (``pkg/Name``): what has registered so far."""
 
     messages: dict[str, type[Message]]
-    services: dict[str, ServiceType]
+    services: dict[str, ServiceType[Any, Any]]
     actions: dict[str, ActionType]
 
 

@@ -22,7 +22,7 @@ from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
-from .message import ActionType, F, G, Message, R, ServiceType
+from .message import ActionType, F, G, Message, Q, R, S, ServiceType
 from .msgs.rcl_interfaces import Log
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
@@ -261,8 +261,8 @@ class Node:
         s: Service = self.add_waitable(srv)
         return s
 
-    def create_client(self, srv_type: ServiceType, name: str) -> Client:
-        c: Client = self.add_waitable(
+    def create_client(self, srv_type: ServiceType[Q, S], name: str) -> Client[Q, S]:
+        c: Client[Q, S] = self.add_waitable(
             Client(self.context, srv_type, self.resolve_name(name, "service"), node=self.fqn)
         )
         return c

@@ -344,7 +344,7 @@ class Subscription(Generic[M]):
                     self._check(sample)
                     return
                 try:
-                    msg = decode(sample.payload.to_bytes())
+                    msg: Any = decode(sample.payload.to_bytes())  # or (msg, info) below
                 except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
                     self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
                     return

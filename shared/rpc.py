@@ -9,7 +9,7 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic, NoReturn
 
 import zenoh
 
@@ -28,7 +28,7 @@ from .errors import (
 from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .log import ErrorLog
-from .message import Message, ServiceType, normalize_type_name
+from .message import Message, Q, S, ServiceType, normalize_type_name
 from .reach import REACH_GRACE, ask_while_listed, ask_while_listed_async
 
 if TYPE_CHECKING:
@@ -264,10 +264,12 @@ class Service:
             self._served.wait(2.0)  # a query being served finishes first
 
 
-class Client:
-    """Calls one service. `call` blocks; `call_async` is awaitable from any event loop."""
+class Client(Generic[Q, S]):
+    """Calls one service. `call` blocks; `call_async` is awaitable from any event loop.
+    Typed by its `ServiceType`: a `Client[Req, Res]` takes a ``Req`` and answers a ``Res``."""
 
-    def __init__(self, ctx: Context, srv_type: ServiceType, name: str, node: str = "") -> None:
+    def __init__(self, ctx: Context, srv_type: ServiceType[Q, S], name: str,
+                 node: str = "") -> None:
         self.srv_type = srv_type
         self.name = name
         self.key = ctx.keys.service(name)
@@ -283,18 +285,19 @@ class Client:
             )  # fmt: skip
         self.closed = False
 
-    def _encode(self, request: Message) -> bytes:
+    def _encode(self, request: Q) -> bytes:
         if type(request) is not self.srv_type.Request:
             raise EncodeError(
                 f"service {self.name} takes {self._req.type_name}, got {type(request).__name__}"
             )
         return self._req.encode(request)
 
-    def _result(self, reply: zenoh.Reply, timeout: float) -> Any:
+    def _result(self, reply: zenoh.Reply, timeout: float) -> S:
         ok = reply.ok
         if ok is not None:
             try:
-                return self._res.decode(ok.payload.to_bytes())
+                res: S = self._res.decode(ok.payload.to_bytes())
+                return res
             except DecodeError as exc:
                 raise ServiceError(self.name, f"bad response: {exc}") from exc
         err = reply.err
@@ -304,8 +307,8 @@ class Client:
             raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
         raise ServiceError(self.name, *_parse_error(data))
 
-    def call(self, request: Message, timeout: float = 5.0,
-             grace: float = REACH_GRACE) -> Any:
+    def call(self, request: Q, timeout: float = 5.0,
+             grace: float = REACH_GRACE) -> S:
         """Call the service and return its response.
 
         A query that ends with no reply while the graph lists a server is sent again, for
@@ -333,13 +336,13 @@ class Client:
             return self._no_reply(timeout, time.monotonic() - start)
         return self._result(reply, timeout)
 
-    def _no_reply(self, timeout: float, elapsed: float) -> Any:
+    def _no_reply(self, timeout: float, elapsed: float) -> NoReturn:
         if elapsed < timeout * 0.9:
             raise ServiceUnavailableError(f"no server for service {self.name}")
         raise ZenrosTimeout(f"service {self.name} did not answer within {timeout:.3g} s")
 
-    async def call_async(self, request: Message, timeout: float = 5.0,
-                         grace: float = REACH_GRACE) -> Any:
+    async def call_async(self, request: Q, timeout: float = 5.0,
+                         grace: float = REACH_GRACE) -> S:
         """Awaitable `call` (the same asking again, `zenros.reach`); the reply is delivered to
         the awaiting loop."""
         data = self._encode(request)

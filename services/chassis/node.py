@@ -27,6 +27,7 @@ from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
 from .config import declare_chassis
 from .device import Device, Schedule
+from .diagnostics import chassis_diagnostics
 from .drive import CommandError
 from .obstacle_requests import apply_request, to_msgs
 from .shared_world import BODY_PREFIX
@@ -76,6 +77,7 @@ class ChassisNode(Node):
         for device in self.chassis.devices:
             device.open(self)
         self.schedule = Schedule(self.chassis.devices, cfg.rate)
+        self.diagnostics = chassis_diagnostics(self)  # motors, battery, laser on /diagnostics
         t = self.sim.truth
         self.logger.info("world %s (%dx%d cells at %g m), robot at (%.2f, %.2f, %.2f), "
                          "speed %s, /clock %s", cfg.map_path, self.sim.world.width,

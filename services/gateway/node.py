@@ -2,20 +2,19 @@
 
 from __future__ import annotations
 
-import asyncio
 import os
-from collections.abc import Callable, Coroutine
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from starlette.types import ASGIApp
 from zenros.errors import ConfigError
 from zenros.home import data_dir
 from zenros.memory import keep_freed_buffers
 from zenros.node import Node
 
+from .diagnostics import gateway_diagnostics
 from .fleet import Fleet
+from .front_ends import AsgiServer, Door, FrontEnds
 from .http.app import HttpApp
 from .http.dashboard import dashboard_app
 from .http.ws import ws_app
@@ -27,7 +26,7 @@ from .ports.native import NativeCommands
 from .robot import Robot, RobotOptions
 from .rosbridge import DEFAULT_PORT as DEFAULT_ROSBRIDGE_PORT
 from .rosbridge import RosbridgeServer
-from .runner import AsyncRunner, bind_tcp, start_uvicorn
+from .runner import AsyncRunner
 from .serial.bridge import SerialBridge
 from .state.config import default_config_path, load_config
 from .state.tokens import TokenStore
@@ -48,7 +47,7 @@ class GatewayNode(Node):
     def setup(self) -> None:
         keep_freed_buffers()  # large frames reuse mapped memory (zenros.memory)
         p = self.params = self.declare_parameters(GatewayParameters)
-        host = self.host = p.host
+        self.host = p.host
         self.data_dir = Path(p.data_dir or self._default_dir())
         config_path = Path(p.config_file) if p.config_file else default_config_path()
         config = load_config(config_path,
@@ -61,62 +60,87 @@ class GatewayNode(Node):
         robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
         self.robots = self.fleet.robots if self.fleet else {robot.name: robot}
         self.robot = robot
-        self.core, self.link, self.tasks, self.hub = robot.core, robot.link, robot.tasks, robot.hub
-        self.navigator, self.nav_link, self.io = robot.navigator, robot.nav_link, robot.io
+        self.core, self.topics, self.tasks, self.hub = (robot.core, robot.topics, robot.tasks,
+                                                        robot.hub)
+        self.nav_actions, self.nav_services, self.io = (robot.nav_actions, robot.nav_services,
+                                                        robot.io)
         self.files, self.speech, self.audio, self.api = files, robot.speech, robot.audio, robot.api
         self.runner = AsyncRunner()
         self.on_close(self.runner.stop)  # after every server on it has stopped
+        self.front_ends = FrontEnds(self.runner, self.logger)
+        self.on_close(self.front_ends.stop)  # the doors, in reverse of their start
+        self._start_doors(p, robot)
+        if self.fleet is not None:
+            self.fleet.start(self.runner.loop)
+        self.diagnostics = gateway_diagnostics(self)  # front ends, clients on /diagnostics
+
+    def _start_doors(self, p: GatewayParameters, robot: Robot) -> None:
+        """Start the front ends in order: rosbridge, Foxglove, REST, the topic WebSocket,
+        Modbus, serial, discovery (each off when its parameter says so)."""
+        host, start = p.host, self.front_ends.start
         self.rosbridge: RosbridgeServer | None = None
         if p.rosbridge_port >= 0:
             self.rosbridge = RosbridgeServer(self, host, p.rosbridge_port)
-            self._close_on_loop(self.rosbridge.stop)
-            self.runner.call(self.rosbridge.start())
-        self.foxglove = self._start_foxglove(host, p.foxglove_port)
+            start(self.rosbridge)
+        self.foxglove = self._foxglove(host, p.foxglove_port)
+        if self.foxglove is not None:
+            start(self.foxglove)
         self.http = HttpApp(self.fleet.api if self.fleet else self.api, dashboard_app(
             self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
             robot.namespace, robots=self.fleet.names if self.fleet else None))
-        self.rest_port = self.serve_asgi(self.http, host, p.rest_port)
+        rest = AsgiServer("REST", self.http, host, p.rest_port)
+        self.rest_port = rest.port
         if self.fleet is not None:
             self.fleet.set_port(self.rest_port)
         else:
             self.core.identity = replace(self.core.identity, port=self.rest_port)
+        start(rest)
         self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
         if self.fleet is not None:
             self.logger.info("fleet gateway: %s; the single-robot paths serve %s",
                              ", ".join(self.robots), robot.name)
-        self.ws_port = self.serve_asgi(
+        ws = AsgiServer(
+            "topic WebSocket",
             ws_app(self.hub, self.core.tokens, self.fleet.hub_of if self.fleet else None),
             host, p.ws_port, ws_ping_interval=p.ws_ping_interval,
             ws_ping_timeout=p.ws_ping_timeout, ws_max_size=p.ws_max_frame,
             ws=SlicedWebSocketProtocol)
+        self.ws_port = ws.port
+        start(ws)
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
         self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits)
-        self._close_on_loop(self.modbus.stop)
-        self.modbus_port = self.runner.call(self.modbus.start(host, p.modbus_port))
+
+        async def start_modbus() -> None:
+            self.modbus_port = await self.modbus.start(host, p.modbus_port)
+
+        start(Door("Modbus", start_modbus, self.modbus.stop))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
         self.native = NativeCommands(self.core, self.logger, self.runner.loop)
-        self.link.on_native = self.native
+        self.topics.on_native = self.native
         self.serial: SerialBridge | None = None
         if p.serial_port:
-            self.serial = self.own(SerialBridge(self.core, p.serial_port, self.logger,
-                                                baud=p.serial_baud))
+            def start_serial() -> None:
+                self.serial = SerialBridge(self.core, p.serial_port, self.logger,
+                                           baud=p.serial_baud)
+
+            def stop_serial() -> None:
+                if self.serial is not None:
+                    self.serial.close()
+
+            start(Door("serial", start_serial, stop_serial))
         else:
             self.logger.info("serial bridge off (parameter serial_port is empty)")
+        self.discovery: Discovery | None = None
         if p.discovery_port >= 0:
             address = p.discovery_address or (
                 "127.0.0.1" if host.startswith("127.") else "255.255.255.255")
             port = p.discovery_port or 22002
-            self.discovery: Discovery | None = Discovery(
-                self.core, address, port, self.logger, p.discovery_period)
-            self._close_on_loop(self.discovery.stop)
-            self.runner.call(self.discovery.start())
+            self.discovery = Discovery(self.core, address, port, self.logger,
+                                       p.discovery_period)
+            start(Door("discovery", self.discovery.start, self.discovery.stop))
             self.logger.info("discovery broadcast to %s:%d every %g s", address, port,
                              p.discovery_period)
-        else:
-            self.discovery = None
-        if self.fleet is not None:
-            self.fleet.start(self.runner.loop)
 
     def _fleet(self) -> Fleet | None:
         """The fleet when ``robots`` or ``discover_robots`` is set, else None (this node's
@@ -131,7 +155,8 @@ class GatewayNode(Node):
                               "a single-robot gateway serves its own namespace")
         return None
 
-    def _start_foxglove(self, host: str, port: int) -> Any:
+    def _foxglove(self, host: str, port: int) -> Any:
+        """The Foxglove bridge (a front end), or None when off or foxglove-sdk is missing."""
         if port < 0:
             return None
         try:
@@ -140,29 +165,9 @@ class GatewayNode(Node):
             self.logger.error("Foxglove off: foxglove-sdk is not installed (pip install "
                               "'zenros[foxglove]'): %s", exc)
             return None
-        bridge = FoxgloveBridge(self, host, port)
-        self.on_close(bridge.stop)
-        bridge.start()
-        return bridge
+        return FoxgloveBridge(self, host, port)
 
     def _default_dir(self) -> Path:
         home = Path(os.environ.get("ZENROS_HOME") or Path.home() / ".zenros")
         robot = self.namespace.strip("/").replace("/", "_") or "robot"
         return home / "galileo_api" / robot
-
-    def serve_asgi(self, app: ASGIApp, host: str, port: int, **kw: Any) -> int:
-        """Serve an ASGI app with uvicorn on the gateway's loop; returns the bound port."""
-        sock = self.own(bind_tcp(host, port))
-        server, task = self.runner.call(start_uvicorn(app, sock, **kw))
-
-        async def stop() -> None:
-            server.should_exit = True
-            await asyncio.gather(task, return_exceptions=True)
-
-        self._close_on_loop(stop)
-        bound: int = sock.getsockname()[1]
-        return bound
-
-    def _close_on_loop(self, stop: Callable[[], Coroutine[Any, Any, object]]) -> None:
-        """Run ``stop()`` on the gateway's loop when the node closes (`Node.on_close`)."""
-        self.on_close(lambda: self.runner.call(stop(), 8.0))

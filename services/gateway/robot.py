@@ -18,10 +18,9 @@ from .http.context import Context
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
 from .ports.io_link import IoLink
-from .ports.link import RobotLink
-from .ports.nav_calls import NavCalls
-from .ports.nav_link import NavLink
-from .ports.navigator import Navigator
+from .ports.nav_actions import NavActions
+from .ports.nav_services import NavServices
+from .ports.robot_topics import RobotTopics
 from .ports.slam_link import SlamLink
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
@@ -81,26 +80,25 @@ class Robot:
         self.core = Core(options.config, Settings(data_dir / "settings.json"),
                          make_identity(node.namespace, options.version, options.rest_port),
                          options.deadman_timeout, options.startup_grace, options.tokens)
-        self.link = RobotLink(node, self.core, options.status_rate)
+        self.topics = RobotTopics(node, self.core, options.status_rate)
         self.tasks = TasksLink(node, self.core.presence)
         self.hub = TopicHub(node)
-        self.navigator = Navigator(node, self.core)
-        self.navigator.tasks = self.tasks
-        self.core.nav = self.navigator
-        self.nav_link = NavLink(node, self.core.presence)
+        self.nav_actions = NavActions(node, self.core)
+        self.nav_actions.tasks = self.tasks
+        self.core.nav = self.nav_actions
+        self.nav_services = NavServices(node, self.core.presence)
         presence = self.core.presence
-        presence.watch("nav", self.navigator.available)
+        presence.watch("nav", self.nav_actions.available)
         presence.watch("tasks", self.tasks.available)
         node.on_close(node.context.graph.add_listener(lambda ev, tok: presence.refresh()))
-        self.core.services["maps"] = self.nav_link.maps
+        self.core.services["maps"] = self.nav_services.maps
         self.io = IoLink(node)
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
-        self.slam = SlamLink(node, self.core, lambda: self.nav_link.grid)
-        nav_calls = NavCalls(self.core, self.navigator, self.nav_link, self.tasks)
+        self.slam = SlamLink(node, self.core, lambda: self.nav_services.grid)
         self.api: Api = build_api(Context(
-            core=self.core, tasks=self.tasks, calls=nav_calls, nav_link=self.nav_link,
-            io=self.io, link=self.link, hub=self.hub,
+            core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
+            nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
             coverage=CoverageLink(node, self.core.presence), slam=self.slam),

@@ -110,6 +110,7 @@ class NavCore:
         """The current map was built by SLAM: localise by scan matching, never the truth."""
         self._mode: Mode = config.localization  # the ``localization`` parameter's mode
         self._start_at: Pose2 | None = None  # map -> odom for the next map (leave_mapping)
+        self.match_score: float | None = None  # the last scan match's (0..1)
 
     # ------------------------------------------------------------------ NavTools
 
@@ -283,6 +284,7 @@ class NavCore:
         found, score = matcher.match(pts, guess, wide=wide)
         if wide:  # then the tracking window, from where the wide search put it
             found, score = matcher.match(pts, found)
+        self.match_score = score  # the localisation's quality (nav's diagnostics)
         if score >= matcher.p.min_score:
             self.localizer.correct(stamp, found, 1.0 if wide else self.config.scan_match_gain)
 

@@ -58,6 +58,7 @@ from .actions.navigation import NavActions
 from .actions.routines import RoutineActions
 from .actions.status import nav_status
 from .core import MappingRefused, NavCore
+from .diagnostics import nav_diagnostics
 from .maps.connections import Connections
 from .maps.saver import SaveRefused
 from .motion.autocharge import AutoCharge
@@ -131,6 +132,7 @@ class NavNode(Node):
         self.create_timer(1.0 / p.global_costmap_publish_rate, self.on_global_costmap_timer)
         self.create_timer(1.0 / p.local_costmap_publish_rate, self.on_local_costmap_timer)
         self.create_timer(0.5, self.on_status_timer)
+        self.diagnostics = nav_diagnostics(self)  # localisation, goals on /diagnostics
 
     # ------------------------------------------------------------------ endpoints
 

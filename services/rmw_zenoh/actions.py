@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import functools
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import zenoh
 from zenros.action.transport import (
@@ -47,6 +47,7 @@ from zenros.ros2.rmw_zenoh import (
 )
 from zenros.rpc import error_payload
 
+from .host import BridgeHost
 from .rmw_io import (
     Requester,
     RmwPublisher,
@@ -55,9 +56,6 @@ from .rmw_io import (
     reply_error,
     request_attachment,
 )
-
-if TYPE_CHECKING:
-    from .bridge import RmwZenohBridge
 
 __all__ = ["STATUS_QOS", "ActionIn", "ActionOut"]
 
@@ -69,7 +67,7 @@ SERVICE_QOS = Qos(depth=10)  # rmw_qos_profile_services_default
 class _Action:
     """What both directions share: the endpoints, codecs and the bridge's tokens."""
 
-    def __init__(self, bridge: RmwZenohBridge, name: str, action: ActionType, server: bool) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, action: ActionType, server: bool) -> None:
         self.bridge = bridge
         self.name = name
         self.action = action
@@ -108,7 +106,7 @@ class _Action:
 class ActionOut(_Action):
     """A zenros action server, served to rmw_zenoh clients."""
 
-    def __init__(self, bridge: RmwZenohBridge, name: str, action: ActionType) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, action: ActionType) -> None:
         super().__init__(bridge, name, action, server=True)
         s = bridge.session
         keys = bridge.context.keys
@@ -187,7 +185,7 @@ class ActionOut(_Action):
 class ActionIn(_Action):
     """An rmw_zenoh action server, served to zenros clients."""
 
-    def __init__(self, bridge: RmwZenohBridge, name: str, action: ActionType) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, action: ActionType) -> None:
         super().__init__(bridge, name, action, server=False)
         s = bridge.session
         ctx = bridge.context

@@ -126,7 +126,7 @@ class RmwZenohBridge(Node):
 
     # ------------------------------------------------------------ graph events
 
-    def _wanted(self, name: str) -> bool:
+    def wanted(self, name: str) -> bool:
         return self.name_filter(name)
 
     def _run(self) -> None:
@@ -165,7 +165,7 @@ class RmwZenohBridge(Node):
                     route.pop(tok.name).close()
             return
         self._zenros[slot].add(key)
-        if not self._wanted(tok.name):
+        if not self.wanted(tok.name):
             return
         if tok.kind == "pub" and tok.name not in self.outbound:
             cls = lookup_type(tok.type)
@@ -200,7 +200,7 @@ class RmwZenohBridge(Node):
                 self.inbound.pop(slot).close()
             return
         self._ros[slot].add(key)
-        if slot in self.inbound or not self._wanted(ent.topic):
+        if slot in self.inbound or not self.wanted(ent.topic):
             return
         ros_type = dds_to_ros(ent.dds_type)
         cls = zenros_class_of(ros_type)
@@ -233,7 +233,7 @@ class RmwZenohBridge(Node):
                 route.pop(name).close()
             return
         self._ros[slot].add(key)
-        if name in route or not self._wanted(name):
+        if name in route or not self.wanted(name):
             return
         if not (self.bridge_actions if is_action else self.bridge_services):
             return

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import itertools
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import zenoh
 from zenros.errors import ZenrosError
@@ -40,8 +40,7 @@ from zenros.ros2.rmw_zenoh import (
 )
 from zenros.ros2.typenames import dds_to_ros, ros_to_zenros, zenros_to_ros
 
-if TYPE_CHECKING:
-    from .bridge import RmwZenohBridge
+from .host import BridgeHost
 
 __all__ = ["GraphMirror"]
 
@@ -76,7 +75,7 @@ def tag_of_qos(qos: Qos) -> str:
 
 
 class GraphMirror:
-    def __init__(self, bridge: RmwZenohBridge) -> None:
+    def __init__(self, bridge: BridgeHost) -> None:
         self.bridge = bridge
         self.lv = bridge.session.liveliness()
         self._node_ids: dict[str, int] = {}
@@ -98,7 +97,7 @@ class GraphMirror:
             for t in self._out.pop(key, []):
                 t.undeclare()
             return
-        if key in self._out or (tok.kind != "node" and not self.bridge._wanted(tok.name)):
+        if key in self._out or (tok.kind != "node" and not self.bridge.wanted(tok.name)):
             return
         try:
             entities = self._entities_of(tok)
@@ -155,7 +154,7 @@ class GraphMirror:
         node = join(ent.namespace or "/", ent.node)
         if ent.kind is EntityKind.NODE:
             return ctx.keys.node_token(node, ctx.zid, ACTION_HOST, 0, time.time_ns())
-        if not self.bridge._wanted(ent.topic.removesuffix(_SEND_GOAL)):
+        if not self.bridge.wanted(ent.topic.removesuffix(_SEND_GOAL)):
             return None
         try:
             ros_type = dds_to_ros(ent.dds_type)

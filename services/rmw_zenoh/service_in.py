@@ -9,7 +9,7 @@ reply must echo the request's sequence number and GID, else the zenros caller ge
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import zenoh
 from zenros.codec import Codec, codec_for
@@ -19,16 +19,14 @@ from zenros.ros2.cdr import CdrCodec, cdr_codec
 from zenros.ros2.rmw_zenoh import EntityKind, Qos, data_key
 from zenros.rpc import error_payload
 
+from .host import BridgeHost
 from .rmw_io import Requester
-
-if TYPE_CHECKING:
-    from .bridge import RmwZenohBridge
 
 __all__ = ["ServiceIn"]
 
 
 class ServiceIn:
-    def __init__(self, bridge: RmwZenohBridge, name: str, srv: ServiceType) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, srv: ServiceType) -> None:
         self.bridge = bridge
         self.name = name
         pkg, _, short = srv.name.partition("/")

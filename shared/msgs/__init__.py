@@ -3,6 +3,7 @@
 from . import (
     bond,
     builtin_interfaces,
+    diagnostic_msgs,
     example_interfaces,
     galileo_msgs,
     geometry_msgs,
@@ -23,6 +24,7 @@ from . import (
 __all__ = [
     "bond",
     "builtin_interfaces",
+    "diagnostic_msgs",
     "example_interfaces",
     "galileo_msgs",
     "geometry_msgs",

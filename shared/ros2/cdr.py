@@ -501,10 +501,16 @@ class CdrCodec(Generic[M]):
         return msg
 
 
-@cache
+_CDR_CODECS: dict[type[Message], CdrCodec[Any]] = {}
+
+
 def cdr_codec(msg_type: type[M]) -> CdrCodec[M]:
-    """The cached CDR codec of a zenros class (under its own ROS 2 name)."""
-    return CdrCodec(msg_type)
+    """The cached CDR codec of a zenros class (under its own ROS 2 name; a dict, as
+    `zenros.codec.codec_for`)."""
+    codec: CdrCodec[M] | None = _CDR_CODECS.get(msg_type)
+    if codec is None:
+        codec = _CDR_CODECS[msg_type] = CdrCodec(msg_type)
+    return codec
 
 
 @cache

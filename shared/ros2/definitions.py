@@ -128,6 +128,14 @@ MESSAGES: dict[str, str] = {
     "rosgraph_msgs/msg/Clock": "builtin_interfaces/Time clock",
     "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms",
     "tf2_msgs/msg/TF2Error": "uint8 error\nstring error_string",
+    "diagnostic_msgs/msg/KeyValue": "string key\nstring value",
+    "diagnostic_msgs/msg/DiagnosticStatus": """
+        byte level
+        string name
+        string message
+        string hardware_id
+        KeyValue[] values""",
+    "diagnostic_msgs/msg/DiagnosticArray": "std_msgs/Header header\nDiagnosticStatus[] status",
     # the parts ROS 2 adds around every service and action
     "service_msgs/msg/ServiceEventInfo": """
         uint8 event_type
@@ -149,6 +157,9 @@ SERVICES: dict[str, str] = {
     "lifecycle_msgs/srv/GetAvailableStates": "---\nState[] available_states",
     "lifecycle_msgs/srv/GetAvailableTransitions":
         "---\nTransitionDescription[] available_transitions",
+    "diagnostic_msgs/srv/SelfTest": "---\nstring id\nbyte passed\nDiagnosticStatus[] status",
+    "diagnostic_msgs/srv/AddDiagnostics":
+        "string load_namespace\n---\nbool success\nstring message",
     "example_interfaces/srv/AddTwoInts": "int64 a\nint64 b\n---\nint64 sum",
     "action_msgs/srv/CancelGoal": "GoalInfo goal_info\n---\nint8 return_code\nGoalInfo[] goals_canceling",
 }

@@ -86,7 +86,7 @@ def gateway_robot(home: Path, **kw: Any) -> Iterator[GatewayRobot]:
             running_gateway(robot.contexts[2], home, no_token_check=True) as gw, \
             httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1",
                          timeout=20) as http:
-        assert gw.navigator.navigate.wait_for_server(10)
+        assert gw.nav_actions.navigate.wait_for_server(10)
         assert gw.graph.wait_for_service("/tasks/create", 10)
         yield GatewayRobot(robot.chassis, robot.nav, robot.tasks, robot.user, robot.contexts,
                            gw, http)

@@ -37,7 +37,7 @@ def test_tts_log_topic_self_test(gw: GatewayNode, http: httpx.Client,
     r = http.get("/system/topic", params={"topic_name": "quiet"})
     assert r.status_code == 504 and "no message" in r.json()["description"]
     assert http.get("/system/topic", params={"topic_name": "a b"}).status_code == 400
-    assert wait_for(lambda: batt.publish(BatteryState(voltage=24.5)) or gw.link.fresh(
+    assert wait_for(lambda: batt.publish(BatteryState(voltage=24.5)) or gw.topics.fresh(
         "battery_state"), 5)
     assert http.get("/system/schedule_manager").json() == {}
     test = http.get("/system/self_test").json()

@@ -107,7 +107,7 @@ def test_a_command_reaches_its_own_robot_only(gw: GatewayNode, http: httpx.Clien
     got = {n: Collector[Twist]() for n in ROBOTS}
     for n in ROBOTS:
         fleet.create_subscription(Twist, f"/{n}/cmd_vel", got[n], 50)
-    assert all(gw.robots[n].link.cmd_vel_pub.wait_for_subscribers(1, 5) for n in ROBOTS)
+    assert all(gw.robots[n].topics.cmd_vel_pub.wait_for_subscribers(1, 5) for n in ROBOTS)
     r = http.put("/robots/robot2/system/speed", params={"token": token},
                  json={"speed_x": 0.3, "speed_y": 0, "speed_angle": 0})
     assert r.json() == {"result": True}

@@ -60,7 +60,7 @@ async def test_speed_write_goes_through_deadman(gw: GatewayNode, make_node: obje
     base = make_node("fake_base", 1)  # type: ignore[operator]
     got: Collector[Twist] = Collector()
     base.create_subscription(Twist, "cmd_vel", got, 50)
-    assert gw.link.cmd_vel_pub.wait_for_subscribers(1, 5)
+    assert gw.topics.cmd_vel_pub.wait_for_subscribers(1, 5)
     c = AsyncModbusTcpClient("127.0.0.1", port=gw.modbus_port)
     await c.connect()
     try:

@@ -134,7 +134,7 @@ def test_maps_paths_and_points(rig: Rig) -> None:
     png = rig.http.get("/navigation/map_png")
     assert png.headers["content-type"] == "image/png"
     img = Image.open(io.BytesIO(png.content))
-    grid = rig.gw.nav_link.grid
+    grid = rig.gw.nav_services.grid
     assert grid is not None and img.size == (grid.info.width, grid.info.height)
     pgm = rig.http.get("/navigation/map_pgm").content
     assert pgm.startswith(f"P5\n{grid.info.width} {grid.info.height}\n255\n".encode())

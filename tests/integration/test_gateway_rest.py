@@ -127,7 +127,7 @@ def test_put_speed_publishes_cmd_vel_with_deadman(gw: GatewayNode, http: httpx.C
     base = make_node("fake_base", 1)  # type: ignore[operator]
     got: Collector[Twist] = Collector()
     base.create_subscription(Twist, "cmd_vel", got, 50)
-    assert gw.link.cmd_vel_pub.wait_for_subscribers(1, 5)
+    assert gw.topics.cmd_vel_pub.wait_for_subscribers(1, 5)
     r = http.put("/system/speed", params={"token": token},
                  json={"speed_x": 0.3, "speed_y": 0, "speed_angle": 0.2})
     assert r.json() == {"result": True}
@@ -138,7 +138,7 @@ def test_put_speed_publishes_cmd_vel_with_deadman(gw: GatewayNode, http: httpx.C
     assert not wait_for(lambda: len(got.items) > n, 0.3)
     # the dead-man's ticker stopped at rest; the next command starts it again, held while
     # repeated, and stopped once more after the silence
-    assert gw.link._deadman_timer.is_canceled()
+    assert gw.topics._deadman_timer.is_canceled()
     for _ in range(3):
         r = http.put("/system/speed", params={"token": token},
                      json={"speed_x": -0.1, "speed_y": 0, "speed_angle": 0.0})
@@ -146,7 +146,7 @@ def test_put_speed_publishes_cmd_vel_with_deadman(gw: GatewayNode, http: httpx.C
     assert got.wait(n + 2, 3) and got.items[n].linear.x == -0.1
     assert wait_for(lambda: len(got.items) > n + 4 and got.items[-1].linear.x == 0.0, 3)
     assert [m.linear.x for m in got.items[n:]].count(0.0) == 1
-    assert wait_for(lambda: gw.link._deadman_timer.is_canceled(), 1)
+    assert wait_for(lambda: gw.topics._deadman_timer.is_canceled(), 1)
 
 
 def test_config_get_post_delete(http: httpx.Client, token: str) -> None:

@@ -112,12 +112,12 @@ def test_m_04_stops_navigation_and_it_stays_stopped(
             serial.Serial(modem.b, 115200, timeout=2) as ctl:
         assert wait_for(update(1.5), 5) and gw.core.refresh().navStatus == 1
         ctl.write(command_frame(b"m\x04"))
-        assert wait_for(lambda: gw.navigator.stopped, 5)
+        assert wait_for(lambda: gw.nav_actions.stopped, 5)
         assert wait_for(update(2.5), 5)  # nav's status update arrived after the stop
         assert gw.core.refresh().navStatus == 0
         assert wait_for(lambda: nav_status_of(read_frame(ctl)) == 0, 5)
         ctl.write(command_frame(b"m\x00"))
-        assert wait_for(lambda: not gw.navigator.stopped, 5)
+        assert wait_for(lambda: not gw.nav_actions.stopped, 5)
         assert wait_for(update(3.5), 5) and gw.core.refresh().navStatus == 1
 
 

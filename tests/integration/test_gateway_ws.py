@@ -63,7 +63,7 @@ async def test_teleop_publishes_cmd_vel_and_bad_frames_get_errors(
     base_node = make_node("fake_base", 1)  # type: ignore[operator]
     got: Collector[Twist] = Collector()
     base_node.create_subscription(Twist, "cmd_vel", got, 50)
-    assert gw.link.cmd_vel_pub.wait_for_subscribers(1, 5)
+    assert gw.topics.cmd_vel_pub.wait_for_subscribers(1, 5)
     url = f"ws://127.0.0.1:{gw.ws_port}/cmd_vel?token={token_of(gw)}"
     async with connect(url) as ws:
         await ws.send(json.dumps({"linear": {"x": 0.2, "y": 0, "z": 0},

@@ -211,3 +211,29 @@ def test_the_ros1_tutorial_server_answers_the_ros1_door(ctx_pair: list[Context],
         caller.close()
         ros1.close()
         fib.close()
+
+
+def test_get_topics_lists_the_actionlib_topics_of_the_offered_actions(
+        ctx_pair: list[Context], server: RosbridgeServer, ros: roslibpy.Ros) -> None:
+    """As a ROS 1 master lists an actionlib server's topics from its start (roslibjs's ROS 1
+    check-topics example expects them before any goal): each zenros action a ROS 1 client
+    can use through the bridge shows its ``status``, ``feedback`` and ``result`` in rosapi's
+    ``topics`` under ROS 1 types, and so does the bridge's own tf2_web_republisher."""
+    fib = fibonacci_server(ctx_pair[1], 0.02)
+    try:
+        assert wait_for(lambda: server.node.graph.actions().get("/fibonacci"), TIMEOUT)
+        want = {"/fibonacci/feedback", "/fibonacci/status", "/fibonacci/result",
+                "/tf2_web_republisher/status", "/tf2_web_republisher/feedback"}
+        topics = ros.get_topics()  # roslibpy's ROS 1 style call of /rosapi/topics
+        assert want <= set(topics), sorted(want - set(topics))
+        assert ros.get_topic_type("/fibonacci/feedback") == \
+            "actionlib_tutorials/msg/FibonacciActionFeedback"
+        assert ros.get_topic_type("/fibonacci/result") == \
+            "actionlib_tutorials/msg/FibonacciActionResult"
+        assert ros.get_topic_type("/fibonacci/status") == "actionlib_msgs/msg/GoalStatusArray"
+        assert ros.get_topic_type("/tf2_web_republisher/feedback") == \
+            "tf2_web_republisher/msg/TFSubscriptionActionFeedback"
+        assert "/fibonacci/status" in ros.get_topics_for_type("actionlib_msgs/GoalStatusArray")
+    finally:
+        fib.close()
+    assert wait_for(lambda: "/fibonacci/status" not in ros.get_topics(), TIMEOUT)

@@ -225,7 +225,7 @@ def test_a_large_frame_is_sliced_and_others_keep_flowing(server: RosbridgeServer
         assert wait_for(lambda: bool(robot.graph.subscribers("/map")), TIMEOUT)
         assert maps.wait_for_subscribers(1, TIMEOUT)
         maps.publish(big_map())
-        client = next(c for c in server.clients if "/map" in c.subs)
+        client = next(c for c in server.clients if "/map" in c.topics.subs)
         assert wait_for(lambda: not client.outbox.topics["/map"].frames, TIMEOUT)  # taken
         for i in range(1, 21):  # the map is being written to `slow`, which does not read
             odom = Odometry()

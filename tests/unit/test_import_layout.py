@@ -45,9 +45,9 @@ def test_every_gateway_module_is_in_a_layer(graph_mod: ModuleType,
 
 
 @pytest.mark.parametrize(("importer", "imported", "why"), [
-    ("zenros.services.gateway.ports.nav_link", "zenros.services.gateway.http.api",
+    ("zenros.services.gateway.ports.nav_services", "zenros.services.gateway.http.api",
      "ports (layer 2) imports http (layer 3)"),
-    ("zenros.services.gateway.state.presence", "zenros.services.gateway.ports.link",
+    ("zenros.services.gateway.state.presence", "zenros.services.gateway.ports.robot_topics",
      "state (layer 1) imports ports (layer 2)"),
     ("zenros.services.gateway.modbus.front", "zenros.services.gateway.node",
      "modbus (layer 3) imports node (layer 4)"),
@@ -65,10 +65,10 @@ def test_the_check_catches_a_wrong_arrow(graph_mod: ModuleType, importer: str, i
 
 
 def test_right_arrows_pass(graph_mod: ModuleType) -> None:
-    ok = {"zenros.services.gateway.http.api": {"zenros.services.gateway.ports.nav_link",
+    ok = {"zenros.services.gateway.http.api": {"zenros.services.gateway.ports.nav_services",
                                                "zenros.services.gateway.state.tokens",
                                                "zenros.services.gateway.errors", "zenros.node"},
-          "zenros.services.gateway.ports.navigator": {"zenros.services.gateway.state.core"},
+          "zenros.services.gateway.ports.nav_actions": {"zenros.services.gateway.state.core"},
           "zenros.services.tasks.link": {"zenros.maps.maproute"}}
     assert graph_mod.wrong_way(ok) == []
 
@@ -80,6 +80,17 @@ def test_the_library_has_no_import_circle(graph_mod: ModuleType,
     registry are typed against protocols (`smach.parent.Parent`, `action.host.ActionHost`,
     `param_backend.ParameterOwner`) instead of importing what imports them."""
     assert graph_mod.library_circles(arrows) == []
+
+
+def test_no_service_has_an_import_circle_inside(graph_mod: ModuleType,
+                                                arrows: dict[str, set[str]]) -> None:
+    """Nor does a module of a service reach itself, type-checking imports included: the
+    helpers of the rosbridge, the DDS bridge and the rmw_zenoh bridge see the bridge that
+    makes them as a protocol of what they use (each package's ``host.BridgeHost``)."""
+    assert graph_mod.service_circles(arrows) == []
+    two = {"zenros.services.gateway.ros2.bridge": {"zenros.services.gateway.ros2.graph"},
+           "zenros.services.gateway.ros2.graph": {"zenros.services.gateway.ros2.bridge"}}
+    assert len(graph_mod.service_circles(two)) == 1
 
 
 def test_the_message_base_does_not_import_the_messages(arrows: dict[str, set[str]]) -> None:

@@ -45,6 +45,8 @@ class FoxgloveBridge:
         port: the TCP port (0 picks a free one; see ``port`` after `start`).
     """
 
+    name = "Foxglove"  # as a front end of the gateway (front_ends.FrontEnd)
+
     def __init__(self, node: Node, host: str = "127.0.0.1", port: int = DEFAULT_PORT) -> None:
         self.node = node
         self.host = host

@@ -2,24 +2,27 @@
 
 A small ASGI app instead of a Starlette router: one dict lookup per request (the API has
 about 180 operations), and every error leaves as a docs/robot-api.md §1.2 JSON body with a 4xx code.
-Handlers are plain ``async def handler(call: Call) -> object`` functions; the state and the ports
-they work on are ``call.ctx`` (a `context.Context`, given to the `Api`); what they return is encoded
-as JSON (a Starlette `Response` is sent as is).
+Handlers are plain ``async def handler(call: Call[Body, Query]) -> Answer`` functions: the
+``Body`` and ``Query`` Structs in the annotation are what msgspec decodes the request's JSON body
+and query string into (``None``: the operation takes none), so ``call.body.x`` is typed; the state
+and the ports they work on are ``call.ctx`` (a `context.Context`, given to the `Api`); what they
+return is encoded as JSON (a Starlette `Response` is sent as is).
 """
 
 from __future__ import annotations
 
 import logging
 import re
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Final
+from typing import TYPE_CHECKING, Any, Final, Generic, get_args, get_type_hints
 from urllib.parse import parse_qsl
 
 import msgspec
 from starlette.requests import Request
 from starlette.responses import Response
 from starlette.types import Receive, Scope, Send
+from typing_extensions import TypeVar
 from zenros.msgs.zenros_msgs.result import ResultCode
 
 from ..errors import PortError
@@ -29,13 +32,22 @@ from .spec_routes import SPEC_OPERATIONS
 if TYPE_CHECKING:
     from .context import Context
 
-__all__ = ["PREFIX", "PREFIX_KEY", "STATUS", "Api", "ApiError", "Call", "Endpoint", "api_error",
-           "describe_invalid", "error_body", "send_json"]
+__all__ = ["PREFIX", "PREFIX_KEY", "STATUS", "Answer", "Api", "ApiError", "Call", "Endpoint",
+           "Handler", "api_error", "describe_invalid", "error_body", "send_json"]
 
 PREFIX = "/api/v1"
 PREFIX_KEY = "zenros.api_prefix"  # an ASGI scope key: where the operations' paths start
 _ENC = msgspec.json.Encoder()
 _JSON_HEADERS = [(b"content-type", b"application/json")]
+
+Body = TypeVar("Body", default=Any)
+"""The Struct an operation's JSON body decodes into (None: it takes no body)."""
+Query = TypeVar("Query", default=Any)
+"""The Struct an operation's query string decodes into (None: it takes no parameters)."""
+
+Answer = Mapping[str, object] | Sequence[object] | msgspec.Struct | Response | None
+"""What a handler returns: a JSON object, array or Struct (encoded by msgspec), or a Starlette
+`Response` sent as is."""
 
 
 class ApiError(Exception):
@@ -75,13 +87,13 @@ def error_body(description: str, result_style: bool = False) -> dict[str, Any]:
 
 
 @dataclass
-class Call:
-    """One request as a handler sees it: the `Api` serving it, validated ``query`` and
-    ``body`` structs."""
+class Call(Generic[Body, Query]):
+    """One request as a handler sees it: the `Api` serving it, its validated ``body`` and
+    ``query`` Structs (the types the handler's ``Call[Body, Query]`` names)."""
 
     api: Api
-    query: Any
-    body: Any
+    query: Query
+    body: Body
     token: str | None
     path: str = ""
     path_params: dict[str, str] = field(default_factory=dict)
@@ -93,7 +105,22 @@ class Call:
         return self.api.ctx
 
 
-Handler = Callable[[Call], Awaitable[Any]]
+Handler = Callable[[Call[Any, Any]], Awaitable[Answer]]
+
+
+def _decoded_types(handler: Callable[..., object]) -> tuple[type[Any] | None, type[Any] | None]:
+    """(body, query) from a handler's ``call: Call[Body, Query]`` annotation; (None, None) for
+    a bare ``Call`` (then `Api.add`'s arguments say)."""
+    try:
+        hints = get_type_hints(handler, include_extras=True)  # Annotated limits kept
+    except NameError as exc:  # a handler's annotation names what its module does not have
+        raise ValueError(f"{handler.__qualname__}: {exc}") from exc
+    hints.pop("return", None)
+    args = get_args(next(iter(hints.values()), None))
+    if len(args) != 2:
+        return None, None
+    body, query = (None if a is type(None) or a is Any else a for a in args)
+    return body, query
 
 
 @dataclass
@@ -141,6 +168,16 @@ class Api:
     # ------------------------------------------------------------------ building
 
     def add(self, method: str, path: str, handler: Handler, **kw: Any) -> Endpoint:
+        """Route ``method path`` to ``handler``; its body and query types come from its
+        ``Call[Body, Query]`` annotation (``body=``/``query=`` may say them for a bare `Call`;
+        both saying differently is a bug, a ValueError)."""
+        for where, found in zip(("body", "query"), _decoded_types(handler), strict=True):
+            given = kw.get(where)
+            if given is not None and found is not None and given != found:
+                raise ValueError(f"{method} {path}: {handler.__name__} takes a {where} of "
+                                 f"{found.__name__}, routed with {given.__name__}")
+            if found is not None:
+                kw[where] = found
         doc = (handler.__doc__ or "").strip()
         summary, _, rest = doc.partition("\n")
         ep = Endpoint(method, path, handler, summary=kw.pop("summary", summary.strip()),
@@ -168,7 +205,7 @@ class Api:
             if method in self.routes.get(path, {}):
                 continue
 
-            async def not_implemented(call: Call) -> Any:
+            async def not_implemented(call: Call[None, None]) -> Answer:
                 raise ApiError(501, f"not implemented: {call.path}")
 
             not_implemented.__doc__ = f"Not implemented yet (answers 501): {method} {path}."
@@ -227,7 +264,7 @@ class Api:
         await send_json(send, 200, result)
 
     async def _serve(self, ep: Endpoint, scope: Scope, receive: Receive,
-                     params: dict[str, str]) -> Any:
+                     params: dict[str, str]) -> Answer:
         raw_query = scope.get("query_string", b"").decode("latin-1")
         query: dict[str, Any] = dict(parse_qsl(raw_query, keep_blank_values=True))
         token = query.pop("token", None)

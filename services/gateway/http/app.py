@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Sequence
-from typing import Any
 
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from .api import PREFIX, Api, Call
+from .api import PREFIX, Answer, Api, Call
 from .context import Context
 from .openapi import openapi_document
 from .routes.connections import add_connection_routes
@@ -35,7 +34,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes)
 
 
-async def index(call: Call) -> Any:
+async def index(call: Call[None, None]) -> Answer:
     """The API's operations, split into ``implemented`` and ``not_implemented``."""
     done: list[str] = []
     todo: list[str] = []
@@ -46,7 +45,7 @@ async def index(call: Call) -> Any:
             "not_implemented": todo}
 
 
-async def openapi(call: Call) -> Any:
+async def openapi(call: Call[None, None]) -> Answer:
     """The OpenAPI document of this server."""
     if not call.api.openapi:
         call.api.openapi.update(openapi_document(call.api, "zenros robot API",

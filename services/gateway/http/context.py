@@ -10,9 +10,9 @@ from zenros.param_client import ParameterClient
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
 from ..ports.io_link import IoLink
-from ..ports.link import RobotLink
-from ..ports.nav_calls import NavCalls
-from ..ports.nav_link import NavLink
+from ..ports.nav_actions import NavActions
+from ..ports.nav_services import NavServices
+from ..ports.robot_topics import RobotTopics
 from ..ports.slam_link import SlamPort
 from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
@@ -28,10 +28,10 @@ class Context:
 
     core: Core
     tasks: TasksLink
-    calls: NavCalls
-    nav_link: NavLink
+    nav_actions: NavActions
+    nav_services: NavServices
     io: IoLink
-    link: RobotLink
+    topics: RobotTopics
     hub: TopicHub
     params: ParameterClient
     files: FileRoot

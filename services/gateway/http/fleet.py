@@ -24,7 +24,7 @@ def robot_summary(name: str, api: Api) -> dict[str, Any]:
     state = ctx.core.state
     pose = None if state.pose is None else {"x": state.pose[0], "y": state.pose[1],
                                             "theta": state.pose[2]}
-    return {"name": name, "online": ctx.link.fresh("odom"),
+    return {"name": name, "online": ctx.topics.fresh("odom"),
             "state": system_status_name(ctx.core.status), "estop": state.estop,
             "battery": round(state.battery_percent, 1), "charging": state.charging,
             "pose": pose, "target_status": state.goal.status}

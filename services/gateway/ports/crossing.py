@@ -7,18 +7,18 @@ from zenros.maps.maproute import NoRoute, find_route, links_of
 from zenros.msgs import zenros_msgs as zm
 
 from ..errors import Conflict, NotFound
-from .nav_link import NavLink
+from .nav_services import NavServices
 
 __all__ = ["check_route"]
 
 
-async def check_route(link: NavLink, current: str, target: str) -> None:
+async def check_route(link: NavServices, current: str, target: str) -> None:
     """Refuse (409) a goal on map ``target`` that no route of direct connections reaches
     from map ``current``, before a task is made (the task checks again when it runs)."""
     names, _ = await link.maps()
     if names and target not in names:
         raise NotFound(f"unknown map {target!r}; known maps: {', '.join(names)}")
-    res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
+    res = await link.call(zm.ListPointConnections, zm.ListPointConnectionsRequest())
     try:
         route = find_route(links_of(res.points, res.connections), current, target)
     except NoRoute as exc:

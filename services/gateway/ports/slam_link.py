@@ -5,7 +5,7 @@ Calls: ``slam/start``, ``slam/stop``, ``slam/save`` (each refusal the port error
 `ResultCode`, with its reason) and the ``explore`` goal. Topics: ``slam/state`` (latched; it
 drives GalileoStatus ``mapStatus`` and ``busyStatus``, §7), ``slam/pose``, ``slam/track``
 (latched), and the grid on ``map`` as it grows (read from the gateway's one subscription to
-``map``, `NavLink`'s: the grid there when mapping started is nav's stored map, never taken for
+``map``, `NavServices`'s: the grid there when mapping started is nav's stored map, never taken for
 the map being built; nav stops publishing ``map`` while the mapping node maps).
 """
 
@@ -134,7 +134,7 @@ class SlamLink:
     Args:
         node: the gateway's node of that robot.
         core: its state; ``slam/state`` sets ``mapping`` and ``busy`` (§4, §7).
-        grids: the latest grid on ``map`` (`NavLink.grid`: one subscription decodes it).
+        grids: the latest grid on ``map`` (`NavServices.grid`: one subscription decodes it).
         timeout: s a call waits (slam/start asks nav first; slam/save writes the map).
     """
 

@@ -19,17 +19,16 @@ request in flight (`Requester`): results of several goals are asked for one afte
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import zenoh
 from cyclonedds._clayer import ddspy_write
 from cyclonedds.core import Listener
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
-
 from zenros.action.transport import answer, answer_err, status_publisher, status_subscriber
-from zenros.codec import Codec
 from zenros.action.types import GoalStatusArray
+from zenros.codec import Codec
 from zenros.errors import CodecError, ZenrosTimeout
 from zenros.message import ActionType
 from zenros.qos import QOS_DEFAULT, QOS_LATCHED
@@ -37,12 +36,10 @@ from zenros.ros2.actions import SERVICES, Topics, action_parts, ros_action_name
 from zenros.ros2.cdr import CdrCodec
 from zenros.ros2.typehash import type_hash
 
+from .host import BridgeHost
 from .qos import dds_qos
 from .routes import dds_topic, take_valid
 from .services import Requester
-
-if TYPE_CHECKING:
-    from .bridge import Ros2DdsBridge
 
 __all__ = ["ActionRoute", "ActionTopicsOut"]
 
@@ -50,7 +47,7 @@ __all__ = ["ActionRoute", "ActionTopicsOut"]
 class ActionRoute:
     """zenros action clients -> a ROS 2 action server on DDS."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, action: ActionType) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, action: ActionType) -> None:
         self.bridge = bridge
         self.name = name
         self.action = action
@@ -164,7 +161,7 @@ class ActionTopicsOut:
     ActionClient's ``wait_for_server`` stays False rather than sending goals that would run
     with their client never told."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, action: ActionType) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, action: ActionType) -> None:
         self.bridge = bridge
         self.name = name
         self.action = action

@@ -14,7 +14,6 @@ from typing import Any
 
 from cyclonedds.idl import IdlStruct, make_idl_struct
 from cyclonedds.idl import types as idl_types
-
 from zenros.ros2.idl import FieldType, MsgDef
 from zenros.ros2.registry import definition
 from zenros.ros2.typenames import ros_to_dds

@@ -7,22 +7,19 @@ from __future__ import annotations
 import os
 import time
 import uuid
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from cyclonedds._clayer import ddspy_take
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsParticipant
 from cyclonedds.core import InstanceState, Policy, Qos, SampleState, ViewState
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-
 from zenros.errors import CodecError, UnknownTypeError
 from zenros.ros2.cdr import cdr_codec_for_name
 from zenros.ros2.registry import definition, register_interface
 
 from .ddstypes import dds_type
-
-if TYPE_CHECKING:
-    from .bridge import Ros2DdsBridge
+from .host import BridgeHost
 
 __all__ = ["RosNodes"]
 
@@ -54,7 +51,7 @@ def _fqn(ns: str, name: str) -> str:
 class RosNodes:
     """Folds ``ros_discovery_info`` into node tokens (call `poll` from the bridge's worker)."""
 
-    def __init__(self, bridge: Ros2DdsBridge) -> None:
+    def __init__(self, bridge: BridgeHost) -> None:
         _register()
         self.bridge = bridge
         self.codec = cdr_codec_for_name(_INFO)

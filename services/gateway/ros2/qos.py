@@ -7,7 +7,6 @@ DDS discovery does not carry a writer's history depth, so a topic from DDS gets 
 from __future__ import annotations
 
 from cyclonedds.core import Policy, Qos
-
 from zenros.qos import Durability, QoSProfile, Reliability
 
 __all__ = ["dds_qos", "zenros_qos"]

@@ -8,7 +8,7 @@ back (``ddspy_take``/``ddspy_write``), and zenros's compiled codec converts it; 
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import zenoh
 import zenoh.ext as zext
@@ -17,7 +17,6 @@ from cyclonedds.core import InstanceState, Listener, SampleState, ViewState
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-
 from zenros.codec import codec_for
 from zenros.errors import CodecError
 from zenros.message import Message
@@ -27,10 +26,8 @@ from zenros.ros2.registry import ros_name_of
 from zenros.ros2.typehash import type_hash
 
 from .ddstypes import dds_type
+from .host import BridgeHost
 from .qos import dds_qos
-
-if TYPE_CHECKING:
-    from .bridge import Ros2DdsBridge
 
 __all__ = ["Inbound", "Outbound", "dds_topic", "take_valid"]
 
@@ -54,7 +51,7 @@ def take_valid(reader: Any) -> list[tuple[bytes, Any]]:
             return out
 
 
-def dds_topic(bridge: Ros2DdsBridge, name: str, ros_type: str) -> Topic[Any]:
+def dds_topic(bridge: BridgeHost, name: str, ros_type: str) -> Topic[Any]:
     """The bridge's (cached) DDS topic ``rt/<name>`` of one ROS 2 type."""
     key = (name, ros_type)
     topic = bridge.dds_topics.get(key)
@@ -67,7 +64,7 @@ def dds_topic(bridge: Ros2DdsBridge, name: str, ros_type: str) -> Topic[Any]:
 class Inbound:
     """A ROS 2 topic (DDS writers elsewhere) republished in zenros under its ROS name."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Message],
+    def __init__(self, bridge: BridgeHost, name: str, cls: type[Message],
                  qos: QoSProfile) -> None:
         self.bridge = bridge
         self.name = name
@@ -102,7 +99,7 @@ class Inbound:
 class Outbound:
     """A zenros topic (publishers in other sessions) written to DDS as ``rt/<name>``."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, cls: type[Message],
+    def __init__(self, bridge: BridgeHost, name: str, cls: type[Message],
                  qos: QoSProfile) -> None:
         self.bridge = bridge
         self.name = name

@@ -20,14 +20,13 @@ import queue
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from cyclonedds._clayer import ddspy_write
 from cyclonedds.core import Listener, Policy, Qos
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-
 from zenros.errors import CodecError, ZenrosTimeout
 from zenros.message import Message, ServiceType
 from zenros.ros2.cdr import cdr_codec
@@ -35,10 +34,8 @@ from zenros.ros2.registry import ros_name_of
 from zenros.ros2.typehash import type_hash
 
 from .ddstypes import dds_type
+from .host import BridgeHost
 from .routes import take_valid
-
-if TYPE_CHECKING:
-    from .bridge import Ros2DdsBridge
 
 __all__ = ["Requester", "ServiceRoute", "service_qos"]
 
@@ -53,7 +50,7 @@ class Requester:
     """Requests written on ``rq/<name>Request``, replies read on ``rr/<name>Reply``, one
     request in flight: the next reply is the one in flight's. ``call`` blocks."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, req_type: str, resp_type: str) -> None:
+    def __init__(self, bridge: BridgeHost, name: str, req_type: str, resp_type: str) -> None:
         self.bridge = bridge
         self.name = name
         p = bridge.participant
@@ -114,7 +111,7 @@ class Requester:
 class ServiceRoute:
     """zenros clients -> a ROS 2 service on DDS, one request in flight at a time."""
 
-    def __init__(self, bridge: Ros2DdsBridge, name: str, srv: ServiceType,
+    def __init__(self, bridge: BridgeHost, name: str, srv: ServiceType,
                  timeout: float) -> None:
         self.bridge = bridge
         self.name = name

@@ -26,7 +26,7 @@ import concurrent.futures
 import itertools
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import msgspec
 from zenros.action import GoalStatus
@@ -36,12 +36,11 @@ from zenros.registry import lookup_action
 
 from .convert import message_from_json, to_json
 from .frames import OpError
+from .host import BridgeHost
 from .opaque import ROS1_DEFAULTS
 
-if TYPE_CHECKING:
-    from .bridge import Bridge
-
-__all__ = ["ActionlibBridge", "ros1_status", "ros2_outcome", "zenros_action_type"]
+__all__ = ["ActionlibBridge", "actionlib_topics", "ros1_action_name", "ros1_status",
+           "ros2_outcome", "zenros_action_type"]
 
 # actionlib_msgs/GoalStatus
 PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
@@ -54,6 +53,26 @@ KEEP_ENDED = 5.0  # s an ended goal stays in the status list (actionlib's status
 ROS1_EQUIVALENTS = {"actionlib_tutorials/Fibonacci": "example_interfaces/Fibonacci"}
 """ROS 1 action types whose ROS 2 counterpart lives in another package (besides the same
 ``<pkg>/<Name>``); each is used only if the field layouts agree."""
+
+
+def ros1_action_name(action_type: ActionType) -> str | None:
+    """The ROS 1 action ``pkg/Name`` a ROS 1 client would use for a zenros action type: its
+    counterpart in ROS1_EQUIVALENTS, else the same name; None if their layouts disagree."""
+    ours = normalize_type_name(action_type.name)
+    for ros1, zenros in ROS1_EQUIVALENTS.items():
+        if zenros == ours and layouts_agree(ros1, action_type):
+            return ros1
+    return ours if layouts_agree(ours, action_type) else None
+
+
+def actionlib_topics(name: str, ros1: str) -> dict[str, str]:
+    """The topics an actionlib server of ROS 1 action ``ros1`` (``pkg/Name``) on ``name``
+    publishes, with their types (long form, as rosapi lists them): ``status``, ``feedback``
+    and ``result``, from its start."""
+    pkg, _, short = ros1.partition("/")
+    return {f"{name}/status": "actionlib_msgs/msg/GoalStatusArray",
+            f"{name}/feedback": f"{pkg}/msg/{short}ActionFeedback",
+            f"{name}/result": f"{pkg}/msg/{short}ActionResult"}
 
 
 def ros1_status(status: GoalStatus, was_active: bool) -> int:
@@ -167,7 +186,7 @@ class _ClientGoal:
 class ActionProxy:
     """A zenros action seen by ROS 1 clients as actionlib topics."""
 
-    bridge: Bridge
+    bridge: BridgeHost
     name: str
     action_type: ActionType
     goals: dict[str, _ClientGoal] = field(default_factory=dict)
@@ -291,7 +310,7 @@ class Ros1Server:
     """A ROS 1 action server of a rosbridge client (roslibpy ``SimpleActionServer``), served
     as a zenros action."""
 
-    def __init__(self, bridge: Bridge, name: str,
+    def __init__(self, bridge: BridgeHost, name: str,
                  action_type: ActionType[Message, Message, Message], owner: Any) -> None:
         self.bridge = bridge
         self.name = name
@@ -380,7 +399,7 @@ class Ros1Server:
 class ActionlibBridge:
     """The actionlib proxies and served actions of one bridge (on its loop)."""
 
-    def __init__(self, bridge: Bridge) -> None:
+    def __init__(self, bridge: BridgeHost) -> None:
         self.bridge = bridge
         self.proxies: dict[str, ActionProxy] = {}
         self.served: dict[str, Ros1Server] = {}
@@ -412,6 +431,21 @@ class ActionlibBridge:
         hooks[name + "/cancel"] = proxy.on_cancel
         proxy.task = self.bridge.loop.create_task(proxy.run())
         proxy.task.add_done_callback(lambda _: self._drop_proxy(name, proxy))
+
+    def offered_topics(self) -> dict[str, str]:
+        """The actionlib topics of every zenros action a ROS 1 client can use through the
+        bridge (`advertised`), with their ROS 1 types: what a ROS 1 master lists of an
+        actionlib server from its start (rosapi ``topics``), before any client sends a goal."""
+        out: dict[str, str] = {}
+        for name, types in self.bridge.node.graph.actions().items():
+            try:
+                action_type = lookup_action(types[0]) if types else None
+            except UnknownTypeError:
+                continue
+            ros1 = None if action_type is None else ros1_action_name(action_type)
+            if ros1 is not None:
+                out.update(actionlib_topics(name, ros1))
+        return out
 
     def _drop_proxy(self, name: str, proxy: ActionProxy) -> None:
         if self.proxies.get(name) is proxy:

@@ -18,11 +18,12 @@ from zenros.param_client import ParameterClient
 from zenros.qos import Durability, QoSProfile, Reliability
 from zenros.registry import lookup_type
 
-from .actionlib import ActionlibBridge
+from .actionlib import ActionlibBridge, actionlib_topics
 from .convert import long_type
 from .encodings import Encodings
 from .opaque import OpaqueTopics
 from .rosapi import Rosapi
+from .tf_republisher import ACTION as TF_REPUBLISH_ACTION
 from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
 from .tf_republisher import TFRepublisher
 
@@ -157,10 +158,15 @@ class Bridge:
         self.rosapi = Rosapi(node.graph, self.params, node.now, local=self._local_names)
 
     def _local_names(self) -> tuple[dict[str, str], dict[str, str]]:
-        """Topics and services only rosbridge clients see (unregistered types), for rosapi."""
+        """Topics and services only rosbridge clients see, for rosapi: those clients
+        advertised (unregistered types), else the actionlib topics of the actions the bridge
+        offers ROS 1 clients (the zenros actions and tf2_web_republisher's)."""
         services = self.opaque.service_types()
         services[TF_REPUBLISH_SERVICE] = "tf2_web_republisher/srv/RepublishTFs"
-        return self.opaque.advertised_topics(), services
+        topics = self.actionlib.offered_topics()
+        topics.update(actionlib_topics(TF_REPUBLISH_ACTION, "tf2_web_republisher/TFSubscription"))
+        topics.update(self.opaque.advertised_topics())
+        return topics, services
 
     @staticmethod
     def known(type_name: str, lookup: Callable[[str], Any] = lookup_type) -> bool:

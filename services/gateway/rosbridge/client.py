@@ -1,4 +1,9 @@
-"""`ClientProtocol`: one rosbridge v2 connection: parses frames, runs the ops, queues replies.
+"""`ClientProtocol`: one rosbridge v2 connection: parses frames, hands each to the op's
+handler, queues replies. A frame decodes in one step into its op's type (a `frames.Frame`
+tagged by ``op``; a frame msgspec will not take, NaN in it say, is read as Python's json
+reads it, then converted). The ops come from its capabilities (`CAPABILITIES`, each a
+`capability.Capability` that registers its op codes, as rosbridge_suite's), besides the
+session's own ``set_level``, ``fragment`` and ``auth``.
 
 Errors follow the reference server: a failed ``call_service`` or ``send_action_goal`` is
 answered (``result: false`` and the reason in ``values``, with the request's id); anything
@@ -10,34 +15,36 @@ always stays up.
 from __future__ import annotations
 
 import asyncio
-import concurrent.futures
-import itertools
 import json
 import logging
 import time
 from collections.abc import Awaitable, Callable
 from typing import Any
 
+import msgspec
 from zenros.errors import ZenrosError
 
 from .bridge import Bridge, BridgeError, Encode
+from .capability import Capability, OpHandler, Session
 from .convert import dumps
 from .fragments import Defragmenter, FragmentError
-from .frames import OpError, SubOptions
+from .frames import Auth, Fragment, Frame, OpError, SetLevel, frame_decoder, op_of
 from .ops_actions import ActionOps
 from .ops_services import ServiceOps
 from .ops_topics import TopicOps
 from .outbox import Outbox, Turnstile
-from .served_action import ServedAction
 
-__all__ = ["LEVELS", "ClientProtocol", "OpError"]
+__all__ = ["CAPABILITIES", "LEVELS", "ClientProtocol", "OpError"]
 
 LEVELS = {"info": 0, "warning": 1, "warn": 1, "error": 2, "none": 3}
 
 Send = Callable[[], None]
 
+CAPABILITIES: tuple[Callable[[Session], Capability], ...] = (TopicOps, ServiceOps, ActionOps)
+"""The capabilities of every session, in order: they are closed in this order too."""
 
-class ClientProtocol(TopicOps, ServiceOps, ActionOps):
+
+class ClientProtocol:
     """The rosbridge session of one client.
 
     Args:
@@ -57,42 +64,29 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         self._congested = congested
         self._log = logger
         self.level = LEVELS["none"]
-        self.subs: dict[str, dict[Any, SubOptions]] = {}
-        self.compression: dict[str, str] = {}
-        """Topics sent compressed (``png``, ``cbor`` or ``cbor-raw``), the others as JSON
-        (encodings.py)."""
-        self.advertised: set[str] = set()
-        self.services: dict[str, Any] = {}
-        self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
-        self.goals: dict[Any, Any] = {}
-        self.served_actions: dict[str, ServedAction] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
-        self._request_ids = itertools.count(1)
-        self._rosapi_turn = asyncio.Lock()
         self._defrag = Defragmenter(time.monotonic)
         self.closed = False
-        self._ops: dict[str, Callable[[dict[str, Any]], None]] = {
-            "advertise": self.op_advertise,
-            "unadvertise": self.op_unadvertise,
-            "publish": self.op_publish,
-            "subscribe": self.op_subscribe,
-            "unsubscribe": self.op_unsubscribe,
-            "call_service": self.op_call_service,
-            "service_response": self.op_service_response,
-            "advertise_service": self.op_advertise_service,
-            "unadvertise_service": self.op_unadvertise_service,
-            "send_action_goal": self.op_send_action_goal,
-            "cancel_action_goal": self.op_cancel_action_goal,
-            "set_level": self.op_set_level,
-            "fragment": self.op_fragment,
-            "auth": lambda frame: None,  # accepted silently: rosauth is not supported
-        }
-        self._ops.update({
-            "advertise_action": self.op_advertise_action,
-            "unadvertise_action": self.op_unadvertise_action,
-            "action_feedback": self.op_action_feedback,
-            "action_result": self.op_action_result,
-        })
+        self._ops: dict[str, OpHandler] = {}
+        self._frames: list[type[Frame]] = []
+        self.register_operation(SetLevel, self.op_set_level)
+        self.register_operation(Fragment, self.op_fragment)
+        self.register_operation(Auth, lambda frame: None)  # rosauth is not supported
+        self.capabilities = [make(self) for make in CAPABILITIES]
+        for capability in self.capabilities:
+            for kind, handler in capability.handlers().values():
+                self.register_operation(kind, handler)
+        self.topics = next(c for c in self.capabilities if isinstance(c, TopicOps))
+        self._decoder = frame_decoder(tuple(self._frames))
+
+    def register_operation(self, kind: type[Frame], handler: OpHandler) -> None:
+        """Answer the op of frame type ``kind`` with ``handler`` (rosbridge_suite's
+        ``register_operation``); an op registered twice is a bug."""
+        op = op_of(kind)
+        if op in self._ops:
+            raise ValueError(f"rosbridge op {op!r} is registered twice")
+        self._ops[op] = handler
+        self._frames.append(kind)
 
     # ------------------------------------------------------------------ in and out
 
@@ -108,7 +102,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
             self._wake()
 
     def format_of(self, topic: str) -> str:
-        return self.compression.get(topic, "json")
+        return self.topics.format_of(topic)
 
     def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None:
         """Queue a reply frame (never dropped)."""
@@ -134,31 +128,49 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
             self.report("error", "binary frames are not supported: send JSON text frames")
             return
         try:
-            frame = json.loads(text)
+            frame: Frame | None = self._decoder.decode(text)
+        except (msgspec.DecodeError, RecursionError):
+            frame = self._leniently(text)
+        if frame is not None:
+            self.handle(frame)
+
+    def _leniently(self, text: str) -> Frame | None:
+        """A frame msgspec refused, read as Python's json reads it (NaN, say) and converted;
+        None, once reported with the reference's words, if it still is not one."""
+        try:
+            obj = json.loads(text)
         except ValueError as exc:
             self.report("error", f"Unable to parse JSON: {exc}; message was: {text[:200]}")
-            return
+            return None
         except RecursionError:
             self.report("error", "Unable to parse JSON: nested too deep;"
                                  f" message was: {text[:200]}")
-            return
-        if not isinstance(frame, dict):
-            self.report("error", f"Expected a JSON object, got {type(frame).__name__}")
-            return
-        self.handle(frame)
-
-    def handle(self, frame: dict[str, Any]) -> None:
-        mid = frame.get("id")
-        op = frame.get("op")
+            return None
+        if not isinstance(obj, dict):
+            self.report("error", f"Expected a JSON object, got {type(obj).__name__}")
+            return None
+        mid = obj.get("id")
+        op = obj.get("op")
         if op is None:
             self.report("error", "Received a message without an op. All messages require 'op' "
                         f"field with value one of: {list(self._ops)}.", mid)
-            return
-        handler = self._ops.get(op) if isinstance(op, str) else None
-        if handler is None:
+            return None
+        if not isinstance(op, str) or op not in self._ops:
             self.report("error", f"Unknown operation: {op}. Allowed operations: "
                         f"{list(self._ops)}", mid)
-            return
+            return None
+        try:
+            frame: Frame = msgspec.convert(obj, self._decoder.type)
+        except (msgspec.ValidationError, RecursionError) as exc:
+            self.report("error", f"{op}: {exc}", mid)
+            return None
+        return frame
+
+    def handle(self, frame: Frame) -> None:
+        """Run ``frame``'s op; an op that fails is reported with the frame's id."""
+        mid = frame.id
+        op = op_of(type(frame))
+        handler = self._ops[op]
         try:
             handler(frame)
         except (OpError, BridgeError, ZenrosError, ValueError, TypeError) as exc:
@@ -174,15 +186,15 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
 
     # ------------------------------------------------------------------ misc
 
-    def op_set_level(self, frame: dict[str, Any]) -> None:
-        level = frame.get("level")
+    def op_set_level(self, frame: SetLevel) -> None:
+        level = frame.level
         if level not in LEVELS:
             raise OpError(f"level must be one of {', '.join(LEVELS)}, got {level!r}")
         self.level = LEVELS[str(level)]
 
-    def op_fragment(self, frame: dict[str, Any]) -> None:
+    def op_fragment(self, frame: Fragment) -> None:
         try:
-            text = self._defrag.add(frame)
+            text = self._defrag.add(msgspec.structs.asdict(frame))
         except FragmentError as exc:
             raise OpError(str(exc)) from None
         if text is not None:
@@ -195,21 +207,7 @@ class ClientProtocol(TopicOps, ServiceOps, ActionOps):
         if self.closed:
             return
         self.closed = True
-        for topic in list(self.subs):
-            self._drop_subscription(topic)
-        for topic in list(self.advertised):
-            self.bridge.unadvertise(topic, self)
-        self.advertised.clear()
-        for topic in [t for t, e in self.bridge.opaque.topics.items() if self in e.advertisers]:
-            self.bridge.opaque.unadvertise(topic, self)
-        for action in list(self.served_actions):
-            self.stop_served_action(action)
-        for service in list(self.services):
-            self._stop_service(service)
+        for capability in self.capabilities:
+            capability.close()
         for task in list(self._tasks):
             task.cancel()
-        loop = self.bridge.loop
-        for handle in list(self.goals.values()):
-            if not handle.done:  # a goal of a client that left is canceled, not orphaned
-                loop.run_in_executor(None, handle.cancel)
-        self.goals.clear()

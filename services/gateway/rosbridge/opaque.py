@@ -70,7 +70,8 @@ class OpaqueTopic:
 
 @dataclass
 class OpaqueService:
-    """A service of an unregistered type, served by the rosbridge client ``owner``."""
+    """A service of an unregistered type, served by the rosbridge client ``owner`` (its
+    session's `ops_services.ServiceOps`)."""
 
     type_name: str
     owner: Any

@@ -4,46 +4,54 @@ zenros actions, with ``action_feedback`` and ``action_result`` back."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any
 
 from zenros.errors import ZenrosError
 from zenros.message import Message
 from zenros.registry import lookup_action
 
 from .bridge import BridgeError
+from .capability import Capability, Session
 from .convert import message_from_json, to_json
 from .equivalents import convert, served_type
-from .frames import OpError, frame_int, frame_name, frame_type, legacy_id
+from .frames import (
+    ActionFeedback,
+    ActionResult,
+    AdvertiseAction,
+    CancelActionGoal,
+    OpError,
+    SendActionGoal,
+    UnadvertiseAction,
+    frame_int,
+    frame_name,
+    frame_type,
+    legacy_id,
+)
 from .served_action import ServedAction
-
-if TYPE_CHECKING:
-    from .bridge import Bridge
 
 __all__ = ["ActionOps"]
 
 
-class ActionOps:
-    """Mixed into `ClientProtocol`: the goals this client sent, by interaction id, and the
-    actions it serves (`ServedAction`), by name."""
+class ActionOps(Capability):
+    """The goals one client sent, by interaction id, and the actions it serves
+    (`ServedAction`), by name."""
 
-    bridge: Bridge
-    goals: dict[Any, Any]
-    served_actions: dict[str, ServedAction]
+    ops = {SendActionGoal: "op_send_action_goal", CancelActionGoal: "op_cancel_action_goal",
+           AdvertiseAction: "op_advertise_action", UnadvertiseAction: "op_unadvertise_action",
+           ActionFeedback: "op_action_feedback", ActionResult: "op_action_result"}
 
-    if TYPE_CHECKING:  # provided by ClientProtocol
-        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
-        def report(self, level: str, message: str, mid: Any = None) -> None: ...
-        def spawn(self, coro: Awaitable[Any]) -> None: ...
+    def __init__(self, session: Session) -> None:
+        super().__init__(session)
+        self.goals: dict[Any, Any] = {}
+        self.served_actions: dict[str, ServedAction] = {}
 
-    def op_send_action_goal(self, frame: dict[str, Any]) -> None:
-        mid = legacy_id(frame, "action")
-        action = frame.get("action")
-        if not isinstance(action, str):
+    def op_send_action_goal(self, frame: SendActionGoal) -> None:
+        if not frame.action:
             raise OpError("Expected a key 'action' with a string in message")
-        self.spawn(self._send_goal(action, mid, frame))
+        self.spawn(self._send_goal(frame.action, legacy_id(frame, "action"), frame))
 
-    async def _send_goal(self, given: str, mid: Any, frame: dict[str, Any]) -> None:
+    async def _send_goal(self, given: str, mid: Any, frame: SendActionGoal) -> None:
         def reply(values: Any, status: int, ok: bool) -> None:
             out: dict[str, Any] = {"op": "action_result", "action": given, "values": values,
                                    "status": status, "result": ok}
@@ -54,11 +62,11 @@ class ActionOps:
         try:
             action = frame_name(frame, "action")
             action_type = frame_type(frame, "action_type", lookup_action)
-            goal = message_from_json(frame.get("args") or {}, action_type.Goal)
+            goal = message_from_json(frame.args or {}, action_type.Goal)
             served = served_type(action_type, self.bridge.node.graph.actions().get(action, []))
             client = self.bridge.action_client(served, action)
             on_feedback = (self._feedback_sender(given, mid, action_type.Feedback)
-                           if frame.get("feedback") else None)
+                           if frame.feedback else None)
             handle = client.send_goal_async(convert(goal, served.Goal), on_feedback)
             if mid is not None:
                 self.goals[mid] = handle
@@ -90,7 +98,7 @@ class ActionOps:
 
         return on_feedback
 
-    def op_cancel_action_goal(self, frame: dict[str, Any]) -> None:
+    def op_cancel_action_goal(self, frame: CancelActionGoal) -> None:
         mid = legacy_id(frame, "action")
         handle = self.goals.get(mid)
         if handle is None:
@@ -99,7 +107,7 @@ class ActionOps:
 
     # ------------------------------------------------------------------ serving actions
 
-    def op_advertise_action(self, frame: dict[str, Any]) -> None:
+    def op_advertise_action(self, frame: AdvertiseAction) -> None:
         action = frame_name(frame, "action")
         action_type = frame_type(frame, "type", lookup_action)
         old = self.served_actions.get(action)
@@ -118,22 +126,21 @@ class ActionOps:
             policy="parallel")
         self.served_actions[action] = served
 
-    def op_unadvertise_action(self, frame: dict[str, Any]) -> None:
+    def op_unadvertise_action(self, frame: UnadvertiseAction) -> None:
         self.stop_served_action(frame_name(frame, "action"))
 
-    def _served(self, frame: dict[str, Any]) -> ServedAction:
+    def _served(self, frame: ActionFeedback | ActionResult) -> ServedAction:
         action = frame_name(frame, "action")
         served = self.served_actions.get(action)
         if served is None:
             raise OpError(f"Action {action} has not been advertised via rosbridge.")
         return served
 
-    def op_action_feedback(self, frame: dict[str, Any]) -> None:
-        self._served(frame).feedback(frame.get("id"), frame.get("values"))
+    def op_action_feedback(self, frame: ActionFeedback) -> None:
+        self._served(frame).feedback(frame.id, frame.values)
 
-    def op_action_result(self, frame: dict[str, Any]) -> None:
-        self._served(frame).result(frame.get("id"), frame.get("values"), frame.get("status"),
-                                   frame.get("result") is not False)
+    def op_action_result(self, frame: ActionResult) -> None:
+        self._served(frame).result(frame.id, frame.values, frame.status, frame.result)
 
     def stop_served_action(self, action: str) -> None:
         """Abort the action's running goals and close its server (off the loop: closing waits
@@ -143,3 +150,14 @@ class ActionOps:
             return
         served.close()
         self.bridge.loop.run_in_executor(None, served.server.close)
+
+    def close(self) -> None:
+        """Stop the actions this client serves; cancel its goals (a goal of a client that
+        left is canceled, not orphaned)."""
+        for action in list(self.served_actions):
+            self.stop_served_action(action)
+        loop = self.bridge.loop
+        for handle in list(self.goals.values()):
+            if not handle.done:
+                loop.run_in_executor(None, handle.cancel)
+        self.goals.clear()

@@ -1,13 +1,14 @@
 """`ServiceOps`: rosbridge service calls, to zenros services and rosapi, and services a
-client serves (``advertise_service``; its answers come back as ``service_response``)."""
+client serves (``advertise_service``; its answers come back as ``service_response``): a
+`Capability` of one client's session."""
 
 from __future__ import annotations
 
 import asyncio
 import concurrent.futures
 import itertools
-from collections.abc import Awaitable, Callable
-from typing import TYPE_CHECKING, Any, cast
+from collections.abc import Callable
+from typing import Any, cast
 
 from zenros.action.types import CancelGoalRequest
 from zenros.errors import ServiceError, UnknownTypeError, ZenrosError, ZenrosTimeout
@@ -15,14 +16,23 @@ from zenros.message import Message, ServiceType
 from zenros.registry import lookup_service
 
 from .bridge import BridgeError
+from .capability import Capability, Session
 from .convert import message_from_json, request_args, to_json
-from .frames import OpError, frame_int, frame_name, frame_text, frame_type, legacy_id
+from .frames import (
+    AdvertiseService,
+    CallService,
+    OpError,
+    ServiceResponse,
+    UnadvertiseService,
+    frame_int,
+    frame_name,
+    frame_text,
+    frame_type,
+    legacy_id,
+)
 from .opaque import OpaqueService
 from .rosapi import Rosapi, RosapiError
 from .tf_republisher import SERVICE as TF_REPUBLISH_SERVICE
-
-if TYPE_CHECKING:
-    from .bridge import Bridge
 
 __all__ = ["ACTION_CANCEL", "CLIENT_SERVICE_TIMEOUT", "DEFAULT_SERVICE_TIMEOUT", "ServiceOps"]
 
@@ -32,27 +42,28 @@ ACTION_CANCEL = "/_action/cancel_goal"
 """A ROS 2 action's hidden cancel service (roslibjs's ``Action.cancelAllGoals`` calls it)."""
 
 
-class ServiceOps:
-    """Mixed into `ClientProtocol`: calls out, and the services this client serves."""
+class ServiceOps(Capability):
+    """One client's calls out, and the services it serves (the owner of those of a type
+    zenros does not know, `opaque.OpaqueService`)."""
 
-    bridge: Bridge
-    services: dict[str, Any]
-    pending: dict[str, tuple[concurrent.futures.Future[Any], str]]
-    _request_ids: itertools.count[int]
-    _rosapi_turn: asyncio.Lock  # one rosapi call of this client at a time, in order
+    ops = {CallService: "op_call_service", ServiceResponse: "op_service_response",
+           AdvertiseService: "op_advertise_service",
+           UnadvertiseService: "op_unadvertise_service"}
 
-    if TYPE_CHECKING:  # provided by ClientProtocol
-        def send(self, obj: dict[str, Any], fragment_size: int = 0) -> None: ...
-        def report(self, level: str, message: str, mid: Any = None) -> None: ...
-        def spawn(self, coro: Awaitable[Any]) -> None: ...
+    def __init__(self, session: Session) -> None:
+        super().__init__(session)
+        self.services: dict[str, Any] = {}
+        self.pending: dict[str, tuple[concurrent.futures.Future[Any], str]] = {}
+        self._request_ids = itertools.count(1)
+        self._rosapi_turn = asyncio.Lock()  # one rosapi call of this client at a time, in order
 
-    def op_call_service(self, frame: dict[str, Any]) -> None:
+    def op_call_service(self, frame: CallService) -> None:
         mid = legacy_id(frame, "service")
-        given = frame.get("service")
+        given = frame.service
         try:
             service = frame_name(frame, "service")
         except OpError as exc:
-            if isinstance(given, str):
+            if given:
                 self._service_failed(given, mid, str(exc))
                 return
             raise
@@ -67,8 +78,8 @@ class ServiceOps:
         self.send(reply)
 
     async def _call_service(self, service: str, given: str, mid: Any,
-                            frame: dict[str, Any]) -> None:
-        args = frame.get("args") or {}
+                            frame: CallService) -> None:
+        args = frame.args or {}
         try:
             opaque = self.bridge.opaque.services.get(service)
             if opaque is not None:  # a client serves it, in a type zenros does not know
@@ -99,7 +110,7 @@ class ServiceOps:
             reply["id"] = mid
         self.send(reply, frame_int(frame, "fragment_size"))
 
-    async def _call_zenros(self, service: str, args: Any, frame: dict[str, Any]) -> Any:
+    async def _call_zenros(self, service: str, args: Any, frame: CallService) -> Any:
         type_name = self.bridge.service_type_of(service)
         if type_name is None:
             raise OpError(f"Service {service} does not exist")
@@ -116,7 +127,7 @@ class ServiceOps:
         return to_json(response)
 
 
-    def op_advertise_service(self, frame: dict[str, Any]) -> None:
+    def op_advertise_service(self, frame: AdvertiseService) -> None:
         service = frame_name(frame, "service")
         type_name = frame_text(frame, "type")
         if not self.bridge.known(type_name, lookup_service):
@@ -174,25 +185,25 @@ class ServiceOps:
 
         return forward
 
-    def op_service_response(self, frame: dict[str, Any]) -> None:
-        mid = frame.get("id")
+    def op_service_response(self, frame: ServiceResponse) -> None:
+        mid = frame.id
         entry = self.pending.get(mid) if isinstance(mid, str) else None
         if entry is None:
             raise OpError(f"no pending service call with id {mid!r}")
         fut, service = entry
         if fut.done():
             return
-        values = frame.get("values")
+        values = frame.values
         # As the reference servers (ROS 1 and 2), response values are the response, whatever
         # ``result`` says (roslibpy sends a handler's False return as result: false); a
         # failure without values (roslibjs 2) or with a reason (a string) fails the call
-        if frame.get("result", True) is False and not (isinstance(values, dict) and values):
+        if frame.result is False and not (isinstance(values, dict) and values):
             fut.set_exception(ServiceError(service, values if isinstance(values, str)
                                            else "the rosbridge client's handler failed"))
         else:
-            fut.set_result(frame.get("values") or {})
+            fut.set_result(values or {})
 
-    def op_unadvertise_service(self, frame: dict[str, Any]) -> None:
+    def op_unadvertise_service(self, frame: UnadvertiseService) -> None:
         self._stop_service(frame_name(frame, "service"))
 
     def _stop_service(self, service: str) -> None:
@@ -210,10 +221,14 @@ class ServiceOps:
                 fut.set_exception(ServiceError(service, "the service was unadvertised"))
                 self.pending.pop(cid, None)
 
+    def close(self) -> None:
+        for service in list(self.services):
+            self._stop_service(service)
 
-def _timeout(frame: dict[str, Any]) -> float:
+
+def _timeout(frame: CallService) -> float:
     """A ``call_service``'s ``timeout`` (seconds), `DEFAULT_SERVICE_TIMEOUT` if it has none."""
-    timeout = frame.get("timeout")
+    timeout = frame.timeout
     if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or timeout <= 0:
         return DEFAULT_SERVICE_TIMEOUT
     return float(timeout)

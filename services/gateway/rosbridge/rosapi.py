@@ -8,7 +8,7 @@ sends them; names may be ``/node:param`` (rosapi style) or plain ``/node/param``
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, Protocol
 
 from zenros.errors import UnknownTypeError, ZenrosError
@@ -18,7 +18,12 @@ from zenros.registry import lookup_action, lookup_service, lookup_type
 from .convert import long_type
 from .typedefs import typedefs
 
-__all__ = ["ROSAPI", "Rosapi", "RosapiError", "param_name"]
+__all__ = ["ROSAPI", "Args", "Rosapi", "RosapiError", "Values", "param_name"]
+
+Args = Mapping[str, object]
+"""A rosapi request's arguments by name, as the client sent them (JSON values)."""
+Values = dict[str, object]
+"""A rosapi response's values by name (encoded as JSON)."""
 
 PREFIX = "/rosapi/"
 
@@ -58,7 +63,7 @@ def param_name(name: str) -> str:
     return name if name.startswith("/") else "/" + name
 
 
-def _str(args: dict[str, Any], key: str, default: str | None = None) -> str:
+def _str(args: Args, key: str, default: str | None = None) -> str:
     value = args.get(key, default)
     if not isinstance(value, str):
         if value is None:
@@ -83,7 +88,7 @@ class Rosapi:
         self._params = params
         self._now = now
         self._distro = distro
-        self._handlers: dict[str, Callable[[dict[str, Any]], dict[str, Any]]] = {
+        self._handlers: dict[str, Callable[[Args], Values]] = {
             name: getattr(self, "_" + name) for name in ROSAPI
         }
 
@@ -91,7 +96,7 @@ class Rosapi:
     def handles(service: str) -> bool:
         return service.startswith(PREFIX)
 
-    def call(self, service: str, args: dict[str, Any]) -> dict[str, Any]:
+    def call(self, service: str, args: Args) -> Values:
         """The response values of rosapi ``service`` (``/rosapi/topics``).
 
         Raises:
@@ -114,14 +119,14 @@ class Rosapi:
             out.setdefault(name, type_name)
         return out
 
-    def _topics(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _topics(self, args: Args) -> Values:
         topics = self._all_topics()
         return {"topics": list(topics), "types": list(topics.values())}
 
-    def _topic_type(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _topic_type(self, args: Args) -> Values:
         return {"type": self._all_topics().get(_slash(_str(args, "topic")), "")}
 
-    def _topics_for_type(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _topics_for_type(self, args: Args) -> Values:
         want = long_type(_str(args, "type"))
         return {"topics": [n for n, t in self._all_topics().items() if t == want]}
 
@@ -132,51 +137,54 @@ class Rosapi:
         out.update({PREFIX + n: f"rosapi/srv/{_camel(n)}" for n in ROSAPI})
         return dict(sorted(out.items()))
 
-    def _services(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _services(self, args: Args) -> Values:
         return {"services": list(self._all_services())}
 
-    def _service_type(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _service_type(self, args: Args) -> Values:
         return {"type": self._all_services().get(_slash(_str(args, "service")), "")}
 
-    def _services_for_type(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _services_for_type(self, args: Args) -> Values:
         want = long_type(_str(args, "type"), "srv")
         return {"services": [n for n, t in self._all_services().items() if t == want]}
 
-    def _service_providers(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _providers(self, args: Args) -> list[str]:
         name = _slash(_str(args, "service"))
-        return {"providers": sorted({t.node for t in self._graph.servers(name)})}
+        return sorted({t.node for t in self._graph.servers(name)})
 
-    def _service_node(self, args: dict[str, Any]) -> dict[str, Any]:
-        providers = self._service_providers(args)["providers"]
+    def _service_providers(self, args: Args) -> Values:
+        return {"providers": self._providers(args)}
+
+    def _service_node(self, args: Args) -> Values:
+        providers = self._providers(args)
         return {"node": providers[0] if providers else ""}
 
-    def _nodes(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _nodes(self, args: Args) -> Values:
         return {"nodes": self._graph.node_names()}
 
-    def _node_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _node_details(self, args: Args) -> Values:
         ends = self._graph.endpoints_of(_slash(_str(args, "node")))
         return {"subscribing": sorted({t.name for t in ends.get("sub", [])}),
                 "publishing": sorted({t.name for t in ends.get("pub", [])}),
                 "services": sorted({t.name for t in ends.get("srv", [])})}
 
-    def _publishers(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _publishers(self, args: Args) -> Values:
         topic = _slash(_str(args, "topic"))
         return {"publishers": sorted({t.node for t in self._graph.publishers(topic)})}
 
-    def _subscribers(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _subscribers(self, args: Args) -> Values:
         topic = _slash(_str(args, "topic"))
         return {"subscribers": sorted({t.node for t in self._graph.subscribers(topic)})}
 
-    def _action_servers(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _action_servers(self, args: Args) -> Values:
         return {"action_servers": list(self._graph.actions())}
 
-    def _action_type(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _action_type(self, args: Args) -> Values:
         types = self._graph.actions().get(_slash(_str(args, "action")))
         return {"type": long_type(types[0], "action") if types else ""}
 
     # ------------------------------------------------------------------ parameters
 
-    def _get_param(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _get_param(self, args: Args) -> Values:
         name = param_name(_str(args, "name"))
         default = args.get("default_value", "")
         found, value = self._params.lookup(name)
@@ -187,7 +195,7 @@ class Rosapi:
         # as rosapi: the value is JSON text even then ("null"; roslibpy's Param.get() -> None)
         return {"value": "null", "successful": False, "reason": f"parameter {name} is not set"}
 
-    def _set_param(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _set_param(self, args: Args) -> Values:
         name = param_name(_str(args, "name"))
         text = _str(args, "value")
         try:
@@ -202,10 +210,10 @@ class Rosapi:
             return {"successful": False, "reason": str(exc)}
         return {"successful": True, "reason": ""}
 
-    def _has_param(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _has_param(self, args: Args) -> Values:
         return {"exists": self._params.has(param_name(_str(args, "name")))}
 
-    def _delete_param(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _delete_param(self, args: Args) -> Values:
         name = param_name(_str(args, "name"))
         try:
             self._params.delete(name)
@@ -213,36 +221,36 @@ class Rosapi:
             return {"successful": False, "reason": str(exc)}
         return {"successful": True, "reason": ""}
 
-    def _get_param_names(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _get_param_names(self, args: Args) -> Values:
         return {"names": self._params.list("/")}
 
     # ------------------------------------------------------------------ type details
 
-    def _message_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _message_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_type, _str(args, "type")))}
 
-    def _service_request_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _service_request_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_service, _str(args, "type")).Request)}
 
-    def _service_response_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _service_response_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_service, _str(args, "type")).Response)}
 
-    def _action_goal_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _action_goal_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Goal)}
 
-    def _action_result_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _action_result_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Result)}
 
-    def _action_feedback_details(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _action_feedback_details(self, args: Args) -> Values:
         return {"typedefs": typedefs(_lookup(lookup_action, _str(args, "type")).Feedback)}
 
     # ------------------------------------------------------------------ time, version
 
-    def _get_time(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _get_time(self, args: Args) -> Values:
         t = self._now()
         return {"time": {"sec": t.sec, "nanosec": t.nanosec, "secs": t.sec, "nsecs": t.nanosec}}
 
-    def _get_ros_version(self, args: dict[str, Any]) -> dict[str, Any]:
+    def _get_ros_version(self, args: Args) -> Values:
         return {"version": 2, "distro": self._distro}
 
 

@@ -25,15 +25,13 @@ import asyncio
 import itertools
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from zenros.tf import LATEST, Buffer, TransformException, TransformListener
 
 from .convert import to_json
 from .frames import OpError
-
-if TYPE_CHECKING:
-    from .bridge import Bridge
+from .host import BridgeHost
 
 __all__ = ["ACTION", "SERVICE", "TFRepublisher"]
 
@@ -121,7 +119,7 @@ class Stream:
 class TFRepublisher:
     """The republisher of one bridge (on its loop): the service, the action, their streams."""
 
-    def __init__(self, bridge: Bridge) -> None:
+    def __init__(self, bridge: BridgeHost) -> None:
         self._bridge = bridge
         self._buffer: Buffer | None = None
         self._listener: TransformListener | None = None

@@ -71,7 +71,7 @@ class NavPort(Protocol):
 class Core:
     """Robot state, the latest GalileoStatus, the dead-man speed command, tokens, settings.
 
-    The zenros side (`link.RobotLink`) feeds `state` and calls `refresh()` at 30 Hz; REST,
+    The zenros side (`robot_topics.RobotTopics`) feeds `state` and calls `refresh()` at 30 Hz; REST,
     WebSocket, Modbus and serial read `status` and command through `deadman` and `native`.
     """
 

@@ -22,7 +22,7 @@ from zenros.services.gateway.errors import PortError, Unavailable, port_error
 from zenros.services.gateway.http.app import build_api
 from zenros.services.gateway.http.context import Context
 from zenros.services.gateway.ports.map_archive import MAX_ARCHIVE
-from zenros.services.gateway.ports.nav_calls import NavCalls
+from zenros.services.gateway.ports.nav_services import SERVICES, NavServices
 from zenros.services.gateway.ports.slam_link import (
     ExploreProgress,
     MappingSummary,
@@ -120,14 +120,18 @@ class FakeSlam:
         self._do("cancel_explore")
 
 
-class FakeNavLink:
-    """Nav's services: ``answers[name](request)`` answers, ``calls`` records them."""
+class FakeNavServices:
+    """Nav's services: ``answers[name](request)`` answers (``name``: the service's, as
+    `SERVICES` says for its type), ``calls`` records them."""
+
+    current_map = NavServices.current_map
 
     def __init__(self) -> None:
         self.calls: list[tuple[str, Any]] = []
         self.answers: dict[str, Any] = {}
 
-    async def call(self, name: str, request: Any) -> Any:
+    async def call(self, srv: Any, request: Any) -> Any:
+        name = SERVICES[srv]
         self.calls.append((name, request))
         if name not in self.answers:
             raise port_error(ResultCode.UNAVAILABLE, f"no stand-in for {name}")
@@ -136,6 +140,9 @@ class FakeNavLink:
 
     def names(self) -> list[str]:
         return [n for n, _ in self.calls]
+
+    def publish_initialpose(self, x: float, y: float, theta: float) -> None:
+        self.calls.append(("initialpose", (x, y, theta)))
 
 
 class FakeNav:
@@ -150,6 +157,9 @@ class FakeNav:
     def open(self) -> None:
         self.opened += 1
 
+    async def point(self, index: int) -> tuple[float, float, float]:
+        raise AssertionError("no nav point is read here")
+
 
 class Rig:
     def __init__(self, tmp: Path) -> None:
@@ -157,13 +167,12 @@ class Rig:
         self.core = Core(GatewayConfig(no_token_check=True), Settings(tmp / "settings.json"),
                          make_identity("/r", "6.6.8", 0), startup_grace=0.0)
         self.slam = FakeSlam(self.core)
-        self.link = FakeNavLink()
+        self.link = FakeNavServices()
         self.nav = FakeNav()
         self.link.answers["map_server/current_map"] = zm.GetCurrentMapResponse(name="office")
         none = cast(Any, None)
-        calls = NavCalls(self.core, cast(Any, self.nav), cast(Any, self.link), none)
-        self.ctx = Context(core=self.core, tasks=none, calls=calls,
-                           nav_link=cast(Any, self.link), io=none, link=none, hub=none,
+        self.ctx = Context(core=self.core, tasks=none, nav_actions=cast(Any, self.nav),
+                           nav_services=cast(Any, self.link), io=none, topics=none, hub=none,
                            params=none, files=none, speech=none, audio=none, coverage=none,
                            slam=self.slam)
         self.http = AsgiClient(build_api(self.ctx), "/api/v1")

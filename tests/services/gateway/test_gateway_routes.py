@@ -7,13 +7,13 @@ from __future__ import annotations
 import re
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, cast
+from typing import Any, cast, get_args, get_type_hints
 
+import msgspec
 import numpy as np
 import pytest
 from zenros.maps import GridMap
 from zenros.msgs.nav_msgs import OccupancyGrid
-from zenros.msgs.zenros_msgs import GetCurrentMapResponse
 from zenros.msgs.zenros_msgs.chassis import IoState
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.msgs.zenros_msgs.task_docs import Task
@@ -27,11 +27,12 @@ from zenros.services.gateway.errors import (
     Unavailable,
     port_error,
 )
-from zenros.services.gateway.http.api import STATUS, api_error
+from zenros.services.gateway.http.api import STATUS, Answer, Call, api_error
 from zenros.services.gateway.http.app import HttpApp, build_api
 from zenros.services.gateway.http.context import Context
 from zenros.services.gateway.http.fleet import FleetApi
-from zenros.services.gateway.ports.nav_calls import NavCalls
+from zenros.services.gateway.ports.nav_actions import NavActions
+from zenros.services.gateway.ports.tasks_link import TasksLink
 from zenros.services.gateway.state.config import GatewayConfig
 from zenros.services.gateway.state.core import Core, make_identity
 from zenros.services.gateway.state.settings import Settings
@@ -67,6 +68,8 @@ class FakeTasks:
     async def create(self, task: Task) -> Task:
         return self._answer("create", task.name, task)
 
+    run_task = TasksLink.run_task  # the real policy, over these calls
+
 
 class FakeIo:
     """The chassis IO port: raises ``error`` when set, else keeps the level."""
@@ -88,21 +91,22 @@ class FakeIo:
 
 
 class FakeNav:
-    """What the loop routes read of the navigator."""
+    """What the loop and goal routes use of the nav actions port (`NavActions`)."""
 
     loop_task_id = ""
     path_name = ""
+    same_map = NavActions.same_map
 
 
 class FakeMapLink:
-    """nav's map as a goal on the current map reads it: the map's name and its grid."""
+    """nav's map as a goal on the current map reads it (`NavServices`): the map's name and
+    its grid."""
 
     def __init__(self, grid: OccupancyGrid) -> None:
         self.grid = grid
 
-    async def call(self, name: str, request: object) -> GetCurrentMapResponse:
-        assert name == "map_server/current_map", name
-        return GetCurrentMapResponse(name="office")
+    async def current_map(self) -> str:
+        return "office"
 
 
 class Rig:
@@ -112,10 +116,9 @@ class Rig:
         self.tasks, self.io, self.nav = FakeTasks(), FakeIo(), FakeNav()
         none = cast(Any, None)  # ports these tests do not reach
         tasks = cast(Any, self.tasks)
-        calls = NavCalls(self.core, cast(Any, self.nav), none, tasks)
-        self.ctx = Context(core=self.core, tasks=tasks, calls=calls, nav_link=none,
-                           io=cast(Any, self.io), link=none, hub=none, params=none,
-                           files=none, speech=none, audio=none, coverage=none)
+        self.ctx = Context(core=self.core, tasks=tasks, nav_actions=cast(Any, self.nav),
+                           nav_services=none, io=cast(Any, self.io), topics=none, hub=none,
+                           params=none, files=none, speech=none, audio=none, coverage=none)
         self.http = AsgiClient(build_api(self.ctx), "/api/v1")
 
 
@@ -163,8 +166,8 @@ def test_io_routes_work_on_the_io_port(rig: Rig) -> None:
 
 
 def test_the_loop_task_is_navs_loop_task(rig: Rig) -> None:
-    """GET and DELETE /navigation/loop_task act on the navigator's loop task id (kept by
-    the navigator, cleared when the task ends), not on a list of their own."""
+    """GET and DELETE /navigation/loop_task act on the nav actions port's loop task id (kept
+    by it, cleared when the task ends), not on a list of their own."""
     assert rig.http.get("/navigation/loop_task").status_code == 404
     assert rig.http.delete("/navigation/loop_task").status_code == 404
     rig.nav.loop_task_id = "loop1"
@@ -183,8 +186,9 @@ def test_a_goal_inside_an_obstacle_is_refused_at_once(rig: Rig) -> None:
     cells = np.zeros((40, 60), dtype=np.int8)
     cells[20:30, 30:40] = 100  # a block: x 0.50..1.00, y 0.00..0.50
     cells[0, 0] = -1           # unknown space is not an obstacle to nav
-    rig.ctx.calls.link = cast(Any, FakeMapLink(GridMap(cells, 0.05, (-1.0, -1.0, 0.0))
-                                              .to_msg()))
+    rig.ctx = replace(rig.ctx, nav_services=cast(Any, FakeMapLink(
+        GridMap(cells, 0.05, (-1.0, -1.0, 0.0)).to_msg())))
+    rig.http = AsgiClient(build_api(rig.ctx), "/api/v1")
     r = rig.http.post("/navigation/start_nav_task", json={"x": 0.75, "y": 0.25})
     assert r.status_code == 400, r.text
     assert r.json() == {"status": "error",
@@ -219,8 +223,9 @@ def _bare_context() -> Context:
     core = Core(GatewayConfig(no_token_check=True), Settings(None),
                 make_identity("/r", "6.6.8", 0))
     none = cast(Any, None)
-    return Context(core=core, tasks=none, calls=none, nav_link=none, io=none, link=none,
-                   hub=none, params=none, files=none, speech=none, audio=none, coverage=none)
+    return Context(core=core, tasks=none, nav_actions=none, nav_services=none, io=none,
+                   topics=none, hub=none, params=none, files=none, speech=none, audio=none,
+                   coverage=none)
 
 
 def _doc_operations(marker: str) -> set[tuple[str, str]]:
@@ -245,11 +250,11 @@ def test_the_api_reference_lists_what_is_implemented_and_what_answers_501() -> N
 def test_a_fleet_gateways_openapi_lists_every_robots_paths() -> None:
     """A fleet gateway's openapi.json has GET /api/v1/robots and each operation again under
     /api/v1/robots/{robot}: the same operations the robot's index lists under its prefix."""
-    class Link:  # what the list reads of a robot's link
+    class Topics:  # what the list reads of a robot's topics
         def fresh(self, what: str) -> bool:
             return True
 
-    robots = {name: build_api(replace(_bare_context(), link=cast(Any, Link())))
+    robots = {name: build_api(replace(_bare_context(), topics=cast(Any, Topics())))
               for name in ("robot1", "robot2")}
     fleet = FleetApi(robots["robot1"].tokens, "robot1")
     for name, api in robots.items():
@@ -278,3 +283,34 @@ def test_a_fleet_gateways_openapi_lists_every_robots_paths() -> None:
     # a single robot's gateway documents its own paths only
     alone = AsgiClient(build_api(_bare_context()), "/api/v1").get("/openapi.json").json()
     assert set(alone["paths"]) == set(single)
+
+
+class _Point(msgspec.Struct, forbid_unknown_fields=True):
+    x: float
+
+
+async def _moved(call: Call[_Point, None]) -> Answer:
+    """Echo the body's ``x`` (typed: ``call.body`` is a `_Point`)."""
+    return {"x": call.body.x}
+
+
+def test_a_handlers_call_annotation_is_what_the_request_decodes_into() -> None:
+    """``Call[Body, Query]`` in a handler's signature is the one place its input is typed:
+    `Api.add` takes the body and query types from it (a request that does not fit is a 400
+    naming the field), and a route that says otherwise is refused when it is added."""
+    api = build_api(_bare_context())
+    ep = api.add("POST", "/test/moved", _moved)
+    assert (ep.body, ep.query) == (_Point, None)
+    http = AsgiClient(api, "/api/v1")
+    assert http.post("/test/moved", json={"x": 1.5}).json() == {"x": 1.5}
+    bad = http.post("/test/moved", json={"x": "far"})
+    assert bad.status_code == 400 and "`x`" in bad.json()["description"]
+    with pytest.raises(ValueError, match="takes a body of _Point"):
+        api.add("PUT", "/test/moved", _moved, body=Task)
+    for e in build_api(_bare_context()).endpoints():  # every route agrees with its handler
+        hinted = get_type_hints(e.handler, include_extras=True)
+        args = get_args(next(v for k, v in hinted.items() if k != "return"))
+        if args and args[0] is not Any:
+            assert e.body == (None if args[0] is type(None) else args[0]), e.path
+        if args:
+            assert e.query == (None if args[1] is type(None) else args[1]), e.path

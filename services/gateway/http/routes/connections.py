@@ -8,9 +8,9 @@ from typing import Annotated, Any, Literal
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Name
-from ..api import Api, Call
+from ..api import Answer, Api, Call
 from ..context import Context
+from ..fields import Name
 
 __all__ = ["add_connection_routes"]
 
@@ -40,8 +40,8 @@ class IdQuery(msgspec.Struct, forbid_unknown_fields=True):
 
 
 async def floors(ctx: Context) -> dict[str, tuple[str, list[int]]]:
-    link = ctx.nav_link
-    res = await link.call("map_server/list_maps", zm.ListMapsRequest())
+    link = ctx.nav_services
+    res = await link.call(zm.ListMaps, zm.ListMapsRequest())
     return {m.name: (m.type or "floor", list(m.levels)) for m in res.maps}
 
 
@@ -56,11 +56,11 @@ def connection(c: Any, kinds: dict[str, tuple[str, list[int]]]) -> dict[str, Any
             "type": c.type, "is_available": c.is_available, "id": c.id}
 
 
-async def get_connections(call: Call) -> Any:
+async def get_connections(call: Call[None, None]) -> Answer:
     """Every nav point of every map (``points``) and every connection
     (``connections``)."""
-    link = call.ctx.nav_link
-    res = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
+    link = call.ctx.nav_services
+    res = await link.call(zm.ListPointConnections, zm.ListPointConnectionsRequest())
     kinds = await floors(call.ctx)
     points = [{"x": p.x, "y": p.y, "theta": p.theta, "name": p.name, **ref(p, kinds)}
               for p in res.points]
@@ -68,21 +68,21 @@ async def get_connections(call: Call) -> Any:
             "connections": [connection(c, kinds) for c in res.connections]}
 
 
-async def post_connection(call: Call) -> Any:
+async def post_connection(call: Call[ConnectionBody, None]) -> Answer:
     """Connect two existing nav points, ``direct`` (the same spot in two maps) or via
     an ``elevator``; returns the connection with its ``id``."""
-    link = call.ctx.nav_link
-    b: ConnectionBody = call.body
-    res = await link.call("add_point_connection", zm.AddPointConnectionRequest(
+    link = call.ctx.nav_services
+    b = call.body
+    res = await link.call(zm.AddPointConnection, zm.AddPointConnectionRequest(
         points=[zm.PointRef(map_name=p.map, path_name=p.path, index=p.index)
                 for p in b.points], type=b.type, is_available=b.is_available))
     return connection(res.connection, await floors(call.ctx))
 
 
-async def delete_connection(call: Call) -> Any:
+async def delete_connection(call: Call[None, IdQuery]) -> Answer:
     """Delete the connection ``id``."""
-    link = call.ctx.nav_link
-    await link.call("delete_point_connection",
+    link = call.ctx.nav_services
+    await link.call(zm.DeletePointConnection,
                     zm.DeletePointConnectionRequest(id=call.query.id))
     return {"status": "ok"}
 
@@ -90,5 +90,5 @@ async def delete_connection(call: Call) -> Any:
 def add_connection_routes(api: Api) -> None:
     """Route the point-connection operations."""
     api.add("GET", "/navigation/point_connections", get_connections)
-    api.add("POST", "/navigation/point_connections", post_connection, body=ConnectionBody)
-    api.add("DELETE", "/navigation/point_connections", delete_connection, query=IdQuery)
+    api.add("POST", "/navigation/point_connections", post_connection)
+    api.add("DELETE", "/navigation/point_connections", delete_connection)

@@ -4,14 +4,14 @@ planned by the nav service's ``compute_coverage_path`` (computed only, never dri
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any
+from typing import Annotated
 
 import msgspec
 from zenros.msgs.geometry_msgs import Point
 from zenros.msgs.zenros_msgs import ComputeCoveragePathRequest, CoverageHole
 
-from ...ports.nav_calls import Coord
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
+from ..fields import Coord
 
 __all__ = ["CoverageBody", "add_coverage_routes"]
 
@@ -37,9 +37,9 @@ def _points(poly: list[list[float]]) -> list[Point]:
     return [Point(x=p[0], y=p[1], z=p[2] if len(p) > 2 else 0.0) for p in poly]
 
 
-async def post_coverage_path(call: Call) -> Any:
+async def post_coverage_path(call: Call[CoverageBody, None]) -> Answer:
     """Plan (not drive) a back-and-forth path covering ``border`` minus ``holes``."""
-    b: CoverageBody = call.body
+    b = call.body
     for name in ("op_width", "swath_angle", "turn_radius", "headland_width"):
         if not math.isfinite(getattr(b, name)):
             raise ApiError(400, f"{name} must be a finite number")
@@ -57,4 +57,4 @@ async def post_coverage_path(call: Call) -> Any:
 
 def add_coverage_routes(api: Api) -> None:
     """Route the coverage-path operation to nav's service (``call.ctx.coverage``)."""
-    api.add("POST", "/navigation/coverage_path", post_coverage_path, body=CoverageBody)
+    api.add("POST", "/navigation/coverage_path", post_coverage_path)

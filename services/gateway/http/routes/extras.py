@@ -16,9 +16,10 @@ from zenros.errors import (
     ZenrosError,
     ZenrosTimeout,
 )
+from zenros.msgs.diagnostic_msgs import DiagnosticStatus
 
 from ...ports.topic_hub import Slot, TopicError
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_extra_routes"]
 
@@ -51,13 +52,13 @@ async def _params(fn: Callable[[], Any]) -> Any:
         raise ApiError(400, str(exc)) from exc
 
 
-async def log(call: Call) -> Any:
+async def log(call: Call[None, None]) -> Answer:
     """The recent system log (``/rosout``), oldest first."""
-    link = call.ctx.link
+    link = call.ctx.topics
     return {"log": "\n".join(link.log)}
 
 
-async def topic(call: Call) -> Any:
+async def topic(call: Call[None, TopicQuery]) -> Answer:
     """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
     hub = call.ctx.hub
     try:
@@ -78,30 +79,38 @@ async def topic(call: Call) -> Any:
     return msgspec.Raw(frame.encode())
 
 
-async def self_test(call: Call) -> Any:
-    """Which parts answer now: motor driver (odom), lidar (scan), battery, charger."""
-    link = call.ctx.link
-    return {"motor_driver": link.fresh("odom"), "camera": False,
-            "charge": link.fresh("chassis/state"), "lidar": link.fresh("scan"),
-            "bluetooth": False, "battery": link.fresh("battery_state")}
+async def self_test(call: Call[None, None]) -> Answer:
+    """Which parts are OK now: from the aggregated diagnostics (docs/diagnostics.md) where
+    the aggregator reports the part (not ERROR or STALE), else whether its topic answers:
+    motor driver (odom), lidar (scan), battery; the charger (chassis/state)."""
+    topics = call.ctx.topics
+    tree = topics.diagnostics()
+
+    def part(name: str, topic: str) -> bool:
+        status = tree.get(name) if tree is not None else None
+        return status.level < DiagnosticStatus.ERROR if status is not None else topics.fresh(topic)
+
+    return {"motor_driver": part("/Chassis/motors", "odom"), "camera": False,
+            "charge": topics.fresh("chassis/state"), "lidar": part("/Chassis/laser", "scan"),
+            "bluetooth": False, "battery": part("/Chassis/battery", "battery_state")}
 
 
-async def get_param(call: Call) -> Any:
+async def get_param(call: Call[None, ParamQuery]) -> Answer:
     """A parameter (or a namespace as an object) from the parameter server."""
     params = call.ctx.params
     name = call.query.param
     return {"value": await _params(lambda: params.get(name))}
 
 
-async def put_param(call: Call) -> Any:
+async def put_param(call: Call[ParamBody, None]) -> Answer:
     """Set a parameter; answers the value stored."""
     params = call.ctx.params
-    b: ParamBody = call.body
+    b = call.body
     await _params(lambda: params.set(b.param, b.value))
     return {"value": b.value}
 
 
-async def schedule_manager(call: Call) -> Any:
+async def schedule_manager(call: Call[None, None]) -> Answer:
     """The multi-robot schedule manager the robot is connected to: none (empty)."""
     return {}
 
@@ -110,7 +119,7 @@ def add_extra_routes(api: Api) -> None:
     """Route the extra system operations."""
     api.add("GET", "/system/log", log)
     api.add("GET", "/system/schedule_manager", schedule_manager)
-    api.add("GET", "/system/topic", topic, query=TopicQuery)
+    api.add("GET", "/system/topic", topic)
     api.add("GET", "/system/self_test", self_test)
-    api.add("GET", "/system/ros_params", get_param, query=ParamQuery)
-    api.add("PUT", "/system/ros_params", put_param, body=ParamBody)
+    api.add("GET", "/system/ros_params", get_param)
+    api.add("PUT", "/system/ros_params", put_param)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
-from typing import Annotated, Any
+from typing import Annotated, TypeVar
 
 import msgspec
 from starlette.datastructures import UploadFile
@@ -15,9 +15,11 @@ from starlette.responses import FileResponse
 from starlette.types import Message, Receive
 
 from ...ports.fs_sandbox import FsError
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_fs_routes"]
+
+T = TypeVar("T")
 
 PathText = Annotated[str, msgspec.Meta(min_length=1, max_length=4096)]
 
@@ -52,7 +54,7 @@ class DeleteBody(msgspec.Struct, forbid_unknown_fields=True):
     delete: Annotated[list[PathText], msgspec.Meta(min_length=1, max_length=1000)]
 
 
-async def _fs(fn: Callable[[], Any]) -> Any:
+async def _fs(fn: Callable[[], T]) -> T:
     try:
         return await asyncio.to_thread(fn)
     except FsError as exc:
@@ -77,14 +79,14 @@ def _limited(receive: Receive, limit: int) -> Receive:
     return wrapped
 
 
-async def download(call: Call) -> Any:
+async def download(call: Call[None, PathQuery]) -> Answer:
     """Download a file (its bytes, with a guessed content type)."""
     root = call.ctx.files
     full = await _fs(lambda: root.file(call.query.path))
     return FileResponse(full, filename=full.name)
 
 
-async def upload(call: Call) -> Any:
+async def upload(call: Call[None, OptionalPath]) -> Answer:
     """Upload a multipart form field ``file`` to ``path`` (form field or query).
 
     ``path`` names the file, or a folder (existing, or ending in ``/``) to put it in
@@ -121,64 +123,64 @@ async def upload(call: Call) -> Any:
     return {"status": "ok", "path": root.relative(full), "size": size}
 
 
-async def rename(call: Call) -> Any:
+async def rename(call: Call[RenameBody, None]) -> Answer:
     """Rename or move ``name`` to ``new_name``."""
     root = call.ctx.files
-    b: RenameBody = call.body
+    b = call.body
     new = await _fs(lambda: root.move(b.name, b.new_name))
     return {"status": "ok", "path": new}
 
 
-async def delete_file(call: Call) -> Any:
+async def delete_file(call: Call[None, PathQuery]) -> Answer:
     """Delete a file (or a symbolic link)."""
     root = call.ctx.files
     await _fs(lambda: root.remove_file(call.query.path))
     return {"status": "ok"}
 
 
-async def list_dir(call: Call) -> Any:
+async def list_dir(call: Call[None, PathQuery]) -> Answer:
     """List a folder: ``files`` and ``directories`` (names, sorted)."""
     root = call.ctx.files
     return await _fs(lambda: root.list_dir(call.query.path))
 
 
-async def make_dir(call: Call) -> Any:
+async def make_dir(call: Call[PathBody, None]) -> Answer:
     """Create a folder (with missing parents)."""
     root = call.ctx.files
     await _fs(lambda: root.make_dir(call.body.path))
     return {"status": "ok"}
 
 
-async def delete_dir(call: Call) -> Any:
+async def delete_dir(call: Call[None, PathQuery]) -> Answer:
     """Delete a folder and everything in it."""
     root = call.ctx.files
     await _fs(lambda: root.remove_dir(call.query.path))
     return {"status": "ok"}
 
 
-async def file_info(call: Call) -> Any:
+async def file_info(call: Call[None, PathQuery]) -> Answer:
     """Stat a path: ``mode``, ``size``, ``atime``, ``mtime``, ``ctime``, ``mimetype``."""
     root = call.ctx.files
     return await _fs(lambda: root.info(call.query.path))
 
 
-async def copy(call: Call) -> Any:
+async def copy(call: Call[FromTo, None]) -> Answer:
     """Copy a file or folder ``from`` to ``to``."""
     root = call.ctx.files
-    b: FromTo = call.body
+    b = call.body
     new = await _fs(lambda: root.copy(b.from_, b.to))
     return {"status": "ok", "path": new}
 
 
-async def cut(call: Call) -> Any:
+async def cut(call: Call[FromTo, None]) -> Answer:
     """Move a file or folder ``from`` to ``to``."""
     root = call.ctx.files
-    b: FromTo = call.body
+    b = call.body
     new = await _fs(lambda: root.move(b.from_, b.to))
     return {"status": "ok", "path": new}
 
 
-async def delete_many(call: Call) -> Any:
+async def delete_many(call: Call[DeleteBody, None]) -> Answer:
     """Delete the files and folders listed in ``delete`` (all checked first)."""
     root = call.ctx.files
     await _fs(lambda: root.remove_many(call.body.delete))
@@ -187,15 +189,15 @@ async def delete_many(call: Call) -> Any:
 
 def add_fs_routes(api: Api) -> None:
     """Route the §16 file operations on ``root``."""
-    api.add("GET", "/fs/file_api", download, query=PathQuery,
+    api.add("GET", "/fs/file_api", download,
             media_type="application/octet-stream")
-    api.add("POST", "/fs/file_api", upload, query=OptionalPath, raw_body=True)
-    api.add("PUT", "/fs/file_api", rename, body=RenameBody)
-    api.add("DELETE", "/fs/file_api", delete_file, query=PathQuery)
-    api.add("GET", "/fs/dir_api", list_dir, query=PathQuery)
-    api.add("POST", "/fs/dir_api", make_dir, body=PathBody)
-    api.add("DELETE", "/fs/dir_api", delete_dir, query=PathQuery)
-    api.add("GET", "/fs/get_file_info", file_info, query=PathQuery)
-    api.add("POST", "/fs/copy", copy, body=FromTo)
-    api.add("POST", "/fs/delete", delete_many, body=DeleteBody)
-    api.add("POST", "/fs/cut", cut, body=FromTo)
+    api.add("POST", "/fs/file_api", upload, raw_body=True)
+    api.add("PUT", "/fs/file_api", rename)
+    api.add("DELETE", "/fs/file_api", delete_file)
+    api.add("GET", "/fs/dir_api", list_dir)
+    api.add("POST", "/fs/dir_api", make_dir)
+    api.add("DELETE", "/fs/dir_api", delete_dir)
+    api.add("GET", "/fs/get_file_info", file_info)
+    api.add("POST", "/fs/copy", copy)
+    api.add("POST", "/fs/delete", delete_many)
+    api.add("POST", "/fs/cut", cut)

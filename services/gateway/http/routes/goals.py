@@ -7,7 +7,7 @@ paused and stopped like any other.
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated
 
 import msgspec
 from zenros.msgs import zenros_msgs as zm
@@ -16,10 +16,10 @@ from zenros.msgs.zenros_msgs.task_docs import as_document
 from ...errors import Conflict
 from ...ports.crossing import check_route
 from ...ports.map_goal import check_goal_free
-from ...ports.nav_calls import Angle, Coord, OptName
 from ...state.core import NavUnavailable
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
+from ..fields import Angle, Coord, OptName
 
 __all__ = ["add_goal_routes"]
 
@@ -44,8 +44,8 @@ class LoopBody(msgspec.Struct, forbid_unknown_fields=True):
 
 
 async def only_path(ctx: Context, map_name: str) -> str:
-    link = ctx.calls.link
-    res = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
+    link = ctx.nav_services
+    res = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=map_name))
     if len(res.paths) != 1:
         names = ", ".join(p.path_name for p in res.paths) or "none"
         raise ApiError(400, f"give the path: map {map_name!r} has {len(res.paths)} "
@@ -57,22 +57,22 @@ async def current_path(ctx: Context) -> str:
     """The current path (``/navigation/start?path=``, else the map's first); 409 when the
     map has none, 503 when nav does not answer."""
     try:
-        return await ctx.calls.nav.current_path()
+        return await ctx.nav_actions.current_path()
     except NavUnavailable as exc:
         raise ctx.core.presence.error("nav", str(exc)) from exc
     except ValueError as exc:
         raise ApiError(409, str(exc)) from exc
 
 
-async def start_nav_task(call: Call) -> Any:
+async def start_nav_task(call: Call[NavTaskBody, None]) -> Answer:
     """Go to ``x``, ``y``, ``theta`` (on ``map``: across maps through the point
     connections); returns the started navigation task."""
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
-    current_map = call.ctx.calls.current_map
-    same_map = call.ctx.calls.same_map
-    b: NavTaskBody = call.body
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
+    current_map = call.ctx.nav_services.current_map
+    same_map = call.ctx.nav_actions.same_map
+    b = call.body
     action = zm.NavAction(x=b.x, y=b.y, theta=b.theta)
     current = await current_map()
     if b.map and b.map != current:  # across maps (§6.7): the task finds the route
@@ -85,19 +85,19 @@ async def start_nav_task(call: Call) -> Any:
     return await run_task("navigation task", [action])
 
 
-async def move_to_index(call: Call) -> Any:
+async def move_to_index(call: Call[None, IndexQuery]) -> Answer:
     """Go to nav point ``index`` of the current path, or of ``path`` on another
     ``map`` (across maps through the point connections); returns the started task."""
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
-    point = call.ctx.calls.point
-    current_map = call.ctx.calls.current_map
-    same_map = call.ctx.calls.same_map
-    q: IndexQuery = call.query
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
+    point = call.ctx.nav_actions.point
+    current_map = call.ctx.nav_services.current_map
+    same_map = call.ctx.nav_actions.same_map
+    q = call.query
     current = await current_map()
     if q.map and q.map != current:  # across maps (§6.7): the task finds the route
-        res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+        res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
             map_name=q.map, path_name=q.path or await only_path(call.ctx, q.map)))
         if not 0 <= q.index < len(res.points):
             n = len(res.points)
@@ -114,29 +114,29 @@ async def move_to_index(call: Call) -> Any:
     return await run_task("navigation task", [action])
 
 
-async def stop_nav_task(call: Call) -> Any:
+async def stop_nav_task(call: Call[None, None]) -> Answer:
     """Stop the running (navigation) task; returns it."""
-    tasks = call.ctx.calls.tasks
+    tasks = call.ctx.tasks
     return as_document(await tasks.step("stop"))
 
 
-async def get_loop(call: Call) -> Any:
+async def get_loop(call: Call[None, None]) -> Answer:
     """The patrol (loop) task, or 404 when none is running."""
-    nav, tasks = call.ctx.calls.nav, call.ctx.calls.tasks
+    nav, tasks = call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task: POST /navigation/loop_task starts one")
     return as_document(await tasks.get(nav.loop_task_id))
 
 
-async def post_loop(call: Call) -> Any:
+async def post_loop(call: Call[LoopBody, None]) -> Answer:
     """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
     core = call.ctx.core
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    run_task = call.ctx.calls.run_task
-    b: LoopBody = call.body
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    run_task = call.ctx.tasks.run_task
+    b = call.body
     path = await current_path(call.ctx)
-    res = await link.call("get_nav_points", zm.GetNavPointsRequest(path_name=path))
+    res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(path_name=path))
     if not res.points:
         raise ApiError(409, f"path {res.path_name!r} has no nav points to patrol")
     subs: list[zm.Action] = []
@@ -150,9 +150,9 @@ async def post_loop(call: Call) -> Any:
     return task
 
 
-async def delete_loop(call: Call) -> Any:
+async def delete_loop(call: Call[None, None]) -> Answer:
     """Stop patrolling; returns the stopped loop task."""
-    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
+    core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
     if not nav.loop_task_id:
         raise ApiError(404, "no loop task is running")
     task = as_document(await tasks.step("stop", nav.loop_task_id))
@@ -161,10 +161,10 @@ async def delete_loop(call: Call) -> Any:
     return task
 
 
-async def go_charge(call: Call) -> Any:
+async def go_charge(call: Call[None, None]) -> Answer:
     """Go to the charging station and dock; returns the task (one ``charge_action``)."""
-    link, run_task = call.ctx.calls.link, call.ctx.calls.run_task
-    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    link, run_task = call.ctx.nav_services, call.ctx.tasks.run_task
+    res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
     if not res.is_set:
         raise ApiError(409, f"map {res.map_name!r} has no charge pose: "
                             "POST /navigation/charge_pose first")
@@ -172,10 +172,10 @@ async def go_charge(call: Call) -> Any:
     return await run_task("charge task", [zm.ChargeAction(x=p.x, y=p.y, theta=p.theta)])
 
 
-async def stop_charge(call: Call) -> Any:
+async def stop_charge(call: Call[None, None]) -> Answer:
     """Stop charging, whatever the task state: stops the running task (the charge task,
     while it docks) if there is one, and undocks; ``task`` is the stopped task or null."""
-    core, nav, tasks = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.tasks
+    core, nav, tasks = call.ctx.core, call.ctx.nav_actions, call.ctx.tasks
     task = None
     running = [t for t in await tasks.tasks() if t.state in ("WORKING", "PAUSED")]
     if running:
@@ -190,30 +190,30 @@ async def stop_charge(call: Call) -> Any:
     return {"status": "ok", "task": task}
 
 
-async def get_charge_pose(call: Call) -> Any:
+async def get_charge_pose(call: Call[None, None]) -> Answer:
     """The stored charging-station pose: ``x``, ``y``, ``theta``."""
-    link = call.ctx.calls.link
-    res = await link.call("get_charge_pose", zm.GetChargePoseRequest())
+    link = call.ctx.nav_services
+    res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
     if not res.is_set:
         raise ApiError(404, f"map {res.map_name!r} has no charge pose yet")
     return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
 
 
-async def post_charge_pose(call: Call) -> Any:
+async def post_charge_pose(call: Call[None, None]) -> Answer:
     """Store the robot's current pose as the charging-station pose."""
-    link = call.ctx.calls.link
-    res = await link.call("set_charge_pose",
+    link = call.ctx.nav_services
+    res = await link.call(zm.SetChargePose,
                           zm.SetChargePoseRequest(use_current_pose=True))
     return {"x": res.pose.x, "y": res.pose.y, "theta": res.pose.theta}
 
 
 def add_goal_routes(api: Api) -> None:
     """Route the goal, patrol and charging operations."""
-    api.add("POST", "/navigation/start_nav_task", start_nav_task, body=NavTaskBody)
-    api.add("GET", "/navigation/move_to_index", move_to_index, query=IndexQuery)
+    api.add("POST", "/navigation/start_nav_task", start_nav_task)
+    api.add("GET", "/navigation/move_to_index", move_to_index)
     api.add("GET", "/navigation/stop_nav_task", stop_nav_task)
     api.add("GET", "/navigation/loop_task", get_loop)
-    api.add("POST", "/navigation/loop_task", post_loop, body=LoopBody)
+    api.add("POST", "/navigation/loop_task", post_loop)
     api.add("DELETE", "/navigation/loop_task", delete_loop)
     api.add("GET", "/navigation/go_charge", go_charge)
     api.add("GET", "/navigation/stop_charge", stop_charge)

@@ -6,11 +6,11 @@ to its ``chassis/set_io`` service, and the answer waits for it (`ports.io_link.I
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
 import msgspec
 
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_io_routes"]
 
@@ -27,22 +27,22 @@ class BwIoBody(msgspec.Struct, forbid_unknown_fields=True):
     port: Annotated[int, msgspec.Meta(ge=0, le=7)]
 
 
-async def get_io(call: Call) -> Any:
+async def get_io(call: Call[None, None]) -> Answer:
     """Main-board outputs: ``out1``..``out3`` as "0" (low) or "1" (high)."""
     io = call.ctx.io
     outs = io.current().outputs
     return {"status": "ok", **{f"out{i + 1}": str(v) for i, v in enumerate(outs)}}
 
 
-async def post_io(call: Call) -> Any:
+async def post_io(call: Call[IoBody, None]) -> Answer:
     """Set main-board output ``port`` ("1".."3") to ``level`` ("0"/"1")."""
     io = call.ctx.io
-    b: IoBody = call.body
+    b = call.body
     await io.set("main", int(b.port), int(b.level))
     return {"status": "ok"}
 
 
-async def get_bw_io(call: Call) -> Any:
+async def get_bw_io(call: Call[None, None]) -> Answer:
     """The extension IO board: ``in`` (16 inputs) and ``out`` (8 outputs), port -> 0/1."""
     io = call.ctx.io
     state = io.current()
@@ -52,10 +52,10 @@ async def get_bw_io(call: Call) -> Any:
             "out": {str(i): v for i, v in enumerate(state.ext_outputs)}}
 
 
-async def put_bw_io(call: Call) -> Any:
+async def put_bw_io(call: Call[BwIoBody, None]) -> Answer:
     """Set extension-board output ``port`` (0..7) to ``level`` (0/1)."""
     io = call.ctx.io
-    b: BwIoBody = call.body
+    b = call.body
     await io.set("ext", b.port, b.level)
     return {"status": "ok"}
 
@@ -63,6 +63,6 @@ async def put_bw_io(call: Call) -> Any:
 def add_io_routes(api: Api) -> None:
     """Route §3.8's main-board and extension-board IO."""
     api.add("GET", "/system/io", get_io)
-    api.add("POST", "/system/io", post_io, body=IoBody)
+    api.add("POST", "/system/io", post_io)
     api.add("GET", "/system/bw_io", get_bw_io)
-    api.add("PUT", "/system/bw_io", put_bw_io, body=BwIoBody)
+    api.add("PUT", "/system/bw_io", put_bw_io)

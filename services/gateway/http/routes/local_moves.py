@@ -10,7 +10,7 @@ loop, charge or local move task) gives way to the new one; any other running tas
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
 import msgspec
 from zenros.msgs.zenros_msgs.task_actions import (
@@ -20,9 +20,9 @@ from zenros.msgs.zenros_msgs.task_actions import (
     NavAction,
 )
 
-from ...ports.nav_calls import Angle, Coord
-from ..api import Api, Call
+from ..api import Answer, Api, Call
 from ..context import Context
+from ..fields import Angle, Coord
 
 __all__ = ["TASK_NAME", "add_local_move_routes"]
 
@@ -78,63 +78,58 @@ def _move(q: MoveQuery | NavMoveQuery | NavMoveIoQuery) -> LocalMoveAction:
 
 
 async def nav_to(ctx: Context, index: int) -> NavAction:
-    calls = ctx.calls
-    x, y, theta = await calls.point(index)
+    x, y, theta = await ctx.nav_actions.point(index)
     return NavAction(x=x, y=y, theta=theta)
 
 
-async def start_local_move(call: Call) -> Any:
+async def start_local_move(call: Call[None, MoveQuery]) -> Answer:
     """Move ``distance`` m (+ forward) and turn ``angle`` rad (+ CCW) from where the
     robot is; ``method`` 0 moves then turns, 1 turns then moves. Returns the task."""
-    calls = call.ctx.calls
-    return await calls.run_task(TASK_NAME, [_move(call.query)])
+    tasks = call.ctx.tasks
+    return await tasks.run_task(TASK_NAME, [_move(call.query)])
 
 
-async def start_nav_and_local_move(call: Call) -> Any:
+async def start_nav_and_local_move(call: Call[None, NavMoveQuery]) -> Answer:
     """Go to nav point ``index``, then make the local move. Returns the task."""
-    calls = call.ctx.calls
-    q: NavMoveQuery = call.query
-    return await calls.run_task(TASK_NAME, [await nav_to(call.ctx, q.index), _move(q)])
+    tasks = call.ctx.tasks
+    q = call.query
+    return await tasks.run_task(TASK_NAME, [await nav_to(call.ctx, q.index), _move(q)])
 
 
-async def start_nav_local_move_io(call: Call) -> Any:
+async def start_nav_local_move_io(call: Call[None, NavMoveIoQuery]) -> Answer:
     """Go to nav point ``index``, make the local move, then set output ``port`` to
     ``level``. Returns the task."""
-    calls = call.ctx.calls
-    q: NavMoveIoQuery = call.query
-    return await calls.run_task(TASK_NAME, [
+    tasks = call.ctx.tasks
+    q = call.query
+    return await tasks.run_task(TASK_NAME, [
         await nav_to(call.ctx, q.index), _move(q),
         IoAction(level=q.level, port=q.port)])
 
 
-async def start_local_move_target(call: Call) -> Any:
+async def start_local_move_target(call: Call[None, TargetQuery]) -> Answer:
     """A precise short move to (``x``, ``y``, ``theta``) in ``map`` or relative to
     ``base_link``, without the planner. Returns the task."""
-    calls = call.ctx.calls
-    q: TargetQuery = call.query
-    return await calls.run_task(TASK_NAME, [
+    tasks = call.ctx.tasks
+    q = call.query
+    return await tasks.run_task(TASK_NAME, [
         LocalMoveTargetAction(**msgspec.structs.asdict(q))])
 
 
-async def start_local_move_index(call: Call) -> Any:
+async def start_local_move_index(call: Call[None, TargetIndexQuery]) -> Answer:
     """A precise short move to nav point ``index`` without the planner. Returns the
     task."""
-    calls = call.ctx.calls
-    q: TargetIndexQuery = call.query
-    x, y, theta = await calls.point(q.index)
-    return await calls.run_task(TASK_NAME, [LocalMoveTargetAction(
+    tasks = call.ctx.tasks
+    q = call.query
+    x, y, theta = await call.ctx.nav_actions.point(q.index)
+    return await tasks.run_task(TASK_NAME, [LocalMoveTargetAction(
         x=x, y=y, theta=theta, frame_id="map", start_rotate_enable=q.start_rotate_enable,
         target_rotate_enable=q.target_rotate_enable)])
 
 
 def add_local_move_routes(api: Api) -> None:
     """Route the five local-move operations."""
-    api.add("GET", "/navigation/start_local_move", start_local_move, query=MoveQuery)
-    api.add("GET", "/navigation/start_nav_and_local_move", start_nav_and_local_move,
-            query=NavMoveQuery)
-    api.add("GET", "/navigation/start_nav_local_move_io", start_nav_local_move_io,
-            query=NavMoveIoQuery)
-    api.add("GET", "/navigation/start_local_move_target", start_local_move_target,
-            query=TargetQuery)
-    api.add("GET", "/navigation/start_local_move_index", start_local_move_index,
-            query=TargetIndexQuery)
+    api.add("GET", "/navigation/start_local_move", start_local_move)
+    api.add("GET", "/navigation/start_nav_and_local_move", start_nav_and_local_move)
+    api.add("GET", "/navigation/start_nav_local_move_io", start_nav_local_move_io)
+    api.add("GET", "/navigation/start_local_move_target", start_local_move_target)
+    api.add("GET", "/navigation/start_local_move_index", start_local_move_index)

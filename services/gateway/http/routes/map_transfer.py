@@ -36,9 +36,9 @@ from ...ports.map_archive import (
     pack,
     read_archive,
 )
-from ...ports.nav_calls import Name
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
+from ..fields import Name
 from .fs import SLACK, _limited
 from .mapping import slam_port
 
@@ -56,23 +56,23 @@ class MapNameQuery(msgspec.Struct, forbid_unknown_fields=True):
 # ------------------------------------------------------------------ update_map
 
 
-async def get_update_map(call: Call) -> Any:
+async def get_update_map(call: Call[None, None]) -> Answer:
     """Whether the map in use is being updated live while navigating."""
     slam = call.ctx.slam
     return {"enabled": bool(slam is not None and slam.update_map and slam.mapping())}
 
 
-async def put_update_map(call: Call) -> Any:
+async def put_update_map(call: Call[UpdateMapBody, None]) -> Answer:
     """Turn live map updating on (the mapping node extends the map in use from where the
     robot stands, nav keeps navigating on it) or off (the updated map is saved over the map
     in use, then mapping stops and nav reloads it)."""
     ctx = call.ctx
     slam = slam_port(ctx)
-    b: UpdateMapBody = call.body
+    b = call.body
     on = slam.update_map and slam.mapping()
     if b.enabled == on:
         return {"enabled": on}
-    current = await ctx.calls.current_map()
+    current = await ctx.nav_services.current_map()
     if b.enabled:
         if slam.mapping():
             raise ApiError(409, "cannot update the map live: the robot is mapping already "
@@ -85,7 +85,7 @@ async def put_update_map(call: Call) -> Any:
         await slam.start("laser", current, pose)
         slam.update_map = True
         return {"enabled": True}
-    listed = await ctx.nav_link.call("map_server/list_maps", zm.ListMapsRequest(name=current))
+    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=current))
     info = listed.maps[0] if listed.maps else zm.MapInfo()
     await slam.save(current, info.type or "floor", list(info.levels))
     await slam.stop()
@@ -97,19 +97,19 @@ async def put_update_map(call: Call) -> Any:
 
 
 async def _nav_bundle(ctx: Context, name: str) -> NavBundle:
-    link = ctx.nav_link
-    listed = await link.call("list_paths", zm.ListPathsRequest(map_name=name))
+    link = ctx.nav_services
+    listed = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=name))
     paths: list[ArchivePath] = []
     for ref in sorted(listed.paths, key=lambda p: p.path_name):
         if ref.map_name != name:
             continue
-        path = await link.call("get_path", zm.GetPathRequest(map_name=name,
+        path = await link.call(zm.GetPath, zm.GetPathRequest(map_name=name,
                                                              path_name=ref.path_name))
-        points = await link.call("get_nav_points", zm.GetNavPointsRequest(
+        points = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
             map_name=name, path_name=ref.path_name))
         paths.append(ArchivePath(name=ref.path_name, points=list(path.points),
                                  nav_points=list(points.points)))
-    conns = await link.call("list_point_connections", zm.ListPointConnectionsRequest())
+    conns = await link.call(zm.ListPointConnections, zm.ListPointConnectionsRequest())
     touching = [c for c in conns.connections if any(p.map_name == name for p in c.points)]
     return NavBundle(paths=paths, connections=touching)
 
@@ -127,12 +127,12 @@ def _read_map_files(info: zm.MapInfo) -> tuple[bytes, str, bytes]:
     return yaml.safe_dump(doc, sort_keys=False).encode(), image.name, data
 
 
-async def download_map_from_robot(call: Call) -> Any:
+async def download_map_from_robot(call: Call[None, MapNameQuery]) -> Answer:
     """Export a stored map as a zip archive: its YAML and image, ``map.json`` (size,
     resolution, origin, md5sum) and ``nav.json`` (paths, nav points, point connections)."""
     ctx = call.ctx
     name = call.query.map_name
-    listed = await ctx.nav_link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
+    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=name))
     if not listed.maps:
         raise NotFound(f"unknown map {name!r}")
     info: zm.MapInfo = listed.maps[0]
@@ -189,13 +189,13 @@ def _renamed(conn: zm.PointConnection, old: str, new: str) -> list[zm.PointRef]:
 
 async def _import(ctx: Context, name: str, checked: CheckedMap, files: dict[str, bytes]
                   ) -> dict[str, Any]:
-    link = ctx.nav_link
-    res = await link.call("map_server/import_map", zm.ImportMapRequest(
+    link = ctx.nav_services
+    res = await link.call(zm.ImportMap, zm.ImportMapRequest(
         name=name, yaml_path=str(checked.yaml), overwrite=True))
     for path in checked.nav.paths:
-        await link.call("set_path", zm.SetPathRequest(map_name=name, path_name=path.name,
+        await link.call(zm.SetPath, zm.SetPathRequest(map_name=name, path_name=path.name,
                                                       points=path.points))
-        await link.call("set_nav_points", zm.SetNavPointsRequest(
+        await link.call(zm.SetNavPoints, zm.SetNavPointsRequest(
             map_name=name, path_name=path.name, points=path.nav_points))
     old = checked.yaml.stem
     if MANIFEST in files:
@@ -203,7 +203,7 @@ async def _import(ctx: Context, name: str, checked: CheckedMap, files: dict[str,
     added, skipped = 0, []
     for conn in checked.nav.connections:
         try:
-            await link.call("add_point_connection", zm.AddPointConnectionRequest(
+            await link.call(zm.AddPointConnection, zm.AddPointConnectionRequest(
                 points=_renamed(conn, old, name), type=conn.type,
                 is_available=conn.is_available))
             added += 1
@@ -214,7 +214,7 @@ async def _import(ctx: Context, name: str, checked: CheckedMap, files: dict[str,
             "connections": added, "skipped": skipped}
 
 
-async def _upload(call: Call) -> Any:
+async def _upload(call: Call[None, None]) -> Answer:
     """Import a map: multipart ``map_name`` and ``map_files`` (an archive of
     ``download_map_from_robot``, or the loose YAML and image, with map.json and nav.json
     if any). Everything is checked before the maps store is touched."""
@@ -230,7 +230,7 @@ async def _upload(call: Call) -> Any:
         return await _import(call.ctx, name, checked, files)
 
 
-async def upload_map_to_robot(call: Call) -> Any:
+async def upload_map_to_robot(call: Call[None, None]) -> Answer:
     """Import a map: multipart ``map_name`` and ``map_files`` (an archive of
     ``download_map_from_robot``, or the loose YAML and image, with map.json and nav.json
     if any). Everything is checked before the maps store is touched."""
@@ -243,7 +243,7 @@ async def upload_map_to_robot(call: Call) -> Any:
 def add_map_transfer_routes(api: Api) -> None:
     """Route live map updating and the map archive's export and import."""
     api.add("GET", "/navigation/update_map", get_update_map)
-    api.add("PUT", "/navigation/update_map", put_update_map, body=UpdateMapBody)
+    api.add("PUT", "/navigation/update_map", put_update_map)
     api.add("GET", "/navigation/download_map_from_robot", download_map_from_robot,
-            query=MapNameQuery, media_type="application/zip")
+            media_type="application/zip")
     api.add("POST", "/navigation/upload_map_to_robot", upload_map_to_robot, raw_body=True)

@@ -14,10 +14,10 @@ from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import Pose2D
 
-from ...ports.nav_calls import Name, OptName
 from ...ports.slam_link import SlamPort
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
+from ..fields import Name, OptName
 from ..map_image import grid_png
 
 __all__ = ["add_mapping_routes", "driving_reason", "slam_port"]
@@ -102,7 +102,7 @@ async def _open(ctx: Context, slam: SlamPort, mode: str, map_name: str = "",
     core.state.busy = True
     try:
         await slam.start(mode, map_name, initial_pose)
-        ctx.calls.nav.stopped = True   # §7: mapping and navigation are exclusive
+        ctx.nav_actions.stopped = True   # §7: mapping and navigation are exclusive
         core.state.nav_open = False
         core.state.mapping = True
         if mode == "explore":
@@ -116,12 +116,12 @@ async def _open(ctx: Context, slam: SlamPort, mode: str, map_name: str = "",
         core.state.busy = False
 
 
-async def start(call: Call) -> Any:
+async def start(call: Call[None, StartQuery]) -> Answer:
     """Start a new map: ``mode=laser`` (drive it by hand) or ``explore`` (the robot maps by
     itself, nearest frontier first, and comes back to where it started)."""
     ctx = call.ctx
     slam = slam_port(ctx)
-    q: StartQuery = call.query
+    q = call.query
     if q.mode == "explore" and not slam.explore_available():
         raise ctx.core.presence.error("explore", "exploring is not available: no server "
                                                  "for the explore action")
@@ -129,7 +129,7 @@ async def start(call: Call) -> Any:
     return {"result": True, "description": f"mapping started ({q.mode})"}
 
 
-async def stop(call: Call) -> Any:
+async def stop(call: Call[None, None]) -> Answer:
     """Stop mapping (Mapping → Busy → Free); cancels exploring first. What was not saved
     with POST /map/current_map_image is dropped."""
     ctx = call.ctx
@@ -148,15 +148,15 @@ async def stop(call: Call) -> Any:
 
 
 async def _nav_point(ctx: Context, map_name: str, path: str, index: int) -> Pose2D:
-    link = ctx.nav_link
+    link = ctx.nav_services
     if not path:
-        paths = await link.call("list_paths", zm.ListPathsRequest(map_name=map_name))
+        paths = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=map_name))
         names = sorted(p.path_name for p in paths.paths if p.map_name == map_name)
         if not names:
             raise ApiError(409, f"map {map_name!r} has no path with nav points: give "
                                 "start_index only with a map that has one")
         path = names[0]
-    res = await link.call("get_nav_points",
+    res = await link.call(zm.GetNavPoints,
                           zm.GetNavPointsRequest(map_name=map_name, path_name=path))
     n = len(res.points)
     if not 0 <= index < n:
@@ -167,15 +167,15 @@ async def _nav_point(ctx: Context, map_name: str, path: str, index: int) -> Pose
     return Pose2D(x=p.x, y=p.y, theta=p.theta)
 
 
-async def update(call: Call) -> Any:
+async def update(call: Call[None, UpdateQuery]) -> Answer:
     """Extend a saved map: relocalise at nav point ``start_index`` of ``path`` (or at the
     saved map's last pose), then keep mapping it."""
     ctx = call.ctx
     slam = slam_port(ctx)
-    q: UpdateQuery = call.query
+    q = call.query
     _refuse_while_busy(ctx, slam)
-    name = q.map or await ctx.calls.current_map()
-    listed = await ctx.nav_link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
+    name = q.map or await ctx.nav_services.current_map()
+    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=name))
     if not listed.maps:
         raise ApiError(404, f"unknown map {name!r}")
     pose = await _nav_point(ctx, name, q.path, q.start_index) if q.start_index >= 0 else None
@@ -190,7 +190,7 @@ def _require_mapping(slam: SlamPort) -> None:
                             f"{slam.state().state!r}): GET /map/start first")
 
 
-async def pose(call: Call) -> Any:
+async def pose(call: Call[None, None]) -> Answer:
     """The robot in the map being built: ``x``, ``y`` (m), ``angle`` (rad)."""
     slam = slam_port(call.ctx)
     _require_mapping(slam)
@@ -209,7 +209,7 @@ def _grid(slam: SlamPort) -> Any:
     return grid
 
 
-async def current_map_image(call: Call) -> Any:
+async def current_map_image(call: Call[None, None]) -> Answer:
     """The map being built: ``map_params`` (origin, width, height, resolution) and the
     URL of its PNG."""
     grid = _grid(slam_port(call.ctx))
@@ -222,37 +222,37 @@ async def current_map_image(call: Call) -> Any:
             "map_image": f"{prefix}/map/current_map_png"}
 
 
-async def save(call: Call) -> Any:
+async def save(call: Call[SaveBody, None]) -> Answer:
     """Save the map being built as ``name`` (``type`` floor or elevator, ``levels``): it is
     then in GET /navigation/saved_maps, with its PNG and PGM, ready to navigate on."""
     slam = slam_port(call.ctx)
-    b: SaveBody = call.body
+    b = call.body
     _require_mapping(slam)
     name = await slam.save(b.name, b.type, b.levels)
     return {"result": True, "name": name}
 
 
-async def current_map_png(call: Call) -> Any:
+async def current_map_png(call: Call[None, None]) -> Answer:
     """The map being built, as a PNG (white free, black occupied, grey unknown)."""
     return Response(grid_png(_grid(slam_port(call.ctx))), media_type="image/png")
 
 
-async def track(call: Call) -> Any:
+async def track(call: Call[None, TrackQuery]) -> Answer:
     """The trajectory of this mapping, ``{x, y, z}`` each: recorded poses, or (with
     ``keyframes=true``) the pose graph's nodes where the last loop closure put them."""
     slam = slam_port(call.ctx)
-    q: TrackQuery = call.query
+    q = call.query
     return {"trajectory": [{"x": p.x, "y": p.y, "z": 0.0} for p in slam.track(q.keyframes)]}
 
 
 def add_mapping_routes(api: Api) -> None:
     """Route the §5 map building operations to the mapping node (``call.ctx.slam``)."""
     result = {"result_style": True}
-    api.add("GET", "/map/start", start, query=StartQuery, **result)
+    api.add("GET", "/map/start", start, **result)
     api.add("GET", "/map/stop", stop, **result)
-    api.add("GET", "/map/update", update, query=UpdateQuery, **result)
+    api.add("GET", "/map/update", update, **result)
     api.add("GET", "/map/pose", pose)
     api.add("GET", "/map/current_map_image", current_map_image)
-    api.add("POST", "/map/current_map_image", save, body=SaveBody, **result)
+    api.add("POST", "/map/current_map_image", save, **result)
     api.add("GET", "/map/current_map_png", current_map_png, media_type="image/png")
-    api.add("GET", "/map/track", track, query=TrackQuery)
+    api.add("GET", "/map/track", track)

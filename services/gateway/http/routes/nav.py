@@ -9,10 +9,10 @@ import msgspec
 from starlette.responses import Response
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Angle, Coord, Name, OptName
 from ...state.core import NavUnavailable
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
+from ..fields import Angle, Coord, Name, OptName
 from ..map_image import grid_pgm, grid_png
 
 __all__ = ["add_nav_routes"]
@@ -55,15 +55,15 @@ class InitPose(msgspec.Struct, forbid_unknown_fields=True):
     z: Angle = 0.0
 
 
-async def start(call: Call) -> Any:
+async def start(call: Call[None, StartQuery]) -> Answer:
     """Start navigation (optionally on ``map``/``path``, relocalised at ``start_index``)."""
     core = call.ctx.core
-    nav = call.ctx.calls.nav
-    link = call.ctx.calls.link
-    current_map = call.ctx.calls.current_map
-    point = call.ctx.calls.point
-    publish_initialpose = call.ctx.calls.publish_initialpose
-    q: StartQuery = call.query
+    nav = call.ctx.nav_actions
+    link = call.ctx.nav_services
+    current_map = call.ctx.nav_services.current_map
+    point = call.ctx.nav_actions.point
+    publish_initialpose = call.ctx.nav_services.publish_initialpose
+    q = call.query
     if not nav.available():
         raise core.presence.error("nav", "navigation is not available")
     if core.state.mapping and not (call.ctx.slam and call.ctx.slam.update_map):
@@ -73,7 +73,7 @@ async def start(call: Call) -> Any:
     core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
     try:
         if q.map and q.map != await current_map():
-            res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+            res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=q.map))
             if not res.success:
                 raise ApiError(400, res.message)
         if q.path:
@@ -87,12 +87,13 @@ async def start(call: Call) -> Any:
     return {"result": True, "description": "navigation started"}
 
 
-async def reload(call: Call) -> Any:
+async def reload(call: Call[None, ReloadQuery]) -> Answer:
     """Load ``map`` (when not loaded) and make ``path`` the current path."""
-    nav, link, current_map = call.ctx.calls.nav, call.ctx.calls.link, call.ctx.calls.current_map
-    q: ReloadQuery = call.query
+    nav, link = call.ctx.nav_actions, call.ctx.nav_services
+    current_map = link.current_map
+    q = call.query
     if q.map != await current_map():
-        res = await link.call("switch_map", zm.SwitchMapRequest(map_name=q.map))
+        res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=q.map))
         if not res.success:
             raise ApiError(400, res.message)
     if q.path:
@@ -100,9 +101,9 @@ async def reload(call: Call) -> Any:
     return {"status": "ok", "map": q.map, "path": q.path}
 
 
-async def stop(call: Call) -> Any:
+async def stop(call: Call[None, None]) -> Answer:
     """Stop navigation: cancel the goal; navStatus goes to 0."""
-    core, nav = call.ctx.core, call.ctx.calls.nav
+    core, nav = call.ctx.core, call.ctx.nav_actions
     try:
         await nav.stop()
     except NavUnavailable as exc:
@@ -110,16 +111,16 @@ async def stop(call: Call) -> Any:
     return {"result": True, "description": "navigation stopped"}
 
 
-async def pose(call: Call) -> Any:
+async def pose(call: Call[None, None]) -> Answer:
     """Robot pose in ``map``: ``x``, ``y`` (m), ``angle`` (rad); -1 while unknown."""
     core = call.ctx.core
     st = core.status
     return {"x": st.currentPosX, "y": st.currentPosY, "angle": st.currentAngle}
 
 
-async def current_path(call: Call) -> Any:
+async def current_path(call: Call[None, None]) -> Answer:
     """The loaded ``map`` and ``path``."""
-    core, nav, current_map = call.ctx.core, call.ctx.calls.nav, call.ctx.calls.current_map
+    core, nav, current_map = call.ctx.core, call.ctx.nav_actions, call.ctx.nav_services.current_map
     try:
         path = await nav.current_path()
     except NavUnavailable as exc:
@@ -129,7 +130,7 @@ async def current_path(call: Call) -> Any:
     return {"map": await current_map(), "path": path}
 
 
-async def target_distance(call: Call) -> Any:
+async def target_distance(call: Call[None, None]) -> Answer:
     """Distance (m) to the current goal; -1 without one."""
     core = call.ctx.core
     return {"distance": core.status.targetDistance}
@@ -142,27 +143,27 @@ def map_object(m: Any) -> dict[str, Any]:
             "levels": list(m.levels), "slam_type": m.slam_type}
 
 
-async def saved_maps(call: Call) -> Any:
+async def saved_maps(call: Call[None, SavedMapsQuery]) -> Answer:
     """The stored maps (§6.3 map objects), optionally one ``name`` or one slam ``type``."""
-    link = call.ctx.calls.link
-    q: SavedMapsQuery = call.query
-    res = await link.call("map_server/list_maps", zm.ListMapsRequest(name=q.name))
+    link = call.ctx.nav_services
+    q = call.query
+    res = await link.call(zm.ListMaps, zm.ListMapsRequest(name=q.name))
     return [map_object(m) for m in res.maps if not q.type or m.slam_type == q.type]
 
 
-async def get_current_map(call: Call) -> Any:
+async def get_current_map(call: Call[None, None]) -> Answer:
     """The map in use: ``name`` and ``md5sum``."""
-    link = call.ctx.calls.link
-    res = await link.call("map_server/current_map", zm.GetCurrentMapRequest())
+    link = call.ctx.nav_services
+    res = await link.call(zm.GetCurrentMap, zm.GetCurrentMapRequest())
     return {"name": res.name, "md5sum": res.md5sum}
 
 
 async def loaded_grid(ctx: Context, name: str) -> Any:
     """The loaded map's grid; ``name`` must be it (or empty)."""
-    core, link, current_map = ctx.core, ctx.calls.link, ctx.calls.current_map
+    core, link, current_map = ctx.core, ctx.nav_services, ctx.nav_services.current_map
     current = await current_map()
     if name and name != current:
-        listed = await link.call("map_server/list_maps", zm.ListMapsRequest(name=name))
+        listed = await link.call(zm.ListMaps, zm.ListMapsRequest(name=name))
         if not listed.maps:
             raise ApiError(404, f"unknown map {name!r}")
         raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
@@ -172,39 +173,39 @@ async def loaded_grid(ctx: Context, name: str) -> Any:
     return link.grid
 
 
-async def map_png(call: Call) -> Any:
+async def map_png(call: Call[None, NamedMap]) -> Answer:
     """The current map as a PNG image (``name`` must be the current map or empty)."""
     return Response(grid_png(await loaded_grid(call.ctx, call.query.name)), media_type="image/png")
 
 
-async def map_pgm(call: Call) -> Any:
+async def map_pgm(call: Call[None, NamedMap]) -> Answer:
     """The current map as a PGM image (``name`` must be the current map or empty)."""
     return Response(grid_pgm(await loaded_grid(call.ctx, call.query.name)),
                     media_type="image/x-portable-graymap")
 
 
-async def robot_tracks(call: Call) -> Any:
+async def robot_tracks(call: Call[None, TrackQuery]) -> Answer:
     """Where the robot has been on ``map_name`` (default: the current map), one
     ``{x, y, z}`` a second, the last hour, since the gateway started."""
-    nav, current_map = call.ctx.calls.nav, call.ctx.calls.current_map
+    nav, current_map = call.ctx.nav_actions, call.ctx.nav_services.current_map
     name = call.query.map_name or await current_map()
     return {"map_name": name,
             "track": [{"x": x, "y": y, "z": 0.0} for x, y in nav.tracks.get(name, ())]}
 
 
-async def switch_map(call: Call) -> Any:
+async def switch_map(call: Call[None, SwitchQuery]) -> Answer:
     """Load another stored map."""
-    link = call.ctx.calls.link
-    res = await link.call("switch_map", zm.SwitchMapRequest(map_name=call.query.map_name))
+    link = call.ctx.nav_services
+    res = await link.call(zm.SwitchMap, zm.SwitchMapRequest(map_name=call.query.map_name))
     if not res.success:
         raise ApiError(400, res.message)
     return {"status": "ok"}
 
 
-async def init_pose(call: Call) -> Any:
+async def init_pose(call: Call[InitPose, None]) -> Answer:
     """Set the robot's pose for relocalisation (``z`` is the heading)."""
-    publish_initialpose = call.ctx.calls.publish_initialpose
-    b: InitPose = call.body
+    publish_initialpose = call.ctx.nav_services.publish_initialpose
+    b = call.body
     publish_initialpose(b.x, b.y, b.z)
     return {"status": "ok"}
 
@@ -212,17 +213,17 @@ async def init_pose(call: Call) -> Any:
 def add_nav_routes(api: Api) -> None:
     """Route the navigation lifecycle, query and map operations."""
     result = {"result_style": True}
-    api.add("GET", "/navigation/start", start, query=StartQuery, **result)
+    api.add("GET", "/navigation/start", start, **result)
     api.add("GET", "/navigation/stop", stop, **result)
-    api.add("GET", "/navigation/reload", reload, query=ReloadQuery)
+    api.add("GET", "/navigation/reload", reload)
     api.add("GET", "/navigation/pose", pose)
     api.add("GET", "/navigation/current_path", current_path)
     api.add("GET", "/navigation/target_distance", target_distance)
-    api.add("GET", "/navigation/saved_maps", saved_maps, query=SavedMapsQuery)
+    api.add("GET", "/navigation/saved_maps", saved_maps)
     api.add("GET", "/navigation/current_map", get_current_map)
-    api.add("GET", "/navigation/map_png", map_png, query=NamedMap, media_type="image/png")
-    api.add("GET", "/navigation/map_pgm", map_pgm, query=NamedMap,
+    api.add("GET", "/navigation/map_png", map_png, media_type="image/png")
+    api.add("GET", "/navigation/map_pgm", map_pgm,
             media_type="image/x-portable-graymap")
-    api.add("GET", "/navigation/robot_tracks", robot_tracks, query=TrackQuery)
-    api.add("GET", "/navigation/switch_map", switch_map, query=SwitchQuery)
-    api.add("POST", "/navigation/init_pose", init_pose, body=InitPose)
+    api.add("GET", "/navigation/robot_tracks", robot_tracks)
+    api.add("GET", "/navigation/switch_map", switch_map)
+    api.add("POST", "/navigation/init_pose", init_pose)

@@ -4,14 +4,14 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Annotated, Any
+from typing import Annotated, TypeVar
 
 import msgspec
 from zenros.msgs import zenros_msgs as zm
 
-from ...ports.nav_calls import Name, OptName
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 from ..context import Context
+from ..fields import Name, OptName
 from ..path_data import (
     format_areas,
     format_nav_points,
@@ -24,6 +24,8 @@ from ..path_data import (
 )
 
 __all__ = ["add_record_routes"]
+
+T = TypeVar("T")
 
 Text = Annotated[str, msgspec.Meta(max_length=1_000_000)]
 
@@ -61,16 +63,16 @@ class MapRefQuery(msgspec.Struct, forbid_unknown_fields=True):
     path_name: OptName = ""
 
 
-def _parsed(fn: Callable[[str], Any], text: str) -> Any:
+def _parsed(fn: Callable[[str], T], text: str) -> T:
     try:
         return fn(text)
     except ValueError as exc:
         raise ApiError(400, str(exc)) from exc
 
 
-async def listing(ctx: Context, q: ListQuery) -> Any:
-    link = ctx.nav_link
-    res = await link.call("list_paths", zm.ListPathsRequest(map_name=q.map_name))
+async def listing(ctx: Context, q: ListQuery) -> list[str] | dict[str, list[str]]:
+    link = ctx.nav_services
+    res = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=q.map_name))
     if q.map_name:
         return [p.path_name for p in res.paths]
     out: dict[str, list[str]] = {}
@@ -79,125 +81,125 @@ async def listing(ctx: Context, q: ListQuery) -> Any:
     return out
 
 
-async def get_path(call: Call) -> Any:
+async def get_path(call: Call[None, ListQuery]) -> Answer:
     """A path's points (``path_data`` lines ``x y z``), or the path names (§6.6)."""
-    link = call.ctx.nav_link
-    q: ListQuery = call.query
+    link = call.ctx.nav_services
+    q = call.query
     if not (q.map_name and q.path_name):
         return await listing(call.ctx, q)
-    res = await link.call("get_path", zm.GetPathRequest(map_name=q.map_name,
+    res = await link.call(zm.GetPath, zm.GetPathRequest(map_name=q.map_name,
                                                        path_name=q.path_name))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_points(res.points)}
 
 
-async def set_path(call: Call) -> Any:
+async def set_path(call: Call[PathBody, None]) -> Answer:
     """Create or replace a path's points."""
-    link = call.ctx.nav_link
-    b: PathBody = call.body
+    link = call.ctx.nav_services
+    b = call.body
     points = _parsed(parse_points, b.path_data)
-    res = await link.call("set_path", zm.SetPathRequest(
+    res = await link.call(zm.SetPath, zm.SetPathRequest(
         map_name=b.map_name, path_name=b.path_name, points=points))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_points(res.points)}
 
 
-async def delete_path(call: Call) -> Any:
+async def delete_path(call: Call[None, PathRefQuery]) -> Answer:
     """Delete a path and its nav points."""
-    link = call.ctx.nav_link
-    q: PathRefQuery = call.query
-    await link.call("delete_path", zm.DeletePathRequest(map_name=q.map_name,
+    link = call.ctx.nav_services
+    q = call.query
+    await link.call(zm.DeletePath, zm.DeletePathRequest(map_name=q.map_name,
                                                        path_name=q.path_name))
     return {"status": "ok"}
 
 
-async def get_points(call: Call) -> Any:
+async def get_points(call: Call[None, ListQuery]) -> Answer:
     """A path's nav points (lines ``x y z theta errorX errorY direction [name]``)."""
-    link = call.ctx.nav_link
-    q: ListQuery = call.query
+    link = call.ctx.nav_services
+    q = call.query
     if not (q.map_name and q.path_name):
         return await listing(call.ctx, q)
-    res = await link.call("get_nav_points", zm.GetNavPointsRequest(
+    res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
         map_name=q.map_name, path_name=q.path_name))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_nav_points(res.points)}
 
 
-async def set_points(call: Call) -> Any:
+async def set_points(call: Call[PathBody, None]) -> Answer:
     """Create or replace a path's nav points."""
-    link = call.ctx.nav_link
-    b: PathBody = call.body
+    link = call.ctx.nav_services
+    b = call.body
     points = _parsed(parse_nav_points, b.path_data)
-    res = await link.call("set_nav_points", zm.SetNavPointsRequest(
+    res = await link.call(zm.SetNavPoints, zm.SetNavPointsRequest(
         map_name=b.map_name, path_name=b.path_name, points=points))
     return {"map_name": res.map_name, "path_name": res.path_name,
             "path_data": format_nav_points(res.points)}
 
 
-async def delete_points(call: Call) -> Any:
+async def delete_points(call: Call[None, PathRefQuery]) -> Answer:
     """Delete a path's nav points."""
-    link = call.ctx.nav_link
-    q: PathRefQuery = call.query
-    await link.call("delete_nav_points", zm.DeleteNavPointsRequest(
+    link = call.ctx.nav_services
+    q = call.query
+    await link.call(zm.DeleteNavPoints, zm.DeleteNavPointsRequest(
         map_name=q.map_name, path_name=q.path_name))
     return {"status": "ok"}
 
 
-async def get_walls(call: Call) -> Any:
+async def get_walls(call: Call[None, MapRefQuery]) -> Answer:
     """The map's virtual walls (``x y`` per line; an empty line between walls)."""
-    link = call.ctx.nav_link
-    q: MapRefQuery = call.query
-    res = await link.call("get_virtual_walls",
+    link = call.ctx.nav_services
+    q = call.query
+    res = await link.call(zm.GetVirtualWalls,
                           zm.GetVirtualWallsRequest(map_name=q.map_name))
     return {"map_name": q.map_name, "path_name": q.path_name,
             "virtual_wall": format_walls(res.walls)}
 
 
-async def set_walls(call: Call) -> Any:
+async def set_walls(call: Call[WallBody, None]) -> Answer:
     """Replace the map's virtual walls."""
-    link = call.ctx.nav_link
-    b: WallBody = call.body
+    link = call.ctx.nav_services
+    b = call.body
     walls = _parsed(parse_walls, b.virtual_wall)
-    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(
+    await link.call(zm.SetVirtualWalls, zm.SetVirtualWallsRequest(
         map_name=b.map_name, walls=walls))
     return {"map_name": b.map_name, "path_name": b.path_name,
             "virtual_wall": format_walls(walls)}
 
 
-async def delete_walls(call: Call) -> Any:
+async def delete_walls(call: Call[None, MapRefQuery]) -> Answer:
     """Remove the map's virtual walls."""
-    link = call.ctx.nav_link
-    q: MapRefQuery = call.query
-    await link.call("set_virtual_walls", zm.SetVirtualWallsRequest(map_name=q.map_name))
+    link = call.ctx.nav_services
+    q = call.query
+    await link.call(zm.SetVirtualWalls, zm.SetVirtualWallsRequest(map_name=q.map_name))
     return {"status": "ok"}
 
 
-async def get_areas(call: Call) -> Any:
+async def get_areas(call: Call[None, MapRefQuery]) -> Answer:
     """The map's forbidden areas (``x1 y1 x2 y2`` rectangles, one per line)."""
-    link = call.ctx.nav_link
-    q: MapRefQuery = call.query
-    res = await link.call("get_forbidden_areas",
+    link = call.ctx.nav_services
+    q = call.query
+    res = await link.call(zm.GetForbiddenAreas,
                           zm.GetForbiddenAreasRequest(map_name=q.map_name))
     return {"map_name": q.map_name, "path_name": q.path_name,
             "skip_area": format_areas(res.areas)}
 
 
-async def set_areas(call: Call) -> Any:
+async def set_areas(call: Call[AreaBody, None]) -> Answer:
     """Replace the map's forbidden areas."""
-    link = call.ctx.nav_link
-    b: AreaBody = call.body
+    link = call.ctx.nav_services
+    b = call.body
     areas = _parsed(parse_areas, b.skip_area)
-    await link.call("set_forbidden_areas", zm.SetForbiddenAreasRequest(
+    await link.call(zm.SetForbiddenAreas, zm.SetForbiddenAreasRequest(
         map_name=b.map_name, areas=areas))
     return {"map_name": b.map_name, "path_name": b.path_name,
             "skip_area": format_areas(areas)}
 
 
-async def delete_areas(call: Call) -> Any:
+async def delete_areas(call: Call[None, MapRefQuery]) -> Answer:
     """Remove the map's forbidden areas."""
-    link = call.ctx.nav_link
-    q: MapRefQuery = call.query
-    await link.call("set_forbidden_areas",
+    link = call.ctx.nav_services
+    q = call.query
+    await link.call(zm.SetForbiddenAreas,
                     zm.SetForbiddenAreasRequest(map_name=q.map_name))
     return {"status": "ok"}
 
@@ -205,19 +207,19 @@ async def delete_areas(call: Call) -> Any:
 def add_record_routes(api: Api) -> None:
     """Route the path, nav-point, virtual-wall and skip-area operations."""
     for method, path, fn, kw in (
-        ("GET", "/navigation/path", get_path, {"query": ListQuery}),
-        ("POST", "/navigation/path", set_path, {"body": PathBody}),
-        ("PUT", "/navigation/path", set_path, {"body": PathBody}),
-        ("DELETE", "/navigation/path", delete_path, {"query": PathRefQuery}),
-        ("GET", "/navigation/nav_points", get_points, {"query": ListQuery}),
-        ("POST", "/navigation/nav_points", set_points, {"body": PathBody}),
-        ("PUT", "/navigation/nav_points", set_points, {"body": PathBody}),
-        ("DELETE", "/navigation/nav_points", delete_points, {"query": PathRefQuery}),
-        ("GET", "/navigation/virtual_wall", get_walls, {"query": MapRefQuery}),
-        ("POST", "/navigation/virtual_wall", set_walls, {"body": WallBody}),
-        ("DELETE", "/navigation/virtual_wall", delete_walls, {"query": MapRefQuery}),
-        ("GET", "/navigation/skip_area", get_areas, {"query": MapRefQuery}),
-        ("POST", "/navigation/skip_area", set_areas, {"body": AreaBody}),
-        ("DELETE", "/navigation/skip_area", delete_areas, {"query": MapRefQuery}),
+        ("GET", "/navigation/path", get_path, {}),
+        ("POST", "/navigation/path", set_path, {}),
+        ("PUT", "/navigation/path", set_path, {}),
+        ("DELETE", "/navigation/path", delete_path, {}),
+        ("GET", "/navigation/nav_points", get_points, {}),
+        ("POST", "/navigation/nav_points", set_points, {}),
+        ("PUT", "/navigation/nav_points", set_points, {}),
+        ("DELETE", "/navigation/nav_points", delete_points, {}),
+        ("GET", "/navigation/virtual_wall", get_walls, {}),
+        ("POST", "/navigation/virtual_wall", set_walls, {}),
+        ("DELETE", "/navigation/virtual_wall", delete_walls, {}),
+        ("GET", "/navigation/skip_area", get_areas, {}),
+        ("POST", "/navigation/skip_area", set_areas, {}),
+        ("DELETE", "/navigation/skip_area", delete_areas, {}),
     ):
         api.add(method, path, fn, **kw)

@@ -9,7 +9,7 @@ import msgspec
 
 from ...state.settings import KEYS, SettingsPatch
 from ...state.status import system_status_name
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_system_routes"]
 
@@ -35,23 +35,23 @@ class ConfigKey(msgspec.Struct, forbid_unknown_fields=True):
     key: Text
 
 
-async def token(call: Call) -> Any:
+async def token(call: Call[None, TokenQuery]) -> Answer:
     """Get an access token (§2): ``result`` and ``token``."""
     core = call.ctx.core
-    q: TokenQuery = call.query
+    q = call.query
     tok = core.tokens.issue(q.username, q.password)
     if tok is None:
         raise ApiError(401, "wrong username or password")
     return {"result": True, "token": tok}
 
 
-async def status(call: Call) -> Any:
+async def status(call: Call[None, None]) -> Answer:
     """Robot state: ``Mapping``, ``Navigating``, ``Busy`` or ``Free`` (§3.1)."""
     core = call.ctx.core
     return {"status": system_status_name(core.status)}
 
 
-async def info(call: Call) -> Any:
+async def info(call: Call[None, None]) -> Answer:
     """Battery, sensor rates, charge, loop and version info (§3.1)."""
     core = call.ctx.core
     s = core.state
@@ -70,23 +70,23 @@ async def info(call: Call) -> Any:
     }
 
 
-async def galileo_status(call: Call) -> Any:
+async def galileo_status(call: Call[None, None]) -> Answer:
     """The latest GalileoStatus (§4)."""
     core = call.ctx.core
     return core.status
 
 
-async def get_speed(call: Call) -> Any:
+async def get_speed(call: Call[None, None]) -> Answer:
     """Current velocity: ``speed_x``, ``speed_y`` (m/s), ``speed_angle`` (rad/s) (§3.2)."""
     core = call.ctx.core
     st = core.status
     return {"speed_x": st.currentSpeedX, "speed_y": 0.0, "speed_angle": st.currentSpeedTheta}
 
 
-async def put_speed(call: Call) -> Any:
+async def put_speed(call: Call[SpeedBody, None]) -> Answer:
     """Velocity command; holds 0.5 s (dead-man), repeat it for continuous motion (§3.2)."""
     core = call.ctx.core
-    b: SpeedBody = call.body
+    b = call.body
     limit = core.settings.current.max_control_speed
     if abs(b.speed_x) > limit or abs(b.speed_y) > limit:
         raise ApiError(400, f"speed over max_control_speed ({limit} m/s)")
@@ -94,7 +94,7 @@ async def put_speed(call: Call) -> Any:
     return {"result": True}
 
 
-async def get_config(call: Call) -> Any:
+async def get_config(call: Call[None, None]) -> Answer:
     """Navigation configuration (§3.6): ``default_map``, ``maps``, ``auto_charge``, ..."""
     core = call.ctx.core
     out = core.settings.as_dict()
@@ -106,14 +106,15 @@ async def get_config(call: Call) -> Any:
     return out
 
 
-async def post_config(call: Call) -> Any:
+# Call[Any, ...]: SettingsPatch is a type made at run time, so `add` is given it by name
+async def post_config(call: Call[Any, None]) -> Answer:
     """Change any subset of the configuration keys; returns the full configuration."""
     core = call.ctx.core
     core.settings.update(call.body)
     return await get_config(call)
 
 
-async def delete_config(call: Call) -> Any:
+async def delete_config(call: Call[None, ConfigKey]) -> Answer:
     """Reset one key to its default (§3.6)."""
     core = call.ctx.core
     key = call.query.key
@@ -125,12 +126,12 @@ async def delete_config(call: Call) -> Any:
 
 def add_system_routes(api: Api) -> None:
     """Add the token and system operations the gateway implements to ``api``."""
-    api.add("GET", "/token", token, query=TokenQuery, public=True, result_style=True)
+    api.add("GET", "/token", token, public=True, result_style=True)
     api.add("GET", "/system/status", status)
     api.add("GET", "/system/info", info)
     api.add("GET", "/system/galileo_status", galileo_status)
     api.add("GET", "/system/speed", get_speed)
-    api.add("PUT", "/system/speed", put_speed, body=SpeedBody, result_style=True)
+    api.add("PUT", "/system/speed", put_speed, result_style=True)
     api.add("GET", "/system/config", get_config)
     api.add("POST", "/system/config", post_config, body=SettingsPatch)
-    api.add("DELETE", "/system/config", delete_config, query=ConfigKey)
+    api.add("DELETE", "/system/config", delete_config)

@@ -14,12 +14,14 @@ import msgspec
 from zenros.msgs.zenros_msgs.task_actions import Action
 from zenros.msgs.zenros_msgs.task_docs import Task, TaskUpdate, as_document, tag_nested_tasks
 
-from ..api import Api, ApiError, Call, describe_invalid
+from ..api import Answer, Api, ApiError, Call, describe_invalid
 
 __all__ = ["add_task_routes", "decode_body"]
 
 Id = Annotated[str, msgspec.Meta(max_length=64)]
 T = TypeVar("T")
+JsonObject = dict[str, Any]
+"""A body checked by its handler (a task or an action: its type says its fields)."""
 _OK = {"status": "ok"}
 
 
@@ -46,7 +48,7 @@ def decode_body(body: Any, kind: type[T] | Any) -> T:
     return value
 
 
-async def get_task(call: Call) -> Any:
+async def get_task(call: Call[None, IdQuery]) -> Answer:
     """One task (``id``) or all tasks (§8.3)."""
     tasks = call.ctx.tasks
     if call.query.id:
@@ -54,56 +56,56 @@ async def get_task(call: Call) -> Any:
     return [as_document(t) for t in await tasks.tasks()]
 
 
-async def post_task(call: Call) -> Any:
+async def post_task(call: Call[JsonObject, None]) -> Answer:
     """Create a task (state ``WAITTING``) from ``name``, ``sub_tasks``, ``loop_flag``, ..."""
     return as_document(await call.ctx.tasks.create(decode_body(call.body, Task)))
 
 
-async def put_task(call: Call) -> Any:
+async def put_task(call: Call[JsonObject, None]) -> Answer:
     """Update a task: ``id`` plus ``name``, ``loop_flag`` or ``sub_tasks``."""
     return as_document(await call.ctx.tasks.update(decode_body(call.body, TaskUpdate)))
 
 
-async def delete_task(call: Call) -> Any:
+async def delete_task(call: Call[None, RequiredId]) -> Answer:
     """Delete a task by ``id``."""
     await call.ctx.tasks.command("delete", call.query.id)
     return _OK
 
 
-async def start_task(call: Call) -> Any:
+async def start_task(call: Call[None, RequiredId]) -> Answer:
     """Start a task."""
     return as_document(await call.ctx.tasks.step("start", call.query.id))
 
 
-async def pause_task(call: Call) -> Any:
+async def pause_task(call: Call[None, RequiredId]) -> Answer:
     """Pause a running task."""
     return as_document(await call.ctx.tasks.step("pause", call.query.id))
 
 
-async def resume_task(call: Call) -> Any:
+async def resume_task(call: Call[None, RequiredId]) -> Answer:
     """Resume a paused task."""
     return as_document(await call.ctx.tasks.step("resume", call.query.id))
 
 
-async def stop_task(call: Call) -> Any:
+async def stop_task(call: Call[None, IdQuery]) -> Answer:
     """Stop a task (the current one without id)."""
     return as_document(await call.ctx.tasks.step("stop", call.query.id))
 
 
-async def loop(call: Call) -> Any:
+async def loop(call: Call[None, LoopQuery]) -> Answer:
     """Set or clear a task's ``loop_flag``."""
     return as_document(await call.ctx.tasks.loop(call.query.id, call.query.loop_flag))
 
 
-async def get_action(call: Call) -> Any:
+async def get_action(call: Call[None, IdQuery]) -> Answer:
     """One action (``id``) or all actions (§9.1)."""
     found = await call.ctx.tasks.actions(call.query.id)
     if call.query.id:
-        return msgspec.to_builtins(found[0]) if found else None
-    return msgspec.to_builtins(found)
+        return found[0] if found else None
+    return found
 
 
-async def post_action(call: Call) -> Any:
+async def post_action(call: Call[JsonObject, None]) -> Answer:
     """Add an action (``type`` + params) to ``task_id``, or to a new ``auto task``."""
     body = dict(call.body)
     if not isinstance(body.get("type"), str):
@@ -116,22 +118,22 @@ async def post_action(call: Call) -> Any:
     return as_document(await call.ctx.tasks.create_action(task_id, action))
 
 
-async def put_action(call: Call) -> Any:
+async def put_action(call: Call[JsonObject, None]) -> Answer:
     """Change an action: ``id`` plus the fields to change."""
     changes = dict(call.body)
     ident = changes.pop("id", "")
     if not isinstance(ident, str):
         raise ApiError(400, "invalid body: field `id` must be a string")
-    return msgspec.to_builtins(await call.ctx.tasks.update_action(ident, changes))
+    return await call.ctx.tasks.update_action(ident, changes)
 
 
-async def delete_action(call: Call) -> Any:
+async def delete_action(call: Call[None, RequiredId]) -> Answer:
     """Delete an action by ``id``."""
     await call.ctx.tasks.command("delete_action", call.query.id)
     return _OK
 
 
-async def update_wait_req(call: Call) -> Any:
+async def update_wait_req(call: Call[None, None]) -> Answer:
     """Release a task waiting in ``wait_req_action``."""
     await call.ctx.tasks.command("update_wait_req")
     return _OK
@@ -139,18 +141,17 @@ async def update_wait_req(call: Call) -> Any:
 
 def add_task_routes(api: Api) -> None:
     """Route the task and action operations to the tasks service (``call.ctx.tasks``)."""
-    body_dict: Any = dict[str, Any]
-    api.add("GET", "/task", get_task, query=IdQuery)
-    api.add("POST", "/task", post_task, body=body_dict)
-    api.add("PUT", "/task", put_task, body=body_dict)
-    api.add("DELETE", "/task", delete_task, query=RequiredId)
-    api.add("GET", "/task/start", start_task, query=RequiredId)
-    api.add("GET", "/task/pause", pause_task, query=RequiredId)
-    api.add("GET", "/task/resume", resume_task, query=RequiredId)
-    api.add("GET", "/task/stop", stop_task, query=IdQuery)
-    api.add("GET", "/task/loop", loop, query=LoopQuery)
-    api.add("GET", "/action", get_action, query=IdQuery)
-    api.add("POST", "/action", post_action, body=body_dict)
-    api.add("PUT", "/action", put_action, body=body_dict)
-    api.add("DELETE", "/action", delete_action, query=RequiredId)
+    api.add("GET", "/task", get_task)
+    api.add("POST", "/task", post_task)
+    api.add("PUT", "/task", put_task)
+    api.add("DELETE", "/task", delete_task)
+    api.add("GET", "/task/start", start_task)
+    api.add("GET", "/task/pause", pause_task)
+    api.add("GET", "/task/resume", resume_task)
+    api.add("GET", "/task/stop", stop_task)
+    api.add("GET", "/task/loop", loop)
+    api.add("GET", "/action", get_action)
+    api.add("POST", "/action", post_action)
+    api.add("PUT", "/action", put_action)
+    api.add("DELETE", "/action", delete_action)
     api.add("GET", "/action/update_wait_req", update_wait_req)

@@ -3,13 +3,13 @@ volume."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated
 
 import msgspec
 from zenros.msgs.std_msgs import String
 
 from ...state.speech import MAX_ALIASES
-from ..api import Api, ApiError, Call
+from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_tts_routes"]
 
@@ -25,46 +25,46 @@ class VolumeBody(msgspec.Struct, forbid_unknown_fields=True):
     value: Annotated[int, msgspec.Meta(ge=0, le=100)]
 
 
-async def tts(call: Call) -> Any:
+async def tts(call: Call[None, TtsQuery]) -> Answer:
     """Speak ``text`` (its alias if it has one): published on ``tts`` (std_msgs/String).
 
     The simulated robot has no speaker; the speech counts as playing for
     len(text) / 15 s of the robot's clock.
     """
-    link, speech, store = call.ctx.link, call.ctx.speech, call.ctx.audio
+    link, speech, store = call.ctx.topics, call.ctx.speech, call.ctx.audio
     text = store.apply_alias(call.query.text)
     speech.say(text)
     link.tts_pub.publish(String(data=text))
     return {"status": "ok"}
 
 
-async def playing(call: Call) -> Any:
+async def playing(call: Call[None, None]) -> Answer:
     """Whether speech is playing: ``status`` bool."""
     speech = call.ctx.speech
     return {"status": speech.playing()}
 
 
-async def stop(call: Call) -> Any:
+async def stop(call: Call[None, None]) -> Answer:
     """Stop speaking."""
     speech = call.ctx.speech
     speech.stop()
     return {"status": "ok"}
 
 
-async def get_alias(call: Call) -> Any:
+async def get_alias(call: Call[None, None]) -> Answer:
     """The alias table ``{text: text spoken instead}``."""
     store = call.ctx.audio
     return store.aliases()
 
 
-async def post_alias(call: Call) -> Any:
+async def post_alias(call: Call[AliasTable, None]) -> Answer:
     """Replace the whole alias table."""
     store = call.ctx.audio
     store.replace_aliases(call.body)
     return {"status": "ok"}
 
 
-async def put_alias(call: Call) -> Any:
+async def put_alias(call: Call[AliasTable, None]) -> Answer:
     """Add or change the given aliases; returns the whole table."""
     store = call.ctx.audio
     try:
@@ -73,13 +73,13 @@ async def put_alias(call: Call) -> Any:
         raise ApiError(400, str(exc)) from exc
 
 
-async def get_volume(call: Call) -> Any:
+async def get_volume(call: Call[None, None]) -> Answer:
     """Speaker volume ``value`` (0-100; kept, though the simulated robot is silent)."""
     store = call.ctx.audio
     return {"value": store.current.volume}
 
 
-async def put_volume(call: Call) -> Any:
+async def put_volume(call: Call[VolumeBody, None]) -> Answer:
     """Set the speaker volume ``value`` (0-100)."""
     store = call.ctx.audio
     store.set_volume(call.body.value)
@@ -88,11 +88,11 @@ async def put_volume(call: Call) -> Any:
 
 def add_tts_routes(api: Api) -> None:
     """Route TTS, its alias table, playing/stop and the volume."""
-    api.add("GET", "/system/tts", tts, query=TtsQuery)
+    api.add("GET", "/system/tts", tts)
     api.add("GET", "/system/tts/playing", playing)
     api.add("GET", "/system/tts/stop", stop)
     api.add("GET", "/system/tts/alias", get_alias)
-    api.add("POST", "/system/tts/alias", post_alias, body=AliasTable)
-    api.add("PUT", "/system/tts/alias", put_alias, body=AliasTable)
+    api.add("POST", "/system/tts/alias", post_alias)
+    api.add("PUT", "/system/tts/alias", put_alias)
     api.add("GET", "/system/volume", get_volume)
-    api.add("PUT", "/system/volume", put_volume, body=VolumeBody)
+    api.add("PUT", "/system/volume", put_volume)

@@ -1,4 +1,4 @@
-"""`RobotLink`: the gateway's zenros side: robot topics into `Core`, commands out.
+"""`RobotTopics`: the robot's topics into `Core`, the gateway's commands and status out.
 
 Subscribes ``odom`` and ``scan`` (polled at each status tick), ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
 (relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
@@ -15,6 +15,7 @@ from typing import Any
 
 from zenros.clock import SteadyClock
 from zenros.errors import UnknownTypeError
+from zenros.msgs.diagnostic_msgs import DiagnosticArray, DiagnosticStatus
 from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoStatus
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav_msgs import Odometry
@@ -28,7 +29,7 @@ from zenros.tf.convert import yaw_from_msg
 
 from ..state.core import Core
 
-__all__ = ["RobotLink"]
+__all__ = ["RobotTopics"]
 
 POLL_DEPTH = 256  # samples kept between two status ticks: 50 Hz odometry for 5 s
 DEADMAN_PERIOD = 0.05  # s between dead-man commands on cmd_vel while driven
@@ -37,7 +38,7 @@ POWER_SUPPLY_STATUS_CHARGING = 1
 POWER_SUPPLY_STATUS_FULL = 4
 
 
-class RobotLink:
+class RobotTopics:
     """Feeds ``core.state`` from the robot's topics and publishes the gateway's topics."""
 
     def __init__(self, node: Node, core: Core, rate: float = 30.0) -> None:
@@ -57,6 +58,9 @@ class RobotLink:
         # but the newest odometry (a fleet gateway at rest spent most of its CPU on them).
         self.odom_sub = node.create_polled_subscription(Odometry, "odom", POLL_DEPTH)
         self.scan_sub = node.create_polled_subscription(LaserScan, "scan", POLL_DEPTH)
+        # the aggregated diagnostics (1 Hz), read when asked (`diagnostics`)
+        self.diag_sub = node.create_polled_subscription(DiagnosticArray, "/diagnostics_agg", 1)
+        self._diag: dict[str, DiagnosticStatus] = {}
         node.create_subscription(BatteryState, "battery_state", self.on_battery, 10)
         node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self.on_pose, 10)
         node.create_subscription(Twist, "cmd_vel", self.on_cmd_vel, 10)
@@ -96,6 +100,15 @@ class RobotLink:
             self.seen["odom"] = odom.arrivals[-1]
         if odom.latest is not None:
             self.on_odom(odom.latest, odom.arrivals[-1])
+
+    def diagnostics(self, within: float = 5.0) -> dict[str, DiagnosticStatus] | None:
+        """The aggregator's tree (``/diagnostics_agg``) by status name, or None when none
+        came in the last ``within`` seconds (no aggregator running)."""
+        got = self.diag_sub.take()
+        if got.latest is not None:
+            self._diag = {s.name: s for s in got.latest.status}
+            self.seen["/diagnostics_agg"] = got.arrivals[-1]
+        return self._diag if self.fresh("/diagnostics_agg", within) else None
 
     def on_log(self, msg: Log) -> None:
         level = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL"}.get(

@@ -1,4 +1,5 @@
-"""`Navigator`: the gateway's `NavPort` on the nav service (Nav2 actions and nav services).
+"""`NavActions`: the gateway's `NavPort` on the nav service's actions (Nav2's
+``navigate_to_pose``, ``dock_robot``, ``undock_robot``) and the nav points they go to.
 
 Goals go to ``navigate_to_pose``; nav point indexes are looked up with ``get_nav_points``
 on the current path; charging uses ``dock_robot`` / ``undock_robot``. ``nav/status``
@@ -16,7 +17,6 @@ from typing import Any
 
 from zenros.action import ActionClient
 from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosError, ZenrosTimeout
-from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped
 from zenros.msgs.nav2_msgs import (
     DockRobot,
     DockRobotGoal,
@@ -25,7 +25,6 @@ from zenros.msgs.nav2_msgs import (
     UndockRobot,
     UndockRobotGoal,
 )
-from zenros.msgs.std_msgs import Header
 from zenros.msgs.zenros_msgs import (
     GetCurrentMap,
     GetCurrentMapRequest,
@@ -38,15 +37,15 @@ from zenros.msgs.zenros_msgs import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
-from zenros.tf.convert import yaw_to_msg
 
-from ..errors import NotFound, PortError, Refused
+from ..errors import Conflict, NotFound, PortError, Refused
 from ..state.core import Core, NavUnavailable
 from ..state.status import GoalState
 from ..state.target import NO_ID, task_target
+from .nav_services import pose_stamped
 from .tasks_link import TasksLink
 
-__all__ = ["Navigator", "pose_stamped"]
+__all__ = ["NavActions"]
 
 CALL_TIMEOUT = 10.0    # s for a nav service call (a loaded machine answers slowly)
 TRACK_PERIOD = 1.0     # s between recorded track points
@@ -56,13 +55,7 @@ TRACK_LENGTH = 3600    # points kept per map
 _GOAL = {0: (0, -1), 1: (1, 0), 2: (0, 1), 3: (3, 2), 4: (0, -1)}
 
 
-def pose_stamped(x: float, y: float, theta: float) -> PoseStamped:
-    return PoseStamped(header=Header(frame_id="map"), pose=Pose(
-        position=Point(x=x, y=y),
-        orientation=yaw_to_msg(theta)))
-
-
-class Navigator:
+class NavActions:
     """Starts, pauses, resumes and cancels goals; `path_name` is the current path."""
 
     def __init__(self, node: Node, core: Core) -> None:
@@ -186,6 +179,26 @@ class Navigator:
             raise NotFound(f"nav point {index} does not exist: path {res.path_name!r} {has}")
         p = res.points[index]
         return p.x, p.y, p.theta
+
+    async def point(self, index: int) -> tuple[float, float, float]:
+        """Nav point ``index`` of the current path, for the REST handlers: `NotFound` when it
+        does not exist, `Conflict` when the map has no path, nav's absence `Unavailable`."""
+        try:
+            return await self.nav_point(index)
+        except NavUnavailable as exc:
+            raise self.core.presence.error("nav", str(exc)) from exc
+        except PortError:  # NotFound: no such nav point
+            raise
+        except ValueError as exc:
+            raise Conflict(str(exc)) from exc
+
+    def same_map(self, map_name: str, path: str, current: str) -> None:
+        """A goal on the current map: make ``path`` the current path (a goal on another
+        map is the callers' cross-map case; one that reaches here is a bug, a 400)."""
+        if map_name and map_name != current:
+            raise Refused(f"map {map_name!r} is not the current map {current!r}")
+        if path and path != self.path_name:
+            self.path_name = path
 
     async def goto_index(self, index: int) -> None:
         self._require()

@@ -1,0 +1,7 @@
+"""``python -m zenros.services.diagnostics``: run the diagnostics aggregator."""
+
+from zenros import run
+
+from .node import AggregatorNode
+
+run(AggregatorNode)

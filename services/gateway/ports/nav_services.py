@@ -1,0 +1,107 @@
+"""`NavServices`: the nav service's map, path, nav-point, wall and charge-pose services, and
+its ``map`` and ``initialpose`` topics, for the REST handlers.
+
+A call names its service by type: ``await nav.call(zm.GetNavPoints, request)`` is a
+``GetNavPointsResponse``; `SERVICES` maps each type to nav's service name. A refusal becomes
+the port error of nav's `ResultCode`, with nav's reason.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Final
+
+from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.message import Q, S, ServiceType
+from zenros.msgs import zenros_msgs as zm
+from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, PoseWithCovarianceStamped
+from zenros.msgs.nav_msgs import OccupancyGrid
+from zenros.msgs.std_msgs import Header
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+from zenros.rpc import Client
+from zenros.tf.convert import yaw_to_msg
+
+from ..errors import NoAnswer, PortError, port_error
+from ..state.presence import Presence
+
+__all__ = ["SERVICES", "NavServices", "pose_stamped"]
+
+SERVICES: Final[dict[ServiceType[Any, Any], str]] = {
+    zm.ListMaps: "map_server/list_maps",
+    zm.GetCurrentMap: "map_server/current_map",
+    zm.ImportMap: "map_server/import_map",
+    zm.SwitchMap: "switch_map",
+    zm.ListPaths: "list_paths",
+    zm.GetPath: "get_path",
+    zm.SetPath: "set_path",
+    zm.DeletePath: "delete_path",
+    zm.GetNavPoints: "get_nav_points",
+    zm.SetNavPoints: "set_nav_points",
+    zm.DeleteNavPoints: "delete_nav_points",
+    zm.GetChargePose: "get_charge_pose",
+    zm.SetChargePose: "set_charge_pose",
+    zm.GetVirtualWalls: "get_virtual_walls",
+    zm.SetVirtualWalls: "set_virtual_walls",
+    zm.GetForbiddenAreas: "get_forbidden_areas",
+    zm.SetForbiddenAreas: "set_forbidden_areas",
+    zm.ListPointConnections: "list_point_connections",
+    zm.AddPointConnection: "add_point_connection",
+    zm.DeletePointConnection: "delete_point_connection",
+}
+"""Nav's services the gateway calls, by type: one service per type."""
+
+
+def pose_stamped(x: float, y: float, theta: float) -> PoseStamped:
+    return PoseStamped(header=Header(frame_id="map"), pose=Pose(
+        position=Point(x=x, y=y),
+        orientation=yaw_to_msg(theta)))
+
+
+class NavServices:
+    """``await call(srv, request)`` → ``srv``'s response; the current map grid from ``map``
+    (latched); `publish_initialpose`."""
+
+    def __init__(self, node: Node, presence: Presence, timeout: float = 10.0) -> None:
+        self.timeout = timeout
+        self.presence = presence
+        self._clients: dict[ServiceType[Any, Any], Client[Any, Any]] = {
+            srv: node.create_client(srv, name) for srv, name in SERVICES.items()}
+        self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
+        self.grid: OccupancyGrid | None = None
+        node.create_subscription(OccupancyGrid, "map", self._on_map, QOS_LATCHED)
+
+    def _on_map(self, msg: OccupancyGrid) -> None:
+        self.grid = msg
+
+    async def call(self, srv: ServiceType[Q, S], request: Q) -> S:
+        """Call nav's service of type ``srv``; its response, or the port error of nav's
+        refusal (`Unavailable` when nav does not serve it, `NoAnswer` when it is slow)."""
+        client: Client[Q, S] = self._clients[srv]
+        try:
+            return await client.call_async(request, self.timeout)
+        except ServiceUnavailableError:
+            raise self.presence.error("nav", f"no server for {client.name}") from None
+        except ZenrosTimeout:
+            raise NoAnswer(f"the nav service did not answer {client.name} within "
+                           f"{self.timeout:g} s") from None
+        except ServiceError as exc:  # the kind comes from nav's code, never its wording
+            raise port_error(exc.code, exc.reason) from exc
+
+    async def maps(self) -> tuple[list[str], str]:
+        """(stored map names, current map); empty when nav does not answer."""
+        try:
+            res = await self.call(zm.ListMaps, zm.ListMapsRequest())
+        except PortError:
+            return [], ""
+        return sorted(m.name for m in res.maps), str(res.current)
+
+    async def current_map(self) -> str:
+        """The current map's name."""
+        res = await self.call(zm.GetCurrentMap, zm.GetCurrentMapRequest())
+        return str(res.name)
+
+    def publish_initialpose(self, x: float, y: float, theta: float) -> None:
+        """Tell localization the robot is at (``x``, ``y``, ``theta``) on the map."""
+        msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))
+        msg.pose.pose = pose_stamped(x, y, theta).pose
+        self.initialpose.publish(msg)
