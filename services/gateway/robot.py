@@ -21,6 +21,7 @@ from .ports.io_link import IoLink
 from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
 from .ports.robot_topics import RobotTopics
+from .ports.slam_link import SlamLink
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
 from .state.config import GatewayConfig
@@ -94,12 +95,14 @@ class Robot:
         self.io = IoLink(node)
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
+        self.slam = SlamLink(node, self.core, lambda: self.nav_services.grid)
         self.api: Api = build_api(Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(node, self.core.presence)), options.max_body, node.logger)
+            coverage=CoverageLink(node, self.core.presence), slam=self.slam),
+            options.max_body, node.logger)
 
 
 class RobotView(Node):

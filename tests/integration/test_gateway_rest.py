@@ -215,7 +215,7 @@ def test_openapi_matches_routes(http: httpx.Client) -> None:
     body = doc["components"]["schemas"][ref.rsplit("/", 1)[1]]
     assert set(body["properties"]) == {"speed_x", "speed_y", "speed_angle"}
     assert "501" not in speed["responses"] and "401" in speed["responses"]
-    assert "501" in doc["paths"]["/api/v1/map/start"]["get"]["responses"]
+    assert "501" in doc["paths"]["/api/v1/navigation/upload_map"]["get"]["responses"]
 
 
 HOSTILE_BODIES = [b"{", b"[]", b'"x"', b"null", b'{"a": ' * 200 + b"1" + b"}" * 200,
@@ -226,22 +226,28 @@ HOSTILE_QUERIES = [{"id": "x" * 500}, {"index": "NaN"}, {"map_name": "../x"},
                    {"topic_name": "$$$"}, {"param": "/../x"}, {"key": "\x00"}]
 
 
+def assert_no_500(http: httpx.Client, entry: str, token: dict[str, str]) -> None:
+    """``entry`` (``"GET /api/v1/..."``), fed hostile queries (and bodies, for POST and PUT),
+    answers a docs/robot-api.md §1.2 body with a code other than 500."""
+    method, url = entry.split(" ", 1)
+    path = url.removeprefix("/api/v1")
+    tries: list[tuple[dict[str, str], bytes | None]] = [(token, None)] + [
+        ({**token, **q}, None) for q in HOSTILE_QUERIES]
+    if method in ("POST", "PUT"):
+        tries += [(token, b) for b in HOSTILE_BODIES]
+    for params, body in tries:
+        r = http.request(method, path, params=params, content=body,
+                         headers={"content-type": "application/json"})
+        assert r.status_code != 500, (entry, params, body, r.text)
+        if r.status_code >= 400:
+            err = r.json()
+            assert err.get("status") == "error" or err.get("result") is False, err
+            assert err["description"], err
+
+
 def test_no_input_gets_a_500(http: httpx.Client, token: str) -> None:
     """Every implemented operation, fed hostile bodies and queries, answers a docs/robot-api.md §1.2
     body with a code other than 500 (backing services absent here: 503 is an honest answer)."""
     index = http.get("/").json()
     for entry in index["implemented"]:
-        method, url = entry.split(" ", 1)
-        path = url.removeprefix("/api/v1")
-        tries: list[tuple[dict[str, str], bytes | None]] = [({"token": token}, None)] + [
-            ({"token": token, **q}, None) for q in HOSTILE_QUERIES]
-        if method in ("POST", "PUT"):
-            tries += [({"token": token}, b) for b in HOSTILE_BODIES]
-        for params, body in tries:
-            r = http.request(method, path, params=params, content=body,
-                             headers={"content-type": "application/json"})
-            assert r.status_code != 500, (entry, params, body, r.text)
-            if r.status_code >= 400:
-                err = r.json()
-                assert err.get("status") == "error" or err.get("result") is False, err
-                assert err["description"], err
+        assert_no_500(http, entry, {"token": token})

@@ -6,7 +6,10 @@ and starts from a robot standing still with no goal.
 
 The page must load with no console errors, show the map and the robot, send the robot to a
 nav point clicked on the map, pause a task, engage the e-stop, drive from the keyboard and
-the teleop pad, and fit a phone-sized window.
+the teleop pad, build a map (start, drive with the pad, watch it grow with the track, save,
+stop, explore at a click: against a mapping node that follows the zenros_msgs.slam contract,
+tests/integration/slam_stand_in.py, until the real one is launched), and fit a phone-sized
+window.
 Screenshots are saved in
 ``$ZENROS_ARTIFACTS`` (default ``test-artifacts/`` at the repository root).
 """
@@ -15,6 +18,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 import sys
 from collections.abc import Iterator
@@ -23,7 +27,14 @@ from typing import Any
 
 import pytest
 from zenros.context import Context
-from zenros.msgs.zenros_msgs import NavPoint, ResultCode, SetNavPoints, SetNavPointsRequest
+from zenros.msgs.zenros_msgs import (
+    ListMaps,
+    ListMapsRequest,
+    NavPoint,
+    ResultCode,
+    SetNavPoints,
+    SetNavPointsRequest,
+)
 from zenros.msgs.zenros_msgs.tasks import TASK_SERVICES, response_data, task_request
 from zenros.rpc import Client
 from zenros.session import SessionOptions
@@ -42,6 +53,7 @@ ARTIFACTS = Path(os.environ.get("ZENROS_ARTIFACTS")
                  or Path(__file__).resolve().parents[2] / "test-artifacts")
 POINTS = [NavPoint(name="Lab", x=6.0, y=0.0), NavPoint(name="Corridor end", x=20.0, y=0.0)]
 TIMEOUT = 30.0
+SLAM_STAND_IN = Path(__file__).resolve().parents[1] / "integration" / "slam_stand_in.py"
 
 if CHROMIUM is None or CHROMEDRIVER is None:
     pytest.skip("headless Chromium is not installed (apt-get install chromium chromium-driver)",
@@ -83,6 +95,7 @@ class Rig:
             start("zenros.services.chassis", "speed:=10", "publish_clock:=true"),
             start("zenros.services.nav", "use_sim_time:=true", f"maps_dir:={home / 'maps'}"),
             start("zenros.services.tasks", "use_sim_time:=true"),
+            self._start([sys.executable, str(SLAM_STAND_IN), *common], env),
             start("zenros.services.gateway", f"rest_port:={self.rest_port}",
                   f"ws_port:={free_port()}", f"modbus_port:={free_port()}",
                   f"rosbridge_port:={free_port()}", "discovery_port:=-1",
@@ -303,6 +316,51 @@ def test_teleop_from_the_pad(page: Any) -> None:
         assert wait_for(lambda: turned(page, start, 0.3), TIMEOUT)
     finally:
         ActionChains(page).release().perform()
+
+
+def mapping_state(d: Any) -> str:
+    return str(d.find_element(By.ID, "mapping-state").get_attribute("data-state") or "")
+
+
+def known_area(d: Any) -> float:
+    text = d.find_element(By.ID, "mapping-detail").text
+    found = re.search(r"([0-9.]+) m² known", text)
+    return float(found.group(1)) if found else 0.0
+
+
+def test_mapping_from_the_page(rig: Rig, page: Any) -> None:
+    """Start mapping, drive with the pad while the map grows with the track, save it under
+    a name (it is then a stored map), stop; then explore at a click until it is done."""
+    click(page, "#mapping-start")
+    assert wait_for(lambda: mapping_state(page) == "mapping", TIMEOUT)
+    assert wait_for(lambda: known_area(page) > 0, TIMEOUT)
+    first, here = known_area(page), pose(page)
+    assert here is not None
+    ActionChains(page).click_and_hold(page.find_element(By.ID, "pad")) \
+        .move_by_offset(0, -40).perform()  # stick up: drive ahead
+    try:
+        assert wait_for(lambda: math.dist(pose(page) or here, here) > 0.6, TIMEOUT)
+    finally:
+        ActionChains(page).release().perform()
+    assert wait_for(lambda: known_area(page) > first, TIMEOUT)
+    assert wait_for(lambda: page.execute_script(
+        "return window.dashboard.view.track.length") >= 2, TIMEOUT)
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    assert page.save_screenshot(str(ARTIFACTS / "dashboard-mapping.png"))
+    page.find_element(By.ID, "mapping-name").send_keys("site2")
+    click(page, "#mapping-save")
+    assert wait_for(lambda: page.find_element(By.ID, "mapping-detail")
+                    .get_attribute("data-saved") == "site2", TIMEOUT)
+    maps = Client(rig.ctx, ListMaps, "/map_server/list_maps")
+    assert maps.wait_for_service(TIMEOUT)
+    assert "site2" in [m.name for m in maps.call(ListMapsRequest(), TIMEOUT).maps]
+    click(page, "#mapping-stop")
+    assert wait_for(lambda: mapping_state(page) == "idle", TIMEOUT)
+    click(page, "#mapping-explore")
+    assert wait_for(lambda: page.find_element(By.ID, "mapping-detail")
+                    .get_attribute("data-explore") == "done", TIMEOUT)
+    click(page, "#mapping-stop")
+    assert wait_for(lambda: mapping_state(page) == "idle", TIMEOUT)
 
 
 def test_phone_sized_and_no_console_errors(page: Any) -> None:

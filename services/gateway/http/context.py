@@ -13,6 +13,7 @@ from ..ports.io_link import IoLink
 from ..ports.nav_actions import NavActions
 from ..ports.nav_services import NavServices
 from ..ports.robot_topics import RobotTopics
+from ..ports.slam_link import SlamPort
 from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
 from ..state.core import Core
@@ -37,3 +38,4 @@ class Context:
     speech: Speech
     audio: AudioStore
     coverage: CoverageLink
+    slam: SlamPort | None = None   # the mapping node's port (None: no mapping)

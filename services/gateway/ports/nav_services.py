@@ -29,6 +29,7 @@ __all__ = ["SERVICES", "NavServices", "pose_stamped"]
 SERVICES: Final[dict[ServiceType[Any, Any], str]] = {
     zm.ListMaps: "map_server/list_maps",
     zm.GetCurrentMap: "map_server/current_map",
+    zm.ImportMap: "map_server/import_map",
     zm.SwitchMap: "switch_map",
     zm.ListPaths: "list_paths",
     zm.GetPath: "get_path",

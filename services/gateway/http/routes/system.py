@@ -66,6 +66,7 @@ async def info(call: Call[None, None]) -> Answer:
                  "mac": ident.mac, "port": ident.port},
         "charge": st.chargeStatus in (1, 2), "loop": bool(st.loopStatus),
         "slam_type": core.settings.current.slam_type,
+        "mapping": call.ctx.slam.summary() if call.ctx.slam is not None else None,
     }
 
 

@@ -2,6 +2,7 @@
 
 import { FleetPanel } from "./fleet.js";
 import { MapView, yawOf } from "./map_view.js";
+import { MappingPanel } from "./mapping.js";
 import { Rosbridge } from "./rosbridge.js";
 import { TaskPanel } from "./tasks.js";
 import { Teleop } from "./teleop.js";
@@ -59,6 +60,12 @@ class Dashboard {
     this.teleop = new Teleop($("pad"), (v, w) => this.drive(v, w));
     this.taskPanel = new TaskPanel(this.ros, (call) => this.name(`tasks/${call}`), $("tasks"),
                                    $("tasks-empty"), (text) => toast(text, true));
+    this.mapping = new MappingPanel(this.ros, (rel) => this.name(rel), this.view, {
+      state: $("mapping-state"), detail: $("mapping-detail"), start: $("mapping-start"),
+      explore: $("mapping-explore"), stop: $("mapping-stop"), save: $("mapping-save"),
+      saveName: $("mapping-name"),
+    }, toast);
+    this.mapping.onPose = (p) => this.onPose(p);
     this.fleet = config.robots ? this.startFleet(config.robots) : null;
     this.wire();
     this.subscribe();
@@ -129,7 +136,8 @@ class Dashboard {
     ros.subscribe(this.name("global_costmap/costmap"), "nav_msgs/OccupancyGrid",
                   (m) => this.view.setCostmap(m), { throttle_rate: 2000, queue_length: 1 });
     ros.subscribe(this.name("robot_pose"), "geometry_msgs/PoseWithCovarianceStamped",
-                  (m) => this.onPose(m.pose.pose), { throttle_rate: 50, queue_length: 1 });
+                  (m) => { if (!this.mapping.mapping()) this.onPose(m.pose.pose); },
+                  { throttle_rate: 50, queue_length: 1 }); // while mapping: slam/pose
     ros.subscribe(this.name("scan"), "sensor_msgs/LaserScan", (m) => this.onScan(m),
                   { throttle_rate: 150, queue_length: 1 });
     ros.subscribe(this.name("plan"), "nav_msgs/Path", (m) => this.view.setPlan(
@@ -142,6 +150,7 @@ class Dashboard {
     ros.subscribe(this.name("tasks/status"), "zenros_msgs/TaskStatus",
                   (m) => this.taskPanel.onStatus(m));
     ros.subscribe("/tf_static", "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
+    this.mapping.subscribe();
     // a robot of a fleet keeps its own tree (/<robot>/tf_static, docs/fleet.md)
     if (this.ns) ros.subscribe(this.name("tf_static"), "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
   }

@@ -14,6 +14,7 @@ const COLORS = {
   otherEdge: "#334155",
   point: "#f59e0b",
   pointActive: "#22c55e",
+  track: "#a855f7",
 };
 
 export function yawOf(q) {
@@ -58,7 +59,7 @@ export class MapView extends EventTarget {
     this.center = { x: 0, y: 0 };
     this.fitted = false;
     this.userMoved = false;
-    this.layers = { costmap: true, scan: true, plan: true, walls: true, points: true };
+    this.layers = { costmap: true, scan: true, plan: true, walls: true, points: true, track: true };
     this.map = null;
     this.mapImage = null;
     this.costImage = null;
@@ -68,6 +69,7 @@ export class MapView extends EventTarget {
     this.footprint = 0.22;
     this.scanPoints = [];
     this.plan = [];
+    this.track = []; // the mapping robot's trajectory (slam/track)
     this.walls = [];
     this.points = [];
     this.activePoint = null;
@@ -96,9 +98,11 @@ export class MapView extends EventTarget {
   // -------------------------------------------------------------- data
 
   setMap(grid) {
+    const before = this.map ? this.map.info : null;
     this.map = grid;
     this.mapImage = gridImage(grid, paintMap);
-    if (!this.fitted) this.fit();
+    const grown = before && (before.width !== grid.info.width || before.height !== grid.info.height);
+    if (!this.fitted || (grown && !this.userMoved)) this.fit(); // a map being built grows
     this.canvas.dataset.mapLoaded = "1";
     this.dirty = true;
   }
@@ -117,6 +121,7 @@ export class MapView extends EventTarget {
   setOthers(robots) { this.others = robots; this.dirty = true; }
   setScan(points) { this.scanPoints = points; this.dirty = true; }
   setPlan(points) { this.plan = points; this.dirty = true; }
+  setTrack(points) { this.track = points; this.dirty = true; }
   setWalls(walls) { this.walls = walls; this.dirty = true; }
   setPoints(points) { this.points = points; this.dirty = true; }
   setActivePoint(index) { this.activePoint = index; this.dirty = true; }
@@ -265,6 +270,12 @@ export class MapView extends EventTarget {
       ctx.lineWidth = 3 * px;
       ctx.lineJoin = "round";
       this.polyline(this.plan);
+    }
+    if (this.layers.track && this.track.length > 1) {
+      ctx.strokeStyle = COLORS.track;
+      ctx.lineWidth = 2 * px;
+      ctx.lineJoin = "round";
+      this.polyline(this.track);
     }
     if (this.layers.scan && this.scanPoints.length) {
       ctx.fillStyle = COLORS.scan;

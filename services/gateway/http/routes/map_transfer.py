@@ -1,0 +1,249 @@
+"""REST map transfer (docs/robot-api.md §6.1, §6.3): live map updating while navigating
+(``GET|PUT /navigation/update_map``), and one map in and out of the robot as an archive
+(``download_map_from_robot``, ``upload_map_to_robot``; the layout is `ports.map_archive`'s).
+
+An upload is checked whole (zip-slip, size, YAML, image, manifest, nav data) in a folder of
+its own before nav's ``map_server/import_map`` copies it into the maps store, so a refused
+upload leaves the stored maps untouched.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import msgspec
+import yaml
+from starlette.datastructures import UploadFile
+from starlette.formparsers import MultiPartException
+from starlette.requests import Request
+from starlette.responses import Response
+from zenros.msgs import zenros_msgs as zm
+from zenros.msgs.geometry_msgs import Pose2D
+
+from ...errors import NotFound, PortError
+from ...ports.map_archive import (
+    MANIFEST,
+    MAX_ARCHIVE,
+    ArchiveError,
+    ArchivePath,
+    CheckedMap,
+    Manifest,
+    NavBundle,
+    check_map,
+    pack,
+    read_archive,
+)
+from ..api import Answer, Api, ApiError, Call
+from ..context import Context
+from ..fields import Name
+from .fs import SLACK, _limited
+from .mapping import slam_port
+
+__all__ = ["add_map_transfer_routes"]
+
+
+class UpdateMapBody(msgspec.Struct, forbid_unknown_fields=True):
+    enabled: bool
+
+
+class MapNameQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: Name
+
+
+# ------------------------------------------------------------------ update_map
+
+
+async def get_update_map(call: Call[None, None]) -> Answer:
+    """Whether the map in use is being updated live while navigating."""
+    slam = call.ctx.slam
+    return {"enabled": bool(slam is not None and slam.update_map and slam.mapping())}
+
+
+async def put_update_map(call: Call[UpdateMapBody, None]) -> Answer:
+    """Turn live map updating on (the mapping node extends the map in use from where the
+    robot stands, nav keeps navigating on it) or off (the updated map is saved over the map
+    in use, then mapping stops and nav reloads it)."""
+    ctx = call.ctx
+    slam = slam_port(ctx)
+    b = call.body
+    on = slam.update_map and slam.mapping()
+    if b.enabled == on:
+        return {"enabled": on}
+    current = await ctx.nav_services.current_map()
+    if b.enabled:
+        if slam.mapping():
+            raise ApiError(409, "cannot update the map live: the robot is mapping already "
+                                "(GET /map/stop first)")
+        if not ctx.core.state.nav_open:
+            raise ApiError(409, "live map updating works while navigating: GET "
+                                "/navigation/start first")
+        s = ctx.core.state
+        pose = Pose2D(x=s.pose[0], y=s.pose[1], theta=s.pose[2]) if s.pose else None
+        await slam.start("laser", current, pose)
+        slam.update_map = True
+        return {"enabled": True}
+    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=current))
+    info = listed.maps[0] if listed.maps else zm.MapInfo()
+    await slam.save(current, info.type or "floor", list(info.levels))
+    await slam.stop()
+    slam.update_map = False
+    return {"enabled": False}
+
+
+# ------------------------------------------------------------------ download
+
+
+async def _nav_bundle(ctx: Context, name: str) -> NavBundle:
+    link = ctx.nav_services
+    listed = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=name))
+    paths: list[ArchivePath] = []
+    for ref in sorted(listed.paths, key=lambda p: p.path_name):
+        if ref.map_name != name:
+            continue
+        path = await link.call(zm.GetPath, zm.GetPathRequest(map_name=name,
+                                                             path_name=ref.path_name))
+        points = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
+            map_name=name, path_name=ref.path_name))
+        paths.append(ArchivePath(name=ref.path_name, points=list(path.points),
+                                 nav_points=list(points.points)))
+    conns = await link.call(zm.ListPointConnections, zm.ListPointConnectionsRequest())
+    touching = [c for c in conns.connections if any(p.map_name == name for p in c.points)]
+    return NavBundle(paths=paths, connections=touching)
+
+
+def _read_map_files(info: zm.MapInfo) -> tuple[bytes, str, bytes]:
+    """The stored YAML (its image named bare) and image, read where nav keeps them."""
+    try:
+        doc = yaml.safe_load(Path(info.yaml_path).read_bytes())
+        image = Path(info.image_path)
+        data = image.read_bytes()
+    except (OSError, yaml.YAMLError) as exc:
+        raise ApiError(502, f"cannot read map {info.name!r}'s files where nav keeps them: "
+                            f"{exc}") from exc
+    doc["image"] = image.name
+    return yaml.safe_dump(doc, sort_keys=False).encode(), image.name, data
+
+
+async def download_map_from_robot(call: Call[None, MapNameQuery]) -> Answer:
+    """Export a stored map as a zip archive: its YAML and image, ``map.json`` (size,
+    resolution, origin, md5sum) and ``nav.json`` (paths, nav points, point connections)."""
+    ctx = call.ctx
+    name = call.query.map_name
+    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=name))
+    if not listed.maps:
+        raise NotFound(f"unknown map {name!r}")
+    info: zm.MapInfo = listed.maps[0]
+    yaml_text, image_name, image = await asyncio.to_thread(_read_map_files, info)
+    manifest = Manifest(name=name, width=info.width, height=info.height,
+                        resolution=info.resolution, origin=list(info.origin),
+                        md5sum=info.md5sum)
+    data = pack(name, yaml_text, image_name, image, manifest, await _nav_bundle(ctx, name))
+    return Response(data, media_type="application/zip", headers={
+        "content-disposition": f'attachment; filename="{name}.zip"'})
+
+
+# ------------------------------------------------------------------ upload
+
+
+async def _form_files(request: Request) -> tuple[str, dict[str, bytes]]:
+    """``map_name`` and the uploaded files by name (a zip's unpacked), size-limited."""
+    limit = MAX_ARCHIVE + SLACK
+    declared = request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > limit:
+        raise ApiError(413, f"upload too large: {declared} bytes (limit {MAX_ARCHIVE})")
+    if not request.headers.get("content-type", "").startswith("multipart/form-data"):
+        raise ApiError(400, "upload a multipart/form-data body with `map_name` and "
+                            "`map_files`")
+    limited = Request(request.scope, _limited(request.receive, limit))
+    try:
+        async with limited.form(max_files=8, max_fields=4) as form:
+            unknown = sorted(set(form.keys()) - {"map_name", "map_files"})
+            if unknown:
+                raise ApiError(400, f"unknown form field(s): {', '.join(unknown)}")
+            name = form.get("map_name")
+            if not isinstance(name, str) or not name:
+                raise ApiError(400, "missing the `map_name` form field")
+            uploads = [f for f in form.getlist("map_files") if isinstance(f, UploadFile)]
+            if not uploads:
+                raise ApiError(400, "the form has no `map_files` with a file in it")
+            raw = [(f.filename or "", await f.read()) for f in uploads]
+    except MultiPartException as exc:
+        raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
+    if len(raw) == 1 and (raw[0][0].lower().endswith(".zip") or raw[0][1][:4] == b"PK\x03\x04"):
+        return name, await asyncio.to_thread(read_archive, raw[0][1])
+    files: dict[str, bytes] = {}
+    for filename, content in raw:
+        if not filename:
+            raise ArchiveError("an uploaded file has no file name")
+        files[filename] = content  # check_map refuses a name that leaves the folder
+    return name, files
+
+
+def _renamed(conn: zm.PointConnection, old: str, new: str) -> list[zm.PointRef]:
+    return [zm.PointRef(map_name=new if p.map_name == old else p.map_name,
+                        path_name=p.path_name, index=p.index) for p in conn.points]
+
+
+async def _import(ctx: Context, name: str, checked: CheckedMap, files: dict[str, bytes]
+                  ) -> dict[str, Any]:
+    link = ctx.nav_services
+    res = await link.call(zm.ImportMap, zm.ImportMapRequest(
+        name=name, yaml_path=str(checked.yaml), overwrite=True))
+    for path in checked.nav.paths:
+        await link.call(zm.SetPath, zm.SetPathRequest(map_name=name, path_name=path.name,
+                                                      points=path.points))
+        await link.call(zm.SetNavPoints, zm.SetNavPointsRequest(
+            map_name=name, path_name=path.name, points=path.nav_points))
+    old = checked.yaml.stem
+    if MANIFEST in files:
+        old = msgspec.json.decode(files[MANIFEST], type=Manifest).name
+    added, skipped = 0, []
+    for conn in checked.nav.connections:
+        try:
+            await link.call(zm.AddPointConnection, zm.AddPointConnectionRequest(
+                points=_renamed(conn, old, name), type=conn.type,
+                is_available=conn.is_available))
+            added += 1
+        except PortError as exc:  # a point of another map that is not on this robot
+            skipped.append(f"connection {conn.id or conn.oid}: {exc.detail}")
+    return {"status": "ok", "name": res.info.name or name, "width": checked.width,
+            "height": checked.height, "paths": len(checked.nav.paths),
+            "connections": added, "skipped": skipped}
+
+
+async def _upload(call: Call[None, None]) -> Answer:
+    """Import a map: multipart ``map_name`` and ``map_files`` (an archive of
+    ``download_map_from_robot``, or the loose YAML and image, with map.json and nav.json
+    if any). Everything is checked before the maps store is touched."""
+    assert call.request is not None
+    name, files = await _form_files(call.request)
+    try:
+        msgspec.convert(name, Name)
+    except msgspec.ValidationError:
+        raise ApiError(400, f"invalid map_name {name!r}: use 1-64 letters, digits, '_', "
+                            "'.' or '-', not starting with '.' or '-'") from None
+    with tempfile.TemporaryDirectory(prefix="zenros-map-upload-") as tmp:
+        checked = await asyncio.to_thread(check_map, files, Path(tmp) / "map")
+        return await _import(call.ctx, name, checked, files)
+
+
+async def upload_map_to_robot(call: Call[None, None]) -> Answer:
+    """Import a map: multipart ``map_name`` and ``map_files`` (an archive of
+    ``download_map_from_robot``, or the loose YAML and image, with map.json and nav.json
+    if any). Everything is checked before the maps store is touched."""
+    try:
+        return await _upload(call)
+    except ArchiveError as exc:
+        raise ApiError(exc.status, exc.detail) from exc
+
+
+def add_map_transfer_routes(api: Api) -> None:
+    """Route live map updating and the map archive's export and import."""
+    api.add("GET", "/navigation/update_map", get_update_map)
+    api.add("PUT", "/navigation/update_map", put_update_map)
+    api.add("GET", "/navigation/download_map_from_robot", download_map_from_robot,
+            media_type="application/zip")
+    api.add("POST", "/navigation/upload_map_to_robot", upload_map_to_robot, raw_body=True)
