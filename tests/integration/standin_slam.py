@@ -7,9 +7,10 @@ and a mapper that grows a grid from the scans at the simulator's true pose.
   goal in B is reached at ``T * goal`` in the world.
 - `TruthMapper`: in mapping mode publishes ``map`` (latched, growing: origin and size change
   as it does) and ``map -> odom`` on ``/tf``, as the SLAM node does, from the truth.
-- `small_world`: a world to explore (two rooms off a corridor); `reachable_free`: the free
-  cells of a world the robot can reach from a point; `coverage`: the share of them a built
-  map knows (the explorer's figure), after `align` put the built map in the world's frame.
+- `reachable_free`: the free
+  cells of a world the robot can reach from a point (worlds to explore: tests/worlds.py);
+  `coverage`: the share of them a built map knows (the explorer's figure), after `align` put
+  the built map in the world's frame.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
-from zenros.maps import GridMap, save_map
+from zenros.maps import GridMap
 from zenros.msgs.geometry_msgs import Transform, TransformStamped, Vector3
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry
 from zenros.msgs.sensor_msgs import LaserScan
@@ -56,8 +57,6 @@ def reframe(world: GridMap, T: Pose2, res: float | None = None) -> GridMap:
     out[inside] = world.grid[row[inside], col[inside]]
     return GridMap(out, res, (x0, y0, 0.0))
 
-
-_RES = 0.05
 
 
 def map_to_odom_tf(p: Pose2, stamp: object) -> TFMessage:
@@ -182,31 +181,6 @@ class TruthMapper:
             with self.lock:
                 m = self.map_to_odom
             self.tf_pub.publish(map_to_odom_tf(m, self.node.now()))
-
-
-def small_world(folder: Path) -> Path:
-    """14 m x 8 m: a corridor along the south (the robot at (0, 0) in it), two rooms north
-    of it behind 0.9 m doors (walls the laser does not see through), a box in the east
-    room; the rooms can only be mapped from inside."""
-    g = np.zeros((160, 280), dtype=np.int8)
-
-    def wall(x0: float, y0: float, x1: float, y1: float, v: int = 100) -> None:
-        g[round((y0 + 1) / _RES):round((y1 + 1) / _RES),
-          round((x0 + 1) / _RES):round((x1 + 1) / _RES)] = v
-
-    wall(-1, -1, 13, -0.9)
-    wall(-1, 6.9, 13, 7)
-    wall(-1, -1, -0.9, 7)
-    wall(12.9, -1, 13, 7)
-    wall(-1, 1.5, 13, 1.6)          # corridor | rooms
-    wall(1.5, 1.5, 2.4, 1.6, 0)      # west door
-    wall(8.0, 1.5, 8.9, 1.6, 0)      # east door
-    wall(5.5, 1.5, 5.6, 7)           # west room | east room
-    wall(10.0, 4.0, 10.6, 4.6)       # a box
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / "small.yaml"
-    save_map(GridMap(g, _RES, (-1.0, -1.0, 0.0)), path)
-    return path
 
 
 def reachable_free(world: GridMap, start: tuple[float, float]) -> np.ndarray:

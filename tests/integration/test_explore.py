@@ -11,7 +11,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from standin_slam import TruthMapper, coverage, reachable_free, small_world
+from standin_slam import TruthMapper, coverage, reachable_free
+from worlds import small_world
 from zenros.action import ActionClient, GoalStatus
 from zenros.errors import GoalRejectedError
 from zenros.maps import load_map

@@ -11,7 +11,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from standin_slam import coverage, reachable_free, small_world
+from standin_slam import coverage, reachable_free
+from worlds import small_world
 from zenros.action import ActionClient, GoalStatus
 from zenros.maps import load_map
 from zenros.msgs.builtin_interfaces import Time
