@@ -5,8 +5,8 @@
 # the routed topology (ZR_TOPOLOGY=routed: a router per host, N robots).
 #
 #   deploy/demo/demo.sh up          create the namespaces and the network
-#   deploy/demo/demo.sh start       the station's router and station.yaml on the station (a
-#                                   gateway per robot), robot.yaml on each robot (chassis, nav, tf,
+#   deploy/demo/demo.sh start       station.yaml on the station (with the router and a gateway
+#                                   per robot), robot.yaml on each robot (chassis, nav, tf,
 #                                   tasks, ...); waits until the station sees every node
 #   deploy/demo/demo.sh show        what the station sees: nodes, topics, a service call,
 #                                   robot1's TF frames, robot2's pose over REST, heartbeats
@@ -147,14 +147,13 @@ start_host() {
     say "started $file on $h (pid $(cat "$STATE/$h.pid")), log $STATE/$h.log"
 }
 
-# start_router HOST [ARGS...]: the host's own Zenoh router on tcp/<address>:7447; a robot
-# host's router connects to the station's (routed topology). ARGS go to `zenros router`.
+# start_router HOST: the host's own Zenoh router on tcp/<address>:7447 (routed topology); a
+# robot host's router connects to the station's.
 start_router() {
     local h=$1 up=()
-    shift
     [ "$h" = st ] || up=(--cfg "connect/endpoints:[\"$ROUTER\"]")
     bg "$h-router" "$h" "$PY" -m zenros.router -c "$HERE/zenoh-router.json5" \
-        -l "$(host_router "$h")" "${up[@]}" "$@"
+        -l "$(host_router "$h")" "${up[@]}"
     say "started the router of $h on $(host_router "$h") (pid $(cat "$STATE/$h-router.pid"))"
 }
 
@@ -227,11 +226,8 @@ cmd_start() {
                 --no-router
         done
     else
-        # the station's router, with gossip over several hops as every peer has it
-        # (zenoh-host.json5): a link between two peers that ran out alone is made again
-        start_router st --cfg "scouting/gossip/multihop:true"
+        start_host st station.yaml
         until_ok 30 "the station's router on $ROUTER" router_up
-        start_host st station.yaml --no-router
         # mapping:=false: the 8 processes a robot ran when ZENOH_RUNTIME's 16 rx threads were
         # measured (above); with slam and explore, 10, and robot2's nav dropped out of its
         # gateway's view during robot1's outage in 2 of 3 suite runs

@@ -55,7 +55,13 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Fleet]:
     try:
         for k in range(1, ROBOTS + 1):
             assert proc.wait_line(f"robot{k}/robot is ready", 240), proc.output
-        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        # The test's own session is a client of the launch's router: what it observes then
+        # comes through the router's links, which each robot made to a configured endpoint and
+        # makes again if they drop. As a peer it linked to each robot by gossip, and a link of
+        # those whose lease ran out alone on the starved box never came back (docs/zenoh-
+        # config.md, "Known limit"): one robot's ground truth unheard for the rest of the
+        # module in a full suite run (2026-12-06). Fresh CLI processes, below, stay peers.
+        ctx = Context(SessionOptions(mode="client", connect=[endpoint]), prefix=prefix)
         node = Node("fleet_test", context=ctx)
         yield Fleet(proc, ctx, node, env)
         node.close()
@@ -90,7 +96,8 @@ def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
     assert len(set(pids.values())) == ROBOTS
     # one gateway serves them all: a node per robot (/robot<k>/gateway) in its one process
     views = {"/gateway", *(f"/robot{k}/gateway" for k in range(1, ROBOTS + 1))}
-    assert g.wait_for(lambda: views <= set(g.node_names()), 60), views - set(g.node_names())
+    assert g.wait_for(lambda: views <= set(g.node_names()), 60), \
+        f"{views - set(g.node_names())}\n{_lines(fleet.proc.output, ('gateway',))}"
     gateway = {n.pid for n in g.nodes() if n.name in views}
     assert len(gateway) == 1 and not gateway & set(pids.values())
 
@@ -144,7 +151,11 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
 
 def _robot_lines(output: str, robots: Iterable[int]) -> str:
     """The launch's lines of these robots (their warnings and errors), the last 40."""
-    tags = tuple(f"robot{k}/" for k in robots)
+    return _lines(output, tuple(f"robot{k}/" for k in robots))
+
+
+def _lines(output: str, tags: tuple[str, ...]) -> str:
+    """The launch's lines that name one of ``tags``, the last 40."""
     return "\n".join([ln for ln in output.splitlines() if any(t in ln for t in tags)][-40:])
 
 
