@@ -159,15 +159,40 @@ def serve(parser: argparse.ArgumentParser, build: Build,
                 if ctx.failure is None:
                     node.logger.info("shutting down")
             finally:
-                if ctx.failure is None:  # a broken session cannot undeclare anything
-                    for made in reversed(nodes):
-                        made.close()
-                ctx.close()
+                _close_waking(nodes if ctx.failure is None else [], ctx)
         if ctx.failure is not None:
             node.logger.critical("exiting with code %d: the Zenoh session failed (%s)",
                                  EXIT_SESSION_FAILED, type(ctx.failure).__name__)
             return EXIT_SESSION_FAILED
     return 0
+
+
+def _close_waking(nodes: list[Node], ctx: Context) -> None:
+    """Close ``nodes`` in reverse order, then ``ctx``, on a thread of their own while the
+    main thread wakes every 0.5 s: a second SIGINT taken by one of Zenoh's threads only flags
+    the main thread, whose handler (the forced exit) runs when it wakes, so a close that
+    never finishes must not hold it (a broken session closes nothing: ``nodes`` empty)."""
+    def close_all() -> None:
+        try:
+            for made in reversed(nodes):
+                made.close()
+        finally:
+            ctx.close()
+
+    failed: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            close_all()
+        except BaseException as exc:  # noqa: BLE001 raised again on the main thread
+            failed.append(exc)
+
+    closer = threading.Thread(target=run, name="zenros-close", daemon=True)
+    closer.start()
+    while closer.is_alive():
+        closer.join(0.5)
+    if failed:
+        raise failed[0]
 
 
 @contextmanager

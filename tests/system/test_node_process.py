@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import ctypes
+import os
 import signal
 import sys
 import time
@@ -157,6 +159,35 @@ def test_second_signal_forces_exit(router: str, prefix: str, observer: Context) 
         p.signal(signal.SIGINT)
         assert p.wait_line("shutting down", 10), p.output
         p.signal(signal.SIGINT)
+        assert p.wait(10) == 130, p.output
+        assert "forced exit" in p.output
+    finally:
+        p.stop()
+
+
+def _tgkill(pid: int, tid: int, sig: int) -> None:
+    """Send ``sig`` to one thread (``tid``) of process ``pid``."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    if not hasattr(libc, "tgkill"):
+        pytest.skip("this libc has no tgkill (glibc 2.30+)")
+    if libc.tgkill(pid, tid, sig) != 0:
+        raise OSError(ctypes.get_errno(), f"tgkill({pid}, {tid})")
+
+
+def test_second_signal_forces_exit_when_another_thread_takes_it(
+        router: str, prefix: str, observer: Context) -> None:
+    """The kernel hands a process's signal to any of its threads, Zenoh's too; then only the
+    main thread's flag is set, and its handler runs when it wakes. A close that never ends
+    must not hold the main thread (it failed so in a full suite run, 2026-12-05)."""
+    p = Proc([sys.executable, "-c", STUCK_NODE, "-e", router, "--prefix", prefix])
+    try:
+        assert observer.graph.wait_for_node("/stuck", 10), p.output
+        p.signal(signal.SIGINT)
+        assert p.wait_line("shutting down", 10), p.output
+        pid = p.popen.pid
+        others = [int(t) for t in os.listdir(f"/proc/{pid}/task") if int(t) != pid]
+        assert others, "the node runs Zenoh's threads beside its main one"
+        _tgkill(pid, others[-1], signal.SIGINT)
         assert p.wait(10) == 130, p.output
         assert "forced exit" in p.output
     finally:
