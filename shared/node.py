@@ -23,12 +23,13 @@ from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
 from .message import ActionType, F, G, Message, Q, R, S, ServiceType
-from .msgs.rcl_interfaces import Log
+from .msgs.rcl_interfaces import Log, ParameterEvent
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
 from .owner import Closable
 from .param_backend import attach_parameter_backend
 from .param_config import declare_parameters
+from .param_events import PARAMETER_EVENTS, QOS_PARAMETER_EVENTS, parameter_event
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .polled import PolledSubscription
@@ -95,6 +96,7 @@ class Node:
 
     node_name: str | None = None
     uses_parameter_server: bool = True  # False for the master itself
+    parameter_events: bool = True  # publish /parameter_events (zenros.param_events)
 
     def __init__(
         self,
@@ -145,6 +147,10 @@ class Node:
         self.start_ns = time.time_ns()
         self.add_waitable(ParameterDescriptions(ctx, self.fqn, self.parameters))
         self._clock: Clock = SystemClock()
+        if self.parameter_events:
+            events = self.create_publisher(ParameterEvent, PARAMETER_EVENTS, QOS_PARAMETER_EVENTS)
+            self.parameters.on_event(lambda kind, p: events.publish(
+                parameter_event(kind, p, self.fqn, self.now())))
         if self.parameters.declare("use_sim_time", False):
             self._clock = ManualClock()
             sim = self._clock

@@ -161,6 +161,8 @@ def _sections(doc: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
 
 Validator = Callable[[list[Parameter]], SetParametersResult]
 OnChange = Callable[[Parameter], None]
+OnEvent = Callable[[str, Parameter], None]
+"""``fn(kind, parameter)``: ``kind`` is "new" (declared) or "changed" (set to another value)."""
 
 
 class Parameters:
@@ -173,6 +175,7 @@ class Parameters:
         self._params: dict[str, Parameter] = {}
         self._validators: list[Validator] = []
         self._on_change: dict[str | None, list[OnChange]] = {}
+        self._on_event: list[OnEvent] = []
         self._lock = threading.RLock()
 
     def declare(self, name: str, default: Any, *, description: str = "",
@@ -200,9 +203,11 @@ class Parameters:
                 found, remote = self.backend.fetch(name)
                 if found:
                     value = coerce(name, kind, remote)
-            self._params[name] = Parameter(name, value, kind, description, read_only,
-                                           dict(constraints or {}))
-            return value
+            p = self._params[name] = Parameter(name, value, kind, description, read_only,
+                                               dict(constraints or {}))
+        for fn in list(self._on_event):
+            fn("new", p)
+        return value
 
     def has(self, name: str) -> bool:
         return name in self._params
@@ -250,10 +255,17 @@ class Parameters:
     def _fire(self, p: Parameter) -> None:
         for fn in self._on_change.get(p.name, []) + self._on_change.get(None, []):
             fn(p)
+        for ev in list(self._on_event):
+            ev("changed", p)
 
     def add_validator(self, fn: Validator) -> None:
         """rclpy's add_on_set_parameters_callback: may refuse a change before it happens."""
         self._validators.append(fn)
+
+    def on_event(self, fn: OnEvent) -> None:
+        """Call ``fn("new", parameter)`` after each declare and ``fn("changed", parameter)``
+        after each change (the node's /parameter_events)."""
+        self._on_event.append(fn)
 
     def on_change(self, fn: OnChange, name: str | None = None) -> None:
         """Call ``fn(parameter)`` after ``name`` (or any parameter) changes."""

@@ -111,6 +111,25 @@ MESSAGES: dict[str, str] = {
         string file
         string function
         uint32 line""",
+    "rcl_interfaces/msg/ParameterType": "",
+    "rcl_interfaces/msg/ParameterValue": """
+        uint8 type
+        bool bool_value
+        int64 integer_value
+        float64 double_value
+        string string_value
+        byte[] byte_array_value
+        bool[] bool_array_value
+        int64[] integer_array_value
+        float64[] double_array_value
+        string[] string_array_value""",
+    "rcl_interfaces/msg/Parameter": "string name\nParameterValue value",
+    "rcl_interfaces/msg/ParameterEvent": """
+        builtin_interfaces/Time stamp
+        string node
+        Parameter[] new_parameters
+        Parameter[] changed_parameters
+        Parameter[] deleted_parameters""",
     # ros/bond_core's bond/msg/Status (no wheel here: checked by hand)
     "bond/msg/Status": """
         std_msgs/Header header

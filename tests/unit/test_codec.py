@@ -64,6 +64,8 @@ def _sample_value(t: mi.Type, n: itertools.count[int], depth: int) -> Any:
         return k + 0.5  # exact in float32 too
     if isinstance(t, (mi.StrType, mi.AnyType)):
         return f"s{k}"
+    if isinstance(t, mi.BytesType):
+        return bytes([k % 256, 0, 255])
     if isinstance(t, mi.NoneType):
         return None
     if isinstance(t, mi.LiteralType):

@@ -9,7 +9,6 @@ import sys
 from typing import Any
 
 import pytest
-from zenoh_ros2_sdk.entity import EntityKind
 from zenros.action import ActionServer
 from zenros.context import Context
 from zenros.msgs.example_interfaces import Fibonacci
@@ -21,7 +20,8 @@ from zenros.qos import QOS_LATCHED
 from zenros.services.rmw_zenoh.bridge import RmwZenohBridge
 from zenros.testing import wait_for
 
-pytest.importorskip("zenoh_ros2_sdk", reason="zenoh-ros2-sdk not installed (extra ros2)")
+EntityKind = pytest.importorskip("zenoh_ros2_sdk.entity",
+                                 reason="zenoh-ros2-sdk not installed (extra ros2)").EntityKind
 pytest.importorskip("rclpy", reason="ROS 2 wheels not installed (extra ros2)")
 
 from rmw_peer import RmwPeer
