@@ -61,7 +61,7 @@ def to_parameter_value(value: Any) -> ParameterValue:
     if type(value) is str:
         return ParameterValue(type=T.PARAMETER_STRING, string_value=value)
     if isinstance(value, (bytes, bytearray)):
-        return ParameterValue(type=T.PARAMETER_BYTE_ARRAY, byte_array_value=bytes(value))
+        return ParameterValue(type=T.PARAMETER_BYTE_ARRAY, byte_array_value=list(value))
     if isinstance(value, list):
         if not value:  # ROS 2 has no untyped array
             return ParameterValue(type=T.PARAMETER_STRING_ARRAY)
@@ -88,6 +88,8 @@ def from_parameter_value(pv: ParameterValue) -> Any:
     if pv.type not in fields:
         raise ValueError(f"unknown parameter type {pv.type} (ParameterType has 0-9)")
     name = fields[pv.type]
+    if name == "byte_array_value":
+        return bytes(pv.byte_array_value)
     return None if name is None else getattr(pv, name)
 
 

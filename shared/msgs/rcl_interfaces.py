@@ -58,7 +58,7 @@ class ParameterValue(Message):
     integer_value: int = 0
     double_value: float = 0.0
     string_value: str = ""
-    byte_array_value: bytes = b""
+    byte_array_value: list[Byte] = msgspec.field(default_factory=list)  # as UUID's
     bool_array_value: list[bool] = msgspec.field(default_factory=list)
     integer_array_value: list[int] = msgspec.field(default_factory=list)
     double_array_value: list[float] = msgspec.field(default_factory=list)
