@@ -30,6 +30,7 @@ from .owner import Closable
 from .param_backend import attach_parameter_backend
 from .param_config import declare_parameters
 from .param_events import PARAMETER_EVENTS, QOS_PARAMETER_EVENTS, parameter_event
+from .param_services import serve_parameter_services
 from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .polled import PolledSubscription
@@ -97,6 +98,7 @@ class Node:
     node_name: str | None = None
     uses_parameter_server: bool = True  # False for the master itself
     parameter_events: bool = True  # publish /parameter_events (zenros.param_events)
+    parameter_services: bool = True  # ~/list_parameters... (zenros.param_services)
 
     def __init__(
         self,
@@ -147,6 +149,8 @@ class Node:
         self.start_ns = time.time_ns()
         self.add_waitable(ParameterDescriptions(ctx, self.fqn, self.parameters))
         self._clock: Clock = SystemClock()
+        if self.parameter_services:
+            serve_parameter_services(self.parameters, self.create_service)
         if self.parameter_events:
             events = self.create_publisher(ParameterEvent, PARAMETER_EVENTS, QOS_PARAMETER_EVENTS)
             self.parameters.on_event(lambda kind, p: events.publish(

@@ -212,6 +212,10 @@ class Parameters:
     def has(self, name: str) -> bool:
         return name in self._params
 
+    def lookup(self, name: str) -> Parameter | None:
+        """The declared parameter ``name``, or None."""
+        return self._params.get(name)
+
     def get(self, name: str) -> Any:
         return self._get(name).value
 

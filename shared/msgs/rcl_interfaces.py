@@ -1,5 +1,8 @@
 """rcl_interfaces: Log, the payload of /rosout; ParameterEvent, the payload of
-/parameter_events, with Parameter, ParameterValue and ParameterType (ROS 2's definitions)."""
+/parameter_events, with Parameter, ParameterValue and ParameterType; the parameter services
+every node serves (ListParameters, DescribeParameters, GetParameterTypes, GetParameters,
+SetParameters, SetParametersAtomically) with ParameterDescriptor and its ranges (ROS 2's
+definitions)."""
 
 from __future__ import annotations
 
@@ -7,7 +10,7 @@ from typing import Annotated, ClassVar
 
 import msgspec
 
-from ..message import Message
+from ..message import Message, define_service
 from .builtin_interfaces import Time
 
 
@@ -80,3 +83,120 @@ class ParameterEvent(Message):
     new_parameters: list[Parameter] = msgspec.field(default_factory=list)
     changed_parameters: list[Parameter] = msgspec.field(default_factory=list)
     deleted_parameters: list[Parameter] = msgspec.field(default_factory=list)
+
+
+class FloatingPointRange(Message):
+    __msgtype__ = "rcl_interfaces/FloatingPointRange"
+    from_value: float = 0.0
+    to_value: float = 0.0
+    step: float = 0.0
+
+
+class IntegerRange(Message):
+    __msgtype__ = "rcl_interfaces/IntegerRange"
+    from_value: int = 0
+    to_value: int = 0
+    step: int = 0  # uint64 on the wire (as lifecycle_msgs' timestamp)
+
+
+class ParameterDescriptor(Message):
+    __msgtype__ = "rcl_interfaces/ParameterDescriptor"
+    name: str = ""
+    type: Byte = 0
+    description: str = ""
+    additional_constraints: str = ""
+    read_only: bool = False
+    dynamic_typing: bool = False
+    floating_point_range: Annotated[list[FloatingPointRange], msgspec.Meta(max_length=1)] = \
+        msgspec.field(default_factory=list)
+    integer_range: Annotated[list[IntegerRange], msgspec.Meta(max_length=1)] = \
+        msgspec.field(default_factory=list)
+
+
+class SetParametersResult(Message):
+    __msgtype__ = "rcl_interfaces/SetParametersResult"
+    successful: bool = False
+    reason: str = ""
+
+
+class ListParametersResult(Message):
+    __msgtype__ = "rcl_interfaces/ListParametersResult"
+    names: list[str] = msgspec.field(default_factory=list)
+    prefixes: list[str] = msgspec.field(default_factory=list)
+
+
+class ListParametersRequest(Message):
+    __msgtype__ = "rcl_interfaces/ListParametersRequest"
+    DEPTH_RECURSIVE: ClassVar[int] = 0
+    prefixes: list[str] = msgspec.field(default_factory=list)
+    depth: int = 0  # uint64 on the wire
+
+
+class ListParametersResponse(Message):
+    __msgtype__ = "rcl_interfaces/ListParametersResponse"
+    result: ListParametersResult = msgspec.field(default_factory=ListParametersResult)
+
+
+class DescribeParametersRequest(Message):
+    __msgtype__ = "rcl_interfaces/DescribeParametersRequest"
+    names: list[str] = msgspec.field(default_factory=list)
+
+
+class DescribeParametersResponse(Message):
+    __msgtype__ = "rcl_interfaces/DescribeParametersResponse"
+    descriptors: list[ParameterDescriptor] = msgspec.field(default_factory=list)
+
+
+class GetParameterTypesRequest(Message):
+    __msgtype__ = "rcl_interfaces/GetParameterTypesRequest"
+    names: list[str] = msgspec.field(default_factory=list)
+
+
+class GetParameterTypesResponse(Message):
+    __msgtype__ = "rcl_interfaces/GetParameterTypesResponse"
+    types: list[Byte] = msgspec.field(default_factory=list)
+
+
+class GetParametersRequest(Message):
+    __msgtype__ = "rcl_interfaces/GetParametersRequest"
+    names: list[str] = msgspec.field(default_factory=list)
+
+
+class GetParametersResponse(Message):
+    __msgtype__ = "rcl_interfaces/GetParametersResponse"
+    values: list[ParameterValue] = msgspec.field(default_factory=list)
+
+
+class SetParametersRequest(Message):
+    __msgtype__ = "rcl_interfaces/SetParametersRequest"
+    parameters: list[Parameter] = msgspec.field(default_factory=list)
+
+
+class SetParametersResponse(Message):
+    __msgtype__ = "rcl_interfaces/SetParametersResponse"
+    results: list[SetParametersResult] = msgspec.field(default_factory=list)
+
+
+class SetParametersAtomicallyRequest(Message):
+    __msgtype__ = "rcl_interfaces/SetParametersAtomicallyRequest"
+    parameters: list[Parameter] = msgspec.field(default_factory=list)
+
+
+class SetParametersAtomicallyResponse(Message):
+    __msgtype__ = "rcl_interfaces/SetParametersAtomicallyResponse"
+    result: SetParametersResult = msgspec.field(default_factory=SetParametersResult)
+
+
+ListParameters = define_service("rcl_interfaces/ListParameters", ListParametersRequest,
+                                ListParametersResponse)
+DescribeParameters = define_service("rcl_interfaces/DescribeParameters",
+                                    DescribeParametersRequest, DescribeParametersResponse)
+GetParameterTypes = define_service("rcl_interfaces/GetParameterTypes", GetParameterTypesRequest,
+                                   GetParameterTypesResponse)
+GetParameters = define_service("rcl_interfaces/GetParameters", GetParametersRequest,
+                               GetParametersResponse)
+SetParameters = define_service("rcl_interfaces/SetParameters", SetParametersRequest,
+                               SetParametersResponse)
+SetParametersAtomically = define_service("rcl_interfaces/SetParametersAtomically",
+                                         SetParametersAtomicallyRequest,
+                                         SetParametersAtomicallyResponse)

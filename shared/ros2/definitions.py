@@ -130,6 +130,19 @@ MESSAGES: dict[str, str] = {
         Parameter[] new_parameters
         Parameter[] changed_parameters
         Parameter[] deleted_parameters""",
+    "rcl_interfaces/msg/FloatingPointRange": "float64 from_value\nfloat64 to_value\nfloat64 step",
+    "rcl_interfaces/msg/IntegerRange": "int64 from_value\nint64 to_value\nuint64 step",
+    "rcl_interfaces/msg/ParameterDescriptor": """
+        string name
+        uint8 type
+        string description
+        string additional_constraints
+        bool read_only
+        bool dynamic_typing
+        FloatingPointRange[<=1] floating_point_range
+        IntegerRange[<=1] integer_range""",
+    "rcl_interfaces/msg/SetParametersResult": "bool successful\nstring reason",
+    "rcl_interfaces/msg/ListParametersResult": "string[] names\nstring[] prefixes",
     # ros/bond_core's bond/msg/Status (no wheel here: checked by hand)
     "bond/msg/Status": """
         std_msgs/Header header
@@ -180,6 +193,14 @@ SERVICES: dict[str, str] = {
     "diagnostic_msgs/srv/AddDiagnostics":
         "string load_namespace\n---\nbool success\nstring message",
     "example_interfaces/srv/AddTwoInts": "int64 a\nint64 b\n---\nint64 sum",
+    "rcl_interfaces/srv/ListParameters":
+        "string[] prefixes\nuint64 depth\n---\nListParametersResult result",
+    "rcl_interfaces/srv/DescribeParameters": "string[] names\n---\nParameterDescriptor[] descriptors",
+    "rcl_interfaces/srv/GetParameterTypes": "string[] names\n---\nuint8[] types",
+    "rcl_interfaces/srv/GetParameters": "string[] names\n---\nParameterValue[] values",
+    "rcl_interfaces/srv/SetParameters": "Parameter[] parameters\n---\nSetParametersResult[] results",
+    "rcl_interfaces/srv/SetParametersAtomically":
+        "Parameter[] parameters\n---\nSetParametersResult result",
     "action_msgs/srv/CancelGoal": "GoalInfo goal_info\n---\nint8 return_code\nGoalInfo[] goals_canceling",
 }
 
