@@ -79,6 +79,8 @@ def _sample_value(t: mi.Type, n: itertools.count[int], depth: int) -> Any:
         size = 2 if depth < 3 else 0  # recursive types (trees) stay finite
         if t.min_length is not None:  # constrained lists (UUID: exactly 16 bytes)
             size = max(size, t.min_length)
+        if t.max_length is not None:  # bounded sequences (ParameterDescriptor's ranges)
+            size = min(size, t.max_length)
         return [_sample_value(t.item_type, n, depth) for _ in range(size)]
     if isinstance(t, mi.DictType):
         return {str(_sample_value(t.key_type, n, depth)): _sample_value(t.value_type, n, depth)}
