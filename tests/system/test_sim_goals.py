@@ -67,7 +67,10 @@ class Sim:
 def sim(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Sim]:
     s = Sim(tmp_path_factory.mktemp("sim") / "home")
     try:
-        assert s.proc.wait_line("[launch] gateway is ready", 240), s.proc.output
+        # the processes come up in any order: a task posted before tasks is up is answered
+        # 503 with Retry-After (the gateway's "is starting"), which this client does not do
+        for name in ("gateway", "nav", "tasks"):
+            assert s.proc.wait_line(f"[launch] {name} is ready", 240), s.proc.output
         s.login()
         assert wait_for(lambda: s.status()["visualStatus"] == 1, 60), s.status()
         current = s.http.get("/navigation/current_map").json()["name"]
