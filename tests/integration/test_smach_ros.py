@@ -87,6 +87,10 @@ def test_monitor_state_valid_after_max_checks_and_invalid_on_first_false(
         assert run.result(10) == outcome
         assert state.checks == checks and sm.userdata.last == values[checks - 1]
         assert node.graph.wait_for(lambda: not node.graph.subscribers("/numbers"), 10)
+        # and gone on the publisher's side too: else the next run's wait_for_subscribers may
+        # count this run's subscription and publish before the new one is matched (a run
+        # beside a CPU hog lost its three samples so)
+        assert wait_for(lambda: pub.subscription_count == 0, 10)
     assert seen == [1, 2, 3, 4, 50]  # the 6 came after the verdict: nobody listened
 
 
