@@ -81,6 +81,11 @@ class ParameterAlreadyDeclaredError(ParameterError):
     """A parameter was declared twice."""
 
 
+class ParameterImmutableError(ParameterError):
+    """A read-only parameter was to be changed or undeclared (rclpy's
+    ``ParameterImmutableException``)."""
+
+
 class InvalidParameterValueError(ParameterError, ConfigError, TypeError):
     """A parameter value has the wrong type or is out of range."""
 

@@ -23,15 +23,16 @@ from .gate import DeliveryGate
 from .graph import Graph
 from .log import RosoutHandler, node_logger
 from .message import ActionType, F, G, Message, Q, R, S, ServiceType
-from .msgs.rcl_interfaces import Log, ParameterEvent
+from .msgs.rcl_interfaces import Log, ParameterDescriptor, ParameterEvent
 from .msgs.rosgraph_msgs import Clock as ClockMsg
 from .names import Remapper, join, resolve, validate_namespace, validate_node_name
 from .owner import Closable
 from .param_backend import attach_parameter_backend
 from .param_config import declare_parameters
+from .param_describe import ParameterDescriptions
+from .param_descriptors import descriptor_spec
 from .param_events import PARAMETER_EVENTS, QOS_PARAMETER_EVENTS, parameter_event
 from .param_services import serve_parameter_services
-from .param_describe import ParameterDescriptions
 from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .polled import PolledSubscription
 from .pubsub import Publisher, Subscription, SubscriptionCallback
@@ -329,11 +330,26 @@ class Node:
 
     # ------------------------------------------------------------------ parameters
 
-    def declare_parameter(self, name: str, default: Any, *, description: str = "",
-                          read_only: bool = False) -> Any:
-        """Declare a parameter; the default fixes its type. Returns the current value."""
-        return self.parameters.declare(name, default, description=description,
-                                       read_only=read_only)
+    def declare_parameter(self, name: str, default: Any = None,
+                          descriptor: ParameterDescriptor | None = None, *,
+                          description: str = "", read_only: bool = False,
+                          dynamic_typing: bool = False) -> Any:
+        """Declare a parameter and return its current value. The default fixes its type
+        unless ``dynamic_typing``. ``descriptor`` (rclpy's ``ParameterDescriptor``) may give
+        the description, read-only, dynamic typing and a range with its step, which sets
+        are then checked against (`zenros.param_limits`); the keywords add to it."""
+        spec = descriptor_spec(descriptor) if descriptor is not None else None
+        return self.parameters.declare(
+            name, default, description=description or (spec.description if spec else ""),
+            read_only=read_only or bool(spec and spec.read_only),
+            constraints=spec.constraints if spec else None,
+            dynamic_typing=dynamic_typing or bool(spec and spec.dynamic_typing))
+
+    def undeclare_parameter(self, name: str) -> None:
+        """Forget a declared parameter (rclpy's; no parameter event). Raises
+        `ParameterImmutableError` for a read-only one, `ParameterNotDeclaredError` for a name
+        not declared."""
+        self.parameters.undeclare(name)
 
     def declare_parameters(self, config: type[C], *, read_only: bool = False) -> C:
         """Declare one parameter per field of the msgspec Struct ``config`` (its defaults,

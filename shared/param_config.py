@@ -15,9 +15,7 @@ a limit are refused before they happen::
 
 from __future__ import annotations
 
-import math
 import typing
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
@@ -25,6 +23,7 @@ import msgspec
 import msgspec.inspect as mi
 
 from .errors import InvalidParameterValueError
+from .param_limits import check_value, describe_constraints
 from .params import Parameter, Parameters, SetParametersResult
 
 __all__ = ["ParameterSpec", "check_value", "declare_parameters", "describe_constraints",
@@ -82,44 +81,6 @@ def parameter_specs(config: type[msgspec.Struct]) -> list[ParameterSpec]:
                             "parameter (bool, int, float, str, bytes, list, dict or Literal)")
         specs.append(ParameterSpec(f.name, default, description, constraints))
     return specs
-
-
-def describe_constraints(constraints: Mapping[str, Any]) -> str:
-    """``{"ge": 0, "le": 1}`` -> ``"within 0 .. 1"``; ``{"gt": 0}`` -> ``"> 0"``."""
-    if "choices" in constraints:
-        return "one of " + ", ".join(str(c) for c in constraints["choices"])
-    if "ge" in constraints and "le" in constraints and len(constraints) == 2:
-        return f"within {constraints['ge']:g} .. {constraints['le']:g}"
-    ops = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
-    parts = [f"{ops[k]} {v:g}" for k, v in constraints.items() if k in ops]
-    if "min_length" in constraints:
-        parts.append(f"at least {constraints['min_length']} long")
-    if "max_length" in constraints:
-        parts.append(f"at most {constraints['max_length']} long")
-    return " and ".join(parts)
-
-
-def check_value(value: Any, constraints: Mapping[str, Any]) -> str | None:
-    """Why ``value`` breaks ``constraints`` ("expected ..., got ..."), or None."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return f"expected a finite number, got {value!r}"
-    bad = False
-    if "choices" in constraints:
-        bad = value not in constraints["choices"]
-    elif isinstance(value, int | float) and not isinstance(value, bool):
-        bad = (("gt" in constraints and not value > constraints["gt"])
-               or ("ge" in constraints and not value >= constraints["ge"])
-               or ("lt" in constraints and not value < constraints["lt"])
-               or ("le" in constraints and not value <= constraints["le"]))
-        if bad:
-            what = "an int" if isinstance(value, int) else "a finite number"
-            return f"expected {what} {describe_constraints(constraints)}, got {value!r}"
-    elif hasattr(value, "__len__"):
-        bad = (len(value) < constraints.get("min_length", 0)
-               or len(value) > constraints.get("max_length", math.inf))
-    if bad:
-        return f"expected {describe_constraints(constraints)}, got {value!r}"
-    return None
 
 
 def _refusal(value: Any, spec: ParameterSpec, hint: Any) -> str | None:

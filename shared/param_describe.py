@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 __all__ = ["ParameterDescriptions", "describe", "fetch_descriptions"]
 
 _TYPE_NAMES = {bool: "bool", int: "int", float: "float", str: "str", bytes: "bytes",
-               list: "list", dict: "dict"}
+               list: "list", dict: "dict", type(None): "not set"}
 
 
 def describe(params: Parameters) -> dict[str, dict[str, Any]]:
@@ -33,6 +33,8 @@ def describe(params: Parameters) -> dict[str, dict[str, Any]]:
                                  "description": p.description, "read_only": p.read_only}
         if p.constraints:
             entry["constraints"] = dict(p.constraints)
+        if p.dynamic_typing:
+            entry["dynamic_typing"] = True
         out[p.name] = entry
     return out
 

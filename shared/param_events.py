@@ -94,10 +94,14 @@ def from_parameter_value(pv: ParameterValue) -> Any:
 
 
 def parameter_event(kind: str, p: Parameter, node: str, stamp: Time) -> ParameterEvent:
-    """The event a node publishes when it declared (``kind`` "new") or changed (``kind``
-    "changed") ``p``; `Node` publishes it on /parameter_events."""
-    msg = ParameterMsg(name=p.name, value=to_parameter_value(p.value))
+    """The event a node publishes when it declared (``kind`` "new"), changed ("changed") or
+    deleted ("deleted": a dynamically typed parameter set to PARAMETER_NOT_SET) ``p``; `Node`
+    publishes it on /parameter_events."""
     event = ParameterEvent(stamp=stamp, node=node)
+    if kind == "deleted":
+        event.deleted_parameters.append(ParameterMsg(name=p.name))
+        return event
+    msg = ParameterMsg(name=p.name, value=to_parameter_value(p.value))
     (event.new_parameters if kind == "new" else event.changed_parameters).append(msg)
     return event
 

@@ -11,7 +11,6 @@ when the node has the parameter server, is written through to it, as `Node.set_p
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -20,19 +19,16 @@ from .msgs.rcl_interfaces import (
     DescribeParameters,
     DescribeParametersRequest,
     DescribeParametersResponse,
-    FloatingPointRange,
     GetParameters,
     GetParametersRequest,
     GetParametersResponse,
     GetParameterTypes,
     GetParameterTypesRequest,
     GetParameterTypesResponse,
-    IntegerRange,
     ListParameters,
     ListParametersRequest,
     ListParametersResponse,
     ListParametersResult,
-    ParameterDescriptor,
     ParameterType,
     SetParameters,
     SetParametersAtomically,
@@ -43,13 +39,13 @@ from .msgs.rcl_interfaces import (
     SetParametersResult,
 )
 from .msgs.rcl_interfaces import Parameter as ParameterMsg
+from .param_descriptors import describe_parameter
 from .param_events import from_parameter_value, to_parameter_value
 from .params import Parameter, Parameters
 
-__all__ = ["SEPARATOR", "describe_parameter", "list_parameters", "serve_parameter_services"]
+__all__ = ["SEPARATOR", "list_parameters", "serve_parameter_services"]
 
 SEPARATOR = "."
-_RANGE_KEYS = ("gt", "ge", "lt", "le")
 
 CreateService = Callable[[Any, str, Callable[[Any], Any]], Any]
 
@@ -78,33 +74,6 @@ def list_parameters(names: list[str], prefixes: list[str], depth: int) -> ListPa
 
 def _type_of(p: Parameter) -> int:
     return to_parameter_value(p.value).type
-
-
-def describe_parameter(p: Parameter) -> ParameterDescriptor:
-    """``p`` as ROS 2 describes a parameter: its type, description, read-only flag, and its
-    limits as a range (a number's ``ge``/``gt`` and ``le``/``lt``; an open bound is the
-    largest value of its type) with what a range cannot say in ``additional_constraints``."""
-    d = ParameterDescriptor(name=p.name, type=_type_of(p), description=p.description,
-                            read_only=p.read_only)
-    c = p.constraints
-    if any(k in c for k in _RANGE_KEYS) and p.type in (int, float):
-        lo = c.get("ge", c.get("gt"))
-        hi = c.get("le", c.get("lt"))
-        if p.type is float:
-            d.floating_point_range = [FloatingPointRange(
-                from_value=-math.inf if lo is None else float(lo),
-                to_value=math.inf if hi is None else float(hi))]
-        else:
-            d.integer_range = [IntegerRange(
-                from_value=-(2**63) if lo is None else int(lo),
-                to_value=2**63 - 1 if hi is None else int(hi))]
-    rest = {k: v for k, v in c.items()
-            if not (k in _RANGE_KEYS and p.type in (int, float))}
-    if "gt" in c or "lt" in c:
-        rest.update({k: c[k] for k in ("gt", "lt") if k in c})  # open bounds, stated
-    if rest:
-        d.additional_constraints = json.dumps(rest, sort_keys=True, default=repr)
-    return d
 
 
 class _Services:
@@ -141,11 +110,7 @@ class _Services:
     def _set_one(self, msg: ParameterMsg) -> SetParametersResult:
         """A refusal's reason is the error the node raised (it names the parameter)."""
         try:
-            value = from_parameter_value(msg.value)
-            if value is None:
-                return SetParametersResult(
-                    successful=False, reason=f"parameter {msg.name!r}: PARAMETER_NOT_SET "
-                    "would undeclare it, which zenros does not do")
+            value = from_parameter_value(msg.value)  # None (NOT_SET): a dynamic one goes
             p = self.params.lookup(msg.name)
             if p is not None and p.type is dict and isinstance(value, str):
                 value = json.loads(value)  # a dict travels as its JSON text

@@ -16,9 +16,11 @@ from .errors import (
     InvalidParameterValueError,
     ParameterAlreadyDeclaredError,
     ParameterError,
+    ParameterImmutableError,
     ParameterNotDeclaredError,
     ParameterSourceError,
 )
+from .param_limits import check_value
 
 __all__ = [
     "Parameter",
@@ -43,8 +45,12 @@ class Parameter:
     description: str = ""
     read_only: bool = False
     constraints: dict[str, Any] = field(default_factory=dict)
-    """Limits a value must meet (``gt``, ``ge``, ``lt``, ``le``, ``choices``, ``min_length``,
-    ``max_length``; see `zenros.param_config`); empty for a parameter declared without."""
+    """Limits a value must meet (``gt``, ``ge``, ``lt``, ``le``, ``step``, ``choices``,
+    ``min_length``, ``max_length``; `zenros.param_limits`); empty for a parameter declared
+    without."""
+    dynamic_typing: bool = False
+    """ROS 2's ``dynamic_typing``: a set may change the type, and setting None
+    (``PARAMETER_NOT_SET``) undeclares it; else the declared default fixes the type."""
 
 
 @dataclass
@@ -162,7 +168,8 @@ def _sections(doc: dict[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
 Validator = Callable[[list[Parameter]], SetParametersResult]
 OnChange = Callable[[Parameter], None]
 OnEvent = Callable[[str, Parameter], None]
-"""``fn(kind, parameter)``: ``kind`` is "new" (declared) or "changed" (set to another value)."""
+"""``fn(kind, parameter)``: ``kind`` is "new" (declared), "changed" (set to another value) or
+"deleted" (a dynamically typed parameter set to None)."""
 
 
 class Parameters:
@@ -179,35 +186,61 @@ class Parameters:
         self._lock = threading.RLock()
 
     def declare(self, name: str, default: Any, *, description: str = "",
-                read_only: bool = False, constraints: dict[str, Any] | None = None) -> Any:
-        """Declare ``name`` with ``default`` (which fixes the type) and return its value.
+                read_only: bool = False, constraints: dict[str, Any] | None = None,
+                dynamic_typing: bool = False) -> Any:
+        """Declare ``name`` with ``default`` and return its value (the override's, the
+        parameter server's, else the default).
 
-        ``constraints`` are only recorded (described, and checked by the validator that
-        `zenros.param_config.declare_parameters` adds); this method does not check them.
+        The default fixes the type unless ``dynamic_typing`` (then None, unset, is a default
+        too). The value must meet ``constraints`` (`zenros.param_limits`): else
+        `InvalidParameterValueError`, and nothing is declared.
         """
         if not name or any(c in name for c in " */$?#"):
             raise ParameterError(f"invalid parameter name {name!r}")
-        if not isinstance(default, _TYPES):
+        if not isinstance(default, _TYPES) and not (dynamic_typing and default is None):
             raise InvalidParameterValueError(
                 f"parameter {name!r}: default must be bool, int, float, str, bytes, list or "
                 f"dict, got {type(default).__name__}"
             )
-        kind = type(default)
         with self._lock:
             if name in self._params:
                 raise ParameterAlreadyDeclaredError(f"parameter {name!r} is already declared")
             value = default
-            if name in self.overrides:
-                value = coerce(name, kind, self.overrides[name])
-            if self.backend is not None:
-                found, remote = self.backend.fetch(name)
+            for found, given in ((name in self.overrides, self.overrides.get(name)),
+                                 self.backend.fetch(name) if self.backend is not None
+                                 else (False, None)):
                 if found:
-                    value = coerce(name, kind, remote)
-            p = self._params[name] = Parameter(name, value, kind, description, read_only,
-                                               dict(constraints or {}))
+                    value = self._typed(name, type(default), given, dynamic_typing)
+            why = check_value(value, constraints) if constraints and value is not None else None
+            if why is not None:
+                raise InvalidParameterValueError(f"parameter {name!r}: {why}")
+            p = self._params[name] = Parameter(name, value, type(value), description,
+                                               read_only, dict(constraints or {}),
+                                               dynamic_typing)
         for fn in list(self._on_event):
             fn("new", p)
         return value
+
+    @staticmethod
+    def _typed(name: str, kind: type, value: Any, dynamic: bool) -> Any:
+        """``value`` as a parameter of type ``kind`` (any parameter type when ``dynamic``)."""
+        if not dynamic:
+            return coerce(name, kind, value)
+        if value is not None and not isinstance(value, _TYPES):
+            raise InvalidParameterValueError(
+                f"parameter {name!r} takes bool, int, float, str, bytes, list or dict, got "
+                f"{type(value).__name__}")
+        return value
+
+    def undeclare(self, name: str) -> None:
+        """Forget ``name`` (rclpy's ``undeclare_parameter``: no parameter event); a read-only
+        one raises `ParameterImmutableError`, an undeclared one
+        `ParameterNotDeclaredError`."""
+        with self._lock:
+            if self._get(name).read_only:
+                raise ParameterImmutableError(f"parameter {name!r} is read-only: it cannot be "
+                                              "undeclared")
+            del self._params[name]
 
     def has(self, name: str) -> bool:
         return name in self._params
@@ -232,20 +265,37 @@ class Parameters:
         return sorted(self._params.values(), key=lambda p: p.name)
 
     def set(self, name: str, value: Any, *, write_through: bool = True) -> None:
-        """Set a declared parameter (validators may refuse); fires on-change callbacks."""
+        """Set a declared parameter; fires on-change callbacks. Checked as ROS 2 does, the
+        first refusal wins: read-only, type (any, with ``dynamic_typing``; None then
+        undeclares it, a "deleted" event), limits, then the validators."""
         with self._lock:
             p = self._get(name)
             if p.read_only:
                 raise ParameterError(f"parameter {name!r} is read-only")
-            new = replace(p, value=coerce(name, p.type, value), constraints=dict(p.constraints))
+            if value is None and not p.dynamic_typing:
+                raise InvalidParameterValueError(
+                    f"parameter {name!r} is statically typed ({_type_name(p.type)}): it "
+                    "cannot be unset (PARAMETER_NOT_SET) or undeclared by a set")
+            typed = self._typed(name, p.type, value, p.dynamic_typing)
+            new = replace(p, value=typed, type=type(typed), constraints=dict(p.constraints))
+            why = check_value(typed, p.constraints) if p.constraints and typed is not None \
+                else None
             for validate in self._validators:
+                if why is not None:
+                    break
                 result = validate([new])
                 if not result.successful:
-                    raise InvalidParameterValueError(
-                        f"parameter {name!r} refused: {result.reason or 'rejected by node'}"
-                    )
-            changed = new.value != p.value
-            p.value = new.value
+                    why = result.reason or "rejected by node"
+            if why is not None:
+                raise InvalidParameterValueError(f"parameter {name!r} refused: {why}")
+            changed = new.value != p.value or new.type is not p.type
+            if typed is None:
+                del self._params[name]
+            p.value, p.type = new.value, new.type
+        if typed is None:
+            for ev in list(self._on_event):
+                ev("deleted", p)
+            return
         if write_through and self.backend is not None:
             self.backend.store(name, p.value)
         if changed:

@@ -114,7 +114,9 @@ def _describe(ctx: Context, args: argparse.Namespace) -> int:
     for name, d in chosen.items():
         limits = describe_constraints(d.get("constraints") or {})
         flags = ", ".join(x for x in (str(d.get("type")), limits,
-                                      "read-only" if d.get("read_only") else "") if x)
+                                      "read-only" if d.get("read_only") else "",
+                                      "dynamic typing" if d.get("dynamic_typing") else "")
+                          if x)
         text = str(d.get("description") or "")
         print(f"{name:<{width}}  {flags}" + (f"  -- {text}" if text else ""))
     return 0
