@@ -285,6 +285,17 @@ def test_navigating_while_mapping_is_refused_and_says_why(rig: Rig) -> None:
     error(rig.http.get("/map/start"), 409, "mapping already")
 
 
+def test_what_needs_the_saved_map_is_refused_while_mapping(rig: Rig) -> None:
+    # nav points, patrols and the charge pose belong to the saved map, not the one being built
+    rig.http.get("/map/start")
+    for r, what in (
+            (rig.http.get("/navigation/move_to_index", params={"index": 0}), "nav point"),
+            (rig.http.post("/navigation/loop_task", json={"wait_time": 0}), "loop task"),
+            (rig.http.get("/navigation/go_charge"), "go to charge"),
+            (rig.http.post("/navigation/charge_pose"), "charge pose")):
+        error(r, 409, what, "mapStatus 1", "/map/stop")
+
+
 def test_the_mapping_nodes_refusal_keeps_its_code_and_reason(rig: Rig) -> None:
     rig.slam.errors["start"] = port_error(ResultCode.CONFLICT,
                                           "nav refused mapping mode: a goal is being driven")

@@ -20,6 +20,7 @@ from ...state.core import NavUnavailable
 from ..api import Answer, Api, ApiError, Call
 from ..context import Context
 from ..fields import Angle, Coord, OptName
+from .mapping import refuse_while_mapping
 
 __all__ = ["add_goal_routes"]
 
@@ -88,6 +89,7 @@ async def start_nav_task(call: Call[NavTaskBody, None]) -> Answer:
 async def move_to_index(call: Call[None, IndexQuery]) -> Answer:
     """Go to nav point ``index`` of the current path, or of ``path`` on another
     ``map`` (across maps through the point connections); returns the started task."""
+    refuse_while_mapping(call.ctx, "go to a nav point")
     nav = call.ctx.nav_actions
     link = call.ctx.nav_services
     run_task = call.ctx.tasks.run_task
@@ -130,6 +132,7 @@ async def get_loop(call: Call[None, None]) -> Answer:
 
 async def post_loop(call: Call[LoopBody, None]) -> Answer:
     """Patrol every nav point of the current path, waiting ``wait_time`` s at each."""
+    refuse_while_mapping(call.ctx, "start a loop task")
     core = call.ctx.core
     nav = call.ctx.nav_actions
     link = call.ctx.nav_services
@@ -163,6 +166,7 @@ async def delete_loop(call: Call[None, None]) -> Answer:
 
 async def go_charge(call: Call[None, None]) -> Answer:
     """Go to the charging station and dock; returns the task (one ``charge_action``)."""
+    refuse_while_mapping(call.ctx, "go to charge")
     link, run_task = call.ctx.nav_services, call.ctx.tasks.run_task
     res = await link.call(zm.GetChargePose, zm.GetChargePoseRequest())
     if not res.is_set:
@@ -201,6 +205,7 @@ async def get_charge_pose(call: Call[None, None]) -> Answer:
 
 async def post_charge_pose(call: Call[None, None]) -> Answer:
     """Store the robot's current pose as the charging-station pose."""
+    refuse_while_mapping(call.ctx, "set the charge pose")
     link = call.ctx.nav_services
     res = await link.call(zm.SetChargePose,
                           zm.SetChargePoseRequest(use_current_pose=True))

@@ -80,6 +80,16 @@ def driving_reason(ctx: Context) -> str:
     return ""
 
 
+def refuse_while_mapping(ctx: Context, what: str) -> None:
+    """A 409 (§1.2 body) when the robot is building a map (not extending the map in use
+    while navigating: ``PUT /navigation/update_map``): ``what`` ("start navigation", "go
+    to a nav point", ...) needs the saved map, its nav points and its charge pose."""
+    if ctx.core.state.mapping and not (ctx.slam and ctx.slam.update_map):
+        raise ApiError(409, f"cannot {what}: the robot is mapping (GalileoStatus mapStatus "
+                            "1): save the map (POST /map/current_map_image), then GET "
+                            "/map/stop")
+
+
 def _mapping_reason(slam: SlamPort) -> str:
     st = slam.state()
     if st.state in ("starting", "mapping"):

@@ -14,6 +14,7 @@ from ..api import Answer, Api, ApiError, Call
 from ..context import Context
 from ..fields import Angle, Coord, Name, OptName
 from ..map_image import grid_pgm, grid_png
+from .mapping import refuse_while_mapping
 
 __all__ = ["add_nav_routes"]
 
@@ -66,10 +67,7 @@ async def start(call: Call[None, StartQuery]) -> Answer:
     q = call.query
     if not nav.available():
         raise core.presence.error("nav", "navigation is not available")
-    if core.state.mapping and not (call.ctx.slam and call.ctx.slam.update_map):
-        raise ApiError(409, "cannot start navigation: the robot is mapping (GalileoStatus "
-                            "mapStatus 1): save the map (POST /map/current_map_image), then "
-                            "GET /map/stop")
+    refuse_while_mapping(call.ctx, "start navigation")
     core.state.busy = True  # §7: Busy while the map loads and the robot relocalises
     try:
         if q.map and q.map != await current_map():
