@@ -13,7 +13,8 @@ drives to it is overtaken by the next one, and counted with the reached ones in
 ``goals_reached``. With no frontier left the explorer returns to the start pose
 (``return_to_start``), then is done. A map with no free space round the robot is not
 explored but not known yet: the explorer waits (`Decision` ``wait``); so does one with no
-frontier left until ``confirm_steps`` planning steps in a row agree.
+frontier left until ``confirm_steps`` planning steps in a row, on ``confirm_maps`` grids,
+agree.
 """
 
 from __future__ import annotations
@@ -46,6 +47,10 @@ class ExploreParams:
     confirm_steps: int = 3
     """Planning steps in a row that must find no frontier before exploring ends: a mapper's
     correction can cut the robot's surroundings off for a moment."""
+    confirm_maps: int = 2
+    """Maps (distinct grids) those steps must span: a mapper rebuilds its grid every few
+    seconds (slam's ``map_update_interval``, 5 s), so the scans of the sweep just made are
+    only in the next one; steps on one stale grid would end exploring early."""
 
 
 Stage = Literal["exploring", "returning", "done"]
@@ -77,6 +82,7 @@ class Explorer:
         self.frontiers_left = 0
         self.return_ok = False
         self.empty_steps = 0
+        self._empty_maps: list[GridMap] = []  # the grids of those steps, each once
         self._best = math.inf
         self._last_progress = 0.0
 
@@ -99,7 +105,12 @@ class Explorer:
             return Decision("wait", self.target)
         self.frontiers_left = len(found)
         self.empty_steps = self.empty_steps + 1 if not found else 0
-        if not found and self.empty_steps < self.p.confirm_steps:
+        if found:
+            self._empty_maps.clear()
+        elif not any(g is grid for g in self._empty_maps):
+            self._empty_maps.append(grid)
+        if not found and (self.empty_steps < self.p.confirm_steps
+                          or len(self._empty_maps) < self.p.confirm_maps):
             return Decision("wait", self.target)
         if not found:
             if self.target is not None:

@@ -11,7 +11,8 @@ resolution`` (``size`` in metres, ``distance`` the walk's length in metres to th
 nearest *reachable*, where explore_lite takes the straight line), cheapest first. Its goal
 is the reached cell within the robot's reach of it nearest its centroid (so a goal is never
 in a wall or in unknown space, and the laser sees into the unknown from there), away from
-the goals tried before.
+the goals tried before; when every such spot was tried, a reached cell further away (up to
+``far_look``), until ``far_tries`` goals were tried round it: then it is left out.
 
 Plain numpy/scipy, no Zenoh: the ``explore`` node calls `find_frontiers` on each map.
 """
@@ -44,6 +45,12 @@ class FrontierParams:
     start_radius: float = 1.0
     """Metres from the robot within which the walk must find a free cell to start from; with
     none (a map that does not show the robot's surroundings yet) there is no answer."""
+    far_look: float = 1.5
+    """Metres from a frontier a goal may be when every spot beside it was tried: it is then
+    looked at from further away (a mapper may leave unknown the cells round where the robot
+    stood, which no spot beside them shows)."""
+    far_tries: int = 3
+    """Goals tried within ``far_look`` of a frontier's centroid after which it is left out."""
 
 
 @dataclass
@@ -122,9 +129,9 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
     occupied = g >= OCCUPIED_MIN
     clear = ndimage.distance_transform_edt(~occupied) * resolution if occupied.any() \
         else np.full(g.shape, np.inf)
-    walkable = free & (clear >= params.clearance)
     ox, oy = origin
     rc = ((robot[1] - oy) / resolution - 0.5, (robot[0] - ox) / resolution - 0.5)
+    walkable = free & (clear >= params.clearance)
     start = _nearest(walkable, *rc)
     if start is None or math.hypot(start[0] - rc[0], start[1] - rc[1]) * resolution \
             > params.start_radius:
@@ -175,9 +182,17 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
         if avoid:
             spots &= ~_near_any(spots.shape, r0, c0, origin, resolution, avoid, avoid_radius)
         spot = _nearest(spots, cr - r0, cc - c0)
-        if spot is None:
-            continue  # every spot next to it was tried
-        gr, gc = spot[0] + r0, spot[1] + c0
+        if spot is not None:
+            gr, gc = spot[0] + r0, spot[1] + c0
+        else:  # every spot next to it was tried: from further away, a few times
+            cx, cy = ox + (cc + 0.5) * resolution, oy + (cr + 0.5) * resolution
+            tried = sum(math.hypot(x - cx, y - cy) <= params.far_look for x, y in avoid)
+            far = None if tried >= params.far_tries else _far_spot(
+                labels, lab, box, reached, (cr, cc), origin, resolution, avoid, avoid_radius,
+                params.far_look)
+            if far is None:
+                continue
+            gr, gc = far
         size_m = len(rows) * resolution
         cost = params.potential_scale * distance * resolution \
             - params.gain_scale * size_m * resolution
@@ -188,6 +203,23 @@ def find_frontiers(grid: np.ndarray, resolution: float, origin: tuple[float, flo
             cells=np.column_stack([rows, cols])))
     out.sort(key=lambda f: f.cost)
     return out
+
+
+def _far_spot(labels: np.ndarray, lab: int, box: tuple[slice, ...], reached: np.ndarray,
+              centroid: tuple[float, float], origin: tuple[float, float], resolution: float,
+              avoid: Sequence[tuple[float, float]], avoid_radius: float, far: float
+              ) -> tuple[int, int] | None:
+    """The reached cell within ``far`` metres of frontier ``lab``, away from ``avoid``,
+    nearest its centroid (row, col of the grid); None if there is none."""
+    h, w = labels.shape
+    pad = int(math.ceil(far / resolution)) + 1
+    r0, c0 = max(box[0].start - pad, 0), max(box[1].start - pad, 0)
+    win = (slice(r0, min(box[0].stop + pad, h)), slice(c0, min(box[1].stop + pad, w)))
+    near = ndimage.distance_transform_edt(labels[win] != lab) * resolution <= far
+    spots = reached[win] & near
+    spots &= ~_near_any(spots.shape, r0, c0, origin, resolution, avoid, avoid_radius)
+    spot = _nearest(spots, centroid[0] - r0, centroid[1] - c0)
+    return None if spot is None else (spot[0] + r0, spot[1] + c0)
 
 
 def _near_any(shape: tuple[int, ...], r0: int, c0: int, origin: tuple[float, float],

@@ -103,6 +103,43 @@ def test_a_tried_goal_moves_the_frontier_s_goal_along_it() -> None:
                           avoid=spots, avoid_radius=0.3) == []
 
 
+def test_exploring_ends_only_when_a_newer_map_agrees() -> None:
+    """The mapper rebuilds its grid every 5 s: planning steps on the grid from before the
+    sweep at the last goal (which holds that goal's surroundings half seen) must not end
+    exploring (bench/explore.py: the office at 0.87 coverage, ended so, 2026-12-06)."""
+    stale = GridMap(room(), RES, (0.0, 0.0, 0.0))
+    ex = Explorer(ExploreParams(), Pose2(1.5, 1.0, 0.0))
+    for t in range(10):
+        assert ex.step(stale, Pose2(1.5, 1.0), float(t)).action == "wait"
+    d = ex.step(GridMap(room(), RES, (0.0, 0.0, 0.0)), Pose2(1.5, 1.0), 10.0)
+    assert d.action == "home" and ex.stage == "returning"
+    ex = Explorer(ExploreParams(), Pose2(1.5, 1.0, 0.0))
+    maps = [GridMap(room(), RES, (0.0, 0.0, 0.0)) for _ in range(3)]
+    assert [ex.step(m, Pose2(1.5, 1.0), float(t)).action for t, m in enumerate(maps)] == \
+        ["wait", "wait", "home"]  # three steps, three maps
+
+
+def test_unknown_where_the_robot_stood_is_looked_at_from_further_away() -> None:
+    """A mapper may leave unknown the cells round where the robot stopped (the laser's
+    blind zone, cells not crossed by enough scans): every spot beside them is where the
+    robot was. The frontier then gets a goal further away, a few times, then is left out
+    (bench/explore.py: a 6 m frontier left so in the office, 2026-12-06)."""
+    g = room(100)
+    g[20:24, 43:47] = -1  # 0.2 m x 0.2 m unknown in the middle of the room
+    stood = (2.25, 1.1)  # where the robot was: every spot beside it within 0.5 m
+    small = FrontierParams(min_frontier_size=0.3)
+    (f,) = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), small)
+    assert math.dist(f.goal, f.centroid) < 0.4 and math.dist(f.centroid, stood) < 0.01
+    (far,) = find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), small, avoid=[stood],
+                            avoid_radius=0.5)
+    assert far.size == f.size and 0.5 < math.dist(far.goal, stood) <= 1.6
+    tried = [stood, far.goal, (2.25, 0.4)]
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), small, avoid=tried,
+                          avoid_radius=0.5) == []  # far_tries (3) goals tried round it
+    assert find_frontiers(g, RES, (0.0, 0.0), (1.0, 1.0), FrontierParams(
+        min_frontier_size=0.3, far_tries=4), avoid=tried, avoid_radius=0.5) != []
+
+
 def test_a_map_that_does_not_show_the_robot_s_surroundings_is_no_answer() -> None:
     """A mapper's first grid may hold only the walls the first scan hit: not "explored"."""
     g = room()
@@ -142,10 +179,11 @@ def test_explorer_blacklists_failures_keeps_its_goal_and_goes_home() -> None:
     for t in range(30):  # nav aborts every goal: each spot of each frontier is tried once
         if d.action == "home":
             break
-        if d.action == "wait":  # none left: confirmed over confirm_steps steps
-            d = ex.step(grid, Pose2(1.5, 1.0), 7.0 + t)
+        if d.action == "wait":  # none left: confirmed over confirm_steps steps on two maps
+            d = ex.step(grid if t % 2 else GridMap(g, RES, (0.0, 0.0, 0.0)), Pose2(1.5, 1.0),
+                        7.0 + t)
             continue
-        assert d.target is not None and all(d.target.distance(p) > 0.5 for p in tried)
+        assert d.target is not None and all(d.target.distance(p) >= 0.5 - 1e-9 for p in tried)
         tried.append(d.target)
         ex.fail(d.target)
         d = ex.step(grid, Pose2(1.5, 1.0), 7.0 + t)
