@@ -17,6 +17,7 @@ from .fleet import Fleet
 from .front_ends import AsgiServer, Door, FrontEnds
 from .http.app import HttpApp
 from .http.dashboard import dashboard_app
+from .http.routes.mapping import NativeMapping
 from .http.ws import ws_app
 from .http.ws_protocol import SlicedWebSocketProtocol
 from .modbus.front import ModbusFront
@@ -116,7 +117,8 @@ class GatewayNode(Node):
 
         start(Door("Modbus", start_modbus, self.modbus.stop))
         self.logger.info("Modbus TCP on %s:%d", host, self.modbus_port)
-        self.native = NativeCommands(self.core, self.logger, self.runner.loop)
+        self.native = NativeCommands(self.core, self.logger, self.runner.loop,
+                                     NativeMapping(robot.context))
         self.topics.on_native = self.native
         self.serial: SerialBridge | None = None
         if p.serial_port:

@@ -96,13 +96,13 @@ class Robot:
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
         self.slam = SlamLink(node, self.core, lambda: self.nav_services.grid)
-        self.api: Api = build_api(Context(
+        self.context = Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(node, self.core.presence), slam=self.slam),
-            options.max_body, node.logger)
+            coverage=CoverageLink(node, self.core.presence), slam=self.slam)
+        self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 
 class RobotView(Node):

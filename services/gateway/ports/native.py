@@ -7,21 +7,36 @@ import asyncio
 import concurrent.futures
 import logging
 from collections.abc import Coroutine
-from typing import Any
+from typing import Any, Protocol
 
 from ..state.core import Core, NavUnavailable
 
-__all__ = ["NativeCommands"]
+__all__ = ["MappingCommands", "NativeCommands"]
+
+
+class MappingCommands(Protocol):
+    """The map building operations ``'V'`` commands run (the REST routes' own:
+    `zenros.services.gateway.http.routes.mapping.NativeMapping`)."""
+
+    def start(self) -> Coroutine[Any, Any, None]: ...
+
+    def stop(self) -> Coroutine[Any, Any, None]: ...
+
+    def save(self) -> Coroutine[Any, Any, None]: ...
+
+    def update(self) -> Coroutine[Any, Any, None]: ...
 
 
 class NativeCommands:
     """Interprets one command at a time; a command it cannot honour is logged, not faked."""
 
     def __init__(self, core: Core, logger: logging.Logger,
-                 loop: asyncio.AbstractEventLoop) -> None:
+                 loop: asyncio.AbstractEventLoop,
+                 mapping: MappingCommands | None = None) -> None:
         self.core = core
         self.logger = logger
         self.loop = loop
+        self.mapping = mapping
 
     def __call__(self, data: bytes) -> bool:
         """Execute ``data``; True when it was understood and started."""
@@ -69,6 +84,10 @@ class NativeCommands:
         if op == ord("j") and args[:1] in (b"\x00", b"\x01"):
             nav = self.core.navigation()
             self._start(data, nav.go_charge() if args[0] == 0 else nav.stop_charge())
+            return True
+        if op == ord("V") and len(args) == 1 and args[0] <= 3 and self.mapping is not None:
+            m = self.mapping
+            self._start(data, (m.start, m.stop, m.save, m.update)[args[0]]())
             return True
         self.logger.warning("native command %s is not supported by this robot",
                             data.hex(" "))

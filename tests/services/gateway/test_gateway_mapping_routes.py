@@ -620,3 +620,50 @@ def test_upload_form_fields_are_checked(rig: Rig) -> None:
                files=[("map_files", ("a.zip", b"1"))]), 400, "unknown form field", "x")
     error(post("/navigation/upload_map_to_robot", json={"map_name": "x"}), 400, "multipart")
     assert "map_server/import_map" not in rig.link.names()
+
+
+def test_native_v_commands_map_as_the_routes_do(rig: Rig,
+                                                caplog: pytest.LogCaptureFixture) -> None:
+    """§12.3's 'V' 0x00..0x03 from the serial port or galileo/cmds: start, save (named by
+    the date and time, since the command carries no name), stop, and extend the current map;
+    a command the state refuses is logged and changes nothing."""
+    import asyncio
+    import logging
+    import re
+    import threading
+
+    from zenros.services.gateway.http.routes.mapping import NativeMapping
+    from zenros.services.gateway.ports.native import NativeCommands
+    from zenros.testing import wait_for
+
+    loop = asyncio.new_event_loop()
+    thread = threading.Thread(target=loop.run_forever, daemon=True)
+    thread.start()
+    native = NativeCommands(rig.core, logging.getLogger("native-test"), loop,
+                            NativeMapping(rig.ctx))
+
+    def calls() -> list[str]:
+        return [c[0] for c in rig.slam.calls]
+
+    try:
+        assert native(b"V\x02")  # save while not mapping: started, then refused
+        assert wait_for(lambda: "the robot is not mapping" in caplog.text, 5), caplog.text
+        assert rig.slam.calls == []
+        assert native(b"V\x00")
+        assert wait_for(lambda: calls() == ["start"], 5) and rig.core.state.mapping
+        assert rig.slam.calls[0][1] == "laser" and rig.status() == "Mapping"
+        assert native(b"V\x02")
+        assert wait_for(lambda: calls() == ["start", "save"], 5)
+        assert re.fullmatch(r"map_\d{8}_\d{6}", rig.slam.calls[1][1])
+        assert native(b"V\x01")
+        assert wait_for(lambda: calls()[-1] == "stop", 5) and not rig.core.state.mapping
+        rig.link.answers["map_server/list_maps"] = zm.ListMapsResponse(
+            maps=[zm.MapInfo(name="office")])
+        assert native(b"V\x03")  # extend the current map from its last pose
+        assert wait_for(lambda: calls()[-1] == "start", 5)
+        assert rig.slam.calls[-1][1:3] == ("laser", "office")
+        assert not native(b"V\x07") and not native(b"V")  # unknown: refused at once
+    finally:
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(5)
+        loop.close()

@@ -7,6 +7,7 @@ navigating to a goal are exclusive: each refuses while the other runs (409, the 
 
 from __future__ import annotations
 
+import time
 from typing import Annotated, Any, Literal
 
 import msgspec
@@ -126,23 +127,31 @@ async def _open(ctx: Context, slam: SlamPort, mode: str, map_name: str = "",
         core.state.busy = False
 
 
+async def start_mapping(ctx: Context, mode: str) -> None:
+    """Start a new map in ``mode`` (``laser`` or ``explore``); ApiError when it cannot."""
+    slam = slam_port(ctx)
+    if mode == "explore" and not slam.explore_available():
+        raise ctx.core.presence.error("explore", "exploring is not available: no server "
+                                                 "for the explore action")
+    await _open(ctx, slam, mode)
+
+
 async def start(call: Call[None, StartQuery]) -> Answer:
     """Start a new map: ``mode=laser`` (drive it by hand) or ``explore`` (the robot maps by
     itself, nearest frontier first, and comes back to where it started)."""
-    ctx = call.ctx
-    slam = slam_port(ctx)
-    q = call.query
-    if q.mode == "explore" and not slam.explore_available():
-        raise ctx.core.presence.error("explore", "exploring is not available: no server "
-                                                 "for the explore action")
-    await _open(ctx, slam, q.mode)
-    return {"result": True, "description": f"mapping started ({q.mode})"}
+    await start_mapping(call.ctx, call.query.mode)
+    return {"result": True, "description": f"mapping started ({call.query.mode})"}
 
 
 async def stop(call: Call[None, None]) -> Answer:
     """Stop mapping (Mapping → Busy → Free); cancels exploring first. What was not saved
     with POST /map/current_map_image is dropped."""
-    ctx = call.ctx
+    await stop_mapping(call.ctx)
+    return {"result": True, "description": "mapping stopped"}
+
+
+async def stop_mapping(ctx: Context) -> None:
+    """Mapping → Busy → Free: exploring cancelled, then the mapping node stopped."""
     slam = slam_port(ctx)
     core = ctx.core
     core.state.busy, core.state.mapping = True, False   # Mapping → Busy
@@ -154,7 +163,6 @@ async def stop(call: Call[None, None]) -> Answer:
         raise
     finally:
         core.state.busy = False
-    return {"result": True, "description": "mapping stopped"}
 
 
 async def _nav_point(ctx: Context, map_name: str, path: str, index: int) -> Pose2D:
@@ -180,18 +188,25 @@ async def _nav_point(ctx: Context, map_name: str, path: str, index: int) -> Pose
 async def update(call: Call[None, UpdateQuery]) -> Answer:
     """Extend a saved map: relocalise at nav point ``start_index`` of ``path`` (or at the
     saved map's last pose), then keep mapping it."""
-    ctx = call.ctx
-    slam = slam_port(ctx)
     q = call.query
+    return {"result": True,
+            "description": await extend_map(call.ctx, q.map, q.path, q.start_index)}
+
+
+async def extend_map(ctx: Context, map_name: str = "", path: str = "",
+                     start_index: int = -1) -> str:
+    """Start extending ``map_name`` (default: nav's current map) from nav point
+    ``start_index`` of ``path`` (-1: the saved map's last pose); says what it started."""
+    slam = slam_port(ctx)
     _refuse_while_busy(ctx, slam)
-    name = q.map or await ctx.nav_services.current_map()
+    name = map_name or await ctx.nav_services.current_map()
     listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=name))
     if not listed.maps:
         raise ApiError(404, f"unknown map {name!r}")
-    pose = await _nav_point(ctx, name, q.path, q.start_index) if q.start_index >= 0 else None
+    pose = await _nav_point(ctx, name, path, start_index) if start_index >= 0 else None
     await _open(ctx, slam, "laser", name, pose)
-    where = (f"nav point {q.start_index}" if pose is not None else "the saved map's last pose")
-    return {"result": True, "description": f"extending map {name!r} from {where}"}
+    where = (f"nav point {start_index}" if pose is not None else "the saved map's last pose")
+    return f"extending map {name!r} from {where}"
 
 
 def _require_mapping(slam: SlamPort) -> None:
@@ -240,6 +255,30 @@ async def save(call: Call[SaveBody, None]) -> Answer:
     _require_mapping(slam)
     name = await slam.save(b.name, b.type, b.levels)
     return {"result": True, "name": name}
+
+
+class NativeMapping:
+    """§12.3's mapping commands (``'V' 0x00..0x03``, from the serial port or
+    ``galileo/cmds``) as the REST routes do them, with their refusals. ``'V' 0x02`` carries
+    no name: the map is saved as ``map_<date>_<time>`` (the gateway host's local time), and
+    then listed by GET /navigation/saved_maps like any other."""
+
+    def __init__(self, ctx: Context) -> None:
+        self.ctx = ctx
+
+    async def start(self) -> None:
+        await start_mapping(self.ctx, "laser")
+
+    async def stop(self) -> None:
+        await stop_mapping(self.ctx)
+
+    async def save(self) -> None:
+        slam = slam_port(self.ctx)
+        _require_mapping(slam)
+        await slam.save(time.strftime("map_%Y%m%d_%H%M%S"), "floor", [])
+
+    async def update(self) -> None:
+        await extend_map(self.ctx)
 
 
 async def current_map_png(call: Call[None, None]) -> Answer:
