@@ -37,6 +37,7 @@ from .params import Parameter, Parameters, SetParametersResult, load_params_file
 from .polled import PolledSubscription
 from .pubsub import Publisher, Subscription, SubscriptionCallback
 from .qos import QOS_SENSOR, QoSProfile, as_profile
+from .qos_events import PublisherEventCallbacks, SubscriptionEventCallbacks
 from .rpc import Client, Service
 from .timer import Timer
 
@@ -231,10 +232,13 @@ class Node:
                 self._endpoints.remove(endpoint)
 
     def create_publisher(self, msg_type: type[M], topic: str,
-                         qos: QoSProfile | int = 10) -> Publisher[M]:
-        """A publisher of ``msg_type`` on ``topic`` (resolved and remapped)."""
+                         qos: QoSProfile | int = 10, *,
+                         event_callbacks: PublisherEventCallbacks | None = None
+                         ) -> Publisher[M]:
+        """A publisher of ``msg_type`` on ``topic`` (resolved and remapped);
+        ``event_callbacks``: its QoS events (`zenros.qos_events`)."""
         pub = Publisher(self.context, self.fqn, msg_type, self.resolve_name(topic),
-                        as_profile(qos))
+                        as_profile(qos), event_callbacks, self.logger)
         self._warn_type_conflict(pub.topic, pub.type_name)
         p: Publisher[M] = self.add_waitable(pub)
         return p
@@ -247,10 +251,13 @@ class Node:
         qos: QoSProfile | int = 10,
         *,
         callback_group: CallbackGroup | None = None,
+        event_callbacks: SubscriptionEventCallbacks | None = None,
     ) -> Subscription[M]:
-        """Call ``callback(msg)`` for each message; sync callbacks run on Zenoh's thread."""
+        """Call ``callback(msg)`` for each message; sync callbacks run on Zenoh's thread.
+        ``event_callbacks``: its QoS events (`zenros.qos_events`)."""
         sub = Subscription(self.context, self.fqn, msg_type, self.resolve_name(topic), callback,
-                           as_profile(qos), self.logger, callback_group, self._setup_gate)
+                           as_profile(qos), self.logger, callback_group, self._setup_gate,
+                           event_callbacks)
         self._warn_type_conflict(sub.topic, sub._codec.type_name)
         s: Subscription[M] = self.add_waitable(sub)
         return s

@@ -23,6 +23,7 @@ from .keytag import key_tag, misrouted
 from .log import ErrorLog, Throttle
 from .message import Message
 from .qos import QoSProfile, Reliability
+from .qos_events import EntityEvents, PublisherEventCallbacks, SubscriptionEventCallbacks
 from .receivers import receiver_for
 
 if TYPE_CHECKING:
@@ -36,10 +37,20 @@ M = TypeVar("M", bound=Message)
 
 
 def entity_token(ctx: Context, kind: str, node: str, topic: str, type_name: str,
-                 qos: QoSProfile) -> zenoh.LivelinessToken:
+                 qos: QoSProfile, eid: int | None = None) -> zenoh.LivelinessToken:
     """The liveliness token that shows a topic endpoint in the graph (docs/wire.md)."""
-    return ctx.session.liveliness().declare_token(
-        ctx.keys.entity_token(kind, node, topic, type_name, qos.tag, ctx.zid, ctx.next_eid()))
+    return ctx.session.liveliness().declare_token(ctx.keys.entity_token(
+        kind, node, topic, type_name, qos.tag, ctx.zid, ctx.next_eid() if eid is None else eid))
+
+
+def _events(ctx: Context, kind: str, topic: str, qos: QoSProfile, eid: int,
+            callbacks: PublisherEventCallbacks | SubscriptionEventCallbacks | None,
+            logger: logging.Logger | None) -> EntityEvents | None:
+    """The QoS events of an endpoint given ``event_callbacks`` (none: nothing to watch)."""
+    if callbacks is None:
+        return None
+    return EntityEvents(kind, topic, qos, f"{ctx.zid}/{eid}", callbacks, ctx.graph,
+                        logger or logging.getLogger("zenros"))
 
 
 def _congestion(qos: QoSProfile) -> zenoh.CongestionControl:
@@ -57,7 +68,9 @@ class Publisher(Generic[M]):
     """
 
     def __init__(
-        self, ctx: Context, node: str, msg_type: type[M], topic: str, qos: QoSProfile
+        self, ctx: Context, node: str, msg_type: type[M], topic: str, qos: QoSProfile,
+        event_callbacks: PublisherEventCallbacks | None = None,
+        logger: logging.Logger | None = None,
     ) -> None:
         self.msg_type = msg_type
         self.topic = topic
@@ -94,7 +107,10 @@ class Publisher(Generic[M]):
             self._matching = self._pub.declare_matching_listener(self._on_matching)
         self._put = functools.partial(self._pub.put, attachment=key_tag(self.key))
         self._local = ctx.local_topic(topic)
-        self._token = entity_token(ctx, "pub", node, topic, self.type_name, qos)
+        eid = ctx.next_eid()
+        self.events = _events(ctx, "pub", topic, qos, eid, event_callbacks, logger)
+        """The QoS events (`zenros.qos_events`) when created with ``event_callbacks``."""
+        self._token = entity_token(ctx, "pub", node, topic, self.type_name, qos, eid)
         self.closed = False
 
     def _on_matching(self, status: Any) -> None:
@@ -142,6 +158,8 @@ class Publisher(Generic[M]):
             raise EncodeError(
                 f"{self.topic} carries {self.type_name}, got {type(msg).__name__}"
             )
+        if self.events is not None:
+            self.events.sample()
         for sub in self._local.subs:
             sub._deliver_local(msg, self)
         if self._remote:
@@ -161,12 +179,20 @@ class Publisher(Generic[M]):
         """In-process subscriptions plus whether any remote one matches (0 or 1)."""
         return len(self._local.subs) + int(bool(self._remote))
 
+    def assert_liveliness(self) -> None:
+        """Show this MANUAL_BY_TOPIC publisher alive without publishing (rclpy's): its lease
+        starts again. Other processes' subscriptions see samples only (`zenros.qos_events`)."""
+        if self.events is not None:
+            self.events.assert_liveliness()
+
     def close(self) -> None:
         """Undeclare the publisher; `publish` refuses from now on. Safe while another thread
         is in `publish`: its put ends first."""
         if self.closed:
             return
         self.closed = True
+        if self.events is not None:
+            self.events.close()
         if self._matching is not None:
             self._matching.undeclare()
         self._token.undeclare()  # type: ignore[no-untyped-call]
@@ -279,11 +305,15 @@ class Subscription(Generic[M]):
         logger: logging.Logger,
         group: CallbackGroup | None = None,
         gate: DeliveryGate | None = None,
+        event_callbacks: SubscriptionEventCallbacks | None = None,
     ) -> None:
         self.msg_type = msg_type
         self.topic = topic
         self.qos = qos
         self.key = ctx.keys.topic(topic)
+        self._eid = ctx.next_eid()
+        self.events = _events(ctx, "sub", topic, qos, self._eid, event_callbacks, logger)
+        """The QoS events (`zenros.qos_events`) when created with ``event_callbacks``."""
         self.errors = 0
         self.misrouted = 0
         """Samples dropped because they were published on another key (`zenros.keytag`)."""
@@ -318,7 +348,8 @@ class Subscription(Generic[M]):
         # Live in-process samples come from the context's bus, joined before the token is
         # declared: once the graph shows this subscription, an in-process publisher reaches it.
         ctx.add_local(topic, "subs", self)
-        self._token = entity_token(ctx, "sub", node, topic, self._codec.type_name, qos)
+        self._token = entity_token(ctx, "sub", node, topic, self._codec.type_name, qos,
+                                   self._eid)
         self.closed = False
 
     def _sample_path(self, first: Callable[[threading.Thread], None]
@@ -328,7 +359,7 @@ class Subscription(Generic[M]):
         right there when it needs no executor). What it reads is bound as locals: the hot
         path of a subscription."""
         encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
-        direct, info, tag = self._direct, self._info, self._tag
+        direct, info, tag, events = self._direct, self._info, self._tag, self.events
         named = False
 
         def take(sample: zenoh.Sample) -> None:
@@ -342,6 +373,8 @@ class Subscription(Generic[M]):
                     return
                 if sample.encoding != encoding:
                     self._check(sample)
+                    return
+                if events is not None and not self._event_sample(sample):
                     return
                 try:
                     msg: Any = decode(sample.payload.to_bytes())  # or (msg, info) below
@@ -376,11 +409,22 @@ class Subscription(Generic[M]):
                                      "subscription %s callback raised %s: %s", self.topic,
                                      type(exc).__name__, exc, exc_info=exc)
 
+    def _event_sample(self, sample: zenoh.Sample) -> bool:
+        """The sample for the QoS events: False to drop it (past its lifespan)."""
+        assert self.events is not None
+        ts = sample.timestamp
+        if ts is None:
+            return self.events.sample()
+        return self.events.sample(str(ts.get_id()),
+                                  lambda: int(ts.get_time_as_ntp64().as_nanos()))
+
     def _deliver_local(self, msg: Any, pub: Publisher[Any]) -> None:
         if type(msg) is not self.msg_type:
             self._reject(f"type mismatch: expected {self._codec.type_name}, got {pub.type_name}",
                          ("this process", "local"))
             return
+        if self.events is not None:
+            self.events.sample(self._ctx.zid)
         if self._info:
             msg = (msg, MessageInfo(None, self._ctx.zid, from_intra_process=True))
         self._dispatch(msg)
@@ -394,6 +438,8 @@ class Subscription(Generic[M]):
                 return
             if sample.encoding != self._encoding:
                 self._check(sample)
+                return
+            if self.events is not None and not self._event_sample(sample):
                 return
             try:
                 msg = self._decode(sample.payload.to_bytes())
@@ -448,6 +494,8 @@ class Subscription(Generic[M]):
         if self.closed:
             return
         self.closed = True
+        if self.events is not None:
+            self.events.close()
         self._ctx.remove_local(self.topic, "subs", self)
         self._token.undeclare()  # type: ignore[no-untyped-call]
         self._receiver.close()  # a sample being handled finishes first
