@@ -19,7 +19,14 @@ ApproximateTimeSynchronizer emits from 3 topics of 30 Hz-like stamps with +-3 ms
 message_filters (Python) where it is installed; it is not among the ROS 2 wheels on the
 package index (no ``ros-message-filters``), so the key is null with the reason beside it.
 
-Run: ``python bench/runtime_extras.py``.
+``deadline_detect_ratio``: a publisher with a 0.1 s deadline publishes once; the delay from
+that publish to its offered-deadline-missed event, over the deadline, median of 20 (target
+<= 1.2). ``events_idle_ratio``: CPU time of a process with 20 publisher/subscription pairs at
+rest for 3 s (one sample each first), with QoS events on (deadline 1 s, matched, liveliness
+callbacks) over off, median of 3 (target <= 1.1); ``events_idle_cpu_ms`` the two. The
+``*_rclpy`` keys: the same with rclpy in a network namespace (null with a reason without).
+
+Run: ``python bench/runtime_extras.py`` (``--qos-events`` for the QoS figures alone).
 """
 
 from __future__ import annotations
@@ -218,9 +225,186 @@ def approx_sync_sets_per_s() -> dict[str, Any]:
     return out
 
 
+# ------------------------------------------------------------------ QoS events
+
+DEADLINE, DEADLINE_ROUNDS = 0.1, 20
+IDLE_ENDPOINTS, IDLE_S = 20, 3.0
+
+
+def _zenros_deadline_ratio() -> float:
+    """Median over rounds of (time from the last publish to the offered-deadline-missed
+    event) / the deadline, for a publisher that publishes once and stops."""
+    import threading
+
+    from zenros import Node
+    from zenros.msgs.std_msgs import String
+    from zenros.qos import QoSProfile
+    from zenros.qos_events import PublisherEventCallbacks
+    from zenros.testing import linked_contexts, unique_prefix
+
+    ratios = []
+    with linked_contexts(1, unique_prefix()) as (ctx,):
+        node = Node("deadline_bench", context=ctx)
+        for r in range(DEADLINE_ROUNDS):
+            fired = threading.Event()
+            at: list[float] = []
+
+            def on_miss(info: Any, at: list[float] = at, fired: threading.Event = fired) -> None:
+                at.append(time.perf_counter())
+                fired.set()
+
+            pub = node.create_publisher(String, f"/deadline{r}", QoSProfile(deadline=DEADLINE),
+                                        event_callbacks=PublisherEventCallbacks(deadline=on_miss))
+            t0 = time.perf_counter()
+            pub.publish(String(data="x"))
+            assert fired.wait(5)
+            ratios.append((at[0] - t0) / DEADLINE)
+            node.destroy(pub)
+        node.close()
+    return statistics.median(ratios)
+
+
+def _idle_cpu_s(events: bool) -> float:
+    """CPU seconds this process spends over IDLE_S with IDLE_ENDPOINTS publisher and
+    subscription pairs at rest (one sample each first), with or without QoS events."""
+    from zenros import Node
+    from zenros.msgs.std_msgs import String
+    from zenros.qos import QoSProfile
+    from zenros.qos_events import PublisherEventCallbacks, SubscriptionEventCallbacks
+    from zenros.testing import linked_contexts, unique_prefix, wait_for
+
+    qos = QoSProfile(deadline=1.0) if events else QoSProfile()
+    got = [0]
+    with linked_contexts(2, unique_prefix()) as (a, b):
+        pn, sn = Node("idle_pub", context=a), Node("idle_sub", context=b)
+        pubs = []
+        for i in range(IDLE_ENDPOINTS):
+            def count(m: Any) -> None:
+                got[0] += 1
+            pcb = PublisherEventCallbacks(deadline=lambda i: None, matched=lambda i: None)
+            scb = SubscriptionEventCallbacks(deadline=lambda i: None, liveliness=lambda i: None,
+                                             matched=lambda i: None)
+            sn.create_subscription(String, f"/idle{i}", count, qos,
+                                   event_callbacks=scb if events else None)
+            pubs.append(pn.create_publisher(String, f"/idle{i}", qos,
+                                            event_callbacks=pcb if events else None))
+        for p in pubs:
+            assert p.wait_for_subscribers(1, 10)
+            p.publish(String(data="once"))
+        assert wait_for(lambda: got[0] >= IDLE_ENDPOINTS, 10)
+        c0 = time.process_time()
+        time.sleep(IDLE_S)  # the measured idle window
+        cpu = time.process_time() - c0
+        pn.close()
+        sn.close()
+    return cpu
+
+
+def qos_events() -> dict[str, Any]:
+    """``deadline_detect_ratio`` (<= 1.2) and ``events_idle_ratio`` (<= 1.1), zenros's and,
+    in a network namespace, rclpy's (the wheels' default RMW)."""
+    off = statistics.median(_idle_cpu_s(False) for _ in range(3))
+    on = statistics.median(_idle_cpu_s(True) for _ in range(3))
+    out: dict[str, Any] = {"deadline_detect_ratio": round(_zenros_deadline_ratio(), 3),
+                           "events_idle_ratio": round(on / off, 3) if off else None,
+                           "events_idle_cpu_ms": [round(off * 1000, 1), round(on * 1000, 1)]}
+    ref, why = _rclpy_run("--rclpy-qos-events")
+    if ref is None:
+        out["deadline_detect_ratio_rclpy"] = None
+        out["deadline_detect_ratio_rclpy_reason"] = why
+    else:
+        out["deadline_detect_ratio_rclpy"] = round(ref[0], 3)
+        out["events_idle_ratio_rclpy"] = round(ref[1], 3)
+    return out
+
+
+def _rclpy_run(flag: str) -> tuple[list[float] | None, str | None]:
+    """This file's rclpy part ``flag`` inside a network namespace; (its numbers, reason)."""
+    try:
+        import rclpy  # noqa: F401
+    except ModuleNotFoundError as e:
+        return None, f"the ros2 extra is not installed ({e.name}): pip install -e '.[ros2]'"
+    if os.geteuid() != 0:
+        return None, "needs root for a network namespace (unshare -n), as bench/ros2.py"
+    p = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE),
+                        flag], capture_output=True, text=True, timeout=300, check=False)
+    last = p.stdout.strip().splitlines()[-1:] or [""]
+    try:
+        return [float(v) for v in last[0].split()], None
+    except ValueError:
+        return None, f"the rclpy run failed: {(p.stderr or p.stdout).strip()[-300:]}"
+
+
+def _rclpy_qos_events() -> None:
+    """rclpy's deadline ratio and idle ratio, printed as two numbers."""
+    import threading
+
+    import rclpy
+    from rclpy.duration import Duration
+    from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import QoSProfile
+    from std_msgs.msg import String
+
+    rclpy.init()
+    node = rclpy.create_node("deadline_bench")
+    ex = SingleThreadedExecutor()
+    ex.add_node(node)
+    threading.Thread(target=ex.spin, daemon=True).start()
+    ratios = []
+    for r in range(DEADLINE_ROUNDS):
+        fired = threading.Event()
+        at: list[float] = []
+
+        def on_miss(info: Any, at: list[float] = at, fired: threading.Event = fired) -> None:
+            at.append(time.perf_counter())
+            fired.set()
+
+        qos = QoSProfile(depth=10, deadline=Duration(seconds=DEADLINE))
+        pub = node.create_publisher(String, f"/deadline{r}", qos,
+                                    event_callbacks=PublisherEventCallbacks(deadline=on_miss))
+        t0 = time.perf_counter()
+        pub.publish(String(data="x"))
+        assert fired.wait(5)
+        ratios.append((at[0] - t0) / DEADLINE)
+        node.destroy_publisher(pub)
+
+    def idle(events: bool) -> float:
+        n = rclpy.create_node(f"idle_{int(events)}")
+        ex.add_node(n)
+        qos = QoSProfile(depth=10, deadline=Duration(seconds=1.0)) if events \
+            else QoSProfile(depth=10)
+        pubs = []
+        for i in range(IDLE_ENDPOINTS):
+            n.create_subscription(String, f"/idle{i}", lambda m: None, qos,
+                                  event_callbacks=SubscriptionEventCallbacks(
+                                      deadline=lambda i: None, liveliness=lambda i: None,
+                                      matched=lambda i: None) if events else None)
+            pubs.append(n.create_publisher(String, f"/idle{i}", qos,
+                                           event_callbacks=PublisherEventCallbacks(
+                                               deadline=lambda i: None, matched=lambda i: None)
+                                           if events else None))
+        time.sleep(1.0)  # discovery
+        for p in pubs:
+            p.publish(String(data="once"))
+        c0 = time.process_time()
+        time.sleep(IDLE_S)  # the measured idle window
+        cpu = time.process_time() - c0
+        ex.remove_node(n)
+        n.destroy_node()
+        return cpu
+
+    off = statistics.median(idle(False) for _ in range(3))
+    on = statistics.median(idle(True) for _ in range(3))
+    print(statistics.median(ratios), on / off if off else float("nan"), flush=True)
+    ex.shutdown()
+    rclpy.shutdown()
+
+
 # ------------------------------------------------------------------ main
 
-FIGURES: list[Callable[[], dict[str, Any]]] = [lifecycle_transition_ms, approx_sync_sets_per_s]
+FIGURES: list[Callable[[], dict[str, Any]]] = [lifecycle_transition_ms, approx_sync_sets_per_s,
+                                               qos_events]
 
 
 def main() -> None:
@@ -230,11 +414,19 @@ def main() -> None:
     if sys.argv[1:] == ["--rclpy-lifecycle"]:
         _rclpy_measure()
         return
+    if sys.argv[1:] == ["--rclpy-qos-events"]:
+        _rclpy_qos_events()
+        return
+    if sys.argv[1:] == ["--qos-events"]:
+        emit("runtime_extras", qos_events())
+        return
     metrics: dict[str, Any] = {}
     for figure in FIGURES:
         metrics.update(figure())
     emit("runtime_extras", metrics, targets={"lifecycle_transition_ms": "<= 50",
-                                            "approx_sync_sets_per_s": ">= 10000"})
+                                            "approx_sync_sets_per_s": ">= 10000",
+                                            "deadline_detect_ratio": "<= 1.2",
+                                            "events_idle_ratio": "<= 1.1"})
 
 
 if __name__ == "__main__":
