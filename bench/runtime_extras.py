@@ -22,8 +22,10 @@ package index (no ``ros-message-filters``), so the key is null with the reason b
 ``deadline_detect_ratio``: a publisher with a 0.1 s deadline publishes once; the delay from
 that publish to its offered-deadline-missed event, over the deadline, median of 20 (target
 <= 1.2). ``events_idle_ratio``: CPU time of a process with 20 publisher/subscription pairs at
-rest for 3 s (one sample each first), with QoS events on (deadline 1 s, matched, liveliness
-callbacks) over off, median of 3 (target <= 1.1); ``events_idle_cpu_ms`` the two. The
+rest for 3 s (one sample each first), with QoS events on (deadline 6 s, none due in the
+window; matched and liveliness callbacks) over off, median of 3 (target <= 1.1);
+``events_idle_cpu_ms`` the two; ``deadline_miss_cpu_us``: the CPU each deadline-missed event
+costs (the same with a 1 s deadline: 40 endpoints missing every second). The
 ``*_rclpy`` keys: the same with rclpy in a network namespace (null with a reason without).
 
 Run: ``python bench/runtime_extras.py`` (``--qos-events`` for the QoS figures alone).
@@ -264,16 +266,18 @@ def _zenros_deadline_ratio() -> float:
     return statistics.median(ratios)
 
 
-def _idle_cpu_s(events: bool) -> float:
+def _idle_cpu_s(events: bool, deadline: float = 2 * IDLE_S) -> float:
     """CPU seconds this process spends over IDLE_S with IDLE_ENDPOINTS publisher and
-    subscription pairs at rest (one sample each first), with or without QoS events."""
+    subscription pairs at rest (one sample each first), with or without QoS events (a
+    ``deadline`` longer than the window: none is due; 1 s: each endpoint misses every
+    second, the cost of the events themselves)."""
     from zenros import Node
     from zenros.msgs.std_msgs import String
     from zenros.qos import QoSProfile
     from zenros.qos_events import PublisherEventCallbacks, SubscriptionEventCallbacks
     from zenros.testing import linked_contexts, unique_prefix, wait_for
 
-    qos = QoSProfile(deadline=1.0) if events else QoSProfile()
+    qos = QoSProfile(deadline=deadline) if events else QoSProfile()
     got = [0]
     with linked_contexts(2, unique_prefix()) as (a, b):
         pn, sn = Node("idle_pub", context=a), Node("idle_sub", context=b)
@@ -305,9 +309,12 @@ def qos_events() -> dict[str, Any]:
     in a network namespace, rclpy's (the wheels' default RMW)."""
     off = statistics.median(_idle_cpu_s(False) for _ in range(3))
     on = statistics.median(_idle_cpu_s(True) for _ in range(3))
+    missing = statistics.median(_idle_cpu_s(True, 1.0) for _ in range(3))
+    misses = 2 * IDLE_ENDPOINTS * IDLE_S  # a publisher's and a subscription's, each second
     out: dict[str, Any] = {"deadline_detect_ratio": round(_zenros_deadline_ratio(), 3),
                            "events_idle_ratio": round(on / off, 3) if off else None,
-                           "events_idle_cpu_ms": [round(off * 1000, 1), round(on * 1000, 1)]}
+                           "events_idle_cpu_ms": [round(off * 1000, 1), round(on * 1000, 1)],
+                           "deadline_miss_cpu_us": round((missing - on) / misses * 1e6, 1)}
     ref, why = _rclpy_run("--rclpy-qos-events")
     if ref is None:
         out["deadline_detect_ratio_rclpy"] = None
@@ -372,7 +379,7 @@ def _rclpy_qos_events() -> None:
     def idle(events: bool) -> float:
         n = rclpy.create_node(f"idle_{int(events)}")
         ex.add_node(n)
-        qos = QoSProfile(depth=10, deadline=Duration(seconds=1.0)) if events \
+        qos = QoSProfile(depth=10, deadline=Duration(seconds=2 * IDLE_S)) if events \
             else QoSProfile(depth=10)
         pubs = []
         for i in range(IDLE_ENDPOINTS):
