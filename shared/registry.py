@@ -24,7 +24,7 @@ from . import msgs
 from .errors import UnknownTypeError
 from .message import TABLES, ActionType, Message, ServiceType, find_registered, normalize_type_name
 
-__all__ = ["load_package", "lookup_action", "lookup_service", "lookup_type",
+__all__ = ["load_all_packages", "load_package", "lookup_action", "lookup_service", "lookup_type",
            "registered_actions", "registered_services", "registered_types"]
 
 T = TypeVar("T")
@@ -52,6 +52,15 @@ def load_package(name: str) -> bool:
         return False
     importlib.import_module(module)
     return True
+
+
+def load_all_packages() -> None:
+    """Import every package `zenros.msgs` ships (those left out on import too): for
+    listings that must name every shipped type (`zenros interface list`)."""
+    for pkg in sorted(_on_demand()):
+        module = f"{msgs.__name__}.{pkg}"
+        if module not in sys.modules:
+            importlib.import_module(module)
 
 
 def _preferred(table: dict[str, T]) -> dict[str, T]:
