@@ -1,4 +1,4 @@
-"""`zenros topic list|info|type|echo|pub|hz|bw`."""
+"""`zenros topic list|info|type|echo|pub|hz|bw|delay`."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ from .common import (
 
 
 def register(sub: Any) -> None:
-    p = sub.add_parser("topic", help="topics: list, info, type, echo, pub, hz, bw")
+    p = sub.add_parser("topic", help="topics: list, info, type, echo, pub, hz, bw, delay")
     verbs = p.add_subparsers(dest="verb", required=True)
     v = verbs.add_parser("list", help="list topics")
     v.add_argument("-t", "--show-types", action="store_true")
@@ -63,6 +63,13 @@ def register(sub: Any) -> None:
     v.add_argument("topic")
     v.add_argument("-w", "--window", type=int, default=10000)
     v.add_argument("--count", type=int, default=0, help="exit after N reports")
+    v = verbs.add_parser("delay", help="delay from each message's header stamp to its "
+                                       "arrival (ros2 topic delay)")
+    v.add_argument("topic")
+    v.add_argument("-w", "--window", type=int, default=10000)
+    v.add_argument("--count", type=int, default=0, help="exit after N reports")
+    v.add_argument("--use-sim-time", action="store_true",
+                   help="measure against /clock (a simulation's time), not the wall clock")
     v = verbs.add_parser("bw", help="bandwidth")
     v.add_argument("topic")
     v.add_argument("-w", "--window", type=int, default=100)
@@ -74,6 +81,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     waiting = {"echo": "messages on", "hz": "messages on", "bw": "messages on",
+               "delay": "messages on",
                "pub": "subscribers of"}.get(args.verb, "")
     ctx = open_context(args, settle=args.verb in ("list", "info", "type"),
                        waiting_for=f"{waiting} {getattr(args, 'topic', '')}")
@@ -288,5 +296,81 @@ def _human(n: float) -> str:
     return f"{n:.2f} TB"
 
 
+def _header_stamp_ns(data: Any) -> int | None:
+    """``header.stamp`` of a decoded message, in ns; None if it has none."""
+    try:
+        stamp = data["header"]["stamp"]
+        return int(stamp["sec"]) * 1_000_000_000 + int(stamp["nanosec"])
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
+def _delay(ctx: Any, args: argparse.Namespace) -> int:
+    """ros2 topic delay: now (the wall clock, or /clock's time) minus each message's
+    ``header.stamp``, reported every second over the last ``--window`` messages."""
+    topic = _topic(args)
+    delays: deque[float] = deque(maxlen=args.window)
+    lock = threading.Lock()
+    unstamped = threading.Event()
+    sim: list[tuple[int, float]] = []  # (/clock ns, monotonic when it came)
+
+    def now_ns() -> int:
+        if not args.use_sim_time:
+            return time.time_ns()
+        with lock:
+            if not sim:
+                return -1
+            clock, at = sim[-1]
+        return clock + int((time.monotonic() - at) * 1e9)
+
+    def on_sample(sample: zenoh.Sample) -> None:
+        now = now_ns()
+        stamp = _header_stamp_ns(payload_to_data(sample.payload.to_bytes(),
+                                                 str(sample.encoding)))
+        if stamp is None:
+            unstamped.set()
+            return
+        if now >= 0:
+            with lock:
+                delays.append((now - stamp) / 1e9)
+
+    def on_clock(sample: zenoh.Sample) -> None:
+        c = _header_stamp_ns({"header": {"stamp": payload_to_data(
+            sample.payload.to_bytes(), str(sample.encoding)).get("clock")}})
+        if c is not None:
+            with lock:
+                sim[-1:] = [(c, time.monotonic())]
+
+    subs = [_subscribe(ctx, topic, on_sample)]
+    if args.use_sim_time:
+        subs.append(ctx.session.declare_subscriber(ctx.keys.topic("/clock"), on_clock))
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    if not ctx.graph.publishers(topic):
+        _say(f"no publisher on {topic} yet; waiting for one (Ctrl-C to stop)")
+    reports = 0
+    try:
+        while not args.count or reports < args.count:
+            time.sleep(1.0)  # a report a second, as ros2 topic delay
+            if unstamped.is_set():
+                raise CliError(f"messages on {topic} have no header.stamp: topic delay "
+                               "needs a stamped type (std_msgs/Header header)")
+            with lock:
+                snap = list(delays)
+            if not snap:
+                print("no new messages" if not args.use_sim_time or sim
+                      else "no /clock yet (is the simulation publishing it?)")
+                continue
+            print(f"average delay: {statistics.fmean(snap):.3f}\n\tmin: {min(snap):.3f}s "
+                  f"max: {max(snap):.3f}s std dev: {statistics.pstdev(snap):.5f}s "
+                  f"window: {len(snap)}", flush=True)
+            reports += 1
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for sub in subs:
+            sub.undeclare()
+    return 0
+
+
 _VERBS = {"list": _list, "info": _info, "type": _type, "echo": _echo, "pub": _pub,
-          "hz": _hz, "bw": _bw}
+          "hz": _hz, "bw": _bw, "delay": _delay}

@@ -189,3 +189,44 @@ def test_streaming_verb_piped_into_head_exits_quietly(
         assert "Traceback" not in r.stderr and "Broken pipe" not in r.stderr, r.stderr
     finally:
         static.stop()
+
+
+def test_topic_delay_from_header_stamps(system: tuple[str, str]) -> None:
+    """ros2 topic delay: now minus each message's header.stamp; a type without a header
+    is one clear line."""
+    import threading
+    import time
+
+    from zenros.context import Context
+    from zenros.msgs.builtin_interfaces import Time
+    from zenros.msgs.geometry_msgs import PointStamped
+    from zenros.msgs.std_msgs import Header
+    from zenros.node import Node
+    from zenros.session import SessionOptions
+
+    router, prefix = system
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("stamper", context=ctx)
+    pub = node.create_publisher(PointStamped, "/stamped")
+    stop = threading.Event()
+
+    def stamp_late() -> None:  # each message stamped 0.25 s before it is sent
+        while not stop.wait(0.05):
+            pub.publish(PointStamped(header=Header(stamp=Time.from_nanoseconds(
+                time.time_ns() - 250_000_000))))
+
+    t = threading.Thread(target=stamp_late, daemon=True)
+    t.start()
+    try:
+        r = zenros(router, prefix, "topic", "delay", "/stamped", "--count", "2")
+        assert r.returncode == 0, r.stderr
+        first = r.stdout.split("average delay:")[1].split()[0]
+        assert 0.2 < float(first) < 0.45, r.stdout
+        assert "std dev" in r.stdout and "window:" in r.stdout
+        r = zenros(router, prefix, "topic", "delay", "/chatter", "--count", "1")
+        assert r.returncode == 1 and "no header.stamp" in r.stderr, r.stderr
+    finally:
+        stop.set()
+        t.join(5)
+        node.close()
+        ctx.close()
