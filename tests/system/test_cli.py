@@ -230,3 +230,45 @@ def test_topic_delay_from_header_stamps(system: tuple[str, str]) -> None:
         t.join(5)
         node.close()
         ctx.close()
+
+
+def test_doctor_reports_a_healthy_system_then_what_is_wrong(system: tuple[str, str]) -> None:
+    """`zenros doctor`: ok on the rig; then two nodes with one name, a topic with two types
+    and a pair ROS 2 would not connect are each named, and the exit code is 1."""
+    from zenros.context import Context
+    from zenros.msgs.std_msgs import Int32, String
+    from zenros.node import Node
+    from zenros.qos import QoSProfile, Reliability
+    from zenros.session import SessionOptions
+
+    router, prefix = system
+    r = zenros(router, prefix, "doctor", "--hear", "1")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "links" in r.stdout and "no problems found" in r.stdout
+    checks = {ln.split()[0]: ln.split()[1] for ln in r.stdout.splitlines() if ln[:1] != " "
+              and len(ln.split()) > 1}
+    assert all(checks[c] == "ok:" for c in ("links", "nodes", "QoS", "clocks", "zenoh")), \
+        r.stdout
+    ctxs = [Context(SessionOptions(connect=[router]), prefix=prefix) for _ in range(2)]
+    nodes = [Node("twin", context=c) for c in ctxs]
+    try:
+        nodes[0].create_publisher(String, "/mixed")
+        nodes[1].create_publisher(Int32, "/mixed")
+        nodes[0].create_publisher(String, "/fragile", QoSProfile(
+            reliability=Reliability.BEST_EFFORT))
+        nodes[1].create_subscription(String, "/fragile", lambda m: None)
+        g = ctxs[0].graph
+        assert g.wait_for(lambda: len(g.subscribers("/fragile")) == 1
+                          and len(g.topics().get("/mixed", [])) == 2, 10)
+        r = zenros(router, prefix, "doctor", "--hear", "0.5")
+        assert r.returncode == 1, r.stdout + r.stderr
+        out = r.stdout
+        assert "/twin: 2 nodes share it" in out
+        assert "/mixed: std_msgs/Int32, std_msgs/String" in out
+        assert "/fragile: /twin offers be+10, /twin requests rel+10 (RELIABILITY)" in out
+        assert "3 problem(s)" in out
+    finally:
+        for n in nodes:
+            n.close()
+        for c in ctxs:
+            c.close()

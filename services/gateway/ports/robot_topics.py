@@ -23,7 +23,7 @@ from zenros.msgs.rcl_interfaces import Log
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
-from zenros.qos import QOS_LATCHED
+from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
 from zenros.registry import lookup_type
 from zenros.tf.convert import yaw_from_msg
 
@@ -56,8 +56,11 @@ class RobotTopics:
         # Odometry (50 Hz a robot) and the laser (10 Hz, read only to say it is alive) wait in
         # Zenoh until the status tick takes them (`poll`): no thread woken, nothing decoded
         # but the newest odometry (a fleet gateway at rest spent most of its CPU on them).
-        self.odom_sub = node.create_polled_subscription(Odometry, "odom", POLL_DEPTH)
-        self.scan_sub = node.create_polled_subscription(LaserScan, "scan", POLL_DEPTH)
+        # A polled subscription is best effort in effect (a ring of the newest samples): it
+        # says so, and asks no more than the laser's best-effort publisher offers.
+        polled = QoSProfile(depth=POLL_DEPTH, reliability=Reliability.BEST_EFFORT)
+        self.odom_sub = node.create_polled_subscription(Odometry, "odom", polled)
+        self.scan_sub = node.create_polled_subscription(LaserScan, "scan", polled)
         # the aggregated diagnostics (1 Hz), read when asked (`diagnostics`)
         self.diag_sub = node.create_polled_subscription(DiagnosticArray, "/diagnostics_agg", 1)
         self._diag: dict[str, DiagnosticStatus] = {}
