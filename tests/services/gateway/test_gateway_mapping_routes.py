@@ -21,7 +21,7 @@ from zenros.msgs.zenros_msgs.slam import MappingState
 from zenros.services.gateway.errors import PortError, Unavailable, port_error
 from zenros.services.gateway.http.app import build_api
 from zenros.services.gateway.http.context import Context
-from zenros.services.gateway.ports.map_archive import MAX_ARCHIVE
+from zenros.maps.archive import MAX_ARCHIVE
 from zenros.services.gateway.ports.nav_services import SERVICES, NavServices
 from zenros.services.gateway.ports.slam_link import (
     ExploreProgress,

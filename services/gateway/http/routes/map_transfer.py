@@ -1,6 +1,7 @@
 """REST map transfer (docs/robot-api.md §6.1, §6.3): live map updating while navigating
 (``GET|PUT /navigation/update_map``), and one map in and out of the robot as an archive
-(``download_map_from_robot``, ``upload_map_to_robot``; the layout is `ports.map_archive`'s).
+(``download_map_from_robot``, ``upload_map_to_robot``; the layout is `zenros.maps.archive`'s,
+the export and import `zenros.maps.transfer`'s).
 
 An upload is checked whole (zip-slip, size, YAML, image, manifest, nav data) in a folder of
 its own before nav's ``map_server/import_map`` copies it into the maps store, so a refused
@@ -10,32 +11,19 @@ upload leaves the stored maps untouched.
 from __future__ import annotations
 
 import asyncio
-import tempfile
-from pathlib import Path
 from typing import Any
 
 import msgspec
-import yaml
 from starlette.datastructures import UploadFile
 from starlette.formparsers import MultiPartException
 from starlette.requests import Request
 from starlette.responses import Response
+from zenros.maps.archive import MAX_ARCHIVE, ArchiveError, read_archive
+from zenros.maps.transfer import NavCall, export_map, import_map
 from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import Pose2D
 
 from ...errors import NotFound, PortError
-from ...ports.map_archive import (
-    MANIFEST,
-    MAX_ARCHIVE,
-    ArchiveError,
-    ArchivePath,
-    CheckedMap,
-    Manifest,
-    NavBundle,
-    check_map,
-    pack,
-    read_archive,
-)
 from ..api import Answer, Api, ApiError, Call
 from ..context import Context
 from ..fields import Name
@@ -96,51 +84,26 @@ async def put_update_map(call: Call[UpdateMapBody, None]) -> Answer:
 # ------------------------------------------------------------------ download
 
 
-async def _nav_bundle(ctx: Context, name: str) -> NavBundle:
-    link = ctx.nav_services
-    listed = await link.call(zm.ListPaths, zm.ListPathsRequest(map_name=name))
-    paths: list[ArchivePath] = []
-    for ref in sorted(listed.paths, key=lambda p: p.path_name):
-        if ref.map_name != name:
-            continue
-        path = await link.call(zm.GetPath, zm.GetPathRequest(map_name=name,
-                                                             path_name=ref.path_name))
-        points = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
-            map_name=name, path_name=ref.path_name))
-        paths.append(ArchivePath(name=ref.path_name, points=list(path.points),
-                                 nav_points=list(points.points)))
-    conns = await link.call(zm.ListPointConnections, zm.ListPointConnectionsRequest())
-    touching = [c for c in conns.connections if any(p.map_name == name for p in c.points)]
-    return NavBundle(paths=paths, connections=touching)
-
-
-def _read_map_files(info: zm.MapInfo) -> tuple[bytes, str, bytes]:
-    """The stored YAML (its image named bare) and image, read where nav keeps them."""
-    try:
-        doc = yaml.safe_load(Path(info.yaml_path).read_bytes())
-        image = Path(info.image_path)
-        data = image.read_bytes()
-    except (OSError, yaml.YAMLError) as exc:
-        raise ApiError(502, f"cannot read map {info.name!r}'s files where nav keeps them: "
-                            f"{exc}") from exc
-    doc["image"] = image.name
-    return yaml.safe_dump(doc, sort_keys=False).encode(), image.name, data
+def nav_call(ctx: Context, loop: asyncio.AbstractEventLoop) -> NavCall:
+    """Nav's services as a blocking call for `zenros.maps.transfer` run in a worker thread:
+    each call runs on the gateway's loop (the port's presence and error mapping kept)."""
+    def call(srv: Any, request: Any) -> Any:
+        return asyncio.run_coroutine_threadsafe(ctx.nav_services.call(srv, request),
+                                                loop).result()
+    return call
 
 
 async def download_map_from_robot(call: Call[None, MapNameQuery]) -> Answer:
     """Export a stored map as a zip archive: its YAML and image, ``map.json`` (size,
     resolution, origin, md5sum) and ``nav.json`` (paths, nav points, point connections)."""
-    ctx = call.ctx
     name = call.query.map_name
-    listed = await ctx.nav_services.call(zm.ListMaps, zm.ListMapsRequest(name=name))
-    if not listed.maps:
-        raise NotFound(f"unknown map {name!r}")
-    info: zm.MapInfo = listed.maps[0]
-    yaml_text, image_name, image = await asyncio.to_thread(_read_map_files, info)
-    manifest = Manifest(name=name, width=info.width, height=info.height,
-                        resolution=info.resolution, origin=list(info.origin),
-                        md5sum=info.md5sum)
-    data = pack(name, yaml_text, image_name, image, manifest, await _nav_bundle(ctx, name))
+    try:
+        data = await asyncio.to_thread(export_map, nav_call(call.ctx,
+                                                            asyncio.get_running_loop()), name)
+    except ArchiveError as exc:
+        if exc.status == 404:
+            raise NotFound(exc.detail) from exc
+        raise ApiError(exc.status, exc.detail) from exc
     return Response(data, media_type="application/zip", headers={
         "content-disposition": f'attachment; filename="{name}.zip"'})
 
@@ -182,38 +145,6 @@ async def _form_files(request: Request) -> tuple[str, dict[str, bytes]]:
     return name, files
 
 
-def _renamed(conn: zm.PointConnection, old: str, new: str) -> list[zm.PointRef]:
-    return [zm.PointRef(map_name=new if p.map_name == old else p.map_name,
-                        path_name=p.path_name, index=p.index) for p in conn.points]
-
-
-async def _import(ctx: Context, name: str, checked: CheckedMap, files: dict[str, bytes]
-                  ) -> dict[str, Any]:
-    link = ctx.nav_services
-    res = await link.call(zm.ImportMap, zm.ImportMapRequest(
-        name=name, yaml_path=str(checked.yaml), overwrite=True))
-    for path in checked.nav.paths:
-        await link.call(zm.SetPath, zm.SetPathRequest(map_name=name, path_name=path.name,
-                                                      points=path.points))
-        await link.call(zm.SetNavPoints, zm.SetNavPointsRequest(
-            map_name=name, path_name=path.name, points=path.nav_points))
-    old = checked.yaml.stem
-    if MANIFEST in files:
-        old = msgspec.json.decode(files[MANIFEST], type=Manifest).name
-    added, skipped = 0, []
-    for conn in checked.nav.connections:
-        try:
-            await link.call(zm.AddPointConnection, zm.AddPointConnectionRequest(
-                points=_renamed(conn, old, name), type=conn.type,
-                is_available=conn.is_available))
-            added += 1
-        except PortError as exc:  # a point of another map that is not on this robot
-            skipped.append(f"connection {conn.id or conn.oid}: {exc.detail}")
-    return {"status": "ok", "name": res.info.name or name, "width": checked.width,
-            "height": checked.height, "paths": len(checked.nav.paths),
-            "connections": added, "skipped": skipped}
-
-
 async def _upload(call: Call[None, None]) -> Answer:
     """Import a map: multipart ``map_name`` and ``map_files`` (an archive of
     ``download_map_from_robot``, or the loose YAML and image, with map.json and nav.json
@@ -225,9 +156,8 @@ async def _upload(call: Call[None, None]) -> Answer:
     except msgspec.ValidationError:
         raise ApiError(400, f"invalid map_name {name!r}: use 1-64 letters, digits, '_', "
                             "'.' or '-', not starting with '.' or '-'") from None
-    with tempfile.TemporaryDirectory(prefix="zenros-map-upload-") as tmp:
-        checked = await asyncio.to_thread(check_map, files, Path(tmp) / "map")
-        return await _import(call.ctx, name, checked, files)
+    return await asyncio.to_thread(import_map, nav_call(call.ctx, asyncio.get_running_loop()),
+                                   name, files, (PortError,))
 
 
 async def upload_map_to_robot(call: Call[None, None]) -> Answer:

@@ -9,7 +9,8 @@ Layout (``<name>`` is the map's name)::
     <name>/map.json         `Manifest`: name, width, height, resolution, origin, md5sum
     <name>/nav.json         `NavBundle`: paths (points and nav points), point connections
 
-No HTTP here: a refused archive is an `ArchiveError` carrying the HTTP status that says why.
+No HTTP here: a refused archive is an `ArchiveError` carrying the HTTP status that says why
+(the gateway answers with it; the schedule server and the tasks service word it).
 """
 
 from __future__ import annotations
@@ -24,10 +25,11 @@ from pathlib import Path, PurePosixPath
 
 import msgspec
 import yaml
-from zenros.errors import MapError
-from zenros.maps import load_map, read_meta
-from zenros.msgs.geometry_msgs import Point
-from zenros.msgs.zenros_msgs.nav import NavPoint, PointConnection
+
+from ..errors import MapError
+from ..msgs.geometry_msgs import Point
+from ..msgs.zenros_msgs.nav import NavPoint, PointConnection
+from . import load_map, read_meta
 
 __all__ = ["MAX_ARCHIVE", "ArchiveError", "ArchivePath", "CheckedMap", "Manifest", "NavBundle",
            "check_map", "pack", "read_archive"]
