@@ -20,6 +20,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     Action,
     CallbackAction,
     ChargeAction,
+    DownloadMapAction,
     IoAction,
     LocalMoveAction,
     LocalMoveTargetAction,
@@ -28,6 +29,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     SleepAction,
     SwitchMapAction,
     TtsAction,
+    UploadMapAction,
     WaitReqAction,
 )
 
@@ -221,6 +223,14 @@ def _io(ctx: Context, p: IoAction) -> Outcome:
     return ctx.robot.set_io(int(p.port), int(p.level))
 
 
+def _upload_map(ctx: Context, p: UploadMapAction) -> Outcome:
+    return ctx.robot.upload_map(p.server_id)
+
+
+def _download_map(ctx: Context, p: DownloadMapAction) -> Outcome:
+    return ctx.robot.download_map(p.server_id, p.map_id)
+
+
 BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "nav_action": _nav,
     "sleep_action": _sleep,
@@ -232,4 +242,6 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "local_move_action": _local_move,
     "local_move_target_action": _local_move_target,
     "io_action": _io,
+    "upload_map_action": _upload_map,
+    "download_map_action": _download_map,
 }

@@ -42,6 +42,7 @@ from zenros.qos import QOS_LATCHED
 from zenros.se2 import angle_diff
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
+from .map_exchange import MapExchange
 from .robot import Feedback, Outcome
 
 __all__ = ["RobotLink"]
@@ -89,6 +90,7 @@ class RobotLink:
         self.battery: float | None = None
         self.charging = False
         node.create_subscription(BatteryState, "battery_state", self._on_battery)
+        self.maps = MapExchange(node)
 
     def _on_battery(self, msg: BatteryState) -> None:
         self.battery = float(msg.percentage)
@@ -285,6 +287,12 @@ class RobotLink:
 
     def say(self, text: str) -> None:
         self.tts.publish(String(data=text))
+
+    def upload_map(self, server_id: str) -> Outcome:
+        return self.maps.upload(server_id)
+
+    def download_map(self, server_id: str, map_id: str) -> Outcome:
+        return self.maps.download(server_id, map_id)
 
 
 def _pose(x: float, y: float, theta: float) -> PoseStamped:

@@ -100,3 +100,11 @@ class Robot(Protocol):
     def say(self, text: str) -> None:
         """Speak ``text`` (the simulated robot publishes it as text)."""
         ...
+
+    def upload_map(self, server_id: str) -> Outcome:
+        """Put the current map on schedule server ``server_id``."""
+        ...
+
+    def download_map(self, server_id: str, map_id: str) -> Outcome:
+        """Get map ``map_id`` from schedule server ``server_id`` into the robot's maps."""
+        ...

@@ -26,28 +26,7 @@ from ..state.presence import Presence
 
 __all__ = ["SERVICES", "NavServices", "pose_stamped"]
 
-SERVICES: Final[dict[ServiceType[Any, Any], str]] = {
-    zm.ListMaps: "map_server/list_maps",
-    zm.GetCurrentMap: "map_server/current_map",
-    zm.ImportMap: "map_server/import_map",
-    zm.SwitchMap: "switch_map",
-    zm.ListPaths: "list_paths",
-    zm.GetPath: "get_path",
-    zm.SetPath: "set_path",
-    zm.DeletePath: "delete_path",
-    zm.GetNavPoints: "get_nav_points",
-    zm.SetNavPoints: "set_nav_points",
-    zm.DeleteNavPoints: "delete_nav_points",
-    zm.GetChargePose: "get_charge_pose",
-    zm.SetChargePose: "set_charge_pose",
-    zm.GetVirtualWalls: "get_virtual_walls",
-    zm.SetVirtualWalls: "set_virtual_walls",
-    zm.GetForbiddenAreas: "get_forbidden_areas",
-    zm.SetForbiddenAreas: "set_forbidden_areas",
-    zm.ListPointConnections: "list_point_connections",
-    zm.AddPointConnection: "add_point_connection",
-    zm.DeletePointConnection: "delete_point_connection",
-}
+SERVICES: Final[dict[ServiceType[Any, Any], str]] = zm.NAV_SERVICE_NAMES
 """Nav's services the gateway calls, by type: one service per type."""
 
 

@@ -12,6 +12,8 @@ from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
 from .result import *  # noqa: F403
 from .result import __all__ as _result_all
+from .schedule import *  # noqa: F403
+from .schedule import __all__ as _schedule_all
 from .slam import *  # noqa: F403
 from .slam import __all__ as _slam_all
 from .task_actions import *  # noqa: F403
@@ -21,5 +23,5 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_slam_all,
+__all__ = [*_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_schedule_all, *_slam_all,
            *_task_actions_all, *_task_docs_all, *_tasks_all]

@@ -23,14 +23,17 @@ error naming the known ones (the caller's client raises ``ServiceError``).
 
 from __future__ import annotations
 
+from typing import Any
+
 import msgspec
 
-from ...message import Message, define_action, define_service
+from ...message import Message, ServiceType, define_action, define_service
 from ..builtin_interfaces import Duration
 from ..geometry_msgs import Point, Pose2D, PoseStamped
 from ..std_msgs import Header
 
 __all__ = [
+    "NAV_SERVICE_NAMES",
     "AddPointConnection",
     "AddPointConnectionRequest",
     "AddPointConnectionResponse",
@@ -727,3 +730,29 @@ class ComputeCoveragePathResponse(Message):
 
 ComputeCoveragePath = define_service("zenros_msgs/ComputeCoveragePath",
                                      ComputeCoveragePathRequest, ComputeCoveragePathResponse)
+
+
+NAV_SERVICE_NAMES: dict[ServiceType[Any, Any], str] = {
+    ListMaps: "map_server/list_maps",
+    GetCurrentMap: "map_server/current_map",
+    ImportMap: "map_server/import_map",
+    SwitchMap: "switch_map",
+    ListPaths: "list_paths",
+    GetPath: "get_path",
+    SetPath: "set_path",
+    DeletePath: "delete_path",
+    GetNavPoints: "get_nav_points",
+    SetNavPoints: "set_nav_points",
+    DeleteNavPoints: "delete_nav_points",
+    GetChargePose: "get_charge_pose",
+    SetChargePose: "set_charge_pose",
+    GetVirtualWalls: "get_virtual_walls",
+    SetVirtualWalls: "set_virtual_walls",
+    GetForbiddenAreas: "get_forbidden_areas",
+    SetForbiddenAreas: "set_forbidden_areas",
+    ListPointConnections: "list_point_connections",
+    AddPointConnection: "add_point_connection",
+    DeletePointConnection: "delete_point_connection",
+}
+"""Nav's map, path and nav point services by type (one service each), their names
+relative to the robot's namespace: what the gateway and the tasks service call."""

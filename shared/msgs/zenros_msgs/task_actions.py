@@ -21,8 +21,9 @@ from msgspec import UNSET, Meta, UnsetType
 
 __all__ = [
     "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "CallbackAction", "ChargeAction",
-    "IoAction", "LocalMoveAction", "LocalMoveTargetAction", "Location", "NavAction",
-    "SleepAction", "SwitchMapAction", "TtsAction", "WaitReqAction", "check_action",
+    "DownloadMapAction", "IoAction", "LocalMoveAction", "LocalMoveTargetAction", "Location",
+    "NavAction", "SleepAction", "SwitchMapAction", "TtsAction", "UploadMapAction",
+    "WaitReqAction", "check_action",
 ]
 
 Seconds = Annotated[float, Meta(ge=0)]
@@ -130,8 +131,28 @@ class IoAction(ActionBase, kw_only=True, tag="io_action"):
     port: Literal["1", "2", "3"]
 
 
+ServerId = Annotated[str, Meta(pattern=r"^[A-Za-z0-9_]{1,64}$")]
+"""A schedule server's ID (`zenros.msgs.zenros_msgs.schedule`)."""
+
+
+class UploadMapAction(ActionBase, kw_only=True, tag="upload_map_action"):
+    """Put the current map (its archive: image, nav points, paths) on schedule server
+    ``server_id``; the result names its ``map_id`` there."""
+
+    server_id: ServerId
+
+
+class DownloadMapAction(ActionBase, kw_only=True, tag="download_map_action"):
+    """Get map ``map_id`` from schedule server ``server_id`` into the robot's maps, under the
+    name it was put with."""
+
+    server_id: ServerId
+    map_id: Annotated[str, Meta(pattern=r"^[0-9a-f]{32}$")]
+
+
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
-          | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction)
+          | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
+          | UploadMapAction | DownloadMapAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {

@@ -205,10 +205,10 @@ def test_every_map_row_answers_and_none_is_501(rig: Rig) -> None:
     for method, path in MAP_OPS + [("GET", "/navigation/update_map"),
                                    ("PUT", "/navigation/update_map"),
                                    ("GET", "/navigation/download_map_from_robot"),
-                                   ("POST", "/navigation/upload_map_to_robot")]:
+                                   ("POST", "/navigation/upload_map_to_robot"),
+                                   ("GET", "/navigation/upload_map"),
+                                   ("GET", "/navigation/download_map")]:
         assert f"{method} /api/v1{path}" in index["implemented"]
-    assert "GET /api/v1/navigation/upload_map" in index["not_implemented"]
-    assert "GET /api/v1/navigation/download_map" in index["not_implemented"]
 
 
 @pytest.mark.parametrize(("method", "path"), MAP_OPS)

@@ -11,7 +11,7 @@ upload leaves the stored maps untouched.
 from __future__ import annotations
 
 import asyncio
-from typing import Any
+from typing import Annotated, Any
 
 import msgspec
 from starlette.datastructures import UploadFile
@@ -39,6 +39,15 @@ class UpdateMapBody(msgspec.Struct, forbid_unknown_fields=True):
 
 class MapNameQuery(msgspec.Struct, forbid_unknown_fields=True):
     map_name: Name
+
+
+class ServerQuery(msgspec.Struct, forbid_unknown_fields=True):
+    server_id: Annotated[str, msgspec.Meta(pattern=r"^[A-Za-z0-9_]{1,64}$")]
+
+
+class DownloadQuery(msgspec.Struct, forbid_unknown_fields=True):
+    server_id: Annotated[str, msgspec.Meta(pattern=r"^[A-Za-z0-9_]{1,64}$")]
+    map_id: Annotated[str, msgspec.Meta(pattern=r"^[0-9a-f]{32}$")]
 
 
 # ------------------------------------------------------------------ update_map
@@ -170,6 +179,25 @@ async def upload_map_to_robot(call: Call[None, None]) -> Answer:
         raise ApiError(exc.status, exc.detail) from exc
 
 
+# ------------------------------------------------------------------ schedule server
+
+
+async def upload_map(call: Call[None, ServerQuery]) -> Answer:
+    """Put the current map on schedule server ``server_id``: a task of one
+    ``upload_map_action`` (its result names the map's ``map_id`` there); a running task is
+    not replaced (409)."""
+    action = zm.UploadMapAction(server_id=call.query.server_id)
+    return await call.ctx.tasks.run_task("upload_map", [action], replace=False)
+
+
+async def download_map(call: Call[None, DownloadQuery]) -> Answer:
+    """Get map ``map_id`` from schedule server ``server_id`` into the robot's maps: a task
+    of one ``download_map_action``."""
+    q = call.query
+    action = zm.DownloadMapAction(server_id=q.server_id, map_id=q.map_id)
+    return await call.ctx.tasks.run_task("download_map", [action], replace=False)
+
+
 def add_map_transfer_routes(api: Api) -> None:
     """Route live map updating and the map archive's export and import."""
     api.add("GET", "/navigation/update_map", get_update_map)
@@ -177,3 +205,5 @@ def add_map_transfer_routes(api: Api) -> None:
     api.add("GET", "/navigation/download_map_from_robot", download_map_from_robot,
             media_type="application/zip")
     api.add("POST", "/navigation/upload_map_to_robot", upload_map_to_robot, raw_body=True)
+    api.add("GET", "/navigation/upload_map", upload_map)
+    api.add("GET", "/navigation/download_map", download_map)

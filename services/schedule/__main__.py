@@ -1,0 +1,7 @@
+"""``python -m zenros.services.schedule``: run the schedule server."""
+
+from zenros import run
+
+from .node import ScheduleServerNode
+
+run(ScheduleServerNode)
