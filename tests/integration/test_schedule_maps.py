@@ -1,5 +1,5 @@
-"""The robot API's schedule server map exchange (§6.3 ``upload_map``, ``download_map``) over
-real Zenoh: the gateway starts a task, the tasks service exports the current map from nav and
+"""The robot API's schedule server map exchange (docs/robot-api.md §6.3 ``upload_map``,
+``download_map``) over real Zenoh: the gateway starts a task, the tasks service exports the current map from nav and
 puts it on the schedule server, and gets one back into nav's maps (paths and nav points
 with it); and what goes wrong is said (an unknown server or map, an archive that is not a
 map, a malformed id, a task already running)."""
