@@ -1,8 +1,8 @@
 """`MapExchange`: the ``upload_map_action`` and ``download_map_action`` of a task
 (docs/robot-api.md §6.3 ``upload_map``, ``download_map``): the current map's archive put on a
-schedule server,
-and an archive got from one imported into nav's maps (`zenros.maps.transfer`), by the tasks
-service's own service calls. docs/fleet.md, "Schedule server"."""
+schedule server, and an archive got from one imported into nav's maps
+(`zenros.maps.transfer`), by the tasks service's own service calls. docs/fleet.md,
+"Schedule server"."""
 
 from __future__ import annotations
 
