@@ -40,6 +40,7 @@ from .qos import QOS_SENSOR, QoSProfile, as_profile
 from .qos_events import PublisherEventCallbacks, SubscriptionEventCallbacks
 from .rpc import Client, Service
 from .timer import Timer
+from .type_descriptions import serve_type_descriptions
 
 if TYPE_CHECKING:
     import zenoh
@@ -101,6 +102,7 @@ class Node:
     uses_parameter_server: bool = True  # False for the master itself
     parameter_events: bool = True  # publish /parameter_events (zenros.param_events)
     parameter_services: bool = True  # ~/list_parameters... (zenros.param_services)
+    type_description_service: bool = True  # ~/get_type_description (zenros.type_descriptions)
 
     def __init__(
         self,
@@ -153,6 +155,8 @@ class Node:
         self._clock: Clock = SystemClock()
         if self.parameter_services:
             serve_parameter_services(self.parameters, self.create_service)
+        if self.type_description_service:
+            serve_type_descriptions(self.fqn, ctx.graph, self.create_service)
         if self.parameter_events:
             events = self.create_publisher(ParameterEvent, PARAMETER_EVENTS, QOS_PARAMETER_EVENTS)
             self.parameters.on_event(lambda kind, p: events.publish(

@@ -18,6 +18,7 @@ from . import (
     std_srvs,
     tf2_msgs,
     tf_srvs,
+    type_description_interfaces,
     zenros_msgs,
 )
 
@@ -39,5 +40,6 @@ __all__ = [
     "std_srvs",
     "tf2_msgs",
     "tf_srvs",
+    "type_description_interfaces",
     "zenros_msgs",
 ]

@@ -180,7 +180,25 @@ MESSAGES: dict[str, str] = {
     "action_msgs/msg/GoalStatusArray": "GoalStatus[] status_list",
 }
 
+MESSAGES.update({
+    "type_description_interfaces/msg/FieldType":
+        "uint8 type_id\nuint64 capacity\nuint64 string_capacity\nstring<=255 nested_type_name",
+    "type_description_interfaces/msg/Field": "string name\nFieldType type\nstring default_value",
+    "type_description_interfaces/msg/IndividualTypeDescription":
+        "string<=255 type_name\nField[] fields",
+    "type_description_interfaces/msg/TypeDescription":
+        "IndividualTypeDescription type_description\n"
+        "IndividualTypeDescription[] referenced_type_descriptions",
+    "type_description_interfaces/msg/TypeSource":
+        "string type_name\nstring encoding\nstring raw_file_contents",
+    "type_description_interfaces/msg/KeyValue": "string key\nstring value",
+})
+
 SERVICES: dict[str, str] = {
+    "type_description_interfaces/srv/GetTypeDescription":
+        "string type_name\nstring type_hash\nbool include_type_sources\n---\n"
+        "bool successful\nstring failure_reason\nTypeDescription type_description\n"
+        "TypeSource[] type_sources\nKeyValue[] extra_information",
     "std_srvs/srv/Empty": "---",
     "std_srvs/srv/Trigger": "---\nbool success\nstring message",
     "std_srvs/srv/SetBool": "bool data\n---\nbool success\nstring message",

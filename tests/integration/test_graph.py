@@ -27,11 +27,13 @@ def test_graph_lists_nodes_topics_and_services(make_node: Any, ctx_pair: Any) ->
     assert [t.node for t in g.publishers("/robot1/cmd_vel")] == ["/robot1/teleop"]
     info = g.endpoints_of("/robot1/chassis")
     assert [t.name for t in info["sub"]] == ["/robot1/cmd_vel"]
-    # and the six parameter services every node serves (as `ros2 node info` lists them)
+    # and the six parameter services and the type description service every node serves
+    # (as `ros2 node info` lists them)
     assert sorted(t.name for t in info["srv"]) == sorted(["/robot1/add", *(
         f"/robot1/chassis/{s}" for s in ("list_parameters", "describe_parameters",
                                          "get_parameter_types", "get_parameters",
-                                         "set_parameters", "set_parameters_atomically"))])
+                                         "set_parameters", "set_parameters_atomically",
+                                         "get_type_description"))])
     node = next(n for n in g.nodes() if n.name == "/robot1/chassis")
     assert node.pid > 0 and node.host and node.zid == ctx_pair[1].zid
 
