@@ -20,7 +20,8 @@ agree.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Literal
 
 from zenros.maps import GridMap
@@ -47,6 +48,9 @@ class ExploreParams:
     confirm_steps: int = 3
     """Planning steps in a row that must find no frontier before exploring ends: a mapper's
     correction can cut the robot's surroundings off for a moment."""
+    far_start: float = 3.0
+    """Times ``frontiers.start_radius`` the free space round the robot may be once goals
+    were driven to (`Explorer.frontiers`)."""
     confirm_maps: int = 2
     """Maps (distinct grids) those steps must span: a mapper rebuilds its grid every few
     seconds (slam's ``map_update_interval``, 5 s), so the scans of the sweep just made are
@@ -90,10 +94,18 @@ class Explorer:
 
     def frontiers(self, grid: GridMap, robot: Pose2) -> list[Frontier] | None:
         """The frontiers with a goal away from the blacklisted ones, cheapest first; None
-        while the map does not show free space round the robot."""
-        return find_frontiers(grid.grid, grid.resolution, (grid.origin[0], grid.origin[1]),
-                              (robot.x, robot.y), self.p.frontiers, self.blacklist,
-                              self.p.blacklist_radius)
+        while the map does not show free space round the robot. Once goals were driven to,
+        free space up to ``far_start`` times further counts as round the robot: the map is
+        there, only the spot the robot stands on is drawn badly (cells left unknown between
+        a few scans' rays), and nav plans from where the robot is."""
+        find = partial(find_frontiers, grid.grid, grid.resolution,
+                       (grid.origin[0], grid.origin[1]), (robot.x, robot.y),
+                       avoid=self.blacklist, avoid_radius=self.p.blacklist_radius)
+        found = find(self.p.frontiers)
+        if found is None and self.goals_reached + self.goals_failed > 0:
+            f = self.p.frontiers
+            found = find(replace(f, start_radius=f.start_radius * self.p.far_start))
+        return found
 
     def step(self, grid: GridMap, robot: Pose2, now: float) -> Decision:
         """The decision at ``now`` (seconds) for the map ``grid`` and the robot at ``robot``."""

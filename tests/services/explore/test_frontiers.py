@@ -119,6 +119,23 @@ def test_exploring_ends_only_when_a_newer_map_agrees() -> None:
         ["wait", "wait", "home"]  # three steps, three maps
 
 
+def test_a_badly_drawn_spot_does_not_end_exploring_once_it_has_started() -> None:
+    """Late in an exploration of the office (123 goals) the robot stood where the map drew
+    no free cell within a metre (rays of a few scans, checkerboarded), and the explorer gave
+    up as if the mapping node were not running. At the start that is the right wait; once
+    goals were driven to, free space a little further counts."""
+    g = room(100)
+    g[10:30, 94] = 0   # an opening east
+    g[6:34, 15:61] = -1  # the robot's surroundings not drawn: over 1 m to a free cell
+    robot = Pose2(1.85, 1.05)
+    grid = GridMap(g, RES, (0.0, 0.0, 0.0))
+    ex = Explorer(ExploreParams(), robot)
+    assert ex.step(grid, robot, 0.0).action == "wait"  # not known yet: at the start, wait
+    ex.fail(Pose2(4.0, 1.0))  # a goal driven to (and failed): exploring has started
+    d = ex.step(grid, robot, 1.0)
+    assert d.action == "goto" and d.target is not None
+
+
 def test_unknown_where_the_robot_stood_is_looked_at_from_further_away() -> None:
     """A mapper may leave unknown the cells round where the robot stopped (the laser's
     blind zone, cells not crossed by enough scans): every spot beside them is where the
