@@ -29,7 +29,9 @@ from .executor import CallbackGroup
 from .gate import DeliveryGate
 from .log import ErrorLog
 from .message import Message, Q, S, ServiceType, normalize_type_name
+from .qos import QoSProfile
 from .reach import REACH_GRACE, ask_while_listed, ask_while_listed_async
+from .service_events import ServiceEvents, ServiceIntrospectionState
 
 if TYPE_CHECKING:
     from .context import Context
@@ -127,7 +129,15 @@ class Service:
             ctx.keys.entity_token("srv", node, name, srv_type.name, "", ctx.zid, ctx.next_eid())
         )
         self._unserve = ctx.serve_here(self.key)
+        self.events = ServiceEvents(ctx, node, srv_type, name, client=False)
+        """Its introspection events (`zenros.service_events`), off until configured."""
         self.closed = False
+
+    def configure_introspection(self, clock: Any, qos: QoSProfile | None,
+                                state: ServiceIntrospectionState) -> None:
+        """rclpy's: publish each request and response on ``<name>/_service_event``
+        (METADATA: the info alone; CONTENTS: the messages too; OFF: nothing)."""
+        self.events.configure(clock, qos, state)
 
     def _serve_one(self, query: zenoh.Query) -> None:
         """One query, on the callback's thread (requests wait in Zenoh's queue until the
@@ -164,12 +174,23 @@ class Service:
             req = self._request(query)
             if req is None:
                 return
+            seq = self._event_request(req)
             try:
                 res = self._group.run(self._call, req) if self._group else self._call(req)
             except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
                 self._fail(query, exc)
                 return
             self._reply(query, res)
+            if seq:
+                self.events.response(seq, res)
+
+    def _event_request(self, req: Message) -> int:
+        """The request's sequence number for the introspection events (0 while off)."""
+        if self.events.state is ServiceIntrospectionState.OFF:
+            return 0
+        seq = self.events.next_sequence()
+        self.events.request(seq, req)
+        return seq
 
     @property
     def errors(self) -> int:
@@ -210,6 +231,7 @@ class Service:
                 req = self._request(query)
                 if req is None:
                     return
+                seq = self._event_request(req)
                 try:
                     if self._two_args:
                         res = await self._handler(req, self.srv_type.Response())
@@ -219,6 +241,8 @@ class Service:
                     self._fail(query, exc)
                     return
                 self._reply(query, res)
+                if seq:
+                    self.events.response(seq, res)
         except Exception as exc:  # noqa: BLE001 nothing a request does stops the service
             self._internal_error(query, exc)
         except BaseException as exc:
@@ -257,6 +281,7 @@ class Service:
         if self.closed:
             return
         self.closed = True
+        self.events.close()
         self._unserve()
         self._token.undeclare()  # type: ignore[no-untyped-call]
         self._queryable.undeclare()  # type: ignore[no-untyped-call]
@@ -283,7 +308,27 @@ class Client(Generic[Q, S]):
                 ctx.keys.entity_token("cli", node, name, srv_type.name, "", ctx.zid,
                                       ctx.next_eid())
             )  # fmt: skip
+        self.events = ServiceEvents(ctx, node, srv_type, name, client=True)
+        """Its introspection events (`zenros.service_events`), off until configured."""
         self.closed = False
+
+    def configure_introspection(self, clock: Any, qos: QoSProfile | None,
+                                state: ServiceIntrospectionState) -> None:
+        """rclpy's: publish each request sent and response received on
+        ``<name>/_service_event``."""
+        self.events.configure(clock, qos, state)
+
+    def _sent(self, request: Q) -> int:
+        if self.events.state is ServiceIntrospectionState.OFF:
+            return 0
+        seq = self.events.next_sequence()
+        self.events.request(seq, request)
+        return seq
+
+    def _received(self, seq: int, response: S) -> S:
+        if seq:
+            self.events.response(seq, response)
+        return response
 
     def _encode(self, request: Q) -> bytes:
         if type(request) is not self.srv_type.Request:
@@ -321,6 +366,7 @@ class Client(Generic[Q, S]):
             ZenrosTimeout: a server exists but did not answer within ``timeout`` seconds.
         """
         data = self._encode(request)
+        seq = self._sent(request)
         start = time.monotonic()
 
         def ask(left: float) -> zenoh.Reply | None:
@@ -334,7 +380,7 @@ class Client(Generic[Q, S]):
         reply = ask_while_listed(ask, self.service_is_ready, timeout, grace)
         if reply is None:
             return self._no_reply(timeout, time.monotonic() - start)
-        return self._result(reply, timeout)
+        return self._received(seq, self._result(reply, timeout))
 
     def _no_reply(self, timeout: float, elapsed: float) -> NoReturn:
         if elapsed < timeout * 0.9:
@@ -346,6 +392,7 @@ class Client(Generic[Q, S]):
         """Awaitable `call` (the same asking again, `zenros.reach`); the reply is delivered to
         the awaiting loop."""
         data = self._encode(request)
+        seq = self._sent(request)
         loop = asyncio.get_running_loop()
         start = time.monotonic()
 
@@ -373,7 +420,7 @@ class Client(Generic[Q, S]):
         reply = await ask_while_listed_async(ask, self.service_is_ready, timeout, grace)
         if reply is None:
             return self._no_reply(timeout, time.monotonic() - start)
-        return self._result(reply, timeout)
+        return self._received(seq, self._result(reply, timeout))
 
     def service_is_ready(self) -> bool:
         return bool(self._ctx.graph.servers(self.name))
@@ -386,5 +433,6 @@ class Client(Generic[Q, S]):
         if self.closed:
             return
         self.closed = True
+        self.events.close()
         if self._token is not None:
             self._token.undeclare()

@@ -1,15 +1,20 @@
-"""`zenros service list|type|call`."""
+"""`zenros service list|type|call|echo`."""
 
 from __future__ import annotations
 
 import argparse
+import os
+import sys
+import threading
 from typing import Any
 
 from ..codec import from_builtins, to_builtins
 from ..names import resolve
 from ..rpc import Client
+from ..service_events import EVENT_SUFFIX, event_type_of
 from .common import (
     CliError,
+    ToolNode,
     add_common,
     check_graph_type,
     find_service_type,
@@ -20,7 +25,7 @@ from .common import (
 
 
 def register(sub: Any) -> None:
-    p = sub.add_parser("service", help="services: list, type, call")
+    p = sub.add_parser("service", help="services: list, type, call, echo")
     verbs = p.add_subparsers(dest="verb", required=True)
     v = verbs.add_parser("list", help="list services")
     v.add_argument("-t", "--show-types", action="store_true")
@@ -31,6 +36,14 @@ def register(sub: Any) -> None:
     v.add_argument("type")
     v.add_argument("values", nargs="?", default="{}")
     v.add_argument("--timeout", type=float, default=5.0)
+    v.add_argument("--json", action="store_true")
+    v = verbs.add_parser("echo", help="a service's requests and responses, from its "
+                                      "introspection events (ros2 service echo)")
+    v.add_argument("service")
+    v.add_argument("--once", action="store_true", help="print one event and exit")
+    v.add_argument("-n", "--count", type=int, default=0, help="exit after N events")
+    v.add_argument("--timeout", type=float, default=0.0,
+                   help="give up after N seconds (exit code 1 if none came)")
     v.add_argument("--json", action="store_true")
     for verb in verbs.choices.values():
         add_common(verb)
@@ -51,6 +64,8 @@ def run(args: argparse.Namespace) -> int:
                 raise CliError(f"unknown service {name}")
             print("\n".join(found))
             return 0
+        if args.verb == "echo":
+            return _echo(ctx, name, args)
         srv = find_service_type(args.type)
         check_graph_type("service", name, srv.name, ctx.graph.services().get(name))
         request = from_builtins(parse_yaml_arg(args.values), srv.Request)
@@ -64,3 +79,45 @@ def run(args: argparse.Namespace) -> int:
         return 0
     finally:
         ctx.close()
+
+
+def _echo(ctx: Any, name: str, args: argparse.Namespace) -> int:
+    """Print the events on ``<name>/_service_event`` as they come: each server and client
+    of the service publishes them once its introspection is on (METADATA or CONTENTS)."""
+    ctx.graph.settle(quiet=0.2, timeout=1.0)
+    types = ctx.graph.services().get(name) or sorted(
+        {t.type for t in ctx.graph.clients(name)})
+    if not types:
+        raise CliError(f"unknown service {name}: `zenros service list` names them")
+    events_cls = event_type_of(find_service_type(types[0]))
+    limit = 1 if args.once else args.count
+    got: list[Any] = []
+    done = threading.Event()
+    lock = threading.Lock()
+
+    def on_event(msg: Any) -> None:
+        with lock:
+            if done.is_set():
+                return
+            got.append(msg)
+            print_data(to_builtins(msg), args.json)
+            if limit and len(got) >= limit:
+                done.set()
+
+    node = ToolNode(f"zenros_service_echo_{os.getpid()}", context=ctx)
+    try:
+        node.create_subscription(events_cls, name + EVENT_SUFFIX, on_event)
+        if not ctx.graph.publishers(name + EVENT_SUFFIX):
+            sys.stderr.write(f"waiting for events of {name} (its server or a client must "
+                             "turn introspection on: configure_introspection)\n")
+            sys.stderr.flush()
+        try:
+            ended = done.wait(args.timeout or None)
+        except KeyboardInterrupt:
+            ended = True
+    finally:
+        node.close()
+    if not ended and args.timeout and not got:
+        raise CliError(f"no event of {name} within {args.timeout:g} s (is its introspection "
+                       "on?)")
+    return 0

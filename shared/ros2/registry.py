@@ -156,10 +156,14 @@ def _class_names() -> tuple[dict[type, str], dict[str, type]]:
 @cache
 def _class_names_of(*_sizes: int) -> tuple[dict[type, str], dict[str, type]]:
     to_ros: dict[type, str] = {}
+    messages = registered_types()
     for srv in registered_services().values():
         pkg, _, short = srv.name.partition("/")
         to_ros[srv.Request] = f"{pkg}/srv/{short}_Request"
         to_ros[srv.Response] = f"{pkg}/srv/{short}_Response"
+        event = messages.get(f"{srv.name}_Event")  # made by zenros.service_events
+        if event is not None:
+            to_ros[event] = f"{pkg}/srv/{short}_Event"
     for act in registered_actions().values():
         pkg, _, short = act.name.partition("/")
         to_ros[act.Goal] = f"{pkg}/action/{short}_Goal"

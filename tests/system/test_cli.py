@@ -272,3 +272,34 @@ def test_doctor_reports_a_healthy_system_then_what_is_wrong(system: tuple[str, s
             n.close()
         for c in ctxs:
             c.close()
+
+
+def test_service_echo_prints_a_services_events(system: tuple[str, str]) -> None:
+    """`zenros service echo`: the requests and responses of a service whose server turned
+    introspection on (ROS 2's configure_introspection, CONTENTS)."""
+    from zenros.context import Context
+    from zenros.msgs.std_srvs import SetBool, SetBoolRequest, SetBoolResponse
+    from zenros.node import Node
+    from zenros.service_events import ServiceIntrospectionState
+    from zenros.session import SessionOptions
+
+    router, prefix = system
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("echoed", context=ctx)
+    srv = node.create_service(SetBool, "/echoed_flag",
+                              lambda req: SetBoolResponse(success=req.data, message="ok"))
+    srv.configure_introspection(node.get_clock(), None, ServiceIntrospectionState.CONTENTS)
+    client = node.create_client(SetBool, "/echoed_flag")
+    echo = Proc([sys.executable, "-m", "zenros.cli", "service", "echo", "/echoed_flag",
+                 "-n", "2", "--timeout", "30", "-e", router, "--prefix", prefix])
+    try:
+        g = ctx.graph
+        assert g.wait_for(lambda: g.subscribers("/echoed_flag/_service_event"), 15), echo.output
+        assert client.call(SetBoolRequest(data=True), timeout=10).success
+        assert echo.wait(20) == 0, echo.output
+        out = echo.output
+        assert out.count("event_type:") == 2 and "data: true" in out and "message: ok" in out
+    finally:
+        echo.stop(5)
+        node.close()
+        ctx.close()
