@@ -21,6 +21,8 @@ def register(sub: Any) -> None:
     p.add_argument("--once", action="store_true", help="print one tree and exit")
     p.add_argument("-v", "--values", action="store_true", help="show each status's values")
     p.add_argument("--json", action="store_true", help="one JSON object per tree")
+    p.add_argument("--robot", default="", help="a robot's own tree, /ROBOT/diagnostics_agg "
+                                              "(a fleet's or a station's robots: robot.yaml)")
     p.add_argument("--timeout", type=float, default=0.0,
                    help="give up after N seconds (exit code 1 if no tree came); "
                         "--once waits 10 s unless given")
@@ -44,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
     shown = 0
     try:
         node = ToolNode("zenros_diag", context=ctx)
-        node.create_subscription(DiagnosticArray, "/diagnostics_agg", on_tree, 1)
+        topic = f"/{args.robot.strip('/')}/diagnostics_agg" if args.robot.strip("/") \
+            else "/diagnostics_agg"
+        node.create_subscription(DiagnosticArray, topic, on_tree, 1)
         while True:
             with got:
                 while not trees:
@@ -52,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
                     if left is not None and left <= 0:
                         if shown:
                             return 0
-                        raise CliError(f"no diagnostics tree on /diagnostics_agg within "
+                        raise CliError(f"no diagnostics tree on {topic} within "
                                        f"{timeout:g} s: is the aggregator running? "
                                        "(python -m zenros.services.diagnostics)")
                     got.wait(left if left is not None else 0.5)

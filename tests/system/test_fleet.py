@@ -185,3 +185,19 @@ def test_goals_from_fresh_cli_processes_reach_every_robot(fleet: Fleet) -> None:
     finally:
         for cli in clis.values():
             cli.stop(10)
+
+
+def test_each_robot_has_its_own_diagnostics_tree(fleet: Fleet) -> None:
+    # robot.yaml's aggregator in each robot's namespace: its chassis and nav, nobody else's
+    from zenros.msgs.diagnostic_msgs import DiagnosticArray
+
+    trees: dict[int, Any] = {}
+    for k in (1, ROBOTS):
+        fleet.node.create_subscription(DiagnosticArray, f"/robot{k}/diagnostics_agg",
+                                       keep(trees, k, lambda m: m))
+    assert wait_for(lambda: len(trees) == 2, 30), sorted(trees)
+    for k, tree in trees.items():
+        names = {s.name for s in tree.status}
+        assert {"/Chassis/motors", "/Chassis/battery", "/Navigation/localization"} <= names, \
+            (k, names)
+        assert not any(n.startswith("/Gateway") for n in names), (k, names)

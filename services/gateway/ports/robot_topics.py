@@ -62,7 +62,9 @@ class RobotTopics:
         self.odom_sub = node.create_polled_subscription(Odometry, "odom", polled)
         self.scan_sub = node.create_polled_subscription(LaserScan, "scan", polled)
         # the aggregated diagnostics (1 Hz), read when asked (`diagnostics`)
-        self.diag_sub = node.create_polled_subscription(DiagnosticArray, "/diagnostics_agg", 1)
+        # the robot's aggregator: /diagnostics_agg in the sim, /<robot>/diagnostics_agg in a
+        # fleet or on a station (robot.yaml runs one in each robot's namespace)
+        self.diag_sub = node.create_polled_subscription(DiagnosticArray, "diagnostics_agg", 1)
         self._diag: dict[str, DiagnosticStatus] = {}
         node.create_subscription(BatteryState, "battery_state", self.on_battery, 10)
         node.create_subscription(PoseWithCovarianceStamped, "robot_pose", self.on_pose, 10)
@@ -105,13 +107,13 @@ class RobotTopics:
             self.on_odom(odom.latest, odom.arrivals[-1])
 
     def diagnostics(self, within: float = 5.0) -> dict[str, DiagnosticStatus] | None:
-        """The aggregator's tree (``/diagnostics_agg``) by status name, or None when none
+        """The aggregator's tree (``diagnostics_agg``) by status name, or None when none
         came in the last ``within`` seconds (no aggregator running)."""
         got = self.diag_sub.take()
         if got.latest is not None:
             self._diag = {s.name: s for s in got.latest.status}
-            self.seen["/diagnostics_agg"] = got.arrivals[-1]
-        return self._diag if self.fresh("/diagnostics_agg", within) else None
+            self.seen["diagnostics_agg"] = got.arrivals[-1]
+        return self._diag if self.fresh("diagnostics_agg", within) else None
 
     def on_log(self, msg: Log) -> None:
         level = {10: "DEBUG", 20: "INFO", 30: "WARN", 40: "ERROR", 50: "FATAL"}.get(
