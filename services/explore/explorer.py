@@ -127,13 +127,7 @@ class Explorer:
         if not found:
             if self.target is not None:
                 self.goals_reached += 1  # overtaken: the last frontier was mapped on the way
-            self.target = None
-            if self.p.return_to_start:
-                self.stage = "returning"
-                self.target = self.start
-                return Decision("home", self.start)
-            self.stage = "done"
-            return Decision("done")
+            return self.end_here()
         best = found[0]
         gx, gy = best.goal
         dist = math.hypot(gx - robot.x, gy - robot.y)
@@ -154,6 +148,17 @@ class Explorer:
         self.target = Pose2(gx, gy, heading)
         self._best, self._last_progress = dist, now
         return Decision("goto", self.target, len(found))
+
+    def end_here(self) -> Decision:
+        """Exploring ends where it stands (the map round the robot cannot be planned from):
+        back to the start, or done."""
+        self.target = None
+        if self.p.return_to_start:
+            self.stage = "returning"
+            self.target = self.start
+            return Decision("home", self.start)
+        self.stage = "done"
+        return Decision("done")
 
     # ------------------------------------------------------------------ outcomes
 

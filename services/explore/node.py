@@ -258,11 +258,19 @@ class _Run:
                 if grid is not None and pose is not None:
                     self._act(ex.step(grid, pose, now), now)
                     if self._waited_too_long(now):
-                        self.stop_driving()
-                        gh.abort()
-                        return self.result(NO_MAP, "the map shows no free space round the "
-                                           "robot, even after a turn on the spot (is the "
-                                           "mapping node running?)")
+                        if ex.goals_reached + ex.goals_failed == 0:
+                            self.stop_driving()
+                            gh.abort()
+                            return self.result(NO_MAP, "the map shows no free space round "
+                                               "the robot, even after a turn on the spot (is "
+                                               "the mapping node running?)")
+                        # late in an exploration: this spot of the map is drawn too badly to
+                        # plan from; what was explored stands, and the robot goes back
+                        node.logger.warning("the map shows no free space round the robot "
+                                            "(%.2f, %.2f): exploring ends here", pose.x,
+                                            pose.y)
+                        self.waiting_since = None
+                        self._act(ex.end_here(), now)
                     gh.publish_feedback(ExploreFeedback(
                         stage="returning" if ex.stage == "returning" else "exploring",
                         explored_area_m2=ex.explored_area, frontiers_left=ex.frontiers_left,

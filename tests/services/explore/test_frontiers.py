@@ -136,6 +136,17 @@ def test_a_badly_drawn_spot_does_not_end_exploring_once_it_has_started() -> None
     assert d.action == "goto" and d.target is not None
 
 
+def test_ending_here_goes_home_or_is_done() -> None:
+    """Late in an exploration, a spot drawn too badly to plan from ends exploring (the node
+    calls `end_here` instead of aborting with what was explored lost)."""
+    ex = Explorer(ExploreParams(), Pose2(1.0, 1.0, 0.0))
+    ex.reached(Pose2(3.0, 1.0))
+    d = ex.end_here()
+    assert d.action == "home" and d.target == Pose2(1.0, 1.0, 0.0) and ex.stage == "returning"
+    ex = Explorer(ExploreParams(return_to_start=False), Pose2(1.0, 1.0, 0.0))
+    assert ex.end_here().action == "done" and ex.stage == "done"
+
+
 def test_unknown_where_the_robot_stood_is_looked_at_from_further_away() -> None:
     """A mapper may leave unknown the cells round where the robot stopped (the laser's
     blind zone, cells not crossed by enough scans): every spot beside them is where the
