@@ -53,8 +53,8 @@ def interface_names() -> dict[str, list[str]]:
     """Every type zenros ships or registered, as ``pkg/msg|srv|action/Name``, by kind."""
     load_all_packages()
     return {
-        "msg": sorted({ros_name_of(c) for c in registered_types().values()}
-                      - _parts()),
+        "msg": sorted(n for n in {ros_name_of(c) for c in registered_types().values()}
+                      - _parts() if n.split("/")[1] == "msg"),  # not a service's _Event
         "srv": sorted(f"{pkg}/srv/{n}" for pkg, _, n in
                       (s.partition("/") for s in registered_services())),
         "action": sorted(f"{pkg}/action/{n}" for pkg, _, n in
