@@ -89,6 +89,12 @@ class ServiceEvents:
             self._pub = Publisher(self._ctx, self._node, event_type_of(self._srv),
                                   self._name + EVENT_SUFFIX, qos or QOS_SERVICE_EVENTS)
 
+    def wait_for_subscribers(self, n: int = 1, timeout: float | None = None) -> bool:
+        """Block until ``n`` subscriptions to the events are matched (False while OFF or on
+        timeout): events published before are not received by them."""
+        pub = self._pub
+        return pub is not None and pub.wait_for_subscribers(n, timeout)
+
     def next_sequence(self) -> int:
         return next(self._seq)
 

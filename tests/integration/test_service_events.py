@@ -31,7 +31,7 @@ def test_contents_come_from_both_sides_in_order(make_node: Any) -> None:
     server_node, srv, client, events = _rig(make_node)
     srv.configure_introspection(server_node.get_clock(), None, State.CONTENTS)
     client.configure_introspection(server_node.get_clock(), None, State.CONTENTS)
-    assert wait_for(lambda: len(server_node.graph.publishers("/flag/_service_event")) == 2, 10)
+    assert srv.events.wait_for_subscribers(1, 10) and client.events.wait_for_subscribers(1, 10)
     assert client.call(SetBoolRequest(data=True), timeout=10).success
     assert events.wait(4, 10), events.items
     kinds = sorted(e.info.event_type for e in events.items)
@@ -49,7 +49,7 @@ def test_contents_come_from_both_sides_in_order(make_node: Any) -> None:
 def test_metadata_leaves_the_messages_out_and_off_stops(make_node: Any) -> None:
     server_node, srv, client, events = _rig(make_node)
     srv.configure_introspection(server_node.get_clock(), None, State.METADATA)
-    assert wait_for(lambda: server_node.graph.publishers("/flag/_service_event"), 10)
+    assert srv.events.wait_for_subscribers(1, 10)
     client.call(SetBoolRequest(data=False), timeout=10)
     assert events.wait(2, 10)
     assert all(e.request == [] and e.response == [] for e in events.items)

@@ -293,10 +293,9 @@ def test_service_echo_prints_a_services_events(system: tuple[str, str]) -> None:
     echo = Proc([sys.executable, "-m", "zenros.cli", "service", "echo", "/echoed_flag",
                  "-n", "2", "--timeout", "30", "-e", router, "--prefix", prefix])
     try:
-        g = ctx.graph
-        assert g.wait_for(lambda: g.subscribers("/echoed_flag/_service_event"), 15), echo.output
+        assert srv.events.wait_for_subscribers(1, 20), echo.output  # the echo's
         assert client.call(SetBoolRequest(data=True), timeout=10).success
-        assert echo.wait(20) == 0, echo.output
+        assert echo.wait(30) == 0, echo.output
         out = echo.output
         assert out.count("event_type:") == 2 and "data: true" in out and "message: ok" in out
     finally:

@@ -109,7 +109,9 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
         assert (x, y) == pytest.approx(((k - 1) * SPACING, 0.0), abs=0.05)
     stopped = 3
     estop = fleet.node.create_client(SetBool, f"/robot{stopped}/chassis/set_estop")
-    assert estop.call(SetBoolRequest(data=True), timeout=20).success
+    # asked again while the graph lists it (grace): beside a CPU hog a robot's link to the
+    # router may be made again just now, and the query finds no route for a moment
+    assert estop.call(SetBoolRequest(data=True), timeout=20, grace=20).success
     states: dict[int, bool] = {}
     for k in range(1, ROBOTS + 1):
         fleet.node.create_subscription(ChassisState, f"/robot{k}/chassis/state",
@@ -169,7 +171,7 @@ def test_goals_from_fresh_cli_processes_reach_every_robot(fleet: Fleet) -> None:
     # each (the robot's own pose: nav accepts it and ends at once), and every one is taken.
     where = truth(fleet)
     estop = fleet.node.create_client(SetBool, "/robot3/chassis/set_estop")
-    assert estop.call(SetBoolRequest(data=False), timeout=20).success
+    assert estop.call(SetBoolRequest(data=False), timeout=20, grace=20).success
     clis = {}
     try:
         for k in range(1, ROBOTS + 1):
