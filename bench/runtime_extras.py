@@ -97,16 +97,8 @@ def _rclpy_lifecycle() -> tuple[float | None, str | None]:
         import rclpy.lifecycle  # noqa: F401
     except ModuleNotFoundError as e:
         return None, f"the ros2 extra is not installed ({e.name}): pip install -e '.[ros2]'"
-    if os.geteuid() != 0:
-        return None, "needs root for a network namespace (unshare -n), as bench/ros2.py"
-    p = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE),
-                        "--rclpy-lifecycle"], capture_output=True, text=True, timeout=300,
-                       check=False)
-    last = p.stdout.strip().splitlines()[-1:] or [""]
-    try:
-        return float(last[0]), None
-    except ValueError:
-        return None, f"the rclpy run failed: {(p.stderr or p.stdout).strip()[-300:]}"
+    got, why = _rclpy_run("--rclpy-lifecycle")
+    return (got[0] if got else None), why
 
 
 def _rclpy_nodes() -> None:
