@@ -104,11 +104,18 @@ async def test_latched_topic_sends_last_value_first(gw: GatewayNode, make_node: 
             assert json.loads(await asyncio.wait_for(ws2.recv(), 5)) == {"data": "hello"}
 
 
-async def test_unknown_topic_gets_error_frame(gw: GatewayNode) -> None:
-    url = f"ws://127.0.0.1:{gw.ws_port}/no_such_topic?token={token_of(gw)}"
+async def test_unknown_topic_gets_error_frame_then_streams_once_listed(
+        gw: GatewayNode, make_node: object) -> None:
+    url = f"ws://127.0.0.1:{gw.ws_port}/not_yet_topic?token={token_of(gw)}"
     async with connect(url) as ws:
         frame = json.loads(await asyncio.wait_for(ws.recv(), 3))
         assert frame["status"] == "error" and "unknown topic" in frame["description"]
+        # the connection stays; a publisher that appears later is streamed
+        pubnode = make_node("late_talker", 1)  # type: ignore[operator]
+        pub = pubnode.create_publisher(String, "not_yet_topic", 10)
+        assert await asyncio.to_thread(pub.wait_for_subscribers, 1, 10)
+        pub.publish(String(data="late"))
+        assert json.loads(await asyncio.wait_for(ws.recv(), 5)) == {"data": "late"}
 
 
 async def test_stalled_client_drops_to_latest_and_blocks_nobody(

@@ -48,11 +48,28 @@ def ws_app(default: TopicHub, tokens: TokenStore,
         await ws.accept()
         slot = Slot(asyncio.get_running_loop())
         attached = False
-        try:
-            hub.attach(topic, slot)
-            attached = True
-        except TopicError as exc:  # not streamable yet; publishing may still define it
-            await ws.send_text(json.dumps(error_body(str(exc))))
+
+        def attach() -> str | None:
+            nonlocal attached
+            if not attached:
+                try:
+                    hub.attach(topic, slot)
+                    attached = True
+                except TopicError as exc:
+                    return str(exc)
+            return None
+
+        async def attach_when_listed() -> None:
+            await hub.wait_listed(topic)
+            problem = attach()
+            if problem is not None:  # listed with a type this gateway cannot load
+                await ws.send_text(json.dumps(error_body(problem)))
+
+        watcher: asyncio.Task[None] | None = None
+        problem = attach()
+        if problem is not None:  # not streamable yet: attach when the graph lists it
+            await ws.send_text(json.dumps(error_body(problem)))
+            watcher = asyncio.create_task(attach_when_listed())
         sender = asyncio.create_task(_pump(ws, slot))
         try:
             while True:
@@ -69,16 +86,13 @@ def ws_app(default: TopicHub, tokens: TokenStore,
                 except TopicError as exc:
                     await ws.send_text(json.dumps(error_body(str(exc))))
                     continue
-                if not attached:
-                    try:
-                        hub.attach(topic, slot)
-                        attached = True
-                    except TopicError:
-                        pass
+                attach()  # publishing may have defined the topic
         except (WebSocketDisconnect, RuntimeError):
             pass
         finally:
             sender.cancel()
+            if watcher is not None:
+                watcher.cancel()
             if attached:
                 hub.detach(topic, slot)
 

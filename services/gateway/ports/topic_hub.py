@@ -18,6 +18,7 @@ from zenros.codec import from_builtins, json_bytes
 from zenros.errors import DecodeError, UnknownTypeError
 from zenros.json_chunks import BulkEncoder, encode_yielding, is_bulky
 from zenros.message import Message
+from zenros.names import Token
 from zenros.node import Node
 from zenros.pubsub import Publisher, Subscription
 from zenros.qos import Durability, QoSProfile
@@ -98,6 +99,24 @@ class TopicHub:
             raise TopicError(str(exc)) from exc
         latched = any(QoSProfile.from_tag(t.qos).latched for t in graph.publishers(topic))
         return cls, latched
+
+    async def wait_listed(self, topic: str) -> None:
+        """Return once the graph lists a typed publisher or subscriber of ``topic`` (a client
+        may connect before the graph has heard of the topic's first endpoint)."""
+        loop = asyncio.get_running_loop()
+        listed = asyncio.Event()
+
+        def on_change(event: str, token: Token) -> None:  # on Zenoh's thread
+            if event == "put" and token.name == topic and token.type:
+                loop.call_soon_threadsafe(listed.set)
+
+        remove = self.node.graph.add_listener(on_change)
+        try:
+            graph = self.node.graph
+            if not any(t.type for t in graph.publishers(topic) + graph.subscribers(topic)):
+                await listed.wait()
+        finally:
+            remove()
 
     def attach(self, topic: str, slot: Slot) -> None:
         """Start feeding ``slot``; a latched topic's last value comes first."""
