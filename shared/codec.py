@@ -248,7 +248,7 @@ def from_builtins(obj: Any, msg_type: type[M]) -> M:
     a typo on a command line must not silently send zeros.
     """
     info = mi.type_info(msg_type)
-    obj = _ros1_names(info, obj)
+    obj = _ros_forms(info, obj)
     unknown = _unknown_fields(info, obj, "$")
     if unknown:
         raise DecodeError(f"expected {codec_for(msg_type).type_name}: " + "; ".join(unknown))
@@ -262,11 +262,17 @@ _TIME_TYPES = ("builtin_interfaces/Time", "builtin_interfaces/Duration")
 _ROS1_TIME_NAMES = {"secs": "sec", "nsecs": "nanosec"}
 
 
-def _ros1_names(t: mi.Type, obj: Any) -> Any:
+def _ros_forms(t: mi.Type, obj: Any) -> Any:
     """``obj`` in ROS 2 spelling: ROS 1's ``secs``/``nsecs`` renamed ``sec``/``nanosec`` in
     every builtin_interfaces/Time and Duration it holds (the reference rosbridge accepts
     both), and ROS 1's ``std_msgs/Header.seq`` (gone in ROS 2) dropped; ``obj`` itself when
-    it has none of them (no copy)."""
+    it has none of them (no copy). A list of numbers for a bytes field (``uint8[]``, as
+    ``ros2 topic pub`` takes it) becomes bytes."""
+    if isinstance(t, mi.BytesType) and isinstance(obj, list):
+        try:
+            return bytes(obj)
+        except (TypeError, ValueError):
+            return obj  # msgspec names the field and what it expected
     if isinstance(t, mi.StructType) and isinstance(obj, dict):
         msgtype = getattr(t.cls, "__msgtype__", None)
         if msgtype == "std_msgs/Header" and "seq" in obj:
@@ -282,7 +288,7 @@ def _ros1_names(t: mi.Type, obj: Any) -> Any:
             ft = fields.get(k)
             if ft is None or not isinstance(v, (dict, list)):
                 continue
-            nv = _ros1_names(ft, v)
+            nv = _ros_forms(ft, v)
             if nv is not v:
                 if out is obj:
                     out = dict(obj)
@@ -290,12 +296,12 @@ def _ros1_names(t: mi.Type, obj: Any) -> Any:
         return out
     if (isinstance(t, (mi.ListType, mi.VarTupleType)) and isinstance(obj, list)
             and isinstance(t.item_type, (mi.StructType, mi.UnionType))):
-        items = [_ros1_names(t.item_type, v) for v in obj]
+        items = [_ros_forms(t.item_type, v) for v in obj]
         return items if any(a is not b for a, b in zip(items, obj, strict=True)) else obj
     if isinstance(t, mi.UnionType):
         structs = [u for u in t.types if isinstance(u, mi.StructType)]
         if len(structs) == 1:
-            return _ros1_names(structs[0], obj)
+            return _ros_forms(structs[0], obj)
     return obj
 
 

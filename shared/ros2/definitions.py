@@ -8,6 +8,7 @@ example_interfaces have no wheel here and are checked by hand only.
 
 from __future__ import annotations
 
+from .common_definitions import COMMON_ACTIONS, COMMON_MESSAGES, COMMON_SERVICES
 from .nav2_definitions import NAV2_ACTIONS, NAV2_MESSAGES, NAV2_SERVICES
 
 __all__ = ["ACTIONS", "MESSAGES", "SERVICES"]
@@ -235,3 +236,8 @@ ACTIONS: dict[str, str] = {
 MESSAGES.update(NAV2_MESSAGES)
 SERVICES.update(NAV2_SERVICES)
 ACTIONS.update(NAV2_ACTIONS)
+
+# the rest of common_interfaces and test_msgs (common_definitions.py)
+MESSAGES.update(COMMON_MESSAGES)
+SERVICES.update(COMMON_SERVICES)
+ACTIONS.update(COMMON_ACTIONS)

@@ -15,10 +15,12 @@ from ..errors import ZenrosError
 
 __all__ = [
     "PRIMITIVES",
+    "Declaration",
     "FieldType",
     "InterfaceError",
     "MsgDef",
     "RosField",
+    "declarations",
     "parse_msg",
     "split_interface",
 ]
@@ -144,29 +146,58 @@ def parse_type(text: str, package: str) -> FieldType:
     return FieldType(base, "array", int(arr), strbound)
 
 
+@dataclass(frozen=True, slots=True)
+class Declaration:
+    """One line of .msg text that declares something: a field (``value`` is its default
+    value's text, or "") or a constant (``constant`` True, ``value`` its value's text)."""
+
+    lineno: int
+    type: str
+    name: str
+    value: str
+    constant: bool
+
+
+def declarations(name: str, text: str) -> list[Declaration]:
+    """The field and constant lines of .msg text, in order (comments and blank lines left out).
+
+    A trailing comment stays in ``value``: only the value's own syntax knows where a string
+    ends (`zenros.interfaces.values`)."""
+    out: list[Declaration] = []
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        ftype, _, rest = line.replace("\t", " ").partition(" ")
+        rest = rest.strip()
+        if not rest:
+            raise InterfaceError(f"{name} line {lineno}: expected 'type name': {raw!r}")
+        head = rest.split(None, 1)[0]
+        if "=" in head or rest[len(head):].lstrip().startswith("="):
+            cname, _, value = rest.partition("=")
+            out.append(Declaration(lineno, ftype, cname.strip(), value.strip(), True))
+            continue
+        fname = head.split("#", 1)[0]
+        value = rest[len(head):].strip() if "#" not in head else ""
+        if not _NAME_RE.match(fname):
+            raise InterfaceError(f"{name} line {lineno}: bad field name {fname!r}")
+        out.append(Declaration(lineno, ftype, fname, "" if value.startswith("#") else value,
+                               False))
+    return out
+
+
 def parse_msg(name: str, text: str) -> MsgDef:
     """Parse .msg text into a `MsgDef` named ``name`` (``pkg/msg/Name``); constants and
     defaults are dropped; a structure without fields gets ROS 2's one uint8 member."""
     package = name.split("/", 1)[0]
     fields: list[RosField] = []
-    for lineno, raw in enumerate(text.splitlines(), 1):
-        line = raw.strip()
-        if not line or line.startswith("#"):
+    for d in declarations(name, text):
+        if d.constant:
             continue
-        tokens = line.split(None, 2)
-        if len(tokens) < 2:
-            raise InterfaceError(f"{name} line {lineno}: expected 'type name': {raw!r}")
-        ftype, fname = tokens[0], tokens[1]
-        rest = tokens[2].lstrip() if len(tokens) > 2 else ""
-        if "=" in fname or rest.startswith("="):
-            continue  # a constant
-        fname = fname.split("#", 1)[0]
-        if not _NAME_RE.match(fname):
-            raise InterfaceError(f"{name} line {lineno}: bad field name {fname!r}")
         try:
-            fields.append(RosField(fname, parse_type(ftype, package)))
+            fields.append(RosField(d.name, parse_type(d.type, package)))
         except InterfaceError as exc:
-            raise InterfaceError(f"{name} line {lineno}: {exc}") from None
+            raise InterfaceError(f"{name} line {d.lineno}: {exc}") from None
     return MsgDef(name, tuple(fields) or (EMPTY_FIELD,))
 
 

@@ -56,7 +56,9 @@ def test_list_names_every_type_and_each_shows() -> None:
     for kind in names.values():
         for name in kind:  # each shows (an empty message, std_msgs/Empty, shows nothing)
             assert show_lines(name) or name in ("std_msgs/msg/Empty",
-                                                "rcl_interfaces/msg/ParameterType"), name
+                                                "rcl_interfaces/msg/ParameterType",
+                                                "test_msgs/msg/Constants",
+                                                "test_msgs/msg/Empty"), name
     assert zenros("list", "-a").stdout.splitlines()[0] == "Actions:"
     assert "std_msgs" in zenros("packages").stdout.split()
     assert "std_msgs/msg/String" in zenros("package", "std_msgs").stdout.split()

@@ -42,6 +42,11 @@ BULK = {
     "nav_msgs/OccupancyGrid", "sensor_msgs/LaserScan",
     "zenros_msgs/SetParamRequest", "zenros_msgs/GetParamResponse", "zenros_msgs/ParamRows",
     "zenros_msgs/SyncResponse",
+    # byte sequences (images, point clouds, compressed data: base64 in JSON)
+    "sensor_msgs/Image", "sensor_msgs/CompressedImage", "sensor_msgs/PointCloud2",
+    "std_msgs/ByteMultiArray", "std_msgs/UInt8MultiArray", "visualization_msgs/MeshFile",
+    "test_msgs/BoundedPlainSequences", "test_msgs/BoundedSequences",
+    "test_msgs/UnboundedSequences",
 }
 
 

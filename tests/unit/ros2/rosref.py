@@ -161,18 +161,19 @@ def ros_message(ros_name: str, values: dict[str, Any]) -> Any:
 
 
 def zenros_values(ros_name: str, values: dict[str, Any]) -> dict[str, Any]:
-    """Plain values as zenros's plain classes hold them (byte/char/uint8 arrays as bytes)."""
+    """Plain values as zenros's classes take them: an empty structure's placeholder member
+    left out where zenros has a class for it (its classes of empty structures have no
+    fields); lists of numbers for bytes fields are converted by `from_builtins` itself."""
     out: dict[str, Any] = {}
+    cls = zenros_class_of(ros_name)
     for f in definition(ros_name).fields:
+        if f == EMPTY_FIELD and cls is not None:
+            continue
         v = values[f.name]
         t = f.type
-        if t.is_nested and zenros_class_of(t.base) is not None:
-            pass  # a zenros class (UUID, Time...) takes the plain values as they are
-        elif t.is_nested:
+        if t.is_nested:
             v = zenros_values(t.base, v) if t.kind == "single" else [
                 zenros_values(t.base, x) for x in v]
-        elif t.kind != "single" and PRIMITIVES.get(t.base, ("",))[0] == "B":
-            v = bytes(v)
         out[f.name] = v
     return out
 
