@@ -8,13 +8,15 @@ Every package zenros ships is a module of `zenros.msgs`; most are imported with 
 rest (``test_msgs``, ``action_tutorials_interfaces``: their ``Fibonacci`` would make the short
 name ambiguous) are imported the first time a lookup names their package
 (``test_msgs/action/Fibonacci``), so every shipped type resolves by its ROS 2 name with no
-flag. Short names resolve among the packages imported with `zenros.msgs` (and whatever else
+flag; so do the packages of ``ZENROS_INTERFACE_PATH`` (.msg/.srv/.action files made into
+types by `zenros.interfaces`). Short names resolve among the packages imported with `zenros.msgs` (and whatever else
 registered) first, so loading a package on demand never makes a short name ambiguous.
 """
 
 from __future__ import annotations
 
 import importlib
+import os
 import pkgutil
 import sys
 from functools import cache
@@ -46,7 +48,7 @@ def load_package(name: str) -> bool:
     never imported as given)."""
     pkg = normalize_type_name(name).partition("/")[0]
     if pkg not in _on_demand():
-        return False
+        return _from_interface_path(pkg)
     module = f"{msgs.__name__}.{pkg}"
     if module in sys.modules:
         return False
@@ -55,12 +57,26 @@ def load_package(name: str) -> bool:
 
 
 def load_all_packages() -> None:
-    """Import every package `zenros.msgs` ships (those left out on import too): for
-    listings that must name every shipped type (`zenros interface list`)."""
+    """Import every package `zenros.msgs` ships (those left out on import too) and load those
+    of ``ZENROS_INTERFACE_PATH``: for listings that must name every type (`zenros interface
+    list`)."""
     for pkg in sorted(_on_demand()):
         module = f"{msgs.__name__}.{pkg}"
         if module not in sys.modules:
             importlib.import_module(module)
+    if os.environ.get("ZENROS_INTERFACE_PATH"):
+        from .interfaces.path import load_from_path, path_packages  # sits above us
+        for pkg in path_packages():
+            load_from_path(pkg)
+
+
+def _from_interface_path(package: str) -> bool:
+    """Load a package of ``ZENROS_INTERFACE_PATH`` (`zenros.interfaces`, which sits above this
+    module and is imported only when the variable is set); True if loaded now."""
+    if not os.environ.get("ZENROS_INTERFACE_PATH"):
+        return False
+    from .interfaces.path import load_from_path  # sits above us: imported late
+    return load_from_path(package)
 
 
 def _preferred(table: dict[str, T]) -> dict[str, T]:

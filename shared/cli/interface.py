@@ -1,11 +1,13 @@
-"""`zenros interface list|packages|package|show`: the message, service and action types
-zenros holds, as `ros2 interface` shows them (docs/cli.md)."""
+"""`zenros interface list|packages|package|show|generate`: the message, service and action
+types zenros holds, as `ros2 interface` shows them, and Python modules made from a package's
+.msg/.srv/.action files (docs/cli.md, docs/interfaces.md)."""
 
 from __future__ import annotations
 
 import argparse
 import re
 import typing
+from pathlib import Path
 from typing import Any
 
 import msgspec
@@ -33,7 +35,7 @@ MAX_DEPTH = 10
 
 def register(sub: Any) -> None:
     p = sub.add_parser("interface", help="message, service and action types: list, "
-                                         "packages, package, show",
+                                         "packages, package, show, generate",
                        description="The types zenros holds (ros2 interface).")
     verbs = p.add_subparsers(dest="verb", required=True)
     ls = verbs.add_parser("list", help="every type, by kind")
@@ -46,6 +48,11 @@ def register(sub: Any) -> None:
     sh = verbs.add_parser("show", help="a type's fields, nested types expanded")
     sh.add_argument("type", help="pkg/msg/Name, pkg/srv/Name, pkg/action/Name (or pkg/Name)")
     sh.add_argument("--no-expand", action="store_true", help="the type's own fields only")
+    gen = verbs.add_parser("generate", help="write a Python module of zenros types for each "
+                                            "interface package (.msg/.srv/.action files)")
+    gen.add_argument("packages", nargs="+", metavar="PKG_DIR",
+                     help="a package folder (msg/, srv/, action/), or a folder of them")
+    gen.add_argument("-o", "--out", default=".", help="where the modules go (default: here)")
     p.set_defaults(func=run)
 
 
@@ -151,7 +158,38 @@ def show_lines(name: str, expand: bool = True) -> list[str]:
     return out
 
 
+def generate(folders: list[str], out: str) -> list[Path]:
+    """Write ``<out>/<package>.py`` for every package of ``folders``; the files written."""
+    from ..interfaces import find_packages, generate_module, read_package
+
+    packages: dict[str, Path] = {}
+    for folder in folders:
+        if not Path(folder).is_dir():
+            raise CliError(f"{folder}: no such folder")
+        found = find_packages(folder)
+        if not found:
+            raise CliError(f"{folder}: no interface package (a folder with msg/, srv/ or "
+                           "action/) in it")
+        packages.update(found)
+    target = Path(out)
+    target.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, where in sorted(packages.items()):
+        try:
+            source = generate_module(read_package(where))
+        except InterfaceError as exc:
+            raise CliError(str(exc)) from None
+        path = target / f"{name}.py"
+        path.write_text(source, encoding="utf-8")
+        written.append(path)
+    return written
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.verb == "generate":
+        for path in generate(args.packages, args.out):
+            print(path)
+        return 0
     try:
         if args.verb == "show":
             print("\n".join(show_lines(args.type, not args.no_expand)))

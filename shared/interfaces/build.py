@@ -47,8 +47,12 @@ def load_interface_package(path: str | Path) -> InterfacePackage:
                 raise InterfaceError(f"package {package.name} was loaded from {before} "
                                      f"already; not loading {package.path} too")
             return package
-        make_types([package])
-        _LOADED[package.name] = package.path
+        _LOADED[package.name] = package.path  # first: a lookup while making must not load it
+        try:
+            make_types([package])
+        except BaseException:
+            del _LOADED[package.name]
+            raise
     return package
 
 
@@ -58,6 +62,11 @@ def make_types(packages: list[InterfacePackage]) -> dict[str, type[Message]]:
     for package in packages:
         _check_new(package)
     structs = struct_order([s for p in packages for s in p.structs()])
+    ours = {s.ros_name for s in structs}
+    for s in structs:  # every nested type found before anything registers
+        for f in s.fields:
+            if f.type.is_nested and f.type.base not in ours:
+                _nested_class(f.type.base, {}, f"{s.ros_name}.{f.name}")
     made: dict[str, type[Message]] = {}
     for interface in (i for p in packages for i in p.interfaces):
         register_interface(interface.name, interface.text)

@@ -10,6 +10,7 @@ import path) for any other.
 from __future__ import annotations
 
 import importlib.util
+import json
 import keyword
 import textwrap
 from dataclasses import dataclass, field
@@ -25,7 +26,7 @@ __all__ = ["definition_text", "generate_module"]
 
 _PRIMITIVE_NAMES = {"Byte", "Char", "Int8", "UInt8", "Int16", "UInt16", "Int32", "UInt32",
                     "Int64", "UInt64"}
-_HEADER = '"""{pkg}: made by `zenros interface generate` from the package\'s {files}."""'
+_HEADER = '"""{pkg}: made by `zenros interface generate` from its {files}."""'
 
 
 @dataclass
@@ -70,19 +71,32 @@ class _Imports:
         if self.msgspec:
             out += ["import msgspec", ""]
         base = ".." if self.relative else "zenros."
-        block = [f"from {base}message import {', '.join(sorted(self.message, key=str.lower))}"]
+        block = [(f"{base}message", _names(self.message))]
         if self.primitives and self.qualified:
-            block.append(f"from {base.rstrip('.') or '..'} import primitives"
-                         if self.relative else "from zenros import primitives")
+            block.append(("..", "primitives") if self.relative else ("zenros", "primitives"))
         elif self.primitives:
-            block.append(f"from {base}primitives import {', '.join(sorted(self.primitives))}")
+            block.append((f"{base}primitives", _names(self.primitives)))
         for module in sorted(self.modules):
             names = ", ".join(n if a == n else f"{n} as {a}"
                               for n, a in sorted(self.modules[module].items()))
             if self.relative and module.startswith(f"{MSGS}."):
                 module = "." + module[len(MSGS) + 1:]
-            block.append(f"from {module} import {names}")
-        return out + block
+            block.append((module, names))
+        lines = [_wrap(f"from {m} import ", names) for m, names in sorted(block)]
+        return out + [line for group in lines for line in group]
+
+
+def _names(names: set[str]) -> str:
+    """Imported names in isort's order: constants, classes, then functions."""
+    return ", ".join(sorted(names, key=lambda n: (0 if n.isupper() else 1 if n[0].isupper()
+                                                  else 2, n)))
+
+
+def _wrap(head: str, items: str) -> list[str]:
+    """``head + items`` on one line, or in parentheses one item a line when too long."""
+    if len(head) + len(items) <= 99:
+        return [head + items]
+    return [head + "(", *(f"    {item}," for item in items.split(", ")), ")"]
 
 
 def _shipped(pkg: str) -> bool:
@@ -121,11 +135,18 @@ def generate_module(package: InterfacePackage, *, relative: bool = False,
     out += imports.lines()
     with_defs = definitions
     names = ["ROS_DEFINITIONS", *exported] if with_defs else exported
-    out += ["", f"__all__ = [{', '.join(repr(n) for n in names)}]", ""]
+    one_line = "__all__ = [" + ", ".join(json.dumps(n) for n in names) + "]"
+    out += ["", one_line] if len(one_line) <= 99 else [
+        "", "__all__ = [", *(f"    {json.dumps(n)}," for n in names), "]"]
+    out.append("")
     if with_defs:
         out.append("ROS_DEFINITIONS: dict[str, str] = {")
         for i in interfaces:
-            out.append(f"    {i.name!r}: {definition_text(i.text)!r},")
+            text = definition_text(i.text).split("\n")
+            out.append(f"    {json.dumps(i.name)}: (")
+            out += [f"        {json.dumps(line + chr(10) * (k < len(text) - 1), ensure_ascii=False)}"
+                    for k, line in enumerate(text)]
+            out.append("    ),")
         out += ["}", ""]
     for body in bodies:
         out += ["", *body, ""]

@@ -9,6 +9,7 @@ type with no ROS 2 definition (``zenros_msgs/...``) gets one derived from its fi
 
 from __future__ import annotations
 
+import sys
 import typing
 from functools import cache
 from typing import Any
@@ -139,10 +140,33 @@ def definition(name: str) -> MsgDef:
     _load()
     if name in _DEFS:
         return _DEFS[name]
+    if _module_definitions(name.partition("/")[0]) and name in _DEFS:
+        return _DEFS[name]
     cls = zenros_class_of(name)
     if cls is not None:
         return derive_definition(cls)
     raise UnknownTypeError(f"no ROS 2 definition for {name!r}")
+
+
+_MODULES_READ: set[str] = set()
+
+
+def _module_definitions(package: str) -> bool:
+    """Register the ``ROS_DEFINITIONS`` of the modules holding ``package``'s classes (modules
+    `zenros interface generate` wrote); True if any were new."""
+    load_package(f"{package}/x")
+    added = False
+    for key, cls in list(TABLES.messages.items()):
+        if key.partition("/")[0] != package or cls.__module__ in _MODULES_READ:
+            continue
+        _MODULES_READ.add(cls.__module__)
+        texts = getattr(sys.modules.get(cls.__module__), "ROS_DEFINITIONS", None)
+        if isinstance(texts, dict):
+            for iname, text in texts.items():
+                if iname not in _DEFS:
+                    register_interface(iname, text)
+                    added = True
+    return added
 
 
 # ------------------------------------------------------------ zenros class <-> ROS 2 name
