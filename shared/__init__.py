@@ -25,6 +25,7 @@ from .errors import (
     ZenrosTimeout,
 )
 from .executor import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from .interfaces import path as _interface_path  # noqa: F401 (lookups read ZENROS_INTERFACE_PATH)
 from .message import ActionType, Message, ServiceType, define_action, define_service
 from .node import Node
 from .qos import QOS_DEFAULT, QOS_LATCHED, QOS_SENSOR, Durability, QoSProfile, Reliability

@@ -16,17 +16,16 @@ registered) first, so loading a package on demand never makes a short name ambig
 from __future__ import annotations
 
 import importlib
-import os
 import pkgutil
 import sys
 from functools import cache
-from typing import Any, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from . import msgs
 from .errors import UnknownTypeError
 from .message import TABLES, ActionType, Message, ServiceType, find_registered, normalize_type_name
 
-__all__ = ["load_all_packages", "load_package", "lookup_action", "lookup_service", "lookup_type",
+__all__ = ["PackageSource", "add_package_source", "load_all_packages", "load_package", "lookup_action", "lookup_service", "lookup_type",
            "registered_actions", "registered_services", "registered_types"]
 
 T = TypeVar("T")
@@ -48,7 +47,7 @@ def load_package(name: str) -> bool:
     never imported as given)."""
     pkg = normalize_type_name(name).partition("/")[0]
     if pkg not in _on_demand():
-        return _from_interface_path(pkg)
+        return any(source.load(pkg) for source in _SOURCES)
     module = f"{msgs.__name__}.{pkg}"
     if module in sys.modules:
         return False
@@ -58,25 +57,36 @@ def load_package(name: str) -> bool:
 
 def load_all_packages() -> None:
     """Import every package `zenros.msgs` ships (those left out on import too) and load those
-    of ``ZENROS_INTERFACE_PATH``: for listings that must name every type (`zenros interface
-    list`)."""
+    of every `PackageSource` (``ZENROS_INTERFACE_PATH``): for listings that must name every
+    type (`zenros interface list`)."""
     for pkg in sorted(_on_demand()):
         module = f"{msgs.__name__}.{pkg}"
         if module not in sys.modules:
             importlib.import_module(module)
-    if os.environ.get("ZENROS_INTERFACE_PATH"):
-        from .interfaces.path import load_from_path, path_packages  # sits above us
-        for pkg in path_packages():
-            load_from_path(pkg)
+    for source in _SOURCES:
+        source.load_all()
 
 
-def _from_interface_path(package: str) -> bool:
-    """Load a package of ``ZENROS_INTERFACE_PATH`` (`zenros.interfaces`, which sits above this
-    module and is imported only when the variable is set); True if loaded now."""
-    if not os.environ.get("ZENROS_INTERFACE_PATH"):
-        return False
-    from .interfaces.path import load_from_path  # sits above us: imported late
-    return load_from_path(package)
+class PackageSource(Protocol):
+    """Where packages zenros does not ship come from (`zenros.interfaces`'s
+    ``ZENROS_INTERFACE_PATH``), registered with `add_package_source`."""
+
+    def load(self, package: str) -> bool:
+        """Make ``package``'s types if this source has it and it is not loaded; True if now."""
+        ...
+
+    def load_all(self) -> None:
+        """Make the types of every package this source has."""
+        ...
+
+
+_SOURCES: list[PackageSource] = []
+
+
+def add_package_source(source: PackageSource) -> None:
+    """Have lookups of unknown packages ask ``source`` too."""
+    if source not in _SOURCES:
+        _SOURCES.append(source)
 
 
 def _preferred(table: dict[str, T]) -> dict[str, T]:

@@ -8,11 +8,12 @@ import os
 from pathlib import Path
 
 from ..errors import UnknownTypeError
+from ..registry import add_package_source
 from ..ros2.idl import InterfaceError
 from .build import load_interface_package, loaded_packages
 from .package import find_packages
 
-__all__ = ["ENV", "load_from_path", "path_packages"]
+__all__ = ["ENV", "INTERFACE_PATH", "InterfacePath", "load_from_path", "path_packages"]
 
 ENV = "ZENROS_INTERFACE_PATH"
 
@@ -45,3 +46,19 @@ def load_from_path(package: str, path: str | None = None) -> bool:
     except InterfaceError as exc:
         raise UnknownTypeError(f"package {package} from {where} ({ENV}): {exc}") from exc
     return True
+
+
+class InterfacePath:
+    """``ZENROS_INTERFACE_PATH`` as a `zenros.registry.PackageSource` (read at each lookup of
+    an unknown package, so a variable set later counts)."""
+
+    def load(self, package: str) -> bool:
+        return load_from_path(package)
+
+    def load_all(self) -> None:
+        for package in path_packages():
+            load_from_path(package)
+
+
+INTERFACE_PATH = InterfacePath()
+add_package_source(INTERFACE_PATH)
