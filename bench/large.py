@@ -2,8 +2,9 @@
 
 Two processes on loopback (shared memory as Zenoh configures it by default, the same for
 both), reliable (BLOCK). The zenros message is a bulk (MessagePack) type whose array field
-travels as raw bytes and arrives as a zero-copy numpy view. Throughput counted at the receiver
-in MB/s. Prints one JSON line.
+travels as raw bytes and arrives as a zero-copy numpy view; ``image`` is the same bytes as a
+``sensor_msgs/Image`` (mono8, 1024 wide) read at the receiver with `zenros.images.image_to_numpy`.
+Throughput counted at the receiver in MB/s. Prints one JSON line.
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ import zenoh
 from _harness import Child, bench_parser, emit, free_port, raw_config, unique_prefix
 from zenros import Message, Node
 from zenros.context import Context
+from zenros.images import image_to_numpy
+from zenros.msgs.sensor_msgs import Image
 from zenros.message import UInt8Array, array_field
 from zenros.testing import loopback_options
 
@@ -54,6 +57,12 @@ def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
         node = Node("sink", context=ctx)
         node.create_subscription(Blob, "blob", lambda m: on_data(int(m.data.nbytes)), 100)
         closer: Any = lambda: (node.close(), ctx.close())
+    elif impl == "image":
+        ctx = Context(loopback_options(connect=[port]), prefix=prefix)
+        node = Node("sink", context=ctx)
+        node.create_subscription(Image, "image", lambda m: on_data(int(image_to_numpy(m).nbytes)),
+                                 100)
+        closer = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(connect=port))
         sub = s.declare_subscriber(f"{prefix}/blob",
@@ -78,6 +87,17 @@ def measure(impl: str, size: int, count: int) -> float:
         assert pub.wait_for_subscribers(1, 10)
         send = lambda i: pub.publish(Blob(seq=i, data=arr))
         closer: Any = lambda: (node.close(), ctx.close())
+    elif impl == "image":
+        ctx = Context(loopback_options(port), prefix=prefix)
+        node = Node("src", context=ctx)
+        ipub = node.create_publisher(Image, "image", 100)
+        child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
+                      prefix, "--count", str(count))
+        assert ipub.wait_for_subscribers(1, 10)
+        data = arr.tobytes()
+        send = lambda i: ipub.publish(Image(height=size // 1024, width=1024, encoding="mono8",
+                                            step=1024, data=data))
+        closer = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(listen=port))
         zpub = s.declare_publisher(f"{prefix}/blob", congestion_control=zenoh.CongestionControl.BLOCK)
@@ -110,14 +130,17 @@ def main() -> None:
         return
     metrics: dict[str, float] = {}
     for label, size, count in (("1mb", 1 << 20, 300), ("8mb", 8 << 20, 60)):
-        runs: dict[str, list[float]] = {"raw": [], "zenros": []}
+        runs: dict[str, list[float]] = {"raw": [], "zenros": [], "image": []}
         for _ in range(a.repeats):  # back to back, so a ratio compares like with like
-            for impl in ("raw", "zenros"):
+            for impl in ("raw", "zenros", "image"):
                 runs[impl].append(measure(impl, size, count))
         ratios = [z / r for z, r in zip(runs["zenros"], runs["raw"], strict=True)]
+        image_ratios = [z / r for z, r in zip(runs["image"], runs["raw"], strict=True)]
         metrics[f"throughput_{label}_mbps_zenros"] = round(statistics.median(runs["zenros"]), 1)
+        metrics[f"throughput_{label}_mbps_image"] = round(statistics.median(runs["image"]), 1)
         metrics[f"throughput_{label}_mbps_raw"] = round(statistics.median(runs["raw"]), 1)
         metrics[f"throughput_{label}_ratio"] = round(statistics.median(ratios), 3)
+        metrics[f"throughput_{label}_image_ratio"] = round(statistics.median(image_ratios), 3)
     emit("large", metrics, repeats=a.repeats, qos="reliable (BLOCK)",
          stat="medians; ratios are medians of per-repeat ratios")
     sys.stdout.flush()
