@@ -114,11 +114,12 @@ def flatten(tree: dict[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
-def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
+def load_params_file(path: str | Path, node_fqn: str, *,
+                     wildcards: bool = True) -> dict[str, Any]:
     """Parameters for one node from a ROS 2 params file (``node: ros__parameters: ...``).
 
-    Sections match by base name, full name, or a wildcard (``/**``, ``/robot1/*``); later,
-    more specific sections win.
+    Sections match by base name, full name, or (unless ``wildcards`` is False, as rclpy's
+    ``use_wildcard``) a wildcard (``/**``, ``/robot1/*``); later, more specific sections win.
     """
     try:
         doc = yaml.safe_load(Path(path).read_text()) or {}
@@ -131,7 +132,8 @@ def load_params_file(path: str | Path, node_fqn: str) -> dict[str, Any]:
     for section, body in _sections(doc):
         pattern = section if section.startswith("/") else None
         matches = section == base or section == node_fqn.lstrip("/") or (
-            pattern is not None and _node_pattern(pattern).match(node_fqn) is not None
+            pattern is not None and (wildcards or "*" not in pattern)
+            and _node_pattern(pattern).match(node_fqn) is not None
         )
         if matches:
             if not isinstance(body, dict):
