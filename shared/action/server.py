@@ -18,10 +18,13 @@ from ..errors import EncodeError, GoalRejectedError
 from ..keytag import key_tag
 from ..log import ErrorLog
 from ..message import ActionType, F, G, R
+from ..qos import QoSProfile
 from ..rpc import wildcard_refusal
+from ..service_events import ServiceIntrospectionState
 from .goal_handle import ServerGoalHandle
 from .goals import GoalTable
 from .host import ActionHost
+from .introspection import ActionEvents
 from .leaders import QueryQueue, RequestThreads
 from .policies import GoalPolicy
 from .runner import GoalRunner
@@ -144,6 +147,9 @@ class ActionServer(Generic[G, R, F]):
                                        self._on_failure, self.logger)
         self._threads.start()
         self._unserve = ctx.serve_here(*self._parts)
+        self.events = ActionEvents.of(ctx, node.fqn, action_type, self.name)
+        """Its introspection events (`zenros.action.introspection`), off until configured."""
+        self._result_seqs: dict[int, int] = {}  # get_result queries waiting: their event seq
         self._status.flush(force=True)
         self._token: Any = s.liveliness().declare_token(ctx.keys.entity_token(
             "act", node.fqn, self.name, action_type.name, "", ctx.zid, ctx.next_eid()))
@@ -151,6 +157,20 @@ class ActionServer(Generic[G, R, F]):
 
     def _key(self, part: str) -> str:
         return self._ctx.keys.action(self.name, part)
+
+    def configure_introspection(self, clock: Any, qos: QoSProfile | None,
+                                state: ServiceIntrospectionState) -> None:
+        """rclpy's (Kilted): publish the requests and responses of the action's three
+        services on ``<name>/_action/<service>/_service_event`` (METADATA: the info alone;
+        CONTENTS: the messages too; OFF: nothing). ``zenros action echo`` shows them."""
+        self.events.configure(clock, qos, state)
+
+    def _goal_decided(self, seq: int, accepted: bool, reason: str, stamp: Any = None) -> None:
+        if seq:
+            res = self._wire.SendGoalResponse(accepted=accepted, reason=reason)
+            if stamp is not None:
+                res.stamp = stamp
+            self.events.send_goal.response(seq, res)
 
     def _on_request(self, query: zenoh.Query) -> Handle | None:
         """Handle one request (on the leading request thread); return the goal this thread
@@ -217,6 +237,10 @@ class ActionServer(Generic[G, R, F]):
         if isinstance(req, str):
             self._reply_err(query, "BadRequest", req)
             return None
+        seq = 0
+        if self.events.on:
+            seq = self.events.send_goal.next_sequence()
+            self.events.send_goal.request(seq, req)
         key = bytes(req.goal_id.uuid)  # the codec checked 16 numbers of 0-255
         if key == _ZERO_KEY:
             self._reply_err(query, "BadRequest", f"action {self.name} send_goal: "
@@ -228,6 +252,7 @@ class ActionServer(Generic[G, R, F]):
         if not fresh:
             why = ("server is shutting down" if self._closing
                    else f"duplicate goal id {handle.goal_id}")
+            self._goal_decided(seq, False, why)
             self._respond(query, False, why)
             return None
         reason = self._ask_goal_callback(req.goal)
@@ -240,9 +265,11 @@ class ActionServer(Generic[G, R, F]):
                 self._table.remove(handle)
                 for w in handle.take_waiters():
                     self._reply_err(w, "GoalRejected", reason)
+                self._goal_decided(seq, False, reason)
                 self._respond(query, False, reason)
                 return None
             handle.accept_at(self._node.now())
+            self._goal_decided(seq, True, "", handle.stamp)
             launch = self._runner.accept(handle, plan)
             hold = _wants_result(query)  # the client asked for the result on this query too
             if (self._runner.on_workers and handle in launch
@@ -322,6 +349,10 @@ class ActionServer(Generic[G, R, F]):
         req = decode_query(query, self._cg_req, f"action {self.name} cancel_goal")
         if isinstance(req, str):
             return self._reply_err(query, "BadRequest", req)
+        seq = 0
+        if self.events.on:
+            seq = self.events.cancel_goal.next_sequence()
+            self.events.cancel_goal.request(seq, req)
         gid = uuid_from_msg(req.goal_info.goal_id)
         key = None if gid == ZERO_UUID else gid.bytes
         stamp = req.goal_info.stamp
@@ -332,14 +363,14 @@ class ActionServer(Generic[G, R, F]):
         if key is not None and stamp_ns == 0 and not targets:
             code = (CancelCode.ERROR_UNKNOWN_GOAL_ID if state is GoalStatus.UNKNOWN
                     else CancelCode.ERROR_GOAL_TERMINATED)
-            return self._reply_cancel(query, code, [])
+            return self._reply_cancel(query, code, [], seq)
         accepted = [h for h in targets
                     if h.status is GoalStatus.CANCELING or self._ask_cancel_callback(h)]
         with self.lock:
             for h in accepted:
                 self._runner.request_cancel(h)
         code = CancelCode.ERROR_REJECTED if targets and not accepted else CancelCode.ERROR_NONE
-        self._reply_cancel(query, code, accepted)
+        self._reply_cancel(query, code, accepted, seq)
 
     def _ask_cancel_callback(self, h: Handle) -> bool:
         if self._cancel_cb is None:
@@ -351,8 +382,11 @@ class ActionServer(Generic[G, R, F]):
             return False
         return verdict is CancelResponse.ACCEPT or verdict is True
 
-    def _reply_cancel(self, query: zenoh.Query, code: CancelCode, goals: list[Handle]) -> None:
+    def _reply_cancel(self, query: zenoh.Query, code: CancelCode, goals: list[Handle],
+                      seq: int = 0) -> None:
         res = CancelGoalResponse(return_code=int(code), goals_canceling=[h.info for h in goals])
+        if seq:
+            self.events.cancel_goal.response(seq, res)
         answer(query, self._cg_res.encode(res), self._enc[CancelGoalResponse])
 
     # ------------------------------------------------------------------ get_result
@@ -362,6 +396,10 @@ class ActionServer(Generic[G, R, F]):
         if isinstance(req, str):
             self._reply_err(query, "BadRequest", req)
             return None
+        seq = 0
+        if self.events.on:
+            seq = self.events.get_result.next_sequence()
+            self.events.get_result.request(seq, req)
         gid = uuid_from_msg(req.goal_id)
         with self.lock:
             if self._table.expire(time.monotonic()):
@@ -369,15 +407,23 @@ class ActionServer(Generic[G, R, F]):
             h = self._table.lookup(gid.bytes)
             if h is not None and not h.has_result:
                 h.add_waiter(query)  # answered when the goal's result is set
+                if seq:
+                    self._result_seqs[id(query)] = seq
                 return True
             data = None if h is None else self._result_payload(h)
         if data is not None:
+            if seq and h is not None:
+                self._result_event(seq, h)
             answer(query, data, self._enc[self._wire.GetResultResponse])
             return None
         self._reply_err(query, "UnknownGoal", (
             f"action {self.name}: unknown goal id {gid}: it was never accepted by this server, "
             f"or its result expired (results are kept {self._table.result_timeout:g} s)"))
         return None
+
+    def _result_event(self, seq: int, h: Handle) -> None:
+        self.events.get_result.response(
+            seq, self._wire.GetResultResponse(status=int(h.status), result=h.result))
 
     def _result_payload(self, h: Handle) -> bytes:
         res = self._wire.GetResultResponse(status=int(h.status), result=h.result)
@@ -394,6 +440,9 @@ class ActionServer(Generic[G, R, F]):
         enc = self._enc[self._wire.GetResultResponse]
         owed = h.take_owed()
         for w in waiters:
+            seq = self._result_seqs.pop(id(w), 0) if self._result_seqs else 0
+            if seq:
+                self._result_event(seq, h)
             try:
                 answer(w, data, enc, accepted_attachment(h.stamp) if w is owed else None)
             except (zenoh.ZError, RuntimeError) as exc:  # one request gone (its client
@@ -438,6 +487,8 @@ class ActionServer(Generic[G, R, F]):
         self._threads.join(2.0)
         self._fb_pub.undeclare()
         self._status.close()
+        self.events.close()
+        self._result_seqs.clear()
 
     def __repr__(self) -> str:
         return f"<ActionServer {self.name} [{self.action_type.name}] policy={self.policy}>"

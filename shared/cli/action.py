@@ -1,4 +1,4 @@
-"""`zenros action list|info|send_goal`."""
+"""`zenros action list|info|send_goal|echo`."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from ..codec import from_builtins, to_builtins
 from ..context import Context
 from ..errors import ZenrosTimeout
 from ..names import resolve
+from .action_echo import echo
 from .common import (
     STDOUT_CLOSED,
     CliError,
@@ -28,7 +29,7 @@ from .common import (
 
 
 def register(sub: Any) -> None:
-    p = sub.add_parser("action", help="actions: list, info, send_goal")
+    p = sub.add_parser("action", help="actions: list, info, send_goal, echo")
     verbs = p.add_subparsers(dest="verb", required=True)
     v = verbs.add_parser("list", help="list actions")
     v.add_argument("-t", "--show-types", action="store_true")
@@ -44,6 +45,15 @@ def register(sub: Any) -> None:
                    help="seconds to wait for the action server, and for its answer to the "
                         "goal (default 10)")
     v.add_argument("--json", action="store_true", help="print messages as JSON lines")
+    v = verbs.add_parser("echo", help="what an action's server handles: its services' "
+                                      "introspection events, feedback and status "
+                                      "(ros2 action echo)")
+    v.add_argument("action")
+    v.add_argument("--once", action="store_true", help="print one message and exit")
+    v.add_argument("-n", "--count", type=int, default=0, help="exit after N messages")
+    v.add_argument("--timeout", type=float, default=0.0,
+                   help="give up after N seconds (exit code 1 if nothing came)")
+    v.add_argument("--json", action="store_true", help="print messages as JSON lines")
     for verb in verbs.choices.values():
         add_common(verb)
     p.set_defaults(func=run)
@@ -57,6 +67,8 @@ def run(args: argparse.Namespace) -> int:
             return _list(ctx, args)
         if args.verb == "info":
             return _info(ctx, args)
+        if args.verb == "echo":
+            return echo(ctx, args)
         return _send_goal(ctx, args)
     finally:
         ctx.close()

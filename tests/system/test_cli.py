@@ -302,3 +302,48 @@ def test_service_echo_prints_a_services_events(system: tuple[str, str]) -> None:
         echo.stop(5)
         node.close()
         ctx.close()
+
+
+def test_action_echo_prints_an_actions_services_feedback_and_status(
+        system: tuple[str, str]) -> None:
+    """`zenros action echo` (ros2 action echo, Kilted): the goal service's events of a server
+    that turned introspection on, and the action's feedback and status, each named."""
+    from zenros.action import ActionClient
+    from zenros.context import Context
+    from zenros.msgs.example_interfaces import (
+        Fibonacci,
+        FibonacciFeedback,
+        FibonacciGoal,
+        FibonacciResult,
+    )
+    from zenros.node import Node
+    from zenros.service_events import ServiceIntrospectionState
+    from zenros.session import SessionOptions
+
+    def execute(handle: Any) -> FibonacciResult:
+        for n in range(6):
+            handle.publish_feedback(FibonacciFeedback(sequence=list(range(n + 1))))
+        handle.succeed()
+        return FibonacciResult(sequence=[0, 1, 1])
+
+    router, prefix = system
+    ctx = Context(SessionOptions(connect=[router]), prefix=prefix)
+    node = Node("echoed_action", context=ctx)
+    server = node.create_action_server(Fibonacci, "/echoed_fib", execute)
+    server.configure_introspection(node.get_clock(), None, ServiceIntrospectionState.CONTENTS)
+    echo = Proc([sys.executable, "-m", "zenros.cli", "action", "echo", "/echoed_fib",
+                 "-n", "10", "--timeout", "30", "-e", router, "--prefix", prefix])
+    try:
+        assert server.events.send_goal.wait_for_subscribers(1, 20), echo.output
+        assert wait_for(lambda: node.graph.subscribers("/echoed_fib/_action/get_result"
+                                                       "/_service_event"), 20)
+        client = ActionClient(node, Fibonacci, "/echoed_fib")
+        assert client.send_goal(FibonacciGoal(order=3)).result.sequence == [0, 1, 1]
+        assert echo.wait(30) == 0, echo.output
+        out = echo.output
+        assert "interface: GOAL_SERVICE" in out and "order: 3" in out, out
+        assert "interface: FEEDBACK_TOPIC" in out or "interface: STATUS_TOPIC" in out, out
+    finally:
+        echo.stop(5)
+        node.close()
+        ctx.close()
