@@ -8,7 +8,9 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from zenros.errors import GoalRejectedError
 from zenros.home import data_dir
+from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from zenros.maps import GridMap
 from zenros.message import ActionType
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
@@ -38,7 +40,6 @@ from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs import slam as slammsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
 from zenros.msgs.zenros_msgs.result import ResultCode
-from zenros.node import Node
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.se2 import Pose2
@@ -70,16 +71,29 @@ from .refusals import coded
 __all__ = ["NavNode"]
 
 
-class NavNode(Node):
+ACTIVATION_WAIT = 5.0  # seconds a goal waits for nav to be activated (a manager bringing it up)
+
+
+class NavNode(LifecycleNode):
     """Navigation: map server, localisation, costmaps, planner, controller, Nav2 actions.
 
     Topics, services, actions and parameters: docs/nav.md. Runs in the robot's namespace
     and needs the chassis (odom, scan, sim/ground_truth) and, in sim, ``use_sim_time``.
+
+    A managed (lifecycle) node, as Nav2's servers are: goals are refused unless it is
+    active (a goal that comes while its manager brings it up waits a moment), deactivating
+    it cancels the running ones and stops auto-charging; the map, localisation and costmaps
+    run in every state. By itself (``autostart`` true) it activates once set up; the
+    launches bring it up through their lifecycle manager (docs/lifecycle.md).
     """
 
     node_name = "nav"
+    autostart_default = True
 
     def setup(self) -> None:
+        self._active = threading.Event()  # set while the node is active (lifecycle)
+        self.activation_wait = ACTIVATION_WAIT
+        self._servers: list[Any] = []
         p = self.params = self.declare_parameters(NavParameters)
         cfg = nav_config(p, self.parameters)
         self.autocharge = AutoCharge(p.auto_charge, p.go_charge_percentage)
@@ -197,7 +211,38 @@ class NavNode(Node):
         )
         for act, name, execute, goal_cb in actions:
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
-            self.create_action_server(act, name, execute, goal_callback=goal_cb, policy=policy)
+            self._servers.append(self.create_action_server(
+                act, name, execute, goal_callback=self._when_active(goal_cb), policy=policy))
+
+    # ------------------------------------------------------------------ lifecycle
+
+    def _when_active(self, check: Callable[[Any], Any] | None) -> Callable[[Any], Any]:
+        """``check`` behind the lifecycle gate: a goal is refused unless nav is active."""
+
+        def gate(goal: Any) -> Any:
+            if not self._active.is_set() and not self._active.wait(self.activation_wait):
+                raise GoalRejectedError(
+                    f"nav is {self.current_state.label}, not active: its lifecycle manager "
+                    f"has not brought it up within {self.activation_wait:g} s "
+                    "(zenros lifecycle get)")
+            return True if check is None else check(goal)
+
+        return gate
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        ret = super().on_activate(state)
+        if ret is TransitionCallbackReturn.SUCCESS:
+            self._active.set()
+        return ret
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Leaving active: no new goals, the running ones canceled (the robot stops as on a
+        client's cancel), no auto-charging."""
+        self._active.clear()
+        canceled = sum(server.cancel_all_goals() for server in self._servers)
+        if canceled:
+            self.logger.warning("deactivated: %d goal(s) canceled", canceled)
+        return super().on_deactivate(state)
 
     def handle_clear_costmap(self, req: ClearEntireCostmapRequest) -> ClearEntireCostmapResponse:
         self.core.clear_obstacles()
@@ -379,6 +424,8 @@ class NavNode(Node):
 
     def _maybe_autocharge(self, now: float) -> None:
         core = self.core
+        if not self._active.is_set():
+            return  # an inactive nav drives nowhere on its own
         if core.mapping:
             return  # the dock is in the saved map's frame, not the one being built
         if not self.autocharge.due(core.battery, core.charging, core.docked,

@@ -3,10 +3,17 @@
 Idle until ``slam/start``. While mapping it publishes ``map`` (latched), ``map -> odom`` on
 ``/tf``, ``slam/pose``, ``slam/track`` (latched) and ``slam/state`` (latched), and serves
 ``slam/stop``, ``slam/save`` and slam_toolbox's services (docs/mapping.md).
+
+A managed (lifecycle) node, as Nav2's servers are: ``slam/start`` is refused unless it is
+active; deactivating it stops a mapping run. By itself (``autostart`` true, the default) it
+activates once set up; the launches bring it up through their lifecycle manager
+(docs/lifecycle.md, "The robot's services").
 """
 
 from __future__ import annotations
 
+import asyncio
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +31,8 @@ from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs import slam_toolbox as st
 from zenros.msgs.zenros_msgs import slam as sm
 from zenros.msgs.zenros_msgs.result import ResultCode
-from zenros.node import Node
+from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+from zenros.lifecycle.machine import ACTIVE
 from zenros.pubsub import Publisher
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
 from zenros.se2 import Pose2
@@ -40,6 +48,7 @@ from .store import check_name, load_graph, save_graph
 __all__ = ["SlamNode"]
 
 _NAV_TIMEOUT = 3.0
+_ACTIVATION_WAIT = 5.0  # seconds slam/start waits for the node to be activated
 _POSE_COV = np.diag([0.0025, 0.0025, 0.003])  # as nav's robot_pose
 _MODES = ("laser", "explore")
 
@@ -48,10 +57,11 @@ def _time(seconds: float) -> Time:
     return Time.from_nanoseconds(int(round(seconds * 1e9)))
 
 
-class SlamNode(Node):
+class SlamNode(LifecycleNode):
     """The mapping node (``slam``): occupancy-grid SLAM from ``scan`` and ``odom``."""
 
     node_name = "slam"
+    autostart_default = True
 
     def setup(self) -> None:
         p = self.params = self.declare_parameters(SlamParameters, read_only=True)
@@ -62,6 +72,8 @@ class SlamNode(Node):
         self._map_due = 0.0
         self._closures_published = 0
         self._nodes_published = -1
+        self._active = threading.Event()  # set while the node is active (lifecycle)
+        self.activation_wait = _ACTIVATION_WAIT
 
         # declared while mapping only: once nav takes the map back, no latched cache of ours
         # may serve a late joiner the SLAM map beside nav's
@@ -202,9 +214,54 @@ class SlamNode(Node):
             return ResultCode.FAILED, f"nav/set_mapping_mode failed: {exc}"
         return int(res.code), res.message
 
+    # ------------------------------------------------------------------ lifecycle
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        ret = super().on_activate(state)
+        if ret is TransitionCallbackReturn.SUCCESS:
+            self._active.set()
+        return ret
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Leaving active stops a mapping run (its map is not saved), as a Nav2 server stops
+        its work; nav is told to leave mapping mode in the background."""
+        if self.state.state == "mapping":
+            self.logger.warning("deactivated while mapping: mapping stopped, the map not saved")
+            nav_req = self._end_mapping()
+            self.context.executor.submit(self._leave_nav_mapping(nav_req))
+        self._active.clear()
+        return super().on_deactivate(state)
+
+    async def _leave_nav_mapping(self, nav_req: sm.SetMappingModeRequest) -> None:
+        code, why = await self._set_nav_mode(nav_req)
+        self._publish_state(state="idle", message="" if code == ResultCode.OK else why)
+
+    def _end_mapping(self) -> sm.SetMappingModeRequest:
+        """Stop taking scans and drop the map topic; what nav must be told."""
+        self._publish_state(state="stopping")
+        _, m2o, _ = self.session.pose()
+        self.session.end()
+        for sub in self._inputs:
+            self.destroy(sub)
+        self._inputs = []
+        if self.map_pub is not None:
+            self.destroy(self.map_pub)
+            self.map_pub = None
+        return sm.SetMappingModeRequest(enable=False, map_name=self.saved_name,
+                                        map_to_odom=pose2d(m2o),
+                                        use_map_to_odom=bool(self.saved_name))
+
     # ------------------------------------------------------------------ services
 
     async def handle_start(self, req: sm.StartMappingRequest) -> sm.StartMappingResponse:
+        if not self._active.is_set():  # a launch's manager may be bringing it up right now
+            await asyncio.to_thread(self._active.wait, self.activation_wait)
+        if self.current_state.state_id != ACTIVE:
+            return sm.StartMappingResponse(
+                code=ResultCode.CONFLICT,
+                message=f"slam is {self.current_state.label}, not active: its lifecycle "
+                        f"manager has not brought it up within {self.activation_wait:g} s "
+                        "(zenros lifecycle get)")
         if self.state.state != "idle":
             return sm.StartMappingResponse(code=ResultCode.CONFLICT,
                                            message=f"already {self.state.state}")
@@ -254,18 +311,7 @@ class SlamNode(Node):
         if self.state.state != "mapping":
             return sm.StopMappingResponse(code=ResultCode.CONFLICT,
                                           message=f"not mapping (state {self.state.state})")
-        self._publish_state(state="stopping")
-        _, m2o, _ = self.session.pose()
-        self.session.end()
-        for sub in self._inputs:
-            self.destroy(sub)
-        self._inputs = []
-        if self.map_pub is not None:
-            self.destroy(self.map_pub)
-            self.map_pub = None
-        nav_req = sm.SetMappingModeRequest(enable=False, map_name=self.saved_name,
-                                           map_to_odom=pose2d(m2o),
-                                           use_map_to_odom=bool(self.saved_name))
+        nav_req = self._end_mapping()
         code, why = await self._set_nav_mode(nav_req)
         self._publish_state(state="idle", message="" if code == ResultCode.OK else why)
         self.logger.info("mapping stopped")

@@ -343,6 +343,18 @@ class ActionServer(Generic[G, R, F]):
         else:
             query.reply(query.key_expr, data, encoding=enc)
 
+    def cancel_all_goals(self) -> int:
+        """Cancel every goal this server holds, from the server's side (as a node being
+        deactivated does; the cancel callback is not asked): running goals are asked to
+        cancel, waiting ones end CANCELED. The number of goals asked."""
+        with self.lock:
+            handles = list(self._table.active.values())
+            for h in handles:
+                self._runner.request_cancel(h)
+            if handles:
+                self._status.mark()
+        return len(handles)
+
     # ------------------------------------------------------------------ cancel_goal
 
     def _on_cancel(self, query: zenoh.Query) -> None:

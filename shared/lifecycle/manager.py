@@ -40,6 +40,7 @@ from ..msgs.nav2_msgs import (
 )
 from ..msgs.std_srvs import Trigger, TriggerRequest, TriggerResponse
 from ..msgs.zenros_msgs.lifecycle import LifecycleManagerStatus
+from ..names import Token
 from ..node import Node
 from ..qos import QOS_LATCHED
 from ..runtime import run
@@ -63,6 +64,7 @@ class _Managed:
 
     def __init__(self, node: Node, name: str) -> None:
         self.name = name
+        self.fqn = node.resolve_name(name, "node")
         self.bond_id = name.rstrip("/").rsplit("/", 1)[-1]
         self.change = node.create_client(ChangeState, f"{name}/change_state")
         self.get = node.create_client(GetState, f"{name}/get_state")
@@ -104,6 +106,16 @@ class LifecycleManager(Node):
         self.create_service(ManageLifecycleNodes, "~/manage_nodes", self._on_manage)
         self.create_service(Trigger, "~/is_active", self._on_is_active)
         self.create_timer(0.2, self._check_bonds, clock=SteadyClock())
+        by_fqn = {m.fqn: m for m in self._nodes}
+
+        def on_graph(event: str, token: Token) -> None:
+            # a process that died leaves the graph at once (its session is gone): its bond is
+            # lost now, not a bond_timeout later (zenros's; Nav2 waits for the heartbeats)
+            m = by_fqn.get(token.node)
+            if event == "delete" and token.kind == "node" and m is not None and m.bonded:
+                m.left = True
+
+        self.on_close(self.graph.add_listener(on_graph))
         if self.heartbeat_period > 0:
             self.create_timer(self.heartbeat_period, self._beat, clock=SteadyClock())
         self._report("idle", "")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 import time
 import uuid
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from ..clock import SteadyClock
 from ..context import Context
@@ -148,11 +148,18 @@ class LifecycleNode(Node):
     each step. While active (and ``bond_heartbeat_period`` > 0) it sends a heartbeat on
     ``bond`` (bond/Status, id = its name) for a lifecycle manager.
 
+    A subclass that sets ``autostart_default = True`` (the robot's services: slam) also
+    works without a manager: its ``autostart`` parameter (that default unless given)
+    configures and activates it once set up; a launch that manages it passes
+    ``autostart: false`` and lets a lifecycle manager bring it up (zenros's, not rclpy's).
+
     Args:
         enable_communication_interface: offer the ``~/change_state``... services and the
             ``~/transition_event`` topic (rclpy's flag).
         **kwargs: as `Node`.
     """
+
+    autostart_default: ClassVar[bool] = False
 
     def __init__(self, name: str | None = None, *, enable_communication_interface: bool = True,
                  **kwargs: Any) -> None:
@@ -172,6 +179,10 @@ class LifecycleNode(Node):
             description="seconds between bond heartbeats while active (0: no bond)"))
         if self._bond_period > 0:
             self._bond_pub = self.create_publisher(Status, "bond", 10)
+        self._autostart = bool(self.parameters.declare(
+            "autostart", self.autostart_default,
+            description="configure and activate by itself once set up (false: a lifecycle "
+                        "manager brings it up)"))
 
     def _announce(self) -> None:
         """Offer the services once `setup` has returned: a transition never meets a node
@@ -179,6 +190,12 @@ class LifecycleNode(Node):
         if self._interface:
             self._open_interface()
         super()._announce()
+        if self._autostart:
+            for label in ("configure", "activate"):
+                if self.trigger_transition(label=label) is not TransitionCallbackReturn.SUCCESS:
+                    self.logger.error("autostart: %s failed; the node stays %s", label,
+                                      self.current_state.label)
+                    break
 
     def _open_interface(self) -> None:
         self._events = self.create_publisher(TransitionEvent, "~/transition_event", 10)
