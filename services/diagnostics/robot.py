@@ -21,7 +21,10 @@ ROBOT_ANALYZERS: dict[str, Any] = {
     **_part("chassis", "Chassis", "chassis", ["motors", "battery", "laser"]),
     **_part("navigation", "Navigation", "nav", ["localization", "goals"]),
     **_part("gateway", "Gateway", "gateway", ["front ends", "clients"]),
+    # the mapping service runs only where the launch maps (robot.yaml mapping:=false has
+    # none): its item is claimed, not expected
+    **_part("mapping", "Mapping", "slam", []),
 }
 """The chassis (motors, battery, laser), nav (localization, goals) and the gateway (front
 ends, clients), each a branch whose items are expected: one that stops reporting shows
-as "Missing" or STALE."""
+as "Missing" or STALE; and the mapping service (slam: mapping) where it runs."""

@@ -39,6 +39,7 @@ from zenros.se2 import Pose2
 from zenros.tf import TransformBroadcaster, yaw_from_msg
 from zenros.tf.listener import STATIC_LISTENER_QOS
 
+from .diagnostics import slam_diagnostics
 from .mapper import Prior, ScanOutcome
 from .messages import grid_msg, pose2d, pose_with_covariance, track_msg, transform_msg
 from .params import SlamParameters
@@ -106,6 +107,7 @@ class SlamNode(LifecycleNode):
         self.create_timer(0.2, self.on_map_timer)
         self.create_timer(1.0, self.on_state_timer)
         self._publish_state()
+        self.diagnostics = slam_diagnostics(self)  # slam: mapping, on /diagnostics
 
     # ------------------------------------------------------------------ inputs
 

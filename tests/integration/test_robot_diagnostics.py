@@ -40,7 +40,7 @@ def test_every_part_reports_and_the_robot_is_ok(robot: tuple[GatewayRobot, Any])
                            for p in parts), 30)
     t = tree(trees)
     assert [s.name for s in trees[-1].status if s.name.count("/") == 1] == [
-        "/Chassis", "/Gateway", "/Navigation"]  # the analyzers, by their key's order
+        "/Chassis", "/Gateway", "/Mapping", "/Navigation"]  # the analyzers, sorted
     assert t["/Chassis/laser"].message.endswith("Hz")
     assert {kv.key for kv in t["/Gateway/front ends"].values} >= {"REST", "Modbus"}
     assert t["/Navigation/localization"].message.startswith("localized")

@@ -1,7 +1,8 @@
 """The mapping node as a managed (lifecycle) node over real Zenoh, as Nav2's servers are:
 with ``autostart`` off it waits unconfigured, ``slam/start`` is refused until it is active
-(after waiting a moment for a manager), a lifecycle manager brings it up, and pausing it
-(deactivate) stops a mapping run and tells nav to leave mapping mode."""
+(after waiting a moment for a manager), a lifecycle manager brings it up, pausing it
+(deactivate) stops a mapping run and tells nav to leave mapping mode, and its diagnostics
+say what state it is in."""
 
 from __future__ import annotations
 
@@ -9,13 +10,15 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from zenros.diagnostics import WARN
 from zenros.lifecycle.manager import LifecycleManager
+from zenros.msgs.diagnostic_msgs import DiagnosticArray
 from zenros.msgs.lifecycle_msgs import GetState, GetStateRequest
 from zenros.msgs.nav2_msgs import ManageLifecycleNodes, ManageLifecycleNodesRequest
 from zenros.msgs.zenros_msgs import slam as sm
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.services.slam.node import SlamNode
-from zenros.testing import wait_for
+from zenros.testing import Collector, wait_for
 
 
 class NavStandIn:
@@ -34,6 +37,8 @@ def test_slam_waits_for_its_manager_and_stops_mapping_when_paused(
         "autostart": False, "graph_dir": str(tmp_path)})
     user = make_node("user", 1)
     nav = NavStandIn(user)
+    reports: Collector[DiagnosticArray] = Collector()
+    user.create_subscription(DiagnosticArray, "/diagnostics", reports)
     start = user.create_client(sm.StartMapping, "slam/start")
     get_state = user.create_client(GetState, "slam/get_state")
     assert start.wait_for_service(10) and get_state.wait_for_service(10)
@@ -67,6 +72,10 @@ def test_slam_waits_for_its_manager_and_stops_mapping_when_paused(
     slam.activation_wait = 0.3
     assert start.call(sm.StartMappingRequest(mode="laser"), timeout=10).code == \
         ResultCode.CONFLICT
+    # its diagnostics say so (slam: mapping, on /diagnostics)
+    assert wait_for(lambda: any(
+        s.name == "slam: mapping" and s.level == WARN and s.message.startswith("inactive")
+        for a in reports.items for s in a.status), 10), reports.items[-1:]
     assert manage.call(ManageLifecycleNodesRequest(
         command=ManageLifecycleNodesRequest.RESUME), timeout=15).success
     assert start.call(sm.StartMappingRequest(mode="laser"), timeout=10).code == ResultCode.OK
