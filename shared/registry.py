@@ -89,10 +89,29 @@ def add_package_source(source: PackageSource) -> None:
         _SOURCES.append(source)
 
 
+@cache
+def _short_name_limits() -> dict[str, frozenset[str]]:
+    """Packages whose module limits what their short names may mean (``SHORT_NAMES``:
+    example_interfaces restates std_msgs and std_srvs, so a short ``String`` or ``SetBool``
+    keeps meaning the standard one)."""
+    out: dict[str, frozenset[str]] = {}
+    for name in msgs.__all__:
+        limit = getattr(getattr(msgs, name), "SHORT_NAMES", None)
+        if limit is not None:
+            out[name] = frozenset(limit)
+    return out
+
+
 def _preferred(table: dict[str, T]) -> dict[str, T]:
-    """``table`` without the packages loaded on demand (where short names look first)."""
-    lazy = _on_demand()
-    return {k: v for k, v in table.items() if k.partition("/")[0] not in lazy}
+    """``table`` without the packages loaded on demand (where short names look first), and
+    without the types a package keeps out of short names."""
+    lazy, limits = _on_demand(), _short_name_limits()
+    out = {}
+    for key, value in table.items():
+        pkg, _, short = key.partition("/")
+        if pkg not in lazy and (pkg not in limits or short in limits[pkg]):
+            out[key] = value
+    return out
 
 
 def _find(table: dict[str, Any], kind: str, name: str) -> Any:

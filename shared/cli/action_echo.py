@@ -58,13 +58,6 @@ def echo(ctx: Context, args: argparse.Namespace) -> int:
     raw: list[Any] = []
     try:
         services = action_service_types(action)
-        def event_shower(interface: str) -> Any:
-            return lambda msg: show(interface, to_builtins(msg))  # one argument: the message
-
-        for part in PARTS:
-            node.create_subscription(event_type_of(services[part]),
-                                     part_name(name, part) + EVENT_SUFFIX,
-                                     event_shower(_INTERFACES[part]), 100)
         feedback = codec_for(wire_types(action).FeedbackMessage)
         status = codec_for(GoalStatusArray)
 
@@ -82,6 +75,15 @@ def echo(ctx: Context, args: argparse.Namespace) -> int:
                                                   on("FEEDBACK_TOPIC", feedback)))
         raw.append(status_subscriber(ctx.session, ctx.keys.action(name, "status"),
                                      on("STATUS_TOPIC", status)))
+        # the events' subscriptions last: once a server sees them matched, feedback and
+        # status are subscribed too (declared earlier on the same session)
+        def event_shower(interface: str) -> Any:
+            return lambda msg: show(interface, to_builtins(msg))  # one argument: the message
+
+        for part in PARTS:
+            node.create_subscription(event_type_of(services[part]),
+                                     part_name(name, part) + EVENT_SUFFIX,
+                                     event_shower(_INTERFACES[part]), 100)
         if not any(ctx.graph.publishers(part_name(name, p) + EVENT_SUFFIX) for p in PARTS):
             sys.stderr.write(f"{name}: no introspection events yet (its server turns them on "
                              "with configure_introspection); feedback and status follow\n")

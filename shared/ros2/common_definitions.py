@@ -9,6 +9,62 @@ from __future__ import annotations
 __all__ = ["COMMON_ACTIONS", "COMMON_MESSAGES", "COMMON_SERVICES"]
 
 COMMON_MESSAGES: dict[str, str] = {
+    "example_interfaces/msg/Bool": "bool data",
+    "example_interfaces/msg/Byte": "byte data",
+    "example_interfaces/msg/ByteMultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        byte[]            data          # array of data""",
+    "example_interfaces/msg/Char": "char data",
+    "example_interfaces/msg/Empty": "",
+    "example_interfaces/msg/Float32": "float32 data",
+    "example_interfaces/msg/Float32MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        float32[]         data          # array of data""",
+    "example_interfaces/msg/Float64": "float64 data",
+    "example_interfaces/msg/Float64MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        float64[]         data          # array of data""",
+    "example_interfaces/msg/Int16": "int16 data",
+    "example_interfaces/msg/Int16MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        int16[]           data          # array of data""",
+    "example_interfaces/msg/Int32": "int32 data",
+    "example_interfaces/msg/Int32MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        int32[]           data          # array of data""",
+    "example_interfaces/msg/Int64": "int64 data",
+    "example_interfaces/msg/Int64MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        int64[]           data          # array of data""",
+    "example_interfaces/msg/Int8": "int8 data",
+    "example_interfaces/msg/Int8MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        int8[]            data          # array of data""",
+    "example_interfaces/msg/MultiArrayDimension": """
+        string label   # label of given dimension
+        uint32 size    # size of given dimension (in type units)
+        uint32 stride  # stride of given dimension""",
+    "example_interfaces/msg/MultiArrayLayout": """
+        MultiArrayDimension[] dim # Array of dimension properties
+        uint32 data_offset        # padding bytes at front of data""",
+    "example_interfaces/msg/String": "string data",
+    "example_interfaces/msg/UInt16": "uint16 data",
+    "example_interfaces/msg/UInt16MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        uint16[]            data        # array of data""",
+    "example_interfaces/msg/UInt32": "uint32 data",
+    "example_interfaces/msg/UInt32MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        uint32[]          data          # array of data""",
+    "example_interfaces/msg/UInt64": "uint64 data",
+    "example_interfaces/msg/UInt64MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        uint64[]          data          # array of data""",
+    "example_interfaces/msg/UInt8": "uint8 data",
+    "example_interfaces/msg/UInt8MultiArray": """
+        MultiArrayLayout  layout        # specification of data layout
+        uint8[]           data          # array of data""",
+    "example_interfaces/msg/WString": "wstring data",
     "geometry_msgs/msg/Accel": """
         Vector3  linear
         Vector3  angular""",
@@ -659,6 +715,15 @@ COMMON_MESSAGES: dict[str, str] = {
 }
 
 COMMON_SERVICES: dict[str, str] = {
+    "example_interfaces/srv/SetBool": """
+        bool data # e.g. for hardware enabling / disabling
+        ---
+        bool success   # indicate successful run of triggered service
+        string message # informational, e.g. for error messages""",
+    "example_interfaces/srv/Trigger": """
+        ---
+        bool success   # indicate successful run of triggered service
+        string message # informational, e.g. for error messages.""",
     "nav_msgs/srv/GetMap": """
         ---
         OccupancyGrid map""",

@@ -58,7 +58,8 @@ def test_list_names_every_type_and_each_shows() -> None:
             assert show_lines(name) or name in ("std_msgs/msg/Empty",
                                                 "rcl_interfaces/msg/ParameterType",
                                                 "test_msgs/msg/Constants",
-                                                "test_msgs/msg/Empty"), name
+                                                "test_msgs/msg/Empty",
+                                                "example_interfaces/msg/Empty"), name
     assert zenros("list", "-a").stdout.splitlines()[0] == "Actions:"
     assert "std_msgs" in zenros("packages").stdout.split()
     assert "std_msgs/msg/String" in zenros("package", "std_msgs").stdout.split()

@@ -46,7 +46,8 @@ BULK = {
     "sensor_msgs/Image", "sensor_msgs/CompressedImage", "sensor_msgs/PointCloud2",
     "std_msgs/ByteMultiArray", "std_msgs/UInt8MultiArray", "visualization_msgs/MeshFile",
     "test_msgs/BoundedPlainSequences", "test_msgs/BoundedSequences",
-    "test_msgs/UnboundedSequences",
+    "test_msgs/UnboundedSequences", "example_interfaces/ByteMultiArray",
+    "example_interfaces/UInt8MultiArray",
 }
 
 
