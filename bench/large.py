@@ -78,26 +78,21 @@ def child_sink(impl: str, port: int, prefix: str, count: int) -> None:
 def measure(impl: str, size: int, count: int) -> float:
     port, prefix = free_port(), unique_prefix()
     arr = np.random.default_rng(1).integers(0, 255, size, dtype=np.uint8)
-    if impl == "zenros":
+    if impl in ("zenros", "image"):
         ctx = Context(loopback_options(port), prefix=prefix)
         node = Node("src", context=ctx)
-        pub = node.create_publisher(Blob, "blob", 100)
+        data = arr.tobytes()
+        # the same bytes as a bulk message's numpy field, or as a mono8 image 1024 wide
+        pub: Any = (node.create_publisher(Blob, "blob", 100) if impl == "zenros"
+                    else node.create_publisher(Image, "image", 100))
+        make = ((lambda i: Blob(seq=i, data=arr)) if impl == "zenros" else
+                (lambda i: Image(height=size // 1024, width=1024, encoding="mono8", step=1024,
+                                 data=data)))
         child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
                       prefix, "--count", str(count))
         assert pub.wait_for_subscribers(1, 10)
-        send = lambda i: pub.publish(Blob(seq=i, data=arr))
+        send = lambda i: pub.publish(make(i))
         closer: Any = lambda: (node.close(), ctx.close())
-    elif impl == "image":
-        ctx = Context(loopback_options(port), prefix=prefix)
-        node = Node("src", context=ctx)
-        ipub = node.create_publisher(Image, "image", 100)
-        child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
-                      prefix, "--count", str(count))
-        assert ipub.wait_for_subscribers(1, 10)
-        data = arr.tobytes()
-        send = lambda i: ipub.publish(Image(height=size // 1024, width=1024, encoding="mono8",
-                                            step=1024, data=data))
-        closer = lambda: (node.close(), ctx.close())
     else:
         s = zenoh.open(raw_config(listen=port))
         zpub = s.declare_publisher(f"{prefix}/blob", congestion_control=zenoh.CongestionControl.BLOCK)

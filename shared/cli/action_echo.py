@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import threading
 from typing import Any
 
 import zenoh
@@ -23,7 +22,7 @@ from ..context import Context
 from ..errors import CodecError
 from ..names import resolve
 from ..service_events import EVENT_SUFFIX, event_type_of
-from .common import CliError, ToolNode, find_action_type, print_data
+from .common import CliError, Echo, ToolNode, find_action_type
 
 __all__ = ["echo"]
 
@@ -39,20 +38,10 @@ def echo(ctx: Context, args: argparse.Namespace) -> int:
     if not types:
         raise CliError(f"unknown action {name}: `zenros action list` names them")
     action = find_action_type(types[0])
-    limit = 1 if args.once else args.count
-    got = 0
-    done = threading.Event()
-    lock = threading.Lock()
+    echo = Echo(1 if args.once else args.count, args.json)
 
     def show(interface: str, data: Any) -> None:
-        nonlocal got
-        with lock:
-            if done.is_set():
-                return
-            got += 1
-            print_data({"interface": interface, **data}, args.json)
-            if limit and got >= limit:
-                done.set()
+        echo.print({"interface": interface, **data})
 
     node = ToolNode(f"zenros_action_echo_{os.getpid()}", context=ctx)
     raw: list[Any] = []
@@ -88,14 +77,11 @@ def echo(ctx: Context, args: argparse.Namespace) -> int:
             sys.stderr.write(f"{name}: no introspection events yet (its server turns them on "
                              "with configure_introspection); feedback and status follow\n")
             sys.stderr.flush()
-        try:
-            ended = done.wait(args.timeout or None)
-        except KeyboardInterrupt:
-            ended = True
+        ended = echo.wait(args.timeout)
     finally:
         for sub in raw:
             sub.undeclare()
         node.close()
-    if not ended and args.timeout and not got:
+    if not ended and args.timeout and not echo.count:
         raise CliError(f"nothing from action {name} within {args.timeout:g} s")
     return 0

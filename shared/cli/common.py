@@ -172,6 +172,34 @@ def print_data(data: Any, as_json: bool, *, separator: bool = True) -> None:
     sys.stdout.flush()
 
 
+class Echo:
+    """What an echo verb prints: each message as `print_data` does, from any thread, until
+    ``limit`` of them (0: no limit)."""
+
+    def __init__(self, limit: int, as_json: bool) -> None:
+        self.limit, self.as_json = limit, as_json
+        self.count = 0
+        self.done = threading.Event()
+        self._lock = threading.Lock()
+
+    def print(self, data: Any) -> None:
+        with self._lock:
+            if self.done.is_set():
+                return
+            self.count += 1
+            print_data(data, self.as_json)
+            if self.limit and self.count >= self.limit:
+                self.done.set()
+
+    def wait(self, timeout: float) -> bool:
+        """Until the limit, ``timeout`` s (0: for ever) or Ctrl-C; False if the time ran out
+        first."""
+        try:
+            return self.done.wait(timeout or None)
+        except KeyboardInterrupt:
+            return True
+
+
 # ---------------------------------------------------------------------- types
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import threading
 from typing import Any
 
 from ..codec import from_builtins, to_builtins
@@ -14,6 +13,7 @@ from ..rpc import Client
 from ..service_events import EVENT_SUFFIX, event_type_of
 from .common import (
     CliError,
+    Echo,
     ToolNode,
     add_common,
     check_graph_type,
@@ -90,34 +90,19 @@ def _echo(ctx: Any, name: str, args: argparse.Namespace) -> int:
     if not types:
         raise CliError(f"unknown service {name}: `zenros service list` names them")
     events_cls = event_type_of(find_service_type(types[0]))
-    limit = 1 if args.once else args.count
-    got: list[Any] = []
-    done = threading.Event()
-    lock = threading.Lock()
-
-    def on_event(msg: Any) -> None:
-        with lock:
-            if done.is_set():
-                return
-            got.append(msg)
-            print_data(to_builtins(msg), args.json)
-            if limit and len(got) >= limit:
-                done.set()
-
+    echo = Echo(1 if args.once else args.count, args.json)
     node = ToolNode(f"zenros_service_echo_{os.getpid()}", context=ctx)
     try:
-        node.create_subscription(events_cls, name + EVENT_SUFFIX, on_event)
+        node.create_subscription(events_cls, name + EVENT_SUFFIX,
+                                 lambda msg: echo.print(to_builtins(msg)))
         if not ctx.graph.publishers(name + EVENT_SUFFIX):
             sys.stderr.write(f"waiting for events of {name} (its server or a client must "
                              "turn introspection on: configure_introspection)\n")
             sys.stderr.flush()
-        try:
-            ended = done.wait(args.timeout or None)
-        except KeyboardInterrupt:
-            ended = True
+        ended = echo.wait(args.timeout)
     finally:
         node.close()
-    if not ended and args.timeout and not got:
+    if not ended and args.timeout and not echo.count:
         raise CliError(f"no event of {name} within {args.timeout:g} s (is its introspection "
                        "on?)")
     return 0
