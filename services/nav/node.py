@@ -11,6 +11,7 @@ import numpy as np
 from zenros.errors import GoalRejectedError
 from zenros.home import data_dir
 from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+from zenros.lifecycle.machine import ACTIVE
 from zenros.maps import GridMap
 from zenros.message import ActionType
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
@@ -91,7 +92,6 @@ class NavNode(LifecycleNode):
     autostart_default = True
 
     def setup(self) -> None:
-        self._active = threading.Event()  # set while the node is active (lifecycle)
         self.activation_wait = ACTIVATION_WAIT
         self._servers: list[Any] = []
         p = self.params = self.declare_parameters(NavParameters)
@@ -220,7 +220,7 @@ class NavNode(LifecycleNode):
         """``check`` behind the lifecycle gate: a goal is refused unless nav is active."""
 
         def gate(goal: Any) -> Any:
-            if not self._active.is_set() and not self._active.wait(self.activation_wait):
+            if not self.wait_for_active(self.activation_wait):
                 raise GoalRejectedError(
                     f"nav is {self.current_state.label}, not active: its lifecycle manager "
                     f"has not brought it up within {self.activation_wait:g} s "
@@ -229,16 +229,9 @@ class NavNode(LifecycleNode):
 
         return gate
 
-    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
-        ret = super().on_activate(state)
-        if ret is TransitionCallbackReturn.SUCCESS:
-            self._active.set()
-        return ret
-
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Leaving active: no new goals, the running ones canceled (the robot stops as on a
         client's cancel), no auto-charging."""
-        self._active.clear()
         canceled = sum(server.cancel_all_goals() for server in self._servers)
         if canceled:
             self.logger.warning("deactivated: %d goal(s) canceled", canceled)
@@ -424,7 +417,7 @@ class NavNode(LifecycleNode):
 
     def _maybe_autocharge(self, now: float) -> None:
         core = self.core
-        if not self._active.is_set():
+        if self.current_state.state_id != ACTIVE:
             return  # an inactive nav drives nowhere on its own
         if core.mapping:
             return  # the dock is in the saved map's frame, not the one being built

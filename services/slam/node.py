@@ -13,7 +13,6 @@ activates once set up; the launches bring it up through their lifecycle manager
 from __future__ import annotations
 
 import asyncio
-import threading
 from pathlib import Path
 from typing import Any
 
@@ -73,7 +72,6 @@ class SlamNode(LifecycleNode):
         self._map_due = 0.0
         self._closures_published = 0
         self._nodes_published = -1
-        self._active = threading.Event()  # set while the node is active (lifecycle)
         self.activation_wait = _ACTIVATION_WAIT
 
         # declared while mapping only: once nav takes the map back, no latched cache of ours
@@ -218,12 +216,6 @@ class SlamNode(LifecycleNode):
 
     # ------------------------------------------------------------------ lifecycle
 
-    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
-        ret = super().on_activate(state)
-        if ret is TransitionCallbackReturn.SUCCESS:
-            self._active.set()
-        return ret
-
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Leaving active stops a mapping run (its map is not saved), as a Nav2 server stops
         its work; nav is told to leave mapping mode in the background."""
@@ -231,7 +223,6 @@ class SlamNode(LifecycleNode):
             self.logger.warning("deactivated while mapping: mapping stopped, the map not saved")
             nav_req = self._end_mapping()
             self.context.executor.submit(self._leave_nav_mapping(nav_req))
-        self._active.clear()
         return super().on_deactivate(state)
 
     async def _leave_nav_mapping(self, nav_req: sm.SetMappingModeRequest) -> None:
@@ -256,8 +247,8 @@ class SlamNode(LifecycleNode):
     # ------------------------------------------------------------------ services
 
     async def handle_start(self, req: sm.StartMappingRequest) -> sm.StartMappingResponse:
-        if not self._active.is_set():  # a launch's manager may be bringing it up right now
-            await asyncio.to_thread(self._active.wait, self.activation_wait)
+        if not self.wait_for_active(0):  # a launch's manager may be bringing it up right now
+            await asyncio.to_thread(self.wait_for_active, self.activation_wait)
         if self.current_state.state_id != ACTIVE:
             return sm.StartMappingResponse(
                 code=ResultCode.CONFLICT,

@@ -10,6 +10,7 @@ default callbacks, so an override calls ``super().on_activate(state)`` to activa
 from __future__ import annotations
 
 import logging
+import threading
 import time
 import uuid
 from typing import Any, ClassVar, TypeVar
@@ -170,6 +171,7 @@ class LifecycleNode(Node):
         self._heartbeat: Timer | None = None
         self._bond_pub: Publisher[Status] | None = None
         self._instance = uuid.uuid4().hex
+        self._active = threading.Event()  # set while the node is active
         super().__init__(name, **kwargs)
 
     def _start(self) -> None:
@@ -227,8 +229,17 @@ class LifecycleNode(Node):
         current state; raises `InvalidTransitionError` if there is none."""
         t = self._machine.find(transition_id, label)
         ret = self._machine.trigger(t, self._run_callback, self._emit)
+        if self._machine.state_id == ACTIVE:
+            self._active.set()
+        else:
+            self._active.clear()
         self._follow_bond()
         return ret
+
+    def wait_for_active(self, timeout: float | None = None) -> bool:
+        """Block until the node is active (True), or ``timeout`` s pass first (False): for a
+        request that arrives while a manager is bringing the node up."""
+        return self._active.wait(timeout)
 
     def trigger_configure(self) -> TransitionCallbackReturn:
         return self.trigger_transition(label="configure")
