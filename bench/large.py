@@ -81,13 +81,12 @@ def measure(impl: str, size: int, count: int) -> float:
     if impl in ("zenros", "image"):
         ctx = Context(loopback_options(port), prefix=prefix)
         node = Node("src", context=ctx)
-        data = arr.tobytes()
         # the same bytes as a bulk message's numpy field, or as a mono8 image 1024 wide
         pub: Any = (node.create_publisher(Blob, "blob", 100) if impl == "zenros"
                     else node.create_publisher(Image, "image", 100))
         make = ((lambda i: Blob(seq=i, data=arr)) if impl == "zenros" else
                 (lambda i: Image(height=size // 1024, width=1024, encoding="mono8", step=1024,
-                                 data=data)))
+                                 data=arr)))
         child = Child(__file__, "--role", "sink", "--impl", impl, "--port", str(port), "--prefix",
                       prefix, "--count", str(count))
         assert pub.wait_for_subscribers(1, 10)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import base64
+import binascii
 import math
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
@@ -11,7 +13,7 @@ import msgspec.inspect as mi
 import numpy as np
 
 from .errors import DecodeError, EncodeError, TypeMismatchError
-from .message import Message, _TypedArray, normalize_type_name, to_array
+from .message import Message, UInt8Array, _TypedArray, normalize_type_name, to_array
 from .registry import lookup_type
 
 __all__ = [
@@ -34,6 +36,8 @@ MSGPACK = "application/msgpack"
 
 
 def _enc_json(obj: Any) -> Any:
+    if isinstance(obj, UInt8Array):  # uint8[] / byte[] / char[]: base64, as rosbridge sends it
+        return base64.b64encode(obj).decode("ascii")
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     if isinstance(obj, np.generic):
@@ -51,6 +55,12 @@ def _enc_msgpack(obj: Any) -> Any:
 
 def _dec(tp: type, obj: Any) -> Any:
     if isinstance(tp, type) and issubclass(tp, _TypedArray):
+        if isinstance(obj, str) and issubclass(tp, UInt8Array):
+            try:
+                return to_array(tp, base64.b64decode(obj, validate=True))
+            except binascii.Error as exc:
+                raise TypeError(f"expected a list of numbers or base64, got a string that is "
+                                f"not base64 ({exc})") from None
         if not isinstance(obj, (bytes, bytearray, memoryview, list)):
             raise TypeError(f"expected an array, got {type(obj).__name__}")
         return to_array(tp, obj)

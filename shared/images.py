@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .errors import DecodeError, EncodeError
+from .message import UInt8Array, to_array
 from .msgs.sensor_msgs import Image
 from .msgs.std_msgs import Header
 
@@ -97,6 +98,7 @@ def numpy_to_image(array: np.ndarray[Any, Any], encoding: str,
         raise EncodeError(f"encoding {encoding} holds {dtype.name}, the array is {arr.dtype}")
     little = np.ascontiguousarray(arr, dtype=dtype)
     height, width = little.shape[:2]
+    data = to_array(UInt8Array, little.tobytes())  # one copy: the message owns its pixels
     return Image(header=header if header is not None else Header(), height=height,
                  width=width, encoding=encoding, is_bigendian=0,
-                 step=width * channels * dtype.itemsize, data=little.tobytes())
+                 step=width * channels * dtype.itemsize, data=data)

@@ -11,6 +11,7 @@ once. The bytes are exactly `zenros.codec.json_bytes`'s.
 
 from __future__ import annotations
 
+import base64
 import concurrent.futures
 import itertools
 import time
@@ -21,6 +22,7 @@ import msgspec
 import numpy as np
 
 from .codec import json_bytes
+from .message import UInt8Array
 
 __all__ = ["BULK_ELEMENTS", "CHUNK", "PACE", "BulkEncoder", "encode_yielding", "is_bulky",
            "json_chunks", "paced"]
@@ -52,7 +54,13 @@ def is_bulky(obj: Any, threshold: int = BULK_ELEMENTS) -> bool:
 def json_chunks(obj: Any, threshold: int = CHUNK) -> Iterator[bytes]:
     """``json_bytes(obj)`` in pieces: each 1-D array longer than ``threshold`` ``CHUNK``
     elements at a time, everything else in one piece per field."""
-    if isinstance(obj, np.ndarray) and obj.ndim == 1 and obj.size > threshold:
+    if isinstance(obj, UInt8Array) and obj.size > threshold:  # base64, 3 bytes to 4 chars
+        step = 3 * CHUNK * 8
+        yield b'"'
+        for start in range(0, obj.size, step):
+            yield base64.b64encode(obj[start:start + step])
+        yield b'"'
+    elif isinstance(obj, np.ndarray) and obj.ndim == 1 and obj.size > threshold:
         yield b"["
         for start in range(0, obj.size, CHUNK):
             if start:

@@ -203,7 +203,9 @@ class Int8Array(_TypedArray):
 
 
 class UInt8Array(_TypedArray):
-    """A uint8 array field (image bytes)."""
+    """A uint8[] / byte[] / char[] field (an image's, a point cloud's bytes): numpy in Python,
+    base64 in JSON (as rosbridge sends it; a list of numbers is read too), raw bytes in
+    MessagePack, a zero-copy view of the payload when received."""
 
     dtype_ = np.uint8
 

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .errors import DecodeError, EncodeError
+from .message import UInt8Array, to_array
 from .msgs.sensor_msgs import PointCloud2, PointField
 from .msgs.std_msgs import Header
 
@@ -158,7 +159,7 @@ def create_cloud(header: Header, fields: Sequence[PointField] | None,
     return PointCloud2(header=header, height=height, width=width, fields=list(fields),
                        is_bigendian=False, point_step=dtype.itemsize,
                        row_step=dtype.itemsize * width, is_dense=False,
-                       data=array.tobytes())
+                       data=to_array(UInt8Array, array.tobytes()))
 
 
 def create_cloud_xyz32(header: Header, points: Any) -> PointCloud2:

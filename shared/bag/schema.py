@@ -9,7 +9,7 @@ from typing import Any
 import msgspec
 
 from ..codec import MSGPACK, codec_for
-from ..message import Message, _TypedArray
+from ..message import Message, UInt8Array, _TypedArray
 from ..registry import lookup_type
 
 __all__ = ["message_encoding", "schema_for", "schema_of_type"]
@@ -30,6 +30,8 @@ def _hook(binary: bool) -> Any:
             if binary:
                 return {"type": "string", "contentEncoding": "base64",
                         "description": f"little-endian {dtype} array (MessagePack bin)"}
+            if issubclass(tp, UInt8Array):  # uint8[]: base64 in JSON, as rosbridge writes it
+                return {"type": "string", "contentEncoding": "base64", "description": "bytes"}
             return {"type": "array", "items": {"type": "number"}, "description": f"{dtype} array"}
         raise NotImplementedError(f"no JSON schema for {tp!r}")
 

@@ -4,9 +4,10 @@ alike.
 
 - integers are ``int`` (``UInt8``... of `zenros.primitives`: range-checked on decode), floats
   ``float``, bools ``bool``, strings ``str``;
-- arrays and sequences of byte, char and uint8 are ``bytes`` (base64 in JSON, as rosbridge
-  sends them; a zero-copy numpy view with ``np.frombuffer``), of float32, float64 and int8
-  numpy arrays (`Float32Array`...: raw bytes in MessagePack), of anything else lists;
+- sequences of byte, char and uint8 are `UInt8Array` (numpy; base64 in JSON, as rosbridge
+  sends them; raw bytes in MessagePack, a zero-copy view when received: an image, a point
+  cloud), fixed arrays of them ``bytes``; arrays and sequences of float32, float64 and int8
+  numpy arrays (`Float32Array`...), of anything else lists;
 - a nested structure is its class, default-constructed.
 """
 
@@ -20,14 +21,15 @@ from typing import Any
 import msgspec
 
 from .. import primitives
-from ..message import Float32Array, Float64Array, Int8Array, array_field
+from ..message import Float32Array, Float64Array, Int8Array, UInt8Array, array_field
 from ..ros2.idl import PRIMITIVES
 from .spec import FieldSpec
 
 __all__ = ["ClassRef", "FieldPlan", "plan_field", "source", "uses_bulk"]
 
 _TYPED_ARRAYS: dict[str, Any] = {"float32": Float32Array, "float64": Float64Array,
-                                 "int8": Int8Array}
+                                 "int8": Int8Array, "uint8": UInt8Array, "byte": UInt8Array,
+                                 "char": UInt8Array}
 
 
 @dataclass(frozen=True)
@@ -115,8 +117,8 @@ def plan_field(f: FieldSpec, nested: ClassRef | None, alias_prefix: str = "") ->
         return FieldPlan(f.name, scalar, scalar_src, value, source(value), names)
     values: list[Any] = (list(f.default) if f.has_default
                          else [_zero(t.base)] * t.size if t.kind == "array" else [])
-    if t.is_primitive and PRIMITIVES[t.base][0] == "B":
-        data = bytes(values)
+    if t.is_primitive and PRIMITIVES[t.base][0] == "B" and t.kind == "array":
+        data = bytes(values)  # a fixed handful of bytes (a UUID, a gid)
         return FieldPlan(f.name, bytes, "bytes", data, source(data), frozenset())
     typed = _TYPED_ARRAYS.get(t.base)
     if typed is not None:

@@ -15,6 +15,7 @@ from ..message import (
     Float64Array,
     Int8Array,
     Message,
+    UInt8Array,
     array_field,
     define_action,
     define_service,
@@ -117,7 +118,7 @@ class ByteMultiArray(Message):
     __msgtype__ = "example_interfaces/ByteMultiArray"
     __bulk__ = True
     layout: MultiArrayLayout = msgspec.field(default_factory=MultiArrayLayout)
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class Char(Message):
@@ -378,7 +379,7 @@ class UInt8MultiArray(Message):
     __msgtype__ = "example_interfaces/UInt8MultiArray"
     __bulk__ = True
     layout: MultiArrayLayout = msgspec.field(default_factory=MultiArrayLayout)
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class WString(Message):

@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import msgspec
 
-from ..message import Float32Array, Float64Array, Message, array_field, define_service
+from ..message import Float32Array, Float64Array, Message, UInt8Array, array_field, define_service
 from ..primitives import Int8, Int32, UInt8, UInt16, UInt32
 from .builtin_interfaces import Time
 from .geometry_msgs import Point32, Quaternion, Transform, Twist, Vector3, Wrench
@@ -169,7 +169,7 @@ class CompressedImage(Message):
     __bulk__ = True
     header: Header = msgspec.field(default_factory=Header)
     format: str = ""
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class FluidPressure(Message):
@@ -221,7 +221,7 @@ class Image(Message):
     encoding: str = ""
     is_bigendian: UInt8 = 0
     step: UInt32 = 0
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class Joy(Message):
@@ -424,7 +424,7 @@ class PointCloud2(Message):
     is_bigendian: bool = False
     point_step: UInt32 = 0
     row_step: UInt32 = 0
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
     is_dense: bool = False
 
 
@@ -502,4 +502,5 @@ class SetCameraInfoResponse(Message):
     status_message: str = ""
 
 
-SetCameraInfo = define_service("sensor_msgs/SetCameraInfo", SetCameraInfoRequest, SetCameraInfoResponse)
+SetCameraInfo = define_service(
+    "sensor_msgs/SetCameraInfo", SetCameraInfoRequest, SetCameraInfoResponse)

@@ -1,4 +1,4 @@
-"""shape_msgs: made by `zenros interface generate` from the package's .msg files."""
+"""shape_msgs: made by `zenros interface generate` from its .msg files."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from ..message import Float64Array, Message, array_field
 from ..primitives import UInt8, UInt32
 from .geometry_msgs import Point, Polygon
 
-__all__ = ['Mesh', 'MeshTriangle', 'Plane', 'SolidPrimitive']
+__all__ = ["Mesh", "MeshTriangle", "Plane", "SolidPrimitive"]
 
 
 class MeshTriangle(Message):

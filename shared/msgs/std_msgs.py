@@ -5,7 +5,7 @@ from __future__ import annotations
 import msgspec
 
 from .. import primitives
-from ..message import Float32Array, Float64Array, Int8Array, Message, array_field
+from ..message import Float32Array, Float64Array, Int8Array, Message, UInt8Array, array_field
 from .builtin_interfaces import Time
 
 
@@ -116,7 +116,7 @@ class ByteMultiArray(Message):
     __msgtype__ = "std_msgs/ByteMultiArray"
     __bulk__ = True
     layout: MultiArrayLayout = msgspec.field(default_factory=MultiArrayLayout)
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class Char(Message):
@@ -319,4 +319,4 @@ class UInt8MultiArray(Message):
     __msgtype__ = "std_msgs/UInt8MultiArray"
     __bulk__ = True
     layout: MultiArrayLayout = msgspec.field(default_factory=MultiArrayLayout)
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)

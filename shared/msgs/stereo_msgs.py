@@ -1,4 +1,4 @@
-"""stereo_msgs: made by `zenros interface generate` from the package's .msg files."""
+"""stereo_msgs: made by `zenros interface generate` from its .msg files."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from ..message import Message
 from .sensor_msgs import Image, RegionOfInterest
 from .std_msgs import Header
 
-__all__ = ['DisparityImage']
+__all__ = ["DisparityImage"]
 
 
 class DisparityImage(Message):

@@ -15,6 +15,7 @@ from ..message import (
     Float64Array,
     Int8Array,
     Message,
+    UInt8Array,
     array_field,
     define_action,
     define_service,
@@ -138,12 +139,12 @@ class BoundedPlainSequences(Message):
     __msgtype__ = "test_msgs/BoundedPlainSequences"
     __bulk__ = True
     bool_values: list[bool] = msgspec.field(default_factory=list)
-    byte_values: bytes = bytes(0)
-    char_values: bytes = bytes(0)
+    byte_values: UInt8Array = array_field(UInt8Array)
+    char_values: UInt8Array = array_field(UInt8Array)
     float32_values: Float32Array = array_field(Float32Array)
     float64_values: Float64Array = array_field(Float64Array)
     int8_values: Int8Array = array_field(Int8Array)
-    uint8_values: bytes = bytes(0)
+    uint8_values: UInt8Array = array_field(UInt8Array)
     int16_values: list[Int16] = msgspec.field(default_factory=list)
     uint16_values: list[UInt16] = msgspec.field(default_factory=list)
     int32_values: list[Int32] = msgspec.field(default_factory=list)
@@ -154,12 +155,12 @@ class BoundedPlainSequences(Message):
     constants_values: list[Constants] = msgspec.field(default_factory=list)
     defaults_values: list[Defaults] = msgspec.field(default_factory=list)
     bool_values_default: list[bool] = msgspec.field(default_factory=lambda: [False, True, False])
-    byte_values_default: bytes = b'\x00\x01\xff'
-    char_values_default: bytes = b'\x00\x01\x7f'
+    byte_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
+    char_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 127])
     float32_values_default: Float32Array = array_field(Float32Array, [1.125, 0.0, -1.125])
     float64_values_default: Float64Array = array_field(Float64Array, [3.1415, 0.0, -3.1415])
     int8_values_default: Int8Array = array_field(Int8Array, [0, 127, -128])
-    uint8_values_default: bytes = b'\x00\x01\xff'
+    uint8_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
     int16_values_default: list[Int16] = msgspec.field(default_factory=lambda: [0, 32767, -32768])
     uint16_values_default: list[UInt16] = msgspec.field(default_factory=lambda: [0, 1, 65535])
     int32_values_default: list[Int32] = msgspec.field(default_factory=lambda: [0, 2147483647, -2147483648])
@@ -175,12 +176,12 @@ class BoundedSequences(Message):
     __msgtype__ = "test_msgs/BoundedSequences"
     __bulk__ = True
     bool_values: list[bool] = msgspec.field(default_factory=list)
-    byte_values: bytes = bytes(0)
-    char_values: bytes = bytes(0)
+    byte_values: UInt8Array = array_field(UInt8Array)
+    char_values: UInt8Array = array_field(UInt8Array)
     float32_values: Float32Array = array_field(Float32Array)
     float64_values: Float64Array = array_field(Float64Array)
     int8_values: Int8Array = array_field(Int8Array)
-    uint8_values: bytes = bytes(0)
+    uint8_values: UInt8Array = array_field(UInt8Array)
     int16_values: list[Int16] = msgspec.field(default_factory=list)
     uint16_values: list[UInt16] = msgspec.field(default_factory=list)
     int32_values: list[Int32] = msgspec.field(default_factory=list)
@@ -192,12 +193,12 @@ class BoundedSequences(Message):
     constants_values: list[Constants] = msgspec.field(default_factory=list)
     defaults_values: list[Defaults] = msgspec.field(default_factory=list)
     bool_values_default: list[bool] = msgspec.field(default_factory=lambda: [False, True, False])
-    byte_values_default: bytes = b'\x00\x01\xff'
-    char_values_default: bytes = b'\x00\x01\x7f'
+    byte_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
+    char_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 127])
     float32_values_default: Float32Array = array_field(Float32Array, [1.125, 0.0, -1.125])
     float64_values_default: Float64Array = array_field(Float64Array, [3.1415, 0.0, -3.1415])
     int8_values_default: Int8Array = array_field(Int8Array, [0, 127, -128])
-    uint8_values_default: bytes = b'\x00\x01\xff'
+    uint8_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
     int16_values_default: list[Int16] = msgspec.field(default_factory=lambda: [0, 32767, -32768])
     uint16_values_default: list[UInt16] = msgspec.field(default_factory=lambda: [0, 1, 65535])
     int32_values_default: list[Int32] = msgspec.field(default_factory=lambda: [0, 2147483647, -2147483648])
@@ -224,12 +225,12 @@ class UnboundedSequences(Message):
     __msgtype__ = "test_msgs/UnboundedSequences"
     __bulk__ = True
     bool_values: list[bool] = msgspec.field(default_factory=list)
-    byte_values: bytes = bytes(0)
-    char_values: bytes = bytes(0)
+    byte_values: UInt8Array = array_field(UInt8Array)
+    char_values: UInt8Array = array_field(UInt8Array)
     float32_values: Float32Array = array_field(Float32Array)
     float64_values: Float64Array = array_field(Float64Array)
     int8_values: Int8Array = array_field(Int8Array)
-    uint8_values: bytes = bytes(0)
+    uint8_values: UInt8Array = array_field(UInt8Array)
     int16_values: list[Int16] = msgspec.field(default_factory=list)
     uint16_values: list[UInt16] = msgspec.field(default_factory=list)
     int32_values: list[Int32] = msgspec.field(default_factory=list)
@@ -241,12 +242,12 @@ class UnboundedSequences(Message):
     constants_values: list[Constants] = msgspec.field(default_factory=list)
     defaults_values: list[Defaults] = msgspec.field(default_factory=list)
     bool_values_default: list[bool] = msgspec.field(default_factory=lambda: [False, True, False])
-    byte_values_default: bytes = b'\x00\x01\xff'
-    char_values_default: bytes = b'\x00\x01\x7f'
+    byte_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
+    char_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 127])
     float32_values_default: Float32Array = array_field(Float32Array, [1.125, 0.0, -1.125])
     float64_values_default: Float64Array = array_field(Float64Array, [3.1415, 0.0, -3.1415])
     int8_values_default: Int8Array = array_field(Int8Array, [0, 127, -128])
-    uint8_values_default: bytes = b'\x00\x01\xff'
+    uint8_values_default: UInt8Array = array_field(UInt8Array, [0, 1, 255])
     int16_values_default: list[Int16] = msgspec.field(default_factory=lambda: [0, 32767, -32768])
     uint16_values_default: list[UInt16] = msgspec.field(default_factory=lambda: [0, 1, 65535])
     int32_values_default: list[Int32] = msgspec.field(default_factory=lambda: [0, 2147483647, -2147483648])

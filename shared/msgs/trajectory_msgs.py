@@ -1,4 +1,4 @@
-"""trajectory_msgs: made by `zenros interface generate` from the package's .msg files."""
+"""trajectory_msgs: made by `zenros interface generate` from its .msg files."""
 
 from __future__ import annotations
 
@@ -9,7 +9,12 @@ from .builtin_interfaces import Duration
 from .geometry_msgs import Transform, Twist
 from .std_msgs import Header
 
-__all__ = ['JointTrajectory', 'JointTrajectoryPoint', 'MultiDOFJointTrajectory', 'MultiDOFJointTrajectoryPoint']
+__all__ = [
+    "JointTrajectory",
+    "JointTrajectoryPoint",
+    "MultiDOFJointTrajectory",
+    "MultiDOFJointTrajectoryPoint",
+]
 
 
 class JointTrajectoryPoint(Message):

@@ -1,4 +1,4 @@
-"""visualization_msgs: made by `zenros interface generate` from the package's .msg/.srv files."""
+"""visualization_msgs: made by `zenros interface generate` from its .msg/.srv files."""
 
 from __future__ import annotations
 
@@ -6,14 +6,30 @@ from typing import ClassVar
 
 import msgspec
 
-from ..message import Message, define_service
+from ..message import Message, UInt8Array, array_field, define_service
 from ..primitives import Int32, UInt8, UInt32, UInt64
 from .builtin_interfaces import Duration
 from .geometry_msgs import Point, Pose, Quaternion, Vector3
 from .sensor_msgs import CompressedImage
 from .std_msgs import ColorRGBA, Header
 
-__all__ = ['GetInteractiveMarkers', 'GetInteractiveMarkersRequest', 'GetInteractiveMarkersResponse', 'ImageMarker', 'InteractiveMarker', 'InteractiveMarkerControl', 'InteractiveMarkerFeedback', 'InteractiveMarkerInit', 'InteractiveMarkerPose', 'InteractiveMarkerUpdate', 'Marker', 'MarkerArray', 'MenuEntry', 'MeshFile', 'UVCoordinate']
+__all__ = [
+    "GetInteractiveMarkers",
+    "GetInteractiveMarkersRequest",
+    "GetInteractiveMarkersResponse",
+    "ImageMarker",
+    "InteractiveMarker",
+    "InteractiveMarkerControl",
+    "InteractiveMarkerFeedback",
+    "InteractiveMarkerInit",
+    "InteractiveMarkerPose",
+    "InteractiveMarkerUpdate",
+    "Marker",
+    "MarkerArray",
+    "MenuEntry",
+    "MeshFile",
+    "UVCoordinate",
+]
 
 
 class ImageMarker(Message):
@@ -46,7 +62,7 @@ class MeshFile(Message):
     __msgtype__ = "visualization_msgs/MeshFile"
     __bulk__ = True
     filename: str = ""
-    data: bytes = bytes(0)
+    data: UInt8Array = array_field(UInt8Array)
 
 
 class UVCoordinate(Message):
@@ -274,4 +290,5 @@ class GetInteractiveMarkersResponse(Message):
     markers: list[InteractiveMarker] = msgspec.field(default_factory=list)
 
 
-GetInteractiveMarkers = define_service("visualization_msgs/GetInteractiveMarkers", GetInteractiveMarkersRequest, GetInteractiveMarkersResponse)
+GetInteractiveMarkers = define_service(
+    "visualization_msgs/GetInteractiveMarkers", GetInteractiveMarkersRequest, GetInteractiveMarkersResponse)

@@ -93,7 +93,8 @@ def _sample_value(t: mi.Type, n: itertools.count[int], depth: int) -> Any:
     if isinstance(t, mi.CustomType):
         array_cls: Any = t.cls
         dtype = array_cls.dtype_
-        values = [-1, 0, 100] if dtype == np.int8 else [k + 0.5, k + 1.5, -(k + 0.25)]
+        values = ([-1, 0, 100] if dtype == np.int8 else [k % 256, 0, 255] if dtype == np.uint8
+                  else [k + 0.5, k + 1.5, -(k + 0.25)])
         return np.array(values, dtype=dtype).view(array_cls)
     raise AssertionError(f"no sample for {t!r}")
 

@@ -10,6 +10,7 @@ import sys
 import uuid
 from pathlib import Path
 
+import numpy as np
 import pytest
 from zenros.codec import from_builtins
 from zenros.errors import UnknownTypeError
@@ -131,7 +132,7 @@ def test_a_package_loads_into_types_every_tool_finds(tmp_path: Path) -> None:
     g = Gripper()
     assert (g.state, g.name, list(g.force), g.ticks, Gripper.CLOSED) == (
         1, 'le"ft', [1.5, -2.0, 300.0], [1, 2], 1)
-    assert len(g.fingers) == 2 and g.raw == b""
+    assert len(g.fingers) == 2 and g.raw.size == 0 and g.raw.dtype == np.uint8
     srv = lookup_service(f"{name}/srv/SetGripper")
     act = lookup_action(f"{name}/action/Grasp")
     assert srv.Request().gripper.width == pytest.approx(0.085)
