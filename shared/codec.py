@@ -37,7 +37,7 @@ MSGPACK = "application/msgpack"
 
 def _enc_json(obj: Any) -> Any:
     if isinstance(obj, UInt8Array):  # uint8[] / byte[] / char[]: base64, as rosbridge sends it
-        return base64.b64encode(memoryview(obj)).decode("ascii")
+        return base64.b64encode(np.ascontiguousarray(obj).data).decode("ascii")
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     if isinstance(obj, np.generic):

@@ -58,7 +58,7 @@ def json_chunks(obj: Any, threshold: int = CHUNK) -> Iterator[bytes]:
         step = 3 * CHUNK * 8
         yield b'"'
         for start in range(0, obj.size, step):
-            yield base64.b64encode(memoryview(obj[start:start + step]))
+            yield base64.b64encode(np.ascontiguousarray(obj[start:start + step]).data)
         yield b'"'
     elif isinstance(obj, np.ndarray) and obj.ndim == 1 and obj.size > threshold:
         yield b"["
