@@ -192,7 +192,8 @@ def test_roslibpy_gets_odom_and_serves_again_after_kill_9(sim: Sim) -> None:
         # measured from the launch's "ready" (the gateway set up again): how long the gateway
         # takes to start is the launch's and the box's (1 s quiet, 11-32 s seen under a loaded
         # suite); what is roslibpy's and the bridge's is the reconnect after it
-        up = phases["ready"]
+        # (the bridge may serve, and /odom flow, before the launch has printed "ready")
+        up = min(phases.get("ready", back), back)
         assert back - up <= RECONNECT_S, \
             f"/odom came back {back - up:.2f} s after the gateway was ready ({phases})"
         assert served - up <= RECONNECT_S, \
