@@ -16,6 +16,7 @@ import argparse
 import ast
 import sys
 from collections import defaultdict
+from collections.abc import Iterator
 from functools import cache
 from pathlib import Path
 
@@ -57,21 +58,43 @@ def extensions() -> frozenset[str]:
     return frozenset(out)
 
 
+EXTENSIONS = extensions()
+
+
+def statements(body: list[ast.stmt], typing_only: bool = False
+               ) -> Iterator[tuple[ast.stmt, bool]]:
+    """Every statement under ``body`` (imports are statements: expressions are not entered),
+    each with whether it sits under an ``if TYPE_CHECKING``."""
+    for node in body:
+        yield node, typing_only
+        under = typing_only
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            yield from statements(node.body, True)
+            yield from statements(node.orelse, typing_only)
+            continue
+        for field in ("body", "orelse", "finalbody"):
+            yield from statements(getattr(node, field, []), under)
+        for handler in getattr(node, "handlers", []):
+            yield from statements(handler.body, under)
+        for case in getattr(node, "cases", []):
+            yield from statements(case.body, under)
+
+
+@cache
+def parsed(path: Path) -> ast.Module:
+    return ast.parse(path.read_text(), str(path))
+
+
 def imports_of(name: str, path: Path, known: set[str], typing: bool = False) -> set[str]:
     """The zenros modules ``name`` imports at module level or in functions (and, with
     ``typing``, under ``if TYPE_CHECKING`` too). ``from pkg import mod`` imports ``pkg.mod``
     (and ``pkg``'s ``__init__`` only when a name is not a module of it)."""
     is_package = path.name == "__init__.py"
-    compiled = extensions()
+    compiled = EXTENSIONS
     submodules = known | compiled
-    tree = ast.parse(path.read_text(), str(path))
     found: set[str] = set()
-    typing_only: set[int] = set()
-    for node in ast.walk(tree):
-        if not typing and isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-            typing_only.update(id(n) for b in node.body for n in ast.walk(b))
-    for node in ast.walk(tree):
-        if id(node) in typing_only:
+    for node, typing_only in statements(parsed(path).body):
+        if typing_only and not typing:
             continue
         targets: list[str] = []
         if isinstance(node, ast.Import):

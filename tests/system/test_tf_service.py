@@ -83,7 +83,9 @@ def test_tf_echo_prints_translation_rotation_and_matrix(system: tuple[str, str, 
                "--json", "--timeout", "20")
     assert r.returncode == 0, r.stderr
     first, second = (json.loads(line) for line in r.stdout.splitlines())
-    assert second["stamp"] > first["stamp"] > 0 and first["translation"][2] == 0.2
+    # tf2_echo prints the latest transform each period: a loaded box may publish none between
+    # two prints, and the same stamp comes twice
+    assert second["stamp"] >= first["stamp"] > 0 and first["translation"][2] == 0.2
     assert len(first["matrix"]) == 4 and first["target"] == "odom"
 
 
