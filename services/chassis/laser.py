@@ -136,16 +136,24 @@ class Laser:
         out[(out < cfg.range_min) | (out > cfg.range_max)] = np.inf
         return out
 
+    def cast_map(self, x: float, y: float, angles: np.ndarray) -> np.ndarray:
+        """Noise-free float32 ranges to the map's walls from (x, y) along the absolute
+        ``angles`` (radians in ``map``); inf where no wall is within ``range_max``. The
+        cameras cast their columns with it."""
+        return self._march_map(x, y, np.cos(angles), np.sin(angles))
+
+    def _march_map(self, x: float, y: float, dx64: np.ndarray, dy64: np.ndarray) -> np.ndarray:
+        march = compiled
+        if march is not None:
+            return self._march_compiled(march, x, y, dx64, dy64)
+        return self._march(x, y, dx64.astype(np.float32), dy64.astype(np.float32))
+
     def _trace(self, x: float, y: float, theta: float,
                obstacles: tuple[Obstacle, ...]) -> np.ndarray:
         """Noise-free ranges: the map's walls, then the obstacles."""
         ang = self._angles + theta
         dx64, dy64 = np.cos(ang), np.sin(ang)
-        march = compiled
-        if march is not None:
-            out = self._march_compiled(march, x, y, dx64, dy64)
-        else:
-            out = self._march(x, y, dx64.astype(np.float32), dy64.astype(np.float32))
+        out = self._march_map(x, y, dx64, dy64)
         if obstacles:
             hits = ray_hits(list(obstacles), x, y, dx64, dy64)
             np.minimum(out, hits.astype(np.float32), out=out)

@@ -268,3 +268,49 @@ def test_a_registered_device_gets_its_parameters_topic_rate_and_service(
     reset = user.create_client(SetBool, "trip/reset")
     assert reset.call(SetBoolRequest(data=True), timeout=10).success
     assert wait_for(lambda: trip.msg.data == 0.0, 10), trip.msg.data
+
+
+def test_cameras_render_the_world_ahead_and_behind(rig: dict[str, Any]) -> None:
+    """Front and back cameras on the robot API's topics, raw and JPEG, with their
+    calibration and optical frames; an obstacle set in front shows in the front view."""
+    import io
+
+    from PIL import Image as PilImage
+    from zenros.images import image_to_numpy
+    from zenros.msgs.sensor_msgs import CameraInfo, CompressedImage, Image
+
+    user = rig["user"]
+    got = {name: Latest() for name in ("front", "alias", "back_jpeg", "info")}
+    user.create_subscription(Image, "multi/front/image_raw", got["front"])
+    user.create_subscription(Image, "camera_node/image_raw", got["alias"])
+    user.create_subscription(CompressedImage, "multi/back/image_raw/compressed",
+                             got["back_jpeg"])
+    user.create_subscription(CameraInfo, "multi/front/camera_info", got["info"])
+    assert wait_for(lambda: all(v.count for v in got.values()), 20), \
+        {k: v.count for k, v in got.items()}
+    front = got["front"].msg
+    assert (front.width, front.height, front.encoding) == (640, 480, "rgb8")
+    assert front.header.frame_id == "camera_front_optical_frame"
+    assert got["alias"].msg.header.frame_id == "camera_front_optical_frame"
+    info = got["info"].msg
+    assert (info.width, info.height) == (640, 480) and info.k[2] == 320.0 and info.k[8] == 1.0
+    jpeg = got["back_jpeg"].msg
+    assert "jpeg" in jpeg.format and jpeg.header.frame_id == "camera_back_optical_frame"
+    back = PilImage.open(io.BytesIO(bytes(jpeg.data)))  # an outside decoder reads it
+    assert back.size == (640, 480) and back.format == "JPEG"
+    # the corridor is open to the east: a crate 1.5 m ahead fills the front view's middle
+    before = image_to_numpy(got["front"].msg)[300, 320].astype(int)
+    client = user.create_client(SetObstacles, "sim/set_obstacles")
+    crate = Obstacle(id="crate", shape="box", x=1.5, y=0.0, size_x=0.4, size_y=0.6)
+    assert client.call(SetObstaclesRequest(obstacles=[crate]), timeout=10).success
+
+    def orange() -> bool:
+        r, g, b = (int(v) for v in image_to_numpy(got["front"].msg)[300, 320])
+        return r > g + 60 and r > b + 60
+
+    assert wait_for(orange, 10), (before, image_to_numpy(got["front"].msg)[300, 320])
+    # the crate is only ahead: the back view has none of its colour
+    back_px = np.asarray(PilImage.open(io.BytesIO(bytes(got["back_jpeg"].msg.data))))
+    assert not ((back_px[..., 0].astype(int) > back_px[..., 1].astype(int) + 60)
+                & (back_px[..., 0].astype(int) > back_px[..., 2].astype(int) + 60)).any()
+    assert client.call(SetObstaclesRequest(op="remove", ids=["crate"]), timeout=10).success

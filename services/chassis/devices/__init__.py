@@ -11,6 +11,7 @@ from typing import Any
 
 from ..device import Device
 from .battery import BatteryDevice
+from .camera import CameraDevice
 from .dock import DockDevice
 from .fleet import FleetDevice
 from .io import IoDevice
@@ -19,7 +20,8 @@ from .odometry import OdometryDevice
 from .state import StateDevice
 from .truth import GroundTruthDevice
 
-__all__ = ["DEVICES", "BatteryDevice", "DockDevice", "FleetDevice", "GroundTruthDevice",
+__all__ = ["DEVICES", "BatteryDevice", "CameraDevice", "DockDevice", "FleetDevice",
+           "GroundTruthDevice",
            "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
@@ -28,6 +30,7 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     DockDevice,
     BatteryDevice,
     LaserDevice,
+    CameraDevice,
     IoDevice,
     StateDevice,
     FleetDevice,

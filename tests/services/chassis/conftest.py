@@ -19,3 +19,9 @@ def box_world(width: int = 100, height: int = 60, res: float = 0.05) -> World:
 def room() -> World:
     """5 m x 3 m inside walls: free space from x = 0.05 to 4.95 and y = 0.05 to 2.95."""
     return box_world()
+
+
+@pytest.fixture
+def hall() -> World:
+    """20 m x 10 m inside walls: free space from x = 0.05 to 19.95 and y = 0.05 to 9.95."""
+    return box_world(width=400, height=200)

@@ -15,7 +15,8 @@ from zenros.params import Parameters
 from zenros.services.chassis import config
 from zenros.services.chassis.config import declare_chassis, parameter_structs
 from zenros.services.chassis.device import Chassis, Device, NoParameters, Schedule
-from zenros.services.chassis.devices import DEVICES, IoDevice, StateDevice
+from zenros.services.chassis.devices import DEVICES, CameraDevice, IoDevice, StateDevice
+from zenros.testing import wait_for
 
 # every parameter the chassis had before its devices were split out: users' launch files and
 # `-p name:=value` keep working only while these stay
@@ -28,7 +29,9 @@ NAMES = {
     "battery_charge_current", "battery_initial", "robot_radius", "odom_noise", "laser_x",
     "laser_y", "laser_yaw", "laser_z", "start_pose", "dock_pose", "dock_tolerance",
     "dock_yaw_tolerance", "seed", "map_frame", "odom_frame", "base_frame", "laser_frame",
-    "world_topic", "world_rate", "io_extension_board",
+    "world_topic", "world_rate", "io_extension_board", "camera_rate", "camera_width",
+    "camera_height", "camera_hfov", "camera_z", "camera_front_x", "camera_back_x",
+    "camera_jpeg_quality",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -108,7 +111,7 @@ def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPa
 
 
 def test_the_devices_open_their_topics_and_services() -> None:
-    _, node = build()
+    _, node = build({"camera_rate": 0.0})  # the cameras: their own test, below
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
                                     "chassis/io", "chassis/state"}
     assert set(node.services) == {"chassis/set_io"} and node.listening == {}
@@ -134,7 +137,7 @@ def test_a_device_service_answers_and_publishes() -> None:
 
 
 def test_each_device_publishes_at_its_rate() -> None:
-    chassis, node = build({"rate": 50.0, "scan_rate": 10.0})
+    chassis, node = build({"rate": 50.0, "scan_rate": 10.0, "camera_rate": 0.0})
     schedule = Schedule(chassis.devices, 50.0)
     for step in range(1, 101):  # two sim seconds
         chassis.step(0.02)
@@ -143,6 +146,31 @@ def test_each_device_publishes_at_its_rate() -> None:
     # chassis/state: 5 Hz, and once at the first step (its flags were never sent)
     assert counts == {"odom": 100, "sim/ground_truth": 100, "scan": 20, "battery_state": 2,
                       "chassis/state": 11, "chassis/io": 1}
+
+
+def test_the_cameras_open_their_topics_and_frames_and_render_off_the_step() -> None:
+    chassis, node = build({"camera_width": 64, "camera_height": 48})
+    bases = ("camera_node", "multi/front", "multi/back")
+    cams = {f"{b}/{t}" for b in bases for t in ("image_raw", "image_raw/compressed",
+                                                "camera_info")}
+    assert cams <= set(node.publishers)
+    frames = {(t.header.frame_id, t.child_frame_id) for t in node.static}
+    assert {("base_link", "camera_front_link"), ("camera_front_link",
+            "camera_front_optical_frame"), ("base_link", "camera_back_link"),
+            ("camera_back_link", "camera_back_optical_frame")} <= frames
+    camera = chassis.device(CameraDevice)
+    assert camera is not None and camera.rate == 10.0
+    camera.publish(STAMP)  # hands the frames to the cameras' thread and returns
+    assert wait_for(lambda: all(node.publishers[t].sent for t in cams), 10)
+    front = node.publishers["multi/front/image_raw"].sent[-1]
+    assert (front.width, front.height, front.header.frame_id) == (
+        64, 48, "camera_front_optical_frame")
+    assert node.publishers["multi/back/image_raw/compressed"].sent[-1].data[:2].tobytes() \
+        == b"\xff\xd8"  # a JPEG
+    _, off = build({"camera_rate": 0.0})
+    assert not cams & set(off.publishers)
+    with pytest.raises(ValueError, match="camera z"):
+        build({"camera_z": 5.0})
 
 
 def test_a_change_publishes_off_the_schedule() -> None:
