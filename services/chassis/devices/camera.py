@@ -73,9 +73,11 @@ class _View:
 
     name: str  # front, back
     mount: Pose2
+    camera: Camera
     images: list[Publisher[Image]]
     compressed: list[Publisher[CompressedImage]]
     infos: list[Publisher[CameraInfo]]
+    jpeg: tuple[object, UInt8Array] | None = None  # (the frame it is of, its JPEG)
 
     @property
     def optical_frame(self) -> str:
@@ -94,11 +96,10 @@ class CameraDevice(Device[CameraParameters]):
         super().__init__(params, chassis)
         self.rate = params.camera_rate
         self.config = params.config()
-        self.camera: Camera | None = None
+        self.caster: Laser | None = None
         if self.rate > 0:
-            world = chassis.sim.world
-            caster = Laser(world, LaserConfig(beams=1, range_max=self.config.range_max))
-            self.camera = Camera(world, self.config, caster)
+            self.caster = Laser(chassis.sim.world,
+                                LaserConfig(beams=1, range_max=self.config.range_max))
         self.views: list[_View] = []
         self._jobs: dict[str, tuple[Time, Pose2, tuple[Obstacle, ...]]] = {}
         self._wake = threading.Condition()
@@ -106,7 +107,7 @@ class CameraDevice(Device[CameraParameters]):
         self.frames = 0  # rendered and published, for tests and the bench
 
     def open(self, node: Endpoints) -> None:
-        if self.camera is None:
+        if self.caster is None:
             return
         p = self.params
         for name, mount, bases in (("front", Pose2(p.camera_front_x, 0.0, 0.0),
@@ -114,7 +115,7 @@ class CameraDevice(Device[CameraParameters]):
                                    ("back", Pose2(p.camera_back_x, 0.0, math.pi),
                                     ["multi/back"])):
             view = _View(
-                name, mount,
+                name, mount, Camera(self.chassis.sim.world, self.config, self.caster),
                 [node.create_publisher(Image, f"{b}/image_raw", QOS_SENSOR) for b in bases],
                 [node.create_publisher(CompressedImage, f"{b}/image_raw/compressed", QOS_SENSOR)
                  for b in bases],
@@ -132,7 +133,7 @@ class CameraDevice(Device[CameraParameters]):
         self._worker.start()
 
     def publish(self, stamp: Time) -> None:
-        if self.camera is None:
+        if self.caster is None:
             return
         truth = self.chassis.sim.truth
         things: tuple[Obstacle, ...] | None = None
@@ -170,17 +171,19 @@ class CameraDevice(Device[CameraParameters]):
 
     def _send(self, view: _View, stamp: Time, pose: Pose2,
               things: tuple[Obstacle, ...]) -> None:
-        assert self.camera is not None
-        pixels = self.camera.render(pose.x, pose.y, pose.theta, things)
+        pixels = view.camera.render(pose.x, pose.y, pose.theta, things)
         header = Header(stamp=stamp, frame_id=view.optical_frame)
         if any(p.subscription_count for p in view.images):
             image = numpy_to_image(pixels, "rgb8", header)
             for pub in view.images:
                 pub.publish(image)
         if any(p.subscription_count for p in view.compressed):
-            jpeg = io.BytesIO()
-            PilImage.fromarray(pixels).save(jpeg, "JPEG", quality=self.params.camera_jpeg_quality)
-            data: UInt8Array = to_array(UInt8Array, jpeg.getvalue())
+            if view.jpeg is None or view.jpeg[0] is not pixels:  # a still view: encoded once
+                jpeg = io.BytesIO()
+                PilImage.fromarray(pixels).save(jpeg, "JPEG",
+                                                quality=self.params.camera_jpeg_quality)
+                view.jpeg = (pixels, to_array(UInt8Array, jpeg.getvalue()))
+            data = view.jpeg[1]
             compressed = CompressedImage(header=header, format="rgb8; jpeg compressed rgb8",
                                          data=data)
             for cpub in view.compressed:
