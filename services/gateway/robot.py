@@ -22,6 +22,7 @@ from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
 from .ports.robot_topics import RobotTopics
 from .ports.slam_link import SlamLink
+from .ports.snapshots import Snapshots
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
 from .state.config import GatewayConfig
@@ -101,7 +102,8 @@ class Robot:
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
-            coverage=CoverageLink(node, self.core.presence), slam=self.slam)
+            coverage=CoverageLink(node, self.core.presence), slam=self.slam,
+            snapshots=Snapshots(node, data_dir / "Pictures"))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

@@ -15,6 +15,7 @@ from .routes.coverage import add_coverage_routes
 from .routes.extras import add_extra_routes
 from .routes.fs import add_fs_routes
 from .routes.goals import add_goal_routes
+from .routes.images import add_image_routes
 from .routes.io import add_io_routes
 from .routes.local_moves import add_local_move_routes
 from .routes.map_transfer import add_map_transfer_routes
@@ -31,7 +32,8 @@ __all__ = ["ROUTES", "HttpApp", "build_api"]
 ROUTES: tuple[Callable[[Api], None], ...] = (
     add_task_routes, add_nav_routes, add_goal_routes, add_local_move_routes, add_io_routes,
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
-    add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes)
+    add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
+    add_image_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

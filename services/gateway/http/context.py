@@ -14,6 +14,7 @@ from ..ports.nav_actions import NavActions
 from ..ports.nav_services import NavServices
 from ..ports.robot_topics import RobotTopics
 from ..ports.slam_link import SlamPort
+from ..ports.snapshots import Snapshots
 from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
 from ..state.core import Core
@@ -39,3 +40,4 @@ class Context:
     audio: AudioStore
     coverage: CoverageLink
     slam: SlamPort | None = None   # the mapping node's port (None: no mapping)
+    snapshots: Snapshots | None = None  # the cameras' pictures (None: no robot node)
