@@ -19,10 +19,11 @@ from .laser import LaserDevice
 from .odometry import OdometryDevice
 from .state import StateDevice
 from .truth import GroundTruthDevice
+from .wind import WindDevice
 
 __all__ = ["DEVICES", "BatteryDevice", "CameraDevice", "DockDevice", "FleetDevice",
            "GroundTruthDevice",
-           "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice"]
+           "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice", "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
     OdometryDevice,
@@ -34,4 +35,5 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     IoDevice,
     StateDevice,
     FleetDevice,
+    WindDevice,
 )

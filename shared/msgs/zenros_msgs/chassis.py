@@ -8,6 +8,8 @@
 - ``zenros_msgs/IoState`` on ``chassis/io`` (latched): the IO ports' levels.
 - ``zenros_msgs/SetIo`` (``chassis/set_io``): set one output of the main board or the
   extension board.
+- ``zenros_msgs/WindInfo`` on ``wind``: the wind sensor's speed, gust maximum, Beaufort
+  level and direction (an outdoor robot's; the simulated one's is still air by default).
 - ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
 """
 
@@ -34,6 +36,7 @@ __all__ = [
     "Teleport",
     "TeleportRequest",
     "TeleportResponse",
+    "WindInfo",
 ]
 
 
@@ -160,3 +163,19 @@ class SetIoResponse(Message):
 
 
 SetIo = define_service("zenros_msgs/SetIo", SetIoRequest, SetIoResponse)
+
+
+class WindInfo(Message):
+    """The wind sensor's reading, published at 1 Hz on ``wind``.
+
+    ``current_speed``: m/s now; ``max_speed``: the strongest gust (m/s) of the last 10
+    minutes; ``level``: the Beaufort force of ``current_speed`` (0 calm .. 12 hurricane);
+    ``direction``: degrees, where the wind blows from, clockwise from north (the map's +y).
+    """
+
+    __msgtype__ = "zenros_msgs/WindInfo"
+    header: Header = msgspec.field(default_factory=Header)
+    current_speed: float = 0.0
+    max_speed: float = 0.0
+    level: float = 0.0
+    direction: float = 0.0

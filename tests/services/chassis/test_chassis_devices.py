@@ -15,7 +15,14 @@ from zenros.params import Parameters
 from zenros.services.chassis import config
 from zenros.services.chassis.config import declare_chassis, parameter_structs
 from zenros.services.chassis.device import Chassis, Device, NoParameters, Schedule
-from zenros.services.chassis.devices import DEVICES, CameraDevice, IoDevice, StateDevice
+from zenros.services.chassis.devices import (
+    DEVICES,
+    CameraDevice,
+    IoDevice,
+    StateDevice,
+    WindDevice,
+)
+from zenros.services.chassis.devices.wind import beaufort
 from zenros.testing import wait_for
 
 # every parameter the chassis had before its devices were split out: users' launch files and
@@ -31,7 +38,7 @@ NAMES = {
     "dock_yaw_tolerance", "seed", "map_frame", "odom_frame", "base_frame", "laser_frame",
     "world_topic", "world_rate", "io_extension_board", "camera_rate", "camera_width",
     "camera_height", "camera_hfov", "camera_z", "camera_front_x", "camera_back_x",
-    "camera_jpeg_quality",
+    "camera_jpeg_quality", "wind_speed", "wind_gust", "wind_direction",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -113,7 +120,7 @@ def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPa
 def test_the_devices_open_their_topics_and_services() -> None:
     _, node = build({"camera_rate": 0.0})  # the cameras: their own test, below
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
-                                    "chassis/io", "chassis/state"}
+                                    "chassis/io", "chassis/state", "wind"}
     assert set(node.services) == {"chassis/set_io"} and node.listening == {}
     assert node.broadcasters == 1  # odom -> base_link
     [laser] = node.static
@@ -145,7 +152,7 @@ def test_each_device_publishes_at_its_rate() -> None:
     counts = {t: len(p.sent) for t, p in node.publishers.items()}
     # chassis/state: 5 Hz, and once at the first step (its flags were never sent)
     assert counts == {"odom": 100, "sim/ground_truth": 100, "scan": 20, "battery_state": 2,
-                      "chassis/state": 11, "chassis/io": 1}
+                      "chassis/state": 11, "chassis/io": 1, "wind": 2}
 
 
 def test_the_cameras_open_their_topics_and_frames_and_render_off_the_step() -> None:
@@ -171,6 +178,31 @@ def test_the_cameras_open_their_topics_and_frames_and_render_off_the_step() -> N
     assert not cams & set(off.publishers)
     with pytest.raises(ValueError, match="camera z"):
         build({"camera_z": 5.0})
+
+
+def test_the_wind_sensor_reads_calm_indoors_and_gusts_outdoors() -> None:
+    indoor, _ = build()
+    wind = indoor.device(WindDevice)
+    assert wind is not None
+    calm = wind.reading()
+    assert (calm.current_speed, calm.max_speed, calm.level) == (0.0, 0.0, 0.0)
+    chassis, _ = build({"wind_speed": 9.0, "wind_gust": 2.0, "wind_direction": 270.0,
+                        "seed": 3})
+    outdoor = chassis.device(WindDevice)
+    assert outdoor is not None
+    readings = []
+    for _ in range(200):
+        chassis.step(1.0)
+        readings.append(outdoor.reading())
+    speeds = [r.current_speed for r in readings]
+    assert 8.0 < sum(speeds) / len(speeds) < 10.0 and max(speeds) > 11.0
+    assert readings[-1].max_speed == max(speeds)  # 200 s: all within the 10 minutes
+    assert {r.level for r in readings} >= {4.0, 5.0}  # Beaufort: 5.5-8 m/s 4, 8-10.8 5
+    assert all(r.level == beaufort(r.current_speed) for r in readings)
+    assert all(180.0 < r.direction < 360.0 for r in readings)
+    assert beaufort(0.0) == 0 and beaufort(33.0) == 12
+    with pytest.raises(ValueError, match="wind_direction"):
+        build({"wind_direction": 360.0})
 
 
 def test_a_change_publishes_off_the_schedule() -> None:

@@ -4,6 +4,7 @@ ROS parameters (docs/robot-api.md §3.1, §3.5); TTS is in rest_tts."""
 from __future__ import annotations
 
 import asyncio
+import json
 from collections.abc import Callable
 from typing import Annotated, Any
 
@@ -18,7 +19,7 @@ from zenros.errors import (
 )
 from zenros.msgs.diagnostic_msgs import DiagnosticStatus
 
-from ...ports.topic_hub import Slot, TopicError
+from ...ports.topic_hub import Slot, TopicError, TopicHub
 from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_extra_routes"]
@@ -58,13 +59,9 @@ async def log(call: Call[None, None]) -> Answer:
     return {"log": "\n".join(link.log)}
 
 
-async def topic(call: Call[None, TopicQuery]) -> Answer:
-    """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
-    hub = call.ctx.hub
-    try:
-        name = hub.resolve(call.query.topic_name)
-    except TopicError as exc:
-        raise ApiError(400, str(exc)) from exc
+async def _latest(hub: TopicHub, name: str) -> str:
+    """The next message on topic ``name`` as JSON text (404: not in the graph; 504: nothing
+    within TOPIC_WAIT s)."""
     slot = Slot(asyncio.get_running_loop())
     try:
         hub.attach(name, slot)
@@ -76,7 +73,25 @@ async def topic(call: Call[None, TopicQuery]) -> Answer:
         raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
     finally:
         hub.detach(name, slot)
-    return msgspec.Raw(frame.encode())
+    return frame.encode()
+
+
+async def topic(call: Call[None, TopicQuery]) -> Answer:
+    """The latest message of ``topic_name`` as JSON (waits up to 3 s for one)."""
+    hub = call.ctx.hub
+    try:
+        name = hub.resolve(call.query.topic_name)
+    except TopicError as exc:
+        raise ApiError(400, str(exc)) from exc
+    return msgspec.Raw(await _latest(hub, name))
+
+
+async def wind_info(call: Call[None, None]) -> Answer:
+    """The wind sensor's reading (``wind``, zenros_msgs/WindInfo): speed, gust maximum,
+    Beaufort level and direction; 404 when the robot has no wind sensor in the graph."""
+    hub = call.ctx.hub
+    reading = json.loads(await _latest(hub, hub.resolve("wind")))
+    return {k: reading[k] for k in ("current_speed", "max_speed", "level", "direction")}
 
 
 async def self_test(call: Call[None, None]) -> Answer:
@@ -120,6 +135,7 @@ def add_extra_routes(api: Api) -> None:
     api.add("GET", "/system/log", log)
     api.add("GET", "/system/schedule_manager", schedule_manager)
     api.add("GET", "/system/topic", topic)
+    api.add("GET", "/navigation/wind_info", wind_info)
     api.add("GET", "/system/self_test", self_test)
     api.add("GET", "/system/ros_params", get_param)
     api.add("PUT", "/system/ros_params", put_param)
