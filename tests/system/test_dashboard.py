@@ -69,6 +69,7 @@ from selenium.webdriver.chrome.options import Options
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import Select
 
 
 class Rig:
@@ -234,6 +235,21 @@ def test_the_page_shows_map_robot_points_and_tasks(rig: Rig, page: Any) -> None:
     assert "live" in page.find_element(By.ID, "link-text").text
     start = pose(page)
     assert start is not None and math.dist(start, (0.0, 0.0)) < 0.5
+    # the camera card shows the front camera's JPEG frames (the browser decodes them)
+    front_src = ""
+
+    def shows(which: str) -> bool:
+        nonlocal front_src
+        loaded = page.execute_script(
+            "const i = document.getElementById('camera');"
+            "return i.complete && i.naturalWidth === 640 ? i.src : '';")
+        if loaded and which == "front":
+            front_src = loaded
+        return bool(loaded) and (which == "front" or loaded != front_src)
+
+    assert wait_for(lambda: shows("front"), TIMEOUT)
+    Select(page.find_element(By.ID, "camera-select")).select_by_value("multi/back")
+    assert wait_for(lambda: shows("back"), TIMEOUT)
 
 
 def test_clicking_a_nav_point_sends_the_robot_there(page: Any) -> None:

@@ -125,6 +125,7 @@ class Dashboard {
       this.refreshPoints();
     });
     $("cancel-goal").addEventListener("click", () => this.cancelGoal());
+    $("camera-select").addEventListener("change", (e) => this.watchCamera(e.target.value));
   }
 
   subscribe() {
@@ -151,8 +152,20 @@ class Dashboard {
                   (m) => this.taskPanel.onStatus(m));
     ros.subscribe("/tf_static", "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
     this.mapping.subscribe();
+    this.watchCamera($("camera-select").value);
     // a robot of a fleet keeps its own tree (/<robot>/tf_static, docs/fleet.md)
     if (this.ns) ros.subscribe(this.name("tf_static"), "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
+  }
+
+  // The chosen camera's JPEG topic, 5 frames a second at most (docs/chassis.md, Cameras).
+  watchCamera(which) {
+    if (this.cameraOff) this.cameraOff();
+    const img = $("camera");
+    this.cameraOff = this.ros.subscribe(
+      this.name(`${which}/image_raw/compressed`), "sensor_msgs/CompressedImage", (m) => {
+        img.src = `data:image/jpeg;base64,${m.data}`;
+        $("camera-empty").hidden = true;
+      }, { throttle_rate: 200, queue_length: 1 });
   }
 
   onOpen() {
