@@ -30,6 +30,13 @@ def _refused(r: httpx.Response, status: int, words: str) -> None:
     assert r.json()["status"] == "error" and words in r.json()["description"], r.text
 
 
+def test_no_camera_is_a_503_at_once(gw: GatewayNode, http: httpx.Client) -> None:
+    r = http.post("/system/saved_images", json={})
+    assert r.status_code == 503 and "no camera publishes on /camera_node/image_raw" in \
+        r.json()["description"], r.text
+    assert r.elapsed.total_seconds() < 2.0
+
+
 def test_snapshots_round_trip(chassis: ChassisNode, gw: GatewayNode, http: httpx.Client,
                               tmp_path: Path) -> None:
     front = http.post("/system/saved_images", json={}, timeout=30)

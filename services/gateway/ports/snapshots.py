@@ -61,6 +61,10 @@ class Snapshots:
         return f"{stem}.png"
 
     def _one_frame(self, topic: str) -> Image:
+        name = self.node.resolve_name(topic)
+        if not self.node.context.graph.publishers(name):
+            raise SnapshotError(503, f"no camera publishes on {name}: is the chassis (its "
+                                     "cameras: parameter camera_rate) running?")
         got: list[Image] = []
         done = threading.Event()
 
@@ -72,8 +76,7 @@ class Snapshots:
         sub = self.node.create_subscription(Image, topic, on_frame, QOS_SENSOR)
         try:
             if not done.wait(FRAME_TIMEOUT):
-                raise SnapshotError(503, f"no frame on {self.node.resolve_name(topic)} "
-                                         f"within {FRAME_TIMEOUT:g} s: is the camera running?")
+                raise SnapshotError(503, f"no frame on {name} within {FRAME_TIMEOUT:g} s")
         finally:
             self.node.destroy(sub)
         return got[0]

@@ -44,7 +44,7 @@ async def listing(call: Call[None, None]) -> Answer:
 async def download(call: Call[None, None]) -> Answer:
     """Download one saved picture (PNG)."""
     try:
-        path = _shots(call).find(call.path_params["file_timestamp"])
+        path = _shots(call).find(call.path_params.get("file_timestamp", ""))
     except SnapshotError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     return FileResponse(path, media_type="image/png", filename=path.name)
@@ -53,7 +53,7 @@ async def download(call: Call[None, None]) -> Answer:
 async def delete(call: Call[None, None]) -> Answer:
     """Delete one saved picture."""
     try:
-        path = _shots(call).find(call.path_params["file_timestamp"])
+        path = _shots(call).find(call.path_params.get("file_timestamp", ""))
     except SnapshotError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     await asyncio.to_thread(path.unlink, True)
