@@ -255,7 +255,9 @@ def _stop(p: subprocess.Popen[str]) -> None:
 
 
 _CD = re.compile(r"^cd\s+(\S+)$")
-_ASSIGN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)=(.+)$")
+# NAME=VALUE alone on its line (VALUE one word, a quoted string or a $(...)); a line that
+# goes on with a command after the value (``NAME=VALUE cmd ...``) is a command
+_ASSIGN = re.compile(r"""^([A-Za-z_][A-Za-z0-9_]*)=(\$\(.*\)|"[^"]*"|'[^']*'|\S+)$""")
 
 
 def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
@@ -270,9 +272,13 @@ def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
             cwd = (cwd / m.group(1)).resolve()
             continue
         if m := _ASSIGN.match(cmd.text):
-            r = subprocess.run(["bash", "-c", f'{cmd.text}\nprintf %s "${m.group(1)}"'],
-                               cwd=cwd, env=env, capture_output=True, text=True,
-                               timeout=COMMAND_LIMIT, check=False)
+            try:
+                r = subprocess.run(["bash", "-c", f'{cmd.text}\nprintf %s "${m.group(1)}"'],
+                                   cwd=cwd, env=env, capture_output=True, text=True,
+                                   timeout=COMMAND_LIMIT, check=False)
+            except subprocess.TimeoutExpired:
+                failures.append(f"{cmd.where}: `{cmd.text}`: no value in {COMMAND_LIMIT:g} s")
+                return failures
             if r.returncode != 0 or not r.stdout:
                 failures.append(f"{cmd.where}: `{cmd.text}`: exit {r.returncode}, value "
                                 f"{r.stdout!r}\n  stderr: {r.stderr[-600:]!r}")
