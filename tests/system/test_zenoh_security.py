@@ -29,7 +29,7 @@ from zenros.testing import free_port, wait_for
 pytestmark = pytest.mark.system
 
 DEPLOY = Path(__file__).resolve().parents[2] / "deploy" / "zenoh"
-WAIT = 10.0  # generous bound for every condition; the tests finish long before it
+WAIT = 30.0  # a bound for every condition (a router's start took over 10 s on a box at load 30)
 
 
 # ------------------------------------------------------------------ fixtures
