@@ -189,6 +189,13 @@ def _all_ready(proc: Proc, timeout: float) -> bool:
     return False
 
 
+def _on_sim_ports(text: str, sim: Sim) -> str:
+    """``text`` with the gateway's default ports (127.0.0.1:3546, ...) made the sim's."""
+    for default, port in sim.ports.items():
+        text = re.sub(rf"(127\.0\.0\.1|localhost):{default}\b", rf"\g<1>:{port}", text)
+    return text
+
+
 def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
     """None when the command worked, else why not (with its output).
 
@@ -197,9 +204,7 @@ def _run(cmd: Command, sim: Sim, cwd: Path, env: dict[str, str]) -> str | None:
     Either way it must not print a DeprecationWarning: a reader copying it would meet one
     (docs/fleet.md's websockets one-liners did, issue 37.11).
     """
-    text = cmd.text
-    for default, port in sim.ports.items():
-        text = re.sub(rf"(127\.0\.0\.1|localhost):{default}\b", rf"\g<1>:{port}", text)
+    text = _on_sim_ports(cmd.text, sim)
     p = subprocess.Popen(["bash", "-c", text], cwd=cwd, env=env,
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          start_new_session=True)
@@ -273,7 +278,8 @@ def _run_block(block: Block, sim: Sim, workdir: Path) -> list[str]:
             continue
         if m := _ASSIGN.match(cmd.text):
             try:
-                r = subprocess.run(["bash", "-c", f'{cmd.text}\nprintf %s "${m.group(1)}"'],
+                r = subprocess.run(["bash", "-c",
+                                    f'{_on_sim_ports(cmd.text, sim)}\nprintf %s "${m.group(1)}"'],
                                    cwd=cwd, env=env, capture_output=True, text=True,
                                    timeout=COMMAND_LIMIT, check=False)
             except subprocess.TimeoutExpired:
