@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import sys
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import zenoh
 
@@ -43,9 +42,6 @@ class SessionOptions:
     multicast_scouting: bool = False
     lease_ms: int = DEFAULT_LEASE_MS
     strict_connect: bool = False  # explicit endpoints: fail at startup if none answers
-    # listen came from $ZENROS_LISTEN (a port `zenros launch` chose): when something took that
-    # port meanwhile, listen on a port of the kernel's choosing instead of failing
-    listen_fallback: bool = False
 
 
 def add_session_arguments(parser: argparse.ArgumentParser) -> None:
@@ -77,25 +73,18 @@ def _parse_cfg(items: list[str]) -> list[tuple[str, str]]:
 
 
 def options_from_args(ns: argparse.Namespace) -> SessionOptions:
-    """Session options from parsed flags, with ZENROS_CONNECT / ZENROS_LISTEN / ZENROS_MODE as
-    fallbacks (comma-separated endpoints)."""
-    env_connect = _env_endpoints("ZENROS_CONNECT")
-    env_listen = [] if ns.listen else _env_endpoints("ZENROS_LISTEN")
+    """Session options from parsed flags, with ZENROS_CONNECT / ZENROS_MODE as fallbacks."""
+    env_connect = [e for e in os.environ.get("ZENROS_CONNECT", "").split(",") if e]
     connect = list(ns.connect) or env_connect
     return SessionOptions(
         mode=ns.mode or os.environ.get("ZENROS_MODE") or None,
         connect=connect or None,
-        listen=list(ns.listen) or env_listen,
-        listen_fallback=bool(env_listen),
+        listen=list(ns.listen),
         config_file=ns.config or os.environ.get("ZENROS_CONFIG") or None,
         cfg=_parse_cfg(ns.cfg),
         multicast_scouting=bool(ns.multicast_scouting),
         strict_connect=bool(ns.connect),
     )
-
-
-def _env_endpoints(name: str) -> list[str]:
-    return [e.strip() for e in os.environ.get(name, "").split(",") if e.strip()]
 
 
 def build_config(opts: SessionOptions) -> zenoh.Config:
@@ -148,7 +137,7 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     return conf
 
 
-RX_RUNTIME = "(rx: (worker_threads: 32))"
+RX_RUNTIME = "(rx: (worker_threads: 16))"
 
 
 def apply_runtime_defaults() -> None:
@@ -157,10 +146,9 @@ def apply_runtime_defaults() -> None:
     Zenoh closes a link whose lease expired on one of its "rx" threads, and that close can
     block for the 10 s SO_LINGER while the peer is unreachable; with the default 2 rx threads,
     a process with several links to a lost host stops receiving from everyone (measured in
-    the multi-host demo, docs/demo.md). A robot runs 8-10 processes, so a process on another
-    host holds up to 10 links to it, 20 when gossip and a configured endpoint both link a
-    pair (`zenros launch`'s mesh): all blocked with 8 rx threads (robot2 stalled 4.2 s during
-    robot1's 5 s outage); 32 keep the other links flowing. An explicit ``$ZENOH_RUNTIME`` wins.
+    the multi-host demo, docs/demo.md). A robot runs 8 processes, so a process on another host
+    holds up to 8 links to it: 8 rx threads all blocked (robot2 stalled 4.2 s during robot1's
+    5 s outage), 16 keep the other links flowing. An explicit ``$ZENOH_RUNTIME`` wins.
     """
     os.environ.setdefault("ZENOH_RUNTIME", RX_RUNTIME)
 
@@ -172,10 +160,4 @@ def open_session(opts: SessionOptions | zenoh.Config) -> zenoh.Session:
     try:
         return zenoh.open(conf)
     except Exception as exc:
-        if (isinstance(opts, SessionOptions) and opts.listen_fallback
-                and "Address already in use" in str(exc)):
-            print(f"zenros: {', '.join(opts.listen)} ($ZENROS_LISTEN) is taken; listening on "
-                  "a port of the kernel's choosing (peers find it by gossip)", file=sys.stderr)
-            return open_session(replace(opts, listen=["tcp/127.0.0.1:0"],
-                                        listen_fallback=False))
         raise StartupError(f"cannot open Zenoh session: {exc}") from exc

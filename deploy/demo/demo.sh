@@ -96,12 +96,10 @@ need_root() {
 # host, stalls (measured: robot2 stalled 4.1-4.3 s during robot1's 5 s outage, 10 s during a
 # 12 s one). More rx threads than processes per host keep the other links flowing: a robot
 # runs 8 processes (robot.yaml), and with 8 threads robot2's nav still dropped out of its own
-# tasks service's view during robot1's outage (the goal was lost); 16 left room for 8. A robot
-# runs 9-10 now, each pair of a host's processes may hold two links (gossip's and the launch's
-# configured one, docs/launch.md): 32.
+# tasks service's view during robot1's outage (the goal was lost); 16 leave room.
 host_env() {
     HOST_ENV=("ZENROS_CONNECT=$(host_router "$1")" "ZENROS_CONFIG=$CONFIG" "ZENROS_HOME=$STATE/home-$1"
-              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 32))}")
+              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 16))}")
 }
 
 cmd_up() {

@@ -7,7 +7,6 @@ import asyncio
 import contextlib
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -50,7 +49,6 @@ class ZenohLaunch:
         self.ctx: Context | None = None
         self._master_in_launch = False
         self._master_waited = False
-        self._mesh = Mesh()
 
     def hooks(self) -> LaunchHooks:
         return LaunchHooks(startup=self.startup, before_start=self.before_start,
@@ -100,12 +98,8 @@ class ZenohLaunch:
         env = dict(spec.env)
         if spec.ros_args and self._master_in_launch and not is_master(spec):
             env[MASTER_IN_LAUNCH] = "1"  # the node waits briefly for master's services
-        if "ZENROS_CONNECT" not in spec.env:
-            router = os.environ.get("ZENROS_CONNECT") or self.endpoint
-            env["ZENROS_CONNECT"] = ",".join([router, *self._mesh.earlier(spec)])
-            listen = self._mesh.listen(spec)
-            if listen is not None:
-                env["ZENROS_LISTEN"] = listen
+        if "ZENROS_CONNECT" not in spec.env and "ZENROS_CONNECT" not in os.environ:
+            env["ZENROS_CONNECT"] = self.endpoint
         return spec if env == spec.env else replace(spec, env=env)
 
     async def _wait_for_master(self) -> None:
@@ -142,58 +136,6 @@ class ZenohLaunch:
             if await asyncio.to_thread(graph.wait_for_node, waiting[0], min(left, READY_SLICE)):
                 waiting.pop(0)
         return True
-
-
-class Mesh:
-    """The launch's processes linked to each other by configured endpoints, not by gossip.
-
-    Each zenros process listens on a loopback port the launch chose (kept across its
-    restarts) and connects to the router and to every process started before it. Zenoh
-    makes a lost link to a configured endpoint again; a link it found by gossip it never
-    makes again (a lease that ran out while a loaded box starved a process, docs/zenoh-config.md):
-    two processes of a launch would stay apart for good. A process with its own session
-    setup (``ZENROS_CONFIG``, ``ZENROS_LISTEN``, a client, ``-l``/``-e`` flags) is left out.
-    """
-
-    def __init__(self) -> None:
-        self._ports: dict[str, int] = {}  # fqn -> port, in the order of first start
-
-    def takes_part(self, spec: ProcessSpec) -> bool:
-        env = {**os.environ, **spec.env}
-        own = spec.cmd[3:] if spec.cmd[1:2] == ("-m",) else spec.cmd[1:]  # python -m module
-        flags = {"-l", "--listen", "-e", "--connect", "-c", "--config", "-m", "--mode"}
-        return (spec.ros_args and not env.get("ZENROS_CONFIG") and not env.get("ZENROS_LISTEN")
-                and env.get("ZENROS_MODE", "peer") == "peer"
-                and not flags & {a.split("=", 1)[0] for a in (*own, *spec.arguments)})
-
-    def listen(self, spec: ProcessSpec) -> str | None:
-        """The endpoint ``spec`` listens on (a port chosen at its first start), or None."""
-        if not self.takes_part(spec):
-            return None
-        if spec.fqn not in self._ports:
-            self._ports[spec.fqn] = loopback_port()
-        return f"tcp/127.0.0.1:{self._ports[spec.fqn]}"
-
-    def earlier(self, spec: ProcessSpec) -> list[str]:
-        """The endpoints of the processes first started before ``spec`` (each pair of
-        processes is linked from one side only: the later one connects)."""
-        if not self.takes_part(spec):
-            return []
-        out = []
-        for fqn, port in self._ports.items():
-            if fqn == spec.fqn:
-                break
-            out.append(f"tcp/127.0.0.1:{port}")
-        return out
-
-
-def loopback_port() -> int:
-    """A port on 127.0.0.1 free right now (the kernel's choice). A process that finds it
-    taken when it binds listens on another (`zenros.session.open_session`)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
 
 
 def _stop(proc: subprocess.Popen[bytes]) -> None:

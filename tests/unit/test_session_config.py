@@ -1,11 +1,9 @@
-"""session: the zenoh.Config built from flags, environment and files (no session is opened, but
-for the listen fallback)."""
+"""session: the zenoh.Config built from flags, environment and files (no session is opened)."""
 
 from __future__ import annotations
 
 import argparse
 import json
-import socket
 from pathlib import Path
 
 import pytest
@@ -16,14 +14,13 @@ from zenros.session import (
     SessionOptions,
     add_session_arguments,
     build_config,
-    open_session,
     options_from_args,
 )
 
 
 @pytest.fixture(autouse=True)
 def _clean_env(monkeypatch: pytest.MonkeyPatch) -> None:
-    for var in ("ZENROS_CONNECT", "ZENROS_MODE", "ZENROS_CONFIG", "ZENROS_LISTEN"):
+    for var in ("ZENROS_CONNECT", "ZENROS_MODE", "ZENROS_CONFIG"):
         monkeypatch.delenv(var, raising=False)
 
 
@@ -104,29 +101,6 @@ def test_flags_win_over_environment(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("ZENROS_MODE", "client")
     opts = parse("-m", "peer", "-e", "tcp/127.0.0.1:7800")
     assert (opts.mode, opts.connect) == ("peer", ["tcp/127.0.0.1:7800"])
-
-
-def test_listen_from_the_environment_falls_back_when_its_port_is_taken(
-        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    """`zenros launch` gives each node a port (ZENROS_LISTEN); one taken meanwhile must not
-    keep the node from starting: it listens on a port of the kernel's choosing."""
-    with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
-        taken.listen()
-        port = taken.getsockname()[1]
-        monkeypatch.setenv("ZENROS_LISTEN", f"tcp/127.0.0.1:{port}")
-        opts = parse("-e", "tcp/127.0.0.1:1")
-        assert opts.listen == [f"tcp/127.0.0.1:{port}"] and opts.listen_fallback
-        opts.strict_connect = False
-        opts.connect = []
-        session = open_session(opts)
-        try:
-            assert "ZENROS_LISTEN) is taken" in capsys.readouterr().err
-        finally:
-            session.close()
-        assert not parse("-l", "tcp/127.0.0.1:7900").listen_fallback  # a flag is meant
-        with pytest.raises(StartupError, match="Address already in use"):
-            open_session(SessionOptions(connect=[], listen=[f"tcp/127.0.0.1:{port}"]))
 
 
 def test_multicast_scouting_flag() -> None:
