@@ -12,7 +12,10 @@ from typing import Any
 import pytest
 from zenros.testing import Proc, unique_prefix, wait_for
 
-pytestmark = pytest.mark.system
+# A test here runs up to three CLI processes, each bounded at 30 s: past the suite's 60 s
+# default a loaded box's slow start would fire pytest-timeout's alarm inside the failure
+# report, which ends the whole run (an xdist INTERNALERROR) instead of failing one test.
+pytestmark = [pytest.mark.system, pytest.mark.timeout(150)]
 
 
 def zenros(router: str, prefix: str, *args: str, timeout: float = 30) -> subprocess.CompletedProcess[str]:
