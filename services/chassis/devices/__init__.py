@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..device import Device
+from .actuators import ActuatorDevice
 from .battery import BatteryDevice
 from .camera import CameraDevice
 from .dock import DockDevice
@@ -21,7 +22,7 @@ from .state import StateDevice
 from .truth import GroundTruthDevice
 from .wind import WindDevice
 
-__all__ = ["DEVICES", "BatteryDevice", "CameraDevice", "DockDevice", "FleetDevice",
+__all__ = ["DEVICES", "ActuatorDevice", "BatteryDevice", "CameraDevice", "DockDevice", "FleetDevice",
            "GroundTruthDevice",
            "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice", "WindDevice"]
 
@@ -36,4 +37,5 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     StateDevice,
     FleetDevice,
     WindDevice,
+    ActuatorDevice,
 )

@@ -8,6 +8,8 @@
 - ``zenros_msgs/IoState`` on ``chassis/io`` (latched): the IO ports' levels.
 - ``zenros_msgs/SetIo`` (``chassis/set_io``): set one output of the main board or the
   extension board.
+- ``zenros_msgs/ActuatorState`` on ``actuators/state`` and ``zenros_msgs/MoveActuator``
+  (``actuators/move``): the slide rail, the jacking lift and its rotation.
 - ``zenros_msgs/WindInfo`` on ``wind``: the wind sensor's speed, gust maximum, Beaufort
   level and direction (an outdoor robot's; the simulated one's is still air by default).
 - ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
@@ -24,8 +26,12 @@ from ..geometry_msgs import Pose2D
 from ..std_msgs import Header
 
 __all__ = [
+    "ActuatorState",
     "ChassisState",
     "IoState",
+    "MoveActuator",
+    "MoveActuatorRequest",
+    "MoveActuatorResponse",
     "Obstacle",
     "SetIo",
     "SetIoRequest",
@@ -179,3 +185,48 @@ class WindInfo(Message):
     max_speed: float = 0.0
     level: float = 0.0
     direction: float = 0.0
+
+
+class ActuatorState(Message):
+    """The actuators' axes (``slide``, ``jacking``, ``jacking_rotation``), published on
+    ``actuators/state`` at 10 Hz and when a move ends; ``actuators/joint_states``
+    (sensor_msgs/JointState) carries the same positions for ROS tools.
+
+    Per axis, index for index: ``position`` (m; rad for the rotation), ``velocity``,
+    ``low``/``high`` (its travel), ``zero_status`` (0 homing, 1 homed, -1 homing error),
+    ``moving``.
+    """
+
+    __msgtype__ = "zenros_msgs/ActuatorState"
+    header: Header = msgspec.field(default_factory=Header)
+    name: list[str] = msgspec.field(default_factory=list)
+    position: list[float] = msgspec.field(default_factory=list)
+    velocity: list[float] = msgspec.field(default_factory=list)
+    low: list[float] = msgspec.field(default_factory=list)
+    high: list[float] = msgspec.field(default_factory=list)
+    zero_status: list[int] = msgspec.field(default_factory=list)
+    moving: list[bool] = msgspec.field(default_factory=list)
+
+
+class MoveActuatorRequest(Message):
+    """Move axis ``name`` to ``position`` at ``speed`` (0: its default); ``stop`` stops it."""
+
+    __msgtype__ = "zenros_msgs/MoveActuatorRequest"
+    name: str = ""
+    position: float = 0.0
+    speed: float = 0.0
+    stop: bool = False
+
+
+class MoveActuatorResponse(Message):
+    """``success`` false with the reason in ``message`` (past the travel, too fast, not
+    homed, an unknown axis); ``state``: the axes after the request."""
+
+    __msgtype__ = "zenros_msgs/MoveActuatorResponse"
+    success: bool = False
+    message: str = ""
+    state: ActuatorState = msgspec.field(default_factory=ActuatorState)
+
+
+MoveActuator = define_service("zenros_msgs/MoveActuator", MoveActuatorRequest,
+                              MoveActuatorResponse)

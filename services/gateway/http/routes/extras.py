@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import asyncio
 import json
+import math
 from collections.abc import Callable
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import msgspec
 from zenros.errors import (
@@ -59,8 +60,8 @@ async def log(call: Call[None, None]) -> Answer:
     return {"log": "\n".join(link.log)}
 
 
-async def _latest(hub: TopicHub, name: str) -> str:
-    """The next message on topic ``name`` as JSON text (404: not in the graph; 504: nothing
+async def _latest(hub: TopicHub, name: str) -> bytes:
+    """The next message on topic ``name`` as JSON (404: not in the graph; 504: nothing
     within TOPIC_WAIT s)."""
     slot = Slot(asyncio.get_running_loop())
     try:
@@ -92,6 +93,49 @@ async def wind_info(call: Call[None, None]) -> Answer:
     hub = call.ctx.hub
     reading = json.loads(await _latest(hub, hub.resolve("wind")))
     return {k: reading[k] for k in ("current_speed", "max_speed", "level", "direction")}
+
+
+class AngleQuery(msgspec.Struct, forbid_unknown_fields=True):
+    frame_id: Literal["", "base_link", "map"] = ""
+
+
+async def _axis(call: Call[Any, Any], name: str) -> tuple[int, float, float]:
+    """(zero_status, position, ratio of its travel) of actuator axis ``name``, from the
+    chassis's ``actuators/state``; 404 when the robot has no actuators in the graph."""
+    hub = call.ctx.hub
+    state = json.loads(await _latest(hub, hub.resolve("actuators/state")))
+    try:
+        i = state["name"].index(name)
+    except ValueError:
+        raise ApiError(404, f"the robot has no {name} axis") from None
+    low, high, pos = state["low"][i], state["high"][i], state["position"][i]
+    return int(state["zero_status"][i]), float(pos), (pos - low) / (high - low)
+
+
+async def slide_pose(call: Call[None, None]) -> Answer:
+    """The slide rail: ``zero_status`` (0 homing, 1 homed, -1 error), ``current_pose`` (m),
+    ``pose_ratio`` (0-1 of its travel)."""
+    zero, pos, ratio = await _axis(call, "slide")
+    return {"zero_status": zero, "current_pose": round(pos, 4), "pose_ratio": round(ratio, 4)}
+
+
+async def jacking_pose(call: Call[None, None]) -> Answer:
+    """The jacking lift: ``zero_status``, ``current_pose`` (m), ``pose_ratio``."""
+    zero, pos, ratio = await _axis(call, "jacking")
+    return {"zero_status": zero, "current_pose": round(pos, 4), "pose_ratio": round(ratio, 4)}
+
+
+async def jacking_angle(call: Call[None, AngleQuery]) -> Answer:
+    """The lift's rotation: ``zero_status``, ``current_angle`` (rad) in ``base_link``
+    (default) or ``map`` (plus the robot's heading; 503 while its pose is unknown)."""
+    zero, angle, _ = await _axis(call, "jacking_rotation")
+    if call.query.frame_id == "map":
+        pose = call.ctx.core.state.pose
+        if pose is None:
+            raise ApiError(503, "the robot's pose in map is unknown (is nav running?)")
+        heading = pose[2]
+        angle = math.atan2(math.sin(angle + heading), math.cos(angle + heading))
+    return {"zero_status": zero, "current_angle": round(angle, 4)}
 
 
 async def self_test(call: Call[None, None]) -> Answer:
@@ -136,6 +180,9 @@ def add_extra_routes(api: Api) -> None:
     api.add("GET", "/system/schedule_manager", schedule_manager)
     api.add("GET", "/system/topic", topic)
     api.add("GET", "/navigation/wind_info", wind_info)
+    api.add("GET", "/system/slide_pose", slide_pose)
+    api.add("GET", "/system/jacking_pose", jacking_pose)
+    api.add("GET", "/system/jacking_angle", jacking_angle)
     api.add("GET", "/system/self_test", self_test)
     api.add("GET", "/system/ros_params", get_param)
     api.add("PUT", "/system/ros_params", put_param)
