@@ -126,6 +126,7 @@ class Fleet:
         self.base, self.home = base, home
         self.sim: Sim | None = None
         self.proc: Proc | None = None
+        self.failed: str | None = None  # why the one launch did not come up
         self._lock = threading.Lock()
 
     def get(self) -> Sim:
@@ -135,8 +136,15 @@ class Fleet:
             RuntimeError: the fleet did not come up (with the launch's output).
         """
         with self._lock:
+            if self.failed is not None:  # one launch only: a second would meet the first's
+                raise RuntimeError(self.failed)  # database and ports (a cascade, not a cause)
             if self.sim is None:
-                self.sim = self._launch()
+                try:
+                    self.sim = self._launch()
+                except RuntimeError as exc:
+                    self.failed = str(exc)
+                    self.stop()
+                    raise
             return self.sim
 
     def _launch(self) -> Sim:

@@ -96,10 +96,12 @@ class ActuatorDevice(Device[ActuatorParameters]):
         if not self.axes:
             return
         state = self.state()
-        self._state.publish(state)
-        self._joints.publish(JointState(
-            header=Header(stamp=stamp, frame_id=self.chassis.frames.base), name=state.name,
-            position=state.position, velocity=state.velocity))
+        if self._state.subscription_count:
+            self._state.publish(state)
+        if self._joints.subscription_count:
+            self._joints.publish(JointState(
+                header=Header(stamp=stamp, frame_id=self.chassis.frames.base), name=state.name,
+                position=state.position, velocity=state.velocity))
 
     def handle_move(self, req: MoveActuatorRequest) -> MoveActuatorResponse:
         axis = self.axes.get(req.name)

@@ -76,4 +76,6 @@ class WindDevice(Device[WindParameters]):
                         level=float(beaufort(speed)), direction=round(direction, 1))
 
     def publish(self, stamp: Time) -> None:
-        self._pub.publish(self.reading())
+        reading = self.reading()  # sampled every second, so the gust maximum is the wind's
+        if self._pub.subscription_count:
+            self._pub.publish(reading)
