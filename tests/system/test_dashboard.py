@@ -235,7 +235,7 @@ def test_the_page_shows_map_robot_points_and_tasks(rig: Rig, page: Any) -> None:
     assert "live" in page.find_element(By.ID, "link-text").text
     start = pose(page)
     assert start is not None and math.dist(start, (0.0, 0.0)) < 0.5
-    # the camera card shows the front camera's JPEG frames (the browser decodes them)
+    # the camera card shows the picked camera's JPEG frames (the browser decodes them)
     front_src = ""
 
     def shows(which: str) -> bool:
@@ -247,9 +247,15 @@ def test_the_page_shows_map_robot_points_and_tasks(rig: Rig, page: Any) -> None:
             front_src = loaded
         return bool(loaded) and (which == "front" or loaded != front_src)
 
+    camera = Select(page.find_element(By.ID, "camera-select"))
+    assert camera.first_selected_option.get_attribute("value") == ""  # off until picked
+    camera.select_by_value("multi/front")
     assert wait_for(lambda: shows("front"), TIMEOUT)
-    Select(page.find_element(By.ID, "camera-select")).select_by_value("multi/back")
+    camera.select_by_value("multi/back")
     assert wait_for(lambda: shows("back"), TIMEOUT)
+    camera.select_by_value("")  # off again: the other tests' robot renders nothing for us
+    assert wait_for(lambda: not page.find_element(By.ID, "camera-empty").get_attribute(
+        "hidden"), TIMEOUT)
 
 
 def test_clicking_a_nav_point_sends_the_robot_there(page: Any) -> None:

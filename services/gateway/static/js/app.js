@@ -157,10 +157,17 @@ class Dashboard {
     if (this.ns) ros.subscribe(this.name("tf_static"), "tf2_msgs/TFMessage", (m) => this.onTfStatic(m));
   }
 
-  // The chosen camera's JPEG topic, 5 frames a second at most (docs/chassis.md, Cameras).
+  // The chosen camera's JPEG topic, 5 frames a second at most, or none ("": off; the
+  // simulator renders a camera only while someone watches it, docs/chassis.md, Cameras).
   watchCamera(which) {
     if (this.cameraOff) this.cameraOff();
+    this.cameraOff = null;
     const img = $("camera");
+    if (!which) {  // off: nothing rendered for us
+      img.removeAttribute("src");
+      $("camera-empty").hidden = false;
+      return;
+    }
     this.cameraOff = this.ros.subscribe(
       this.name(`${which}/image_raw/compressed`), "sensor_msgs/CompressedImage", (m) => {
         img.src = `data:image/jpeg;base64,${m.data}`;
