@@ -297,7 +297,7 @@ def test_service_echo_prints_a_services_events(system: tuple[str, str]) -> None:
     echo = Proc([sys.executable, "-m", "zenros.cli", "service", "echo", "/echoed_flag",
                  "-n", "2", "--timeout", "30", "-e", router, "--prefix", prefix])
     try:
-        assert srv.events.wait_for_subscribers(1, 20), echo.output  # the echo's
+        assert srv.events.wait_for_subscribers(1, 45), echo.output  # the echo's
         assert client.call(SetBoolRequest(data=True), timeout=10).success
         assert echo.wait(30) == 0, echo.output
         out = echo.output
