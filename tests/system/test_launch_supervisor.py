@@ -515,8 +515,10 @@ def test_cli_runs_and_stops_on_ctrl_c(tmp_path: Path) -> None:
             cmd: [echo, done]
     """))
     data = tmp_path / "data"
+    # --sigterm-timeout: a bound for the talker's exit on SIGINT (a loaded suite once took
+    # longer than the default, and the launch then ended it with SIGTERM and exit code 1)
     argv = [sys.executable, "-m", "zenros.launch", str(launch), "word:=hello", "--data-dir",
-            str(data), "--no-router"]
+            str(data), "--no-router", "--sigterm-timeout", "15"]
     with subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
         try:
             assert proc.stdout is not None
@@ -526,7 +528,7 @@ def test_cli_runs_and_stops_on_ctrl_c(tmp_path: Path) -> None:
                 if line == "[talker] hello\n":
                     break
             proc.send_signal(signal.SIGINT)
-            out, err = proc.communicate(timeout=20)
+            out, err = proc.communicate(timeout=40)
         finally:
             if proc.poll() is None:
                 proc.kill()
