@@ -137,7 +137,7 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     return conf
 
 
-RX_RUNTIME = "(rx: (worker_threads: 16))"
+RX_RUNTIME = "(rx: (worker_threads: 32))"
 
 
 def apply_runtime_defaults() -> None:
@@ -146,9 +146,11 @@ def apply_runtime_defaults() -> None:
     Zenoh closes a link whose lease expired on one of its "rx" threads, and that close can
     block for the 10 s SO_LINGER while the peer is unreachable; with the default 2 rx threads,
     a process with several links to a lost host stops receiving from everyone (measured in
-    the multi-host demo, docs/demo.md). A robot runs 8 processes, so a process on another host
-    holds up to 8 links to it: 8 rx threads all blocked (robot2 stalled 4.2 s during robot1's
-    5 s outage), 16 keep the other links flowing. An explicit ``$ZENOH_RUNTIME`` wins.
+    the multi-host demo, docs/demo.md). A robot runs 8 to 13 processes (its services, its
+    launch, the examples), and a process on another host holds a link to each: 8 rx threads
+    all blocked (robot2 stalled 4.2 s during robot1's 5 s outage), and 16 did again once the
+    demo's robot ran 12 processes (4.1 s); 32 keep the other links flowing (0.22 s). An
+    explicit ``$ZENOH_RUNTIME`` wins.
     """
     os.environ.setdefault("ZENOH_RUNTIME", RX_RUNTIME)
 

@@ -96,10 +96,11 @@ need_root() {
 # host, stalls (measured: robot2 stalled 4.1-4.3 s during robot1's 5 s outage, 10 s during a
 # 12 s one). More rx threads than processes per host keep the other links flowing: a robot
 # runs 8 processes (robot.yaml), and with 8 threads robot2's nav still dropped out of its own
-# tasks service's view during robot1's outage (the goal was lost); 16 leave room.
+# tasks service's view during robot1's outage (the goal was lost); 16 did until the robot ran
+# its 8 services, its launch and 3 examples (robot2 stalled 4.1 s again); 32 leave room.
 host_env() {
     HOST_ENV=("ZENROS_CONNECT=$(host_router "$1")" "ZENROS_CONFIG=$CONFIG" "ZENROS_HOME=$STATE/home-$1"
-              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 16))}")
+              "PYTHONUNBUFFERED=1" "ZENOH_RUNTIME=${ZENOH_RUNTIME:-(rx: (worker_threads: 32))}")
 }
 
 cmd_up() {

@@ -123,7 +123,11 @@ def test_goals_estop_and_tf_reach_only_their_own_robot(fleet: Fleet) -> None:
     for k in range(1, ROBOTS + 1):
         if k == stopped:
             continue
-        client = ActionClient(fleet.node, NavigateToPose, f"/robot{k}/navigate_to_pose")
+        # reach_grace, as the estop call's grace above: a listed server's queryable may reach
+        # this session a while after its token on a loaded box (CI once saw robot5's goal end
+        # unanswered after the default 1 s); at most 90 % of send_timeout
+        client = ActionClient(fleet.node, NavigateToPose, f"/robot{k}/navigate_to_pose",
+                              send_timeout=30, reach_grace=20)
         assert client.wait_for_server(30)
         target = PoseStamped(header=Header(frame_id="map"))
         target.pose.position.x = starts[k][0] + AHEAD

@@ -650,13 +650,15 @@ def test_native_v_commands_map_as_the_routes_do(rig: Rig,
         assert wait_for(lambda: "the robot is not mapping" in caplog.text, 5), caplog.text
         assert rig.slam.calls == []
         assert native(b"V\x00")
-        assert wait_for(lambda: calls() == ["start"], 5) and rig.core.state.mapping
-        assert rig.slam.calls[0][1] == "laser" and rig.status() == "Mapping"
+        # the SLAM call is recorded before its answer reaches the gateway's state
+        assert wait_for(lambda: calls() == ["start"] and rig.core.state.mapping, 5)
+        assert rig.slam.calls[0][1] == "laser"
+        assert wait_for(lambda: rig.status() == "Mapping", 5), rig.status()
         assert native(b"V\x02")
         assert wait_for(lambda: calls() == ["start", "save"], 5)
         assert re.fullmatch(r"map_\d{8}_\d{6}", rig.slam.calls[1][1])
         assert native(b"V\x01")
-        assert wait_for(lambda: calls()[-1] == "stop", 5) and not rig.core.state.mapping
+        assert wait_for(lambda: calls()[-1] == "stop" and not rig.core.state.mapping, 5)
         rig.link.answers["map_server/list_maps"] = zm.ListMapsResponse(
             maps=[zm.MapInfo(name="office")])
         assert native(b"V\x03")  # extend the current map from its last pose
