@@ -22,16 +22,20 @@ from zenros.msgs.zenros_msgs.task_actions import (
     ChargeAction,
     DownloadMapAction,
     IoAction,
+    JackingAction,
+    JackingRotateAction,
     LocalMoveAction,
     LocalMoveTargetAction,
     Location,
     NavAction,
     SleepAction,
+    SlideAction,
     SwitchMapAction,
     TtsAction,
     UploadMapAction,
     WaitReqAction,
 )
+from zenros.se2 import angle_diff
 
 from .crossmap import navigate_across
 from .robot import Feedback, Outcome, Robot
@@ -223,6 +227,40 @@ def _io(ctx: Context, p: IoAction) -> Outcome:
     return ctx.robot.set_io(int(p.port), int(p.level))
 
 
+def _axis_move(ctx: Context, axis: str, mode: int, target: float, speed: float,
+               duration: float) -> Outcome:
+    """One actuator move. A resumed speed move runs only the time its progress leaves."""
+    if mode == 1:
+        duration *= 1.0 - float(ctx.item.progress)
+        done = float(ctx.item.progress)
+        return ctx.robot.move_axis(axis, mode, target, speed, duration,
+                                   lambda v: ctx.progress(done + (1.0 - done) * v),
+                                   ctx.cancelled)
+    return ctx.robot.move_axis(axis, mode, target, speed, duration, ctx.progress,
+                               ctx.cancelled)
+
+
+def _slide(ctx: Context, p: SlideAction) -> Outcome:
+    return _axis_move(ctx, "slide", p.mode, p.pose, p.speed, p.time)
+
+
+def _jacking(ctx: Context, p: JackingAction) -> Outcome:
+    return _axis_move(ctx, "jacking", p.mode, p.pose, p.speed, p.time)
+
+
+def _jacking_rotate(ctx: Context, p: JackingRotateAction) -> Outcome:
+    """An ``angle`` in ``map`` is the robot's heading away in ``base_link`` (wrapped into
+    the rotation's travel), taken when the move starts."""
+    angle = p.angle
+    if p.mode == 3 and p.frame_id == "map":
+        pose = ctx.robot.pose()
+        if pose is None:
+            return Outcome("error", "the robot's pose in map is unknown (is nav running?): "
+                                    "cannot turn the lift to a map heading")
+        angle = angle_diff(angle, pose[2])
+    return _axis_move(ctx, "jacking_rotation", p.mode, angle, p.speed, p.time)
+
+
 def _upload_map(ctx: Context, p: UploadMapAction) -> Outcome:
     return ctx.robot.upload_map(p.server_id)
 
@@ -244,4 +282,7 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "io_action": _io,
     "upload_map_action": _upload_map,
     "download_map_action": _download_map,
+    "slide_action": _slide,
+    "jacking_action": _jacking,
+    "jacking_rotate_action": _jacking_rotate,
 }

@@ -1,8 +1,9 @@
-"""`LocalLink`: the tasks service's `RobotLink` plus local moves and IO outputs.
+"""`LocalLink`: the tasks service's `RobotLink` plus local moves, IO outputs and actuators.
 
 Local moves go to nav's ``drive_on_heading`` and ``spin`` (nav2_msgs) and
 ``local_move_target`` (zenros_msgs/LocalMoveTarget) actions; outputs to the chassis's
-``chassis/set_io`` service. Each call is bounded in time and cancellable, as RobotLink's.
+``chassis/set_io`` service, actuator moves to its ``actuators/move`` (`ActuatorLink`). Each
+call is bounded in time and cancellable, as RobotLink's.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from zenros.msgs.zenros_msgs.nav import LocalMoveTarget, LocalMoveTargetGoal
 from zenros.node import Node
 from zenros.tf.quaternion import quaternion_from_yaw
 
+from .actuator_link import ActuatorLink
 from .link import SERVER_WAIT, RobotLink
 from .robot import Outcome
 
@@ -26,7 +28,7 @@ __all__ = ["LocalLink"]
 
 
 class LocalLink(RobotLink):
-    """Implements `Robot` for a tasks node, local moves and IO included."""
+    """Implements `Robot` for a tasks node, local moves, IO and actuators included."""
 
     def __init__(self, node: Node, reconnect: float = 30.0) -> None:
         super().__init__(node, reconnect)
@@ -34,6 +36,12 @@ class LocalLink(RobotLink):
         self.spin_client = ActionClient(node, Spin, "spin")
         self.target_client = ActionClient(node, LocalMoveTarget, "local_move_target")
         self.io = node.create_client(SetIo, "chassis/set_io")
+        self.actuators = ActuatorLink(node, SERVER_WAIT)
+
+    def move_axis(self, axis: str, mode: int, target: float, speed: float, duration: float,
+                  progress: Callable[[float], None],
+                  cancelled: Callable[[], bool]) -> Outcome:
+        return self.actuators.move(axis, mode, target, speed, duration, progress, cancelled)
 
     def drive(self, distance: float, speed: float, timeout: float,
               progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:

@@ -1,4 +1,5 @@
-"""`Robot`: what task actions need from the rest of the robot (nav, dock, maps, IO, speech).
+"""`Robot`: what task actions need from the rest of the robot (nav, dock, maps, IO, actuators,
+speech).
 
 The tasks node implements it over zenros (actions and services of nav and chassis); unit
 tests pass a double. Long calls take ``cancelled``, polled while they wait, and return an
@@ -95,6 +96,15 @@ class Robot(Protocol):
 
     def set_io(self, port: int, level: int) -> Outcome:
         """Set main-board output ``port`` (1..3) to ``level`` (0/1)."""
+        ...
+
+    def move_axis(self, axis: str, mode: int, target: float, speed: float, duration: float,
+                  progress: Callable[[float], None],
+                  cancelled: Callable[[], bool]) -> Outcome:
+        """Move actuator ``axis`` (slide, jacking, jacking_rotation) in ``mode`` (0 homing,
+        1 at ``speed`` for ``duration`` s, 2 stop, 3 to ``target`` at ``speed``) until it
+        stops; ``progress`` gets the share done (0..1). A fault (a limit reached) is an
+        error; cancelled stops the axis."""
         ...
 
     def say(self, text: str) -> None:

@@ -1,7 +1,7 @@
 """The slide rail, the jacking lift and its rotation (`Axis`): ``actuators/state``
 (zenros_msgs/ActuatorState) and ``actuators/joint_states`` (sensor_msgs/JointState) at 10 Hz
-and when a move ends; ``actuators/move`` (zenros_msgs/MoveActuator) moves one, within its
-travel and speed limits, once it has homed."""
+and when a move ends; ``actuators/move`` (zenros_msgs/MoveActuator) homes, stops or moves one
+(to a position, or at a speed for a time) within its travel and speed limits."""
 
 from __future__ import annotations
 
@@ -89,8 +89,9 @@ class ActuatorDevice(Device[ActuatorParameters]):
             header=Header(stamp=self._node.stamp(), frame_id=self.chassis.frames.base),
             name=[a.name for a in axes], position=[a.position for a in axes],
             velocity=[a.velocity for a in axes], low=[a.low for a in axes],
-            high=[a.high for a in axes], zero_status=[a.zero_status for a in axes],
-            moving=[a.moving for a in axes])
+            high=[a.high for a in axes], max_speed=[a.max_speed for a in axes],
+            zero_status=[a.zero_status for a in axes],
+            moving=[a.moving for a in axes], fault=[a.fault for a in axes])
 
     def publish(self, stamp: Time) -> None:
         if not self.axes:
@@ -109,12 +110,27 @@ class ActuatorDevice(Device[ActuatorParameters]):
             return MoveActuatorResponse(
                 success=False, message=f"no axis {req.name!r}: the axes are "
                                        f"{', '.join(self.axes)}", state=self.state())
-        if req.stop:
-            axis.stop()
-            return MoveActuatorResponse(success=True, state=self.state())
         try:
-            axis.move_to(req.position, req.speed)
+            what = self._command(axis, req)
         except ActuatorError as exc:
             return MoveActuatorResponse(success=False, message=str(exc), state=self.state())
-        self._node.logger.info("%s moving to %g", axis.name, req.position)
-        return MoveActuatorResponse(success=True, state=self.state())
+        self._node.logger.info("%s: %s", axis.name, what)
+        return MoveActuatorResponse(success=True, message=what, state=self.state())
+
+    @staticmethod
+    def _command(axis: Axis, req: MoveActuatorRequest) -> str:
+        """Start what ``req`` asks of ``axis``; what it does, in words."""
+        if req.stop or req.mode == MoveActuatorRequest.MODE_STOP:
+            axis.stop()
+            return f"stopped at {axis.position:g}"
+        if req.mode == MoveActuatorRequest.MODE_HOME:
+            axis.home()
+            return "homing"
+        if req.mode == MoveActuatorRequest.MODE_SPEED:
+            axis.run(req.speed, req.duration)
+            return f"running at {req.speed or axis.speed:g} for {req.duration:g} s"
+        if req.mode == MoveActuatorRequest.MODE_POSITION:
+            axis.move_to(req.position, req.speed)
+            return f"moving to {req.position:g}"
+        raise ActuatorError(f"mode {req.mode} is not one of 0 (home), 1 (speed), 2 (stop), "
+                            "3 (position)")

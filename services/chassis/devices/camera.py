@@ -84,7 +84,9 @@ class _View:
         return f"camera_{self.name}_optical_frame"
 
     def listened(self) -> bool:
-        return any(p.subscription_count for p in (*self.images, *self.compressed, *self.infos))
+        return (any(p.subscription_count for p in self.images)
+                or any(p.subscription_count for p in self.compressed)
+                or any(p.subscription_count for p in self.infos))
 
 
 class CameraDevice(Device[CameraParameters]):

@@ -123,16 +123,16 @@ class TasksLink:
         return action
 
     async def run_task(self, name: str, sub_tasks: list[Action], loop: bool = False,
-                       replace: bool = True) -> dict[str, Any]:
-        """Create and start a task; a running navigation task of ours gives way to it (a new
-        goal replaces the old one; not with ``replace`` false), any other running task is a
-        409. Returns the started task's document."""
+                       replaces: frozenset[str] = OWN_TASKS) -> dict[str, Any]:
+        """Create and start a task; a running task named in ``replaces`` (by default the
+        gateway's goals: a new goal replaces the old one) gives way to it, any other running
+        task is a 409. Returns the started task's document."""
         task = await self.create(Task(name=name, sub_tasks=list(sub_tasks), loop_flag=loop))
         try:
             return as_document(await self.step("start", task.id))
         except Conflict:
             running = [t for t in await self.tasks() if t.state in ("WORKING", "PAUSED")]
-            if not replace or not running or any(t.name not in OWN_TASKS for t in running):
+            if not running or any(t.name not in replaces for t in running):
                 await self.command("delete", task.id)
                 raise
             for t in running:

@@ -193,8 +193,9 @@ class ActuatorState(Message):
     (sensor_msgs/JointState) carries the same positions for ROS tools.
 
     Per axis, index for index: ``position`` (m; rad for the rotation), ``velocity``,
-    ``low``/``high`` (its travel), ``zero_status`` (0 homing, 1 homed, -1 homing error),
-    ``moving``.
+    ``low``/``high`` (its travel), ``max_speed``, ``zero_status`` (0 homing, 1 homed, -1 homing error),
+    ``moving``, ``fault`` (empty, or why its last move stopped short: a speed move that
+    reached an end of the travel).
     """
 
     __msgtype__ = "zenros_msgs/ActuatorState"
@@ -204,18 +205,32 @@ class ActuatorState(Message):
     velocity: list[float] = msgspec.field(default_factory=list)
     low: list[float] = msgspec.field(default_factory=list)
     high: list[float] = msgspec.field(default_factory=list)
+    max_speed: list[float] = msgspec.field(default_factory=list)
     zero_status: list[int] = msgspec.field(default_factory=list)
     moving: list[bool] = msgspec.field(default_factory=list)
+    fault: list[str] = msgspec.field(default_factory=list)
 
 
 class MoveActuatorRequest(Message):
-    """Move axis ``name`` to ``position`` at ``speed`` (0: its default); ``stop`` stops it."""
+    """Move axis ``name`` in ``mode`` (the robot API's codes, §9.2 ``slide_action``):
+
+    - ``MODE_POSITION`` (the default): to ``position`` at ``speed`` (0: its default);
+    - ``MODE_SPEED``: at ``speed`` (signed; 0: its default, upwards) for ``duration`` s;
+    - ``MODE_HOME``: back to its home switch; ``MODE_STOP`` (or ``stop``): stop where it is.
+    """
 
     __msgtype__ = "zenros_msgs/MoveActuatorRequest"
     name: str = ""
     position: float = 0.0
     speed: float = 0.0
     stop: bool = False
+    mode: int = 3
+    duration: float = 0.0
+
+    MODE_HOME = 0
+    MODE_SPEED = 1
+    MODE_STOP = 2
+    MODE_POSITION = 3
 
 
 class MoveActuatorResponse(Message):

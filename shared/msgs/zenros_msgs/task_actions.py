@@ -21,9 +21,9 @@ from msgspec import UNSET, Meta, UnsetType
 
 __all__ = [
     "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "CallbackAction", "ChargeAction",
-    "DownloadMapAction", "IoAction", "LocalMoveAction", "LocalMoveTargetAction", "Location",
-    "NavAction", "SleepAction", "SwitchMapAction", "TtsAction", "UploadMapAction",
-    "WaitReqAction", "check_action",
+    "DownloadMapAction", "IoAction", "JackingAction", "JackingRotateAction", "LocalMoveAction",
+    "LocalMoveTargetAction", "Location", "NavAction", "SleepAction", "SlideAction",
+    "SwitchMapAction", "TtsAction", "UploadMapAction", "WaitReqAction", "check_action",
 ]
 
 Seconds = Annotated[float, Meta(ge=0)]
@@ -150,9 +150,40 @@ class DownloadMapAction(ActionBase, kw_only=True, tag="download_map_action"):
     map_id: Annotated[str, Meta(pattern=r"^[0-9a-f]{32}$")]
 
 
+AxisMode = Literal[0, 1, 2, 3]
+"""An actuator move's mode (§9.2): 0 homing, 1 speed mode, 2 stop, 3 position mode."""
+
+
+class SlideAction(ActionBase, kw_only=True, tag="slide_action"):
+    """Move the slide rail: ``mode`` 3 to ``pose`` (m) at ``speed`` (m/s, 0: its default);
+    1 at ``speed`` (signed) for ``time`` s; 0 homing; 2 stop."""
+
+    mode: AxisMode = 3
+    speed: Annotated[float, Meta(ge=-100, le=100)] = 0.0
+    pose: Annotated[float, Meta(ge=-100, le=100)] = 0.0
+    time: Annotated[float, Meta(ge=0, le=86400)] = 0.0
+
+
+class JackingAction(SlideAction, kw_only=True, tag="jacking_action"):
+    """Move the jacking lift: the fields of ``slide_action``."""
+
+
+class JackingRotateAction(ActionBase, kw_only=True, tag="jacking_rotate_action"):
+    """Turn the lift's top: ``mode`` 3 to ``angle`` (rad) in ``frame_id`` (``base_link``, or
+    ``map``: a heading on the map, from the robot's pose when the move starts) at ``speed``
+    (rad/s, 0: its default); 1 at ``speed`` (signed) for ``time`` s; 0 homing; 2 stop."""
+
+    mode: AxisMode = 3
+    speed: Annotated[float, Meta(ge=-100, le=100)] = 0.0
+    angle: Annotated[float, Meta(ge=-100, le=100)] = 0.0
+    time: Annotated[float, Meta(ge=0, le=86400)] = 0.0
+    frame_id: Literal["base_link", "map"] = "base_link"
+
+
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
           | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
-          | UploadMapAction | DownloadMapAction)
+          | UploadMapAction | DownloadMapAction | SlideAction | JackingAction
+          | JackingRotateAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {

@@ -51,6 +51,36 @@ def test_an_axis_homes_then_moves_at_its_speed_within_its_travel() -> None:
         Axis("bad", 1.0, 1.0, 0.1, 0.2)
 
 
+def test_speed_mode_runs_for_its_time_and_faults_at_a_limit_homing_again() -> None:
+    axis = Axis("slide", 0.0, 1.0, speed=0.1, max_speed=0.3)
+    run(axis, 0.1)  # homed at once: it starts on its home switch
+    axis.run(0.2, 2.0)  # + up, 2 s
+    assert axis.moving
+    assert run(axis, 1.0) == 0 and axis.position == pytest.approx(0.2)
+    assert axis.velocity == pytest.approx(0.2)
+    assert run(axis, 1.5) == 1 and axis.position == pytest.approx(0.4) and not axis.moving
+    assert axis.fault == ""
+    axis.run(-0.3, 1.0)  # down 0.3 m
+    assert run(axis, 1.2) == 1 and axis.position == pytest.approx(0.1)
+    axis.run(0.0, 10.0)  # the default speed, up: 1 m away at 0.1 m/s = 9 s of 10
+    assert run(axis, 10.0) == 1 and axis.position == 1.0 and not axis.moving
+    assert axis.fault == "slide reached its high limit (1) with 1.00 s of its run left"
+    with pytest.raises(ActuatorError, match="at its high limit"):
+        axis.run(0.1, 1.0)  # no further that way; the fault stays
+    assert axis.fault
+    axis.run(-0.1, 1.0)  # the other way clears it
+    assert axis.fault == "" and run(axis, 1.0) == 1
+    for speed, duration, words in ((0.5, 1.0, "within ±0.3"), (0.1, 0.0, "time > 0"),
+                                   (float("inf"), 1.0, "speed inf")):
+        with pytest.raises(ActuatorError, match=words):
+            axis.run(speed, duration)
+    axis.home()
+    assert axis.zero_status == 0 and axis.moving
+    with pytest.raises(ActuatorError, match="not homed"):
+        axis.run(0.1, 1.0)
+    assert run(axis, 9.5) == 1 and (axis.zero_status, axis.position) == (1, 0.0)
+
+
 def build(values: dict[str, object]) -> tuple[ActuatorDevice, Any]:
     from test_chassis_devices import StandInNode  # the devices' stand-in node
     cfg = declare_chassis(Parameters("/chassis", values))
@@ -91,3 +121,26 @@ def test_the_device_publishes_its_axes_and_moves_them_on_request() -> None:
     with pytest.raises(ValueError, match="speed"):
         build({"slide_speed": 0.5, "slide_max_speed": 0.3})
     assert math.pi == pytest.approx(-device.axes["jacking_rotation"].low)
+
+
+def test_the_device_takes_the_specs_modes() -> None:
+    device, (chassis, node) = build({"camera_rate": 0.0})
+    move = node.services["actuators/move"]
+    chassis.step(0.02)
+    speed = move(MoveActuatorRequest(name="slide", mode=MoveActuatorRequest.MODE_SPEED,
+                                     speed=0.3, duration=10.0))
+    assert speed.success and speed.message == "running at 0.3 for 10 s", speed.message
+    for _ in range(250):  # 5 s: 1 m of travel at 0.3 m/s ends at 3.3 s
+        chassis.step(0.02)
+    state = device.state()
+    assert state.position[0] == 1.0 and not state.moving[0]
+    assert "reached its high limit" in state.fault[0] and state.fault[1:] == ["", ""]
+    home = move(MoveActuatorRequest(name="slide", mode=MoveActuatorRequest.MODE_HOME))
+    assert home.success and home.state.zero_status[0] == 0 and home.state.fault[0] == ""
+    stop = move(MoveActuatorRequest(name="slide", mode=MoveActuatorRequest.MODE_STOP))
+    assert stop.success and stop.message == "stopped at 1"
+    assert stop.state.zero_status[0] == -1 and "homing stopped" in stop.state.fault[0]
+    refused = move(MoveActuatorRequest(name="slide", position=0.5))
+    assert not refused.success and "not homed yet (zero_status -1)" in refused.message
+    bad = move(MoveActuatorRequest(name="slide", mode=7))
+    assert not bad.success and "mode 7 is not one of 0 (home)" in bad.message

@@ -1,8 +1,10 @@
-"""local_move_action, local_move_target_action and io_action: parameter checks, the legs a
-local move runs in each method, a resumed move drives only what is left, errors pass on."""
+"""local_move_action, local_move_target_action, io_action and the actuator actions: parameter
+checks, the legs a local move runs in each method, a resumed move drives only what is left,
+a map-frame lift rotation, errors pass on."""
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from collections.abc import Callable
@@ -21,6 +23,7 @@ class MoveRobot:
     def __init__(self) -> None:
         self.calls: list[tuple[Any, ...]] = []
         self.outcome = Outcome("complete")
+        self.where: tuple[float, float, float] | None = (0.0, 0.0, 0.0)
 
     def now(self) -> float:
         return time.monotonic()
@@ -43,6 +46,16 @@ class MoveRobot:
 
     def set_io(self, port: int, level: int) -> Outcome:
         self.calls.append(("io", port, level))
+        return self.outcome
+
+    def pose(self) -> tuple[float, float, float] | None:
+        return self.where
+
+    def move_axis(self, axis: str, mode: int, target: float, speed: float, duration: float,
+                  progress: Callable[[float], None],
+                  cancelled: Callable[[], bool]) -> Outcome:
+        self.calls.append((axis, mode, round(target, 6), speed, round(duration, 6)))
+        progress(0.5)
         return self.outcome
 
 
@@ -101,7 +114,45 @@ def test_target_and_io_actions() -> None:
     assert robot.calls == [("io", 3, 1)]
 
 
+def test_actuator_actions_move_their_axis() -> None:
+    robot = MoveRobot()
+    out, item = run(robot, {"type": "slide_action", "pose": 0.5})
+    assert out.name == "complete" and robot.calls == [("slide", 3, 0.5, 0.0, 0.0)]
+    assert item.progress == 0.5  # what the link reported
+    robot.calls.clear()
+    run(robot, {"type": "jacking_action", "mode": 1, "speed": -0.02, "time": 4})
+    assert robot.calls == [("jacking", 1, 0.0, -0.02, 4.0)]
+    robot.calls.clear()
+    # a resumed speed move runs the time its progress leaves, and reports on the whole
+    _, item = run(robot, {"type": "jacking_action", "mode": 1, "time": 4}, progress=0.75)
+    assert robot.calls == [("jacking", 1, 0.0, 0.0, 1.0)] and item.progress == 0.875
+    robot.calls.clear()
+    run(robot, {"type": "jacking_rotate_action", "angle": 1.0})  # base_link by default
+    assert robot.calls == [("jacking_rotation", 3, 1.0, 0.0, 0.0)]
+    robot.calls.clear()
+    robot.where = (2.0, 1.0, 3.0)  # heading 3 rad on the map: map 1.0 is -2.0 in base_link
+    run(robot, {"type": "jacking_rotate_action", "angle": 1.0, "frame_id": "map",
+                "speed": 0.5})
+    assert robot.calls == [("jacking_rotation", 3, -2.0, 0.5, 0.0)]
+    robot.calls.clear()
+    robot.where = (0.0, 0.0, -3.0)  # map 3.0 is 6.0 rad away: wrapped to 6 - 2 pi
+    run(robot, {"type": "jacking_rotate_action", "angle": 3.0, "frame_id": "map"})
+    assert robot.calls == [("jacking_rotation", 3, round(6.0 - 2 * math.pi, 6), 0.0, 0.0)]
+    robot.where = None
+    out, _ = run(robot, {"type": "jacking_rotate_action", "angle": 1.0, "frame_id": "map"})
+    assert out.name == "error" and "pose in map is unknown" in out.reason
+    robot.outcome = Outcome("error", "slide at 1 for 5 s: slide reached its high limit (1)")
+    out, _ = run(robot, {"type": "slide_action", "mode": 1, "speed": 0.3, "time": 5})
+    assert out.name == "error" and "high limit" in out.reason
+
+
 @pytest.mark.parametrize("doc", [
+    {"type": "slide_action", "mode": 4},
+    {"type": "slide_action", "pose": "0.5"},
+    {"type": "slide_action", "time": -1},
+    {"type": "jacking_action", "pose": float("nan")},
+    {"type": "jacking_rotate_action", "frame_id": "odom"},
+    {"type": "jacking_rotate_action", "pose": 0.1},
     {"type": "local_move_action", "method": 2},
     {"type": "local_move_action", "distance": "1"},
     {"type": "local_move_action", "distance": 100},

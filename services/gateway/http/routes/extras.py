@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import asyncio
 import json
-import math
 from collections.abc import Callable
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import msgspec
 from zenros.errors import (
@@ -23,7 +22,7 @@ from zenros.msgs.diagnostic_msgs import DiagnosticStatus
 from ...ports.topic_hub import Slot, TopicError, TopicHub
 from ..api import Answer, Api, ApiError, Call
 
-__all__ = ["add_extra_routes"]
+__all__ = ["add_extra_routes", "latest"]
 
 TOPIC_WAIT = 3.0
 
@@ -60,7 +59,7 @@ async def log(call: Call[None, None]) -> Answer:
     return {"log": "\n".join(link.log)}
 
 
-async def _latest(hub: TopicHub, name: str) -> bytes:
+async def latest(hub: TopicHub, name: str) -> bytes:
     """The next message on topic ``name`` as JSON (404: not in the graph; 504: nothing
     within TOPIC_WAIT s)."""
     slot = Slot(asyncio.get_running_loop())
@@ -84,58 +83,15 @@ async def topic(call: Call[None, TopicQuery]) -> Answer:
         name = hub.resolve(call.query.topic_name)
     except TopicError as exc:
         raise ApiError(400, str(exc)) from exc
-    return msgspec.Raw(await _latest(hub, name))
+    return msgspec.Raw(await latest(hub, name))
 
 
 async def wind_info(call: Call[None, None]) -> Answer:
     """The wind sensor's reading (``wind``, zenros_msgs/WindInfo): speed, gust maximum,
     Beaufort level and direction; 404 when the robot has no wind sensor in the graph."""
     hub = call.ctx.hub
-    reading = json.loads(await _latest(hub, hub.resolve("wind")))
+    reading = json.loads(await latest(hub, hub.resolve("wind")))
     return {k: reading[k] for k in ("current_speed", "max_speed", "level", "direction")}
-
-
-class AngleQuery(msgspec.Struct, forbid_unknown_fields=True):
-    frame_id: Literal["", "base_link", "map"] = ""
-
-
-async def _axis(call: Call[Any, Any], name: str) -> tuple[int, float, float]:
-    """(zero_status, position, ratio of its travel) of actuator axis ``name``, from the
-    chassis's ``actuators/state``; 404 when the robot has no actuators in the graph."""
-    hub = call.ctx.hub
-    state = json.loads(await _latest(hub, hub.resolve("actuators/state")))
-    try:
-        i = state["name"].index(name)
-    except ValueError:
-        raise ApiError(404, f"the robot has no {name} axis") from None
-    low, high, pos = state["low"][i], state["high"][i], state["position"][i]
-    return int(state["zero_status"][i]), float(pos), (pos - low) / (high - low)
-
-
-async def slide_pose(call: Call[None, None]) -> Answer:
-    """The slide rail: ``zero_status`` (0 homing, 1 homed, -1 error), ``current_pose`` (m),
-    ``pose_ratio`` (0-1 of its travel)."""
-    zero, pos, ratio = await _axis(call, "slide")
-    return {"zero_status": zero, "current_pose": round(pos, 4), "pose_ratio": round(ratio, 4)}
-
-
-async def jacking_pose(call: Call[None, None]) -> Answer:
-    """The jacking lift: ``zero_status``, ``current_pose`` (m), ``pose_ratio``."""
-    zero, pos, ratio = await _axis(call, "jacking")
-    return {"zero_status": zero, "current_pose": round(pos, 4), "pose_ratio": round(ratio, 4)}
-
-
-async def jacking_angle(call: Call[None, AngleQuery]) -> Answer:
-    """The lift's rotation: ``zero_status``, ``current_angle`` (rad) in ``base_link``
-    (default) or ``map`` (plus the robot's heading; 503 while its pose is unknown)."""
-    zero, angle, _ = await _axis(call, "jacking_rotation")
-    if call.query.frame_id == "map":
-        pose = call.ctx.core.state.pose
-        if pose is None:
-            raise ApiError(503, "the robot's pose in map is unknown (is nav running?)")
-        heading = pose[2]
-        angle = math.atan2(math.sin(angle + heading), math.cos(angle + heading))
-    return {"zero_status": zero, "current_angle": round(angle, 4)}
 
 
 async def self_test(call: Call[None, None]) -> Answer:
@@ -180,9 +136,6 @@ def add_extra_routes(api: Api) -> None:
     api.add("GET", "/system/schedule_manager", schedule_manager)
     api.add("GET", "/system/topic", topic)
     api.add("GET", "/navigation/wind_info", wind_info)
-    api.add("GET", "/system/slide_pose", slide_pose)
-    api.add("GET", "/system/jacking_pose", jacking_pose)
-    api.add("GET", "/system/jacking_angle", jacking_angle)
     api.add("GET", "/system/self_test", self_test)
     api.add("GET", "/system/ros_params", get_param)
     api.add("PUT", "/system/ros_params", put_param)

@@ -187,7 +187,7 @@ async def upload_map(call: Call[None, ServerQuery]) -> Answer:
     ``upload_map_action`` (its result names the map's ``map_id`` there); a running task is
     not replaced (409)."""
     action = zm.UploadMapAction(server_id=call.query.server_id)
-    return await call.ctx.tasks.run_task("upload_map", [action], replace=False)
+    return await call.ctx.tasks.run_task("upload_map", [action], replaces=frozenset())
 
 
 async def download_map(call: Call[None, DownloadQuery]) -> Answer:
@@ -195,7 +195,7 @@ async def download_map(call: Call[None, DownloadQuery]) -> Answer:
     of one ``download_map_action``."""
     q = call.query
     action = zm.DownloadMapAction(server_id=q.server_id, map_id=q.map_id)
-    return await call.ctx.tasks.run_task("download_map", [action], replace=False)
+    return await call.ctx.tasks.run_task("download_map", [action], replaces=frozenset())
 
 
 def add_map_transfer_routes(api: Api) -> None:
