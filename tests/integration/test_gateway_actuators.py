@@ -19,8 +19,8 @@ from zenros.node import Node
 from zenros.services.chassis.node import ChassisNode
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.tasks.node import TasksNode
-from zenros.tf.quaternion import quaternion_from_yaw
 from zenros.testing import wait_for
+from zenros.tf.quaternion import quaternion_from_yaw
 
 
 @pytest.fixture
