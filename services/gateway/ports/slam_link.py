@@ -17,7 +17,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import msgspec
 from zenros.action import ActionClient
@@ -46,6 +46,7 @@ from zenros.msgs.zenros_msgs.slam import (
 )
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
+from zenros.rpc import Client
 from zenros.tf.convert import yaw_from_msg
 
 from ..errors import NoAnswer, Unavailable, port_error
@@ -257,7 +258,9 @@ class SlamLink:
     # ------------------------------------------------------------------ calls
 
     async def _call(self, client_name: str, request: Message) -> Message:
-        client = {"start": self._start, "stop": self._stop, "save": self._save}[client_name]
+        clients: dict[str, Client[Any, Any]] = {"start": self._start, "stop": self._stop,
+                                                 "save": self._save}
+        client = clients[client_name]
         try:
             res: Message = await client.call_async(request, self.timeout)
         except ServiceUnavailableError:
