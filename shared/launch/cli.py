@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..errors import LaunchError, StartupError
 from ..exits import EXIT_STARTUP
+from ..names import validate_namespace
 from .args import describe as describe_arg
 from .files import describe, find_launch_file, launch_dir, launch_files
 from .loader import declared_args, load_launch
@@ -38,6 +39,8 @@ class LaunchOptions:
     sigterm_timeout: float = 5.0
     sigkill_timeout: float = 5.0
     verbose: bool = False
+    control: str = "/launch"
+    on_shutdown: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,8 @@ class LaunchHooks:
         wait_ready: called after every start; True once the node is up (its liveliness).
         on_event: sees every supervisor `Event`.
         stop_last: True for processes stopped after all the others (e.g. master).
+        control: entered once the processes' supervisor exists, exited after it ended: the
+            launch's own services (restart, shutdown) under ``options.control``.
     """
 
     startup: Callable[[LaunchOptions], AbstractAsyncContextManager[object]] | None = None
@@ -60,6 +65,8 @@ class LaunchHooks:
     wait_ready: WaitReady | None = None
     on_event: Callable[[Event], None] | None = None
     stop_last: Callable[[ProcessSpec], bool] | None = None
+    control: Callable[[Supervisor, LaunchOptions],
+                      AbstractAsyncContextManager[object]] | None = None
 
 
 def default_data_dir() -> Path:
@@ -88,6 +95,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--sigkill-timeout", type=float, default=5.0, metavar="S",
         help="seconds between SIGTERM and SIGKILL at shutdown (default 5)",
+    )
+    parser.add_argument(
+        "--control", default="/launch", metavar="NAME",
+        help="where the launch's restart and shutdown services are (std_srvs/Trigger: "
+             "NAME/restart, NAME/shutdown; the robot API's restart_robot and shutdown call "
+             "them; default /launch; '' for none)",
+    )
+    parser.add_argument(
+        "--on-shutdown", default="", metavar="CMD",
+        help="a command run after a shutdown requested on NAME/shutdown has stopped every "
+             "process, e.g. 'systemctl poweroff' on a real robot (split like a shell would, "
+             "never run by one)",
     )
     parser.add_argument(
         "-v", "--verbose", action="store_true",
@@ -141,13 +160,24 @@ def main(argv: Sequence[str] | None = None, hooks: LaunchHooks | None = None) ->
         return EXIT_STARTUP
     if ns.show_args:
         return _show_args(ns.file)
+    if ns.control:
+        try:
+            validate_namespace(ns.control)
+        except ValueError as exc:
+            print(f"zenros launch: --control {ns.control!r}: {exc}", file=sys.stderr)
+            return 2
+    try:
+        on_shutdown = tuple(shlex.split(ns.on_shutdown))
+    except ValueError as exc:
+        print(f"zenros launch: --on-shutdown {ns.on_shutdown!r}: {exc}", file=sys.stderr)
+        return 2
     data_dir = (ns.data_dir or default_data_dir()).expanduser()
     run_id = time.strftime("%Y%m%d-%H%M%S") + f"-{os.getpid()}"
     options = LaunchOptions(
         file=ns.file, args=launch_args, data_dir=data_dir,
         run_dir=data_dir / "logs" / run_id, no_router=ns.no_router,
         sigterm_timeout=ns.sigterm_timeout, sigkill_timeout=ns.sigkill_timeout,
-        verbose=ns.verbose,
+        verbose=ns.verbose, control=ns.control, on_shutdown=on_shutdown,
     )
     try:
         description = load_launch(options.file, options.args)
@@ -181,7 +211,7 @@ async def run(description: LaunchDescription, options: LaunchOptions, hooks: Lau
     )
     startup = hooks.startup(options) if hooks.startup else _nothing()
     try:
-        async with startup, _signals(supervisor):
+        async with startup, _signals(supervisor), _control(hooks, supervisor, options):
             return await supervisor.run()
     except StartupError as exc:
         print(f"zenros launch: {exc}", file=sys.stderr)
@@ -191,6 +221,13 @@ async def run(description: LaunchDescription, options: LaunchOptions, hooks: Lau
 @contextlib.asynccontextmanager
 async def _nothing() -> AsyncIterator[None]:
     yield
+
+
+def _control(hooks: LaunchHooks, supervisor: Supervisor,
+             options: LaunchOptions) -> AbstractAsyncContextManager[object]:
+    if hooks.control is None or not options.control:
+        return _nothing()
+    return hooks.control(supervisor, options)
 
 
 @contextlib.asynccontextmanager

@@ -4,6 +4,8 @@ Each process runs in its own session (process group), so a signal reaches the wh
 and a terminal's Ctrl-C reaches only the launcher, which then stops everything in order:
 SIGINT to all, SIGTERM after ``sigterm_timeout`` to those still running, SIGKILL after
 ``sigkill_timeout``. A further `Supervisor.stop` call skips to the next step at once.
+`Supervisor.restart` stops every process the same way and starts them all again, in order,
+while the launch goes on (the robot API's ``restart_robot``, through `LaunchControl`).
 
 A process that exits with code 3 (startup failed: its configuration) is not restarted; a
 respawn process failing quickly again and again backs off and is given up after
@@ -100,7 +102,10 @@ class Supervisor:
         self.states = {spec.label: ProcessState(spec) for spec in specs}
         self._stopping = asyncio.Event()
         self._escalate = asyncio.Event()
+        self._changed = asyncio.Event()  # a restart ended: the set of watchers is new
         self._startup_failed = False
+        self._restarting = False
+        self._restart_task: asyncio.Task[Any] | None = None
         self._watchers: list[asyncio.Task[None]] = []
         self._watcher_of: dict[str, asyncio.Task[None]] = {}  # by label: ends once the exit is said
         self._logs: dict[str, LogFile] = {}
@@ -126,6 +131,46 @@ class Supervisor:
             self._say(Event("stop", detail=f"launch finished with exit code {code}"))
             self._launch_log.close()
         return code
+
+    @property
+    def stopping(self) -> bool:
+        return self._stopping.is_set()
+
+    @property
+    def restarting(self) -> bool:
+        return self._restarting
+
+    async def restart(self, reason: str = "restart requested") -> bool:
+        """Stop every process in order (as a stop does: SIGINT, then SIGTERM and SIGKILL
+        for those that do not end), then start them all again in the launch's order. False
+        (nothing done) while the launch stops or another restart is under way. A process
+        that cannot be started again stops the launch."""
+        if self._stopping.is_set() or self._restarting:
+            return False
+        self._restarting = True
+        self._restart_task = asyncio.current_task()
+        self._say(Event("restart", detail=f"{reason}: restarting every process"))
+        try:
+            await self._stop_processes()
+            await asyncio.gather(*self._watchers, return_exceptions=True)
+            self._watchers.clear()
+            self._watcher_of.clear()
+            for state in self.states.values():
+                state.quick_failures = 0
+                if self._stopping.is_set():
+                    break
+                if not await self._spawn(state):
+                    self.stop(f"{state.spec.label} could not be started again; the launch "
+                              "stops")
+                    break
+                self._watchers.append(asyncio.create_task(self._supervise(state)))
+                self._watcher_of[state.spec.label] = self._watchers[-1]
+        finally:
+            self._restarting = False
+            self._changed.set()
+        if not self._stopping.is_set():
+            self._say(Event("restart", detail=f"restarted {len(self._watchers)} processes"))
+        return True
 
     def stop(self, reason: str = "stop requested") -> None:
         """Begin the orderly stop; each further call skips to the next signal at once."""
@@ -245,7 +290,7 @@ class Supervisor:
                 self._say(Event("exit", spec.label, state.process.pid, state.returncode,
                                 describe_exit(state.returncode)), log)
                 log.close()
-            if self._stopping.is_set():
+            if self._stopping.is_set() or self._restarting:
                 return
             rc = state.returncode
             if rc == EXIT_STARTUP:
@@ -324,12 +369,21 @@ class Supervisor:
         await asyncio.gather(*pending, return_exceptions=True)
 
     async def _until_done(self) -> None:
-        """Until a stop is requested or every watcher has ended."""
+        """Until a stop is requested or every watcher has ended (a restart's new watchers
+        count: the launch waits through a restart)."""
         stop = asyncio.create_task(self._stopping.wait())
         try:
-            pending = {stop, *self._watchers}
-            while stop in pending and len(pending) > 1:
-                _, pending = await asyncio.wait(pending, return_when=asyncio.FIRST_COMPLETED)
+            while not stop.done():
+                self._changed.clear()
+                watchers = {w for w in self._watchers if not w.done()}
+                if not watchers and not self._restarting:
+                    return
+                changed = asyncio.create_task(self._changed.wait())
+                try:
+                    await asyncio.wait({stop, changed, *watchers},
+                                       return_when=asyncio.FIRST_COMPLETED)
+                finally:
+                    changed.cancel()
         finally:
             stop.cancel()
 
@@ -337,6 +391,21 @@ class Supervisor:
 
     async def _shutdown(self) -> None:
         self._stopping.set()
+        restart = self._restart_task
+        if restart is not None and restart is not asyncio.current_task():
+            # it starts nothing more now, and stops what it stops in the same steps
+            await asyncio.gather(restart, return_exceptions=True)
+        await self._stop_processes()
+        await asyncio.gather(*self._watchers, return_exceptions=True)
+        for state in self.states.values():
+            tasks = [*state.tasks, *([state.ready_task] if state.ready_task else [])]
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    async def _stop_processes(self) -> None:
+        """SIGINT (the `stop_last` ones after the others), SIGTERM, SIGKILL: each to those
+        still running after the step before."""
         await self._stop_first_wave()
         steps = (
             (signal.SIGINT, self.config.sigterm_timeout),
@@ -354,12 +423,6 @@ class Supervisor:
                 self._signal(state, sig)
             self._escalate.clear()
             await self._wait_watchers(timeout)
-        await asyncio.gather(*self._watchers, return_exceptions=True)
-        for state in self.states.values():
-            tasks = [*state.tasks, *([state.ready_task] if state.ready_task else [])]
-            for task in tasks:
-                task.cancel()
-            await asyncio.gather(*tasks, return_exceptions=True)
 
     async def _stop_first_wave(self) -> None:
         """SIGINT to every process but the `stop_last` ones, and wait for them to end."""

@@ -1,5 +1,5 @@
-"""The Zenoh side of `zenros launch`: a local router when none answers, and node readiness
-from liveliness."""
+"""The Zenoh side of `zenros launch`: a local router when none answers, node readiness from
+liveliness, and the launch's restart and shutdown services (`LaunchControl`)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,9 @@ from ..param_client import ParameterClient
 from ..router import router_reachable
 from ..session import DEFAULT_ROUTER, SessionOptions
 from .cli import LaunchHooks, LaunchOptions
+from .control import LaunchControl, run_shutdown_command
 from .model import ProcessSpec
+from .supervisor import Supervisor
 
 __all__ = ["ZenohLaunch", "is_master", "router_endpoint"]
 
@@ -52,7 +54,26 @@ class ZenohLaunch:
 
     def hooks(self) -> LaunchHooks:
         return LaunchHooks(startup=self.startup, before_start=self.before_start,
-                           wait_ready=self.wait_ready, stop_last=is_master)
+                           wait_ready=self.wait_ready, stop_last=is_master,
+                           control=self.control)
+
+    @contextlib.asynccontextmanager
+    async def control(self, supervisor: Supervisor,
+                      options: LaunchOptions) -> AsyncIterator[None]:
+        """The launch's restart and shutdown services (`LaunchControl`) while it runs; the
+        ``--on-shutdown`` command after a shutdown they were asked for."""
+        if self.ctx is None:
+            yield
+            return
+        loop = asyncio.get_running_loop()
+        node = await asyncio.to_thread(LaunchControl, self.ctx, options.control, supervisor,
+                                       loop)
+        try:
+            yield
+        finally:
+            await asyncio.to_thread(node.close)
+            if node.shutdown_requested and options.on_shutdown:
+                await asyncio.to_thread(run_shutdown_command, options.on_shutdown)
 
     @contextlib.asynccontextmanager
     async def startup(self, options: LaunchOptions) -> AsyncIterator[None]:
