@@ -101,5 +101,5 @@ class FrontEnds:
             end = self.started.pop()
             try:
                 self._run(end.stop(), STOP_TIMEOUT)
-            except Exception:  # noqa: BLE001 (the others stop all the same)
+            except Exception:
                 self.logger.exception("stopping the %s front end failed", end.name)

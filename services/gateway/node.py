@@ -56,7 +56,7 @@ class GatewayNode(Node):
         files = FileRoot(data_dir(p.fs_root), [config_path], p.fs_max_upload)
         self.options = RobotOptions(config, TokenStore(config), files, p.api_version,
                                     p.rest_port, p.status_rate, p.deadman_timeout,
-                                    p.startup_grace, p.max_body)
+                                    p.startup_grace, p.max_body, p.launch_control)
         self.fleet = self._fleet()
         robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
         self.robots = self.fleet.robots if self.fleet else {robot.name: robot}

@@ -57,6 +57,10 @@ class GatewayParameters(msgspec.Struct, kw_only=True):
     startup_grace: Annotated[float, Meta(
         ge=0, description="seconds after start during which a backend not seen yet counts "
                           "as starting (503 with Retry-After)")] = 30.0
+    launch_control: Annotated[str, Meta(
+        description="the launch supervising the robot, whose NAME/restart and NAME/shutdown "
+                    "/system/restart_robot and /system/shutdown call (zenros launch "
+                    "--control)")] = "/launch"
     fs_root: Annotated[str, Meta(
         description="the folder the /fs API works in (empty: $ZENROS_HOME)")] = ""
     fs_max_upload: Annotated[int, Meta(

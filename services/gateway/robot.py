@@ -17,6 +17,7 @@ from .http.app import build_api
 from .http.context import Context
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
+from .ports.host_link import HostLink
 from .ports.io_link import IoLink
 from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
@@ -64,6 +65,7 @@ class RobotOptions:
     deadman_timeout: float = 0.5
     startup_grace: float = 30.0
     max_body: int = 64 * 1024
+    launch_control: str = "/launch"
 
 
 class Robot:
@@ -103,7 +105,8 @@ class Robot:
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
-            snapshots=Snapshots(node, data_dir / "Pictures"))
+            snapshots=Snapshots(node, data_dir / "Pictures"),
+            host=HostLink(node, options.launch_control))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

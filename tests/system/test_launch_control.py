@@ -85,3 +85,47 @@ def test_bad_control_flags_are_usage_errors(tmp_path: Path) -> None:
                               str(tmp_path / "l.yaml"), *flags],
                              check=False, capture_output=True, text=True, timeout=60)
         assert out.returncode == 2 and words in out.stderr, out.stderr
+
+
+def test_the_robot_api_restarts_and_shuts_down_its_launch(launch_text: Any,
+                                                           tmp_path: Path) -> None:
+    """§3.3 with curl's view: GET /system/restart_robot restarts every process, the gateway
+    answering it too; GET /system/shutdown ends the launch cleanly."""
+    import httpx
+    from zenros.testing import free_port
+
+    port = free_port()
+    text = LAUNCH + f"""
+  - module: zenros.services.gateway
+    params: [{{rest_port: {port}, ws_port: 0, modbus_port: 0, rosbridge_port: -1,
+               discovery_port: -1, no_token_check: true,
+               data_dir: "{tmp_path / 'gw'}", fs_root: "{tmp_path}"}}]
+"""
+    base = f"http://127.0.0.1:{port}/api/v1"
+
+    def get(path: str) -> httpx.Response | None:
+        try:
+            return httpx.get(base + path, timeout=10)
+        except httpx.HTTPError:
+            return None
+
+    with launch_text(text) as (proc, ctx):
+        assert proc.wait_line("gateway is ready", 60), proc.output
+        user = Node("user", context=ctx)
+        try:
+            assert ctx.graph.wait_for(lambda: len(pids(user)) == 2, 20)
+            before = pids(user)
+            assert ctx.graph.wait_for_service("/launch/restart", 20)
+            r = get("/system/restart_robot")
+            assert r is not None and r.status_code == 200 and r.json() == {"result": True}, r
+            assert ctx.graph.wait_for(
+                lambda: len(pids(user)) == 2 and not set(pids(user).values())
+                & set(before.values()), 60), (before, pids(user), proc.output)
+            assert proc.wait_line("restarted 3 processes", 60), proc.output
+            assert wait_for(lambda: (r := get("/system/info")) is not None
+                            and r.status_code == 200, 60), proc.output
+            r = get("/system/shutdown")
+            assert r is not None and r.json() == {"result": True}, r
+        finally:
+            user.close()
+        assert proc.wait(60) == 0, proc.output

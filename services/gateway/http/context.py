@@ -9,6 +9,7 @@ from zenros.param_client import ParameterClient
 
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
+from ..ports.host_link import HostLink
 from ..ports.io_link import IoLink
 from ..ports.nav_actions import NavActions
 from ..ports.nav_services import NavServices
@@ -41,3 +42,4 @@ class Context:
     coverage: CoverageLink
     slam: SlamPort | None = None   # the mapping node's port (None: no mapping)
     snapshots: Snapshots | None = None  # the cameras' pictures (None: no robot node)
+    host: HostLink | None = None  # the launch supervising the robot (None: no robot node)
