@@ -110,7 +110,8 @@ class GatewayNode(Node):
         self.ws_port = ws.port
         start(ws)
         self.logger.info("topic WebSocket on ws://%s:%d/<topic>", host, self.ws_port)
-        self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits)
+        self.modbus = ModbusFront(self.core, self.logger, self.io.ext_bits,
+                                  self.robot.context.asr)
 
         async def start_modbus() -> None:
             self.modbus_port = await self.modbus.start(host, p.modbus_port)

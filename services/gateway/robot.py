@@ -15,6 +15,7 @@ from zenros.param_client import ParameterClient
 from .http.api import Api
 from .http.app import build_api
 from .http.context import Context
+from .ports.asr_link import AsrLink
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
 from .ports.host_link import HostLink
@@ -106,7 +107,7 @@ class Robot:
             speech=self.speech, audio=self.audio,
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
-            host=HostLink(node, options.launch_control))
+            host=HostLink(node, options.launch_control), asr=AsrLink(node))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

@@ -48,7 +48,7 @@ async def test_spec_example_and_status_tables(gw: GatewayNode) -> None:
         assert bad.isError() and bad.exception_code == 2           # ILLEGAL ADDRESS
         bad = await c.read_input_registers(20, count=10, device_id=1)  # runs past doc 27
         assert bad.isError() and bad.exception_code == 2
-        bad = await c.read_coils(0, count=1, device_id=1)          # §14 has no coils
+        bad = await c.read_coils(4, count=1, device_id=1)  # coils 1-4: the ASR board's
         assert bad.isError() and bad.exception_code == 2
         bad = await c.write_register(20, 1, device_id=1)           # past holding reg 14
         assert bad.isError() and bad.exception_code == 2

@@ -11,6 +11,7 @@ from typing import Any
 
 from ..device import Device
 from .actuators import ActuatorDevice
+from .asr import AsrDevice
 from .battery import BatteryDevice
 from .camera import CameraDevice
 from .dock import DockDevice
@@ -22,9 +23,9 @@ from .state import StateDevice
 from .truth import GroundTruthDevice
 from .wind import WindDevice
 
-__all__ = ["DEVICES", "ActuatorDevice", "BatteryDevice", "CameraDevice", "DockDevice", "FleetDevice",
-           "GroundTruthDevice",
-           "IoDevice", "LaserDevice", "OdometryDevice", "StateDevice", "WindDevice"]
+__all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CameraDevice",
+           "DockDevice", "FleetDevice", "GroundTruthDevice", "IoDevice", "LaserDevice",
+           "OdometryDevice", "StateDevice", "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
     OdometryDevice,
@@ -38,4 +39,5 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     FleetDevice,
     WindDevice,
     ActuatorDevice,
+    AsrDevice,
 )

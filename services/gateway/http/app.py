@@ -11,6 +11,7 @@ from .api import PREFIX, Answer, Api, Call
 from .context import Context
 from .openapi import openapi_document
 from .routes.actuators import add_actuator_routes
+from .routes.asr import add_asr_routes
 from .routes.connections import add_connection_routes
 from .routes.coverage import add_coverage_routes
 from .routes.extras import add_extra_routes
@@ -35,7 +36,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_task_routes, add_nav_routes, add_goal_routes, add_local_move_routes, add_io_routes,
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
-    add_image_routes, add_actuator_routes, add_host_routes)
+    add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from zenros.param_client import ParameterClient
 
+from ..ports.asr_link import AsrLink
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
 from ..ports.host_link import HostLink
@@ -42,4 +43,5 @@ class Context:
     coverage: CoverageLink
     slam: SlamPort | None = None   # the mapping node's port (None: no mapping)
     snapshots: Snapshots | None = None  # the cameras' pictures (None: no robot node)
+    asr: AsrLink | None = None  # the ASR board (None: no robot node)
     host: HostLink | None = None  # the launch supervising the robot (None: no robot node)

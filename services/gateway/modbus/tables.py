@@ -16,11 +16,13 @@ from zenros.msgs.galileo_msgs import GalileoStatus
 from ..state.status import f32
 
 __all__ = [
-    "DI_COUNT", "HR_COUNT", "IR_COUNT", "HoldingWrite", "decode_f32", "discrete_inputs",
-    "encode_f32", "input_registers", "parse_holding_write",
+    "COIL_COUNT", "DI_COUNT", "HR_COUNT", "IR_COUNT", "HoldingWrite", "decode_f32",
+    "discrete_inputs", "encode_f32", "input_registers", "parse_holding_write",
 ]
 
-DI_COUNT = 30     # doc 1-6 status bits, 7-22 input IO 0-15, 23-30 output IO 0-7
+DI_COUNT = 38     # doc 1-6 status bits, 7-22 input IO 0-15, 23-30 output IO 0-7,
+#                   31-38 the ASR board's IO 0-7 (ours: the spec's table ends at 30)
+COIL_COUNT = 4    # doc 1-4: the ASR board's outputs 0-3 (ours: §14 has no coils)
 IR_COUNT = 27     # doc 1..27 (the uint32 at doc 26 ends at 27)
 HR_COUNT = 14     # doc 1..14
 
@@ -47,13 +49,15 @@ def _i16(v: int) -> int:
 
 
 def discrete_inputs(st: GalileoStatus, ext_inputs: Sequence[int] = (),
-                    ext_outputs: Sequence[int] = ()) -> list[bool]:
-    """Doc addresses 1-30: six status bits, the extension IO board's inputs 0-15 (7-22)
-    and outputs 0-7 (23-30); IO bits the chassis has not reported read 0."""
+                    ext_outputs: Sequence[int] = (), asr_io: Sequence[bool] = ()) -> list[bool]:
+    """Doc addresses 1-38: six status bits, the extension IO board's inputs 0-15 (7-22)
+    and outputs 0-7 (23-30), the ASR board's IO 0-7 (31-38); IO bits the chassis has not
+    reported read 0."""
     bits = [st.navStatus == 1, st.mapStatus == 1, st.gcStatus == 1, st.gbaStatus == 1,
             st.loopStatus == 1, st.busyStatus == 1]
     bits += [bool(v) for v in list(ext_inputs)[:16]] + [False] * (16 - min(16, len(ext_inputs)))
     bits += [bool(v) for v in list(ext_outputs)[:8]] + [False] * (8 - min(8, len(ext_outputs)))
+    bits += [bool(v) for v in list(asr_io)[:8]] + [False] * (8 - min(8, len(asr_io)))
     return bits + [False] * (DI_COUNT - len(bits))
 
 

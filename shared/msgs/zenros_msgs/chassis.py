@@ -12,6 +12,8 @@
   (``actuators/move``): the slide rail, the jacking lift and its rotation.
 - ``zenros_msgs/WindInfo`` on ``wind``: the wind sensor's speed, gust maximum, Beaufort
   level and direction (an outdoor robot's; the simulated one's is still air by default).
+- ``zenros_msgs/AsrBoardState`` on ``asr/state`` (latched) and ``zenros_msgs/SetAsrBoard``
+  (``asr/set``): the ASR (voice) board's IO, PWM and servo outputs.
 - ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
 """
 
@@ -27,12 +29,16 @@ from ..std_msgs import Header
 
 __all__ = [
     "ActuatorState",
+    "AsrBoardState",
     "ChassisState",
     "IoState",
     "MoveActuator",
     "MoveActuatorRequest",
     "MoveActuatorResponse",
     "Obstacle",
+    "SetAsrBoard",
+    "SetAsrBoardRequest",
+    "SetAsrBoardResponse",
     "SetIo",
     "SetIoRequest",
     "SetIoResponse",
@@ -245,3 +251,46 @@ class MoveActuatorResponse(Message):
 
 MoveActuator = define_service("zenros_msgs/MoveActuator", MoveActuatorRequest,
                               MoveActuatorResponse)
+
+
+class AsrBoardState(Message):
+    """The ASR (voice) board, published latched on ``asr/state`` at every change and at 10 Hz
+    while a servo turns: ``io`` ports 0-7 (0-3 outputs, 4-7 inputs), PWM channels 0-3
+    (``pwm_freq`` Hz, 0 off; ``pwm_percent`` duty), servos 0-3 (``servo_angle`` now and
+    ``servo_target``, degrees 0-180)."""
+
+    __msgtype__ = "zenros_msgs/AsrBoardState"
+    header: Header = msgspec.field(default_factory=Header)
+    io: list[bool] = msgspec.field(default_factory=list)
+    pwm_freq: list[int] = msgspec.field(default_factory=list)
+    pwm_percent: list[int] = msgspec.field(default_factory=list)
+    servo_angle: list[float] = msgspec.field(default_factory=list)
+    servo_target: list[float] = msgspec.field(default_factory=list)
+
+
+class SetAsrBoardRequest(Message):
+    """``kind`` ``io``: outputs ``ports`` to ``levels`` (index for index, all or none);
+    ``pwm``: channel ``port`` at ``freq`` Hz and ``percent`` duty; ``servo``: servo ``port`` to
+    ``angle`` degrees."""
+
+    __msgtype__ = "zenros_msgs/SetAsrBoardRequest"
+    kind: str = "io"
+    ports: list[int] = msgspec.field(default_factory=list)
+    levels: list[bool] = msgspec.field(default_factory=list)
+    port: int = 0
+    freq: int = 0
+    percent: int = 0
+    angle: float = 0.0
+
+
+class SetAsrBoardResponse(Message):
+    """``success`` false with the reason in ``message``; ``state``: the board after it."""
+
+    __msgtype__ = "zenros_msgs/SetAsrBoardResponse"
+    success: bool = False
+    message: str = ""
+    state: AsrBoardState = msgspec.field(default_factory=AsrBoardState)
+
+
+SetAsrBoard = define_service("zenros_msgs/SetAsrBoard", SetAsrBoardRequest,
+                             SetAsrBoardResponse)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
+from typing import Any, TypeVar
 
 import pytest
 from zenros.msgs.zenros_msgs import MoveActuatorRequest
@@ -13,6 +13,9 @@ from zenros.params import Parameters
 from zenros.services.chassis.actuators import ActuatorError, Axis
 from zenros.services.chassis.config import declare_chassis
 from zenros.services.chassis.devices import ActuatorDevice
+
+
+D = TypeVar("D")
 
 
 def run(axis: Axis, seconds: float, dt: float = 0.02) -> int:
@@ -81,16 +84,22 @@ def test_speed_mode_runs_for_its_time_and_faults_at_a_limit_homing_again() -> No
     assert run(axis, 9.5) == 1 and (axis.zero_status, axis.position) == (1, 0.0)
 
 
-def build(values: dict[str, object]) -> tuple[ActuatorDevice, Any]:
+def build_device(kind: type[D], values: dict[str, object]) -> tuple[D, Any]:
+    """A chassis built from ``values``, its devices opened on a stand-in node, and its
+    device of ``kind``."""
     from test_chassis_devices import StandInNode  # the devices' stand-in node
     cfg = declare_chassis(Parameters("/chassis", values))
     chassis = cfg.build(logging.getLogger("test"))
     node = StandInNode()
     for d in chassis.devices:
         d.open(node)
-    device = chassis.device(ActuatorDevice)
+    device = chassis.device(kind)
     assert device is not None
     return device, (chassis, node)
+
+
+def build(values: dict[str, object]) -> tuple[ActuatorDevice, Any]:
+    return build_device(ActuatorDevice, values)
 
 
 def test_the_device_publishes_its_axes_and_moves_them_on_request() -> None:

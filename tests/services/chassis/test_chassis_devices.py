@@ -40,7 +40,8 @@ NAMES = {
     "camera_height", "camera_hfov", "camera_z", "camera_front_x", "camera_back_x",
     "camera_jpeg_quality", "wind_speed", "wind_gust", "wind_direction", "actuators",
     "slide_travel", "slide_speed", "slide_max_speed", "jacking_travel", "jacking_speed",
-    "jacking_max_speed", "jacking_angle_speed", "jacking_angle_max_speed",
+    "jacking_max_speed", "jacking_angle_speed", "jacking_angle_max_speed", "asr_board",
+    "asr_servo_speed",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -120,7 +121,8 @@ def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPa
 
 
 def test_the_devices_open_their_topics_and_services() -> None:
-    _, node = build({"camera_rate": 0.0, "actuators": False})  # their own tests, below
+    _, node = build({"camera_rate": 0.0, "actuators": False,  # their own tests, below
+                     "asr_board": False})
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
                                     "chassis/io", "chassis/state", "wind"}
     assert set(node.services) == {"chassis/set_io"} and node.listening == {}
@@ -147,7 +149,7 @@ def test_a_device_service_answers_and_publishes() -> None:
 
 def test_each_device_publishes_at_its_rate() -> None:
     chassis, node = build({"rate": 50.0, "scan_rate": 10.0, "camera_rate": 0.0,
-                           "actuators": False})
+                           "actuators": False, "asr_board": False})
     schedule = Schedule(chassis.devices, 50.0)
     for step in range(1, 101):  # two sim seconds
         chassis.step(0.02)

@@ -1,0 +1,56 @@
+"""`AsrLink`: the chassis's ASR (voice) board: its state from the latched ``asr/state``
+(zenros_msgs/AsrBoardState), its outputs set through ``asr/set`` (zenros_msgs/SetAsrBoard)."""
+
+from __future__ import annotations
+
+from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.msgs.zenros_msgs import (
+    AsrBoardState,
+    SetAsrBoard,
+    SetAsrBoardRequest,
+    SetAsrBoardResponse,
+)
+from zenros.node import Node
+from zenros.qos import QOS_LATCHED
+
+from ..errors import Failed, NoAnswer, Refused, Unavailable
+
+__all__ = ["AsrLink"]
+
+
+class AsrLink:
+    """The board's latest state and its set service, for the doors."""
+
+    def __init__(self, node: Node, timeout: float = 5.0) -> None:
+        self.timeout = timeout
+        self.state: AsrBoardState | None = None
+        self.client = node.create_client(SetAsrBoard, "asr/set")
+        node.create_subscription(AsrBoardState, "asr/state", self._on_state, QOS_LATCHED)
+
+    def _on_state(self, msg: AsrBoardState) -> None:
+        self.state = msg
+
+    def current(self) -> AsrBoardState:
+        if self.state is None:
+            raise Unavailable("no ASR board: nothing on asr/state (the chassis is not running, "
+                              "or its asr_board parameter is false)")
+        return self.state
+
+    def io_bits(self) -> list[bool]:
+        """Its IO ports 0-7 (empty before the board reports)."""
+        return [] if self.state is None else list(self.state.io)
+
+    async def set(self, req: SetAsrBoardRequest) -> AsrBoardState:
+        try:
+            res: SetAsrBoardResponse = await self.client.call_async(req, self.timeout)
+        except ServiceUnavailableError:
+            raise Unavailable("no ASR board: asr/set is not in the graph (the chassis is not "
+                              "running, or its asr_board parameter is false)") from None
+        except ZenrosTimeout:
+            raise NoAnswer(f"asr/set did not answer within {self.timeout:g} s") from None
+        except ServiceError as exc:
+            raise Failed(f"asr/set failed: {exc}") from exc
+        if not res.success:
+            raise Refused(res.message)
+        self.state = res.state
+        return res.state
