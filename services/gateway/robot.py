@@ -27,6 +27,7 @@ from .ports.slam_link import SlamLink
 from .ports.snapshots import Snapshots
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
+from .ports.videos import Videos
 from .state.config import GatewayConfig
 from .state.core import Core, make_identity
 from .state.settings import Settings
@@ -100,6 +101,8 @@ class Robot:
         self.speech = Speech(lambda: node.now().nanoseconds / 1e9)
         self.audio = AudioStore(data_dir / "audio.json")
         self.slam = SlamLink(node, self.core, lambda: self.nav_services.grid)
+        self.videos = Videos(node, data_dir / "Videos")
+        node.on_close(self.videos.close)  # a recording under way keeps what it has
         self.context = Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
@@ -107,7 +110,8 @@ class Robot:
             speech=self.speech, audio=self.audio,
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
-            host=HostLink(node, options.launch_control), asr=AsrLink(node))
+            host=HostLink(node, options.launch_control), asr=AsrLink(node),
+            videos=self.videos)
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

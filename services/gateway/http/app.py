@@ -28,6 +28,7 @@ from .routes.records import add_record_routes
 from .routes.system import add_system_routes
 from .routes.tasks import add_task_routes
 from .routes.tts import add_tts_routes
+from .routes.videos import add_video_routes
 
 __all__ = ["ROUTES", "HttpApp", "build_api"]
 
@@ -36,7 +37,8 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_task_routes, add_nav_routes, add_goal_routes, add_local_move_routes, add_io_routes,
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
-    add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes)
+    add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
+    add_video_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

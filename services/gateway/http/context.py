@@ -19,6 +19,7 @@ from ..ports.slam_link import SlamPort
 from ..ports.snapshots import Snapshots
 from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
+from ..ports.videos import Videos
 from ..state.core import Core
 from ..state.speech import AudioStore, Speech
 
@@ -43,5 +44,6 @@ class Context:
     coverage: CoverageLink
     slam: SlamPort | None = None   # the mapping node's port (None: no mapping)
     snapshots: Snapshots | None = None  # the cameras' pictures (None: no robot node)
+    videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
     host: HostLink | None = None  # the launch supervising the robot (None: no robot node)

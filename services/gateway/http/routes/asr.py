@@ -7,7 +7,7 @@ service and the answer waits for it (`ports.asr_link.AsrLink`). IO ports 0-3 are
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import msgspec
 from zenros.msgs.zenros_msgs import SetAsrBoardRequest
@@ -33,7 +33,7 @@ class ServoQuery(msgspec.Struct, forbid_unknown_fields=True):
     angle: Annotated[int, msgspec.Meta(ge=0, le=180)]
 
 
-def _asr(call: Call[object, object]) -> AsrLink:
+def _asr(call: Call[Any, Any]) -> AsrLink:
     if call.ctx.asr is None:
         raise ApiError(501, "this gateway has no robot whose ASR board it could reach")
     return call.ctx.asr

@@ -9,7 +9,8 @@ from typing import Annotated
 import msgspec
 from starlette.responses import FileResponse
 
-from ...ports.snapshots import CAMERA_TOPICS, SnapshotError, Snapshots
+from ...ports.media_folder import MediaError
+from ...ports.snapshots import CAMERA_TOPICS, Snapshots
 from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_image_routes"]
@@ -31,21 +32,21 @@ async def take(call: Call[SnapshotBody, None]) -> Answer:
     """Take a snapshot of a camera (``topic``, default the front camera's) into Pictures."""
     try:
         path = await _shots(call).take(call.body.topic, call.body.filename)
-    except SnapshotError as exc:
+    except MediaError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     return {"image": path.name, "file_timestamp": path.stem}
 
 
 async def listing(call: Call[None, None]) -> Answer:
     """The saved pictures, newest first."""
-    return await asyncio.to_thread(_shots(call).listing)
+    return await asyncio.to_thread(_shots(call).files.listing)
 
 
 async def download(call: Call[None, None]) -> Answer:
     """Download one saved picture (PNG)."""
     try:
-        path = _shots(call).find(call.path_params.get("file_timestamp", ""))
-    except SnapshotError as exc:
+        path = _shots(call).files.find(call.path_params.get("file_timestamp", ""))
+    except MediaError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     return FileResponse(path, media_type="image/png", filename=path.name)
 
@@ -53,8 +54,8 @@ async def download(call: Call[None, None]) -> Answer:
 async def delete(call: Call[None, None]) -> Answer:
     """Delete one saved picture."""
     try:
-        path = _shots(call).find(call.path_params.get("file_timestamp", ""))
-    except SnapshotError as exc:
+        path = _shots(call).files.find(call.path_params.get("file_timestamp", ""))
+    except MediaError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     await asyncio.to_thread(path.unlink, True)
     return {"status": "ok"}
