@@ -33,6 +33,7 @@ from .state.core import Core, make_identity
 from .state.settings import Settings
 from .state.speech import AudioStore, Speech
 from .state.tokens import TokenStore
+from .state.voices import VoiceStore
 
 __all__ = ["Robot", "RobotOptions", "RobotView", "robot_name"]
 
@@ -111,7 +112,7 @@ class Robot:
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
-            videos=self.videos)
+            videos=self.videos, voices=VoiceStore(data_dir / "voices"))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

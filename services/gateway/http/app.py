@@ -29,6 +29,7 @@ from .routes.system import add_system_routes
 from .routes.tasks import add_task_routes
 from .routes.tts import add_tts_routes
 from .routes.videos import add_video_routes
+from .routes.voices import add_voice_routes
 
 __all__ = ["ROUTES", "HttpApp", "build_api"]
 
@@ -38,7 +39,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
-    add_video_routes)
+    add_video_routes, add_voice_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

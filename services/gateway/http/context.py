@@ -22,6 +22,7 @@ from ..ports.topic_hub import TopicHub
 from ..ports.videos import Videos
 from ..state.core import Core
 from ..state.speech import AudioStore, Speech
+from ..state.voices import VoiceStore
 
 __all__ = ["Context"]
 
@@ -44,6 +45,7 @@ class Context:
     coverage: CoverageLink
     slam: SlamPort | None = None   # the mapping node's port (None: no mapping)
     snapshots: Snapshots | None = None  # the cameras' pictures (None: no robot node)
+    voices: VoiceStore | None = None  # the voice packages (None: no robot node)
     videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
     host: HostLink | None = None  # the launch supervising the robot (None: no robot node)

@@ -33,9 +33,11 @@ class Speech:
         self._until = float("-inf")
         self._lock = threading.Lock()
 
-    def say(self, text: str) -> float:
-        """Start saying ``text`` (it replaces what was playing); returns its duration."""
-        duration = len(text) / self.rate
+    def say(self, text: str, duration: float | None = None) -> float:
+        """Start saying ``text`` (it replaces what was playing) for ``duration`` s (a
+        recording's length; None: as long as synthesised speech takes); returns it."""
+        if duration is None:
+            duration = len(text) / self.rate
         with self._lock:
             self.text = text
             self._until = self._now() + duration

@@ -12,10 +12,10 @@ from starlette.datastructures import UploadFile
 from starlette.formparsers import MultiPartException
 from starlette.requests import Request
 from starlette.responses import FileResponse
-from starlette.types import Message, Receive
 
 from ...ports.fs_sandbox import FsError
 from ..api import Answer, Api, ApiError, Call
+from ..forms import SLACK, limited
 
 __all__ = ["add_fs_routes"]
 
@@ -63,20 +63,6 @@ async def _fs(fn: Callable[[], T]) -> T:
         raise ApiError(409, f"the file system refused: {exc.strerror or exc}") from exc
 
 
-SLACK = 64 * 1024  # an upload's multipart boundaries and the small fields around the file
-
-
-def _limited(receive: Receive, limit: int) -> Receive:
-    seen = 0
-
-    async def wrapped() -> Message:
-        nonlocal seen
-        message = await receive()
-        seen += len(message.get("body", b""))
-        if seen > limit:
-            raise ApiError(413, f"upload too large: over {limit} bytes")
-        return message
-    return wrapped
 
 
 async def download(call: Call[None, PathQuery]) -> Answer:
@@ -102,7 +88,7 @@ async def upload(call: Call[None, OptionalPath]) -> Answer:
     if not ctype.startswith("multipart/form-data"):
         raise ApiError(400, "upload a multipart/form-data body with a `file` field")
     request = Request(call.request.scope,
-                      _limited(call.request.receive, root.max_upload + SLACK))
+                      limited(call.request.receive, root.max_upload + SLACK))
     try:
         async with request.form(max_files=1, max_fields=8) as form:
             upload_file = form.get("file")

@@ -14,8 +14,6 @@ import asyncio
 from typing import Annotated, Any
 
 import msgspec
-from starlette.datastructures import UploadFile
-from starlette.formparsers import MultiPartException
 from starlette.requests import Request
 from starlette.responses import Response
 from zenros.maps.archive import MAX_ARCHIVE, ArchiveError, read_archive
@@ -27,7 +25,7 @@ from ...errors import NotFound, PortError
 from ..api import Answer, Api, ApiError, Call
 from ..context import Context
 from ..fields import Name
-from .fs import SLACK, _limited
+from ..forms import SLACK, read_form
 from .mapping import slam_port
 
 __all__ = ["add_map_transfer_routes"]
@@ -122,28 +120,15 @@ async def download_map_from_robot(call: Call[None, MapNameQuery]) -> Answer:
 
 async def _form_files(request: Request) -> tuple[str, dict[str, bytes]]:
     """``map_name`` and the uploaded files by name (a zip's unpacked), size-limited."""
-    limit = MAX_ARCHIVE + SLACK
-    declared = request.headers.get("content-length", "")
-    if declared.isdigit() and int(declared) > limit:
-        raise ApiError(413, f"upload too large: {declared} bytes (limit {MAX_ARCHIVE})")
-    if not request.headers.get("content-type", "").startswith("multipart/form-data"):
-        raise ApiError(400, "upload a multipart/form-data body with `map_name` and "
-                            "`map_files`")
-    limited = Request(request.scope, _limited(request.receive, limit))
-    try:
-        async with limited.form(max_files=8, max_fields=4) as form:
-            unknown = sorted(set(form.keys()) - {"map_name", "map_files"})
-            if unknown:
-                raise ApiError(400, f"unknown form field(s): {', '.join(unknown)}")
-            name = form.get("map_name")
-            if not isinstance(name, str) or not name:
-                raise ApiError(400, "missing the `map_name` form field")
-            uploads = [f for f in form.getlist("map_files") if isinstance(f, UploadFile)]
-            if not uploads:
-                raise ApiError(400, "the form has no `map_files` with a file in it")
-            raw = [(f.filename or "", await f.read()) for f in uploads]
-    except MultiPartException as exc:
-        raise ApiError(400, f"malformed multipart body: {exc.message}") from exc
+    texts, forms = await read_form(request, MAX_ARCHIVE + SLACK,
+                                   frozenset({"map_name", "map_files"}),
+                                   "`map_name` and `map_files`")
+    name = texts.get("map_name")
+    if not name:
+        raise ApiError(400, "missing the `map_name` form field")
+    raw = forms.get("map_files", [])
+    if not raw:
+        raise ApiError(400, "the form has no `map_files` with a file in it")
     if len(raw) == 1 and (raw[0][0].lower().endswith(".zip") or raw[0][1][:4] == b"PK\x03\x04"):
         return name, await asyncio.to_thread(read_archive, raw[0][1])
     files: dict[str, bytes] = {}

@@ -3,6 +3,7 @@ volume."""
 
 from __future__ import annotations
 
+import asyncio
 from typing import Annotated
 
 import msgspec
@@ -28,13 +29,18 @@ class VolumeBody(msgspec.Struct, forbid_unknown_fields=True):
 async def tts(call: Call[None, TtsQuery]) -> Answer:
     """Speak ``text`` (its alias if it has one): published on ``tts`` (std_msgs/String).
 
-    The simulated robot has no speaker; the speech counts as playing for
-    len(text) / 15 s of the robot's clock.
+    When the active voice package has a recording of the text, the recording is played: it
+    counts as playing for its length; otherwise (synthesised) for len(text) / 15 s, of the
+    robot's clock. ``recording`` names the recording played (its md5sum), if any.
     """
-    link, speech, store = call.ctx.topics, call.ctx.speech, call.ctx.audio
+    link, speech, store, voices = call.ctx.topics, call.ctx.speech, call.ctx.audio, \
+        call.ctx.voices
     text = store.apply_alias(call.query.text)
-    speech.say(text)
+    found = await asyncio.to_thread(voices.match, text) if voices is not None else None
+    speech.say(text, found[0].duration if found is not None else None)
     link.tts_pub.publish(String(data=text))
+    if found is not None:
+        return {"status": "ok", "recording": found[0].md5sum}
     return {"status": "ok"}
 
 
