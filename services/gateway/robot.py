@@ -18,6 +18,7 @@ from .http.context import Context
 from .ports.asr_link import AsrLink
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
+from .ports.host_commands import HostCommands
 from .ports.host_link import HostLink
 from .ports.io_link import IoLink
 from .ports.nav_actions import NavActions
@@ -36,6 +37,9 @@ from .state.tokens import TokenStore
 from .state.voices import VoiceStore
 
 __all__ = ["Robot", "RobotOptions", "RobotView", "robot_name"]
+
+CONFIG_WHERE = ("the gateway's configuration file (its config_file parameter; "
+                "$ZENROS_HOME/galileo_api/config.json by default)")
 
 
 def robot_name(name: object) -> str:
@@ -112,8 +116,16 @@ class Robot:
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
-            videos=self.videos, voices=VoiceStore(data_dir / "voices"))
+            videos=self.videos, voices=VoiceStore(data_dir / "voices"),
+            commands=_host_commands(options.config.host_commands))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
+
+
+def _host_commands(table: dict[str, list[str]]) -> HostCommands:
+    try:
+        return HostCommands(table, CONFIG_WHERE)
+    except ValueError as exc:
+        raise ConfigError(f"{CONFIG_WHERE}: {exc}") from exc
 
 
 class RobotView(Node):

@@ -10,6 +10,7 @@ from zenros.param_client import ParameterClient
 from ..ports.asr_link import AsrLink
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
+from ..ports.host_commands import HostCommands
 from ..ports.host_link import HostLink
 from ..ports.io_link import IoLink
 from ..ports.nav_actions import NavActions
@@ -48,4 +49,5 @@ class Context:
     voices: VoiceStore | None = None  # the voice packages (None: no robot node)
     videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
-    host: HostLink | None = None  # the launch supervising the robot (None: no robot node)
+    host: HostLink | None = None
+    commands: HostCommands | None = None  # the operator's host commands (None: no robot)  # the launch supervising the robot (None: no robot node)

@@ -22,6 +22,7 @@ class GatewayConfig(msgspec.Struct, forbid_unknown_fields=False):
     allow_update: bool = False
     no_token_check: bool = False
     auto_charge: bool = False
+    host_commands: dict[str, list[str]] = msgspec.field(default_factory=dict)
 
 
 def default_config_path() -> Path:

@@ -1,15 +1,76 @@
-"""REST ``/system/restart_robot`` and ``/system/shutdown`` (docs/robot-api.md §3.3): the
-robot's software restarted, or stopped, for real, by the launch that supervises it (the
-gateway's `HostLink`). Each answers ``{"result": true}`` once the launch has taken the
-request; the launch acts a second later, so the answer reaches the client before the gateway
-itself stops."""
+"""REST operations on the robot's host (docs/robot-api.md §3.3, §3.5).
+
+``/system/restart_robot`` and ``/system/shutdown``: the robot's software restarted, or
+stopped, for real, by the launch that supervises it (the gateway's `HostLink`); each answers
+``{"result": true}`` once the launch has taken the request, which acts a second later, so the
+answer reaches the client before the gateway itself stops. ``/system/wifi``,
+``/system/restart_router``, ``/system/restart_novnc`` and ``/system/is_online`` run the
+commands the operator configured (`HostCommands`), with the request's values checked.
+"""
 
 from __future__ import annotations
 
+from typing import Annotated, Any
+
+import msgspec
+
+from ...ports.host_commands import HostCommands
 from ...ports.host_link import HostLink
 from ..api import Answer, Api, ApiError, Call
 
 __all__ = ["add_host_routes"]
+
+
+class WifiQuery(msgspec.Struct, forbid_unknown_fields=True):
+    ssid: Annotated[str, msgspec.Meta(min_length=1, max_length=32)]
+    password: Annotated[str, msgspec.Meta(max_length=63)] = ""
+
+
+class RouterQuery(msgspec.Struct, forbid_unknown_fields=True):
+    type: Annotated[str, msgspec.Meta(min_length=1, max_length=32)]
+    ip: Annotated[str, msgspec.Meta(min_length=1, max_length=64)]
+    username: Annotated[str, msgspec.Meta(max_length=64)] = ""
+    password: Annotated[str, msgspec.Meta(max_length=63)] = ""
+
+
+def _commands(call: Call[Any, Any]) -> HostCommands:
+    if call.ctx.commands is None:
+        raise ApiError(501, "this gateway runs no host commands (no robot node)")
+    return call.ctx.commands
+
+
+async def _must_run(call: Call[Any, Any], op: str, values: dict[str, str]) -> None:
+    try:
+        await _commands(call).must_run(op, values)
+    except ValueError as exc:
+        raise ApiError(400, str(exc)) from exc
+
+
+async def wifi(call: Call[None, WifiQuery]) -> Answer:
+    """Join Wi-Fi network ``ssid`` with ``password`` (the operator's ``wifi`` command)."""
+    q = call.query
+    await _must_run(call, "wifi", {"ssid": q.ssid, "password": q.password})
+    return {"status": "ok"}
+
+
+async def restart_router(call: Call[None, RouterQuery]) -> Answer:
+    """Reboot the on-board router (the operator's ``restart_router`` command)."""
+    q = call.query
+    await _must_run(call, "restart_router", {"type": q.type, "ip": q.ip,
+                                             "username": q.username, "password": q.password})
+    return {"status": "ok"}
+
+
+async def restart_novnc(call: Call[None, None]) -> Answer:
+    """Restart the remote desktop (the operator's ``restart_novnc`` command)."""
+    await _must_run(call, "restart_novnc", {})
+    return {"result": True}
+
+
+async def is_online(call: Call[None, None]) -> Answer:
+    """Whether the robot is online: the operator's ``is_online`` command exits 0."""
+    code, _ = await _commands(call).run("is_online")
+    return {"result": code == 0}
 
 
 def _host(call: Call[None, None]) -> HostLink:
@@ -36,3 +97,7 @@ def add_host_routes(api: Api) -> None:
     """Route the host's operations."""
     api.add("GET", "/system/restart_robot", restart_robot)
     api.add("GET", "/system/shutdown", shutdown)
+    api.add("GET", "/system/wifi", wifi)
+    api.add("GET", "/system/restart_router", restart_router)
+    api.add("GET", "/system/restart_novnc", restart_novnc)
+    api.add("GET", "/system/is_online", is_online)
