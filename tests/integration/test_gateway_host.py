@@ -1,7 +1,8 @@
-"""§3.3's restart_robot and shutdown without a launch to act on: a 503 naming the missing
-service and how to get one, never a fake success (with a launch: tests/system/
-test_launch_control.py); the operator's host commands (wifi, is_online, restart_router,
-restart_novnc) run as configured, with the request's values as plain arguments."""
+"""docs/robot-api.md §3.3's restart_robot and shutdown without a launch to act on: a 503
+naming the missing service and how to get one, never a fake success (with a launch:
+tests/system/test_launch_control.py); the operator's host commands (wifi, is_online,
+restart_router, restart_novnc) run as configured, with the request's values as plain
+arguments."""
 
 from __future__ import annotations
 

@@ -89,8 +89,8 @@ def test_bad_control_flags_are_usage_errors(tmp_path: Path) -> None:
 
 def test_the_robot_api_restarts_and_shuts_down_its_launch(launch_text: Any,
                                                            tmp_path: Path) -> None:
-    """§3.3 with curl's view: GET /system/restart_robot restarts every process, the gateway
-    answering it too; GET /system/shutdown ends the launch cleanly."""
+    """docs/robot-api.md §3.3 with curl's view: GET /system/restart_robot restarts every
+    process, the gateway answering it too; GET /system/shutdown ends the launch cleanly."""
     import httpx
     from zenros.testing import free_port
 

@@ -218,7 +218,8 @@ class ActuatorState(Message):
 
 
 class MoveActuatorRequest(Message):
-    """Move axis ``name`` in ``mode`` (the robot API's codes, §9.2 ``slide_action``):
+    """Move axis ``name`` in ``mode`` (the robot API's codes, docs/robot-api.md §9.2
+    ``slide_action``):
 
     - ``MODE_POSITION`` (the default): to ``position`` at ``speed`` (0: its default);
     - ``MODE_SPEED``: at ``speed`` (signed; 0: its default, upwards) for ``duration`` s;
