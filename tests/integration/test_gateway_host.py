@@ -67,6 +67,6 @@ def test_an_unknown_host_command_stops_the_gateway_at_start(ctx_pair: list[Conte
     from zenros.errors import ConfigError
 
     (tmp_path / "config.json").write_text(json.dumps({"host_commands": {"reboot": ["x"]}}))
-    with pytest.raises(ConfigError, match="unknown operation"):
-        with running_gateway(ctx_pair[0], tmp_path):
-            pass
+    with pytest.raises(ConfigError, match="unknown operation"), \
+            running_gateway(ctx_pair[0], tmp_path):
+        pass
