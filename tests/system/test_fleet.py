@@ -201,7 +201,9 @@ def test_each_robot_has_its_own_diagnostics_tree(fleet: Fleet) -> None:
     for k in (1, ROBOTS):
         fleet.node.create_subscription(DiagnosticArray, f"/robot{k}/diagnostics_agg",
                                        keep(trees, k, lambda m: m))
-    assert wait_for(lambda: len(trees) == 2, 30), sorted(trees)
+    # 60 s: on a loaded box a new subscription reaches a robot of the composed process late
+    # (issue 37.4's family; 30 s was exceeded twice in suites run beside other tests)
+    assert wait_for(lambda: len(trees) == 2, 60), sorted(trees)
     for k, tree in trees.items():
         names = {s.name for s in tree.status}
         assert {"/Chassis/motors", "/Chassis/battery", "/Navigation/localization"} <= names, \
