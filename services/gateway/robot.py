@@ -28,6 +28,7 @@ from .ports.slam_link import SlamLink
 from .ports.snapshots import Snapshots
 from .ports.tasks_link import TasksLink
 from .ports.topic_hub import TopicHub
+from .ports.updater import Updater
 from .ports.videos import Videos
 from .state.config import GatewayConfig
 from .state.core import Core, make_identity
@@ -117,7 +118,9 @@ class Robot:
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
             videos=self.videos, voices=VoiceStore(data_dir / "voices"),
-            commands=_host_commands(options.config.host_commands))
+            commands=_host_commands(options.config.host_commands),
+            updater=Updater(options.config.update_source, options.config.update_package,
+                            options.config.allow_update, data_dir))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

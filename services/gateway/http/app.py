@@ -17,7 +17,7 @@ from .routes.coverage import add_coverage_routes
 from .routes.extras import add_extra_routes
 from .routes.fs import add_fs_routes
 from .routes.goals import add_goal_routes
-from .routes.host import add_host_routes
+from .routes.host import add_host_routes, add_update_routes
 from .routes.images import add_image_routes
 from .routes.io import add_io_routes
 from .routes.local_moves import add_local_move_routes
@@ -39,7 +39,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
-    add_video_routes, add_voice_routes)
+    add_video_routes, add_voice_routes, add_update_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

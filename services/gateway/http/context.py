@@ -20,6 +20,7 @@ from ..ports.slam_link import SlamPort
 from ..ports.snapshots import Snapshots
 from ..ports.tasks_link import TasksLink
 from ..ports.topic_hub import TopicHub
+from ..ports.updater import Updater
 from ..ports.videos import Videos
 from ..state.core import Core
 from ..state.speech import AudioStore, Speech
@@ -50,4 +51,5 @@ class Context:
     videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
     host: HostLink | None = None
-    commands: HostCommands | None = None  # the operator's host commands (None: no robot)  # the launch supervising the robot (None: no robot node)
+    commands: HostCommands | None = None  # the operator's host commands (None: no robot)
+    updater: Updater | None = None  # software updates (None: no robot node)  # the launch supervising the robot (None: no robot node)

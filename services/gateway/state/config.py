@@ -23,6 +23,8 @@ class GatewayConfig(msgspec.Struct, forbid_unknown_fields=False):
     no_token_check: bool = False
     auto_charge: bool = False
     host_commands: dict[str, list[str]] = msgspec.field(default_factory=dict)
+    update_source: str = ""  # a folder of wheels or a package index URL (docs/robot-api.md §3.4)
+    update_package: str = "zenros"
 
 
 def default_config_path() -> Path:

@@ -16,9 +16,10 @@ import msgspec
 
 from ...ports.host_commands import HostCommands
 from ...ports.host_link import HostLink
+from ...ports.updater import Updater
 from ..api import Answer, Api, ApiError, Call
 
-__all__ = ["add_host_routes"]
+__all__ = ["add_host_routes", "add_update_routes"]
 
 
 class WifiQuery(msgspec.Struct, forbid_unknown_fields=True):
@@ -101,3 +102,62 @@ def add_host_routes(api: Api) -> None:
     api.add("GET", "/system/restart_router", restart_router)
     api.add("GET", "/system/restart_novnc", restart_novnc)
     api.add("GET", "/system/is_online", is_online)
+
+
+class UseDevBody(msgspec.Struct, forbid_unknown_fields=True):
+    use_dev: bool
+
+
+def _updater(call: Call[Any, Any]) -> Updater:
+    if call.ctx.updater is None:
+        raise ApiError(501, "this gateway updates nothing (no robot node)")
+    return call.ctx.updater
+
+
+async def update_check(call: Call[None, None]) -> Answer:
+    """Whether the update source has a newer version: ``need_update``, ``current``,
+    ``latest``."""
+    return await _updater(call).check()
+
+
+async def update_start(call: Call[None, None]) -> Answer:
+    """Start updating in the background (``allow_update`` must be on)."""
+    updater = _updater(call)
+    if not updater.allowed:
+        raise ApiError(403, "updates are off: set \"allow_update\": true in the gateway's "
+                            "configuration file")
+    await updater.start()
+    return {"status": "updating"}
+
+
+async def update_cancel(call: Call[None, None]) -> Answer:
+    """Stop the update under way."""
+    await _updater(call).cancel()
+    return {"status": "cancelled"}
+
+
+async def update_log(call: Call[None, None]) -> Answer:
+    """The update's ``status``, ``log`` (pip's output) and ``is_complete``."""
+    return _updater(call).log()
+
+
+async def get_use_dev(call: Call[None, None]) -> Answer:
+    """Whether updates take pre-releases (the development channel)."""
+    return {"use_dev": _updater(call).use_dev}
+
+
+async def put_use_dev(call: Call[UseDevBody, None]) -> Answer:
+    """Take pre-releases in updates, or not."""
+    updater = _updater(call)
+    updater.set_use_dev(call.body.use_dev)
+    return {"use_dev": updater.use_dev}
+
+
+def add_update_routes(api: Api) -> None:
+    """Route §3.4's updates and the development channel."""
+    api.add("GET", "/system/update/check", update_check)
+    api.add("GET", "/system/update/start", update_start)
+    api.add("GET", "/system/update/cancel", update_cancel)
+    api.add("GET", "/system/update/log", update_log)
+    api.add("GET", "/system/use_dev", get_use_dev)
+    api.add("PUT", "/system/use_dev", put_use_dev)
