@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.zenros_msgs import (
     AsrBoardState,
     SetAsrBoard,
@@ -13,7 +12,8 @@ from zenros.msgs.zenros_msgs import (
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 
-from ..errors import Failed, NoAnswer, Refused, Unavailable
+from ..errors import Refused, Unavailable
+from .calls import call_port
 
 __all__ = ["AsrLink"]
 
@@ -41,15 +41,9 @@ class AsrLink:
         return [] if self.state is None else list(self.state.io)
 
     async def set(self, req: SetAsrBoardRequest) -> AsrBoardState:
-        try:
-            res: SetAsrBoardResponse = await self.client.call_async(req, self.timeout)
-        except ServiceUnavailableError:
-            raise Unavailable("no ASR board: asr/set is not in the graph (the chassis is not "
-                              "running, or its asr_board parameter is false)") from None
-        except ZenrosTimeout:
-            raise NoAnswer(f"asr/set did not answer within {self.timeout:g} s") from None
-        except ServiceError as exc:
-            raise Failed(f"asr/set failed: {exc}") from exc
+        res: SetAsrBoardResponse = await call_port(self.client, req, self.timeout, lambda: Unavailable(
+            "no ASR board: asr/set is not in the graph (the chassis is not running, or its "
+            "asr_board parameter is false)"))
         if not res.success:
             raise Refused(res.message)
         self.state = res.state

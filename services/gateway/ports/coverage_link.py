@@ -3,7 +3,6 @@ port errors."""
 
 from __future__ import annotations
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.zenros_msgs import (
     ComputeCoveragePath,
     ComputeCoveragePathRequest,
@@ -11,8 +10,9 @@ from zenros.msgs.zenros_msgs import (
 )
 from zenros.node import Node
 
-from ..errors import NoAnswer, Refused
+from ..errors import Refused
 from ..state.presence import Presence
+from .calls import call_port
 
 __all__ = ["CoverageLink"]
 
@@ -26,14 +26,8 @@ class CoverageLink:
         self.client = node.create_client(ComputeCoveragePath, "compute_coverage_path")
 
     async def plan(self, req: ComputeCoveragePathRequest) -> ComputeCoveragePathResponse:
-        client, timeout = self.client, self.timeout
-        try:
-            res: ComputeCoveragePathResponse = await client.call_async(req, timeout)
-        except ServiceUnavailableError:
-            raise self.presence.error("nav", f"no server for {client.name}") from None
-        except ZenrosTimeout:
-            raise NoAnswer(f"the nav service did not answer {client.name} within "
-                           f"{timeout:g} s") from None
-        except ServiceError as exc:
-            raise Refused(exc.reason) from exc
+        client = self.client
+        res: ComputeCoveragePathResponse = await call_port(
+            client, req, self.timeout, lambda: self.presence.error("nav", f"no server for {client.name}"),
+            "the nav service", lambda exc: Refused(exc.reason))
         return res

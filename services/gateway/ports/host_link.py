@@ -4,12 +4,12 @@ robot's services (`zenros.launch.control`), restarted or shut down through its
 
 from __future__ import annotations
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.std_srvs import Trigger, TriggerRequest, TriggerResponse
 from zenros.node import Node
 from zenros.rpc import Client
 
-from ..errors import Conflict, Failed, NoAnswer, Unavailable
+from ..errors import Conflict, Unavailable
+from .calls import call_port
 
 __all__ = ["HostLink"]
 
@@ -33,16 +33,9 @@ class HostLink:
         return await self._call(self._shutdown, "shut down")
 
     async def _call(self, client: Client[TriggerRequest, TriggerResponse], what: str) -> str:
-        try:
-            res = await client.call_async(TriggerRequest(), self.timeout)
-        except ServiceUnavailableError:
-            raise Unavailable(
-                f"no launch to {what}: {client.name} is not in the graph (start the robot with "
-                "`zenros launch`, whose --control names these services)") from None
-        except ZenrosTimeout:
-            raise NoAnswer(f"{client.name} did not answer within {self.timeout:g} s") from None
-        except ServiceError as exc:
-            raise Failed(f"{client.name} failed: {exc}") from exc
+        res = await call_port(client, TriggerRequest(), self.timeout, lambda: Unavailable(
+            f"no launch to {what}: {client.name} is not in the graph (start the robot with "
+            "`zenros launch`, whose --control names these services)"))
         if not res.success:
             raise Conflict(f"the launch refused to {what}: {res.message}")
         return str(res.message)

@@ -3,12 +3,12 @@
 
 from __future__ import annotations
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.msgs.zenros_msgs.chassis import IoState, SetIo, SetIoRequest, SetIoResponse
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED
 
-from ..errors import Conflict, Failed, NoAnswer, Refused, Unavailable
+from ..errors import Conflict, Refused, Unavailable
+from .calls import call_port
 
 __all__ = ["IoLink"]
 
@@ -37,16 +37,9 @@ class IoLink:
         return self.state
 
     async def set(self, board: str, port: int, level: int) -> IoState:
-        try:
-            res: SetIoResponse = await self.client.call_async(
-                SetIoRequest(board=board, port=port, level=level), self.timeout)
-        except ServiceUnavailableError:
-            raise Unavailable("the chassis is not running (no chassis/set_io)") from None
-        except ZenrosTimeout:
-            raise NoAnswer(f"chassis/set_io did not answer within {self.timeout:g} s"
-                           ) from None
-        except ServiceError as exc:
-            raise Failed(f"chassis/set_io failed: {exc}") from exc
+        res: SetIoResponse = await call_port(
+            self.client, SetIoRequest(board=board, port=port, level=level), self.timeout,
+            lambda: Unavailable("the chassis is not running (no chassis/set_io)"))
         if not res.success:
             raise (Conflict if "no extension" in res.message else Refused)(res.message)
         self.state = res.state

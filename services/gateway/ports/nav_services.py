@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from typing import Any, Final
 
-from zenros.errors import ServiceError, ServiceUnavailableError, ZenrosTimeout
 from zenros.message import Q, S, ServiceType
 from zenros.msgs import zenros_msgs as zm
 from zenros.msgs.geometry_msgs import Point, Pose, PoseStamped, PoseWithCovarianceStamped
@@ -21,8 +20,9 @@ from zenros.qos import QOS_LATCHED
 from zenros.rpc import Client
 from zenros.tf.convert import yaw_to_msg
 
-from ..errors import NoAnswer, PortError, port_error
+from ..errors import PortError, port_error
 from ..state.presence import Presence
+from .calls import call_port
 
 __all__ = ["SERVICES", "NavServices", "pose_stamped"]
 
@@ -56,15 +56,10 @@ class NavServices:
         """Call nav's service of type ``srv``; its response, or the port error of nav's
         refusal (`Unavailable` when nav does not serve it, `NoAnswer` when it is slow)."""
         client: Client[Q, S] = self._clients[srv]
-        try:
-            return await client.call_async(request, self.timeout)
-        except ServiceUnavailableError:
-            raise self.presence.error("nav", f"no server for {client.name}") from None
-        except ZenrosTimeout:
-            raise NoAnswer(f"the nav service did not answer {client.name} within "
-                           f"{self.timeout:g} s") from None
-        except ServiceError as exc:  # the kind comes from nav's code, never its wording
-            raise port_error(exc.code, exc.reason) from exc
+        # the kind of a refusal comes from nav's code, never its wording
+        return await call_port(client, request, self.timeout,
+                               lambda: self.presence.error("nav", f"no server for {client.name}"),
+                               "the nav service", lambda exc: port_error(exc.code, exc.reason))
 
     async def maps(self) -> tuple[list[str], str]:
         """(stored map names, current map); empty when nav does not answer."""

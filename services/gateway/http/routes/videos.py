@@ -8,12 +8,13 @@ import asyncio
 from typing import Annotated
 
 import msgspec
-from starlette.responses import FileResponse
 
-from ...ports.media_folder import MediaError
+from ...ports.media_folder import MediaError, MediaFolder
 from ...ports.snapshots import CAMERA_TOPICS
 from ...ports.videos import MAX_DURATION, Videos
 from ..api import Answer, Api, ApiError, Call
+from ..context import Context
+from .media_files import add_media_file_routes
 
 __all__ = ["add_video_routes"]
 
@@ -24,11 +25,14 @@ class RecordBody(msgspec.Struct, forbid_unknown_fields=True):
     filename: Annotated[str, msgspec.Meta(max_length=128)] = ""
 
 
-def _videos(call: Call[None, None] | Call[RecordBody, None]) -> Videos:
-    videos = call.ctx.videos
-    if videos is None:
+def _videos(ctx: Context) -> Videos:
+    if ctx.videos is None:
         raise ApiError(503, "this gateway records no videos (no robot node)")
-    return videos
+    return ctx.videos
+
+
+def _recordings(ctx: Context) -> MediaFolder:
+    return _videos(ctx).files
 
 
 async def record(call: Call[RecordBody, None]) -> Answer:
@@ -36,40 +40,14 @@ async def record(call: Call[RecordBody, None]) -> Answer:
     answers at once, the recording goes on in the background."""
     b = call.body
     try:
-        rec = await asyncio.to_thread(_videos(call).start, b.topic, b.duration, b.filename)
+        rec = await asyncio.to_thread(_videos(call.ctx).start, b.topic, b.duration, b.filename)
     except MediaError as exc:
         raise ApiError(exc.status, str(exc)) from exc
     return {"video": rec.path.name, "file_timestamp": rec.path.stem,
             "duration": b.duration, "status": "recording"}
 
 
-async def listing(call: Call[None, None]) -> Answer:
-    """The saved videos, newest first; those still recording are not listed yet."""
-    return await asyncio.to_thread(_videos(call).files.listing)
-
-
-async def download(call: Call[None, None]) -> Answer:
-    """Download one saved video (Matroska)."""
-    try:
-        path = _videos(call).files.find(call.path_params.get("file_timestamp", ""))
-    except MediaError as exc:
-        raise ApiError(exc.status, str(exc)) from exc
-    return FileResponse(path, media_type="video/x-matroska", filename=path.name)
-
-
-async def delete(call: Call[None, None]) -> Answer:
-    """Delete one saved video."""
-    try:
-        path = _videos(call).files.find(call.path_params.get("file_timestamp", ""))
-    except MediaError as exc:
-        raise ApiError(exc.status, str(exc)) from exc
-    await asyncio.to_thread(path.unlink, True)
-    return {"status": "ok"}
-
-
 def add_video_routes(api: Api) -> None:
     """Route the §3.9 video operations."""
     api.add("POST", "/system/saved_videos", record)
-    api.add("GET", "/system/saved_videos/", listing)
-    api.add("GET", "/system/saved_videos/{file_timestamp}", download)
-    api.add("DELETE", "/system/saved_videos/{file_timestamp}", delete)
+    add_media_file_routes(api, "/system/saved_videos", _recordings, "video/x-matroska")
