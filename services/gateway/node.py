@@ -22,6 +22,7 @@ from .http.ws import ws_app
 from .http.ws_protocol import SlicedWebSocketProtocol
 from .modbus.front import ModbusFront
 from .params import GatewayParameters
+from .ports.certificate import load_tls
 from .ports.fs_sandbox import FileRoot
 from .ports.native import NativeCommands
 from .robot import Robot, RobotOptions
@@ -54,9 +55,16 @@ class GatewayNode(Node):
         config = load_config(config_path,
                              {"no_token_check": True} if p.no_token_check else None)
         files = FileRoot(data_dir(p.fs_root), [config_path], p.fs_max_upload)
+        if bool(p.tls_cert) != bool(p.tls_key):
+            raise ConfigError("give both tls_cert and tls_key (HTTPS), or neither")
+        if p.tls_cert:
+            try:
+                load_tls(p.tls_cert, p.tls_key)
+            except ValueError as exc:
+                raise ConfigError(str(exc)) from exc
         self.options = RobotOptions(config, TokenStore(config), files, p.api_version,
                                     p.rest_port, p.status_rate, p.deadman_timeout,
-                                    p.startup_grace, p.max_body, p.launch_control)
+                                    p.startup_grace, p.max_body, p.launch_control, p.tls_cert)
         self.fleet = self._fleet()
         robot = self.fleet.default if self.fleet else Robot(self, self.data_dir, self.options)
         self.robots = self.fleet.robots if self.fleet else {robot.name: robot}
@@ -89,14 +97,15 @@ class GatewayNode(Node):
         self.http = HttpApp(self.fleet.api if self.fleet else self.api, dashboard_app(
             self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
             robot.namespace, robots=self.fleet.names if self.fleet else None))
-        rest = AsgiServer("REST", self.http, host, p.rest_port)
+        rest = AsgiServer("REST", self.http, host, p.rest_port, **self._tls(p))
         self.rest_port = rest.port
         if self.fleet is not None:
             self.fleet.set_port(self.rest_port)
         else:
             self.core.identity = replace(self.core.identity, port=self.rest_port)
         start(rest)
-        self.logger.info("REST API on http://%s:%d/api/v1 (token check %s)", host,
+        self.logger.info("REST API on %s://%s:%d/api/v1 (token check %s)",
+                         "https" if p.tls_cert else "http", host,
                          self.rest_port, "on" if self.core.tokens.checking else "off")
         if self.fleet is not None:
             self.logger.info("fleet gateway: %s; the single-robot paths serve %s",
@@ -144,6 +153,11 @@ class GatewayNode(Node):
             start(Door("discovery", self.discovery.start, self.discovery.stop))
             self.logger.info("discovery broadcast to %s:%d every %g s", address, port,
                              p.discovery_period)
+
+    @staticmethod
+    def _tls(p: GatewayParameters) -> dict[str, str]:
+        """uvicorn's HTTPS settings: the certificate and key, when given."""
+        return {"ssl_certfile": p.tls_cert, "ssl_keyfile": p.tls_key} if p.tls_cert else {}
 
     def _fleet(self) -> Fleet | None:
         """The fleet when ``robots`` or ``discover_robots`` is set, else None (this node's

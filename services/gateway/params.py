@@ -57,6 +57,10 @@ class GatewayParameters(msgspec.Struct, kw_only=True):
     startup_grace: Annotated[float, Meta(
         ge=0, description="seconds after start during which a backend not seen yet counts "
                           "as starting (503 with Retry-After)")] = 30.0
+    tls_cert: Annotated[str, Meta(
+        description="a PEM certificate: the REST API is served over HTTPS with it and "
+                    "tls_key (empty: plain HTTP); /system/check_cert reads it")] = ""
+    tls_key: Annotated[str, Meta(description="the certificate's PEM private key")] = ""
     launch_control: Annotated[str, Meta(
         description="the launch supervising the robot, whose NAME/restart and NAME/shutdown "
                     "/system/restart_robot and /system/shutdown call (zenros launch "

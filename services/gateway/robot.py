@@ -74,6 +74,7 @@ class RobotOptions:
     startup_grace: float = 30.0
     max_body: int = 64 * 1024
     launch_control: str = "/launch"
+    tls_cert: str = ""
 
 
 class Robot:
@@ -120,7 +121,8 @@ class Robot:
             videos=self.videos, voices=VoiceStore(data_dir / "voices"),
             commands=_host_commands(options.config.host_commands),
             updater=Updater(options.config.update_source, options.config.update_package,
-                            options.config.allow_update, data_dir))
+                            options.config.allow_update, data_dir),
+            tls_cert=options.tls_cert)
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

@@ -7,6 +7,9 @@ arguments."""
 from __future__ import annotations
 
 import json
+import shutil
+import ssl
+import subprocess
 import sys
 from pathlib import Path
 
@@ -70,3 +73,49 @@ def test_an_unknown_host_command_stops_the_gateway_at_start(ctx_pair: list[Conte
     with pytest.raises(ConfigError, match="unknown operation"), \
             running_gateway(ctx_pair[0], tmp_path):
         pass
+
+
+def _self_signed(folder: Path, days: int) -> tuple[Path, Path]:
+    cert, key = folder / "cert.pem", folder / "key.pem"
+    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-subj",
+                    "/CN=localhost", "-days", str(days), "-keyout", str(key), "-out",
+                    str(cert)], check=True, capture_output=True, timeout=60)
+    return cert, key
+
+
+@pytest.mark.skipif(shutil.which("openssl") is None, reason="needs the openssl program")
+def test_https_and_check_cert(ctx_pair: list[Context], tmp_path: Path) -> None:
+    """With tls_cert and tls_key the REST API is HTTPS (an outside client verifies it against
+    the certificate), and /system/check_cert reads that certificate from its file."""
+    cert, key = _self_signed(tmp_path, 30)
+    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True, tls_cert=str(cert),
+                         tls_key=str(key)) as gw:
+        base = f"https://localhost:{gw.rest_port}/api/v1"
+        trust = ssl.create_default_context(cafile=str(cert))
+        with httpx.Client(base_url=base, verify=trust, timeout=15) as https:
+            got = https.get("/system/check_cert").json()
+        assert got["status"] == "ok" and got["subject"] == "commonName=localhost", got
+        assert got["days_left"] in (29, 30) and got["not_after"].endswith("Z"), got
+        with pytest.raises(httpx.HTTPError):  # plain HTTP is not served on that port
+            httpx.get(f"http://127.0.0.1:{gw.rest_port}/api/v1/system/check_cert", timeout=5)
+        cert.write_text("not a certificate")  # read again on every check
+        with httpx.Client(base_url=base, verify=False, timeout=15) as https:
+            r = https.get("/system/check_cert")
+        assert r.status_code == 502 and "cannot be read" in r.json()["description"], r.text
+
+
+def test_check_cert_without_tls_and_bad_tls_parameters(ctx_pair: list[Context],
+                                                       tmp_path: Path) -> None:
+    from zenros.errors import ConfigError
+
+    with running_gateway(ctx_pair[0], tmp_path, no_token_check=True) as gw, \
+            httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=15) as http:
+        r = http.get("/system/check_cert")
+        assert r.status_code == 503 and "tls_cert" in r.json()["description"], r.text
+    (tmp_path / "junk.pem").write_text("junk")
+    for params, words in (({"tls_cert": str(tmp_path / "junk.pem")}, "both"),
+                          ({"tls_cert": str(tmp_path / "junk.pem"),
+                            "tls_key": str(tmp_path / "junk.pem")}, "junk.pem")):
+        with pytest.raises(ConfigError, match=words), \
+                running_gateway(ctx_pair[0], tmp_path / "bad", **params):
+            pass

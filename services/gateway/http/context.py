@@ -52,4 +52,5 @@ class Context:
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
     host: HostLink | None = None
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)
-    updater: Updater | None = None  # software updates (None: no robot node)  # the launch supervising the robot (None: no robot node)
+    updater: Updater | None = None  # software updates (None: no robot node)
+    tls_cert: str = ""  # the REST server's certificate (empty: plain HTTP)  # the launch supervising the robot (None: no robot node)

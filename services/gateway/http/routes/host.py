@@ -14,6 +14,7 @@ from typing import Annotated, Any
 
 import msgspec
 
+from ...ports.certificate import check_certificate
 from ...ports.host_commands import HostCommands
 from ...ports.host_link import HostLink
 from ...ports.updater import Updater
@@ -74,6 +75,12 @@ async def is_online(call: Call[None, None]) -> Answer:
     return {"result": code == 0}
 
 
+async def check_cert(call: Call[None, None]) -> Answer:
+    """The gateway's TLS certificate, read from its file now: ``status`` (``ok``, ``expired``,
+    ``not yet valid``), subject, issuer, validity and ``days_left``."""
+    return check_certificate(call.ctx.tls_cert)
+
+
 def _host(call: Call[None, None]) -> HostLink:
     host = call.ctx.host
     if host is None:
@@ -102,6 +109,7 @@ def add_host_routes(api: Api) -> None:
     api.add("GET", "/system/restart_router", restart_router)
     api.add("GET", "/system/restart_novnc", restart_novnc)
     api.add("GET", "/system/is_online", is_online)
+    api.add("GET", "/system/check_cert", check_cert)
 
 
 class UseDevBody(msgspec.Struct, forbid_unknown_fields=True):
