@@ -16,6 +16,7 @@ from .http.api import Api
 from .http.app import build_api
 from .http.context import Context
 from .ports.asr_link import AsrLink
+from .ports.blockly_link import BlocklyLink
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
 from .ports.host_commands import HostCommands
@@ -122,7 +123,7 @@ class Robot:
             commands=_host_commands(options.config.host_commands),
             updater=Updater(options.config.update_source, options.config.update_package,
                             options.config.allow_update, data_dir),
-            tls_cert=options.tls_cert)
+            tls_cert=options.tls_cert, blockly=BlocklyLink(node, self.core.presence))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
 

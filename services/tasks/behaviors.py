@@ -18,6 +18,7 @@ from typing import Any, Final
 from msgspec import UNSET
 from zenros.msgs.zenros_msgs.task_actions import (
     Action,
+    BlocklyAction,
     CallbackAction,
     ChargeAction,
     DownloadMapAction,
@@ -37,6 +38,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
 )
 from zenros.se2 import angle_diff
 
+from .blockly import ProgramError, Runner, parse
 from .crossmap import navigate_across
 from .robot import Feedback, Outcome, Robot
 
@@ -261,6 +263,22 @@ def _jacking_rotate(ctx: Context, p: JackingRotateAction) -> Outcome:
     return _axis_move(ctx, "jacking_rotation", p.mode, angle, p.speed, p.time)
 
 
+def _blockly(ctx: Context, p: BlocklyAction) -> Outcome:
+    """Run Blockly program ``api_key``: its blocks interpreted (`blockly.Runner`)."""
+    try:
+        program = ctx.robot.blockly_program(p.api_key)
+    except LookupError as exc:
+        return Outcome("error", str(exc))
+    name = f"Blockly program {program.title!r} ({program.id})"
+    if not program.is_enabled:
+        return Outcome("error", f"{name} is disabled")
+    try:
+        chains = parse(program.blocklyxml)
+    except ProgramError as exc:
+        return Outcome("error", f"{name}: {exc}")
+    return Runner(ctx.robot, ctx.cancelled).run(chains)
+
+
 def _upload_map(ctx: Context, p: UploadMapAction) -> Outcome:
     return ctx.robot.upload_map(p.server_id)
 
@@ -285,4 +303,5 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "slide_action": _slide,
     "jacking_action": _jacking,
     "jacking_rotate_action": _jacking_rotate,
+    "blockly_action": _blockly,
 }

@@ -285,6 +285,9 @@ class RobotLink:
                 return out
         return Outcome("complete", f"map {name}")
 
+    def battery_percent(self) -> float | None:
+        return None if self.battery is None else self.battery * 100.0
+
     def say(self, text: str) -> None:
         self.tts.publish(String(data=text))
 

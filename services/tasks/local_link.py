@@ -15,13 +15,16 @@ from zenros.errors import ZenrosError
 from zenros.msgs.builtin_interfaces import Duration
 from zenros.msgs.geometry_msgs import Point
 from zenros.msgs.nav2_msgs import DriveOnHeading, DriveOnHeadingGoal, Spin, SpinGoal
-from zenros.msgs.zenros_msgs.chassis import SetIo, SetIoRequest
+from zenros.msgs.zenros_msgs.blockly import BlocklyProgram
+from zenros.msgs.zenros_msgs.chassis import IoState, SetIo, SetIoRequest
 from zenros.msgs.zenros_msgs.nav import LocalMoveTarget, LocalMoveTargetGoal
 from zenros.node import Node
+from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw
 
 from .actuator_link import ActuatorLink
 from .link import SERVER_WAIT, RobotLink
+from .programs import ProgramStore
 from .robot import Outcome
 
 __all__ = ["LocalLink"]
@@ -37,6 +40,23 @@ class LocalLink(RobotLink):
         self.target_client = ActionClient(node, LocalMoveTarget, "local_move_target")
         self.io = node.create_client(SetIo, "chassis/set_io")
         self.actuators = ActuatorLink(node, SERVER_WAIT)
+        self.io_state: IoState | None = None
+        node.create_subscription(IoState, "chassis/io", self._on_io, QOS_LATCHED)
+        self.programs: ProgramStore | None = None  # the tasks node's (Blockly programs)
+
+    def _on_io(self, msg: IoState) -> None:
+        self.io_state = msg
+
+    def io_levels(self) -> tuple[list[int], list[int], list[int]]:
+        st = self.io_state
+        if st is None:
+            raise LookupError("no IO state: the chassis has not reported chassis/io")
+        return list(st.outputs), list(st.ext_outputs), list(st.ext_inputs)
+
+    def blockly_program(self, program_id: str) -> BlocklyProgram:
+        if self.programs is None:
+            raise LookupError("this tasks service keeps no Blockly programs")
+        return self.programs.get(program_id)
 
     def move_axis(self, axis: str, mode: int, target: float, speed: float, duration: float,
                   progress: Callable[[float], None],

@@ -20,6 +20,8 @@ from .api import CALLS, call
 from .documents import is_task, kind_of, snapshot
 from .local_link import LocalLink
 from .manager import TaskManager
+from .program_api import PROGRAM_CALLS, program_call
+from .programs import ProgramStore
 from .store import TaskStore
 
 __all__ = ["DB_NAME", "TasksNode", "TasksParameters"]
@@ -73,11 +75,20 @@ class TasksNode(Node):
             self.logger.error("unreadable task rows skipped: %s", ", ".join(self.store.bad_rows))
         for name, entry in CALLS.items():
             self.create_service(entry.srv, f"tasks/{name}", self._handler(name))
+        self.programs = self.own(ProgramStore(directory / DB_NAME))
+        self.link.programs = self.programs
+        for name, (srv, _) in PROGRAM_CALLS.items():
+            self.create_service(srv, f"tasks/blockly/{name}", self._program_handler(name))
         self.logger.info("tasks in %s (%d stored)", self.store.path, len(self.manager.tasks()))
 
     def _handler(self, name: str) -> Callable[[Message], Any]:
         async def handle(req: Message) -> Message:
             return await asyncio.to_thread(call, self.manager, name, req)
+        return handle
+
+    def _program_handler(self, name: str) -> Callable[[Message], Any]:
+        async def handle(req: Message) -> Message:
+            return await asyncio.to_thread(program_call, self.programs, name, req)
         return handle
 
     def publish_status(self, doc: Task, event: str) -> None:

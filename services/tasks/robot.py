@@ -12,6 +12,7 @@ from collections.abc import Callable
 from typing import Literal, NamedTuple, Protocol
 
 from zenros.maps.maproute import Link
+from zenros.msgs.zenros_msgs.blockly import BlocklyProgram
 
 __all__ = ["Feedback", "Outcome", "Robot"]
 
@@ -105,6 +106,19 @@ class Robot(Protocol):
         1 at ``speed`` for ``duration`` s, 2 stop, 3 to ``target`` at ``speed``) until it
         stops; ``progress`` gets the share done (0..1). A fault (a limit reached) is an
         error; cancelled stops the axis."""
+        ...
+
+    def battery_percent(self) -> float | None:
+        """The battery's charge, 0-100, if known."""
+        ...
+
+    def io_levels(self) -> tuple[list[int], list[int], list[int]]:
+        """The IO levels (main-board outputs out1.., extension outputs, extension inputs);
+        LookupError before the chassis has reported them."""
+        ...
+
+    def blockly_program(self, program_id: str) -> BlocklyProgram:
+        """Blockly program ``program_id`` (docs/robot-api.md §10); LookupError if none."""
         ...
 
     def say(self, text: str) -> None:

@@ -12,6 +12,7 @@ from .context import Context
 from .openapi import openapi_document
 from .routes.actuators import add_actuator_routes
 from .routes.asr import add_asr_routes
+from .routes.blockly import add_blockly_routes
 from .routes.connections import add_connection_routes
 from .routes.coverage import add_coverage_routes
 from .routes.extras import add_extra_routes
@@ -39,7 +40,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
-    add_video_routes, add_voice_routes, add_update_routes)
+    add_video_routes, add_voice_routes, add_update_routes, add_blockly_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from zenros.param_client import ParameterClient
 
 from ..ports.asr_link import AsrLink
+from ..ports.blockly_link import BlocklyLink
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
 from ..ports.host_commands import HostCommands
@@ -53,4 +54,5 @@ class Context:
     host: HostLink | None = None
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)
     updater: Updater | None = None  # software updates (None: no robot node)
+    blockly: BlocklyLink | None = None  # the Blockly programs (None: no robot node)
     tls_cert: str = ""  # the REST server's certificate (empty: plain HTTP)  # the launch supervising the robot (None: no robot node)

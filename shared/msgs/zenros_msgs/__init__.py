@@ -4,6 +4,8 @@ documents, nav points, the result codes of their calls).
 One module per service that owns them; importing this package registers them all.
 """
 
+from .blockly import *  # noqa: F403
+from .blockly import __all__ as _blockly_all
 from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
 from .lifecycle import *  # noqa: F403
@@ -23,5 +25,5 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_schedule_all, *_slam_all,
+__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_schedule_all, *_slam_all,
            *_task_actions_all, *_task_docs_all, *_tasks_all]

@@ -20,7 +20,8 @@ import msgspec
 from msgspec import UNSET, Meta, UnsetType
 
 __all__ = [
-    "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "CallbackAction", "ChargeAction",
+    "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "BlocklyAction", "CallbackAction",
+    "ChargeAction",
     "DownloadMapAction", "IoAction", "JackingAction", "JackingRotateAction", "LocalMoveAction",
     "LocalMoveTargetAction", "Location", "NavAction", "SleepAction", "SlideAction",
     "SwitchMapAction", "TtsAction", "UploadMapAction", "WaitReqAction", "check_action",
@@ -180,10 +181,17 @@ class JackingRotateAction(ActionBase, kw_only=True, tag="jacking_rotate_action")
     frame_id: Literal["base_link", "map"] = "base_link"
 
 
+class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
+    """Run Blockly program ``api_key`` (its id, docs/robot-api.md §10): its blocks are
+    interpreted, step by step; its Python text is never run."""
+
+    api_key: Annotated[str, Meta(min_length=1, max_length=64)]
+
+
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
           | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
           | UploadMapAction | DownloadMapAction | SlideAction | JackingAction
-          | JackingRotateAction)
+          | JackingRotateAction | BlocklyAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
