@@ -34,7 +34,7 @@ class ActuatorLink:
         self.node = node
         self.call_timeout = call_timeout
         self.silence = silence
-        self.client = node.create_client(MoveActuator, "actuators/move")
+        self._client: Any = None  # made at the first move: most robots' tasks never move one
         self._cond = threading.Condition()
         self._state: ActuatorState | None = None
         self._sub: Any = None
@@ -49,12 +49,13 @@ class ActuatorLink:
         """`Robot.move_axis`."""
         what = _describe(axis, mode, target, speed, duration)
         if self._sub is None:  # the state is published only while someone listens
+            self._client = self.node.create_client(MoveActuator, "actuators/move")
             self._sub = self.node.create_subscription(ActuatorState, "actuators/state",
                                                       self._on_state)
         req = MoveActuatorRequest(name=axis, mode=mode, position=target, speed=speed,
                                   duration=duration)
         try:
-            res = self.client.call(req, timeout=self.call_timeout)
+            res = self._client.call(req, timeout=self.call_timeout)
         except ZenrosError as exc:
             return Outcome("error", f"{what}: {exc}")
         if not res.success:
@@ -104,7 +105,7 @@ class ActuatorLink:
 
     def _stop(self, axis: str) -> None:
         try:
-            self.client.call(MoveActuatorRequest(name=axis, mode=MoveActuatorRequest.MODE_STOP),
+            self._client.call(MoveActuatorRequest(name=axis, mode=MoveActuatorRequest.MODE_STOP),
                              timeout=self.call_timeout)
         except ZenrosError as exc:
             self.node.logger.warning("could not stop %s: %s", axis, exc)

@@ -8,6 +8,7 @@ call is bounded in time and cancellable, as RobotLink's.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 
 from zenros.action import ActionClient
@@ -41,13 +42,19 @@ class LocalLink(RobotLink):
         self.io = node.create_client(SetIo, "chassis/set_io")
         self.actuators = ActuatorLink(node, SERVER_WAIT)
         self.io_state: IoState | None = None
-        node.create_subscription(IoState, "chassis/io", self._on_io, QOS_LATCHED)
+        self._io_heard = threading.Event()
+        self._io_sub: object | None = None  # chassis/io, subscribed at the first read
         self.programs: ProgramStore | None = None  # the tasks node's (Blockly programs)
 
     def _on_io(self, msg: IoState) -> None:
         self.io_state = msg
+        self._io_heard.set()
 
     def io_levels(self) -> tuple[list[int], list[int], list[int]]:
+        if self._io_sub is None:
+            self._io_sub = self.node.create_subscription(IoState, "chassis/io", self._on_io,
+                                                         QOS_LATCHED)
+            self._io_heard.wait(SERVER_WAIT)  # its latched state
         st = self.io_state
         if st is None:
             raise LookupError("no IO state: the chassis has not reported chassis/io")

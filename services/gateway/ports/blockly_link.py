@@ -11,7 +11,7 @@ from zenros.node import Node
 
 from ..errors import port_error
 from ..state.presence import Presence
-from .calls import call_port
+from .calls import Lazy, call_port
 
 __all__ = ["BlocklyLink"]
 
@@ -20,9 +20,10 @@ class BlocklyLink:
     def __init__(self, node: Node, presence: Presence, timeout: float = 10.0) -> None:
         self.presence = presence
         self.timeout = timeout
-        self._save = node.create_client(bm.SaveBlockly, "tasks/blockly/save")
-        self._get = node.create_client(bm.GetBlockly, "tasks/blockly/get")
-        self._delete = node.create_client(bm.DeleteBlockly, "tasks/blockly/delete")
+        self._save = Lazy(lambda: node.create_client(bm.SaveBlockly, "tasks/blockly/save"))
+        self._get = Lazy(lambda: node.create_client(bm.GetBlockly, "tasks/blockly/get"))
+        self._delete = Lazy(lambda: node.create_client(bm.DeleteBlockly,
+                                                       "tasks/blockly/delete"))
 
     async def _call(self, client: Any, request: Any) -> Any:
         res = await call_port(client, request, self.timeout,
@@ -34,13 +35,14 @@ class BlocklyLink:
         return res
 
     async def programs(self, ident: str = "") -> list[bm.BlocklyProgram]:
-        res = await self._call(self._get, bm.GetBlocklyRequest(id=ident))
+        res = await self._call(self._get.get(), bm.GetBlocklyRequest(id=ident))
         return list(res.programs)
 
     async def save(self, program: bm.BlocklyProgram, fields: list[str]) -> bm.BlocklyProgram:
-        res = await self._call(self._save, bm.SaveBlocklyRequest(program=program, fields=fields))
+        res = await self._call(self._save.get(), bm.SaveBlocklyRequest(program=program,
+                                                                       fields=fields))
         saved: bm.BlocklyProgram = res.program
         return saved
 
     async def delete(self, ident: str) -> None:
-        await self._call(self._delete, bm.DeleteBlocklyRequest(id=ident))
+        await self._call(self._delete.get(), bm.DeleteBlocklyRequest(id=ident))

@@ -9,7 +9,7 @@ from zenros.node import Node
 from zenros.rpc import Client
 
 from ..errors import Conflict, Unavailable
-from .calls import call_port
+from .calls import Lazy, call_port
 
 __all__ = ["HostLink"]
 
@@ -21,16 +21,16 @@ class HostLink:
     def __init__(self, node: Node, control: str, timeout: float = 10.0) -> None:
         self.control = control.rstrip("/") or "/launch"
         self.timeout = timeout
-        self._restart = node.create_client(Trigger, f"{self.control}/restart")
-        self._shutdown = node.create_client(Trigger, f"{self.control}/shutdown")
+        self._restart = Lazy(lambda: node.create_client(Trigger, f"{self.control}/restart"))
+        self._shutdown = Lazy(lambda: node.create_client(Trigger, f"{self.control}/shutdown"))
 
     async def restart(self) -> str:
         """Ask the launch to restart every process (the gateway's too); its message."""
-        return await self._call(self._restart, "restart")
+        return await self._call(self._restart.get(), "restart")
 
     async def shutdown(self) -> str:
         """Ask the launch to stop every process (and run its shutdown command)."""
-        return await self._call(self._shutdown, "shut down")
+        return await self._call(self._shutdown.get(), "shut down")
 
     async def _call(self, client: Client[TriggerRequest, TriggerResponse], what: str) -> str:
         res = await call_port(client, TriggerRequest(), self.timeout, lambda: Unavailable(

@@ -41,7 +41,7 @@ def _asr(call: Call[Any, Any]) -> AsrLink:
 
 async def get_asr_io(call: Call[None, None]) -> Answer:
     """The board's IO ports ``{"0": false, ..., "7": false}`` (0-3 outputs, 4-7 inputs)."""
-    state = _asr(call).current()
+    state = await _asr(call).current()
     return {str(i): bool(v) for i, v in enumerate(state.io)}
 
 
