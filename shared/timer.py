@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .clock import Clock, Duration, Time
+from .errors import NodeClosedError
 from .executor import CallbackGroup, Executor
 from .gate import DeliveryGate
 
@@ -95,6 +96,9 @@ class Timer:
                 self.callback()
         except asyncio.CancelledError:
             raise
+        except NodeClosedError:
+            if not self._canceled:  # in flight when the node closed: shutdown, not a fault
+                self._logger.exception("timer callback raised")
         except Exception:
             self._logger.exception("timer callback raised")
         self._executor.mark_work()

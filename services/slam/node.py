@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from zenros.errors import MapError, ServiceError, ServiceUnavailableError, ZenrosTimeout
+from zenros.errors import (MapError, NodeClosedError, ServiceError, ServiceUnavailableError,
+                           ZenrosTimeout)
 from zenros.home import data_dir
 from zenros.maps import load_map
 from zenros.msgs.builtin_interfaces import Time
@@ -143,6 +144,8 @@ class SlamNode(LifecycleNode):
                                              self.params.map_frame, s))
 
     def _on_fold_error(self, exc: BaseException) -> None:
+        if isinstance(exc, NodeClosedError) and self.closed:  # a scan in flight at close
+            return
         self.logger.error("a scan could not be folded in: %s: %s", type(exc).__name__, exc)
 
     # ------------------------------------------------------------------ timers

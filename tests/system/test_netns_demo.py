@@ -300,6 +300,16 @@ def _off(pose: dict[str, float], goal: tuple[float, float]) -> float:
     return math.hypot(pose["x"] - goal[0], pose["y"] - goal[1])
 
 
+def _log_tail(demo: Demo, host: str, lines: int = 25) -> list[str]:
+    """The last warnings and errors in a host's launch log, for a failure message."""
+    log = demo.state / f"{host}.log"
+    if not log.exists():
+        return [f"no {log}"]
+    noted = [ln for ln in log.read_text(errors="replace").splitlines()
+             if "WARN" in ln or "ERROR" in ln or "exited" in ln]
+    return noted[-lines:]
+
+
 def _pose_trail(demo: Demo, rest: Rest) -> dict[str, Any]:
     """Where robot1's pose stops on its way to the station's REST, for a failure message: as
     nav publishes it (on robot1), as a fresh session on the station hears it, and the
@@ -408,8 +418,9 @@ def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
         states.append(doc["state"])
         return bool(doc["state"] == "COMPLETE")
     assert wait_for(r1_complete, 60, interval=0.3), \
-        f"robot1's task did not complete: {states} " \
-        f"{_why(rest.ok(R1_PORT, 'GET', f'/task?id={r1_id}'))}"
+        f"robot1's task did not complete: {states[-3:]} ({len(states)} polls) " \
+        f"{_why(rest.ok(R1_PORT, 'GET', f'/task?id={r1_id}'))}; " \
+        f"{_pose_trail(demo, rest)}; robot1's log: {_log_tail(demo, 'r1')}"
     final = rest.ok(R1_PORT, "GET", f"/task?id={r1_id}")
     assert set(states) <= {"WORKING", "COMPLETE"}, (states, _why(final))  # never paused/failed
     assert back["progress"] > r1_before["progress"], (r1_before, back)  # moved while cut off
