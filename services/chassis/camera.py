@@ -7,6 +7,11 @@ checkerboard seen in perspective and the ceiling is plain. Each column casts one
 map (`Laser.cast_map`) and one into each obstacle; the nearest wall is drawn, then the
 nearest obstacle in front of it. Walls are shaded by distance, their faces along x and y
 apart and a seam every metre, so a moving robot's view moves as a camera's would.
+
+The horizon is on row ``cy`` (the image's middle by default): a camera tilted up or down is
+drawn as a level one whose principal point moved (``cy = height/2 + f tan(tilt)``), what a
+taller level image cropped would show; verticals stay vertical. `Camera.cast` gives what each
+column's ray met (`Columns`), which the thermal view reads.
 """
 
 from __future__ import annotations
@@ -22,7 +27,8 @@ from .obstacles import Obstacle, ray_hits
 from .shared_world import BODY_PREFIX
 from .world import World
 
-__all__ = ["DOCK_ID", "ROBOT_PREFIX", "Camera", "CameraConfig"]
+__all__ = ["DOCK", "DOCK_ID", "NOTHING", "OBSTACLE", "ROBOT", "ROBOT_PREFIX", "Camera",
+           "CameraConfig", "Columns"]
 
 ROBOT_PREFIX = BODY_PREFIX  # obstacle ids of the other robots' bodies
 DOCK_ID = "dock:"  # the dock block's id (never an obstacle of the world)
@@ -33,12 +39,15 @@ _WALL = np.array([236, 226, 200], dtype=np.float32)
 _OBSTACLE = np.array([200, 90, 40], dtype=np.float32)
 _ROBOT = np.array([50, 110, 200], dtype=np.float32)
 _DOCK = np.array([40, 160, 80], dtype=np.float32)
+NOTHING, OBSTACLE, ROBOT, DOCK = 0, 1, 2, 3  # what a column's ray met besides the walls
+_THINGS = np.stack([np.zeros(3, dtype=np.float32), _OBSTACLE, _ROBOT, _DOCK])
 
 
 @dataclass(frozen=True)
 class CameraConfig:
     """A ``width`` x ``height`` pinhole camera with horizontal field of view ``hfov`` (rad),
-    square pixels, its lens ``z`` metres above the floor, looking level."""
+    square pixels, its lens ``z`` metres above the floor, looking level; the horizon on row
+    ``cy`` (None: ``height / 2``; any value, also off the image)."""
 
     width: int = 640
     height: int = 480
@@ -49,6 +58,7 @@ class CameraConfig:
     robot_height: float = 0.5
     dock_height: float = 0.4
     range_max: float = 30.0
+    cy: float | None = None
 
     def __post_init__(self) -> None:
         if not (8 <= self.width <= 4096 and 8 <= self.height <= 4096):
@@ -59,6 +69,13 @@ class CameraConfig:
         if not 0 < self.z < self.wall_height:
             raise ValueError(f"camera z must be above the floor and below the walls "
                              f"({self.wall_height} m), got {self.z}")
+        if self.cy is not None and not math.isfinite(self.cy):
+            raise ValueError(f"camera cy must be finite, got {self.cy}")
+
+    @property
+    def horizon(self) -> float:
+        """The horizon's row (the principal point's), from the top."""
+        return self.height / 2 if self.cy is None else self.cy
 
     @property
     def f(self) -> float:
@@ -68,7 +85,7 @@ class CameraConfig:
     @property
     def k(self) -> list[float]:
         """The intrinsic matrix, row-major (CameraInfo.k)."""
-        f, cx, cy = self.f, self.width / 2, self.height / 2
+        f, cx, cy = self.f, self.width / 2, self.horizon
         return [f, 0.0, cx, 0.0, f, cy, 0.0, 0.0, 1.0]
 
 
@@ -87,7 +104,7 @@ class Camera:
         u = np.arange(c.width, dtype=np.float64) + 0.5
         self._offsets = np.arctan((c.width / 2 - u) / c.f)  # left of the axis is positive
         self._cos = np.cos(self._offsets)
-        rows = np.arange(c.height, dtype=np.float64) + 0.5 - c.height / 2
+        rows = np.arange(c.height, dtype=np.float64) + 0.5 - c.horizon
         self._rows = rows[:, None]  # pixel rows below the horizon are positive
         below = rows[rows > 0]
         self._floor_rows = int(c.height - below.size)
@@ -98,7 +115,7 @@ class Camera:
         self._floor_index = (2 * np.arange(below.size, dtype=np.int32))[:, None]
         ceiling = np.linspace(1.0, 0.8, c.height - below.size, dtype=np.float32)[:, None]
         self._ceiling = (ceiling * _CEILING).astype(np.uint8)[:, None, :].repeat(c.width, 1)
-        self._last: tuple[tuple[object, ...], np.ndarray] | None = None
+        self._last: tuple[tuple[object, ...], np.ndarray, Columns] | None = None
 
     def render(self, x: float, y: float, yaw: float,
                things: Iterable[Obstacle] = ()) -> np.ndarray:
@@ -109,43 +126,59 @@ class Camera:
         key = (x, y, yaw, shown)
         if self._last is not None and self._last[0] == key:
             return self._last[1]
-        frame = self._render(x, y, yaw, shown)
-        self._last = (key, frame)
+        columns = self._cast(x, y, yaw, shown)
+        frame = self._render(x, y, columns)
+        self._last = (key, frame, columns)
         return frame
 
-    def _render(self, x: float, y: float, yaw: float,
-                things: tuple[Obstacle, ...]) -> np.ndarray:
+    def cast(self, x: float, y: float, yaw: float,
+             things: Iterable[Obstacle] = ()) -> Columns:
+        """What each column's ray meets from (x, y) facing ``yaw`` (`render`'s view, not
+        drawn; the last rendered view's own when it is that one)."""
+        shown = tuple(things)
+        if self._last is not None and self._last[0] == (x, y, yaw, shown):
+            return self._last[2]
+        return self._cast(x, y, yaw, shown)
+
+    def _cast(self, x: float, y: float, yaw: float, things: tuple[Obstacle, ...]) -> Columns:
         c = self.config
         angles = yaw + self._offsets
         dx, dy = np.cos(angles), np.sin(angles)
-        image = np.empty((c.height, c.width, 3), dtype=np.uint8)
-        image[: self._floor_rows] = self._ceiling
-        self._floor(image, x, y, dx, dy)
         walls = self.caster.cast_map(x, y, angles).astype(np.float64)
         walls[walls > c.range_max] = np.inf
-        hx, hy = x + walls * dx, y + walls * dy
+        near = np.full(c.width, np.inf)
+        kind = np.zeros(c.width, dtype=np.int8)
+        height = np.zeros(c.width)
+        for thing in things:
+            hit = ray_hits([thing], x, y, dx, dy)
+            closer = (hit < near) & (hit < walls)
+            near[closer] = hit[closer]
+            k, h = self._look(thing)
+            kind[closer] = k
+            height[closer] = h
+        return Columns(dx, dy, walls * self._cos, near * self._cos, kind, height)
+
+    def _render(self, x: float, y: float, cols: Columns) -> np.ndarray:
+        c = self.config
+        image = np.empty((c.height, c.width, 3), dtype=np.uint8)
+        image[: self._floor_rows] = self._ceiling
+        self._floor(image, x, y, cols.dx, cols.dy)
+        walls = cols.wall / self._cos
+        hx, hy = x + walls * cols.dx, y + walls * cols.dy
         self._columns(image, walls, c.wall_height, self._wall_colour(walls, hx, hy))
-        if things:
-            near = np.full(c.width, np.inf)
-            colour = np.zeros((c.width, 3), dtype=np.float32)
-            height = np.zeros(c.width)
-            for thing in things:
-                hit = ray_hits([thing], x, y, dx, dy)
-                closer = (hit < near) & (hit < walls)
-                near[closer] = hit[closer]
-                base, h = self._look(thing)
-                colour[closer] = base
-                height[closer] = h
-            self._columns(image, near, height, colour * _shade(near * self._cos)[:, None])
+        if cols.kind.any():
+            near = cols.thing / self._cos
+            colour = _THINGS[cols.kind]
+            self._columns(image, near, cols.height, colour * _shade(cols.thing)[:, None])
         return image
 
-    def _look(self, thing: Obstacle) -> tuple[np.ndarray, float]:
+    def _look(self, thing: Obstacle) -> tuple[int, float]:
         c = self.config
         if thing.id.startswith(ROBOT_PREFIX):
-            return _ROBOT, c.robot_height
+            return ROBOT, c.robot_height
         if thing.id == DOCK_ID:
-            return _DOCK, c.dock_height
-        return _OBSTACLE, c.obstacle_height
+            return DOCK, c.dock_height
+        return OBSTACLE, c.obstacle_height
 
     def _floor(self, image: np.ndarray, x: float, y: float, dx: np.ndarray,
                dy: np.ndarray) -> None:
@@ -183,13 +216,28 @@ class Camera:
             return
         d = depth[cols]
         h = np.broadcast_to(np.asarray(height, dtype=np.float64), depth.shape)[cols]
-        half = c.height / 2
+        half = c.horizon
         top = np.clip(np.ceil(half - c.f * (h - c.z) / d - 0.5), 0, c.height).astype(np.int64)
         bottom = np.clip(np.floor(half + c.f * c.z / d - 0.5) + 1, 0, c.height).astype(np.int64)
         pixels = colour[cols].astype(np.uint8)
         for col, t, b, px in zip(cols.tolist(), top.tolist(), bottom.tolist(), pixels,
                                  strict=True):
             image[t:b, col] = px
+
+
+@dataclass(frozen=True)
+class Columns:
+    """What each image column's ray met: its direction (``dx``, ``dy`` in ``map``), the
+    depth (along the optical axis, m; ``inf``: none in range) of the wall and of the nearest
+    thing in front of it, that thing's kind (`NOTHING`, `OBSTACLE`, `ROBOT`, `DOCK`) and
+    height (m)."""
+
+    dx: np.ndarray
+    dy: np.ndarray
+    wall: np.ndarray
+    thing: np.ndarray
+    kind: np.ndarray
+    height: np.ndarray
 
 
 def _shade(depth: np.ndarray) -> np.ndarray:

@@ -1,8 +1,11 @@
-"""The ``explore`` node over real Zenoh: the chassis at 10x in a small world it has never
+"""The ``explore`` node over real Zenoh: the chassis at 5x in a small world it has never
 seen (two rooms and a corridor), nav in mapping mode, a stand-in SLAM node growing the map
 from the scans (tests/integration/standin_slam.py), and the explorer driving nav's
 navigate_to_pose until no frontier is left, then back to the start. Also: a goal with no map
-fails with NO_MAP, cancel stops the robot, bad goals are rejected."""
+fails with NO_MAP, cancel stops the robot, bad goals are rejected.
+
+5x, not the 10x of most integration rigs: the whole exploration is hundreds of nav and SLAM
+cycles, and at 10x CI's loaded 2-core box failed it in two of its last three runs."""
 
 from __future__ import annotations
 
@@ -40,7 +43,7 @@ def rig(tmp_path: Path) -> Iterator[tuple[ChassisNode, NavNode, ExploreNode, Nod
         nodes: list[Node] = []
         try:
             nodes.append(ChassisNode("chassis", context=ctxs[0], parameter_overrides={
-                "speed": 10.0, "seed": 5, "map": str(world)}))
+                "speed": 5.0, "seed": 5, "map": str(world)}))
             nodes.append(NavNode("nav", context=ctxs[1], parameter_overrides={
                 "use_sim_time": True, "maps_dir": str(tmp_path / "maps"), "map": str(world)}))
             nodes.append(ExploreNode("explore", context=ctxs[2], parameter_overrides={

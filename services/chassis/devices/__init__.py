@@ -19,13 +19,14 @@ from .fleet import FleetDevice
 from .io import IoDevice
 from .laser import LaserDevice
 from .odometry import OdometryDevice
+from .ptz import PtzDevice
 from .state import StateDevice
 from .truth import GroundTruthDevice
 from .wind import WindDevice
 
 __all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CameraDevice",
            "DockDevice", "FleetDevice", "GroundTruthDevice", "IoDevice", "LaserDevice",
-           "OdometryDevice", "StateDevice", "WindDevice"]
+           "OdometryDevice", "PtzDevice", "StateDevice", "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
     OdometryDevice,
@@ -40,4 +41,5 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     WindDevice,
     ActuatorDevice,
     AsrDevice,
+    PtzDevice,
 )

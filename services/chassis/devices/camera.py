@@ -41,7 +41,7 @@ from ..obstacles import Obstacle
 from ..param_types import NonNegative
 from .dock import DockDevice
 
-__all__ = ["CameraDevice", "CameraParameters", "camera_info"]
+__all__ = ["CameraDevice", "CameraParameters", "camera_info", "dock_block"]
 
 OPTICAL = Quaternion(x=-0.5, y=0.5, z=-0.5, w=0.5)  # x ahead, z up -> z ahead, y down (REP 103)
 DOCK_DEPTH, DOCK_WIDTH, DOCK_AHEAD = 0.12, 0.5, 0.35  # the charger, ahead of the docked pose
@@ -143,19 +143,11 @@ class CameraDevice(Device[CameraParameters]):
             if not view.listened():
                 continue
             if things is None:
-                things = (*self.chassis.sim.world.obstacles.values(), *self._dock())
+                things = (*self.chassis.sim.world.obstacles.values(),
+                          *dock_block(self.chassis))
             with self._wake:
                 self._jobs[view.name] = (stamp, truth * view.mount, things)
                 self._wake.notify()
-
-    def _dock(self) -> list[Obstacle]:
-        fitted = self.chassis.device(DockDevice)
-        if fitted is None or fitted.dock is None:
-            return []
-        d = fitted.dock.pose
-        x = d.x + DOCK_AHEAD * math.cos(d.theta)
-        y = d.y + DOCK_AHEAD * math.sin(d.theta)
-        return [Obstacle(DOCK_ID, "box", x, y, d.theta, size_x=DOCK_DEPTH, size_y=DOCK_WIDTH)]
 
     def _run(self) -> None:
         while True:
@@ -194,6 +186,18 @@ class CameraDevice(Device[CameraParameters]):
         for ipub in view.infos:
             ipub.publish(info)
         self.frames += 1
+
+
+def dock_block(chassis: Chassis) -> list[Obstacle]:
+    """The charger as the cameras see it: a block ahead of the docked pose (none without a
+    dock)."""
+    fitted = chassis.device(DockDevice)
+    if fitted is None or fitted.dock is None:
+        return []
+    d = fitted.dock.pose
+    x = d.x + DOCK_AHEAD * math.cos(d.theta)
+    y = d.y + DOCK_AHEAD * math.sin(d.theta)
+    return [Obstacle(DOCK_ID, "box", x, y, d.theta, size_x=DOCK_DEPTH, size_y=DOCK_WIDTH)]
 
 
 def camera_info(config: CameraConfig, header: Header) -> CameraInfo:

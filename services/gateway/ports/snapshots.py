@@ -16,10 +16,12 @@ from zenros.qos import QOS_SENSOR
 
 from .media_folder import MediaError, MediaFolder
 
-__all__ = ["CAMERA_TOPICS", "Snapshots", "camera_publishes", "check_camera_topic",
+__all__ = ["CAMERA_TOPICS", "PTZ_TOPIC", "Snapshots", "camera_publishes", "check_camera_topic",
            "frame_pixels"]
 
-CAMERA_TOPICS = ("/camera_node/image_raw", "/multi/front/image_raw", "/multi/back/image_raw")
+PTZ_TOPIC = "/ptz_camera/image_raw"  # the PTZ (ONVIF) camera's, fixed in the world
+CAMERA_TOPICS = ("/camera_node/image_raw", "/multi/front/image_raw", "/multi/back/image_raw",
+                 PTZ_TOPIC)
 FRAME_TIMEOUT = 5.0  # s to wait for a frame of the camera
 
 
@@ -34,8 +36,9 @@ def camera_publishes(node: Node, topic: str) -> str:
     """The resolved camera topic; 503 (a `MediaError`) when nothing publishes on it."""
     name = node.resolve_name(topic.lstrip("/"))
     if not node.context.graph.publishers(name):
+        which = "ptz_camera" if "ptz_camera" in name else "camera_rate"
         raise MediaError(503, f"no camera publishes on {name}: is the chassis (its "
-                              "cameras: parameter camera_rate) running?")
+                              f"cameras: parameter {which}) running?")
     return name
 
 

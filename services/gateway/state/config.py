@@ -25,6 +25,13 @@ class GatewayConfig(msgspec.Struct, forbid_unknown_fields=False):
     host_commands: dict[str, list[str]] = msgspec.field(default_factory=dict)
     update_source: str = ""  # a folder of wheels or a package index URL (docs/robot-api.md §3.4)
     update_package: str = "zenros"
+    # the simulated ONVIF camera (docs/robot-api.md §17): its address as /system/onvif_cameras
+    # lists it (port 0: the REST port, where its MJPEG stream is served) and its credentials
+    # (empty: it takes any)
+    onvif_ip: str = "127.0.0.1"
+    onvif_port: int = 0
+    onvif_username: str = ""
+    onvif_password: str = ""
 
 
 def default_config_path() -> Path:

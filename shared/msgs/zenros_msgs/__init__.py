@@ -1,5 +1,5 @@
-"""zenros_msgs: the robot's own types (chassis state and sim services, tasks and their
-documents, nav points, the result codes of their calls).
+"""zenros_msgs: the robot's own types (chassis state and sim services, the PTZ camera's,
+tasks and their documents, nav points, the result codes of their calls).
 
 One module per service that owns them; importing this package registers them all.
 """
@@ -12,6 +12,8 @@ from .lifecycle import *  # noqa: F403
 from .lifecycle import __all__ as _lifecycle_all
 from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
+from .ptz import *  # noqa: F403
+from .ptz import __all__ as _ptz_all
 from .result import *  # noqa: F403
 from .result import __all__ as _result_all
 from .schedule import *  # noqa: F403
@@ -25,5 +27,5 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_result_all, *_schedule_all, *_slam_all,
-           *_task_actions_all, *_task_docs_all, *_tasks_all]
+__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_ptz_all, *_result_all,
+           *_schedule_all, *_slam_all, *_task_actions_all, *_task_docs_all, *_tasks_all]
