@@ -24,6 +24,7 @@ from .ports.host_link import HostLink
 from .ports.io_link import IoLink
 from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
+from .ports.ptz_link import OnvifAddress, PtzLink
 from .ports.robot_topics import RobotTopics
 from .ports.slam_link import SlamLink
 from .ports.snapshots import Snapshots
@@ -119,12 +120,21 @@ class Robot:
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
+            ptz=PtzLink(node, _onvif_address(options.config), lambda: self.core.identity.port),
             videos=self.videos, voices=VoiceStore(data_dir / "voices"),
             commands=_host_commands(options.config.host_commands),
             updater=Updater(options.config.update_source, options.config.update_package,
                             options.config.allow_update, data_dir),
             tls_cert=options.tls_cert, blockly=BlocklyLink(node, self.core.presence))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
+
+
+def _onvif_address(config: GatewayConfig) -> OnvifAddress:
+    if not 0 <= config.onvif_port <= 65535:
+        raise ConfigError(f"{CONFIG_WHERE}: onvif_port must be 0 (the REST port) to 65535, "
+                          f"got {config.onvif_port}")
+    return OnvifAddress(config.onvif_ip, config.onvif_port, config.onvif_username,
+                        config.onvif_password)
 
 
 def _host_commands(table: dict[str, list[str]]) -> HostCommands:

@@ -29,6 +29,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     LocalMoveTargetAction,
     Location,
     NavAction,
+    OnvifCameraMoveAction,
     SleepAction,
     SlideAction,
     SwitchMapAction,
@@ -263,6 +264,10 @@ def _jacking_rotate(ctx: Context, p: JackingRotateAction) -> Outcome:
     return _axis_move(ctx, "jacking_rotation", p.mode, angle, p.speed, p.time)
 
 
+def _onvif_camera_move(ctx: Context, p: OnvifCameraMoveAction) -> Outcome:
+    return ctx.robot.ptz_move(p.x, p.y, p.zoom, ctx.progress, ctx.cancelled)
+
+
 def _blockly(ctx: Context, p: BlocklyAction) -> Outcome:
     """Run Blockly program ``api_key``: its blocks interpreted (`blockly.Runner`)."""
     try:
@@ -304,4 +309,5 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "jacking_action": _jacking,
     "jacking_rotate_action": _jacking_rotate,
     "blockly_action": _blockly,
+    "onvif_camera_move_action": _onvif_camera_move,
 }

@@ -26,6 +26,7 @@ from zenros.tf.quaternion import quaternion_from_yaw
 from .actuator_link import ActuatorLink
 from .link import SERVER_WAIT, RobotLink
 from .programs import ProgramStore
+from .ptz_link import PtzLink
 from .robot import Outcome
 
 __all__ = ["LocalLink"]
@@ -41,6 +42,7 @@ class LocalLink(RobotLink):
         self.target_client = ActionClient(node, LocalMoveTarget, "local_move_target")
         self.io = node.create_client(SetIo, "chassis/set_io")
         self.actuators = ActuatorLink(node, SERVER_WAIT)
+        self.ptz = PtzLink(node, SERVER_WAIT)
         self.io_state: IoState | None = None
         self._io_heard = threading.Event()
         self._io_sub: object | None = None  # chassis/io, subscribed at the first read
@@ -69,6 +71,10 @@ class LocalLink(RobotLink):
                   progress: Callable[[float], None],
                   cancelled: Callable[[], bool]) -> Outcome:
         return self.actuators.move(axis, mode, target, speed, duration, progress, cancelled)
+
+    def ptz_move(self, x: float, y: float, zoom: float, progress: Callable[[float], None],
+                 cancelled: Callable[[], bool]) -> Outcome:
+        return self.ptz.move(x, y, zoom, progress, cancelled)
 
     def drive(self, distance: float, speed: float, timeout: float,
               progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:

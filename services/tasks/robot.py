@@ -108,6 +108,13 @@ class Robot(Protocol):
         error; cancelled stops the axis."""
         ...
 
+    def ptz_move(self, x: float, y: float, zoom: float, progress: Callable[[float], None],
+                 cancelled: Callable[[], bool]) -> Outcome:
+        """Move the PTZ camera to ``x``, ``y`` (-1..1) and ``zoom`` (0..1) and wait until it
+        stands there; ``progress`` gets the share of the way done. A refused value is an
+        error; cancelled stops the camera where it is."""
+        ...
+
     def battery_percent(self) -> float | None:
         """The battery's charge, 0-100, if known."""
         ...

@@ -25,6 +25,7 @@ from .routes.local_moves import add_local_move_routes
 from .routes.map_transfer import add_map_transfer_routes
 from .routes.mapping import add_mapping_routes
 from .routes.nav import add_nav_routes
+from .routes.onvif import add_onvif_routes
 from .routes.records import add_record_routes
 from .routes.system import add_system_routes
 from .routes.tasks import add_task_routes
@@ -40,7 +41,8 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_record_routes, add_connection_routes, add_coverage_routes, add_extra_routes,
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
-    add_video_routes, add_voice_routes, add_update_routes, add_blockly_routes)
+    add_video_routes, add_voice_routes, add_update_routes, add_blockly_routes,
+    add_onvif_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

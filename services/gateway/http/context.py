@@ -16,6 +16,7 @@ from ..ports.host_link import HostLink
 from ..ports.io_link import IoLink
 from ..ports.nav_actions import NavActions
 from ..ports.nav_services import NavServices
+from ..ports.ptz_link import PtzLink
 from ..ports.robot_topics import RobotTopics
 from ..ports.slam_link import SlamPort
 from ..ports.snapshots import Snapshots
@@ -51,6 +52,7 @@ class Context:
     voices: VoiceStore | None = None  # the voice packages (None: no robot node)
     videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
+    ptz: PtzLink | None = None  # the PTZ (ONVIF) camera (None: no robot node)
     host: HostLink | None = None
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)
     updater: Updater | None = None  # software updates (None: no robot node)

@@ -23,7 +23,8 @@ __all__ = [
     "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "BlocklyAction", "CallbackAction",
     "ChargeAction",
     "DownloadMapAction", "IoAction", "JackingAction", "JackingRotateAction", "LocalMoveAction",
-    "LocalMoveTargetAction", "Location", "NavAction", "SleepAction", "SlideAction",
+    "LocalMoveTargetAction", "Location", "NavAction", "OnvifCameraMoveAction", "SleepAction",
+    "SlideAction",
     "SwitchMapAction", "TtsAction", "UploadMapAction", "WaitReqAction", "check_action",
 ]
 
@@ -181,6 +182,21 @@ class JackingRotateAction(ActionBase, kw_only=True, tag="jacking_rotate_action")
     frame_id: Literal["base_link", "map"] = "base_link"
 
 
+class OnvifCameraMoveAction(ActionBase, kw_only=True, tag="onvif_camera_move_action"):
+    """Move the PTZ camera to ``x``, ``y`` (-1..1: pan right, tilt up) and ``zoom`` (0..1),
+    ONVIF's normalised units, and wait until it gets there. ``ip``, ``port``, ``username``
+    and ``password`` name the camera (§17); the simulated robot has one, reached over
+    Zenoh, so they are kept and not used."""
+
+    ip: Annotated[str, Meta(max_length=128)] = ""
+    port: Annotated[int, Meta(ge=0, le=65535)] = 0
+    username: Annotated[str, Meta(max_length=128)] = ""
+    password: Annotated[str, Meta(max_length=128)] = ""
+    x: Annotated[float, Meta(ge=-1, le=1)] = 0.0
+    y: Annotated[float, Meta(ge=-1, le=1)] = 0.0
+    zoom: Annotated[float, Meta(ge=0, le=1)] = 0.0
+
+
 class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
     """Run Blockly program ``api_key`` (its id, docs/robot-api.md §10): its blocks are
     interpreted, step by step; its Python text is never run."""
@@ -191,7 +207,7 @@ class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
           | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
           | UploadMapAction | DownloadMapAction | SlideAction | JackingAction
-          | JackingRotateAction | BlocklyAction)
+          | JackingRotateAction | BlocklyAction | OnvifCameraMoveAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
