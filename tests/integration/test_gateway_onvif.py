@@ -66,8 +66,12 @@ def _ok(r: httpx.Response) -> dict[str, Any]:
 def test_the_camera_moves_reads_and_streams(chassis: ChassisNode, gw: GatewayNode,
                                             http: httpx.Client) -> None:
     listed: list[Any] = []
-    assert wait_for(lambda: listed.append(http.get("/system/onvif_cameras").json())
-                    or listed[-1]["cameras"], 20), listed[-1]
+
+    def found() -> bool:
+        listed.append(http.get("/system/onvif_cameras").json())
+        return bool(listed[-1]["cameras"])
+
+    assert wait_for(found, 20), listed[-1]
     assert listed[-1] == {"cameras": [{"ip": "127.0.0.1", "port": gw.rest_port}]}
     profile = http.get("/system/onvif_cameras", params={
         "ip": "127.0.0.1", "port": gw.rest_port, "username": "", "password": ""}).json()
@@ -201,9 +205,12 @@ def test_a_camera_move_is_a_task_that_ends_where_asked(chassis: ChassisNode, tas
         assert r.status_code == 200, r.text
         assert http.get("/task/start", params={"id": r.json()["id"]}).status_code == 200
         got: list[dict[str, Any]] = []
-        assert wait_for(lambda: got.append(http.get("/task", params={
-            "id": r.json()["id"]}).json()) or got[-1]["state"] in ("COMPLETE", "ERROR"),
-            30), got[-1:]
+
+        def ended() -> bool:
+            got.append(http.get("/task", params={"id": r.json()["id"]}).json())
+            return got[-1]["state"] in ("COMPLETE", "ERROR")
+
+        assert wait_for(ended, 30), got[-1:]
         return got[-1]
 
     done = run({"ip": "127.0.0.1", "x": -0.25, "y": 0.5, "zoom": 0.5})
