@@ -27,8 +27,8 @@ from .obstacles import Obstacle, ray_hits
 from .shared_world import BODY_PREFIX
 from .world import World
 
-__all__ = ["DOCK", "DOCK_ID", "NOTHING", "OBSTACLE", "ROBOT", "ROBOT_PREFIX", "Camera",
-           "CameraConfig", "Columns"]
+__all__ = ["DOCK", "DOCK_ID", "NOTHING", "OBSTACLE", "OBSTACLE_RGB", "ROBOT", "ROBOT_PREFIX",
+           "Camera", "CameraConfig", "Columns"]
 
 ROBOT_PREFIX = BODY_PREFIX  # obstacle ids of the other robots' bodies
 DOCK_ID = "dock:"  # the dock block's id (never an obstacle of the world)
@@ -36,7 +36,8 @@ DOCK_ID = "dock:"  # the dock block's id (never an obstacle of the world)
 _CEILING = np.array([214, 220, 228], dtype=np.float32)
 _FLOOR = (np.array([132, 138, 150], dtype=np.float32), np.array([100, 105, 116], dtype=np.float32))
 _WALL = np.array([236, 226, 200], dtype=np.float32)
-_OBSTACLE = np.array([200, 90, 40], dtype=np.float32)
+OBSTACLE_RGB = (200, 90, 40)  # an obstacle's colour, lit (a camera calibration's board)
+_OBSTACLE = np.array(OBSTACLE_RGB, dtype=np.float32)
 _ROBOT = np.array([50, 110, 200], dtype=np.float32)
 _DOCK = np.array([40, 160, 80], dtype=np.float32)
 NOTHING, OBSTACLE, ROBOT, DOCK = 0, 1, 2, 3  # what a column's ray met besides the walls

@@ -65,8 +65,15 @@ class Drive:
         self.linear = 0.0
         self.angular = 0.0
         self.estop = False
+        self.held_by: str | None = None  # who drives the base instead of cmd_vel (`hold`)
         self._cmd = (0.0, 0.0)
         self._cmd_time: float | None = None
+
+    def hold(self, owner: str | None) -> None:
+        """``owner`` (e.g. a calibration) drives the base from now on, and ``cmd_vel`` is
+        dropped until ``hold(None)``; either way the base stops first."""
+        self.held_by = owner
+        self.halt()
 
     def command(self, linear: float, angular: float, now: float) -> tuple[float, float]:
         """Take a velocity command; return it as clamped.

@@ -136,6 +136,8 @@ class ChassisNode(Node):
 
     def on_cmd_vel(self, msg: Twist) -> None:
         with self._sim_lock:
+            if self.sim.drive.held_by is not None:  # a calibration drives (calibration/state)
+                return
             try:
                 self.sim.drive.command(msg.linear.x, msg.angular.z, self.sim.time)
             except CommandError as exc:

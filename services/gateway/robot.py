@@ -16,6 +16,7 @@ from .http.api import Api
 from .http.app import build_api
 from .http.context import Context
 from .ports.asr_link import AsrLink
+from .ports.calibration_link import CalibrationLink
 from .ports.blockly_link import BlocklyLink
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
@@ -120,6 +121,7 @@ class Robot:
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
+            calibration=CalibrationLink(node),
             ptz=PtzLink(node, _onvif_address(options.config), lambda: self.core.identity.port),
             videos=self.videos, voices=VoiceStore(data_dir / "voices"),
             commands=_host_commands(options.config.host_commands),

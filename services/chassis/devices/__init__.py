@@ -13,9 +13,11 @@ from ..device import Device
 from .actuators import ActuatorDevice
 from .asr import AsrDevice
 from .battery import BatteryDevice
+from .calibration import CalibrationDevice
 from .camera import CameraDevice
 from .dock import DockDevice
 from .fleet import FleetDevice
+from .imu import ImuDevice
 from .io import IoDevice
 from .laser import LaserDevice
 from .odometry import OdometryDevice
@@ -24,8 +26,9 @@ from .state import StateDevice
 from .truth import GroundTruthDevice
 from .wind import WindDevice
 
-__all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CameraDevice",
-           "DockDevice", "FleetDevice", "GroundTruthDevice", "IoDevice", "LaserDevice",
+__all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CalibrationDevice",
+           "CameraDevice", "DockDevice", "FleetDevice", "GroundTruthDevice", "ImuDevice",
+           "IoDevice", "LaserDevice",
            "OdometryDevice", "PtzDevice", "StateDevice", "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
@@ -34,7 +37,9 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     DockDevice,
     BatteryDevice,
     LaserDevice,
+    ImuDevice,
     CameraDevice,
+    CalibrationDevice,
     IoDevice,
     StateDevice,
     FleetDevice,

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Annotated
 
 import msgspec
+import numpy as np
 from msgspec import Meta
 from PIL import Image as PilImage
 from zenros.clock import Time
@@ -57,14 +58,29 @@ class CameraParameters(msgspec.Struct, kw_only=True, frozen=True):
     camera_front_x: float = 0.2
     camera_back_x: float = -0.2
     camera_jpeg_quality: Annotated[int, Meta(ge=1, le=95)] = 80
+    camera_error_yaw: Annotated[float, Meta(
+        ge=-0.3, le=0.3, description="how far the front camera is really turned from straight "
+                                     "ahead (rad)")] = 0.0
+    camera_error_f: Annotated[float, Meta(
+        ge=-0.2, le=0.2, description="the front lens's focal length off its nominal one "
+                                     "(relative)")] = 0.0
 
     def __post_init__(self) -> None:
         self.config()
+        self.front_lens()
 
     def config(self) -> CameraConfig:
         """The renderer's configuration (raises ValueError for a bad combination)."""
         return CameraConfig(width=self.camera_width, height=self.camera_height,
                             hfov=self.camera_hfov, z=self.camera_z)
+
+    def front_lens(self) -> CameraConfig:
+        """The front camera's lens as it really is: the nominal one with ``camera_error_f``
+        (what a camera calibration measures)."""
+        c = self.config()
+        f = c.f * (1.0 + self.camera_error_f)
+        return CameraConfig(width=c.width, height=c.height, z=c.z,
+                            hfov=2 * math.atan(c.width / 2 / f))
 
 
 @dataclass
@@ -72,11 +88,13 @@ class _View:
     """One camera: where it sits on the base and the topics it publishes on."""
 
     name: str  # front, back
-    mount: Pose2
+    mount: Pose2  # where it really is on the base (it renders from there)
     camera: Camera
     images: list[Publisher[Image]]
     compressed: list[Publisher[CompressedImage]]
     infos: list[Publisher[CameraInfo]]
+    k: list[float]  # the intrinsics CameraInfo publishes (a calibration may correct them)
+    published: Pose2  # the mount /tf_static publishes (likewise)
     jpeg: tuple[object, UInt8Array] | None = None  # (the frame it is of, its JPEG)
 
     @property
@@ -93,6 +111,7 @@ class CameraDevice(Device[CameraParameters]):
     """Two `Camera` views of the chassis's world (one map caster between them)."""
 
     Parameters = CameraParameters
+    _node: Endpoints
 
     def __init__(self, params: CameraParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
@@ -112,27 +131,60 @@ class CameraDevice(Device[CameraParameters]):
         if self.caster is None:
             return
         p = self.params
-        for name, mount, bases in (("front", Pose2(p.camera_front_x, 0.0, 0.0),
-                                    ["camera_node", "multi/front"]),
-                                   ("back", Pose2(p.camera_back_x, 0.0, math.pi),
-                                    ["multi/back"])):
+        self._node = node
+        for name, mount, lens, error, bases in (
+                ("front", Pose2(p.camera_front_x, 0.0, 0.0), p.front_lens(),
+                 p.camera_error_yaw, ["camera_node", "multi/front"]),
+                ("back", Pose2(p.camera_back_x, 0.0, math.pi), self.config, 0.0,
+                 ["multi/back"])):
             view = _View(
-                name, mount, Camera(self.chassis.sim.world, self.config, self.caster),
+                name, Pose2(mount.x, mount.y, mount.theta + error),
+                Camera(self.chassis.sim.world, lens, self.caster),
                 [node.create_publisher(Image, f"{b}/image_raw", QOS_SENSOR) for b in bases],
                 [node.create_publisher(CompressedImage, f"{b}/image_raw/compressed", QOS_SENSOR)
                  for b in bases],
                 [node.create_publisher(CameraInfo, f"{b}/camera_info", QOS_SENSOR)
-                 for b in bases])
+                 for b in bases], self.config.k, mount)
             self.views.append(view)
             link = f"camera_{name}_link"
-            node.static_transform(messages.transform(node.stamp(), self.chassis.frames.base,
-                                                     link, mount, p.camera_z))
+            self._send_mount(view)
             node.static_transform(TransformStamped(
                 header=Header(stamp=node.stamp(), frame_id=link),
                 child_frame_id=view.optical_frame,
                 transform=Transform(translation=Vector3(), rotation=OPTICAL)))
         self._worker = threading.Thread(target=self._run, name="cameras", daemon=True)
         self._worker.start()
+
+    def _send_mount(self, view: _View) -> None:
+        self._node.static_transform(messages.transform(
+            self._node.stamp(), self.chassis.frames.base, f"camera_{view.name}_link",
+            view.published, self.params.camera_z))
+
+    def view(self, name: str) -> _View | None:
+        """The camera ``name`` (front, back), or None without cameras."""
+        return next((v for v in self.views if v.name == name), None)
+
+    def frame_now(self, name: str) -> np.ndarray:
+        """What camera ``name`` sees now (rendered at once, on the caller's thread; a copy)."""
+        view = self.view(name)
+        if view is None:
+            raise LookupError(f"no {name} camera")
+        pose = self.chassis.sim.truth * view.mount
+        things = (*self.chassis.sim.world.obstacles.values(), *dock_block(self.chassis))
+        return view.camera.render(pose.x, pose.y, pose.theta, things).copy()
+
+    def set_calibration(self, name: str, f: float, cx: float, yaw: float) -> None:
+        """Publish a calibration's result for camera ``name``: focal length ``f`` and
+        principal point column ``cx`` (pixels) in its CameraInfo, its yaw on the base on
+        ``/tf_static`` (the lens and the camera stay as they are)."""
+        view = self.view(name)
+        if view is None:
+            raise LookupError(f"no {name} camera")
+        k = list(view.k)
+        k[0], k[2], k[4] = f, cx, f
+        view.k = k
+        view.published = Pose2(view.published.x, view.published.y, yaw)
+        self._send_mount(view)
 
     def publish(self, stamp: Time) -> None:
         if self.caster is None:
@@ -182,7 +234,7 @@ class CameraDevice(Device[CameraParameters]):
                                          data=data)
             for cpub in view.compressed:
                 cpub.publish(compressed)
-        info = camera_info(self.config, header)
+        info = camera_info(self.config, header, view.k)
         for ipub in view.infos:
             ipub.publish(info)
         self.frames += 1
@@ -200,9 +252,11 @@ def dock_block(chassis: Chassis) -> list[Obstacle]:
     return [Obstacle(DOCK_ID, "box", x, y, d.theta, size_x=DOCK_DEPTH, size_y=DOCK_WIDTH)]
 
 
-def camera_info(config: CameraConfig, header: Header) -> CameraInfo:
-    """The pinhole's calibration: no distortion, K from the field of view, P = [K | 0]."""
-    k = config.k
+def camera_info(config: CameraConfig, header: Header, k: list[float] | None = None
+                ) -> CameraInfo:
+    """The pinhole's calibration: no distortion, K (default: from the field of view),
+    P = [K | 0]."""
+    k = config.k if k is None else k
     return CameraInfo(
         header=header, height=config.height, width=config.width, distortion_model="plumb_bob",
         d=to_array(Float64Array, [0.0] * 5), k=to_array(Float64Array, k),

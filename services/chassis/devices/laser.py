@@ -38,6 +38,13 @@ class LaserParameters(msgspec.Struct, kw_only=True, frozen=True):
     laser_yaw: float = 0.0
     laser_z: float = 0.2
     laser_frame: str = "laser"
+    laser_error_x: Annotated[float, Meta(
+        ge=-0.5, le=0.5, description="how far the laser really sits from laser_x (m)")] = 0.0
+    laser_error_y: Annotated[float, Meta(
+        ge=-0.5, le=0.5, description="how far the laser really sits from laser_y (m)")] = 0.0
+    laser_error_yaw: Annotated[float, Meta(
+        ge=-0.5, le=0.5, description="how far the laser is really turned from laser_yaw "
+                                     "(rad)")] = 0.0
 
     def __post_init__(self) -> None:
         if self.range_min >= self.range_max:
@@ -53,8 +60,15 @@ class LaserParameters(msgspec.Struct, kw_only=True, frozen=True):
 
     @property
     def mount(self) -> Pose2:
-        """The laser's pose on the base."""
+        """The laser's pose on the base as configured (what ``/tf_static`` says)."""
         return Pose2(self.laser_x, self.laser_y, self.laser_yaw)
+
+    @property
+    def true_mount(self) -> Pose2:
+        """Where the laser really is on the base: the configured mount and its error (what a
+        laser calibration measures)."""
+        return Pose2(self.laser_x + self.laser_error_x, self.laser_y + self.laser_error_y,
+                     self.laser_yaw + self.laser_error_yaw)
 
 
 class LaserDevice(Device[LaserParameters]):
@@ -63,23 +77,35 @@ class LaserDevice(Device[LaserParameters]):
 
     Parameters = LaserParameters
     _pub: Publisher[LaserScan]
+    _node: Endpoints
 
     def __init__(self, params: LaserParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.laser = Laser(chassis.sim.world, params.config(), chassis.rng)
-        self.mount = params.mount
+        self.mount = params.mount  # as published; a laser calibration may correct it
+        self.true_mount = params.true_mount
         self.rate = params.scan_rate
 
     def ranges(self) -> np.ndarray:
         """The ranges from where the laser is now."""
-        p = self.chassis.sim.truth * self.mount
+        p = self.chassis.sim.truth * self.true_mount
         return self.laser.ranges(p.x, p.y, p.theta)
 
     def open(self, node: Endpoints) -> None:
+        self._node = node
         self._pub = node.create_publisher(LaserScan, "scan", QOS_SENSOR)
-        node.static_transform(messages.transform(
-            node.stamp(), self.chassis.frames.base, self.params.laser_frame, self.mount,
-            self.params.laser_z))
+        self._send_mount()
+
+    def set_mount(self, mount: Pose2) -> None:
+        """Publish ``mount`` as the laser's pose on the base from now on (a calibration's
+        result; the laser itself stays where it is)."""
+        self.mount = mount
+        self._send_mount()
+
+    def _send_mount(self) -> None:
+        self._node.static_transform(messages.transform(
+            self._node.stamp(), self.chassis.frames.base, self.params.laser_frame,
+            self.mount, self.params.laser_z))
 
     def publish(self, stamp: Time) -> None:
         if self._pub.subscription_count:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from zenros.param_client import ParameterClient
 
 from ..ports.asr_link import AsrLink
+from ..ports.calibration_link import CalibrationLink
 from ..ports.blockly_link import BlocklyLink
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
@@ -52,6 +53,7 @@ class Context:
     voices: VoiceStore | None = None  # the voice packages (None: no robot node)
     videos: Videos | None = None  # the cameras' recordings (None: no robot node)
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
+    calibration: CalibrationLink | None = None  # the chassis's calibrations (None: no robot)
     ptz: PtzLink | None = None  # the PTZ (ONVIF) camera (None: no robot node)
     host: HostLink | None = None
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)

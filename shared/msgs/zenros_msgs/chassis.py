@@ -14,6 +14,9 @@
   level and direction (an outdoor robot's; the simulated one's is still air by default).
 - ``zenros_msgs/AsrBoardState`` on ``asr/state`` (latched) and ``zenros_msgs/SetAsrBoard``
   (``asr/set``): the ASR (voice) board's IO, PWM and servo outputs.
+- ``zenros_msgs/CalibrationState`` on ``calibration/state`` (latched) and
+  ``zenros_msgs/Calibrate`` (``calibration/command``): the IMU's gyro bias and the laser's
+  mount, measured by the robot and applied when the user says so.
 - ``chassis/set_estop`` uses ``std_srvs/SetBool`` (``data: true`` engages the latched e-stop).
 """
 
@@ -30,6 +33,10 @@ from ..std_msgs import Header
 __all__ = [
     "ActuatorState",
     "AsrBoardState",
+    "Calibrate",
+    "CalibrateRequest",
+    "CalibrateResponse",
+    "CalibrationState",
     "ChassisState",
     "IoState",
     "MoveActuator",
@@ -295,3 +302,47 @@ class SetAsrBoardResponse(Message):
 
 SetAsrBoard = define_service("zenros_msgs/SetAsrBoard", SetAsrBoardRequest,
                              SetAsrBoardResponse)
+
+
+class CalibrationState(Message):
+    """One calibration (``device``: ``imu`` or ``laser``), latched on ``calibration/state`` at
+    every change and at 2 Hz while it runs.
+
+    ``state``: ``FREE`` (none running; the last result, if any, applied or dropped),
+    ``CALIBRATING`` (measuring; ``progress`` 0..1), ``CALIBRATED`` (a result waits for
+    ``complete``), ``FAILED`` (``message`` says why). ``accuracy`` 0..100 rates the result
+    (100: the measurements agree exactly); ``values`` and ``names`` are the estimate (the
+    IMU: ``gyro_bias_z`` rad/s; the laser: its mount ``x``, ``y`` m and ``yaw`` rad on the
+    base), ``applied`` what is in force now."""
+
+    __msgtype__ = "zenros_msgs/CalibrationState"
+    header: Header = msgspec.field(default_factory=Header)
+    device: str = ""
+    state: str = "FREE"
+    progress: float = 0.0
+    accuracy: float = 0.0
+    message: str = ""
+    names: list[str] = msgspec.field(default_factory=list)
+    values: list[float] = msgspec.field(default_factory=list)
+    applied: list[float] = msgspec.field(default_factory=list)
+
+
+class CalibrateRequest(Message):
+    """``command`` ``start``, ``cancel``, ``complete`` (apply a ``CALIBRATED`` result) or
+    ``status`` of the ``device``'s calibration (``imu``, ``laser``)."""
+
+    __msgtype__ = "zenros_msgs/CalibrateRequest"
+    device: str = ""
+    command: str = "status"
+
+
+class CalibrateResponse(Message):
+    """``success`` false with the reason in ``message``; ``state``: the calibration after it."""
+
+    __msgtype__ = "zenros_msgs/CalibrateResponse"
+    success: bool = False
+    message: str = ""
+    state: CalibrationState = msgspec.field(default_factory=CalibrationState)
+
+
+Calibrate = define_service("zenros_msgs/Calibrate", CalibrateRequest, CalibrateResponse)

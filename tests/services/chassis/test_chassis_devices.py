@@ -44,7 +44,10 @@ NAMES = {
     "asr_servo_speed", "ptz_camera", "ptz_x", "ptz_y", "ptz_z", "ptz_yaw", "ptz_pan_limit",
     "ptz_tilt_min", "ptz_tilt_max", "ptz_zoom_max", "ptz_hfov", "ptz_pan_speed",
     "ptz_tilt_speed", "ptz_zoom_speed", "ptz_width", "ptz_height", "ptz_rate",
-    "ptz_jpeg_quality", "ptz_presets",
+    "ptz_jpeg_quality", "ptz_presets", "laser_error_x", "laser_error_y", "laser_error_yaw",
+    "imu_rate", "imu_gyro_bias", "imu_gyro_noise", "imu_accel_noise", "imu_frame",
+    "calibration", "imu_calibration_time", "laser_calibration_drive", "camera_error_yaw",
+    "camera_error_f",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -125,7 +128,8 @@ def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPa
 
 def test_the_devices_open_their_topics_and_services() -> None:
     _, node = build({"camera_rate": 0.0, "actuators": False,  # their own tests, below
-                     "asr_board": False, "ptz_camera": False})
+                     "asr_board": False, "ptz_camera": False, "imu_rate": 0.0,
+                     "calibration": False})
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
                                     "chassis/io", "chassis/state", "wind"}
     assert set(node.services) == {"chassis/set_io"} and node.listening == {}
@@ -152,7 +156,8 @@ def test_a_device_service_answers_and_publishes() -> None:
 
 def test_each_device_publishes_at_its_rate() -> None:
     chassis, node = build({"rate": 50.0, "scan_rate": 10.0, "camera_rate": 0.0,
-                           "actuators": False, "asr_board": False, "ptz_camera": False})
+                           "actuators": False, "asr_board": False, "ptz_camera": False,
+                           "imu_rate": 0.0, "calibration": False})
     schedule = Schedule(chassis.devices, 50.0)
     for step in range(1, 101):  # two sim seconds
         chassis.step(0.02)
