@@ -9,8 +9,6 @@ it. Cancelling stops the axis.
 
 from __future__ import annotations
 
-import threading
-import time
 from collections.abc import Callable
 from typing import Any, Final
 
@@ -19,10 +17,10 @@ from zenros.msgs.zenros_msgs import ActuatorState, MoveActuator, MoveActuatorReq
 from zenros.node import Node
 
 from .robot import Outcome
+from .state_watch import Silent, StateWatch
 
 __all__ = ["ActuatorLink"]
 
-POLL: Final = 0.02
 MODES: Final = {0: "home", 1: "run", 2: "stop", 3: "move"}
 
 
@@ -35,14 +33,8 @@ class ActuatorLink:
         self.call_timeout = call_timeout
         self.silence = silence
         self._client: Any = None  # made at the first move: most robots' tasks never move one
-        self._cond = threading.Condition()
-        self._state: ActuatorState | None = None
+        self._watch: StateWatch[ActuatorState] = StateWatch(silence)
         self._sub: Any = None
-
-    def _on_state(self, msg: ActuatorState) -> None:
-        with self._cond:
-            self._state = msg
-            self._cond.notify_all()
 
     def move(self, axis: str, mode: int, target: float, speed: float, duration: float,
              progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:
@@ -51,7 +43,7 @@ class ActuatorLink:
         if self._sub is None:  # the state is published only while someone listens
             self._client = self.node.create_client(MoveActuator, "actuators/move")
             self._sub = self.node.create_subscription(ActuatorState, "actuators/state",
-                                                      self._on_state)
+                                                      self._watch)
         req = MoveActuatorRequest(name=axis, mode=mode, position=target, speed=speed,
                                   duration=duration)
         try:
@@ -71,23 +63,19 @@ class ActuatorLink:
                 cancelled: Callable[[], bool], what: str) -> Outcome:
         since = start.header.stamp
         begin = start.position[i]
-        heard = time.monotonic()
         while True:
-            if cancelled():
+            try:
+                state = self._watch.next_after(since, cancelled)
+            except Silent:
+                return Outcome("error", f"{what}: no actuators/state from the chassis for "
+                                        f"{self.silence:g} s")
+            if state is None:
                 self._stop(axis)
                 return Outcome("preempted")
-            with self._cond:
-                self._cond.wait(POLL)
-                state = self._state
-            if state is None or not state.header.stamp > since:
-                if time.monotonic() - heard > self.silence:
-                    return Outcome("error", f"{what}: no actuators/state from the chassis "
-                                            f"for {self.silence:g} s")
-                continue
-            heard = time.monotonic()
+            since = state.header.stamp
             pos = state.position[i]
             if mode == MoveActuatorRequest.MODE_SPEED:
-                elapsed = state.header.stamp.to_sec() - since.to_sec()
+                elapsed = since.to_sec() - start.header.stamp.to_sec()
                 progress(elapsed / duration if duration > 0 else 1.0)
             else:
                 goal = state.low[i] if mode == MoveActuatorRequest.MODE_HOME else target

@@ -9,10 +9,8 @@ the camera where it is (``ptz_camera/move_speed`` with all zeros).
 from __future__ import annotations
 
 import math
-import threading
-import time
 from collections.abc import Callable
-from typing import Any, Final
+from typing import Any
 
 from zenros.errors import ZenrosError
 from zenros.msgs.zenros_msgs import (
@@ -25,10 +23,9 @@ from zenros.msgs.zenros_msgs import (
 from zenros.node import Node
 
 from .robot import Outcome
+from .state_watch import Silent, StateWatch
 
 __all__ = ["PtzLink"]
-
-POLL: Final = 0.02
 
 
 class PtzLink:
@@ -42,13 +39,7 @@ class PtzLink:
         self._move: Any = None  # made at the first move: most robots' tasks never move one
         self._stop: Any = None
         self._sub: Any = None
-        self._cond = threading.Condition()
-        self._state: PtzState | None = None
-
-    def _on_state(self, msg: PtzState) -> None:
-        with self._cond:
-            self._state = msg
-            self._cond.notify_all()
+        self._watch: StateWatch[PtzState] = StateWatch(silence)
 
     def move(self, x: float, y: float, zoom: float, progress: Callable[[float], None],
              cancelled: Callable[[], bool]) -> Outcome:
@@ -58,7 +49,7 @@ class PtzLink:
             self._move = self.node.create_client(MovePtz, "ptz_camera/move")
             self._stop = self.node.create_client(MovePtzSpeed, "ptz_camera/move_speed")
             self._sub = self.node.create_subscription(PtzState, "ptz_camera/state",
-                                                      self._on_state)
+                                                      self._watch)
         try:
             res = self._move.call(MovePtzRequest(x=x, y=y, zoom=zoom),
                                   timeout=self.call_timeout)
@@ -69,20 +60,16 @@ class PtzLink:
         start = res.state
         since = start.header.stamp
         span = math.dist((start.x, start.y, start.zoom_ratio), (x, y, zoom))
-        heard = time.monotonic()
         while True:
-            if cancelled():
+            try:
+                state = self._watch.next_after(since, cancelled)
+            except Silent:
+                return Outcome("error", f"{what}: no ptz_camera/state from the chassis for "
+                                        f"{self.silence:g} s")
+            if state is None:
                 self._halt()
                 return Outcome("preempted")
-            with self._cond:
-                self._cond.wait(POLL)
-                state = self._state
-            if state is None or not state.header.stamp > since:
-                if time.monotonic() - heard > self.silence:
-                    return Outcome("error", f"{what}: no ptz_camera/state from the chassis "
-                                            f"for {self.silence:g} s")
-                continue
-            heard = time.monotonic()
+            since = state.header.stamp
             left = math.dist((state.x, state.y, state.zoom_ratio), (x, y, zoom))
             progress(1.0 - left / span if span > 1e-9 else 1.0)
             if not state.moving:
