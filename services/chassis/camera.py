@@ -2,7 +2,8 @@
 Wolfenstein 3D drew its levels).
 
 The map's solid cells are walls ``wall_height`` high, the obstacles ``obstacle_height``, the
-other robots' bodies ``robot_height``, the dock a block behind its pose; the floor is a 1 m
+other robots' bodies ``robot_height``, people's legs (``person:...``) ``person_height`` in
+their own colour, the dock a block behind its pose; the floor is a 1 m
 checkerboard seen in perspective and the ceiling is plain. Each column casts one ray into the
 map (`Laser.cast_map`) and one into each obstacle; the nearest wall is drawn, then the
 nearest obstacle in front of it. Walls are shaded by distance, their faces along x and y
@@ -24,10 +25,12 @@ import numpy as np
 
 from .laser import Laser
 from .obstacles import Obstacle, ray_hits
+from .people import PERSON_PREFIX
 from .shared_world import BODY_PREFIX
 from .world import World
 
-__all__ = ["DOCK", "DOCK_ID", "NOTHING", "OBSTACLE", "OBSTACLE_RGB", "ROBOT", "ROBOT_PREFIX",
+__all__ = ["DOCK", "DOCK_ID", "NOTHING", "OBSTACLE", "OBSTACLE_RGB", "PERSON", "PERSON_PREFIX",
+           "PERSON_RGB", "ROBOT", "ROBOT_PREFIX",
            "Camera", "CameraConfig", "Columns"]
 
 ROBOT_PREFIX = BODY_PREFIX  # obstacle ids of the other robots' bodies
@@ -40,8 +43,10 @@ OBSTACLE_RGB = (200, 90, 40)  # an obstacle's colour, lit (a camera calibration'
 _OBSTACLE = np.array(OBSTACLE_RGB, dtype=np.float32)
 _ROBOT = np.array([50, 110, 200], dtype=np.float32)
 _DOCK = np.array([40, 160, 80], dtype=np.float32)
-NOTHING, OBSTACLE, ROBOT, DOCK = 0, 1, 2, 3  # what a column's ray met besides the walls
-_THINGS = np.stack([np.zeros(3, dtype=np.float32), _OBSTACLE, _ROBOT, _DOCK])
+PERSON_RGB = (150, 60, 160)  # a person's colour, lit
+_PERSON = np.array(PERSON_RGB, dtype=np.float32)
+NOTHING, OBSTACLE, ROBOT, DOCK, PERSON = 0, 1, 2, 3, 4  # what a ray met besides the walls
+_THINGS = np.stack([np.zeros(3, dtype=np.float32), _OBSTACLE, _ROBOT, _DOCK, _PERSON])
 
 
 @dataclass(frozen=True)
@@ -57,6 +62,7 @@ class CameraConfig:
     wall_height: float = 2.5
     obstacle_height: float = 1.0
     robot_height: float = 0.5
+    person_height: float = 1.7
     dock_height: float = 0.4
     range_max: float = 30.0
     cy: float | None = None
@@ -179,6 +185,8 @@ class Camera:
             return ROBOT, c.robot_height
         if thing.id == DOCK_ID:
             return DOCK, c.dock_height
+        if thing.id.startswith(PERSON_PREFIX):
+            return PERSON, c.person_height
         return OBSTACLE, c.obstacle_height
 
     def _floor(self, image: np.ndarray, x: float, y: float, dx: np.ndarray,
@@ -230,7 +238,8 @@ class Camera:
 class Columns:
     """What each image column's ray met: its direction (``dx``, ``dy`` in ``map``), the
     depth (along the optical axis, m; ``inf``: none in range) of the wall and of the nearest
-    thing in front of it, that thing's kind (`NOTHING`, `OBSTACLE`, `ROBOT`, `DOCK`) and
+    thing in front of it, that thing's kind (`NOTHING`, `OBSTACLE`, `ROBOT`, `DOCK`,
+    `PERSON`) and
     height (m)."""
 
     dx: np.ndarray

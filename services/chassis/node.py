@@ -30,6 +30,7 @@ from .device import Device, Schedule
 from .diagnostics import chassis_diagnostics
 from .drive import CommandError
 from .obstacle_requests import apply_request, to_msgs
+from .people import PERSON_PREFIX
 from .shared_world import BODY_PREFIX
 
 __all__ = ["ChassisNode"]
@@ -154,7 +155,7 @@ class ChassisNode(Node):
     def handle_set_obstacles(self, req: SetObstaclesRequest) -> SetObstaclesResponse:
         why = apply_request(self.sim, req)
         now = to_msgs(o for o in self.sim.world.obstacles.values()
-                      if not o.id.startswith(BODY_PREFIX))
+                      if not o.id.startswith((BODY_PREFIX, PERSON_PREFIX)))
         return SetObstaclesResponse(success=not why, message=why, obstacles=now)
 
     def handle_set_estop(self, req: SetBoolRequest) -> SetBoolResponse:

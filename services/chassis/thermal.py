@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .camera import DOCK, OBSTACLE, ROBOT, CameraConfig, Columns
+from .camera import DOCK, OBSTACLE, PERSON, ROBOT, CameraConfig, Columns
 
 __all__ = ["AMBIENT", "Reading", "ThermalModel", "read_rule"]
 
@@ -30,6 +30,7 @@ class ThermalModel:
     wall_low: float = AMBIENT - 0.5  # at the floor
     wall_high: float = AMBIENT + 1.0  # at the walls' top
     obstacle: float = AMBIENT + 2.0
+    person: float = 33.0  # clothed legs
     robot_motors: float = 40.0  # a robot's body at the floor (its motors, its wheels)
     robot_top: float = 35.0
     dock_charging: float = 30.0
@@ -59,9 +60,10 @@ class ThermalModel:
             top = np.maximum(np.broadcast_to(cols.height[None, :], out.shape), 1e-6)
             robot = self.robot_motors + (self.robot_top - self.robot_motors) * thing_h / top
             dock = self.dock_charging if self.charging else self.dock_idle
-            thing_t = np.select([kind == ROBOT, kind == DOCK, kind == OBSTACLE],
+            thing_t = np.select([kind == ROBOT, kind == DOCK, kind == OBSTACLE, kind == PERSON],
                                 [robot, np.full(out.shape, dock),
-                                 np.full(out.shape, self.obstacle)], default=AMBIENT)
+                                 np.full(out.shape, self.obstacle),
+                                 np.full(out.shape, self.person)], default=AMBIENT)
             out[on_thing] = thing_t[on_thing]
         return out
 

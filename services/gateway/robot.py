@@ -8,6 +8,7 @@ from pathlib import Path
 
 from zenros.context import Context as ZenrosContext
 from zenros.errors import ConfigError
+from zenros.msgs.std_msgs import String
 from zenros.names import validate_namespace
 from zenros.node import Node
 from zenros.param_client import ParameterClient
@@ -16,8 +17,8 @@ from .http.api import Api
 from .http.app import build_api
 from .http.context import Context
 from .ports.asr_link import AsrLink
-from .ports.calibration_link import CalibrationLink
 from .ports.blockly_link import BlocklyLink
+from .ports.calibration_link import CalibrationLink
 from .ports.coverage_link import CoverageLink
 from .ports.fs_sandbox import FileRoot
 from .ports.host_commands import HostCommands
@@ -25,6 +26,7 @@ from .ports.host_link import HostLink
 from .ports.io_link import IoLink
 from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
+from .ports.people_link import PeopleLink
 from .ports.ptz_link import OnvifAddress, PtzLink
 from .ports.robot_topics import RobotTopics
 from .ports.slam_link import SlamLink
@@ -122,6 +124,7 @@ class Robot:
             snapshots=Snapshots(node, data_dir / "Pictures"),
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
             calibration=CalibrationLink(node),
+            people=PeopleLink(node, self.speak, lambda: node.now().nanoseconds / 1e9),
             ptz=PtzLink(node, _onvif_address(options.config), lambda: self.core.identity.port),
             videos=self.videos, voices=VoiceStore(data_dir / "voices"),
             commands=_host_commands(options.config.host_commands),
@@ -129,6 +132,12 @@ class Robot:
                             options.config.allow_update, data_dir),
             tls_cert=options.tls_cert, blockly=BlocklyLink(node, self.core.presence))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
+
+    def speak(self, text: str) -> None:
+        """Say ``text`` (its alias if it has one) as ``PUT /system/tts`` does: on ``tts``."""
+        said = self.audio.apply_alias(text)
+        self.speech.say(said)
+        self.topics.tts_pub.publish(String(data=said))
 
 
 def _onvif_address(config: GatewayConfig) -> OnvifAddress:

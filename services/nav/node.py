@@ -14,7 +14,7 @@ from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRe
 from zenros.lifecycle.machine import ACTIVE
 from zenros.maps import GridMap
 from zenros.message import ActionType
-from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
+from zenros.msgs.geometry_msgs import Point, PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav2_msgs import (
     BackUp,
     ClearEntireCostmap,
@@ -36,10 +36,12 @@ from zenros.msgs.nav2_msgs import (
 )
 from zenros.msgs.nav_msgs import OccupancyGrid, Odometry, Path
 from zenros.msgs.sensor_msgs import BatteryState, LaserScan
+from zenros.msgs.std_msgs import Header
 from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs import slam as slammsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
+from zenros.msgs.zenros_msgs.people import GetFollowStatus, PersonDetections, SetFollow, UwbTarget
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
@@ -67,6 +69,9 @@ from .motion.autocharge import AutoCharge
 from .motion.docking import Dock
 from .motion.loop import ControlLoop
 from .params import DEMO_MAP, NavParameters, nav_config
+from .people.control import FollowControl
+from .people.follow import FollowParams
+from .people.legs import detect_people
 from .refusals import coded
 
 __all__ = ["NavNode"]
@@ -123,6 +128,7 @@ class NavNode(LifecycleNode):
         self.local_pub = self.create_publisher(OccupancyGrid, "local_costmap/costmap")
         self.status_pub = self.create_publisher(navmsgs.NavStatus, "nav/status", QOS_LATCHED)
         self.tf = TransformBroadcaster(self)
+        self._serve_people(p)  # before the scan's subscription: on_scan publishes people
 
         self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR)
         self.create_subscription(Odometry, "sim/ground_truth", self.on_ground_truth, QOS_SENSOR)
@@ -213,6 +219,35 @@ class NavNode(LifecycleNode):
             policy = "parallel" if name == "compute_path_to_pose" else "simple"
             self._servers.append(self.create_action_server(
                 act, name, execute, goal_callback=self._when_active(goal_cb), policy=policy))
+
+    def _serve_people(self, p: NavParameters) -> None:
+        """Person following (``follow/set``, ``follow/status``) on the leg detector or the
+        UWB tag (``uwb/target``), and the leg detector's people on ``people/detections``."""
+        self._uwb: tuple[float, float, float] | None = None
+        self.follow = FollowControl(
+            self.core.motion, FollowParams(max_linear=min(0.5, p.max_linear_vel),
+                                           max_angular=min(1.2, p.max_angular_vel),
+                                           body_radius=p.collision_radius),
+            lambda: self._uwb, active=self._follow_refusal)
+        self.create_service(SetFollow, "follow/set", self.follow.handle_set)
+        self.create_service(GetFollowStatus, "follow/status", self.follow.handle_status)
+        self.create_subscription(UwbTarget, "uwb/target", self.on_uwb, QOS_SENSOR)
+        self.people_pub = self.create_publisher(PersonDetections, "people/detections")
+
+    def _follow_refusal(self) -> str:
+        if self.current_state.state_id != ACTIVE:
+            return f"nav is {self.current_state.label}, not active: it drives nowhere"
+        return ""
+
+    def on_uwb(self, msg: UwbTarget) -> None:
+        if math.isfinite(msg.range) and math.isfinite(msg.bearing) and msg.range >= 0:
+            self._uwb = (float(msg.range), float(msg.bearing), self._seconds())
+
+    def _publish_people(self, stamp: Any) -> None:
+        people = detect_people(self.core.obstacles)
+        self.people_pub.publish(PersonDetections(
+            header=Header(stamp=stamp, frame_id="base_link"),
+            people=[Point(x=round(float(x), 3), y=round(float(y), 3)) for x, y in people]))
 
     # ------------------------------------------------------------------ lifecycle
 
@@ -371,6 +406,8 @@ class NavNode(LifecycleNode):
 
     def on_scan(self, msg: LaserScan) -> None:
         self.core.on_scan(msg, self._seconds())
+        if self.people_pub.subscription_count:  # the leg detector runs for a listener only
+            self._publish_people(msg.header.stamp)
 
     def on_battery(self, msg: BatteryState) -> None:
         self.core.on_battery(msg.percentage, msg.power_supply_status in (

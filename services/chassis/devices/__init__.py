@@ -21,19 +21,24 @@ from .imu import ImuDevice
 from .io import IoDevice
 from .laser import LaserDevice
 from .odometry import OdometryDevice
+from .people import PeopleDevice
 from .ptz import PtzDevice
 from .state import StateDevice
 from .truth import GroundTruthDevice
+from .uwb import UwbDevice
 from .wind import WindDevice
 
 __all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CalibrationDevice",
            "CameraDevice", "DockDevice", "FleetDevice", "GroundTruthDevice", "ImuDevice",
            "IoDevice", "LaserDevice",
-           "OdometryDevice", "PtzDevice", "StateDevice", "WindDevice"]
+           "OdometryDevice", "PeopleDevice", "PtzDevice", "StateDevice", "UwbDevice",
+           "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
     OdometryDevice,
     GroundTruthDevice,
+    PeopleDevice,  # before the laser and the cameras: they see the people's legs
+    UwbDevice,
     DockDevice,
     BatteryDevice,
     LaserDevice,

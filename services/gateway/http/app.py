@@ -27,6 +27,7 @@ from .routes.map_transfer import add_map_transfer_routes
 from .routes.mapping import add_mapping_routes
 from .routes.nav import add_nav_routes
 from .routes.onvif import add_onvif_routes
+from .routes.people import add_people_routes
 from .routes.records import add_record_routes
 from .routes.system import add_system_routes
 from .routes.tasks import add_task_routes
@@ -43,7 +44,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
     add_video_routes, add_voice_routes, add_update_routes, add_blockly_routes,
-    add_onvif_routes, add_calibration_routes)
+    add_onvif_routes, add_calibration_routes, add_people_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

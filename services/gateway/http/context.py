@@ -8,8 +8,8 @@ from dataclasses import dataclass
 from zenros.param_client import ParameterClient
 
 from ..ports.asr_link import AsrLink
-from ..ports.calibration_link import CalibrationLink
 from ..ports.blockly_link import BlocklyLink
+from ..ports.calibration_link import CalibrationLink
 from ..ports.coverage_link import CoverageLink
 from ..ports.fs_sandbox import FileRoot
 from ..ports.host_commands import HostCommands
@@ -17,6 +17,7 @@ from ..ports.host_link import HostLink
 from ..ports.io_link import IoLink
 from ..ports.nav_actions import NavActions
 from ..ports.nav_services import NavServices
+from ..ports.people_link import PeopleLink
 from ..ports.ptz_link import PtzLink
 from ..ports.robot_topics import RobotTopics
 from ..ports.slam_link import SlamPort
@@ -55,6 +56,7 @@ class Context:
     asr: AsrLink | None = None  # the ASR board (None: no robot node)
     calibration: CalibrationLink | None = None  # the chassis's calibrations (None: no robot)
     ptz: PtzLink | None = None  # the PTZ (ONVIF) camera (None: no robot node)
+    people: PeopleLink | None = None  # following and greeting people (None: no robot node)
     host: HostLink | None = None
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)
     updater: Updater | None = None  # software updates (None: no robot node)

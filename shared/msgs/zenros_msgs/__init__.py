@@ -12,6 +12,8 @@ from .lifecycle import *  # noqa: F403
 from .lifecycle import __all__ as _lifecycle_all
 from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
+from .people import *  # noqa: F403
+from .people import __all__ as _people_all
 from .ptz import *  # noqa: F403
 from .ptz import __all__ as _ptz_all
 from .result import *  # noqa: F403
@@ -27,5 +29,6 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_ptz_all, *_result_all,
-           *_schedule_all, *_slam_all, *_task_actions_all, *_task_docs_all, *_tasks_all]
+__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_people_all, *_ptz_all,
+           *_result_all, *_schedule_all, *_slam_all, *_task_actions_all, *_task_docs_all,
+           *_tasks_all]

@@ -47,7 +47,8 @@ NAMES = {
     "ptz_jpeg_quality", "ptz_presets", "laser_error_x", "laser_error_y", "laser_error_yaw",
     "imu_rate", "imu_gyro_bias", "imu_gyro_noise", "imu_accel_noise", "imu_frame",
     "calibration", "imu_calibration_time", "laser_calibration_drive", "camera_error_yaw",
-    "camera_error_f",
+    "camera_error_f", "people", "people_rate", "uwb_rate", "uwb_range_noise",
+    "uwb_bearing_noise",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -132,7 +133,7 @@ def test_the_devices_open_their_topics_and_services() -> None:
                      "calibration": False})
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
                                     "chassis/io", "chassis/state", "wind"}
-    assert set(node.services) == {"chassis/set_io"} and node.listening == {}
+    assert set(node.services) == {"chassis/set_io", "sim/set_people"} and node.listening == {}
     assert node.broadcasters == 1  # odom -> base_link
     [laser] = node.static
     assert (laser.header.frame_id, laser.child_frame_id) == ("base_link", "laser")

@@ -15,6 +15,7 @@ LAYERS: list[set[str]] = [
     {"costmap"},
     {"planning"},
     {"motion"},
+    {"people"},
     {"core"},
     {"params"},
     {"actions", "diagnostics"},

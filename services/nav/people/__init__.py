@@ -1,0 +1,1 @@
+"""People around the robot: the leg detector on the laser and the person follower."""

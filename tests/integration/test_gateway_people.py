@@ -1,0 +1,173 @@
+"""People in the simulated world through REST (docs/robot-api.md §3.5): a person walks a route
+(``sim/set_people``), ``PUT /system/tracking_mode`` makes the robot follow them on the laser's
+leg detector at about 1 m, ``PUT /system/uwb_track`` on their UWB tag; ``PUT /system/greeting``
+speaks once when a person comes near. Distances are measured on the simulation's ground truth
+(the robot's body and the person's), never on what the robot believes."""
+
+from __future__ import annotations
+
+import math
+import statistics
+from collections.abc import Iterator
+
+import httpx
+import pytest
+from sim_robot import GatewayRobot, gateway_robot
+from zenros.msgs.geometry_msgs import Point, Pose2D
+from zenros.msgs.std_msgs import String
+from zenros.msgs.zenros_msgs import (
+    PersonRoute,
+    SetPeople,
+    SetPeopleRequest,
+    Teleport,
+    TeleportRequest,
+)
+from zenros.se2 import Pose2
+from zenros.services.chassis.devices import PeopleDevice
+from zenros.services.gateway.node import GatewayNode
+from zenros.testing import wait_for
+
+SPEED = 5.0  # the chassis's real-time factor
+pytestmark = pytest.mark.timeout(300)  # a walk of 15 sim s: a minute of a loaded 2-core box
+
+
+@pytest.fixture(scope="module")
+def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[GatewayRobot]:
+    with gateway_robot(tmp_path_factory.mktemp("people"), chassis={
+            "speed": SPEED, "camera_rate": 0.0, "range_noise": 0.01}) as robot:
+        yield robot
+
+
+def set_people(rig: GatewayRobot, *routes: PersonRoute) -> None:
+    client = rig.user.create_client(SetPeople, "sim/set_people")
+    res = client.call(SetPeopleRequest(op="replace", people=list(routes)), 10)
+    assert res.success, res.message
+
+
+def reset(rig: GatewayRobot) -> None:
+    """Nobody in the world, following and greeting off, the robot at the origin."""
+    for path, body in (("/system/tracking_mode", {"enable": False}),
+                       ("/system/uwb_track", {"enable": False}),
+                       ("/system/greeting", {"greeting": False})):
+        assert rig.http.put(path, json=body).status_code == 200
+    set_people(rig)
+    client = rig.user.create_client(Teleport, "sim/teleport")
+    assert client.call(TeleportRequest(pose=Pose2D(x=0.0, y=0.0, theta=0.0)), 10).success
+
+
+def walker(pid: str, *xy: tuple[float, float], speed: float = 0.3,
+           uwb: bool = False) -> PersonRoute:
+    return PersonRoute(id=pid, waypoints=[Point(x=x, y=y) for x, y in xy], speed=speed,
+                       uwb=uwb)
+
+
+def gap(rig: GatewayRobot, pid: str) -> float:
+    """Ground truth: from the robot's centre to the person's (m)."""
+    people = rig.chassis.device(PeopleDevice)
+    assert people is not None
+    w, t = people.walkers[pid], rig.chassis.sim.truth
+    return math.hypot(w.x - t.x, w.y - t.y)
+
+
+def follow_along_the_corridor(rig: GatewayRobot, pid: str) -> list[float]:
+    """The gaps seen while the person walks from x = 2.5 to 5.5 (the robot following)."""
+    people = rig.chassis.device(PeopleDevice)
+    assert people is not None
+    w = people.walkers[pid]
+    assert wait_for(lambda: w.x > 2.5, 120), "the person never walked"
+    gaps: list[float] = []
+
+    def walked() -> bool:
+        gaps.append(gap(rig, pid))
+        return w.x > 5.5
+
+    assert wait_for(walked, 180, interval=0.02), f"the person stopped at x={w.x:.2f}"
+    return gaps
+
+
+def test_without_nav_the_rows_are_503(gw: GatewayNode, http: httpx.Client) -> None:
+    for method, path, body in (("GET", "/system/tracking_mode", None),
+                               ("PUT", "/system/uwb_track", {"enable": True}),
+                               ("PUT", "/system/greeting", {"greeting": True})):
+        r = http.request(method, path, json=body)
+        assert r.status_code == 503 and "follow/set is not in the graph" in r.json()[
+            "description"], r.text
+
+
+def test_bad_bodies_are_400(rig: GatewayRobot) -> None:
+    for path, body in (("/system/tracking_mode", {"enable": "yes"}),
+                       ("/system/uwb_track", {}),
+                       ("/system/greeting", {"greeting": True, "text": ""}),
+                       ("/system/tracking_mode", {"enable": True, "speed": 2})):
+        r = rig.http.put(path, json=body)
+        assert r.status_code == 400, (path, body, r.text)
+
+
+def test_greeting_speaks_once_when_a_person_comes_near(rig: GatewayRobot) -> None:
+    reset(rig)
+    said: list[String] = []
+    rig.user.create_subscription(String, "tts", said.append)
+    r = rig.http.put("/system/greeting", json={"greeting": True, "text": "Hello there!"})
+    assert r.status_code == 200 and r.json() == {"greeting": True, "text": "Hello there!"}
+    n = len(said)  # the latched tts may bring an earlier text
+    set_people(rig, walker("guest", (4.0, 0.0), (0.3, 0.0), speed=0.5))  # stops at the robot
+    people = rig.chassis.device(PeopleDevice)
+    assert people is not None
+    assert wait_for(lambda: any(m.data == "Hello there!" for m in said[n:]), 120), \
+        f"no greeting; the guest is {gap(rig, 'guest'):.2f} m away"
+    assert gap(rig, "guest") < 1.9  # greeted as they came near, not before
+    assert wait_for(lambda: people.walkers["guest"].waiting, 120)  # then stands by the robot
+    stamp = rig.chassis.sim.time
+    assert wait_for(lambda: rig.chassis.sim.time > stamp + 5.0, 60)  # 5 s standing there
+    assert [m.data for m in said[n:]] == ["Hello there!"]  # once per approach
+    assert rig.http.put("/system/greeting", json={"greeting": False}).json()["greeting"] is False
+
+
+def test_tracking_mode_follows_the_nearest_person_at_about_a_metre(rig: GatewayRobot) -> None:
+    reset(rig)
+    r = rig.http.get("/system/tracking_mode")
+    assert r.status_code == 200 and r.json()["tracking_flag"] is False, r.text
+    set_people(rig, walker("alice", (1.6, 0.0), (6.5, 0.0)))
+    r = rig.http.put("/system/tracking_mode", json={"enable": True})
+    assert r.status_code == 200 and r.json()["tracking_flag"] is True, r.text
+    gaps = follow_along_the_corridor(rig, "alice")
+    assert rig.chassis.sim.truth.x > 3.5  # the robot came along
+    steady = gaps[len(gaps) // 3:]
+    mean = statistics.fmean(steady)
+    print(f"tracking: gap mean {mean:.3f} m, min {min(steady):.3f}, max {max(steady):.3f}")
+    assert 0.8 < mean < 1.5 and min(steady) > 0.6 and max(steady) < 2.0
+    status = rig.http.get("/system/tracking_mode").json()
+    assert status["tracking_flag"] is True and status["state"] in ("following", "lost")
+    r = rig.http.put("/system/uwb_track", json={"enable": True})  # one mode at a time
+    assert r.status_code == 200 and r.json()["enable"] is True
+    assert rig.http.get("/system/tracking_mode").json()["tracking_flag"] is False
+    r = rig.http.put("/system/uwb_track", json={"enable": False})
+    assert r.json()["enable"] is False
+
+
+def test_uwb_track_follows_the_tagged_person(rig: GatewayRobot) -> None:
+    reset(rig)
+    set_people(rig, walker("bob", (1.6, 0.0), (6.5, 0.0), uwb=True))
+    r = rig.http.put("/system/uwb_track", json={"enable": True})
+    assert r.status_code == 200 and r.json()["enable"] is True, r.text
+    gaps = follow_along_the_corridor(rig, "bob")
+    steady = gaps[len(gaps) // 3:]
+    mean = statistics.fmean(steady)
+    print(f"uwb: gap mean {mean:.3f} m, min {min(steady):.3f}, max {max(steady):.3f}")
+    assert 0.8 < mean < 1.5 and min(steady) > 0.6 and max(steady) < 2.0
+    status = rig.http.get("/system/uwb_track").json()
+    assert status["enable"] is True and status["distance"] > 0, status
+    assert rig.http.put("/system/uwb_track", json={"enable": False}).json()["enable"] is False
+
+
+def test_following_is_refused_while_a_goal_runs(rig: GatewayRobot) -> None:
+    reset(rig)
+    goal = rig.nav.core.make_nav(Pose2(6.0, 0.0, 0.0))
+    rig.nav.core.start(goal)  # as a navigation goal does
+    try:
+        r = rig.http.put("/system/tracking_mode", json={"enable": True})
+        assert r.status_code == 409 and "cancel it before following" in r.json()[
+            "description"], r.text
+        assert rig.nav.core.motion.active is goal
+    finally:
+        rig.nav.core.motion.halt(goal)
