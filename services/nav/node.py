@@ -70,7 +70,7 @@ from .motion.docking import Dock
 from .motion.loop import ControlLoop
 from .params import DEMO_MAP, NavParameters, nav_config
 from .people.control import FollowControl
-from .people.follow import FollowParams
+from .people.follow import WALL_REACH, FollowParams, off_walls
 from .people.legs import detect_people
 from .refusals import coded
 
@@ -228,11 +228,14 @@ class NavNode(LifecycleNode):
             self.core.motion, FollowParams(max_linear=min(0.5, p.max_linear_vel),
                                            max_angular=min(1.2, p.max_angular_vel),
                                            body_radius=p.collision_radius),
-            lambda: self._uwb, active=self._follow_refusal)
+            lambda: self._uwb, active=self._follow_refusal, walls=self._walls)
         self.create_service(SetFollow, "follow/set", self.follow.handle_set)
         self.create_service(GetFollowStatus, "follow/status", self.follow.handle_status)
         self.create_subscription(UwbTarget, "uwb/target", self.on_uwb, QOS_SENSOR)
         self.people_pub = self.create_publisher(PersonDetections, "people/detections")
+
+    def _walls(self, points: np.ndarray) -> np.ndarray:
+        return self.core.costmaps.near_static(points, WALL_REACH)
 
     def _follow_refusal(self) -> str:
         if self.current_state.state_id != ACTIVE:
@@ -244,7 +247,8 @@ class NavNode(LifecycleNode):
             self._uwb = (float(msg.range), float(msg.bearing), self._seconds())
 
     def _publish_people(self, stamp: Any) -> None:
-        people = detect_people(self.core.obstacles)
+        people = off_walls(detect_people(self.core.obstacles), self.core.localizer.pose(),
+                           self._walls)
         self.people_pub.publish(PersonDetections(
             header=Header(stamp=stamp, frame_id="base_link"),
             people=[Point(x=round(float(x), 3), y=round(float(y), 3)) for x, y in people]))

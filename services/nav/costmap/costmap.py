@@ -180,6 +180,16 @@ class Costmap2D:
 
     # --- layers ------------------------------------------------------------------------
 
+    def near_static(self, points: np.ndarray, reach: float) -> np.ndarray:
+        """Whether each (N, 2) world point lies within ``reach`` m (whole cells) of a
+        lethal cell of the static map (a wall the map knows, not one the scan marked)."""
+        cells = self.geometry.world_to_cells(points).tolist()
+        k = max(0, int(np.ceil(reach / self.resolution)))
+        h, w = self._static.shape
+        return np.array([bool((self._static[max(0, my - k):min(h, my + k + 1),
+                                            max(0, mx - k):min(w, mx + k + 1)]
+                               == LETHAL_OBSTACLE).any()) for mx, my in cells], dtype=bool)
+
     def set_static(self, occupancy: np.ndarray) -> None:
         """Replace the static layer (same shape) and rebuild the whole master grid."""
         occupancy = np.asarray(occupancy)

@@ -121,6 +121,14 @@ class Costmaps:
         cm = self._cm
         return NO_INFORMATION if cm is None else cm.cost_at(x, y)
 
+    def near_static(self, points: np.ndarray, reach: float) -> np.ndarray:
+        """Whether each (N, 2) map point is within ``reach`` m of the static map's walls
+        (all false without a map)."""
+        cm = self._cm
+        if cm is None or len(points) == 0:
+            return np.zeros(len(points), dtype=bool)
+        return cm.near_static(points, reach)
+
     def keepout_hit(self, points: np.ndarray) -> bool:
         """True when any of the (N, 2) map points lies in a keep-out cell."""
         cm = self._cm

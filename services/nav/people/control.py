@@ -20,7 +20,7 @@ from zenros.msgs.zenros_msgs import (
 )
 
 from ..motion.active import Motion
-from .follow import Follow, FollowParams, Uwb
+from .follow import Follow, FollowParams, Uwb, Walls
 
 __all__ = ["FollowControl"]
 
@@ -29,8 +29,8 @@ class FollowControl:
     """Starts and stops `Follow` on ``motion``; ``active()`` says whether nav takes goals."""
 
     def __init__(self, motion: Motion, params: FollowParams, uwb: Uwb,
-                 active: Callable[[], str] | None = None) -> None:
-        self.motion, self.params, self.uwb = motion, params, uwb
+                 active: Callable[[], str] | None = None, walls: Walls | None = None) -> None:
+        self.motion, self.params, self.uwb, self.walls = motion, params, uwb, walls
         self.active = active
         self._lock = threading.Lock()
         self._last: Follow | None = None
@@ -67,7 +67,7 @@ class FollowControl:
         if cur is not None and not isinstance(cur, Follow):
             return (f"a {cur.name} goal is running: cancel it before following a person "
                     "(tracking_mode and uwb_track never take over a goal)")
-        follow = Follow(mode, self.params, self.uwb)
+        follow = Follow(mode, self.params, self.uwb, self.walls)
         self._last = follow
         self.motion.start(follow, reason=f"following in mode {mode} instead")
         return ""

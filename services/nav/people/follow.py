@@ -2,11 +2,13 @@
 to (v, ω); `Track`, the one person followed, kept from look to look; `Follow`, the nav
 behaviour that ticks them on the leg detector's people (``legs``) or the UWB tag (``uwb``).
 
-The robot keeps ``distance`` m from its person: it drives at up to ``max_linear`` m/s in
-proportion to the distance beyond that (never backwards: closer, it stops), slower the more
+The robot keeps ``distance`` m from its person: it drives at up to ``max_linear`` m/s, the
+speed the person walks away at (their track's velocity) plus some in proportion to the
+distance beyond ``distance`` (never backwards: closer, it stops), slower the more
 the person is off its heading, and turns to face them at up to ``max_angular`` rad/s. It
 stops for anything in front of its body (`blocked`). A person not seen for ``lost_after`` s
-is lost: the robot stops and says so, and takes the nearest person it sees next.
+is lost: the robot stops and says so, and takes the nearest person it sees next. A leg pair
+on the static map's walls (a door jamb's two edges look like legs) is nobody (`off_walls`).
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ from zenros.se2 import Pose2, wrap_angle
 from ..motion.behavior import Behavior, Sense
 from .legs import detect_people
 
-__all__ = ["Follow", "FollowParams", "Sighting", "Track", "blocked", "follow_command"]
+__all__ = ["WALL_REACH", "Follow", "FollowParams", "Sighting", "Track", "Walls", "blocked",
+           "follow_command", "off_walls"]
 
 
 @dataclass(frozen=True)
@@ -38,14 +41,17 @@ class FollowParams:
     margin: float = 0.1  # m kept clear in front of the body
 
 
-def follow_command(distance: float, bearing: float, p: FollowParams) -> tuple[float, float]:
-    """(v, ω) towards a person ``distance`` m away at ``bearing`` rad (left positive)."""
+def follow_command(distance: float, bearing: float, p: FollowParams,
+                   away: float = 0.0) -> tuple[float, float]:
+    """(v, ω) towards a person ``distance`` m away at ``bearing`` rad (left positive), who
+    walks ``away`` m/s from the robot (fed forward, so a walking person is followed at
+    ``distance``, not behind it by their speed over ``k_linear``)."""
     w = max(-p.max_angular, min(p.max_angular, p.k_angular * bearing))
     beyond = distance - p.distance
     if beyond <= 0:
         return 0.0, w
     facing = max(0.0, 1.0 - abs(bearing) / (math.pi / 2))
-    return min(p.max_linear, p.k_linear * beyond) * facing, w
+    return min(p.max_linear, max(0.0, away) + p.k_linear * beyond) * facing, w
 
 
 def blocked(obstacles: np.ndarray, v: float, p: FollowParams) -> bool:
@@ -74,6 +80,38 @@ class Track:
         self.p = p
         self.xy: tuple[float, float] | None = None
         self.seen_at = -math.inf
+        self.velocity = (0.0, 0.0)  # m/s in the world, smoothed over the fixes
+        self._fix: tuple[float, float, float] | None = None  # (time, x, y) of the last fix
+
+    def moved(self, now: float) -> None:
+        """Take the track's place at ``now`` as a new fix (a new scan or UWB reading) into
+        its velocity; a fix after a loss starts it again."""
+        if self.xy is None:
+            self._fix, self.velocity = None, (0.0, 0.0)
+            return
+        x, y = self.xy
+        if self._fix is not None and now - self._fix[0] > self.p.lost_after:
+            self._fix, self.velocity = None, (0.0, 0.0)
+        if self._fix is None:
+            self._fix = (now, x, y)
+            return
+        dt = now - self._fix[0]
+        if dt < 0.05:
+            return
+        vx, vy = (x - self._fix[1]) / dt, (y - self._fix[2]) / dt
+        if math.hypot(vx, vy) <= 3.0:  # faster is a jump to someone else, not walking
+            a = 0.3
+            self.velocity = (self.velocity[0] + a * (vx - self.velocity[0]),
+                             self.velocity[1] + a * (vy - self.velocity[1]))
+        self._fix = (now, x, y)
+
+    def away(self, pose: Pose2) -> float:
+        """How fast the person walks away from the robot at ``pose`` (m/s; negative: nearer)."""
+        if self.xy is None:
+            return 0.0
+        dx, dy = self.xy[0] - pose.x, self.xy[1] - pose.y
+        d = math.hypot(dx, dy)
+        return 0.0 if d < 1e-6 else (self.velocity[0] * dx + self.velocity[1] * dy) / d
 
     def update(self, pose: Pose2, candidates: np.ndarray, now: float, acquire: bool) -> bool:
         """Take the candidate (``base_link`` points, nearest first) that is the person:
@@ -121,6 +159,20 @@ class Track:
 
 Uwb = Callable[[], tuple[float, float, float] | None]
 """The latest UWB reading: (range m, bearing rad, when in node seconds), or None."""
+Walls = Callable[[np.ndarray], np.ndarray]
+"""Whether each (N, 2) map point is on the static map's walls (a door jamb, not a person)."""
+WALL_REACH = 0.15  # m from a wall cell within which a leg pair is the wall's
+
+
+def off_walls(people: np.ndarray, pose: Pose2 | None, walls: Walls | None) -> np.ndarray:
+    """``people`` (``base_link``) less those the map has as walls (all of them without a
+    pose or a map)."""
+    if walls is None or pose is None or not len(people):
+        return people
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    world = np.column_stack([pose.x + c * people[:, 0] - s * people[:, 1],
+                             pose.y + s * people[:, 0] + c * people[:, 1]])
+    return people[~walls(world)]
 
 
 class Follow(Behavior):
@@ -129,8 +181,10 @@ class Follow(Behavior):
 
     name = "follow"
 
-    def __init__(self, mode: str, p: FollowParams, uwb: Uwb | None = None) -> None:
+    def __init__(self, mode: str, p: FollowParams, uwb: Uwb | None = None,
+                 walls: Walls | None = None) -> None:
         super().__init__()
+        self.walls = walls
         if mode not in ("legs", "uwb"):
             raise ValueError(f"follow mode must be legs or uwb, got {mode!r}")
         self.mode, self.p, self.uwb = mode, p, uwb
@@ -140,12 +194,17 @@ class Follow(Behavior):
         self.sighting: Sighting | None = None
         self._points: np.ndarray | None = None
         self._people = np.zeros((0, 2))
+        self._fresh = False  # a new scan or UWB reading since the last velocity fix
+        self._reading_at = -math.inf
 
     def _candidates(self, sense: Sense) -> np.ndarray:
         """The leg detector's people and single legs (``base_link``), from the latest scan."""
         if sense.obstacles is not self._points:
             self._points = sense.obstacles
-            self._people = detect_people(sense.obstacles, singles=self.track.xy is not None)
+            self._people = off_walls(
+                detect_people(sense.obstacles, singles=self.track.xy is not None),
+                sense.pose, self.walls)
+            self._fresh = True
         return self._people
 
     def _look(self, sense: Sense, pose: Pose2) -> Sighting | None:
@@ -154,8 +213,10 @@ class Follow(Behavior):
             if reading is None or sense.now - reading[2] > self.p.lost_after:
                 return None
             r, b, when = reading
-            self.track.smooth(pose.x + r * math.cos(pose.theta + b),
-                              pose.y + r * math.sin(pose.theta + b), when)
+            if when != self._reading_at:
+                self._reading_at, self._fresh = when, True
+                self.track.smooth(pose.x + r * math.cos(pose.theta + b),
+                                  pose.y + r * math.sin(pose.theta + b), when)
             return self.track.seen_from(pose)
         if self.track.update(pose, self._candidates(sense), sense.now, acquire=True):
             return self.track.seen_from(pose)
@@ -166,13 +227,16 @@ class Follow(Behavior):
     def tick(self, sense: Sense) -> tuple[float, float]:
         pose = sense.pose or Pose2()
         self.sighting = seen = self._look(sense, pose)
+        if self._fresh:
+            self._fresh = False
+            self.track.moved(sense.now)
         if seen is None:
             if self.state == "following":
                 self.state = "lost"
                 self.message = f"lost the person for {self.p.lost_after:g} s: stopped"
             return 0.0, 0.0
         self.state, self.message = "following", ""
-        v, w = follow_command(seen.distance, seen.bearing, self.p)
+        v, w = follow_command(seen.distance, seen.bearing, self.p, self.track.away(pose))
         if blocked(sense.obstacles, v, self.p):
             self.message = "something in front of the robot: stopped"
             v = 0.0

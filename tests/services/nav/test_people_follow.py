@@ -9,10 +9,18 @@ import numpy as np
 import pytest
 from zenros.msgs.zenros_msgs import SetFollowRequest
 from zenros.se2 import Pose2
+from zenros.services.nav.costmap.costmap import Costmap2D
 from zenros.services.nav.motion.active import Motion
 from zenros.services.nav.motion.behavior import Behavior, Sense
 from zenros.services.nav.people.control import FollowControl
-from zenros.services.nav.people.follow import Follow, FollowParams, Track, blocked, follow_command
+from zenros.services.nav.people.follow import (
+    Follow,
+    FollowParams,
+    Track,
+    blocked,
+    follow_command,
+    off_walls,
+)
 from zenros.services.nav.people.legs import detect_legs, detect_people
 
 BEAMS = 360
@@ -60,6 +68,33 @@ def test_things_not_of_leg_size_or_single_legs_are_not_people() -> None:
     assert len(detect_people(far_apart)) == 0
 
 
+def wall_scan(y: float, x0: float, x1: float) -> np.ndarray:
+    """A 1-degree scan's points on a wall along x (from ``x0`` to ``x1``) at ``y``."""
+    a = np.linspace(-math.pi, math.pi, BEAMS, endpoint=False)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = y / np.sin(a)
+    x = t * np.cos(a)
+    keep = (t > 0) & (x >= x0) & (x <= x1)
+    return np.column_stack([x[keep], np.full(keep.sum(), y)])
+
+
+def test_a_wall_seen_at_a_grazing_angle_is_no_one() -> None:
+    for y in (1.2, -1.0, 0.8):
+        assert len(detect_legs(wall_scan(y, 0.5, 6.0))) == 0, y
+
+
+def test_people_on_the_maps_walls_are_dropped() -> None:
+    occ = np.zeros((40, 40), np.int8)
+    occ[:, 30] = 100  # a wall at x = 1.5 .. 1.55
+    cm = Costmap2D(occ, 0.05)
+    near = cm.near_static(np.array([[1.4, 1.0], [1.0, 1.0], [5.0, 5.0]]), 0.15)
+    assert near.tolist() == [True, False, False]
+    people = np.array([[0.4, 0.0], [0.9, 0.5]])  # base_link, the robot at (1.0, 0.5) facing +x
+    kept = off_walls(people, Pose2(1.0, 0.5, 0.0), lambda w: cm.near_static(w, 0.15))
+    assert kept.tolist() == [[0.9, 0.5]]  # (1.4, 0.5) is on the wall, (1.9, 1.0) is not
+    assert off_walls(people, None, lambda w: cm.near_static(w, 0.15)).tolist() == people.tolist()
+
+
 def test_the_detector_finds_a_walking_person_in_most_noisy_scans() -> None:
     hits = 0
     for i in range(200):
@@ -82,6 +117,21 @@ def test_the_control_law_keeps_the_distance_turns_to_face_and_never_backs_up() -
     assert v == 0.0 and w == p.max_angular  # at the side: turn first
     v, w = follow_command(2.0, -0.1, p)
     assert 0 < v < p.max_linear and w == pytest.approx(-0.2)
+
+
+def test_a_walking_person_is_fed_forward_so_the_robot_keeps_the_distance() -> None:
+    p = FollowParams()
+    assert follow_command(1.0, 0.0, p, away=0.3) == (0.0, 0.0)  # at the distance: no push
+    v, _ = follow_command(1.1, 0.0, p, away=0.3)
+    assert v == pytest.approx(0.3 + p.k_linear * 0.1)
+    assert follow_command(1.1, 0.0, p, away=-0.5)[0] == pytest.approx(p.k_linear * 0.1)
+    t = Track(p)
+    here = Pose2()
+    for i in range(11):  # a person walking off at 0.4 m/s, seen at 10 Hz
+        t.update(here, np.array([[1.0 + 0.04 * i, 0.0]]), i / 10, acquire=True)
+        t.moved(i / 10)
+    assert t.away(here) == pytest.approx(0.4, abs=0.05)
+    assert t.away(Pose2(3.0, 0.0, 0.0)) == pytest.approx(-0.4, abs=0.05)  # towards that one
 
 
 def test_the_body_stops_for_what_is_in_front() -> None:
