@@ -41,7 +41,14 @@ from zenros.msgs.tf2_msgs import TFMessage
 from zenros.msgs.zenros_msgs import nav as navmsgs
 from zenros.msgs.zenros_msgs import slam as slammsgs
 from zenros.msgs.zenros_msgs.chassis import ChassisState
-from zenros.msgs.zenros_msgs.people import GetFollowStatus, PersonDetections, SetFollow, UwbTarget
+from zenros.msgs.zenros_msgs.people import (
+    GetFollowStatus,
+    PersonDetections,
+    SetFollow,
+    SetFollowRequest,
+    SetFollowResponse,
+    UwbTarget,
+)
 from zenros.msgs.zenros_msgs.result import ResultCode
 from zenros.params import Parameter
 from zenros.qos import QOS_LATCHED, QOS_SENSOR
@@ -222,17 +229,25 @@ class NavNode(LifecycleNode):
 
     def _serve_people(self, p: NavParameters) -> None:
         """Person following (``follow/set``, ``follow/status``) on the leg detector or the
-        UWB tag (``uwb/target``), and the leg detector's people on ``people/detections``."""
+        UWB tag (``uwb/target``, subscribed once UWB following is first asked for: a fleet's
+        navs declare nothing for a tag they never follow), and the leg detector's people on
+        ``people/detections``."""
         self._uwb: tuple[float, float, float] | None = None
         self.follow = FollowControl(
             self.core.motion, FollowParams(max_linear=min(0.5, p.max_linear_vel),
                                            max_angular=min(1.2, p.max_angular_vel),
                                            body_radius=p.collision_radius),
             lambda: self._uwb, active=self._follow_refusal, walls=self._walls)
-        self.create_service(SetFollow, "follow/set", self.follow.handle_set)
+        self._uwb_sub: Any = None  # made when UWB following is first asked for
+        self.create_service(SetFollow, "follow/set", self.handle_set_follow)
         self.create_service(GetFollowStatus, "follow/status", self.follow.handle_status)
-        self.create_subscription(UwbTarget, "uwb/target", self.on_uwb, QOS_SENSOR)
         self.people_pub = self.create_publisher(PersonDetections, "people/detections")
+
+    def handle_set_follow(self, req: SetFollowRequest) -> SetFollowResponse:
+        if req.enable and req.mode == "uwb" and self._uwb_sub is None:
+            self._uwb_sub = self.create_subscription(UwbTarget, "uwb/target", self.on_uwb,
+                                                     QOS_SENSOR)
+        return self.follow.handle_set(req)
 
     def _walls(self, points: np.ndarray) -> np.ndarray:
         return self.core.costmaps.near_static(points, WALL_REACH)
