@@ -25,6 +25,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import httpx
 import pytest
 from zenros.context import Context
 from zenros.msgs.zenros_msgs import (
@@ -398,3 +399,28 @@ def test_phone_sized_and_no_console_errors(page: Any) -> None:
         page.set_window_size(1280, 800)
     errors = [e for e in page.get_log("browser") if e["level"] == "SEVERE"]
     assert not errors, errors
+
+
+def test_the_ptz_cameras_mjpeg_stream_plays_in_the_browser(rig: Rig) -> None:
+    """docs/robot-api.md §17: the URL `onvif_camera/stream` answers is an MJPEG stream a
+    browser's <img> shows (the chassis's PTZ camera, on by default)."""
+    d = rig.driver
+    home = d.current_window_handle
+    api = f"http://127.0.0.1:{rig.rest_port}/api/v1"
+    stream = httpx.get(f"{api}/system/onvif_camera/stream", timeout=TIMEOUT)
+    assert stream.status_code == 200, stream.text
+    url = stream.json()["stream"]
+    assert url.startswith(f"http://127.0.0.1:{rig.rest_port}/api/v1/system/onvif_camera/mjpeg")
+    d.switch_to.new_window("tab")
+    try:
+        # a page of the gateway's own (about:blank's null origin may not reach loopback), the
+        # <img> put in by script (a page with a stream in it never ends loading)
+        d.get(f"{api}/")
+        d.execute_script("const i = document.createElement('img'); i.id = 'ptz';"
+                         "i.src = arguments[0]; document.body.appendChild(i);", url)
+        assert wait_for(lambda: d.execute_script(
+            "return document.getElementById('ptz').naturalWidth") == 640, TIMEOUT)
+        assert d.execute_script("return document.getElementById('ptz').naturalHeight") == 480
+    finally:
+        d.close()
+        d.switch_to.window(home)
