@@ -1,7 +1,7 @@
 """People in the simulated world through REST (docs/robot-api.md §3.5): a person walks a route
 (``sim/set_people``), ``PUT /system/tracking_mode`` makes the robot follow them on the laser's
 leg detector at about 1 m, ``PUT /system/uwb_track`` on their UWB tag; ``PUT /system/greeting``
-speaks once when a person comes near. Distances are measured on the simulation's ground truth
+speaks once when a person comes near; nav's costmap has a person standing in its way. Distances are measured on the simulation's ground truth
 (the robot's body and the person's), never on what the robot believes."""
 
 from __future__ import annotations
@@ -171,3 +171,12 @@ def test_following_is_refused_while_a_goal_runs(rig: GatewayRobot) -> None:
         assert rig.nav.core.motion.active is goal
     finally:
         rig.nav.core.motion.halt(goal)
+
+
+def test_nav_s_costmap_has_a_person_standing_in_the_corridor(rig: GatewayRobot) -> None:
+    reset(rig)
+    costs = rig.nav.core.costmaps
+    assert costs.cost_at(2.0, 0.1) < 253  # free before anyone stands there
+    set_people(rig, walker("carl", (2.0, 0.0)))  # one waypoint: standing
+    assert wait_for(lambda: costs.cost_at(2.0, 0.1) >= 253, 60), costs.cost_at(2.0, 0.1)
+    set_people(rig)
