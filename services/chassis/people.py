@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 from .obstacles import Obstacle
 
-__all__ = ["CLEARANCE", "HIP", "LEG_RADIUS", "PERSON_PREFIX", "STRIDE", "SWING", "Route",
+__all__ = ["CLEARANCE", "HIP", "LEG_RADIUS", "MAX_PEOPLE", "MAX_WAYPOINTS", "PERSON_PREFIX", "STRIDE", "SWING", "Route",
            "RouteError", "Walker", "blocked_by", "parse_route", "uwb_walker"]
 
 PERSON_PREFIX = "person:"  # obstacle ids of people's legs: person:<id>:l, person:<id>:r
@@ -26,6 +26,8 @@ SWING = 0.15  # m a leg swings ahead of / behind the hip
 STRIDE = 0.7  # m walked per half gait cycle (one leg's swing forward)
 CLEARANCE = 0.3  # m a person keeps from the robot's body (their half width and a margin)
 MAX_SPEED = 3.0  # m/s: faster is not walking
+MAX_WAYPOINTS = 100  # a person's route
+MAX_PEOPLE = 50  # in one world: each costs the laser and the cameras a cast per step
 
 
 class RouteError(ValueError):
@@ -47,8 +49,9 @@ class Route:
         if not self.id or any(c in self.id for c in " :/*$?#="):
             raise RouteError(f"person id {self.id!r}: expected a non-empty name without "
                              "spaces or any of : / * $ ? # =")
-        if not self.waypoints:
-            raise RouteError(f"person {self.id!r}: a route needs at least one waypoint")
+        if not 1 <= len(self.waypoints) <= MAX_WAYPOINTS:
+            raise RouteError(f"person {self.id!r}: a route needs 1 to {MAX_WAYPOINTS} "
+                             f"waypoints, got {len(self.waypoints)}")
         if not all(math.isfinite(v) for p in self.waypoints for v in p):
             raise RouteError(f"person {self.id!r}: every waypoint must be finite")
         if not (math.isfinite(self.speed) and 0 <= self.speed <= MAX_SPEED):

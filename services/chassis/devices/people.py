@@ -27,7 +27,15 @@ from zenros.pubsub import Publisher
 
 from ..device import Chassis, Device, Endpoints
 from ..param_types import Positive
-from ..people import PERSON_PREFIX, Route, RouteError, Walker, blocked_by, parse_route
+from ..people import (
+    MAX_PEOPLE,
+    PERSON_PREFIX,
+    Route,
+    RouteError,
+    Walker,
+    blocked_by,
+    parse_route,
+)
 
 __all__ = ["PeopleDevice", "PeopleParameters", "route_from_msg"]
 
@@ -54,7 +62,9 @@ class PeopleParameters(msgspec.Struct, kw_only=True, frozen=True):
 
 
 def check_routes(routes: list[Route]) -> None:
-    """Raises RouteError for two people of one id or two UWB tags."""
+    """Raises RouteError for two people of one id, two UWB tags or too many people."""
+    if len(routes) > MAX_PEOPLE:
+        raise RouteError(f"at most {MAX_PEOPLE} people walk in one world, got {len(routes)}")
     ids = [r.id for r in routes]
     if len(set(ids)) != len(ids):
         raise RouteError(f"two people share an id: {sorted(ids)}")

@@ -40,7 +40,8 @@ def test_a_route_is_parsed_and_bad_ones_say_why() -> None:
     assert parse_route("bob=2,2") == Route("bob", ((2.0, 2.0),))
     for bad, why in (("alice", "expected id=x,y"), ("a=1;2", "x,y pairs"),
                      ("a=1,0 fly", "unknown word"), ("a=1,0 speed=9", "speed must be"),
-                     ("=1,0", "person id"), ("a=", "at least one waypoint")):
+                     ("=1,0", "person id"), ("a=", "1 to 100 waypoints"),
+                     ("a=" + ";".join(["1,1"] * 101), "got 101")):
         with pytest.raises(RouteError, match=why):
             parse_route(bad)
 
@@ -137,6 +138,9 @@ def test_set_people_adds_replaces_removes_and_refuses_with_the_reason() -> None:
     assert not res.success and "cannot start on the robot" in res.message
     res = handle(SetPeopleRequest(people=[route("c", (1, 0), (math.nan, 0))]))
     assert not res.success and "finite" in res.message
+    crowd = [route(f"p{i}", (5, 0)) for i in range(51)]
+    res = handle(SetPeopleRequest(op="replace", people=crowd))
+    assert not res.success and "at most 50 people" in res.message
     res = handle(SetPeopleRequest(op="remove", ids=["zed"]))
     assert not res.success and "unknown people ['zed']; known: a, b" in res.message
     res = handle(SetPeopleRequest(op="remove", ids=["a"]))
