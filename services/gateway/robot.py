@@ -24,6 +24,7 @@ from .ports.fs_sandbox import FileRoot
 from .ports.host_commands import HostCommands
 from .ports.host_link import HostLink
 from .ports.io_link import IoLink
+from .ports.media_service import MediaService
 from .ports.nav_actions import NavActions
 from .ports.nav_services import NavServices
 from .ports.people_link import PeopleLink
@@ -115,13 +116,15 @@ class Robot:
         self.slam = SlamLink(node, self.core, lambda: self.nav_services.grid)
         self.videos = Videos(node, data_dir / "Videos")
         node.on_close(self.videos.close)  # a recording under way keeps what it has
+        self.snapshots = Snapshots(node, data_dir / "Pictures")
+        self.media = MediaService(node, self.snapshots, self.videos)  # media/save, for tasks
         self.context = Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,
             params=ParameterClient(node.context, node=node.fqn), files=options.files,
             speech=self.speech, audio=self.audio,
             coverage=CoverageLink(node, self.core.presence), slam=self.slam,
-            snapshots=Snapshots(node, data_dir / "Pictures"),
+            snapshots=self.snapshots,
             host=HostLink(node, options.launch_control), asr=AsrLink(node),
             calibration=CalibrationLink(node),
             people=PeopleLink(node, self.speak, lambda: node.now().nanoseconds / 1e9),

@@ -22,6 +22,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     CallbackAction,
     ChargeAction,
     DownloadMapAction,
+    ImageAction,
     IoAction,
     JackingAction,
     JackingRotateAction,
@@ -30,11 +31,13 @@ from zenros.msgs.zenros_msgs.task_actions import (
     Location,
     NavAction,
     OnvifCameraMoveAction,
+    OnvifCameraSnapshotAction,
     SleepAction,
     SlideAction,
     SwitchMapAction,
     TtsAction,
     UploadMapAction,
+    VideoRecordAction,
     WaitReqAction,
 )
 from zenros.se2 import angle_diff
@@ -268,6 +271,27 @@ def _onvif_camera_move(ctx: Context, p: OnvifCameraMoveAction) -> Outcome:
     return ctx.robot.ptz_move(p.x, p.y, p.zoom, ctx.progress, ctx.cancelled)
 
 
+def _stamped(timestamp: int | Any, suffix: str) -> str:
+    """``<timestamp>.<suffix>`` for a given timestamp, or "" (the gateway's own: now)."""
+    return "" if timestamp is UNSET else f"{timestamp}.{suffix}"
+
+
+def _image(ctx: Context, p: ImageAction) -> Outcome:
+    return ctx.robot.save_media("image", p.topic, 0.0, _stamped(p.timestamp, "png"),
+                                ctx.progress, ctx.cancelled)
+
+
+def _video_record(ctx: Context, p: VideoRecordAction) -> Outcome:
+    return ctx.robot.save_media("video", p.topic, float(p.duration),
+                                p.filename or _stamped(p.timestamp, "mkv"), ctx.progress,
+                                ctx.cancelled)
+
+
+def _onvif_camera_snapshot(ctx: Context, p: OnvifCameraSnapshotAction) -> Outcome:
+    return ctx.robot.save_media("image", "/ptz_camera/image_raw", 0.0, "", ctx.progress,
+                                ctx.cancelled)
+
+
 def _blockly(ctx: Context, p: BlocklyAction) -> Outcome:
     """Run Blockly program ``api_key``: its blocks interpreted (`blockly.Runner`)."""
     try:
@@ -310,4 +334,7 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "jacking_rotate_action": _jacking_rotate,
     "blockly_action": _blockly,
     "onvif_camera_move_action": _onvif_camera_move,
+    "onvif_camera_snapshot_action": _onvif_camera_snapshot,
+    "image_action": _image,
+    "video_record_action": _video_record,
 }

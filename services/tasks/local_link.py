@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from typing import Literal
 
 from zenros.action import ActionClient
 from zenros.errors import ZenrosError
@@ -25,6 +26,7 @@ from zenros.tf.quaternion import quaternion_from_yaw
 
 from .actuator_link import ActuatorLink
 from .link import SERVER_WAIT, RobotLink
+from .media_link import MediaLink
 from .programs import ProgramStore
 from .ptz_link import PtzLink
 from .robot import Outcome
@@ -43,6 +45,7 @@ class LocalLink(RobotLink):
         self.io = node.create_client(SetIo, "chassis/set_io")
         self.actuators = ActuatorLink(node, SERVER_WAIT)
         self.ptz = PtzLink(node, SERVER_WAIT)
+        self.media = MediaLink(node, SERVER_WAIT)
         self.io_state: IoState | None = None
         self._io_heard = threading.Event()
         self._io_sub: object | None = None  # chassis/io, subscribed at the first read
@@ -75,6 +78,11 @@ class LocalLink(RobotLink):
     def ptz_move(self, x: float, y: float, zoom: float, progress: Callable[[float], None],
                  cancelled: Callable[[], bool]) -> Outcome:
         return self.ptz.move(x, y, zoom, progress, cancelled)
+
+    def save_media(self, kind: Literal["image", "video"], topic: str, duration: float,
+                   filename: str, progress: Callable[[float], None],
+                   cancelled: Callable[[], bool]) -> Outcome:
+        return self.media.save(kind, topic, duration, filename, progress, cancelled)
 
     def drive(self, distance: float, speed: float, timeout: float,
               progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:

@@ -1,5 +1,6 @@
-"""zenros_msgs: the robot's own types (chassis state and sim services, the PTZ camera's,
-tasks and their documents, nav points, the result codes of their calls).
+"""zenros_msgs: the robot's own types (chassis state and sim services, the PTZ camera's, the
+gateway's media folders, tasks and their documents, nav points, the result codes of their
+calls).
 
 One module per service that owns them; importing this package registers them all.
 """
@@ -10,6 +11,8 @@ from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
 from .lifecycle import *  # noqa: F403
 from .lifecycle import __all__ as _lifecycle_all
+from .media import *  # noqa: F403
+from .media import __all__ as _media_all
 from .nav import *  # noqa: F403
 from .nav import __all__ as _nav_all
 from .people import *  # noqa: F403
@@ -29,6 +32,6 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_nav_all, *_people_all, *_ptz_all,
-           *_result_all, *_schedule_all, *_slam_all, *_task_actions_all, *_task_docs_all,
-           *_tasks_all]
+__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_media_all, *_nav_all,
+           *_people_all, *_ptz_all, *_result_all, *_schedule_all, *_slam_all,
+           *_task_actions_all, *_task_docs_all, *_tasks_all]

@@ -22,10 +22,10 @@ from msgspec import UNSET, Meta, UnsetType
 __all__ = [
     "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "BlocklyAction", "CallbackAction",
     "ChargeAction",
-    "DownloadMapAction", "IoAction", "JackingAction", "JackingRotateAction", "LocalMoveAction",
-    "LocalMoveTargetAction", "Location", "NavAction", "OnvifCameraMoveAction", "SleepAction",
-    "SlideAction",
-    "SwitchMapAction", "TtsAction", "UploadMapAction", "WaitReqAction", "check_action",
+    "DownloadMapAction", "ImageAction", "IoAction", "JackingAction", "JackingRotateAction",
+    "LocalMoveAction", "LocalMoveTargetAction", "Location", "NavAction", "OnvifCameraMoveAction",
+    "OnvifCameraSnapshotAction", "SleepAction", "SlideAction", "SwitchMapAction", "TtsAction",
+    "UploadMapAction", "VideoRecordAction", "WaitReqAction", "check_action",
 ]
 
 Seconds = Annotated[float, Meta(ge=0)]
@@ -197,6 +197,44 @@ class OnvifCameraMoveAction(ActionBase, kw_only=True, tag="onvif_camera_move_act
     zoom: Annotated[float, Meta(ge=0, le=1)] = 0.0
 
 
+CameraTopic = Literal["/camera_node/image_raw", "/multi/front/image_raw",
+                      "/multi/back/image_raw", "/ptz_camera/image_raw"]
+FileName = Annotated[str, Meta(max_length=128)]
+Timestamp = Annotated[int, Meta(ge=0, le=10**14)]
+
+
+class ImageAction(ActionBase, kw_only=True, tag="image_action"):
+    """A snapshot of camera ``topic`` into the robot's Pictures, as ``<timestamp>.png`` (ms;
+    default: now), through the gateway (``media/save``)."""
+
+    topic: CameraTopic = "/camera_node/image_raw"
+    timestamp: Timestamp | UnsetType = UNSET
+
+
+class VideoRecordAction(ActionBase, kw_only=True, tag="video_record_action"):
+    """``duration`` seconds of camera ``topic`` into the robot's Videos, as ``filename`` or
+    ``<timestamp>.mkv`` (ms; default: now); done once recorded. ``video_url`` (an RTSP
+    source) is refused: the robot records its own cameras."""
+
+    timestamp: Timestamp | UnsetType = UNSET
+    duration: Annotated[int, Meta(ge=1, le=600)] = 10
+    topic: CameraTopic = "/camera_node/image_raw"
+    video_url: Annotated[str, Meta(max_length=512)] = ""
+    filename: FileName = ""
+
+
+class OnvifCameraSnapshotAction(ActionBase, kw_only=True, tag="onvif_camera_snapshot_action"):
+    """A snapshot of the PTZ camera into the robot's Pictures. ``ip``, ``port``,
+    ``username``, ``password`` and ``channel`` name the camera (§17); the simulated robot has
+    one, reached over Zenoh, so they are kept and not used."""
+
+    ip: Annotated[str, Meta(max_length=128)] = ""
+    port: Annotated[int, Meta(ge=0, le=65535)] = 0
+    username: Annotated[str, Meta(max_length=128)] = ""
+    password: Annotated[str, Meta(max_length=128)] = ""
+    channel: Annotated[int, Meta(ge=0, le=16)] = 0
+
+
 class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
     """Run Blockly program ``api_key`` (its id, docs/robot-api.md §10): its blocks are
     interpreted, step by step; its Python text is never run."""
@@ -207,7 +245,8 @@ class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
           | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
           | UploadMapAction | DownloadMapAction | SlideAction | JackingAction
-          | JackingRotateAction | BlocklyAction | OnvifCameraMoveAction)
+          | JackingRotateAction | BlocklyAction | OnvifCameraMoveAction | ImageAction
+          | VideoRecordAction | OnvifCameraSnapshotAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
@@ -235,6 +274,9 @@ def check_action(action: ActionBase) -> None:
     if isinstance(action, NavAction) and action.index in (None, UNSET) and (
             action.x in (None, UNSET) or action.y in (None, UNSET)):
         raise ValueError("(nav_action): give x and y, or a nav point index")
+    if isinstance(action, VideoRecordAction) and action.video_url:
+        raise ValueError("(video_record_action): video_url sources are not recorded: the "
+                         "robot records its own cameras (give topic)")
     if isinstance(action, CallbackAction):
         if not action.url.startswith(("http://", "https://")):
             raise ValueError(f"(callback_action): url must be http:// or https://, got "
