@@ -1,8 +1,9 @@
 """People in the simulated world through REST (docs/robot-api.md §3.5): a person walks a route
 (``sim/set_people``), ``PUT /system/tracking_mode`` makes the robot follow them on the laser's
 leg detector at about 1 m, ``PUT /system/uwb_track`` on their UWB tag; ``PUT /system/greeting``
-speaks once when a person comes near; nav's costmap has a person standing in its way. Distances are measured on the simulation's ground truth
-(the robot's body and the person's), never on what the robot believes."""
+speaks once when a person comes near; nav's costmap has a person standing in its way, and a
+goal past them is reached round them. Distances are measured on the simulation's ground
+truth (the robot's body and the person's), never on what the robot believes."""
 
 from __future__ import annotations
 
@@ -179,4 +180,28 @@ def test_nav_s_costmap_has_a_person_standing_in_the_corridor(rig: GatewayRobot) 
     assert costs.cost_at(2.0, 0.1) < 253  # free before anyone stands there
     set_people(rig, walker("carl", (2.0, 0.0)))  # one waypoint: standing
     assert wait_for(lambda: costs.cost_at(2.0, 0.1) >= 253, 60), costs.cost_at(2.0, 0.1)
+    set_people(rig)
+
+
+def test_a_goal_past_a_person_drives_round_them(rig: GatewayRobot) -> None:
+    """A person stands in the corridor between the robot and its goal: nav's costmaps mark
+    their legs and the robot passes round them (ground truth: never closer than its body and
+    their legs, no contact) and reaches the goal."""
+    reset(rig)
+    set_people(rig, walker("dana", (2.0, 0.0)))  # one waypoint: standing, mid-corridor
+    costs = rig.nav.core.costmaps
+    assert wait_for(lambda: costs.cost_at(2.0, 0.1) >= 253, 60), costs.cost_at(2.0, 0.1)  # a leg
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 4.5, "y": 0.0, "theta": 0.0})
+    assert r.status_code == 200, r.text
+    closest, bumped = math.inf, False
+
+    def arrived() -> bool:
+        nonlocal closest, bumped
+        closest = min(closest, gap(rig, "dana"))
+        bumped = bumped or rig.chassis.sim.bumper
+        t = rig.chassis.sim.truth
+        return math.hypot(t.x - 4.5, t.y) < 0.3 and not rig.nav.core.motion.active
+    assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
+    print(f"passed a standing person at {closest:.2f} m (centre to centre)")
+    assert closest > 0.45 and not bumped, (closest, bumped)
     set_people(rig)
