@@ -1,5 +1,6 @@
 """Rigs shared by the integration tests: a rosbridge server on a free port, a robot-side node,
-a roslibpy client; a gateway (token check off) and an HTTP client of its REST API. A module
+a roslibpy client; a gateway (token check off), an HTTP client of its REST API, and the tasks
+service behind it. A module
 that needs another shape defines its own fixture of the same name (pytest takes the module's).
 The simulated robot (chassis, nav, tasks, a gateway) is `sim_robot.py`'s."""
 
@@ -16,6 +17,7 @@ from zenros.node import Node
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.gateway.rosbridge import RosbridgeServer
 from zenros.services.gateway.testing import running_gateway
+from zenros.services.tasks.node import TasksNode
 from zenros.testing import roslibpy_connect
 
 ROSBRIDGE_TIMEOUT = 10.0
@@ -60,3 +62,13 @@ def http(gw: GatewayNode) -> Iterator[httpx.Client]:
     """An HTTP client of ``gw``'s REST API (``/api/v1``)."""
     with httpx.Client(base_url=f"http://127.0.0.1:{gw.rest_port}/api/v1", timeout=15) as c:
         yield c
+
+
+@pytest.fixture
+def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
+    """The tasks service on the second session (its files under ``tmp_path/t``), once the
+    gateway sees it."""
+    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
+    assert gw.graph.wait_for_service("/tasks/create", 10)
+    yield node
+    node.close()

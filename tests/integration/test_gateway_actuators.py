@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import httpx
@@ -73,14 +72,6 @@ def test_the_axes_read_and_follow_a_move(chassis: ChassisNode, gw: GatewayNode,
     assert got[-1].json()["current_angle"] == round(3.5 - 2 * math.pi, 4)  # wrapped
     r = http.get("/system/jacking_angle", params={"frame_id": "odom"})
     assert r.status_code == 400 and "frame_id" in r.json()["description"], r.text
-
-
-@pytest.fixture
-def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
-    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
-    assert gw.graph.wait_for_service("/tasks/create", 10)
-    yield node
-    node.close()
 
 
 def test_moves_are_tasks_that_end_where_asked(chassis: ChassisNode, tasks: TasksNode,

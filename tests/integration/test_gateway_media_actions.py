@@ -30,14 +30,6 @@ def chassis(ctx_pair: list[Context]) -> Iterator[ChassisNode]:
     node.close()
 
 
-@pytest.fixture
-def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
-    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
-    assert gw.graph.wait_for_service("/tasks/create", 10)
-    yield node
-    node.close()
-
-
 def run(http: httpx.Client, *actions: dict[str, Any], timeout: float = 60) -> dict[str, Any]:
     """Create and start a task of ``actions``; the task once it has ended."""
     r = http.post("/task", json={"name": "media", "sub_tasks": list(actions)})

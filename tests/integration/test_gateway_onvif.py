@@ -188,14 +188,6 @@ def test_configured_credentials_are_checked(chassis: ChassisNode, ctx_pair: list
         assert url.endswith("/mjpeg?username=cam&password=secret")
 
 
-@pytest.fixture
-def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
-    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
-    assert gw.graph.wait_for_service("/tasks/create", 10)
-    yield node
-    node.close()
-
-
 def test_a_camera_move_is_a_task_that_ends_where_asked(chassis: ChassisNode, tasks: TasksNode,
                                                        gw: GatewayNode,
                                                        http: httpx.Client) -> None:

@@ -3,23 +3,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from pathlib import Path
-
 import httpx
-import pytest
-from zenros.context import Context
 from zenros.services.gateway.node import GatewayNode
 from zenros.services.tasks.node import TasksNode
 from zenros.testing import wait_for
-
-
-@pytest.fixture
-def tasks(ctx_pair: list[Context], tmp_path: Path, gw: GatewayNode) -> Iterator[TasksNode]:
-    node = TasksNode(context=ctx_pair[1], parameter_overrides={"data_dir": str(tmp_path / "t")})
-    assert gw.graph.wait_for_service("/tasks/create", 10)
-    yield node
-    node.close()
 
 
 def test_without_tasks_service_503(http: httpx.Client) -> None:
