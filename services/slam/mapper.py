@@ -288,16 +288,16 @@ class Mapper:
         chain = tuple(range(lo, min(len(graph.nodes),
                                     lo + self.p.loop_match_minimum_chain_size)))
         probe = graph.add_node(at, odom, stamp, scan)
-        found = self.loops.measure(graph, probe, chain)
-        pose = found.result.pose if found.accepted else at
+        loop = self.loops.measure(graph, probe, chain)
+        pose = loop.result.pose if loop.accepted else at
         probe.pose = pose
         anchor = graph.nodes[nearest]
-        cov = found.result.covariance if found.accepted else np.diag([0.25, 0.25, 0.1])
+        cov = loop.result.covariance if loop.accepted else np.diag([0.25, 0.25, 0.1])
         graph.add_edge(anchor.index, probe.index, relative(anchor.pose, pose), cov, "loop")
         self.map_to_odom = pose * odom.inverse()
         self.pose = pose
         self._stale = True
-        return ScanOutcome(pose, probe.index, found.result.response, found)
+        return ScanOutcome(pose, probe.index, loop.result.response, loop)
 
     def _relocalise_on_prior(self, scan: RangeScan, at: Pose2) -> MatchResult:
         """``scan`` matched against the prior's walls round ``at`` with the loop window; ``at``

@@ -63,20 +63,24 @@ class GraphFile(msgspec.Struct, kw_only=True):
     edges: list[EdgeRecord] = msgspec.field(default_factory=list)
 
 
+def _xyt(pose: Pose2) -> tuple[float, float, float]:
+    return (pose.x, pose.y, pose.theta)
+
+
 def _scan_record(scan: RangeScan) -> ScanRecord:
     a = scan.angles
     inc = float(a[1] - a[0]) if len(a) > 1 else 0.0
     return ScanRecord(np.asarray(scan.ranges, dtype="<f4").tobytes(), float(a[0]), inc,
-                      tuple(scan.mount), scan.range_min, scan.max_range, scan.clear_range)
+                      _xyt(scan.mount), scan.range_min, scan.max_range, scan.clear_range)
 
 
 def save_graph(path: Path, graph: PoseGraph, map_to_odom: Pose2, resolution: float) -> None:
     """Write ``graph`` to ``path`` (atomically: a temporary file renamed over it)."""
     doc = GraphFile(
-        resolution=resolution, map_to_odom=tuple(map_to_odom),
-        nodes=[NodeRecord(tuple(n.pose), tuple(n.odom), n.stamp, _scan_record(n.scan))
+        resolution=resolution, map_to_odom=_xyt(map_to_odom),
+        nodes=[NodeRecord(_xyt(n.pose), _xyt(n.odom), n.stamp, _scan_record(n.scan))
                for n in graph.nodes],
-        edges=[EdgeRecord(e.i, e.j, tuple(e.z), [float(v) for v in e.information.ravel()],
+        edges=[EdgeRecord(e.i, e.j, _xyt(e.z), [float(v) for v in e.information.ravel()],
                           e.kind) for e in graph.edges])
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")

@@ -7,6 +7,7 @@ import sqlite3
 import threading
 import time
 import uuid
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Final
 
@@ -56,7 +57,7 @@ class ProgramStore:
             raise UnknownProgramError(f"no Blockly program {program_id!r}")
         return self._dec.decode(row[0])
 
-    def save(self, program: BlocklyProgram, fields: list[str]) -> BlocklyProgram:
+    def save(self, program: BlocklyProgram, fields: Sequence[str]) -> BlocklyProgram:
         """Create ``program`` (no id) or change the ``fields`` of the stored one (all when
         empty); the XML is checked first (`ProgramError`)."""
         unknown = sorted(set(fields) - set(FIELDS))

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 
 from zenros.msgs.std_msgs import Empty
 from zenros.msgs.zenros_msgs import (
@@ -55,7 +55,7 @@ class PeopleLink:
             self._status.get(), Empty(), self.timeout, _absent)
         return res.status
 
-    async def set_follow(self, mode: str, enable: bool) -> FollowStatus:
+    async def set_follow(self, mode: Literal["legs", "uwb"], enable: bool) -> FollowStatus:
         """Turn following in ``mode`` on or off; a refusal (a goal runs) is a `Conflict`."""
         res: SetFollowResponse = await call_port(
             self._set.get(), SetFollowRequest(mode=mode, enable=enable), self.timeout, _absent)
