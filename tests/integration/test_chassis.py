@@ -131,6 +131,10 @@ def test_blocked_corridor_shows_in_the_scan(rig: dict[str, Any]) -> None:
     assert wait_for(lambda: abs(float(got["scan"].msg.ranges[ahead]) - 1.65) < 0.01, 10)
     # driving into it: stops at contact with the bumper pressed, never overlapping it
     assert drive(rig, 0.6, 0.0, lambda: got["state"].msg.bumper, 30)
+    # the pose of the contact: the truth stamped no earlier than the state that told it (the
+    # two topics reach a loaded test in either order)
+    bumped = got["state"].msg.header.stamp
+    assert wait_for(lambda: got["truth"].msg.header.stamp >= bumped, 10)
     x = got["truth"].msg.pose.pose.position.x
     assert 1.75 - 0.2 - 0.02 < x <= 1.75 - 0.2
     bad = client.call(SetObstaclesRequest(obstacles=[Obstacle(id="on", x=x, radius=0.1)]),
