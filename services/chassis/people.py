@@ -1,5 +1,6 @@
-"""Simulated people: `Walker`, a person walking a route with two swinging legs, who waits
-while the robot's body is in their way; `parse_route`, a route as the ``people`` parameter
+"""Simulated people: `Walker`, a person walking a route with two swinging legs, who steps
+aside (up to `MAX_ASIDE` m off their route, where the map is free) while the robot's body is
+in their way, or waits when they cannot; `parse_route`, a route as the ``people`` parameter
 writes it.
 
 A person is a point walking at ``speed`` along straight segments through the waypoints
@@ -16,8 +17,9 @@ from dataclasses import dataclass, field
 
 from .obstacles import Obstacle
 
-__all__ = ["CLEARANCE", "HIP", "LEG_RADIUS", "MAX_PEOPLE", "MAX_WAYPOINTS", "PERSON_PREFIX", "STRIDE", "SWING", "Route",
-           "RouteError", "Walker", "blocked_by", "parse_route", "uwb_walker"]
+__all__ = ["ASIDE_ROOM", "CLEARANCE", "HIP", "LEG_RADIUS", "MAX_ASIDE", "MAX_PEOPLE",
+           "MAX_WAYPOINTS", "PERSON_PREFIX", "STRIDE", "SWING", "Route", "RouteError",
+           "Walker", "blocked_by", "parse_route", "uwb_walker"]
 
 PERSON_PREFIX = "person:"  # obstacle ids of people's legs: person:<id>:l, person:<id>:r
 LEG_RADIUS = 0.06  # m
@@ -25,6 +27,8 @@ HIP = 0.1  # m from the walking line to each leg's centre
 SWING = 0.15  # m a leg swings ahead of / behind the hip
 STRIDE = 0.7  # m walked per half gait cycle (one leg's swing forward)
 CLEARANCE = 0.3  # m a person keeps from the robot's body (their half width and a margin)
+MAX_ASIDE = 0.8  # m a person steps off their route to let the robot by
+ASIDE_ROOM = HIP + LEG_RADIUS + 0.05  # m from the walls a person stepping aside keeps
 MAX_SPEED = 3.0  # m/s: faster is not walking
 MAX_WAYPOINTS = 100  # a person's route
 MAX_PEOPLE = 50  # in one world: each costs the laser and the cameras a cast per step
@@ -96,7 +100,8 @@ def parse_route(text: str) -> Route:
 @dataclass
 class Walker:
     """A person walking ``route``; `step` moves them unless ``blocked`` says the robot is in
-    the way (then they wait, ``waiting`` true)."""
+    the way (then they step aside, ``offset`` m left of their route, or wait, ``waiting``
+    true); once past, they drift back onto it."""
 
     route: Route
     x: float = field(init=False)
@@ -104,6 +109,9 @@ class Walker:
     theta: float = 0.0
     walked: float = 0.0  # m, for the gait's phase
     waiting: bool = False
+    offset: float = 0.0  # m left of the route (stepped aside for the robot)
+    _bx: float = field(init=False)  # the route's point they are abreast of
+    _by: float = field(init=False)
     _leg: int = 0  # index of the segment's start in `_path`
     _along: float = 0.0  # m along the segment
 
@@ -114,7 +122,7 @@ class Walker:
         elif len(pts) > 1:
             pts += pts[-2::-1]  # back the same way
         self._path = pts
-        self.x, self.y = pts[0]
+        self.x, self.y = self._bx, self._by = pts[0]
         if len(pts) > 1:
             self.theta = math.atan2(pts[1][1] - pts[0][1], pts[1][0] - pts[0][0])
 
@@ -142,18 +150,41 @@ class Walker:
             leg = (leg + 1) % (len(path) - 1) if len(path) > 1 else 0
         return leg, 0.0, path[leg][0], path[leg][1], theta
 
-    def step(self, dt: float, blocked: Callable[[float, float, float, float], bool]) -> None:
+    def step(self, dt: float, blocked: Callable[[float, float, float, float], bool],
+             robot: tuple[float, float] | None = None,
+             free: Callable[[float, float], bool] | None = None) -> None:
         """Walk ``dt`` seconds, unless ``blocked(from_x, from_y, to_x, to_y)`` says the step
-        is in the robot's way (then wait where they are)."""
+        is in the robot's way: then step aside, away from the ``robot`` (x, y), where
+        ``free(x, y)`` says there is room, or wait where they are."""
         if len(self._path) < 2 or self.route.speed <= 0:
             return
-        leg, along, x, y, theta = self._advance(self.route.speed * dt)
-        if blocked(self.x, self.y, x, y):
-            self.waiting = True
+        step = self.route.speed * dt
+        leg, along, bx, by, theta = self._advance(step)
+        back = math.copysign(min(abs(self.offset), step / 2), self.offset)
+        x, y = _abreast(bx, by, theta, self.offset - back)
+        if not blocked(self.x, self.y, x, y):
+            self.waiting = False
+            self.walked += math.hypot(x - self.x, y - self.y)
+            self._leg, self._along, self.theta = leg, along, theta
+            self._bx, self._by, self.offset, self.x, self.y = bx, by, self.offset - back, x, y
             return
-        self.waiting = False
+        self.waiting = not self._step_aside(step, blocked, robot, free)
+
+    def _step_aside(self, step: float, blocked: Callable[[float, float, float, float], bool],
+                    robot: tuple[float, float] | None,
+                    free: Callable[[float, float], bool] | None) -> bool:
+        """One step sideways, away from the robot; False when there is no room."""
+        if robot is None or free is None:
+            return False
+        hx, hy = math.cos(self.theta), math.sin(self.theta)
+        left = hx * (robot[1] - self.y) - hy * (robot[0] - self.x) > 0  # the robot is left
+        offset = max(-MAX_ASIDE, min(MAX_ASIDE, self.offset + (-step if left else step)))
+        x, y = _abreast(self._bx, self._by, self.theta, offset)
+        if offset == self.offset or not free(x, y) or blocked(self.x, self.y, x, y):
+            return False
         self.walked += math.hypot(x - self.x, y - self.y)
-        self._leg, self._along, self.x, self.y, self.theta = leg, along, x, y, theta
+        self.offset, self.x, self.y = offset, x, y
+        return True
 
     def legs(self) -> tuple[Obstacle, Obstacle]:
         """The two legs as obstacles, swung by the gait (both beside the hips at rest)."""
@@ -166,6 +197,11 @@ class Walker:
             out.append(Obstacle(f"{PERSON_PREFIX}{self.id}:{tag}", "circle", lx, ly,
                                 radius=LEG_RADIUS))
         return out[0], out[1]
+
+
+def _abreast(bx: float, by: float, theta: float, offset: float) -> tuple[float, float]:
+    """The point ``offset`` m left of (bx, by) for a walker heading ``theta``."""
+    return bx - offset * math.sin(theta), by + offset * math.cos(theta)
 
 
 def blocked_by(x0: float, y0: float,

@@ -111,13 +111,15 @@ def test_greeting_speaks_once_when_a_person_comes_near(rig: GatewayRobot) -> Non
     r = rig.http.put("/system/greeting", json={"greeting": True, "text": "Hello there!"})
     assert r.status_code == 200 and r.json() == {"greeting": True, "text": "Hello there!"}
     n = len(said)  # the latched tts may bring an earlier text
-    set_people(rig, walker("guest", (4.0, 0.0), (0.3, 0.0), speed=0.5))  # stops at the robot
+    set_people(rig, walker("guest", (4.0, 0.0), (0.6, 0.0), speed=0.5))  # up to the robot
     people = rig.chassis.device(PeopleDevice)
     assert people is not None
     assert wait_for(lambda: any(m.data == "Hello there!" for m in said[n:]), 120), \
         f"no greeting; the guest is {gap(rig, 'guest'):.2f} m away"
     assert gap(rig, "guest") < 1.9  # greeted as they came near, not before
-    assert wait_for(lambda: people.walkers["guest"].waiting, 120)  # then stands by the robot
+    assert wait_for(lambda: gap(rig, "guest") < 1.0, 60)
+    w = people.walkers["guest"]
+    set_people(rig, walker("guest", (w.x, w.y)))  # then stands by the robot
     stamp = rig.chassis.sim.time
     assert wait_for(lambda: rig.chassis.sim.time > stamp + 5.0, 60)  # 5 s standing there
     assert [m.data for m in said[n:]] == ["Hello there!"]  # once per approach
@@ -204,4 +206,26 @@ def test_a_goal_past_a_person_drives_round_them(rig: GatewayRobot) -> None:
     assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
     print(f"passed a standing person at {closest:.2f} m (centre to centre)")
     assert closest > 0.45 and not bumped, (closest, bumped)
+    set_people(rig)
+
+
+def test_a_goal_past_a_person_walking_towards_the_robot(rig: GatewayRobot) -> None:
+    """A person walks down the corridor towards the robot while it drives to a goal behind
+    them: they step aside, the robot passes them (ground truth: clear of their legs, which
+    touch its 0.2 m body at 0.36 m centre to centre; no contact) and reaches the goal."""
+    reset(rig)
+    set_people(rig, walker("eve", (4.5, 0.0), (-1.0, 0.0), speed=0.3))
+    r = rig.http.post("/navigation/start_nav_task", json={"x": 5.0, "y": 0.0, "theta": 0.0})
+    assert r.status_code == 200, r.text
+    closest, bumped = math.inf, False
+
+    def arrived() -> bool:
+        nonlocal closest, bumped
+        closest = min(closest, gap(rig, "eve"))
+        bumped = bumped or rig.chassis.sim.bumper
+        t = rig.chassis.sim.truth
+        return math.hypot(t.x - 5.0, t.y) < 0.3 and not rig.nav.core.motion.active
+    assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
+    print(f"passed a walking person at {closest:.2f} m (centre to centre)")
+    assert closest > 0.4 and not bumped, (closest, bumped)
     set_people(rig)

@@ -28,6 +28,7 @@ from zenros.pubsub import Publisher
 from ..device import Chassis, Device, Endpoints
 from ..param_types import Positive
 from ..people import (
+    ASIDE_ROOM,
     MAX_PEOPLE,
     PERSON_PREFIX,
     Route,
@@ -128,8 +129,13 @@ class PeopleDevice(Device[PeopleParameters]):
         sim = self.chassis.sim
         blocked = blocked_by(sim.truth.x, sim.truth.y, sim.radius)
         world = sim.world
+        robot = (sim.truth.x, sim.truth.y)
+
+        def free(x: float, y: float) -> bool:  # room on the map to stand (walls only)
+            return world.inside(x, y) and world.map_clearance(x, y, ASIDE_ROOM) >= ASIDE_ROOM
+
         for w in self.walkers.values():
-            w.step(dt, blocked)
+            w.step(dt, blocked, robot, free)
             world.set_obstacles(w.legs())
 
     # ---------------------------------------------------------------- endpoints

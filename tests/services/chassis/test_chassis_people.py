@@ -19,8 +19,10 @@ from zenros.services.chassis.devices import PeopleDevice, UwbDevice
 from zenros.services.chassis.devices.uwb import uwb_reading
 from zenros.services.chassis.laser import Laser, LaserConfig
 from zenros.services.chassis.people import (
+    CLEARANCE,
     HIP,
     LEG_RADIUS,
+    MAX_ASIDE,
     Route,
     RouteError,
     Walker,
@@ -184,3 +186,20 @@ def test_the_cameras_draw_people_taller_than_obstacles_in_their_colour(room: Wor
     cam = Camera(room, CameraConfig(width=64, height=48), Laser(room, LaserConfig()))
     cols = cam.cast(0.5, 1.5, 0.0, w.legs())
     assert PERSON in cols.kind and cols.height[cols.kind == PERSON].max() == 1.7
+
+
+def test_a_person_steps_aside_for_the_robot_and_back_onto_their_route() -> None:
+    w = Walker(Route("p", ((0.0, 0.0), (3.0, 0.0)), speed=1.0))
+    robot = blocked_by(1.0, 0.1, 0.2)  # a little left of their line: they step right
+
+    def walk(seconds: float, blocked: object, room: bool = True) -> None:
+        for _ in range(round(seconds / 0.01)):
+            w.step(0.01, blocked, (1.0, 0.1), lambda x, y: room)  # type: ignore[arg-type]
+
+    walk(1.5, robot, room=False)  # no room either side: they wait
+    assert w.waiting and w.offset == 0.0
+    walk(1.0, robot)
+    assert not w.waiting and -MAX_ASIDE <= w.offset < -0.4  # stepped right and walked on
+    assert math.hypot(w.x - 1.0, w.y - 0.1) >= 0.2 + CLEARANCE - 1e-9
+    walk(4.0, blocked_by(5.0, 5.0, 0.2))  # the robot gone: back onto the route
+    assert w.offset == pytest.approx(0.0) and w.y == pytest.approx(0.0)
