@@ -36,6 +36,10 @@ from zenros.services.explore.node import ExploreNode
 from zenros.services.nav.node import NavNode
 from zenros.testing import linked_contexts, wait_for
 
+# a whole exploration at 5x: 20-50 s quiet, past the suite's 60 s a test on a loaded box
+pytestmark = pytest.mark.timeout(300)
+
+
 @pytest.fixture
 def rig(tmp_path: Path) -> Iterator[tuple[ChassisNode, NavNode, ExploreNode, Node, Path]]:
     world = small_world(tmp_path / "world")

@@ -29,6 +29,8 @@ from zenros.services.nav.node import NavNode
 from zenros.services.slam.node import SlamNode
 from zenros.testing import linked_contexts, wait_for
 
+# a whole exploration at 5x: 20-50 s quiet, past the suite's 60 s a test on a loaded box
+pytestmark = pytest.mark.timeout(300)
 
 
 @pytest.fixture
