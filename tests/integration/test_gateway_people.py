@@ -185,6 +185,23 @@ def test_nav_s_costmap_has_a_person_standing_in_the_corridor(rig: GatewayRobot) 
     set_people(rig)
 
 
+def drive_past(rig: GatewayRobot, pid: str, goal_x: float) -> tuple[float, bool]:
+    """Send a REST goal at (goal_x, 0) and wait for the robot there; how close (ground truth,
+    centre to centre) it came to person ``pid`` and whether it ever touched anything."""
+    r = rig.http.post("/navigation/start_nav_task", json={"x": goal_x, "y": 0.0, "theta": 0.0})
+    assert r.status_code == 200, r.text
+    closest, bumped = math.inf, False
+
+    def arrived() -> bool:
+        nonlocal closest, bumped
+        closest = min(closest, gap(rig, pid))
+        bumped = bumped or rig.chassis.sim.bumper
+        t = rig.chassis.sim.truth
+        return math.hypot(t.x - goal_x, t.y) < 0.3 and not rig.nav.core.motion.active
+    assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
+    return closest, bumped
+
+
 def test_a_goal_past_a_person_drives_round_them(rig: GatewayRobot) -> None:
     """A person stands in the corridor between the robot and its goal: nav's costmaps mark
     their legs and the robot passes round them (ground truth: never closer than its body and
@@ -193,17 +210,7 @@ def test_a_goal_past_a_person_drives_round_them(rig: GatewayRobot) -> None:
     set_people(rig, walker("dana", (2.0, 0.0)))  # one waypoint: standing, mid-corridor
     costs = rig.nav.core.costmaps
     assert wait_for(lambda: costs.cost_at(2.0, 0.1) >= 253, 60), costs.cost_at(2.0, 0.1)  # a leg
-    r = rig.http.post("/navigation/start_nav_task", json={"x": 4.5, "y": 0.0, "theta": 0.0})
-    assert r.status_code == 200, r.text
-    closest, bumped = math.inf, False
-
-    def arrived() -> bool:
-        nonlocal closest, bumped
-        closest = min(closest, gap(rig, "dana"))
-        bumped = bumped or rig.chassis.sim.bumper
-        t = rig.chassis.sim.truth
-        return math.hypot(t.x - 4.5, t.y) < 0.3 and not rig.nav.core.motion.active
-    assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
+    closest, bumped = drive_past(rig, "dana", 4.5)
     print(f"passed a standing person at {closest:.2f} m (centre to centre)")
     assert closest > 0.45 and not bumped, (closest, bumped)
     set_people(rig)
@@ -215,17 +222,7 @@ def test_a_goal_past_a_person_walking_towards_the_robot(rig: GatewayRobot) -> No
     touch its 0.2 m body at 0.36 m centre to centre; no contact) and reaches the goal."""
     reset(rig)
     set_people(rig, walker("eve", (4.5, 0.0), (-1.0, 0.0), speed=0.3))
-    r = rig.http.post("/navigation/start_nav_task", json={"x": 5.0, "y": 0.0, "theta": 0.0})
-    assert r.status_code == 200, r.text
-    closest, bumped = math.inf, False
-
-    def arrived() -> bool:
-        nonlocal closest, bumped
-        closest = min(closest, gap(rig, "eve"))
-        bumped = bumped or rig.chassis.sim.bumper
-        t = rig.chassis.sim.truth
-        return math.hypot(t.x - 5.0, t.y) < 0.3 and not rig.nav.core.motion.active
-    assert wait_for(arrived, 180, interval=0.05), (rig.chassis.sim.truth, closest)
+    closest, bumped = drive_past(rig, "eve", 5.0)
     print(f"passed a walking person at {closest:.2f} m (centre to centre)")
     assert closest > 0.4 and not bumped, (closest, bumped)
     set_people(rig)
