@@ -208,11 +208,11 @@ def _record_schedule(ctx: Context, publisher: Node, bag: Path, n: int) -> None:
     try:
         pub = publisher.create_publisher(Twist, "/cmd_vel")
         assert pub.wait_for_subscribers(1, 10)
-        rate = publisher.create_rate(200)
+        rate = publisher.create_rate(50)
         for i in range(n):
             pub.publish(Twist(linear=Vector3(x=float(i))))
             if i % 10 == 9:
-                rate.sleep()  # bursts of 10 every 5 ms: uneven gaps to reproduce
+                rate.sleep()  # bursts of 10 every 20 ms: uneven gaps to reproduce
         assert wait_for(lambda: rec.sink.message_count >= n, 10)
     finally:
         rec.close()
@@ -243,8 +243,12 @@ def test_play_reproduces_sequence_and_timing(ctx_pair: list[Context], publisher:
     errors = [(a - arr[0]) - (r - recorded[0]) / 1e9 for a, r in zip(arr, recorded, strict=True)]
     med = statistics.median(errors)
     dev = sorted(abs(e - med) for e in errors)
-    # most messages keep the recorded spacing; a loaded box may delay a few (not a burst)
-    assert dev[int(0.9 * len(dev))] < 0.05 and dev[-1] < 0.5, (dev[int(0.9 * len(dev))], dev[-1])
+    # most messages keep the recorded spacing. A loaded box may stall the player or the
+    # subscriber for a while (once 0.22 s in CI, a quarter of this schedule): those messages
+    # come late, never early (a player that ran ahead of the schedule would send them early)
+    assert dev[len(dev) // 2] < 0.01, dev[len(dev) // 2]
+    early = max(med - e for e in errors)
+    assert early < 0.05 and dev[-1] < 0.5, (early, dev[-1])
     # the player keeps up with the schedule (its precision, well under 1 ms on a quiet box,
     # is measured by bench/bag.py: beside a CPU hog and three test workers the median was
     # once 9.8 ms)
