@@ -103,6 +103,14 @@ class Laser:
         self.config = config
         self.rng = rng or np.random.default_rng()
         self._angles = config.angle_min + np.arange(config.beams) * config.angle_increment
+        self._cast: tuple[tuple[Any, ...], np.ndarray] | None = None  # (pose, obstacles), ranges
+        self._bind()
+
+    def _bind(self) -> None:
+        """Derive the marching grids from the world's map (again after a floor change)."""
+        world, config = self.world, self.config
+        self._generation = world.generation
+        self._cast = None
         h, w = world.height, world.width
         blocked = np.ones((h + 2, w + 2), dtype=bool)
         blocked[1:-1, 1:-1] = world.solid
@@ -115,7 +123,6 @@ class Laser:
         self._stride = w + 2
         self._limit = np.float32(config.range_max / world.res + 1.0)
         self._fine = np.arange(0, 2 * int(self._limit) + 4, dtype=np.float32) * _MIN_STEP
-        self._cast: tuple[tuple[Any, ...], np.ndarray] | None = None  # (pose, obstacles), ranges
 
     def ranges(self, x: float, y: float, theta: float) -> np.ndarray:
         """Float32 ranges of one scan from the laser at (x, y) facing ``theta`` in ``map``.
@@ -124,11 +131,11 @@ class Laser:
         scan (a robot at rest sees the same world; the noise is drawn anew for each scan).
         """
         cfg = self.config
-        key = (x, y, theta, tuple(self.world.obstacles.values()))
+        key = (x, y, theta, self.world.generation, tuple(self.world.obstacles.values()))
         if self._cast is not None and self._cast[0] == key:
             out = self._cast[1].copy()
         else:
-            out = self._trace(x, y, theta, key[3])
+            out = self._trace(x, y, theta, key[4])
             self._cast = (key, out.copy())
         if cfg.noise > 0:
             finite = np.isfinite(out)
@@ -143,6 +150,8 @@ class Laser:
         return self._march_map(x, y, np.cos(angles), np.sin(angles))
 
     def _march_map(self, x: float, y: float, dx64: np.ndarray, dy64: np.ndarray) -> np.ndarray:
+        if self.world.generation != self._generation:
+            self._bind()
         march = compiled
         if march is not None:
             return self._march_compiled(march, x, y, dx64, dy64)

@@ -21,7 +21,7 @@ from zenros.msgs.zenros_msgs import (
     TeleportResponse,
 )
 from zenros.node import Node
-from zenros.qos import QOS_SENSOR
+from zenros.qos import QOS_SENSOR, QoSProfile
 from zenros.se2 import Pose2
 from zenros.tf import StaticTransformBroadcaster, TransformBroadcaster
 
@@ -29,9 +29,7 @@ from .config import declare_chassis
 from .device import Device, Schedule
 from .diagnostics import chassis_diagnostics
 from .drive import CommandError
-from .obstacle_requests import apply_request, to_msgs
-from .people import PERSON_PREFIX
-from .shared_world import BODY_PREFIX
+from .obstacle_requests import apply_request, requested, to_msgs
 
 __all__ = ["ChassisNode"]
 
@@ -104,13 +102,14 @@ class ChassisNode(Node):
 
     # ------------------------------------------------------------------ what devices open
 
-    def listen(self, msg_type: type[M], topic: str, callback: Callable[[M], object]) -> None:
+    def listen(self, msg_type: type[M], topic: str, callback: Callable[[M], object],
+               qos: QoSProfile | int = 10) -> None:
         """Subscribe ``callback`` to ``topic``; it runs under the simulation's lock."""
         def locked(msg: M) -> None:
             with self._sim_lock:
                 callback(msg)
 
-        self.create_subscription(msg_type, topic, locked)
+        self.create_subscription(msg_type, topic, locked, qos)
 
     def serve(self, srv_type: ServiceType, name: str,
               handler: Callable[[Any], Message]) -> None:
@@ -154,8 +153,7 @@ class ChassisNode(Node):
 
     def handle_set_obstacles(self, req: SetObstaclesRequest) -> SetObstaclesResponse:
         why = apply_request(self.sim, req)
-        now = to_msgs(o for o in self.sim.world.obstacles.values()
-                      if not o.id.startswith((BODY_PREFIX, PERSON_PREFIX)))
+        now = to_msgs(requested(self.sim.world.obstacles.values()))
         return SetObstaclesResponse(success=not why, message=why, obstacles=now)
 
     def handle_set_estop(self, req: SetBoolRequest) -> SetBoolResponse:

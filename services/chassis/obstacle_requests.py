@@ -7,10 +7,28 @@ from collections.abc import Iterable
 from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.msgs.zenros_msgs import SetObstaclesRequest
 
+from .floors import DOOR_PREFIX
 from .obstacles import Obstacle, ObstacleError
+from .people import PERSON_PREFIX
+from .shared_world import BODY_PREFIX
 from .sim import Simulation
 
-__all__ = ["apply_request", "from_msg", "to_msgs"]
+__all__ = ["WORLD_OWNED", "apply_request", "from_msg", "requested", "to_msgs"]
+
+# obstacle ids the simulation owns (other robots' bodies, people's legs, landing doors): a
+# request's `clear` and `replace` keep them, and `requested` leaves them out
+WORLD_OWNED = (BODY_PREFIX, PERSON_PREFIX, DOOR_PREFIX)
+
+
+def requested(obstacles: Iterable[Obstacle]) -> list[Obstacle]:
+    """The obstacles of ``obstacles`` that requests put there."""
+    return [o for o in obstacles if not o.id.startswith(WORLD_OWNED)]
+
+
+def _clear(sim: Simulation) -> None:
+    obstacles = sim.world.obstacles
+    for o in requested(obstacles.values()):
+        del obstacles[o.id]
 
 
 def from_msg(m: ObstacleMsg) -> Obstacle:
@@ -37,11 +55,11 @@ def apply_request(sim: Simulation, req: SetObstaclesRequest) -> str:
         if why:
             return why
         if req.op == "replace":
-            world.obstacles.clear()
+            _clear(sim)
         world.set_obstacles(obs)
         return ""
     if req.op == "clear":
-        world.obstacles.clear()
+        _clear(sim)
         return ""
     # remove
     names = list(req.ids) + ids

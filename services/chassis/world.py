@@ -41,6 +41,16 @@ class World:
             edt = np.full(self.solid.shape, 1e9)
         self.edt = np.ascontiguousarray(edt, dtype=np.float32)
         self.obstacles: dict[str, Obstacle] = {}
+        self.generation = 0  # counts `take_map` calls: what caches the map checks
+
+    def take_map(self, other: World) -> None:
+        """Become ``other``'s map in place (the robot changed floors): every device holding
+        this world sees the new one; caches of the map compare ``generation``. The
+        obstacles are the caller's to swap."""
+        self.map, self.res, self.ox, self.oy = other.map, other.res, other.ox, other.oy
+        self.height, self.width = other.height, other.width
+        self.solid, self.edt = other.solid, other.edt
+        self.generation += 1
 
     # ---------------------------------------------------------------- cells
 

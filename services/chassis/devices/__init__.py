@@ -13,6 +13,7 @@ from ..device import Device
 from .actuators import ActuatorDevice
 from .asr import AsrDevice
 from .battery import BatteryDevice
+from .building import BuildingDevice
 from .calibration import CalibrationDevice
 from .camera import CameraDevice
 from .dock import DockDevice
@@ -28,13 +29,15 @@ from .truth import GroundTruthDevice
 from .uwb import UwbDevice
 from .wind import WindDevice
 
-__all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "CalibrationDevice",
+__all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "BuildingDevice",
+           "CalibrationDevice",
            "CameraDevice", "DockDevice", "FleetDevice", "GroundTruthDevice", "ImuDevice",
            "IoDevice", "LaserDevice",
            "OdometryDevice", "PeopleDevice", "PtzDevice", "StateDevice", "UwbDevice",
            "WindDevice"]
 
 DEVICES: tuple[type[Device[Any]], ...] = (
+    BuildingDevice,  # first: a ride changes the floor every other device sees
     OdometryDevice,
     GroundTruthDevice,
     PeopleDevice,  # before the laser and the cameras: they see the people's legs

@@ -9,6 +9,8 @@ from .blockly import *  # noqa: F403
 from .blockly import __all__ as _blockly_all
 from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
+from .elevator import *  # noqa: F403
+from .elevator import __all__ as _elevator_all
 from .lifecycle import *  # noqa: F403
 from .lifecycle import __all__ as _lifecycle_all
 from .media import *  # noqa: F403
@@ -32,6 +34,6 @@ from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
 
-__all__ = [*_blockly_all, *_chassis_all, *_lifecycle_all, *_media_all, *_nav_all,
+__all__ = [*_blockly_all, *_chassis_all, *_elevator_all, *_lifecycle_all, *_media_all, *_nav_all,
            *_people_all, *_ptz_all, *_result_all, *_schedule_all, *_slam_all,
            *_task_actions_all, *_task_docs_all, *_tasks_all]

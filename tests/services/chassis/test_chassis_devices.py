@@ -48,7 +48,7 @@ NAMES = {
     "imu_rate", "imu_gyro_bias", "imu_gyro_noise", "imu_accel_noise", "imu_frame",
     "calibration", "imu_calibration_time", "laser_calibration_drive", "camera_error_yaw",
     "camera_error_f", "people", "people_rate", "uwb_rate", "uwb_range_noise",
-    "uwb_bearing_noise",
+    "uwb_bearing_noise", "building", "building_rate",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -82,7 +82,8 @@ class StandInNode:
         self.publishers[topic] = StandInPublisher(topic)
         return self.publishers[topic]
 
-    def listen(self, msg_type: type[Any], topic: str, callback: Callable[[Any], object]) -> None:
+    def listen(self, msg_type: type[Any], topic: str, callback: Callable[[Any], object],
+               qos: Any = 10) -> None:
         self.listening[topic] = callback
 
     def serve(self, srv_type: Any, name: str, handler: Callable[[Any], Any]) -> None:
