@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import os
 import threading
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from zenros.building import load_building
 from zenros.errors import GoalRejectedError
 from zenros.home import data_dir
 from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
@@ -70,6 +72,7 @@ from .actions.routines import RoutineActions
 from .actions.status import nav_status
 from .core import MappingRefused, NavCore
 from .diagnostics import nav_diagnostics
+from .maps.building_maps import install_building
 from .maps.connections import Connections
 from .maps.saver import SaveRefused
 from .motion.autocharge import AutoCharge
@@ -146,6 +149,11 @@ class NavNode(LifecycleNode):
         self.create_subscription(TFMessage, "/tf_static", self.on_tf_static, STATIC_LISTENER_QOS)
 
         self._serve_maps()
+        if p.building:
+            added = install_building(self.core.maps.store, self.connections,
+                                     load_building(os.path.expanduser(p.building)))
+            self.logger.info("building %s: its floors are in the map store (%d new elevator "
+                             "connections)", p.building, added)
         self._serve_actions()
         # no ticks at rest: the loop sleeps while nothing drives, and a behaviour started or
         # halted wakes it (auto-charging is checked at the idle loop's 1 s steps)

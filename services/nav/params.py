@@ -48,6 +48,9 @@ class NavParameters(msgspec.Struct, kw_only=True):
     map: Annotated[str, Meta(description="map_server YAML to start with (default: the demo "
                                          "office)")] = ""
     maps_dir: Annotated[str, Meta(description="maps folder (default: $ZENROS_HOME/maps)")] = ""
+    building: Annotated[str, Meta(description=(
+        "a building file (docs/building.md): its floors' maps, hall points and elevator "
+        "connections are put in the map store at start ('' = none)"))] = ""
     controller_frequency: Annotated[Positive, Meta(description="control steps per second")] = 20.0
     pose_publish_rate: Annotated[Positive, Meta(description="robot_pose and map -> odom per "
                                                             "second")] = 10.0
