@@ -2,9 +2,10 @@
 
     python deploy/maps/make_office.py [OUT_DIR]     # default: deploy/maps/office
 
-Writes office.yaml + office.pgm (map_server, trinary, 0.05 m cells) and poses.yaml (start
-and dock poses, see zenros.maps.poses). The floor is 30 m x 20 m; the map frame's (0, 0)
-is in the main corridor, near its west end, where the robot starts. Outside the building
+Writes office.yaml + office.pgm (map_server, trinary, 0.05 m cells), poses.yaml (start
+and dock poses, see zenros.maps.poses) and landmarks.yaml (reflector strips on the walls
+met from the corridor, see zenros.maps.landmarks). The floor is 30 m x 20 m; the map
+frame's (0, 0) is in the main corridor, near its west end, where the robot starts. Outside the building
 is unknown, as a SLAM map would leave it.
 
 Layout (x east, y north, metres in map):
@@ -21,14 +22,32 @@ import sys
 from pathlib import Path
 
 import numpy as np
-
-from zenros.maps import FREE, OCCUPIED, UNKNOWN, GridMap, MapPose, MapPoses, save_map, save_poses
+from zenros.maps import (
+    FREE,
+    OCCUPIED,
+    UNKNOWN,
+    GridMap,
+    MapPose,
+    MapPoses,
+    Reflector,
+    save_landmarks,
+    save_map,
+    save_poses,
+)
 
 RES = 0.05
 WIDTH_M, HEIGHT_M = 30.0, 20.0
 # map (0, 0) sits at building-local (3.0, 9.75): the west end of the main corridor
 ORIGIN = (-3.0, -9.75, 0.0)
 WALL = 0.15
+REFLECTOR_RADIUS = 0.05
+# reflector strips, in map x along the corridor's walls (clear of doors and pillars, spaced
+# unevenly so that no two pairs are alike), one on each end wall at map y, and two in the
+# lobby (the reception counter's north face, the lobby's west wall)
+NORTH_REFLECTORS = (0.6, 3.1, 6.9, 8.6, 12.8, 14.3, 18.9, 21.0, 24.4)
+SOUTH_REFLECTORS = (-1.3, 2.9, 5.9, 10.4, 12.1, 16.2)
+WEST_REFLECTOR_Y, EAST_REFLECTOR_Y = 0.45, -0.5
+COUNTER_REFLECTOR_X, LOBBY_REFLECTOR_Y = 25.0, -3.0
 
 
 class Floor:
@@ -98,6 +117,35 @@ def draw() -> Floor:
     return f
 
 
+def _face(grid: np.ndarray, x: float, y: float, dx: int, dy: int) -> tuple[float, float]:
+    """The face of the first solid cell from (x, y) in map, walking cell by cell along
+    (dx, dy): the point on that face in line with (x, y)."""
+    ox, oy, _ = ORIGIN
+    col, row = int((x - ox) / RES), int((y - oy) / RES)
+    while grid[row, col] < OCCUPIED:
+        col, row = col + dx, row + dy
+    if dx:
+        return round(ox + (col + (dx < 0)) * RES, 3), y
+    return x, round(oy + (row + (dy < 0)) * RES, 3)
+
+
+def reflectors(floor: Floor) -> list[Reflector]:
+    """The reflector strips: their centres on the wall faces met from the corridor."""
+    out = [Reflector("west", *_face(floor.grid, -1.0, WEST_REFLECTOR_Y, -1, 0),
+                     REFLECTOR_RADIUS)]
+    out += [Reflector(f"n{i + 1}", *_face(floor.grid, x, 0.0, 0, 1), REFLECTOR_RADIUS)
+            for i, x in enumerate(NORTH_REFLECTORS)]
+    out += [Reflector(f"s{i + 1}", *_face(floor.grid, x, 0.0, 0, -1), REFLECTOR_RADIUS)
+            for i, x in enumerate(SOUTH_REFLECTORS)]
+    out.append(Reflector("east", *_face(floor.grid, 20.0, EAST_REFLECTOR_Y, 1, 0),
+                         REFLECTOR_RADIUS))
+    out.append(Reflector("counter", *_face(floor.grid, COUNTER_REFLECTOR_X, 0.0, 0, -1),
+                         REFLECTOR_RADIUS))
+    out.append(Reflector("lobby", *_face(floor.grid, 18.0, LOBBY_REFLECTOR_Y, -1, 0),
+                         REFLECTOR_RADIUS))
+    return out
+
+
 def main(out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     floor = draw()
@@ -106,6 +154,7 @@ def main(out: Path) -> None:
     # the dock block's face is at y = 0.75; docked, the body (radius 0.2) is 2 cm from it
     dock = MapPose(25.0 + ox, 0.75 + 0.22 + oy, -math.pi / 2)
     save_poses(MapPoses(start=MapPose(0.0, 0.0, 0.0), dock=dock), out / "office.yaml")
+    save_landmarks(reflectors(floor), out / "office.yaml")
 
 
 if __name__ == "__main__":

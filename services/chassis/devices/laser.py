@@ -1,5 +1,5 @@
-"""The 2-D laser: ``scan`` (sensor_msgs/LaserScan) at ``scan_rate``, base_link -> laser on
-``/tf_static``."""
+"""The 2-D laser: ``scan`` (sensor_msgs/LaserScan, ranges and intensities) at ``scan_rate``,
+base_link -> laser on ``/tf_static``."""
 
 from __future__ import annotations
 
@@ -10,6 +10,8 @@ import msgspec
 import numpy as np
 from msgspec import Meta
 from zenros.clock import Time
+from zenros.errors import MapError
+from zenros.maps import load_landmarks
 from zenros.message import Float32Array, to_array
 from zenros.msgs.sensor_msgs import LaserScan
 from zenros.msgs.std_msgs import Header
@@ -21,6 +23,7 @@ from .. import messages
 from ..device import Chassis, Device, Endpoints
 from ..laser import Laser, LaserConfig
 from ..param_types import NonNegative, Positive
+from ..reflectors import Reflectors
 
 __all__ = ["LaserDevice", "LaserParameters", "laser_scan"]
 
@@ -73,7 +76,8 @@ class LaserParameters(msgspec.Struct, kw_only=True, frozen=True):
 
 class LaserDevice(Device[LaserParameters]):
     """A `Laser` at ``mount`` on the body, ray cast against the world (map, obstacles and
-    the other robots) when a scan is due and someone listens."""
+    the other robots) when a scan is due and someone listens; its intensities are strong
+    on the reflectors of the map folder's ``landmarks.yaml``."""
 
     Parameters = LaserParameters
     _pub: Publisher[LaserScan]
@@ -85,11 +89,42 @@ class LaserDevice(Device[LaserParameters]):
         self.mount = params.mount  # as published; a laser calibration may correct it
         self.true_mount = params.true_mount
         self.rate = params.scan_rate
+        cfg = self.laser.config
+        self._angles = cfg.angle_min + np.arange(cfg.beams) * cfg.angle_increment
+        self._world_generation = self._generation()
+        self.reflectors = self._load_reflectors()
+
+    def _generation(self) -> int:
+        return int(getattr(self.chassis.sim.world, "generation", 0))
+
+    def _load_reflectors(self) -> Reflectors:
+        """The reflectors of the chassis's map (none, with a warning, if the file is bad)."""
+        try:
+            return Reflectors(load_landmarks(self.chassis.map_path))
+        except MapError as exc:
+            self.chassis.logger.warning("no reflectors for the laser: %s", exc)
+            return Reflectors()
+
+    def set_reflectors(self, reflectors: Reflectors) -> None:
+        """The reflectors of the map the robot is on from now on (a floor change)."""
+        self.reflectors = reflectors
 
     def ranges(self) -> np.ndarray:
         """The ranges from where the laser is now."""
         p = self.chassis.sim.truth * self.true_mount
         return self.laser.ranges(p.x, p.y, p.theta)
+
+    def scan(self) -> tuple[np.ndarray, np.ndarray]:
+        """The ranges and intensities from where the laser is now. After the world took
+        another map (a floor change), the reflectors are read again from the chassis's
+        ``map_path``."""
+        if self._generation() != self._world_generation:
+            self._world_generation = self._generation()
+            self.reflectors = self._load_reflectors()
+        p = self.chassis.sim.truth * self.true_mount
+        ranges = self.laser.ranges(p.x, p.y, p.theta)
+        return ranges, self.reflectors.intensities(p.x, p.y, p.theta, self._angles, ranges,
+                                                   self.laser.config.range_max)
 
     def open(self, node: Endpoints) -> None:
         self._node = node
@@ -109,16 +144,20 @@ class LaserDevice(Device[LaserParameters]):
 
     def publish(self, stamp: Time) -> None:
         if self._pub.subscription_count:
+            ranges, intensities = self.scan()
             self._pub.publish(laser_scan(stamp, self.params.laser_frame, self.laser.config,
-                                         self.ranges(), 1.0 / self.rate))
+                                         ranges, 1.0 / self.rate, intensities))
 
 
 def laser_scan(stamp: Time, frame: str, config: LaserConfig, ranges: np.ndarray,
-               scan_time: float) -> LaserScan:
+               scan_time: float, intensities: np.ndarray | None = None) -> LaserScan:
     scan_ranges: Float32Array = to_array(Float32Array, ranges)  # a view: float32 already
+    scan_intensities: Float32Array = to_array(
+        Float32Array, intensities if intensities is not None else ())
     return LaserScan(
         header=Header(stamp=stamp, frame_id=frame),
         angle_min=config.angle_min, angle_max=config.angle_max,
         angle_increment=config.angle_increment, time_increment=0.0, scan_time=scan_time,
         range_min=config.range_min, range_max=config.range_max, ranges=scan_ranges,
+        intensities=scan_intensities,
     )
