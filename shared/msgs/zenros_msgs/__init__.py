@@ -33,7 +33,9 @@ from .task_docs import *  # noqa: F403
 from .task_docs import __all__ as _task_docs_all
 from .tasks import *  # noqa: F403
 from .tasks import __all__ as _tasks_all
+from .traffic import *  # noqa: F403
+from .traffic import __all__ as _traffic_all
 
 __all__ = [*_blockly_all, *_chassis_all, *_elevator_all, *_lifecycle_all, *_media_all, *_nav_all,
            *_people_all, *_ptz_all, *_result_all, *_schedule_all, *_slam_all,
-           *_task_actions_all, *_task_docs_all, *_tasks_all]
+           *_task_actions_all, *_task_docs_all, *_tasks_all, *_traffic_all]
