@@ -38,9 +38,16 @@ import yaml
 from .errors import ConfigError
 from .se2 import Pose2, wrap_angle
 
-__all__ = ["HALL_GAP", "Building", "Car", "Elevator", "Floor", "Stop", "load_building"]
+__all__ = ["ELEVATOR_PATH", "HALL_GAP", "Building", "Car", "Elevator", "Floor", "Stop",
+           "elevator_of_path", "load_building"]
 
 HALL_GAP = 0.9  # m from the car's door to its hall point
+ELEVATOR_PATH = "elevator_"  # nav's path of an elevator's hall points: elevator_<name>
+
+
+def elevator_of_path(path_name: str) -> str | None:
+    """The elevator whose hall points nav's path ``path_name`` holds, or None."""
+    return path_name[len(ELEVATOR_PATH):] if path_name.startswith(ELEVATOR_PATH) else None
 
 
 class Stop(msgspec.Struct, frozen=True, forbid_unknown_fields=True):

@@ -95,7 +95,8 @@ def _nav(ctx: Context, p: NavAction) -> Outcome:
             def note(text: str) -> None:
                 ctx.item.result = text
                 ctx.changed()
-            return navigate_across(ctx.robot, p, current, lambda q: _nav_here(ctx, q), note)
+            return navigate_across(ctx.robot, p, current, lambda q: _nav_here(ctx, q), note,
+                                   ctx.robot.elevators, ctx.cancelled)
     return _nav_here(ctx, p)
 
 

@@ -42,6 +42,7 @@ from zenros.qos import QOS_LATCHED
 from zenros.se2 import angle_diff
 from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
+from .elevator_link import ElevatorLink
 from .map_exchange import MapExchange
 from .robot import Feedback, Outcome
 
@@ -91,6 +92,7 @@ class RobotLink:
         self.charging = False
         node.create_subscription(BatteryState, "battery_state", self._on_battery)
         self.maps = MapExchange(node)
+        self.elevators: ElevatorLink | None = None  # the tasks node sets it for a building
 
     def _on_battery(self, msg: BatteryState) -> None:
         self.battery = float(msg.percentage)

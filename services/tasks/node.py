@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import asyncio
+import os
 from collections.abc import Callable
 from typing import Annotated, Any
 
 import msgspec
 from msgspec import Meta
+from zenros.building import load_building
 from zenros.home import data_dir
 from zenros.message import Message
 from zenros.msgs.zenros_msgs.task_docs import Task
@@ -18,6 +20,7 @@ from zenros.smach import Container, IntrospectionServer
 
 from .api import CALLS, call
 from .documents import is_task, kind_of, snapshot
+from .elevator_link import ElevatorLink
 from .local_link import LocalLink
 from .manager import TaskManager
 from .program_api import PROGRAM_CALLS, program_call
@@ -47,6 +50,9 @@ class TasksParameters(msgspec.Struct, kw_only=True):
         ge=0, description="seconds a nav or dock goal waits for its server to come back (a "
                           "link flap, a respawn) before the action ends in ERROR; the goal "
                           "is then sent again")] = 30.0
+    building: Annotated[str, Meta(
+        description="a building file (docs/building.md): goals on another floor ride its "
+                    "elevators ('' = none)")] = ""
 
 
 class TasksNode(Node):
@@ -65,6 +71,9 @@ class TasksNode(Node):
         self.status_pub = self.create_publisher(TaskStatus, "tasks/status", QOS_LATCHED)
         self.store = self.own(TaskStore(directory / DB_NAME))
         self.link = LocalLink(self, p.reconnect_timeout)
+        if p.building:
+            self.link.elevators = ElevatorLink(self, load_building(
+                os.path.expanduser(p.building)))
         self.manager = self.own(TaskManager(self.store, self.link, self.publish_status,
                                             self.introspect if self.introspection else None,
                                             resume_on_start=resume))

@@ -9,10 +9,13 @@ tests pass a double. Long calls take ``cancelled``, polled while they wait, and 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Literal, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Literal, NamedTuple, Protocol
 
 from zenros.maps.maproute import Link
 from zenros.msgs.zenros_msgs.blockly import BlocklyProgram
+
+if TYPE_CHECKING:
+    from .elevator_link import ElevatorLink
 
 __all__ = ["Feedback", "Outcome", "Robot"]
 
@@ -34,6 +37,9 @@ class Feedback(NamedTuple):
 
 
 class Robot(Protocol):
+    elevators: ElevatorLink | None
+    """The building's elevators (None: the tasks service knows no building)."""
+
     def now(self) -> float:
         """The node clock in seconds (simulated time when the robot runs on it)."""
         ...

@@ -7,7 +7,7 @@ every two of those points, so that a goal on another floor finds its route throu
 
 from __future__ import annotations
 
-from zenros.building import Building, Elevator
+from zenros.building import ELEVATOR_PATH, Building, Elevator
 from zenros.msgs.zenros_msgs.nav import (
     AddPointConnectionRequest,
     NavPoint,
@@ -19,14 +19,7 @@ from .connections import Connections
 from .navdata import MapNavData, StoredPath
 from .store import MapStore
 
-__all__ = ["ELEVATOR_PATH", "elevator_of_path", "install_building"]
-
-ELEVATOR_PATH = "elevator_"
-
-
-def elevator_of_path(path_name: str) -> str | None:
-    """The elevator whose hall points path ``path_name`` holds, or None."""
-    return path_name[len(ELEVATOR_PATH):] if path_name.startswith(ELEVATOR_PATH) else None
+__all__ = ["install_building"]
 
 
 def install_building(store: MapStore, connections: Connections, building: Building) -> int:

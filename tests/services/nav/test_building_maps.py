@@ -5,14 +5,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from zenros.building import load_building
+from zenros.building import ELEVATOR_PATH, elevator_of_path, load_building
 from zenros.maps.maproute import find_route, links_of
 from zenros.msgs.zenros_msgs.nav import ListPointConnectionsRequest
-from zenros.services.nav.maps.building_maps import (
-    ELEVATOR_PATH,
-    elevator_of_path,
-    install_building,
-)
+from zenros.services.nav.maps.building_maps import install_building
 from zenros.services.nav.maps.connections import Connections
 from zenros.services.nav.maps.store import MapStore
 

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
+from zenros.building import load_building
 from zenros.maps.maproute import Link, PointEnd
 from zenros.msgs.zenros_msgs.task_actions import NavAction
 from zenros.services.tasks.crossmap import carry_over, navigate_across
 from zenros.services.tasks.robot import Outcome
 
+TOWER = Path(__file__).parents[3] / "deploy" / "buildings" / "tower" / "tower.yaml"
 POINTS = {("a", "p", 0): (1.0, 0.0, 0.0), ("b", "p", 0): (5.0, 5.0, math.pi / 2),
           ("b", "p", 1): (6.0, 5.0, 0.0), ("c", "p", 0): (0.0, 0.0, 0.0),
           ("c", "p", 2): (2.0, 1.0, 0.5)}
@@ -83,7 +86,7 @@ def test_an_elevator_or_no_route_fails_before_moving() -> None:
     out = navigate_across(robot, NavAction(map="b", x=1.0, y=1.0), "a",
                           leg_of(robot), print)
     assert out.name == "error" and "elevator connection lift" in out.reason
-    assert "no elevator" in out.reason and robot.log == []
+    assert "knows no building" in out.reason and robot.log == []
     out = navigate_across(robot, NavAction(map="c", x=1.0, y=1.0), "a",
                           leg_of(robot), print)
     assert out.name == "error" and "no route from map 'a' to map 'c'" in out.reason
@@ -123,3 +126,66 @@ def test_a_pause_preempts_and_a_resume_starts_from_the_map_it_is_on() -> None:
                           leg_of(robot), print)
     assert out.name == "complete"
     assert [e[0] for e in robot.log] == ["nav", "switch", "relocalise", "nav"]
+
+
+class FakeLift:
+    """The demo tower's elevator as `ElevatorLink` shows it: the car answers at once."""
+
+    def __init__(self) -> None:
+        self.building = load_building(TOWER)
+        self.me = "/"
+        self.log: list[Any] = []
+        self.refuse = ""
+
+    def command(self, name: str, command: str, level: int = 0) -> Outcome:
+        self.log.append((command, level))
+        if command == self.refuse:
+            return Outcome("error", f"elevator {name}: {command}: refused")
+        return Outcome("complete")
+
+    def wait(self, name: str, until: Any, what: str, deadline: Any, cancelled: Any) -> Outcome:
+        self.log.append(("wait", what))
+        return Outcome("preempted", "cancelled") if cancelled() else Outcome("complete")
+
+
+def tower_robot() -> MapRobot:
+    b = load_building(TOWER)
+    e = b.elevator()
+    for lv in (1, 3):
+        h = e.hall_pose(lv)
+        POINTS[(f"floor{lv}", "elevator_lift1", 0)] = (h.x, h.y, h.theta)
+    POINTS[("floor3", "p", 0)] = (2.0, 1.0, 0.0)
+    robot = MapRobot([Link("l13", "elevator", True, PointEnd("floor1", "elevator_lift1", 0),
+                           PointEnd("floor3", "elevator_lift1", 0))])
+    robot.map = "floor1"
+    return robot
+
+
+def test_a_goal_two_floors_up_rides_the_elevator() -> None:
+    robot, lift = tower_robot(), FakeLift()
+    notes: list[str] = []
+    out = navigate_across(robot, NavAction(map="floor3", path="p", index=0), "floor1",
+                          leg_of(robot), notes.append, lift)  # type: ignore[arg-type]
+    assert out == Outcome("complete", "arrived")
+    car = lift.building.elevator().car_pose(1)
+    assert [entry[0] for entry in robot.log] == ["nav", "nav", "switch", "relocalise", "nav",
+                                                 "nav"]
+    assert robot.log[1] == ("nav", "floor1", (car.x, car.y))  # into the car
+    assert robot.log[2] == ("switch", "floor3")
+    assert [c for c in lift.log if c[0] != "wait"] == [("call", 1), ("go", 3), ("release", 0)]
+    assert any("riding elevator lift1 to level 3" in n for n in notes)
+    assert notes[-1].startswith("on map floor3 via elevator connection l13")
+
+
+def test_a_refused_or_cancelled_ride_releases_the_car() -> None:
+    robot, lift = tower_robot(), FakeLift()
+    lift.refuse = "go"
+    out = navigate_across(robot, NavAction(map="floor3", path="p", index=0), "floor1",
+                          leg_of(robot), print, lift)  # type: ignore[arg-type]
+    assert out.name == "error" and "go: refused" in out.reason
+    assert lift.log[-1] == ("release", 0)
+    robot, lift = tower_robot(), FakeLift()
+    out = navigate_across(robot, NavAction(map="floor3", path="p", index=0), "floor1",
+                          leg_of(robot), print, lift, lambda: True)  # type: ignore[arg-type]
+    assert out.name == "preempted" and lift.log[-1] == ("release", 0)
+    assert ("go", 3) not in lift.log
