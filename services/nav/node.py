@@ -67,6 +67,7 @@ from .actions.convert import (
     transform_stamped,
 )
 from .actions.coverage import handle_compute_coverage_path
+from .actions.landmarks import LandmarkServices
 from .actions.navigation import NavActions
 from .actions.routines import RoutineActions
 from .actions.status import nav_status
@@ -139,6 +140,7 @@ class NavNode(LifecycleNode):
         self.status_pub = self.create_publisher(navmsgs.NavStatus, "nav/status", QOS_LATCHED)
         self.tf = TransformBroadcaster(self)
         self._serve_people(p)  # before the scan's subscription: on_scan publishes people
+        self._serve_landmarks()  # before the scan's subscription too: on_scan feeds it
 
         self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR)
         self.create_subscription(Odometry, "sim/ground_truth", self.on_ground_truth, QOS_SENSOR)
@@ -250,6 +252,17 @@ class NavNode(LifecycleNode):
         self.create_service(SetFollow, "follow/set", self.handle_set_follow)
         self.create_service(GetFollowStatus, "follow/status", self.follow.handle_status)
         self.people_pub = self.create_publisher(PersonDetections, "people/detections")
+
+    def _serve_landmarks(self) -> None:
+        """``get_landmarks``, ``relocalize_landmarks`` and ``landmarks/detections`` (the
+        reflectors each scan shows, detected for a listener only); docs/nav.md."""
+        self.landmarks = LandmarkServices(self.core)
+        self.create_service(navmsgs.GetLandmarks, "get_landmarks",
+                            coded(self.landmarks.handle_get_landmarks))
+        self.create_service(navmsgs.RelocalizeLandmarks, "relocalize_landmarks",
+                            self.landmarks.handle_relocalize)
+        self.landmarks_pub = self.create_publisher(navmsgs.LandmarkDetections,
+                                                   "landmarks/detections")
 
     def handle_set_follow(self, req: SetFollowRequest) -> SetFollowResponse:
         if req.enable and req.mode == "uwb" and self._uwb_sub is None:
@@ -433,6 +446,9 @@ class NavNode(LifecycleNode):
 
     def on_scan(self, msg: LaserScan) -> None:
         self.core.on_scan(msg, self._seconds())
+        self.landmarks.on_scan(msg)
+        if self.landmarks_pub.subscription_count:
+            self.landmarks_pub.publish(self.landmarks.detections(msg))
         if self.people_pub.subscription_count:  # the leg detector runs for a listener only
             self._publish_people(msg.header.stamp)
 

@@ -8,6 +8,7 @@ Layout (``<name>`` is the map's name)::
     <name>/<name>.pgm       the image as nav stores it
     <name>/map.json         `Manifest`: name, width, height, resolution, origin, md5sum
     <name>/nav.json         `NavBundle`: paths (points and nav points), point connections
+    <name>/landmarks.yaml   the map's reflectors (`zenros.maps.landmarks`), when it has any
 
 No HTTP here: a refused archive is an `ArchiveError` carrying the HTTP status that says why
 (the gateway answers with it; the schedule server and the tasks service word it).
@@ -30,6 +31,7 @@ from ..errors import MapError
 from ..msgs.geometry_msgs import Point
 from ..msgs.zenros_msgs.nav import NavPoint, PointConnection
 from . import load_map, read_meta
+from .landmarks import LANDMARKS_FILE, load_landmarks
 
 __all__ = ["MAX_ARCHIVE", "ArchiveError", "ArchivePath", "CheckedMap", "Manifest", "NavBundle",
            "check_map", "pack", "read_archive"]
@@ -86,14 +88,17 @@ class CheckedMap:
 
 
 def pack(name: str, yaml_text: bytes, image_name: str, image: bytes, manifest: Manifest,
-         nav: NavBundle) -> bytes:
-    """The archive of one map (see the module's layout)."""
+         nav: NavBundle, landmarks: bytes | None = None) -> bytes:
+    """The archive of one map (see the module's layout); ``landmarks``: the text of its
+    ``landmarks.yaml``, if it has one."""
     out = io.BytesIO()
     with zipfile.ZipFile(out, "w", compression=zipfile.ZIP_DEFLATED) as z:
         z.writestr(f"{name}/{name}.yaml", yaml_text)
         z.writestr(f"{name}/{image_name}", image)
         z.writestr(f"{name}/{MANIFEST}", msgspec.json.encode(manifest))
         z.writestr(f"{name}/{NAV}", msgspec.json.encode(nav))
+        if landmarks is not None:
+            z.writestr(f"{name}/{LANDMARKS_FILE}", landmarks)
     return out.getvalue()
 
 
@@ -146,7 +151,7 @@ def read_archive(data: bytes) -> dict[str, bytes]:
 
 
 def _one(files: Mapping[str, bytes], suffixes: tuple[str, ...], what: str) -> str:
-    found = sorted(n for n in files if n.lower().endswith(suffixes))
+    found = sorted(n for n in files if n.lower().endswith(suffixes) and n != LANDMARKS_FILE)
     if len(found) != 1:
         has = ", ".join(sorted(files)) or "nothing"
         raise ArchiveError(f"expected one {what} ({'/'.join(suffixes)}), found "
@@ -158,7 +163,8 @@ def check_map(files: Mapping[str, bytes], folder: Path) -> CheckedMap:
     """Check a map's files (by file name) and write them into ``folder`` (empty, outside
     the maps store): one YAML whose ``image`` is one of the files, by name; an image that
     decodes; the manifest, when there is one, matching the image's size and the YAML's
-    resolution; nav.json, when there is one, of the right shape.
+    resolution; nav.json, when there is one, of the right shape; landmarks.yaml, when there
+    is one, readable (`zenros.maps.landmarks`).
 
     Raises:
         ArchiveError: what is wrong, naming the file and the field.
@@ -210,7 +216,13 @@ def check_map(files: Mapping[str, bytes], folder: Path) -> CheckedMap:
             nav = msgspec.json.decode(files[NAV], type=NavBundle)
         except msgspec.DecodeError as exc:
             raise ArchiveError(f"{NAV}: {exc}") from exc
-    unknown = sorted(set(files) - {yaml_name, image, MANIFEST, NAV})
+    if LANDMARKS_FILE in files:
+        (folder / LANDMARKS_FILE).write_bytes(files[LANDMARKS_FILE])
+        try:
+            load_landmarks(folder)
+        except MapError as exc:
+            raise ArchiveError(str(exc).replace(str(folder) + "/", "")) from exc
+    unknown = sorted(set(files) - {yaml_name, image, MANIFEST, NAV, LANDMARKS_FILE})
     if unknown:
         raise ArchiveError(f"the upload holds files a map has not: {', '.join(unknown)}")
     return CheckedMap(yaml=folder / yaml_name, width=grid.width, height=grid.height, nav=nav)

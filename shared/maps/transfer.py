@@ -35,6 +35,7 @@ from .archive import (
     check_map,
     pack,
 )
+from .landmarks import landmarks_path
 
 __all__ = ["NavCall", "export_map", "import_map", "read_map_files"]
 
@@ -53,6 +54,15 @@ def read_map_files(info: zm.MapInfo) -> tuple[bytes, str, bytes]:
                            f"{exc}", 502) from exc
     doc["image"] = image.name
     return yaml.safe_dump(doc, sort_keys=False).encode(), image.name, data
+
+
+def read_landmarks_file(info: zm.MapInfo) -> bytes | None:
+    """The stored map's ``landmarks.yaml`` (beside its YAML), or None when it has none."""
+    path = landmarks_path(info.yaml_path)
+    try:
+        return path.read_bytes() if path.is_file() else None
+    except OSError as exc:
+        raise ArchiveError(f"cannot read map {info.name!r}'s {path.name}: {exc}", 502) from exc
 
 
 def nav_bundle(call: NavCall, name: str) -> NavBundle:
@@ -82,7 +92,8 @@ def export_map(call: NavCall, name: str) -> bytes:
     manifest = Manifest(name=name, width=info.width, height=info.height,
                         resolution=info.resolution, origin=list(info.origin),
                         md5sum=info.md5sum)
-    return pack(name, yaml_text, image_name, image, manifest, nav_bundle(call, name))
+    return pack(name, yaml_text, image_name, image, manifest, nav_bundle(call, name),
+                read_landmarks_file(info))
 
 
 def _renamed(conn: zm.PointConnection, old: str, new: str) -> list[zm.PointRef]:

@@ -162,6 +162,20 @@ class Localizer:
                 self.mode = "odometry"
             self.relocalize = self.mode == "scan_match"
 
+    def set_pose_at(self, stamp_ns: int, map_base: Pose2) -> bool:
+        """Put the robot at ``map_base`` as of ``stamp_ns`` (a fix from a scan of that
+        stamp), paired with the odometry sample nearest it, so motion since then is kept.
+        The mode stays (in ``ground_truth`` the next truth sample overrides the fix).
+        False when there is no odometry yet or another node owns ``map -> odom``."""
+        with self._lock:
+            odom = self._odom_at(stamp_ns)
+            if odom is None or self.external:
+                return False
+            self.map_to_odom = map_base * odom.inverse()
+            self.localized = True
+            self.relocalize = False
+            return True
+
     def pose(self) -> Pose2 | None:
         """The robot in ``map`` (None before the first odometry and localisation)."""
         with self._lock:

@@ -1,7 +1,8 @@
 """MapStore: the maps folder ``$ZENROS_HOME/maps/<name>/`` (map YAML + image + nav data).
 
 Each map folder holds ``<name>.yaml`` and its image (``<name>.pgm`` or ``.png``) in
-map_server format, the simulator's ``poses.yaml`` when the source map had one,
+map_server format, the simulator's ``poses.yaml`` and the reflectors' ``landmarks.yaml``
+when the source map had them,
 ``nav.yaml`` (`MapNavData`) and, for a saved grid, ``record.yml`` (`MapRecord`: type,
 levels, built by SLAM). Importing copies a map_server map in; the source is checked
 first (`zenros.maps.load_map`), so a bad file never replaces a good one.
@@ -23,6 +24,8 @@ from zenros.maps import (
     MapMeta,
     encode_image,
     grid_to_pixels,
+    landmarks_path,
+    load_landmarks,
     load_map,
     load_poses,
     poses_path,
@@ -33,8 +36,8 @@ from zenros.maps.meta import check_meta
 from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.zenros_msgs.nav import MapInfo
 
-from .navdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
 from .mapmeta import RECORD_FILE, MapRecord, check_record, read_record, write_record
+from .navdata import NAV_FILE, MapNavData, check_name, read_nav_data, write_nav_data
 
 __all__ = ["MapStore"]
 
@@ -125,6 +128,7 @@ class MapStore:
             # the YAML last: a reader that sees it sees the image and the record it names
             _atomic(self.yaml_path(name), lambda tmp: write_meta(meta, tmp))
             poses_path(dst).unlink(missing_ok=True)  # the simulator's poses were another map's
+            landmarks_path(dst).unlink(missing_ok=True)  # so were the reflectors' places
             self._nav.pop(name, None)
         return name
 
@@ -138,6 +142,7 @@ class MapStore:
         name = check_name("map", name or src.stem)
         meta = read_meta(src)
         load_map(src)  # the image must decode too
+        load_landmarks(src)  # and the reflectors, if any, must read
         with self._lock:
             dst = self.folder(name)
             if self.yaml_path(name).is_file():
@@ -162,6 +167,9 @@ class MapStore:
             poses = load_poses(src)
             if poses_path(src).is_file():
                 _atomic(poses_path(dst), lambda tmp: shutil.copyfile(poses_path(src), tmp))
+            if landmarks_path(src).is_file():
+                _atomic(landmarks_path(dst),
+                        lambda tmp: shutil.copyfile(landmarks_path(src), tmp))
             nav_file = dst / NAV_FILE
             if not nav_file.is_file() and poses.dock is not None:
                 d = poses.dock

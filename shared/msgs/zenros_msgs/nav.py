@@ -19,6 +19,9 @@ error naming the known ones (the caller's client raises ``ServiceError``).
 - ``list_point_connections`` / ``add_point_connection`` / ``delete_point_connection``:
   links between nav points of different maps (multi-map navigation, docs/robot-api.md §6.7).
 - ``nav/status`` (NavStatus, latched): what navigation is doing, for the gateway.
+- ``get_landmarks`` (GetLandmarks): a map's reflectors (``landmarks.yaml``);
+  ``relocalize_landmarks`` (RelocalizeLandmarks): the robot's pose from the reflectors the
+  last scan saw; ``landmarks/detections`` (LandmarkDetections): what each scan sees.
 """
 
 from __future__ import annotations
@@ -40,8 +43,8 @@ __all__ = [
     "ComputeCoveragePath",
     "ComputeCoveragePathRequest",
     "ComputeCoveragePathResponse",
-    "CoverageHole",
     "ConnectionPoint",
+    "CoverageHole",
     "DeleteNavPoints",
     "DeleteNavPointsRequest",
     "DeleteNavPointsResponse",
@@ -61,6 +64,9 @@ __all__ = [
     "GetForbiddenAreas",
     "GetForbiddenAreasRequest",
     "GetForbiddenAreasResponse",
+    "GetLandmarks",
+    "GetLandmarksRequest",
+    "GetLandmarksResponse",
     "GetNavPoints",
     "GetNavPointsRequest",
     "GetNavPointsResponse",
@@ -73,6 +79,8 @@ __all__ = [
     "ImportMap",
     "ImportMapRequest",
     "ImportMapResponse",
+    "Landmark",
+    "LandmarkDetections",
     "ListMaps",
     "ListMapsRequest",
     "ListMapsResponse",
@@ -96,6 +104,9 @@ __all__ = [
     "PatrolResult",
     "PointConnection",
     "PointRef",
+    "RelocalizeLandmarks",
+    "RelocalizeLandmarksRequest",
+    "RelocalizeLandmarksResponse",
     "SetChargePose",
     "SetChargePoseRequest",
     "SetChargePoseResponse",
@@ -732,6 +743,78 @@ ComputeCoveragePath = define_service("zenros_msgs/ComputeCoveragePath",
                                      ComputeCoveragePathRequest, ComputeCoveragePathResponse)
 
 
+# ------------------------------------------------------------------ landmarks
+
+
+class Landmark(Message):
+    """A reflector of a map: its centre (x, y) in ``map`` and its radius (m)."""
+
+    __msgtype__ = "zenros_msgs/Landmark"
+    id: str = ""
+    x: float = 0.0
+    y: float = 0.0
+    radius: float = 0.0
+
+
+class LandmarkDetections(Message):
+    """The reflectors one scan saw: their centres in ``header.frame_id`` (base_link), and
+    how many strong returns each."""
+
+    __msgtype__ = "zenros_msgs/LandmarkDetections"
+    header: Header = msgspec.field(default_factory=Header)
+    points: list[Point] = msgspec.field(default_factory=list)
+    returns: list[int] = msgspec.field(default_factory=list)
+
+
+class GetLandmarksRequest(Message):
+    __msgtype__ = "zenros_msgs/GetLandmarksRequest"
+    map_name: str = ""
+
+
+class GetLandmarksResponse(Message):
+    __msgtype__ = "zenros_msgs/GetLandmarksResponse"
+    map_name: str = ""
+    landmarks: list[Landmark] = msgspec.field(default_factory=list)
+
+
+GetLandmarks = define_service("zenros_msgs/GetLandmarks", GetLandmarksRequest,
+                              GetLandmarksResponse)
+
+
+class RelocalizeLandmarksRequest(Message):
+    """``use_estimate``: the current estimate breaks ties between equally good fits (and
+    is what a fit is compared with); false searches the whole map by the reflectors'
+    pairwise distances alone. ``min_matches``: reflectors a fit must match (at least 2)."""
+
+    __msgtype__ = "zenros_msgs/RelocalizeLandmarksRequest"
+    use_estimate: bool = True
+    min_matches: int = 2
+
+
+class RelocalizeLandmarksResponse(Message):
+    """``success`` false with the reason in ``message`` (too few reflectors seen or
+    matched, an ambiguous fit, no scan, a map without landmarks); else ``pose`` (the robot
+    in ``map``, now nav's estimate), the reflectors ``detected`` and ``matched`` (their
+    ``ids``), the fit's ``rms_error`` (m) and how far it moved the estimate (``shift``,
+    ``turn``)."""
+
+    __msgtype__ = "zenros_msgs/RelocalizeLandmarksResponse"
+    success: bool = False
+    message: str = ""
+    map_name: str = ""
+    pose: Pose2D = msgspec.field(default_factory=Pose2D)
+    detected: int = 0
+    matched: int = 0
+    ids: list[str] = msgspec.field(default_factory=list)
+    rms_error: float = 0.0
+    shift: float = 0.0
+    turn: float = 0.0
+
+
+RelocalizeLandmarks = define_service("zenros_msgs/RelocalizeLandmarks",
+                                     RelocalizeLandmarksRequest, RelocalizeLandmarksResponse)
+
+
 NAV_SERVICE_NAMES: dict[ServiceType[Any, Any], str] = {
     ListMaps: "map_server/list_maps",
     GetCurrentMap: "map_server/current_map",
@@ -753,6 +836,8 @@ NAV_SERVICE_NAMES: dict[ServiceType[Any, Any], str] = {
     ListPointConnections: "list_point_connections",
     AddPointConnection: "add_point_connection",
     DeletePointConnection: "delete_point_connection",
+    GetLandmarks: "get_landmarks",
+    RelocalizeLandmarks: "relocalize_landmarks",
 }
 """Nav's map, path and nav point services by type (one service each), their names
 relative to the robot's namespace: what the gateway and the tasks service call."""

@@ -34,7 +34,7 @@ def test_import_copies_the_map_and_its_dock_becomes_the_charge_pose(tmp_path: Pa
     assert store.import_map(DEMO_MAP) == "office"
     folder = tmp_path / "maps" / "office"
     assert {p.name for p in folder.iterdir()} == {"office.yaml", "office.pgm", "poses.yaml",
-                                                  NAV_FILE}
+                                                  "landmarks.yaml", NAV_FILE}
     assert store.load("office").grid.shape == (400, 600)
     assert store.nav_data("office").charge_pose == Pose2D(x=22.0, y=-8.78, theta=-np.pi / 2)
     info = store.info("office")
