@@ -142,7 +142,7 @@ def test_no_route_or_an_elevator_is_refused(rig: Rig) -> None:
     assert wait_for(lambda: rig.http.get("/task", params={"id": task["id"]}).json()["state"]
                     == "ERROR", 20)
     sub = rig.http.get("/task", params={"id": task["id"]}).json()["sub_tasks"][0]
-    assert "elevator connection" in sub["result"] and "no elevator" in sub["result"]
+    assert "elevator connection" in sub["result"] and "knows no building" in sub["result"]
     assert rig.http.get("/navigation/current_map").json()["name"] == "office"
     rig.clear()
 

@@ -3,7 +3,8 @@
 
 from __future__ import annotations
 
-from zenros.maps.maproute import NoRoute, find_route, links_of
+from zenros.building import elevator_of_path
+from zenros.maps.maproute import Hop, NoRoute, find_route, links_of
 from zenros.msgs import zenros_msgs as zm
 
 from ..errors import Conflict, NotFound
@@ -24,6 +25,21 @@ async def check_route(link: NavServices, current: str, target: str) -> None:
     except NoRoute as exc:
         raise Conflict(f"{exc}: POST /navigation/point_connections links maps") from exc
     for hop in route:
-        if hop.type != "direct":
+        why = "" if hop.type == "direct" else _unrideable(link, hop)
+        if why:
             raise Conflict(f"the route from map {current!r} to map {target!r} needs the "
-                           f"{hop.describe()}: the simulated robot has no elevator")
+                           f"{hop.describe()}: {why}")
+
+
+def _unrideable(link: NavServices, hop: Hop) -> str:
+    """Why an elevator connection cannot be ridden now ("" when its controller runs)."""
+    if hop.type != "elevator":
+        return f"unknown connection type {hop.type!r}"
+    name = elevator_of_path(hop.leave.path)
+    if name is None or elevator_of_path(hop.enter.path) != name:
+        return (f"its points are not the hall points of one elevator (paths "
+                f"{hop.leave.path!r}, {hop.enter.path!r}; docs/building.md)")
+    if not link.node.graph.servers(f"/building/elevators/{name}/command"):
+        return (f"no elevator controller serves elevator {name!r} (launch with "
+                "building:=PATH; docs/building.md)")
+    return ""

@@ -41,6 +41,7 @@ class NavServices:
     (latched); `publish_initialpose`."""
 
     def __init__(self, node: Node, presence: Presence, timeout: float = 10.0) -> None:
+        self.node = node
         self.timeout = timeout
         self.presence = presence
         self._clients: dict[ServiceType[Any, Any], Client[Any, Any]] = {
