@@ -22,9 +22,10 @@ from zenros.msgs.zenros_msgs.elevator import ElevatorState
 
 from .bodies import Body
 
-__all__ = ["MAX_JOBS", "Car", "CarError", "Phase"]
+__all__ = ["MAX_JOBS", "MAX_STEP", "Car", "CarError", "Phase"]
 
 MAX_JOBS = 64  # calls one car keeps queued (a bound on bad input, far above any building's)
+MAX_STEP = 1.0  # s: a longer step (or one back in time) is a leap of the clock, not motion
 
 
 class CarError(ValueError):
@@ -163,8 +164,11 @@ class Car:
              lost: Mapping[str, Body] | None = None) -> None:
         """Move on to ``now`` (s): read the ``bodies`` (the live ones: light curtain,
         riders), drop a holder ``lost`` (silent past its lease, last seen outside the car),
-        lapse claims, arrive, move the doors, ride."""
-        dt = max(0.0, now - self._t)
+        lapse claims, arrive, move the doors, ride. A leap of the clock (back, or more than
+        `MAX_STEP` on: a simulation's clock starting or jumping) moves nothing."""
+        dt = now - self._t
+        if not 0.0 <= dt <= MAX_STEP:
+            dt = 0.0
         self._t = now
         self._sense(bodies)
         self._check_lost(lost or {})
