@@ -1,5 +1,6 @@
 """REST ``/navigation/path``, ``nav_points``, ``virtual_wall``, ``skip_area`` (docs/robot-api.md
-§6.6, §6.8), on the nav service's path, nav-point, wall and keep-out services."""
+§6.6, §6.8) and ``landmarks`` (§6.12), on the nav service's path, nav-point, wall, keep-out
+and landmark services."""
 
 from __future__ import annotations
 
@@ -61,6 +62,10 @@ class AreaBody(msgspec.Struct, forbid_unknown_fields=True):
 class MapRefQuery(msgspec.Struct, forbid_unknown_fields=True):
     map_name: Name
     path_name: OptName = ""
+
+
+class LandmarkQuery(msgspec.Struct, forbid_unknown_fields=True):
+    map_name: OptName = ""
 
 
 def _parsed(fn: Callable[[str], T], text: str) -> T:
@@ -204,8 +209,18 @@ async def delete_areas(call: Call[None, MapRefQuery]) -> Answer:
     return {"status": "ok"}
 
 
+async def get_landmarks(call: Call[None, LandmarkQuery]) -> Answer:
+    """A map's reflectors (the current map's without ``map_name``): ``landmarks``, each
+    ``id``, ``x``, ``y``, ``theta`` (0: a reflector has no heading) and ``radius`` (m)."""
+    link = call.ctx.nav_services
+    res = await link.call(zm.GetLandmarks, zm.GetLandmarksRequest(map_name=call.query.map_name))
+    return {"map_name": res.map_name, "landmarks": [
+        {"id": m.id, "x": m.x, "y": m.y, "theta": 0.0, "radius": m.radius}
+        for m in res.landmarks]}
+
+
 def add_record_routes(api: Api) -> None:
-    """Route the path, nav-point, virtual-wall and skip-area operations."""
+    """Route the path, nav-point, virtual-wall, skip-area and landmark operations."""
     for method, path, fn, kw in (
         ("GET", "/navigation/path", get_path, {}),
         ("POST", "/navigation/path", set_path, {}),
@@ -221,5 +236,6 @@ def add_record_routes(api: Api) -> None:
         ("GET", "/navigation/skip_area", get_areas, {}),
         ("POST", "/navigation/skip_area", set_areas, {}),
         ("DELETE", "/navigation/skip_area", delete_areas, {}),
+        ("GET", "/navigation/landmarks", get_landmarks, {}),
     ):
         api.add(method, path, fn, **kw)
