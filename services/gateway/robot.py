@@ -20,6 +20,7 @@ from .ports.asr_link import AsrLink
 from .ports.blockly_link import BlocklyLink
 from .ports.calibration_link import CalibrationLink
 from .ports.coverage_link import CoverageLink
+from .ports.elevator_link import ElevatorLink
 from .ports.fs_sandbox import FileRoot
 from .ports.host_commands import HostCommands
 from .ports.host_link import HostLink
@@ -133,7 +134,8 @@ class Robot:
             commands=_host_commands(options.config.host_commands),
             updater=Updater(options.config.update_source, options.config.update_package,
                             options.config.allow_update, data_dir),
-            tls_cert=options.tls_cert, blockly=BlocklyLink(node, self.core.presence))
+            tls_cert=options.tls_cert, blockly=BlocklyLink(node, self.core.presence),
+            elevators=ElevatorLink(node))
         self.api: Api = build_api(self.context, options.max_body, node.logger)
 
     def speak(self, text: str) -> None:

@@ -16,6 +16,7 @@ from .routes.blockly import add_blockly_routes
 from .routes.calibration import add_calibration_routes
 from .routes.connections import add_connection_routes
 from .routes.coverage import add_coverage_routes
+from .routes.elevators import add_elevator_routes
 from .routes.extras import add_extra_routes
 from .routes.fs import add_fs_routes
 from .routes.goals import add_goal_routes
@@ -44,7 +45,7 @@ ROUTES: tuple[Callable[[Api], None], ...] = (
     add_fs_routes, add_tts_routes, add_mapping_routes, add_map_transfer_routes,
     add_image_routes, add_actuator_routes, add_host_routes, add_asr_routes,
     add_video_routes, add_voice_routes, add_update_routes, add_blockly_routes,
-    add_onvif_routes, add_calibration_routes, add_people_routes)
+    add_onvif_routes, add_calibration_routes, add_people_routes, add_elevator_routes)
 
 
 async def index(call: Call[None, None]) -> Answer:

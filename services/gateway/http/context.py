@@ -11,6 +11,7 @@ from ..ports.asr_link import AsrLink
 from ..ports.blockly_link import BlocklyLink
 from ..ports.calibration_link import CalibrationLink
 from ..ports.coverage_link import CoverageLink
+from ..ports.elevator_link import ElevatorLink
 from ..ports.fs_sandbox import FileRoot
 from ..ports.host_commands import HostCommands
 from ..ports.host_link import HostLink
@@ -61,4 +62,5 @@ class Context:
     commands: HostCommands | None = None  # the operator's host commands (None: no robot)
     updater: Updater | None = None  # software updates (None: no robot node)
     blockly: BlocklyLink | None = None  # the Blockly programs (None: no robot node)
+    elevators: ElevatorLink | None = None  # the building's elevators (None: no robot node)
     tls_cert: str = ""  # the REST server's certificate (empty: plain HTTP)  # the launch supervising the robot (None: no robot node)
