@@ -92,6 +92,15 @@ class Floors:
         self.level = new
         return pose
 
+    def place_body(self, ident: str, level: int, body: Obstacle | None) -> None:
+        """Put another robot's ``body`` (obstacle id ``ident``) on ``level``, off every other
+        floor; None takes it out of the building."""
+        for lv, obstacles in self._obstacles.items():
+            if lv == level and body is not None:
+                obstacles[ident] = body
+            else:
+                obstacles.pop(ident, None)
+
     def move_to(self, level: int) -> None:
         """Put the robot on ``level`` (a teleport to another floor).
 

@@ -6,10 +6,13 @@ when the car it rides stands there.
 Topics: ``/building/elevators/<name>/state`` (zenros_msgs/ElevatorState, latched, from the
 controller) in; ``/building/bodies`` (zenros_msgs/BuildingBody: the controller's light
 curtain) and ``building/level`` (std_msgs/Int32, latched: the floor the robot is on) out.
+The other robots of the building are their ``/building/bodies`` on their floors (the fleet's
+shared world, which knows no floors, stands aside in a building).
 """
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Annotated
 
@@ -25,7 +28,9 @@ from zenros.qos import QOS_LATCHED
 
 from ..device import Chassis, Device, Endpoints
 from ..floors import Floors
+from ..obstacles import Obstacle, ObstacleError
 from ..param_types import Positive
+from ..shared_world import BODY_PREFIX, MAX_RADIUS, STALE
 
 __all__ = ["BuildingDevice", "BuildingParameters"]
 
@@ -54,6 +59,8 @@ class BuildingDevice(Device[BuildingParameters]):
         self.rate = params.building_rate
         self._robot = "/"
         self._sent_level: int | None = None
+        self._heard: dict[str, float] = {}  # other robots' bodies: when last heard (wall)
+        self.refused = 0
 
     def open(self, node: Endpoints) -> None:
         floors = self.floors
@@ -65,6 +72,26 @@ class BuildingDevice(Device[BuildingParameters]):
         for e in floors.building.elevators:
             node.listen(ElevatorState, f"/building/elevators/{e.name}/state", self._on_state,
                         QOS_LATCHED)
+        node.listen(BuildingBody, "/building/bodies", self._on_body)
+
+    def _on_body(self, msg: BuildingBody) -> None:
+        """Another robot of the building: its body on its floor (as the shared world keeps
+        bodies without floors: docs/chassis.md, Several robots in one world)."""
+        floors = self.floors
+        if floors is None or msg.robot == self._robot:
+            return
+        ident = BODY_PREFIX + msg.robot
+        try:
+            if not msg.robot or not 0 < msg.radius <= MAX_RADIUS:
+                raise ObstacleError(f"not a robot body: {msg.robot!r} r={msg.radius}")
+            floors.building.floor(msg.level)
+            body = Obstacle(ident, "circle", msg.x, msg.y, msg.theta, msg.radius)
+        except (ObstacleError, LookupError) as exc:
+            self.refused += 1
+            self.chassis.logger.debug("body refused: %s", exc)
+            return
+        floors.place_body(ident, msg.level, body)
+        self._heard[ident] = time.monotonic()
 
     def _on_state(self, msg: ElevatorState) -> None:
         if self.floors is not None and not self.floors.on_state(msg):
@@ -89,6 +116,10 @@ class BuildingDevice(Device[BuildingParameters]):
         floors = self.floors
         if floors is None:
             return
+        now = time.monotonic()
+        for ident in [i for i, t in self._heard.items() if now - t > STALE]:
+            del self._heard[ident]
+            floors.place_body(ident, floors.level, None)
         t = self.chassis.sim.truth
         self._bodies.publish(BuildingBody(
             header=Header(stamp=stamp, frame_id="map"), robot=self._robot, level=floors.level,

@@ -13,6 +13,7 @@ from zenros.pubsub import Publisher
 from ..device import Chassis, Device, Endpoints
 from ..param_types import Positive
 from ..shared_world import SharedWorld
+from .building import BuildingDevice
 
 __all__ = ["FleetDevice", "FleetParameters"]
 
@@ -42,6 +43,11 @@ class FleetDevice(Device[FleetParameters]):
     def open(self, node: Endpoints) -> None:
         topic = self.params.world_topic
         if not topic:
+            return
+        building = self.chassis.device(BuildingDevice)
+        if building is not None and building.floors is not None:
+            # in a building the others are their /building/bodies, each on its floor
+            self.rate = 0.0
             return
         sim = self.chassis.sim
         self.shared = SharedWorld(sim.world, node.namespace, sim.radius)

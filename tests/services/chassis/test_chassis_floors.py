@@ -12,13 +12,13 @@ import yaml
 from zenros.building import load_building
 from zenros.errors import ConfigError
 from zenros.maps import load_map
-from zenros.msgs.zenros_msgs import ElevatorState
-from zenros.msgs.zenros_msgs import SetObstaclesRequest
+from zenros.msgs.zenros_msgs import ElevatorState, SetObstaclesRequest
 from zenros.se2 import Pose2
 from zenros.services.chassis.drive import Drive, DriveLimits
 from zenros.services.chassis.floors import DOOR_PREFIX, Floors
 from zenros.services.chassis.laser import Laser, LaserConfig
 from zenros.services.chassis.obstacle_requests import apply_request
+from zenros.services.chassis.obstacles import Obstacle
 from zenros.services.chassis.sim import Simulation
 from zenros.services.chassis.world import World
 
@@ -138,3 +138,17 @@ def test_a_robot_outside_the_car_stays_on_its_floor(tower: Floors) -> None:
     assert tower.level == 3
     with pytest.raises(LookupError):
         tower.move_to(4)
+
+
+def test_another_robot_is_on_its_own_floor(tower: Floors) -> None:
+    body = Obstacle("robot:/robot2", "circle", 5.0, 0.0, radius=0.2)
+    tower.place_body(body.id, 2, body)
+    assert tower.world.body_free(5.0, 0.0, R)  # on floor 2, not here
+    tower.move_to(2)
+    assert not tower.world.body_free(5.0, 0.0, R)
+    tower.place_body(body.id, 1, body)  # it rode down
+    assert tower.world.body_free(5.0, 0.0, R)
+    tower.move_to(1)
+    assert not tower.world.body_free(5.0, 0.0, R)
+    tower.place_body(body.id, 1, None)  # gone
+    assert tower.world.body_free(5.0, 0.0, R)
