@@ -33,6 +33,7 @@ from .motion.behavior import Behavior, NavParams, Sense
 from .motion.controller import ControllerParams
 from .motion.docking import DockParams
 from .motion.navigate import Codes, Navigate
+from .motion.traffic import TrafficGate
 from .planning import PlannerParams
 from .planning.global_planner import GlobalPlanner, PlanWorker
 from .planning.interface import PlannerContext
@@ -111,6 +112,8 @@ class NavCore:
         self._mode: Mode = config.localization  # the ``localization`` parameter's mode
         self._start_at: Pose2 | None = None  # map -> odom for the next map (leave_mapping)
         self.match_score: float | None = None  # the last scan match's (0..1)
+        self.traffic: TrafficGate | None = None
+        """Schedule mode's gate, handed to every navigation (the node sets it)."""
 
     # ------------------------------------------------------------------ NavTools
 
@@ -305,7 +308,8 @@ class NavCore:
     # ------------------------------------------------------------------ behaviours
 
     def make_nav(self, goal: Pose2, codes: Codes = Codes()) -> Navigate:
-        return Navigate([goal], self, self.config.nav, self.config.controller, codes)
+        return Navigate([goal], self, self.config.nav, self.config.controller, codes,
+                        gate=self.traffic)
 
     def sense(self, now: float) -> Sense:
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)

@@ -84,6 +84,7 @@ from .people.control import FollowControl
 from .people.follow import WALL_REACH, FollowParams, off_walls
 from .people.legs import detect_people
 from .refusals import coded
+from .schedule_link import ScheduleLink
 
 __all__ = ["NavNode"]
 
@@ -157,6 +158,7 @@ class NavNode(LifecycleNode):
             self.logger.info("building %s: its floors are in the map store (%d new elevator "
                              "connections)", p.building, added)
         self._serve_actions()
+        self.schedule = ScheduleLink(self, p)  # schedule mode: off unless schedule_mode
         # no ticks at rest: the loop sleeps while nothing drives, and a behaviour started or
         # halted wakes it (auto-charging is checked at the idle loop's 1 s steps)
         self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,

@@ -59,6 +59,15 @@ class NavParameters(msgspec.Struct, kw_only=True):
     auto_charge: Annotated[bool, Meta(description="dock when the battery runs low")] = False
     go_charge_percentage: Annotated[float, Meta(
         ge=0, le=1, description="battery fraction that sends it to dock")] = 0.2
+    # schedule mode (docs/fleet.md, "Traffic schedule")
+    schedule_mode: Annotated[bool, Meta(description=(
+        "start in schedule mode: drive only where the schedule manager grants "
+        "(set_schedule_mode turns it on and off)"))] = False
+    schedule_server: Annotated[str, Meta(
+        pattern=r"^[A-Za-z0-9_]{1,64}$",
+        description="the schedule server whose traffic schedule schedule mode follows")] = "local"
+    schedule_lease: Annotated[Positive, Meta(description=(
+        "seconds the manager holds the robot's reservations without a renewal"))] = 3.0
     # costmaps
     robot_radius: Annotated[Positive, Meta(
         description="inscribed radius (m) for costmaps and collisions")] = 0.22

@@ -26,7 +26,9 @@ from .calls import call_port
 
 __all__ = ["SERVICES", "NavServices", "pose_stamped"]
 
-SERVICES: Final[dict[ServiceType[Any, Any], str]] = zm.NAV_SERVICE_NAMES
+SERVICES: Final[dict[ServiceType[Any, Any], str]] = {
+    **zm.NAV_SERVICE_NAMES, zm.SetScheduleMode: "set_schedule_mode",
+    zm.GetScheduleMode: "get_schedule_mode"}
 """Nav's services the gateway calls, by type: one service per type."""
 
 

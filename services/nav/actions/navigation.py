@@ -95,7 +95,7 @@ class NavActions(ActionBase):
         result = NavigateThroughPosesResult()
         goals = [self._map_pose(ps) for ps in goal.poses]
         b = Navigate(goals, self.core, self.core.config.nav, self.core.config.controller,
-                     THROUGH_CODES)
+                     THROUGH_CODES, gate=self.core.traffic)
 
         def statuses() -> list[WaypointStatus]:
             return [WaypointStatus(waypoint_status=w.status, waypoint_index=i,
@@ -147,7 +147,8 @@ class NavActions(ActionBase):
             return result
         end = Pose2(float(xy[-1, 0]), float(xy[-1, 1]), yaw or 0.0)
         b = Navigate([end], self.core, self.core.config.nav, self.core.config.controller,
-                     FOLLOW_CODES, fixed_path=xy, final_yaw=yaw is not None)
+                     FOLLOW_CODES, fixed_path=xy, final_yaw=yaw is not None,
+                     gate=self.core.traffic)
 
         def feedback(_: Behavior) -> FollowPathFeedback:
             d = b.distance_remaining if math.isfinite(b.distance_remaining) else 0.0

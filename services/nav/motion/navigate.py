@@ -26,6 +26,7 @@ from .behavior import Behavior, NavParams, NavTools, Sense
 from .collision import arc_poses, first_collision
 from .controller import ControllerParams, PurePursuit
 from .recovery import Recovery, recovery_cycle
+from .traffic import TrafficGate
 
 __all__ = ["Codes", "Navigate", "WaypointState"]
 
@@ -56,8 +57,10 @@ class Navigate(Behavior):
 
     def __init__(self, goals: list[Pose2], tools: NavTools, params: NavParams,
                  controller: ControllerParams, codes: Codes = Codes(), *,
-                 fixed_path: np.ndarray | None = None, final_yaw: bool = True) -> None:
+                 fixed_path: np.ndarray | None = None, final_yaw: bool = True,
+                 gate: TrafficGate | None = None) -> None:
         super().__init__()
+        self.gate = gate  # schedule mode's traffic gate (motion/traffic.py); None: none
         self.goals = list(goals)
         self.waypoints = [WaypointState(g) for g in goals]
         self.tools, self.p, self.codes = tools, params, codes
@@ -193,12 +196,37 @@ class Navigate(Behavior):
         self.speed = 0.0
         return 0.0, 0.0
 
+    def finish(self, ok: bool, code: int = 0, msg: str = "") -> tuple[float, float]:
+        if self.gate is not None:
+            self.gate.end()
+        return super().finish(ok, code, msg)
+
+    def _gate_limit(self, sense: Sense) -> float | None:
+        """How far along the path the traffic gate lets the robot go (None: the gate's
+        off or has no limit)."""
+        if self.gate is None or self.path is None or sense.pose is None:
+            return None
+        return self.gate.limit(sense.now, sense.pose, self.path, self.pp.track.position())
+
+    def _wait_for_traffic(self, sense: Sense) -> tuple[float, float]:
+        """Stopped at the end of the grant: not blocked, no recovery, no progress timeout."""
+        self.state = "waiting"
+        self._blocked_since = None
+        self._progress_at = (sense.now, math.inf)
+        return self._stop(sense)
+
     def _follow(self, sense: Sense) -> tuple[float, float]:
         assert sense.pose is not None
         pose = sense.pose
         cost = self.tools.cost_at(pose.x, pose.y)
         sent = (self.pp.last_v, self.pp.last_w)
-        out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, self._via_limit())
+        cap = self._gate_limit(sense)
+        carrot_limit = self._via_limit()
+        if cap is not None:
+            if cap - self.pp.track.position() <= 0.05:
+                return self._wait_for_traffic(sense)
+            carrot_limit = cap if carrot_limit is None else min(carrot_limit, cap)
+        out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, carrot_limit)
         self.distance_remaining = out.distance_remaining
         self._update_waypoints()
         if out.state == "goal_reached":
@@ -208,10 +236,16 @@ class Navigate(Behavior):
             self.distance_remaining = 0.0
             return self.finish(True)
         v, w = out.v, out.w
+        if cap is not None and v > 0:  # slow enough to stop at the end of the grant
+            room = max(0.0, cap - self.pp.track.position() - 0.03)
+            top = math.sqrt(2.0 * self.pp.params.max_linear_accel * room)
+            if v > top:
+                v, w = top, w * top / v
+                self.pp.reset_speed(v, w)
         if self._collides(pose, v, w, sense):
             # the arc to a nearer carrot hugs the plan more closely: try that before stopping
             self.pp.reset_speed(*sent)
-            alt = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, self._via_limit(),
+            alt = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, carrot_limit,
                                   lookahead=self.pp.params.min_lookahead_dist, commit=False)
             if alt.state != out.state or self._collides(pose, alt.v, alt.w, sense):
                 return self._blocked(sense)

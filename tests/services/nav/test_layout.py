@@ -19,6 +19,7 @@ LAYERS: list[set[str]] = [
     {"core"},
     {"params"},
     {"actions", "diagnostics"},
+    {"schedule_link"},
     {"node"},
     {"__main__"},
 ]

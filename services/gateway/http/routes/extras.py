@@ -1,5 +1,6 @@
 """REST extras the simulated robot honours truthfully: log, topic snapshots, self-test and
-ROS parameters (docs/robot-api.md §3.1, §3.5); TTS is in rest_tts."""
+ROS parameters (docs/robot-api.md §3.1, §3.5), schedule mode (`schedule`); TTS is in
+rest_tts."""
 
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from zenros.msgs.diagnostic_msgs import DiagnosticStatus
 
 from ...ports.topic_hub import Slot, TopicError, TopicHub
 from ..api import Answer, Api, ApiError, Call
+from .schedule import schedule_manager, start_schedule_mode, stop_schedule_mode
 
 __all__ = ["add_extra_routes", "latest"]
 
@@ -125,15 +127,12 @@ async def put_param(call: Call[ParamBody, None]) -> Answer:
     return {"value": b.value}
 
 
-async def schedule_manager(call: Call[None, None]) -> Answer:
-    """The multi-robot schedule manager the robot is connected to: none (empty)."""
-    return {}
-
-
 def add_extra_routes(api: Api) -> None:
     """Route the extra system operations."""
     api.add("GET", "/system/log", log)
     api.add("GET", "/system/schedule_manager", schedule_manager)
+    api.add("GET", "/navigation/start_schedule_mode", start_schedule_mode)
+    api.add("GET", "/navigation/stop_schedule_mode", stop_schedule_mode)
     api.add("GET", "/system/topic", topic)
     api.add("GET", "/navigation/wind_info", wind_info)
     api.add("GET", "/system/self_test", self_test)
