@@ -98,9 +98,11 @@ class LaserDevice(Device[LaserParameters]):
         return int(getattr(self.chassis.sim.world, "generation", 0))
 
     def _load_reflectors(self) -> Reflectors:
-        """The reflectors of the chassis's map (none, with a warning, if the file is bad)."""
+        """The reflectors of the map the world holds now (the file it was loaded from, else
+        the chassis's ``map_path``); none, with a warning, if the file is bad."""
         try:
-            return Reflectors(load_landmarks(self.chassis.map_path))
+            return Reflectors(load_landmarks(self.chassis.sim.world.map.source
+                                             or self.chassis.map_path))
         except MapError as exc:
             self.chassis.logger.warning("no reflectors for the laser: %s", exc)
             return Reflectors()
@@ -116,8 +118,8 @@ class LaserDevice(Device[LaserParameters]):
 
     def scan(self) -> tuple[np.ndarray, np.ndarray]:
         """The ranges and intensities from where the laser is now. After the world took
-        another map (a floor change), the reflectors are read again from the chassis's
-        ``map_path``."""
+        another map (a floor change), the reflectors are read again, beside that map's
+        YAML."""
         if self._generation() != self._world_generation:
             self._world_generation = self._generation()
             self.reflectors = self._load_reflectors()

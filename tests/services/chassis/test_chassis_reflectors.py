@@ -3,11 +3,17 @@
 
 from __future__ import annotations
 
+import logging
 import math
+import shutil
 import time
+from pathlib import Path
 
 import numpy as np
-from zenros.maps import Reflector
+from zenros.maps import Reflector, load_landmarks, load_map
+from zenros.params import Parameters
+from zenros.services.chassis.config import DEMO_MAP, declare_chassis
+from zenros.services.chassis.devices import LaserDevice
 from zenros.services.chassis.laser import Laser, LaserConfig
 from zenros.services.chassis.reflectors import PLAIN_FAR, PLAIN_NEAR, STRONG, Reflectors
 from zenros.services.chassis.world import World
@@ -65,3 +71,18 @@ def test_intensities_cost_little(room: World) -> None:
             marks.intensities(2.5, 1.5, 0.3, angles, ranges, cfg.range_max)
         best = min(best, (time.perf_counter() - t) / 20)
     assert best < 2e-3
+
+
+def test_the_laser_device_takes_the_reflectors_of_the_floor_it_is_on(tmp_path: Path) -> None:
+    """The office's strips are seen from the start; after the world takes another floor's
+    map (a copy of the office with no landmarks.yaml) the scan has none."""
+    cfg = declare_chassis(Parameters("/chassis", {"map": str(DEMO_MAP)}))
+    laser = cfg.build(logging.getLogger("test")).device(LaserDevice)
+    assert laser is not None and len(laser.reflectors) == len(load_landmarks(DEMO_MAP))
+    assert laser.scan()[1].max() >= STRONG
+    for name in ("office.yaml", "office.pgm"):
+        shutil.copy(DEMO_MAP.parent / name, tmp_path / name)
+    laser.chassis.sim.world.take_map(World(load_map(tmp_path / "office.yaml")))
+    ranges, intensities = laser.scan()
+    assert len(laser.reflectors) == 0 and intensities.max() < STRONG
+    assert intensities.shape == ranges.shape
