@@ -14,7 +14,7 @@ from zenros.errors import ZenrosError
 from zenros.msgs.zenros_msgs import ElevatorCommand, ElevatorCommandRequest, ElevatorState
 from zenros.qos import QOS_LATCHED
 
-from .robot import Outcome
+from .outcome import Outcome
 
 __all__ = ["SILENCE", "ElevatorLink"]
 

@@ -14,18 +14,12 @@ from typing import TYPE_CHECKING, Literal, NamedTuple, Protocol
 from zenros.maps.maproute import Link
 from zenros.msgs.zenros_msgs.blockly import BlocklyProgram
 
+from .outcome import Outcome
+
 if TYPE_CHECKING:
     from .elevator_link import ElevatorLink
 
 __all__ = ["Feedback", "Outcome", "Robot"]
-
-OutcomeName = Literal["complete", "fail", "error", "preempted"]
-
-
-class Outcome(NamedTuple):
-    name: OutcomeName
-    reason: str = ""
-
 
 class Feedback(NamedTuple):
     """Where a navigating robot is and how far it still has to go (m)."""

@@ -183,6 +183,38 @@ def test_goes_to_a_point_on_another_map(rig: Rig) -> None:
     assert rig.near(1.0, -0.5)
 
 
+def test_multi_map_task_goes_from_one_point_to_another_on_another_map(rig: Rig) -> None:
+    rig.clear()
+    assert rig.connect(("office", 1), ("office2", 0)).status_code == 200
+    if rig.http.get("/navigation/current_map").json()["name"] != "office":
+        back = rig.http.post("/action", json={"type": "switch_map_action", "map": "office",
+                                              "path": "p1", "start_index": -1}).json()
+        rig.http.get("/task/start", params={"id": back["id"]})
+        assert wait_for(lambda: rig.http.get("/navigation/current_map").json()["name"]
+                        == "office", 20)
+    body = {"from": {"map": "office", "path": "p1", "index": 0},
+            "to": {"map": "office2", "path": "p1", "index": 1, "level": 1}}
+    error(rig.http.post("/navigation/multi_map_task", json={**body, "to": {
+        "map": "nope", "index": 0}}), 404, "unknown map 'nope'")
+    error(rig.http.post("/navigation/multi_map_task", json={**body, "to": {
+        "map": "office2", "path": "p1", "index": 5}}), 404, "nav point 5 does not exist")
+    error(rig.http.post("/navigation/multi_map_task", json={"from": body["from"]}), 400, "to")
+    error(rig.http.post("/navigation/multi_map_task", json={**body, "via": 1}), 400, "via")
+    r = rig.http.post("/navigation/multi_map_task", json=body)
+    assert r.status_code == 200, r.text
+    task = r.json()
+    assert [(t["map"], t["index"]) for t in task["sub_tasks"]] == [("office", 0),
+                                                                   ("office2", 1)]
+    assert wait_for(lambda: rig.http.get("/task", params={"id": task["id"]}).json()["state"]
+                    in ("COMPLETE", "ERROR"), 60)
+    doc = rig.http.get("/task", params={"id": task["id"]}).json()
+    assert doc["state"] == "COMPLETE", [t.get("result") for t in doc["sub_tasks"]]
+    assert rig.http.get("/navigation/current_map").json()["name"] == "office2"
+    assert wait_for(lambda: rig.near(2.0, 1.5), 5), (rig.truth, [
+        (t.get("state"), t.get("result")) for t in doc["sub_tasks"]])
+    rig.clear()
+
+
 def test_switch_map_action_relocalises_at_start_index(rig: Rig) -> None:
     """Runs last: it leaves the robot's estimate at office2's desk wherever the robot is."""
     task = rig.http.post("/action", json={"type": "switch_map_action", "map": "office2",

@@ -1,7 +1,7 @@
 """REST ``/navigation/...`` goals and charging (docs/robot-api.md §6.4, §6.5).
 
-Goals that the spec answers with a task (start_nav_task, move_to_index, loop_task,
-go_charge) are tasks of the tasks service, so they show in ``/task`` and are tracked,
+Goals that the spec answers with a task (start_nav_task, move_to_index, multi_map_task,
+loop_task, go_charge) are tasks of the tasks service, so they show in ``/task`` and are tracked,
 paused and stopped like any other.
 """
 
@@ -19,7 +19,7 @@ from ...ports.map_goal import check_goal_free
 from ...state.core import NavUnavailable
 from ..api import Answer, Api, ApiError, Call
 from ..context import Context
-from ..fields import Angle, Coord, OptName
+from ..fields import Angle, Coord, Name, OptName
 from .mapping import refuse_while_mapping
 
 __all__ = ["add_goal_routes"]
@@ -38,6 +38,21 @@ class IndexQuery(msgspec.Struct, forbid_unknown_fields=True):
     map: OptName = ""
     path: OptName = ""
     level: int = 0
+
+
+class MapPoint(msgspec.Struct, forbid_unknown_fields=True):
+    """A nav point of any map: ``level`` is taken and not used (a building file gives each
+    floor map its level)."""
+
+    map: Name
+    index: Annotated[int, msgspec.Meta(ge=0, le=10000)]
+    path: OptName = ""
+    level: int = 0
+
+
+class MultiMapBody(msgspec.Struct, forbid_unknown_fields=True):
+    from_: MapPoint = msgspec.field(name="from")
+    to: MapPoint = msgspec.field(name="to")
 
 
 class LoopBody(msgspec.Struct, forbid_unknown_fields=True):
@@ -114,6 +129,35 @@ async def move_to_index(call: Call[None, IndexQuery]) -> Answer:
         check_goal_free(link.grid, x, y, f"nav point {q.index}")
         action = zm.NavAction(index=q.index, path=await current_path(call.ctx))
     return await run_task("navigation task", [action])
+
+
+async def _map_point(ctx: Context, p: MapPoint, start: str) -> zm.NavAction:
+    """The nav_action to nav point ``p`` from map ``start``: 404 for a point that does not
+    exist, 409 when no route of connections reaches its map."""
+    link = ctx.nav_services
+    names, _ = await link.maps()
+    if names and p.map not in names:
+        raise ApiError(404, f"unknown map {p.map!r}; known maps: {', '.join(names)}")
+    res = await link.call(zm.GetNavPoints, zm.GetNavPointsRequest(
+        map_name=p.map, path_name=p.path or await only_path(ctx, p.map)))
+    if not 0 <= p.index < len(res.points):
+        raise ApiError(404, f"nav point {p.index} does not exist: path {res.path_name!r} of "
+                            f"map {p.map!r} has {len(res.points)}")
+    if p.map != start:
+        await check_route(link, start, p.map)
+    return zm.NavAction(index=p.index, map=p.map, path=res.path_name)
+
+
+async def multi_map_task(call: Call[MultiMapBody, None]) -> Answer:
+    """Go to nav point ``from`` (on its map: across maps from the current one if need be),
+    then to nav point ``to`` on its map, through the point connections (elevators
+    included); returns the started task of two nav_actions."""
+    refuse_while_mapping(call.ctx, "go to a nav point")
+    b = call.body
+    current = await call.ctx.nav_services.current_map()
+    first = await _map_point(call.ctx, b.from_, current)
+    second = await _map_point(call.ctx, b.to, b.from_.map)
+    return await call.ctx.tasks.run_task("multi-map task", [first, second])
 
 
 async def stop_nav_task(call: Call[None, None]) -> Answer:
@@ -216,6 +260,7 @@ def add_goal_routes(api: Api) -> None:
     """Route the goal, patrol and charging operations."""
     api.add("POST", "/navigation/start_nav_task", start_nav_task)
     api.add("GET", "/navigation/move_to_index", move_to_index)
+    api.add("POST", "/navigation/multi_map_task", multi_map_task)
     api.add("GET", "/navigation/stop_nav_task", stop_nav_task)
     api.add("GET", "/navigation/loop_task", get_loop)
     api.add("POST", "/navigation/loop_task", post_loop)
