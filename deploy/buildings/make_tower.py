@@ -3,7 +3,8 @@
     python deploy/buildings/make_tower.py [OUT_DIR]     # default: deploy/buildings/tower
 
 Writes OUT_DIR/tower.yaml (the building, `zenros.building`) and one map folder a floor,
-floor1/ .. floor3/ (map_server YAML + PGM, 0.05 m cells, the office's map frame). Each floor
+floor1/ .. floor3/ (map_server YAML + PGM, 0.05 m cells, the office's map frame; poses.yaml;
+landmarks.yaml: the office's reflector strips, which nav relocalises on after a ride). Each floor
 is the office of deploy/maps/make_office.py with the elevator's shaft in the north-east
 office: a 1.6 m deep, 1.4 m wide car whose doors open south onto the main corridor at
 x = 23.6 m in map. Floor 1 keeps the office's dock and start pose; floors 2 and 3 have
@@ -18,10 +19,10 @@ from pathlib import Path
 
 import yaml
 
-from zenros.maps import GridMap, MapPose, MapPoses, save_map, save_poses
+from zenros.maps import GridMap, MapPose, MapPoses, save_landmarks, save_map, save_poses
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "maps"))
-from make_office import ORIGIN, RES, WALL, Floor, draw  # noqa: E402
+from make_office import ORIGIN, RES, WALL, Floor, draw, reflectors  # noqa: E402
 
 # the car in building-local metres (make_office's drawing frame)
 CAR_X, CAR_Y = 26.6, 11.8
@@ -46,14 +47,14 @@ FURNITURE = {
 }
 
 
-def floor(level: int) -> GridMap:
+def floor(level: int) -> Floor:
     f = draw()
     if level != 1:
         f.free(24.5, 0.75, 25.5, 1.0)  # no dock on the upper floors
         for box in FURNITURE[level]:
             f.block(*box)
     add_shaft(f)
-    return GridMap(f.grid, RES, ORIGIN)
+    return f
 
 
 def main(out: Path) -> None:
@@ -63,7 +64,9 @@ def main(out: Path) -> None:
     for level in (1, 2, 3):
         folder = out / f"floor{level}"
         folder.mkdir(parents=True, exist_ok=True)
-        save_map(floor(level), folder / f"floor{level}.yaml")
+        f = floor(level)
+        save_map(GridMap(f.grid, RES, ORIGIN), folder / f"floor{level}.yaml")
+        save_landmarks(reflectors(f), folder / f"floor{level}.yaml")  # the office's strips
         start = MapPose(0.0, 0.0, 0.0)
         dock = MapPose(25.0 + ox, 0.75 + 0.22 + oy, -math.pi / 2) if level == 1 else None
         save_poses(MapPoses(start=start, dock=dock), folder / f"floor{level}.yaml")

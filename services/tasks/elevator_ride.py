@@ -4,7 +4,8 @@
 At the hall point of the current floor: call the car, wait for it to stand open here for this
 robot (``WAITING_IN``), drive into the car (facing the doors), send it to the other floor, wait
 for it to stand open there (``WAITING_OUT``), switch nav to that floor's map and relocalise at
-the same place in the car, drive out to the hall point, and release the car. Each stage is
+the same place in the car, drive out to the hall point (and fix the estimate on the floor's
+reflectors there, where the map has landmarks), and release the car. Each stage is
 written in the action's ``result`` text. A cancel or a failure releases the car: its doors
 never close on the robot (the controller's light curtain), so the robot is never caught
 between them; a robot that stopped inside stays there, safe, until it is sent out.
@@ -98,6 +99,8 @@ def _ride(robot: Robot, lift: ElevatorLink, e: Elevator, here: int, there: int,
     out = leg(NavAction(x=hall.x, y=hall.y, theta=wrap_angle(hall.theta + math.pi)))
     if out.name != "complete":
         return Outcome(out.name, f"leaving elevator {e.name}: {out.reason}")
+    fix = robot.relocalise_landmarks()  # the carried pose stands when no reflector helps
+    note(f"out of elevator {e.name} at level {there}: {fix.reason}")
     return Outcome("complete")
 
 

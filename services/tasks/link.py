@@ -34,6 +34,8 @@ from zenros.msgs.zenros_msgs.nav import (
     ListPathsRequest,
     ListPointConnections,
     ListPointConnectionsRequest,
+    RelocalizeLandmarks,
+    RelocalizeLandmarksRequest,
     SwitchMap,
     SwitchMapRequest,
 )
@@ -84,6 +86,7 @@ class RobotLink:
         self.current_map_srv = node.create_client(GetCurrentMap, "map_server/current_map")
         self.switch = node.create_client(SwitchMap, "switch_map")
         self.connections = node.create_client(ListPointConnections, "list_point_connections")
+        self.landmarks = node.create_client(RelocalizeLandmarks, "relocalize_landmarks")
         self.initialpose = node.create_publisher(PoseWithCovarianceStamped, "initialpose", 10)
         self._pose: tuple[float, float, float] | None = None
         self._pose_sub: Any = None  # robot_pose, only while a map switch relocalises
@@ -132,6 +135,16 @@ class RobotLink:
         except ZenrosError as exc:
             raise LookupError(f"cannot read the point connections: {exc}") from exc
         return links_of(res.points, res.connections)
+
+    def relocalise_landmarks(self) -> Outcome:
+        try:
+            res = self.landmarks.call(RelocalizeLandmarksRequest(), timeout=SERVER_WAIT)
+        except ZenrosError as exc:
+            return Outcome("error", f"relocalise on landmarks: {exc}")
+        if not res.success:
+            return Outcome("fail", f"relocalise on landmarks: {res.message}")
+        return Outcome("complete", f"relocalised on {len(res.ids)} reflector(s), "
+                                   f"{res.shift:.2f} m / {math.degrees(res.turn):.1f} deg")
 
     def relocalise(self, x: float, y: float, theta: float) -> Outcome:
         msg = PoseWithCovarianceStamped(header=Header(frame_id="map"))

@@ -72,6 +72,11 @@ class Robot(Protocol):
         """The robot's latest pose on the current map, if known."""
         ...
 
+    def relocalise_landmarks(self) -> Outcome:
+        """Fix the estimate on the reflectors in view (nav's ``relocalize_landmarks``):
+        complete with what it matched, fail with why it could not."""
+        ...
+
     def relocalise(self, x: float, y: float, theta: float) -> Outcome:
         """Tell localisation the robot is at (x, y, theta) now; complete once it agrees."""
         ...
