@@ -227,7 +227,8 @@ class Car:
             return
         head = self._head()
         want = ((head is not None and head.phase in _OPEN and head.level == at)
-                or now < self.hold_open_until or (self.blocked and self.door > 0.0))
+                or now < self.hold_open_until or (self.blocked and self.door > 0.0)
+                or self._strangers())
         rate = dt / self.spec.door_s
         self.door = min(1.0, self.door + rate) if want else max(0.0, self.door - rate)
 
@@ -239,7 +240,7 @@ class Car:
         if self.position == target:
             return
         if not self.moving:
-            if self.door > 0.0 or self._t < self.hold_open_until:
+            if self.door > 0.0 or self._t < self.hold_open_until or self._strangers():
                 return
             self.moving = True
             self._carried = set(self.riders)
@@ -296,6 +297,15 @@ class Car:
 
     def _head(self) -> Job | None:
         return self.jobs[0] if self.jobs else None
+
+    def _strangers(self) -> bool:
+        """Robots aboard that do not hold the car (one paused or stopped in it, one that
+        released it still inside): the car stands at its floor, doors open, until they are
+        out. It never carries a robot that did not ask to ride: its nav would be on the
+        wrong floor's map."""
+        head = self._head()
+        holder = head.robot if head is not None else ""
+        return any(r != holder for r in self.riders)
 
     def _served(self, level: int) -> None:
         if level not in self.spec.levels:

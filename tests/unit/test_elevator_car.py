@@ -310,3 +310,21 @@ def test_malformed_bodies_are_not_bodies() -> None:
     assert body_of(BuildingBody(robot="r", radius=-1.0)) is None
     assert body_of(BuildingBody(robot="r", level=2, x=1.0, y=2.0, radius=0.3)) == Body(
         "r", 2, 1.0, 2.0, 0.3)
+
+
+def test_a_robot_aboard_without_a_claim_keeps_the_car_open_at_its_floor() -> None:
+    """A robot paused in the car, or one that released it still inside, is never carried
+    off to another floor: the car stands open until it is out, then serves its calls."""
+    s = Sim()
+    s.car.call("robot1", 1, s.t)
+    s.run(2.5, [body("robot1", 1, INSIDE)])
+    s.car.call("robot2", 3, s.t)
+    s.car.release("robot1", s.t)  # paused inside: robot2's call waits
+    s.run(15.0)
+    assert (s.car.position, s.car.door, s.car.moving) == (1.0, 1.0, False)
+    assert "called to level 2" in s.car.to_level(2, s.t)  # a person's call waits as well
+    s.run(10.0)
+    assert (s.car.position, s.car.door) == (1.0, 1.0)
+    s.run(DT, [body("robot1", 1, HALL)])  # out
+    s.until(lambda: s.car.state == "WAITING_IN" and s.car.level == 3)
+    assert s.car.holder == "robot2"
