@@ -85,15 +85,27 @@ def _ride(robot: Robot, lift: ElevatorLink, e: Elevator, here: int, there: int,
         return out
     out = lift.wait(e.name, open_for_me(there, "WAITING_OUT"),
                     f"elevator {e.name} open at level {there}", time_up, cancelled)
-    if out.name != "complete":
+    if out.name == "preempted":
+        # the car is on its way with the robot aboard: it arrives whatever the task does,
+        # and nav must know the floor it is on then (the car waits open for it there)
+        limit = robot.now() + _most(e, here, there)
+        arrived = lift.wait(e.name, lambda s: s.level == there and s.door >= OPEN,
+                            f"elevator {e.name} at level {there}",
+                            lambda: robot.now() > limit, lambda: False)
+        if arrived.name != "complete":
+            return Outcome("error", f"cancelled during the ride, and {arrived.reason}")
+    elif out.name != "complete":
         return out
     floor = lift.building.floor(there).map_name
-    out = robot.switch_map(floor, "", -1)
-    if out.name != "complete":
-        return Outcome("error", f"arrived at level {there}: {out.reason}")
-    out = robot.relocalise(*_in_car(e, here, there, pose))
-    if out.name != "complete":
-        return Outcome("error", f"arrived at level {there}: {out.reason}")
+    moved = robot.switch_map(floor, "", -1)
+    if moved.name != "complete":
+        return Outcome("error", f"arrived at level {there}: {moved.reason}")
+    moved = robot.relocalise(*_in_car(e, here, there, pose))
+    if moved.name != "complete":
+        return Outcome("error", f"arrived at level {there}: {moved.reason}")
+    if out.name == "preempted":
+        return Outcome("preempted", f"cancelled during the ride: in elevator {e.name} at "
+                                    f"level {there}, on map {floor}")
     note(f"leaving elevator {e.name} at level {there}")
     hall = e.hall_pose(there)
     out = leg(NavAction(x=hall.x, y=hall.y, theta=wrap_angle(hall.theta + math.pi)))
@@ -102,6 +114,12 @@ def _ride(robot: Robot, lift: ElevatorLink, e: Elevator, here: int, there: int,
     fix = robot.relocalise_landmarks()  # the carried pose stands when no reflector helps
     note(f"out of elevator {e.name} at level {there}: {fix.reason}")
     return Outcome("complete")
+
+
+def _most(e: Elevator, here: int, there: int) -> float:
+    """Seconds the car may take at most to finish a ride from ``here`` to ``there`` (its
+    doors, the floors between, and room for a slow box)."""
+    return 3.0 * (2 * e.door_s + abs(there - here) * e.travel_s) + 10.0
 
 
 def _in_car(e: Elevator, here: int, there: int,

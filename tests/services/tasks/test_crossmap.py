@@ -193,3 +193,14 @@ def test_a_refused_or_cancelled_ride_releases_the_car() -> None:
                           leg_of(robot), print, lift, lambda: True)  # type: ignore[arg-type]
     assert out.name == "preempted" and lift.log[-1] == ("release", 0)
     assert ("go", 3) not in lift.log
+
+
+def test_a_cancel_during_the_ride_still_puts_nav_on_the_floor_the_car_reaches() -> None:
+    robot, lift = tower_robot(), FakeLift()
+    out = navigate_across(robot, NavAction(map="floor3", path="p", index=0), "floor1",
+                          leg_of(robot), print, lift,  # type: ignore[arg-type]
+                          lambda: ("go", 3) in lift.log)
+    assert out.name == "preempted" and "in elevator lift1 at level 3, on map floor3" in \
+        out.reason
+    assert ("switch", "floor3") in robot.log and robot.log[-1][0] == "relocalise"
+    assert lift.log[-1] == ("release", 0)
