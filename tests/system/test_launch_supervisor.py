@@ -523,12 +523,12 @@ def test_cli_runs_and_stops_on_ctrl_c(tmp_path: Path) -> None:
         try:
             assert proc.stdout is not None
             lines = []
-            for line in proc.stdout:
+            for line in proc.stdout:  # both ran (on a loaded box `once` may come second)
                 lines.append(line)
-                if line == "[talker] hello\n":
+                if {"[talker] hello\n", "[once] done\n"} <= set(lines):
                     break
             proc.send_signal(signal.SIGINT)
-            out, err = proc.communicate(timeout=40)
+            _out, err = proc.communicate(timeout=40)
         finally:
             if proc.poll() is None:
                 proc.kill()
@@ -539,7 +539,7 @@ def test_cli_runs_and_stops_on_ctrl_c(tmp_path: Path) -> None:
                 except ProcessLookupError:
                     pass
     assert proc.returncode == 0, err
-    assert "[once] done\n" in "".join(lines) + out
+    assert "[once] done\n" in lines
     assert "received SIGINT" in err and "sent SIGINT to talker" in err
     latest = data / "logs" / "latest"
     assert "hello" in (latest / "talker.log").read_text()
