@@ -27,6 +27,7 @@ __all__ = ["RecordOptions", "Recorder"]
 
 FIFO_CAPACITY = 256  # samples buffered per subscriber before Zenoh pushes back (reliable)
 QOS_UNKNOWN = "rel+10"
+TOKEN_WAIT = 2.0  # s a new topic's first sample waits for its publisher's token (its QoS)
 BATCH = 64  # samples a pump hands to the sink at once at most (fewer when it catches up)
 
 
@@ -232,9 +233,19 @@ class Recorder:
                 return None
             mime, type_name = split_encoding(enc)
             schema_encoding, schema = schema_for(type_name) if type_name else ("", b"")
-            pubs = [t for t in self.ctx.graph.publishers(topic)
-                    if not type_name or t.type == type_name]
-            metadata = {"zenoh_encoding": enc, "qos": pubs[0].qos if pubs else QOS_UNKNOWN}
+            def publishers() -> list[Token]:
+                return [t for t in self.ctx.graph.publishers(topic)
+                        if not type_name or t.type == type_name]
+
+            pubs = publishers()
+            if not pubs:  # a sample came (a latched cache's, say) before its publisher's
+                # token: it is on its way, and its QoS is the channel's (once a topic)
+                self.ctx.graph.wait_for(lambda: bool(publishers()), TOKEN_WAIT)
+                pubs = publishers()
+            # a latched publisher's QoS when there is one: a replay must latch what it latched
+            latched = [t for t in pubs if "+tl" in (t.qos or "")]
+            qos = (latched or pubs)[0].qos if pubs else QOS_UNKNOWN
+            metadata = {"zenoh_encoding": enc, "qos": qos}
             encoding = message_encoding(mime) if mime else ""
             transcode = (to_json(type_name) if self.options.bulk_json and mime == MSGPACK
                          and type_name else None)
