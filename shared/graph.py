@@ -75,7 +75,9 @@ class Graph:
         """Wait until the view stops changing for ``quiet`` seconds (at most ``timeout``).
 
         Tools that print one snapshot (``zenros node list``) call this: a fresh session
-        learns the tokens of the network over its first few hundred milliseconds.
+        learns the tokens of the network over its first few hundred milliseconds. An empty
+        view is not taken as settled before ``timeout``: on a loaded box the first answers
+        may come after ``quiet`` (a CLI once listed no node at all).
         """
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -85,7 +87,7 @@ class Graph:
             with self._cond:
                 self._cond.wait_for(lambda b=before: self._changes != b,  # type: ignore[misc]
                                     min(quiet, max(0.0, deadline - time.monotonic())))
-                if self._changes == before:
+                if self._changes == before and self._tokens:
                     return
 
     def _add(self, key: str) -> Token | None:
