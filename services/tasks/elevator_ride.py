@@ -20,7 +20,7 @@ from zenros.building import Elevator
 from zenros.maps.maproute import Hop
 from zenros.msgs.zenros_msgs import ElevatorState
 from zenros.msgs.zenros_msgs.task_actions import NavAction
-from zenros.se2 import wrap_angle
+from zenros.se2 import Pose2, wrap_angle
 
 from .elevator_link import ElevatorLink
 from .robot import Outcome, Robot
@@ -125,9 +125,5 @@ def _most(e: Elevator, here: int, there: int) -> float:
 def _in_car(e: Elevator, here: int, there: int,
             pose: tuple[float, float, float]) -> tuple[float, float, float]:
     """``pose`` (in the car at ``here``) at the same place in the car at ``there``."""
-    a, b = e.car_pose(here), e.car_pose(there)
-    dx, dy = pose[0] - a.x, pose[1] - a.y
-    c, s = math.cos(b.theta - a.theta), math.sin(b.theta - a.theta)
-    return (b.x + c * dx - s * dy, b.y + s * dx + c * dy,
-            wrap_angle(pose[2] + b.theta - a.theta))
-
+    p = e.car_pose(there) * (e.car_pose(here).inverse() * Pose2(*pose))
+    return p.x, p.y, p.theta

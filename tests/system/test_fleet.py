@@ -89,11 +89,16 @@ def truth(fleet: Fleet) -> dict[int, Any]:
     return latest
 
 
-def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
+def robot_pids(fleet: Fleet) -> dict[str, int]:
+    """The pid of every robot service's node, once the graph lists them all."""
     g = fleet.ctx.graph
     want = {f"/robot{k}/{s}" for k in range(1, ROBOTS + 1) for s in SERVICES}
     assert g.wait_for(lambda: want <= set(g.node_names()), 30), want - set(g.node_names())
-    pids = {n.name: n.pid for n in g.nodes() if n.name in want}
+    return {n.name: n.pid for n in g.nodes() if n.name in want}
+
+
+def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
+    pids = robot_pids(fleet)
     for k in range(1, ROBOTS + 1):
         assert len({pids[f"/robot{k}/{s}"] for s in SERVICES}) == 1  # composed
     assert len(set(pids.values())) == ROBOTS
@@ -108,9 +113,7 @@ def test_every_robot_is_one_process_in_the_graph(fleet: Fleet) -> None:
     "Zenoh 1.10"))
 def test_one_gateway_serves_every_robot(fleet: Fleet) -> None:
     g = fleet.ctx.graph
-    want = {f"/robot{k}/{s}" for k in range(1, ROBOTS + 1) for s in SERVICES}
-    assert g.wait_for(lambda: want <= set(g.node_names()), 30), want - set(g.node_names())
-    pids = {n.name: n.pid for n in g.nodes() if n.name in want}
+    pids = robot_pids(fleet)
     # one gateway serves them all, as it says (GET /api/v1/robots) ...
     base = f"http://127.0.0.1:{fleet.rest_port}/api/v1"
     with httpx.Client(base_url=base, timeout=20) as http:

@@ -176,6 +176,11 @@ def test_a_goal_two_floors_up_rides_the_elevator() -> None:
                                                  "landmarks", "nav"]
     assert robot.log[1] == ("nav", "floor1", (car.x, car.y))  # into the car
     assert robot.log[2] == ("switch", "floor3")
+    # relocalised where it stood in the car (0.1 m past the car's centre): the tower's car
+    # has the same stop on every floor
+    c, s = math.cos(car.theta), math.sin(car.theta)
+    assert robot.log[3] == ("relocalise", round(car.x + 0.1 * c, 3),
+                            round(car.y + 0.1 * s, 3), round(car.theta, 3))
     assert [c for c in lift.log if c[0] != "wait"] == [("call", 1), ("go", 3), ("release", 0)]
     assert any("riding elevator lift1 to level 3" in n for n in notes)
     assert notes[-1].startswith("on map floor3 via elevator connection l13")
