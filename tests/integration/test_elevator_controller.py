@@ -141,11 +141,13 @@ def test_a_robot_calls_enters_rides_and_leaves(rider: Rider) -> None:
     rider.until(lambda s: s.state == "NONE" and s.holder == "" and s.door == 0.0)
 
 
-def test_the_doors_wait_for_a_clear_doorway(rider: Rider) -> None:
+def test_the_doors_wait_for_a_clear_doorway(rider: Rider, controller: ElevatorNode) -> None:
     assert rider.send("call", "robot1", 1).success
     rider.until(lambda s: s.front_door_open)
     rider.place("robot2", 1, DOORWAY)
     rider.until(lambda s: s.door == 1.0)
+    # the light curtain has seen robot2 (its body may reach the controller after the "go")
+    assert wait_for(lambda: controller.cars["lift1"].blocked, 10)
     assert rider.send("go", "robot1", 2).success
     # four door times: the doors stay open, the car does not leave
     assert not wait_for(lambda: rider.state.door < 1.0 or rider.state.position != 1.0, 2.0)
