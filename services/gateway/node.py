@@ -96,7 +96,8 @@ class GatewayNode(Node):
             start(self.foxglove)
         self.http = HttpApp(self.fleet.api if self.fleet else self.api, dashboard_app(
             self.rosbridge.port if self.rosbridge else DEFAULT_ROSBRIDGE_PORT,
-            robot.namespace, robots=self.fleet.names if self.fleet else None))
+            robot.namespace, robots=self.fleet.names if self.fleet else None,
+            schedule_server=p.schedule_server))
         rest = AsgiServer("REST", self.http, host, p.rest_port, **self._tls(p))
         self.rest_port = rest.port
         if self.fleet is not None:

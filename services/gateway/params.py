@@ -90,6 +90,10 @@ class GatewayParameters(msgspec.Struct, kw_only=True):
     discover_robots: Annotated[bool, Meta(
         description="also serve every robot that shows up in the graph (a namespace with a "
                     "chassis node)")] = False
+    schedule_server: Annotated[str, Meta(
+        pattern=r"^[A-Za-z0-9_]{0,64}$",
+        description="a fleet's schedule server whose traffic reservations the dashboard's "
+                    "fleet view draws (docs/fleet.md, 'Traffic schedule'; empty: none)")] = "local"
     default_robot: Annotated[str, Meta(
         description="the robot the single-robot paths (/api/v1/..., the topic WebSocket, "
                     "Modbus, serial, discovery) serve in a fleet (empty: the first of "

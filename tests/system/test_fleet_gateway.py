@@ -2,8 +2,8 @@
 REST API to each robot (each to its own robot's path, robot1's also at the single-robot
 path) move each robot to its own goal; an e-stop through the gateway's rosbridge stops that
 robot alone; each robot's tasks are its own. The dashboard's fleet view (headless Chromium)
-lists every robot, draws the others on the map, e-stops one from its row and drives the one
-picked."""
+lists every robot, draws the others on the map, e-stops one from its row, drives the one
+picked and draws the segments it holds in schedule mode."""
 
 from __future__ import annotations
 
@@ -59,7 +59,8 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Fleet]:
     started = time.monotonic()
     proc = Proc([sys.executable, "-m", "zenros.cli", "launch",
                  str(ROOT / "deploy" / "launch" / "fleet.yaml"), f"robots:={len(ROBOTS)}",
-                 f"data:={home}", *(f"{k}:={v}" for k, v in ports.items())],
+                 f"data:={home}", "passing_width:=3.0",  # the corridor: one traffic segment
+                 *(f"{k}:={v}" for k, v in ports.items())],
                 env={"ZENROS_HOME": str(home), "ZENROS_PREFIX": unique_prefix(),
                      "ZENROS_CONNECT": f"tcp/127.0.0.1:{free_port()}"})
     try:
@@ -202,12 +203,16 @@ def test_the_dashboards_fleet_view(fleet: Fleet, tmp_path: Path) -> None:
         assert wait_for(lambda: d.find_element(By.ID, "robot-name").text == "robot2", 30)
         assert wait_for(lambda: rows().get("robot2", {}).get("current") == "1", 30), rows()
         assert wait_for(lambda: others() == ["robot1", "robot3"], 30), others()
+        # robot2 drives in schedule mode: the map draws the segments it holds, its row says so
+        fleet.get("/robots/robot2/navigation/start_schedule_mode")
         before = fleet.robots()
         x = before["robot2"]["pose"]["x"] + 0.8
         assert wait_for(lambda: d.execute_script(
             "return document.getElementById('pose').dataset.x !== undefined;"), 30)
         d.execute_script("window.dashboard.navigate(arguments[0], 0, 0, null);", x)
         assert wait_for(lambda: near(fleet.robots()["robot2"], x, 0.25), 120), fleet.robots()
+        assert d.execute_script("return window.dashboard.fleet.held.has('robot2');")
+        fleet.get("/robots/robot2/navigation/stop_schedule_mode")
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
         d.save_screenshot(str(ARTIFACTS / "dashboard-fleet.png"))
         after = fleet.robots()

@@ -26,6 +26,7 @@ async function loadConfig() {
     title: config.title || "",
     path: params.get("path"),
     robots: Array.isArray(config.robots) ? config.robots : null, // a fleet gateway's
+    schedule: params.get("schedule") ?? config.schedule_server ?? "", // its traffic schedule
   };
 }
 
@@ -66,7 +67,7 @@ class Dashboard {
       saveName: $("mapping-name"),
     }, toast);
     this.mapping.onPose = (p) => this.onPose(p);
-    this.fleet = config.robots ? this.startFleet(config.robots) : null;
+    this.fleet = config.robots ? this.startFleet(config.robots, config.schedule) : null;
     this.wire();
     this.subscribe();
     this.ros.addEventListener("open", () => this.onOpen());
@@ -79,7 +80,7 @@ class Dashboard {
 
   // A fleet gateway: the fleet card and the other robots on the map; the list follows the
   // robots the gateway finds (config.json, every 5 s). Driving another reloads the page on it.
-  startFleet(robots) {
+  startFleet(robots, schedule) {
     $("fleet-card").hidden = false;
     const fleet = new FleetPanel(this.ros, this.view, $("fleet"), this.ns.slice(1), (name) => {
       const params = new URLSearchParams(location.search);
@@ -87,6 +88,7 @@ class Dashboard {
       location.search = params.toString();
     }, (text) => toast(text, true));
     fleet.setRobots(robots);
+    if (schedule) fleet.followSchedule(schedule);
     setInterval(async () => {
       try {
         const res = await fetch("config.json", { cache: "no-store" });

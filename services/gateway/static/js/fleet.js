@@ -1,6 +1,8 @@
 // The fleet view of a fleet gateway (config.json lists its robots): every robot on the map
 // and in a list with its state, battery and e-stop; pick one to drive it with the page,
-// e-stop or release any of them from its row.
+// e-stop or release any of them from its row. With the fleet's schedule server named, the
+// segments each robot in schedule mode holds are drawn on the map and its row says whom it
+// waits for.
 
 function pct(m) {
   const p = m.percentage ?? 0;
@@ -17,7 +19,33 @@ export class FleetPanel {
     this.current = current;
     this.onPick = onPick;
     this.onError = onError;
-    this.robots = new Map(); // name -> {name, pose, state, battery, estop, row}
+    this.robots = new Map(); // name -> {name, pose, state, battery, estop, traffic, row}
+    this.held = new Set(); // robots seen holding a segment since the page loaded
+  }
+
+  // the schedule server's reservations (latched): who holds which cells, who waits for whom
+  followSchedule(server) {
+    this.ros.subscribe(`/schedule/${server}/reservations`, "zenros_msgs/TrafficReservations",
+                       (m) => this.setTraffic(m), { throttle_rate: 200, queue_length: 1 });
+  }
+
+  setTraffic(m) {
+    const drawn = [];
+    const byRobot = new Map();
+    for (const t of m.robots || []) {
+      const cells = (t.holds || []).flatMap((h) => h.cells || []);
+      if (cells.length) this.held.add(t.robot);
+      drawn.push({ robot: t.robot, cells, size: m.cell_size || 0.5,
+                   stop: t.stop && t.stop.length ? t.stop[0] : null });
+      byRobot.set(t.robot, t);
+    }
+    this.view.setReservations(drawn);
+    for (const r of this.robots.values()) {
+      const t = byRobot.get(r.name);
+      r.traffic = !t ? "" : t.must_yield ? "yields"
+        : t.wait_for ? `waits for ${t.wait_for}` : `holds ${(t.holds || []).length}`;
+      this.update(r);
+    }
   }
 
   setRobots(names) {
@@ -25,7 +53,8 @@ export class FleetPanel {
   }
 
   add(name) {
-    const r = { name, pose: null, state: "–", battery: null, estop: false, row: this.build(name) };
+    const r = { name, pose: null, state: "–", battery: null, estop: false, traffic: "",
+                row: this.build(name) };
     this.robots.set(name, r);
     this.list.append(r.row);
     const ros = this.ros;
@@ -82,8 +111,10 @@ export class FleetPanel {
   update(r) {
     const [, sub, stop] = r.row.children;
     const battery = r.battery === null ? "–" : `${r.battery}%`;
-    sub.textContent = `${r.estop ? "E-STOP" : r.state} · ${battery}`;
+    const traffic = r.traffic ? ` · ${r.traffic}` : "";
+    sub.textContent = `${r.estop ? "E-STOP" : r.state} · ${battery}${traffic}`;
     r.row.dataset.state = r.state;
+    r.row.dataset.traffic = r.traffic;
     r.row.dataset.battery = r.battery === null ? "" : String(r.battery);
     r.row.dataset.estop = r.estop ? "1" : "0";
     r.row.classList.toggle("stopped", r.estop);

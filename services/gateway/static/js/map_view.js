@@ -50,6 +50,13 @@ function paintCost(v, px, o) {
   px[o + 3] = Math.round(25 + 95 * t * t);
 }
 
+// a robot's colour on the map, the same on every page: a hue from its name
+export function robotHue(name) {
+  let h = 0;
+  for (const ch of name) h = (h * 31 + ch.charCodeAt(0)) % 360;
+  return h;
+}
+
 export class MapView extends EventTarget {
   constructor(canvas) {
     super();
@@ -66,6 +73,7 @@ export class MapView extends EventTarget {
     this.costInfo = null;
     this.robot = null; // {x, y, yaw}
     this.others = []; // a fleet's other robots: {name, x, y, yaw, estop}
+    this.reservations = []; // the traffic schedule: {robot, cells: [{x, y}], size, stop}
     this.footprint = 0.22;
     this.scanPoints = [];
     this.plan = [];
@@ -119,6 +127,7 @@ export class MapView extends EventTarget {
   }
 
   setOthers(robots) { this.others = robots; this.dirty = true; }
+  setReservations(held) { this.reservations = held; this.dirty = true; }
   setScan(points) { this.scanPoints = points; this.dirty = true; }
   setPlan(points) { this.plan = points; this.dirty = true; }
   setTrack(points) { this.track = points; this.dirty = true; }
@@ -277,6 +286,7 @@ export class MapView extends EventTarget {
       ctx.lineJoin = "round";
       this.polyline(this.track);
     }
+    if (this.layers.traffic !== false) this.drawReservations(px);
     if (this.layers.scan && this.scanPoints.length) {
       ctx.fillStyle = COLORS.scan;
       const r = 2 * px;
@@ -293,6 +303,24 @@ export class MapView extends EventTarget {
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     this.drawLabels();
     this.drawScaleBar(cw, ch);
+  }
+
+  // the cells each robot in schedule mode holds, in its colour; where it must stop, a bar
+  drawReservations(px) {
+    const ctx = this.ctx;
+    for (const r of this.reservations) {
+      const hue = robotHue(r.robot);
+      const h = r.size / 2;
+      ctx.fillStyle = `hsla(${hue}, 85%, 55%, 0.28)`;
+      for (const c of r.cells) ctx.fillRect(c.x - h, c.y - h, r.size, r.size);
+      if (r.stop) {
+        ctx.strokeStyle = `hsl(${hue}, 85%, 60%)`;
+        ctx.lineWidth = 4 * px;
+        ctx.beginPath();
+        ctx.arc(r.stop.x, r.stop.y, r.size * 0.6, 0, 2 * Math.PI);
+        ctx.stroke();
+      }
+    }
   }
 
   drawGrid(image, info, alpha) {
