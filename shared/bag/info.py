@@ -6,6 +6,7 @@ import datetime as dt
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .foreign import foreign_summary, is_foreign
 from .reader import bag_files, open_summary
 
 __all__ = ["BagInfo", "TopicInfo", "bag_info", "format_info"]
@@ -17,6 +18,7 @@ class TopicInfo:
     type: str
     encoding: str
     count: int = 0
+    skipped: str = ""  # a topic of a ROS bag zenros does not play: why
 
 
 @dataclass
@@ -30,6 +32,8 @@ class BagInfo:
     compression: list[str]
     chunks: int
     topics: list[TopicInfo] = field(default_factory=list)
+    storage: str = "mcap"  # sqlite3, mcap or rosbag1 for a bag recorded with ROS
+    recorded_with_ros: bool = False
 
     @property
     def duration(self) -> float:
@@ -39,6 +43,8 @@ class BagInfo:
 def bag_info(path: Path) -> BagInfo:
     """Summaries of every file of a bag, merged; `BagError` for unreadable files."""
     files = bag_files(path)
+    if is_foreign(files):
+        return _ros_bag_info(path, files)
     start, end, messages, chunks = 0, 0, 0, 0
     compression: set[str] = set()
     topics: dict[tuple[str, str, str], TopicInfo] = {}
@@ -62,6 +68,14 @@ def bag_info(path: Path) -> BagInfo:
                    sorted(topics.values(), key=lambda t: t.topic))
 
 
+def _ros_bag_info(path: Path, files: list[Path]) -> BagInfo:
+    """A bag recorded with ROS: its own types and encodings, and the topics zenros skips."""
+    s = foreign_summary(files)
+    topics = [TopicInfo(t.topic, t.ros_type, t.encoding, t.count, t.skipped) for t in s.topics]
+    return BagInfo(path, files, sum(f.stat().st_size for f in files), s.start, s.end, s.messages,
+                   ["-"], 0, topics, s.storage, True)
+
+
 def _size(n: float) -> str:
     for unit in ("B", "KiB", "MiB", "GiB"):
         if n < 1024:
@@ -81,8 +95,10 @@ def format_info(info: BagInfo) -> str:
     lines = [
         f"Files:             {', '.join(f.name for f in info.files)}",
         f"Bag size:          {_size(info.size)}",
-        "Storage id:        mcap",
-        f"Compression:       {', '.join(info.compression)} ({info.chunks} chunks)",
+        f"Storage id:        {info.storage}" + (" (recorded with ROS)"
+                                                   if info.recorded_with_ros else ""),
+        (f"Compression:       {', '.join(info.compression)} ({info.chunks} chunks)"
+         if not info.recorded_with_ros else "Compression:       -"),
         f"Duration:          {info.duration:.3f}s",
         f"Start:             {_stamp(info.start)}" if info.messages else "Start:             -",
         f"End:               {_stamp(info.end)}" if info.messages else "End:               -",
@@ -93,7 +109,8 @@ def format_info(info: BagInfo) -> str:
         head = "Topic information: " if i == 0 else " " * 19
         lines.append(f"{head}Topic: {t.topic:<{width}} | Type: {t.type or '-'} | "
                      f"Count: {t.count} | Rate: {rate:.2f} Hz | "
-                     f"Serialization Format: {t.encoding}")
+                     f"Serialization Format: {t.encoding}"
+                     + (f" | NOT PLAYED: {t.skipped}" if t.skipped else ""))
     if not info.topics:
         lines.append("Topic information:")
     return "\n".join(lines)

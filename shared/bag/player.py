@@ -18,7 +18,7 @@ from ..context import Context
 from ..msgs.rosgraph_msgs import Clock as ClockMsg
 from ..node import Node
 from ..qos import QoSProfile, Reliability
-from .reader import BagMessage, iter_messages, open_summary
+from .reader import BagMessage, bag_span, iter_messages
 from .transcode import TRANSCODED, from_json
 
 __all__ = ["PlayOptions", "Player"]
@@ -92,21 +92,16 @@ class Player:
         self.options = options or PlayOptions()
         if not self.options.rate > 0:
             raise ValueError(f"rate must be > 0, got {self.options.rate}")
-        summaries = [open_summary(p) for p in files]
-        stats = [s.statistics for s in summaries if s.statistics and s.statistics.message_count]
-        self.bag_start = min((s.message_start_time for s in stats), default=0)
-        self.bag_end = max((s.message_end_time for s in stats), default=0)
+        self.bag_start, self.bag_end, channels = bag_span(files)
         self.node = node
         self._node_name = node.fqn if node is not None else "/zenros_bag_player"
         self._outs: dict[tuple[str, str], _Out] = {}
         wanted = set(self.options.topics)
-        for s in summaries:
-            for ch in s.channels.values():
-                if wanted and ch.topic not in wanted:
-                    continue
-                schema = s.schemas.get(ch.schema_id)
-                self._out_for(ch.topic, ch.message_encoding, ch.metadata,
-                              schema.name if schema else "")
+        for ch, schema in channels:
+            if wanted and ch.topic not in wanted:
+                continue
+            self._out_for(ch.topic, ch.message_encoding, ch.metadata,
+                          schema.name if schema else "")
         self._cond = threading.Condition()
         self._paused = False
         self._steps = 0

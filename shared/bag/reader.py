@@ -19,8 +19,8 @@ from mcap.summary import Summary
 from ..errors import ZenrosError
 from .writer import MAGIC
 
-__all__ = ["BagError", "BagMessage", "bag_files", "bags_home", "iter_messages", "open_summary",
-           "resolve_bag"]
+__all__ = ["BagError", "BagMessage", "bag_files", "bag_span", "bags_home", "iter_messages",
+           "open_summary", "resolve_bag"]
 
 
 class BagError(ZenrosError, ValueError):
@@ -61,11 +61,18 @@ def _split_index(p: Path) -> tuple[int, str]:
 
 
 def bag_files(path: Path) -> list[Path]:
-    """The MCAP files of a bag, in recording order."""
+    """The files of a bag, in recording order: zenros's MCAP files, or the storage files of a
+    bag recorded with ROS (a rosbag2 directory's ``.db3`` or ``.mcap`` files, ``.bag`` files:
+    `zenros.bag.foreign`)."""
     if path.is_dir():
+        from .foreign import foreign_files
+
+        foreign = foreign_files(path)
+        if foreign:
+            return foreign
         files = sorted(path.glob("*.mcap"), key=_split_index)
         if not files:
-            raise BagError(f"{path} holds no .mcap files")
+            raise BagError(f"{path} holds no .mcap files (nor a rosbag2 bag or ROS 1 .bag files)")
         return files
     if not path.exists():
         raise BagError(f"no such bag: {path}")
@@ -111,9 +118,29 @@ def _file_messages(path: Path, topics: list[str] | None, start: int | None) -> I
                        f"try: zenros bag recover {path}") from exc
 
 
+def bag_span(files: list[Path]) -> tuple[int, int, list[tuple[Channel, Schema | None]]]:
+    """(first message's log time, last one's, every channel with its schema) of a bag's files;
+    for a bag recorded with ROS, the channels zenros plays its topics on."""
+    from .foreign import foreign_span, is_foreign
+
+    if is_foreign(files):
+        return foreign_span(files)
+    summaries = [open_summary(p) for p in files]
+    stats = [s.statistics for s in summaries if s.statistics and s.statistics.message_count]
+    channels = [(ch, s.schemas.get(ch.schema_id)) for s in summaries for ch in s.channels.values()]
+    return (min((s.message_start_time for s in stats), default=0),
+            max((s.message_end_time for s in stats), default=0), channels)
+
+
 def iter_messages(files: list[Path], topics: list[str] | None = None,
                   start: int | None = None) -> Iterator[BagMessage]:
-    """Every message of the bag's files in log-time order (files may overlap at a split)."""
+    """Every message of the bag's files in log-time order (files may overlap at a split); a
+    bag recorded with ROS gives its messages converted to zenros's (`zenros.bag.foreign`)."""
+    from .foreign import is_foreign, iter_foreign
+
+    if is_foreign(files):
+        yield from iter_foreign(files, topics, start)
+        return
     streams: list[Any] = [_file_messages(p, topics, start) for p in files]
     if len(streams) == 1:
         yield from streams[0]
