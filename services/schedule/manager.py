@@ -83,7 +83,8 @@ class TrafficManager:
                     t_enter=h.t_enter - now, t_exit=h.t_exit - now,
                     cells=[RoutePose(*m.cell_centre(c)) for c in m.segments[h.segment].cells])
                     for h in (r.holds[s] for s in sorted(r.holds))]
-                stop = [RoutePose(*last.stop)] if last is not None and last.stop else []
+                at = last and (last.yield_to if last.step_aside else last.stop)
+                stop = [RoutePose(*at)] if at else []
                 robots.append(TrafficRobot(
                     robot=name, holds=holds, wait_for=r.wait_for, stop=stop,
                     must_yield=bool(last and last.must_yield), expires_in=r.expires - now))
@@ -96,9 +97,10 @@ def _response(g: Grant, lease: float) -> RequestRouteResponse:
     stop = RoutePose(*g.stop) if g.stop else RoutePose()
     place = RoutePose(*g.yield_to) if g.yield_to else RoutePose()
     message = ("" if g.granted else "yield: back off to the passing place" if g.must_yield
+               else f"waiting for {g.wait_for}, aside" if g.step_aside
                else f"waiting for {g.wait_for}" if g.wait_for
                else "beyond the horizon: ask again")
     return RequestRouteResponse(
         granted=g.granted, stop_index=g.stop_index, stop=stop, wait_for=g.wait_for,
         must_yield=g.must_yield, yield_to=place, segments=[h.segment for h in g.holds],
-        lease=lease, message=message)
+        lease=lease, message=message, step_aside=g.step_aside)

@@ -86,6 +86,7 @@ class SegmentMap:
         n_free = per_cell(free.astype(np.int32))
         n_narrow = per_cell(narrow_px.astype(np.int32))
         self.free_cells = n_free > 0
+        self.clear_cells = n_free == self.k * self.k  # no wall pixel: a body may stand there
         self.narrow_cells = self.free_cells & (n_narrow >= min_narrow_pixels)
         labels, count = ndimage.label(self.narrow_cells)
         self.segment_of = np.full((self.rows, self.cols), -1, dtype=np.int64)

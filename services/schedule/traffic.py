@@ -19,6 +19,10 @@ Grants, in route order, up to ``horizon`` seconds ahead:
 - **The passing place.** A refused robot's grant ends ``stand_off`` metres of route before
   the chain it waits for, so it waits in the wide segment before it, out of the mouth the
   oncoming robot comes out of.
+- **Stepping aside.** A waiting robot that stands, or would stop, where the robot it waits
+  for will drive (that robot's route cells and their neighbours) is sent to the nearest
+  clear wide cell off that route instead (``yield_to`` with ``step_aside``), and waits
+  there: the robot coming out of the narrow segment passes it instead of brushing it.
 - **Leases.** Every request renews the robot's lease (``lease`` seconds); `expire` drops a
   robot whose lease ran out, with everything it held and its places in the queues.
 
@@ -35,7 +39,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -73,7 +77,8 @@ class Grant:
 
     ``granted`` is true when nothing on the route (up to the horizon) is refused; else
     ``stop`` is where to wait and ``wait_for`` whom for. ``yield_to`` (with ``must_yield``)
-    is a passing place to back off to.
+    is a passing place to back off to; with ``step_aside`` (a wait), the place off the
+    route of ``wait_for`` to wait at.
     """
 
     robot: str
@@ -85,6 +90,7 @@ class Grant:
     expires: float
     must_yield: bool = False
     yield_to: tuple[float, float] | None = None
+    step_aside: bool = False
 
 
 @dataclass
@@ -148,6 +154,7 @@ class TrafficTable:
         grant = self._grant(r, visits, xy, ts, now)
         r.last = grant
         grant = self._resolve(r, grant, xy) or grant
+        grant = self._aside(r, grant)
         r.last = grant
         if before != (r.holds, r.waiting, r.wait_for):
             self.version += 1
@@ -369,15 +376,30 @@ class TrafficTable:
         v.last = yielded
         return yielded if victim == r.name else None
 
-    def _passing_place(self, v: _Robot, group: Sequence[str]) -> tuple[float, float] | None:
-        """The centre of the nearest wide cell to ``v``, through free cells, that no other
-        robot of ``group`` drives through or beside (None: there is none)."""
+    def _aside(self, r: _Robot, grant: Grant) -> Grant:
+        """A wait whose robot stands or would stop where the robot it waits for drives (its
+        route's cells and their neighbours): the same wait at a clear wide cell off that
+        route and every other robot's, if there is one within 3 m."""
+        other = self.robots.get(grant.wait_for)
+        if grant.granted or grant.must_yield or grant.stop is None or other is None:
+            return grant
+        lane = _dilate(other.route_cells)
         m = self.map
-        avoid: set[tuple[int, int]] = set()
-        for n in group:
-            if n != v.name:
-                for r0, c0 in self.robots[n].route_cells:
-                    avoid.update((r0 + dr, c0 + dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1))
+        if m.cell_at(*grant.stop) not in lane and m.cell_at(*r.position) not in lane:
+            return grant
+        place = self._passing_place(r, tuple(self.robots), clear=True)  # off every route
+        if place is None or math.dist(place, r.position) > 3.0:
+            return grant
+        return replace(grant, yield_to=place, step_aside=True)
+
+    def _passing_place(self, v: _Robot, group: Sequence[str], *, clear: bool = False
+                       ) -> tuple[float, float] | None:
+        """The centre of the nearest wide cell to ``v``, through free cells, that no other
+        robot of ``group`` drives through or beside (None: there is none); with ``clear``,
+        a cell with no wall in it."""
+        m = self.map
+        avoid = _dilate(frozenset().union(*(self.robots[n].route_cells for n in group
+                                            if n != v.name)))
         start = m.cell_at(*v.position)
         if not (0 <= start[0] < m.rows and 0 <= start[1] < m.cols):
             return None
@@ -386,7 +408,8 @@ class TrafficTable:
         while todo:
             cell = todo.popleft()
             sid = int(m.segment_of[cell])
-            if sid >= 0 and not m.segments[sid].narrow and cell not in avoid:
+            if (sid >= 0 and not m.segments[sid].narrow and cell not in avoid
+                    and (not clear or m.clear_cells[cell])):
                 return m.cell_centre(cell)
             r0, c0 = cell
             for nb in ((r0 + 1, c0), (r0 - 1, c0), (r0, c0 + 1), (r0, c0 - 1)):
@@ -400,3 +423,8 @@ class TrafficTable:
         """The last answer given to ``robot`` (None: unknown)."""
         r = self.robots.get(robot)
         return r.last if r else None
+
+
+def _dilate(cells: frozenset[tuple[int, int]]) -> set[tuple[int, int]]:
+    """``cells`` and their eight neighbours."""
+    return {(r + dr, c + dc) for r, c in cells for dr in (-1, 0, 1) for dc in (-1, 0, 1)}

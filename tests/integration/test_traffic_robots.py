@@ -43,6 +43,10 @@ def test_two_robots_in_schedule_mode_cross_a_one_robot_corridor(tmp_path: Path) 
         # one of them is granted the corridor, the other waits before it
         assert wait_for(lambda: bool(server.traffic.table.waits()), 30), \
             server.traffic.table.robots
+        # the one waiting stands where the other comes out: it waits aside
+        assert wait_for(lambda: any((g := server.traffic.table.grant_of(n)) is not None
+                                    and g.step_aside for n in fleet.names), 30), \
+            [server.traffic.table.grant_of(n) for n in fleet.names]
         results = [h.result(120) for h in handles]
         assert all(r.succeeded for r in results), [r.status for r in results]
         for (gx, gy, _), name in zip(goals, fleet.names, strict=True):

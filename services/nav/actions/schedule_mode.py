@@ -94,5 +94,7 @@ class ScheduleMode:
             return
         self.last_error = ""
         stop = None if res.granted else (res.stop.x, res.stop.y)
+        aside = ((res.yield_to.x, res.yield_to.y)
+                 if res.step_aside or (res.must_yield and res.yield_to != RoutePose()) else None)
         self.gate.on_reply(Reply(self._now(), res.granted, stop, res.wait_for, res.must_yield,
-                                 tuple(res.segments)))
+                                 tuple(res.segments), aside))

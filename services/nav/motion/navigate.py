@@ -83,6 +83,12 @@ class Navigate(Behavior):
         self._recovery: Recovery | None = None
         self._progress_at = (0.0, math.inf)  # (time, distance remaining) of the last progress
         self._no_pose_since: float | None = None
+        # schedule mode's wait off the path (`TrafficGate.aside`): the place, the plan to it
+        # (None: being made; empty: none, wait where it stands), and the path it left
+        self._aside: tuple[float, float] | None = None
+        self._aside_ticket: int | None = None
+        self._aside_path: np.ndarray | None = None
+        self._left: tuple[np.ndarray, float] | None = None
         if fixed_path is not None:
             yaw = goals[-1].theta if goals and final_yaw else None
             self._adopt(fixed_path, yaw, [])
@@ -109,6 +115,9 @@ class Navigate(Behavior):
         self.tools.on_plan(xy)
 
     def _on_plan(self, out: PlanOutcome, sense: Sense) -> None:
+        if self._aside is not None:
+            self._last_request = -math.inf  # waiting off the path: plan again once back
+            return
         if out.ok:
             assert out.xy is not None
             done = sum(1 for w in self.waypoints if w.status != PENDING)
@@ -185,7 +194,8 @@ class Navigate(Behavior):
             if self._ticket is None:
                 self._request_plan(sense)
             return self._stop(sense)
-        if self.p.replan_period > 0 and sense.now - self._last_request >= self.p.replan_period:
+        if (self.p.replan_period > 0 and sense.now - self._last_request >= self.p.replan_period
+                and self._aside is None):
             self._request_plan(sense)
         if self.state == "recovering":
             return self._recover(sense)
@@ -203,10 +213,50 @@ class Navigate(Behavior):
 
     def _gate_limit(self, sense: Sense) -> float | None:
         """How far along the path the traffic gate lets the robot go (None: the gate's
-        off or has no limit)."""
+        off or has no limit). Off the path (waiting aside), it asks with the path and the
+        point where the robot left it."""
         if self.gate is None or self.path is None or sense.pose is None:
             return None
-        return self.gate.limit(sense.now, sense.pose, self.path, self.pp.track.position())
+        path, s = self._left or (self.path, self.pp.track.position())
+        return self.gate.limit(sense.now, sense.pose, path, s)
+
+    def _step_aside(self, sense: Sense, place: tuple[float, float] | None
+                    ) -> tuple[float, float]:
+        """Drive to the gate's place off the path and wait there; once the gate no longer
+        names one, plan from there to the goals again."""
+        assert sense.pose is not None
+        pose = sense.pose
+        if place is None:  # back to the goals, on a new plan (no goal latched from the aside)
+            self._aside, self._aside_ticket, self._aside_path, self._left = None, None, None, None
+            self.state, self._ticket, self.path = "planning", None, None
+            self._request_plan(sense)
+            return self._stop(sense)
+        if place != self._aside:
+            if self._left is None:
+                assert self.path is not None
+                self._left = (self.path, self.pp.track.position())
+            self._aside, self._aside_path, self._ticket = place, None, None
+            self._aside_ticket = self.tools.worker.submit(
+                pose, [Pose2(place[0], place[1], pose.theta)])
+        if self._aside_ticket is not None:
+            plan = self.tools.worker.poll(self._aside_ticket)
+            if plan is None:
+                return self._wait_for_traffic(sense)
+            self._aside_ticket = None
+            self._aside_path = plan.xy if plan.ok and plan.xy is not None else np.zeros((0, 2))
+            if len(self._aside_path):
+                self.pp.set_path(self._aside_path, None, keep_goal_latch=False)
+        if self._aside_path is None or len(self._aside_path) < 2:
+            return self._wait_for_traffic(sense)  # no way there: wait where it stands
+        cost = self.tools.cost_at(pose.x, pose.y)
+        out = self.pp.compute(pose, sense.dt, 0 if cost >= 253 else cost, None)
+        if out.state == "goal_reached" or self._collides(pose, out.v, out.w, sense):
+            return self._wait_for_traffic(sense)
+        self.state = "waiting"
+        self._blocked_since = None
+        self._progress_at = (sense.now, math.inf)
+        self.speed = out.v
+        return out.v, out.w
 
     def _wait_for_traffic(self, sense: Sense) -> tuple[float, float]:
         """Stopped at the end of the grant: not blocked, no recovery, no progress timeout."""
@@ -221,6 +271,10 @@ class Navigate(Behavior):
         cost = self.tools.cost_at(pose.x, pose.y)
         sent = (self.pp.last_v, self.pp.last_w)
         cap = self._gate_limit(sense)
+        if self.gate is not None:
+            place = self.gate.aside(sense.now)
+            if place is not None or self._aside is not None:
+                return self._step_aside(sense, place)
         carrot_limit = self._via_limit()
         if cap is not None:
             if cap - self.pp.track.position() <= 0.05:

@@ -7,7 +7,10 @@ path into a route (a point every ``spacing`` metres, timed at ``speed``), leaves
 outbox that the node sends to the manager (`take`), at once for a new path and every
 ``renew_period`` seconds while driving, which also renews the lease; the answer (`on_reply`)
 says where to stop. No answer for ``lease`` seconds: the robot stops. Off (``enabled``
-false), it answers None and sends nothing: the robot drives as without it.
+false), it answers None and sends nothing: the robot drives as without it. An answer with a
+place to wait at off the route (a robot coming out of a narrow segment will pass where this
+one would stop, or a deadlock's yield) is `aside`: `Navigate` drives there and waits, asking
+with its path as before, and goes back to its path once the answer no longer says so.
 """
 
 from __future__ import annotations
@@ -33,6 +36,10 @@ class TrafficGate(Protocol):
         """The behaviour ended: give back what it held."""
         ...
 
+    def aside(self, now: float) -> tuple[float, float] | None:
+        """A place off the path to wait at now (None: wait on the path, if at all)."""
+        ...
+
 
 @dataclass(frozen=True)
 class Ask:
@@ -52,6 +59,7 @@ class Reply:
     wait_for: str = ""
     must_yield: bool = False
     segments: tuple[int, ...] = ()
+    aside: tuple[float, float] | None = None  # wait there, off the route
 
 
 class ScheduleGate:
@@ -108,6 +116,17 @@ class ScheduleGate:
             cap = self._project(reply.stop, s)
             self.state = "waiting" if cap - s < 0.1 else "driving"
             return cap
+
+    def aside(self, now: float) -> tuple[float, float] | None:
+        """Where the last (fresh) answer says to wait off the route (None: on it)."""
+        with self._lock:
+            reply = self._reply
+            if (not self.enabled or reply is None or now - reply.at > self.lease
+                    or reply.granted):
+                return None
+            if reply.aside is not None:
+                self.state = "yielding" if reply.must_yield else "waiting"
+            return reply.aside
 
     def end(self) -> None:
         with self._lock:

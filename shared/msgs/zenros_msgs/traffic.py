@@ -49,7 +49,8 @@ class RequestRouteRequest(Message):
 class RequestRouteResponse(Message):
     """Drive route points ``[0, stop_index)``: all of them when ``granted``; else wait at
     ``stop`` (for ``wait_for``, when it names a robot). With ``must_yield`` the robot is on a
-    deadlock and backs off to ``yield_to``. ``segments`` are the narrow segments it holds."""
+    deadlock and backs off to ``yield_to``; with ``step_aside`` it waits at ``yield_to``, off
+    the route of the robot it waits for. ``segments`` are the narrow segments it holds."""
 
     __msgtype__ = "zenros_msgs/RequestRouteResponse"
     code: int = 0
@@ -62,6 +63,7 @@ class RequestRouteResponse(Message):
     yield_to: RoutePose = msgspec.field(default_factory=RoutePose)
     segments: list[int] = msgspec.field(default_factory=list)
     lease: float = 0.0
+    step_aside: bool = False
 
 
 class ReleaseRouteRequest(Message):

@@ -85,6 +85,41 @@ def test_navigate_waits_at_the_end_of_its_grant_then_reaches_the_goal() -> None:
         tools.worker.close()
 
 
+def test_navigate_waits_aside_where_it_is_told_then_goes_back_to_its_goal() -> None:
+    tools = Tools()
+    gate = ScheduleGate(speed=0.5, renew_period=0.5)
+    gate.set_enabled(True)
+    try:
+        world = World(Pose2(1.0, 1.0, 0.0))
+        b = nav(tools, Pose2(4.0, 1.0, 0.0))
+        b.gate = gate
+        aside, asked_off, stood = (2.0, 2.0), [], []
+        for _ in range(int(80 / DT)):
+            v, w = b.step(Sense(now=world.t, dt=DT, pose=world.pose))
+            ask = gate.take()
+            if ask is not None and not ask.release:
+                waiting = 2.0 < world.t < 25.0  # then the manager sends it aside
+                if waiting:
+                    asked_off.append(ask.route[-1][:2])
+                gate.on_reply(Reply(world.t, not waiting, None if not waiting else (2.5, 1.0),
+                                    "r2", aside=aside if waiting else None))
+            if b.done.is_set():
+                break
+            if 15.0 < world.t < 25.0:
+                stood.append((world.pose.x, world.pose.y))
+            th = world.pose.theta + w * DT / 2
+            world.pose = Pose2(world.pose.x + v * DT * math.cos(th),
+                               world.pose.y + v * DT * math.sin(th), world.pose.theta + w * DT)
+            world.t += DT
+        assert b.succeeded, b.error_msg
+        # it waited at the place aside, and asked with its route to the goal all along
+        assert stood and all(math.dist(p, aside) < 0.3 for p in stood), stood[-5:]
+        assert asked_off and all(math.dist(p, (4.0, 1.0)) < 0.01 for p in asked_off)
+        assert math.dist((world.pose.x, world.pose.y), (4.0, 1.0)) < 0.3
+    finally:
+        tools.worker.close()
+
+
 def test_without_a_gate_navigate_is_unchanged() -> None:
     tools = Tools()
     try:

@@ -162,6 +162,33 @@ def test_the_refused_robot_is_told_where_to_stop_and_whom_it_waits_for() -> None
     assert table.waits() == {"b": "a"}
 
 
+def test_a_waiter_in_the_lane_of_the_robot_coming_out_is_sent_aside() -> None:
+    table = TrafficTable(dumbbell(), stand_off=0.9)
+    a = table.request("a", route(polyline([(1.0, 2.0), (13.0, 2.0)])), 0.0, 2.0)
+    assert a.granted
+    # b stands on a's way out of the corridor: it waits off a's lane, in a wall-free cell
+    b = table.request("b", route(polyline([(11.5, 2.0), (1.0, 2.0)])), 0.0, 2.0)
+    assert not b.granted and b.wait_for == "a" and b.step_aside and b.yield_to is not None
+    m = table.map
+    lane = {m.cell_at(x, y) for x, y in polyline([(1.0, 2.0), (13.0, 2.0)])}
+    row, col = m.cell_at(*b.yield_to)
+    assert all(abs(row - r) > 1 or abs(col - c) > 1 for r, c in lane), (b.yield_to, lane)
+    assert m.clear_cells[row, col] and math.dist(b.yield_to, (11.5, 2.0)) < 3.0
+    # asking again from there keeps it there; once a has gone, b is granted
+    b2 = table.request("b", route(np.vstack([b.yield_to, polyline([(11.5, 2.0), (1.0, 2.0)])])),
+                       1.0, 2.0)
+    assert b2.step_aside and b2.yield_to == b.yield_to
+    table.release("a")
+    b3 = table.request("b", route(polyline([b.yield_to, (11.5, 2.0), (1.0, 2.0)])), 2.0, 2.0)
+    assert b3.granted and not b3.step_aside
+    # a waiter whose stop is off the lane (it comes from the side) stays on its route
+    table = TrafficTable(dumbbell(), stand_off=0.9)
+    table.request("a", route(polyline([(1.0, 2.0), (11.0, 2.0), (11.0, 0.5)])), 0.0, 2.0)
+    c = table.request("c", route(polyline([(13.0, 3.5), (10.5, 3.5), (10.0, 2.0),
+                                           (1.0, 2.0)])), 0.0, 2.0)
+    assert not c.granted and c.wait_for == "a"
+
+
 def test_same_segment_asked_at_once_goes_by_arrival_then_name() -> None:
     t1 = TrafficTable(dumbbell())
     r_a = route(polyline([(1.0, 2.0), (13.0, 2.0)]))
