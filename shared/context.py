@@ -19,6 +19,7 @@ from .names import KeySpace
 from .session import SessionOptions, open_session
 
 if TYPE_CHECKING:
+    from .clock import Clock
     from .graph import Graph
 
 __all__ = ["Context", "LocalTopic", "is_session_failure"]
@@ -46,7 +47,14 @@ class LocalTopic:
 
 
 class Context:
-    """Owns a Zenoh session and what every node on it shares."""
+    """Owns a Zenoh session and what every node on it shares.
+
+    ``sim_clock``: set by a deterministic run (`zenros.replay`), every node of the context
+    runs on it (``use_sim_time`` or not) and so does every timer; ``deterministic`` tells
+    nodes that they must not start threads of their own (docs/replay.md)."""
+
+    deterministic: bool = False
+    sim_clock: Clock | None = None
 
     def __init__(
         self,

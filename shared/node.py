@@ -136,7 +136,8 @@ class Node:
         self._setup_gate: DeliveryGate | None = None  # closed while setup() runs
         self._token: zenoh.LivelinessToken | None = None  # declared once set up
         try:
-            if self.uses_parameter_server:
+            # a deterministic run's parameters are its overrides alone: no master's answer
+            if self.uses_parameter_server and not self.context.deterministic:
                 attach_parameter_backend(self)
             self._start()
             gate = self._setup_gate = DeliveryGate()
@@ -161,7 +162,10 @@ class Node:
             events = self.create_publisher(ParameterEvent, PARAMETER_EVENTS, QOS_PARAMETER_EVENTS)
             self.parameters.on_event(lambda kind, p: events.publish(
                 parameter_event(kind, p, self.fqn, self.now())))
-        if self.parameters.declare("use_sim_time", False):
+        if ctx.sim_clock is not None:  # a deterministic run's clock (zenros.replay)
+            self._clock = ctx.sim_clock
+            self.parameters.declare("use_sim_time", True)
+        elif self.parameters.declare("use_sim_time", False):
             self._clock = ManualClock()
             sim = self._clock
             self.create_subscription(ClockMsg, "/clock", lambda m: sim.set(m.clock), QOS_SENSOR)
@@ -312,7 +316,10 @@ class Node:
                      clock: Clock | None = None) -> Timer:
         """Call ``callback()`` every ``period`` seconds of this node's clock, or of ``clock``
         (rclpy's ``clock=``): ``SteadyClock()`` ticks in wall time whatever ``use_sim_time``
-        says, for what outside clients see (rates of status streams, serial frames)."""
+        says, for what outside clients see (rates of status streams, serial frames). In a
+        deterministic run (`zenros.replay`) every timer follows the run's clock."""
+        if self.context.sim_clock is not None:
+            clock = self.context.sim_clock
         timer = Timer(period, callback, clock or self._clock, self.context.executor,
                       self.logger, callback_group, gate=self._setup_gate)
         with self._lock:

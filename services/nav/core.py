@@ -7,6 +7,7 @@ what goes out (commands, plans, status) is returned or handed to the ``on_plan``
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 from collections.abc import Callable
@@ -67,6 +68,8 @@ class NavConfig:
     scan_max_points_range: float = 3.0
     scan_match_rate: float = 5.0
     scan_match_gain: float = 0.5
+    deterministic: bool = False
+    """A deterministic run (docs/replay.md): plans in the caller, no wall-clock budget."""
 
 
 class NavCore:
@@ -75,6 +78,9 @@ class NavCore:
     def __init__(self, config: NavConfig, maps_root: Any,
                  on_plan: Callable[[np.ndarray], None] | None = None,
                  on_map: Callable[[str, GridMap], None] | None = None) -> None:
+        if config.deterministic and config.planner.timeout > 0:  # a wall-clock budget
+            config = dataclasses.replace(config, planner=dataclasses.replace(config.planner,
+                                                                             timeout=0.0))
         self.config = config
         self.localizer = Localizer(config.localization)
         self.costmaps = Costmaps(config.costmap, config.local_costmap_size,
@@ -86,7 +92,8 @@ class NavCore:
         self.planner = GlobalPlanner(config.planner, config.nav.robot_radius,
                                      config.planner_tolerance,
                                      build_planners(config.planners, context))
-        self.worker = PlanWorker(self.planner, self.costmaps.snapshot)
+        self.worker = PlanWorker(self.planner, self.costmaps.snapshot,
+                                 threaded=not config.deterministic)
         self.motion = Motion()
         self._on_plan_cb = on_plan
         self._on_map_cb = on_map

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import threading
@@ -16,7 +17,13 @@ from zenros.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRe
 from zenros.lifecycle.machine import ACTIVE
 from zenros.maps import GridMap
 from zenros.message import ActionType
-from zenros.msgs.geometry_msgs import Point, PoseWithCovarianceStamped, Twist, Vector3
+from zenros.msgs.geometry_msgs import (
+    Point,
+    PoseStamped,
+    PoseWithCovarianceStamped,
+    Twist,
+    Vector3,
+)
 from zenros.msgs.nav2_msgs import (
     BackUp,
     ClearEntireCostmap,
@@ -67,6 +74,7 @@ from .actions.convert import (
     transform_stamped,
 )
 from .actions.coverage import handle_compute_coverage_path
+from .actions.goal_topics import GoalTopics
 from .actions.landmarks import LandmarkServices
 from .actions.navigation import NavActions
 from .actions.routines import RoutineActions
@@ -79,6 +87,7 @@ from .maps.saver import SaveRefused
 from .motion.autocharge import AutoCharge
 from .motion.docking import Dock
 from .motion.loop import ControlLoop
+from .motion.timed_loop import TimedLoop
 from .params import DEMO_MAP, NavParameters, nav_config
 from .people.control import FollowControl
 from .people.follow import WALL_REACH, FollowParams, off_walls
@@ -113,6 +122,8 @@ class NavNode(LifecycleNode):
         self._servers: list[Any] = []
         p = self.params = self.declare_parameters(NavParameters)
         cfg = nav_config(p, self.parameters)
+        if self.context.deterministic:  # a replay (docs/replay.md): no threads of nav's own
+            cfg = dataclasses.replace(cfg, deterministic=True)
         self.autocharge = AutoCharge(p.auto_charge, p.go_charge_percentage)
         self.on_parameter_change(lambda p: setattr(self.autocharge, "enabled", bool(p.value)),
                                  "auto_charge")
@@ -150,6 +161,9 @@ class NavNode(LifecycleNode):
         self.create_subscription(ChassisState, "chassis/state", self.on_chassis)
         self.create_subscription(PoseWithCovarianceStamped, "initialpose", self.on_initialpose)
         self.create_subscription(TFMessage, "/tf_static", self.on_tf_static, STATIC_LISTENER_QOS)
+        goals = GoalTopics(self.core, self.logger, self._follow_refusal)
+        self.create_subscription(PoseStamped, "goal_pose", goals.on_goal_pose)
+        self.create_subscription(navmsgs.PatrolGoal, "patrol_goal", goals.on_patrol_goal)
 
         self._serve_maps()
         if p.building:
@@ -161,8 +175,12 @@ class NavNode(LifecycleNode):
         self.schedule = ScheduleLink(self, p)  # schedule mode: off unless schedule_mode
         # no ticks at rest: the loop sleeps while nothing drives, and a behaviour started or
         # halted wakes it (auto-charging is checked at the idle loop's 1 s steps)
-        self.control = ControlLoop(self.get_clock(), 1.0 / p.controller_frequency,
-                                   self.on_control, self.logger, idle=lambda: self.core.motion.idle)
+        period = 1.0 / p.controller_frequency
+        self.control: ControlLoop | TimedLoop = (
+            TimedLoop(self, period, self.on_control, idle=lambda: self.core.motion.idle)
+            if self.context.deterministic else
+            ControlLoop(self.get_clock(), period, self.on_control, self.logger,
+                        idle=lambda: self.core.motion.idle))
         self.core.motion.on_change = lambda _behavior: self.control.wake()
         self.control.start()
         # before the action servers close: running goals end as "navigation is shutting down"

@@ -13,7 +13,7 @@ from .common import stdout_closed
 
 # The nouns, each a module of this package with register(subparsers).
 NOUNS = ("topic", "service", "node", "graph", "tf", "param", "action", "smach", "task", "bag",
-         "lifecycle", "map", "diag", "interface", "doctor")
+         "lifecycle", "map", "diag", "interface", "doctor", "replay")
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
