@@ -19,6 +19,7 @@ from .http.context import Context
 from .ports.asr_link import AsrLink
 from .ports.blockly_link import BlocklyLink
 from .ports.calibration_link import CalibrationLink
+from .ports.config_service import ConfigService
 from .ports.coverage_link import CoverageLink
 from .ports.elevator_link import ElevatorLink
 from .ports.fs_sandbox import FileRoot
@@ -119,6 +120,7 @@ class Robot:
         node.on_close(self.videos.close)  # a recording under way keeps what it has
         self.snapshots = Snapshots(node, data_dir / "Pictures")
         self.media = MediaService(node, self.snapshots, self.videos)  # media/save, for tasks
+        self.config = ConfigService(node, self.core.settings)  # system/set_config, for tasks
         self.context = Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,
             nav_services=self.nav_services, io=self.io, topics=self.topics, hub=self.hub,

@@ -9,6 +9,7 @@ once; none holds a lock while it waits.
 from __future__ import annotations
 
 import json
+import math
 import threading
 import urllib.error
 import urllib.request
@@ -30,6 +31,7 @@ from zenros.msgs.zenros_msgs.task_actions import (
     LocalMoveTargetAction,
     Location,
     NavAction,
+    NoneStopNavAction,
     OnvifCameraMoveAction,
     OnvifCameraSnapshotAction,
     SleepAction,
@@ -44,6 +46,8 @@ from zenros.se2 import angle_diff
 
 from .blockly import ProgramError, Runner, parse
 from .crossmap import navigate_across
+from .elevator_calls import elevator_req, lbt_elevator_ack, lbt_elevator_req
+from .host_behaviors import change_setting, roslaunch
 from .robot import Feedback, Outcome, Robot
 
 __all__ = ["BEHAVIORS", "Context"]
@@ -51,16 +55,26 @@ __all__ = ["BEHAVIORS", "Context"]
 POLL: Final = 0.01  # wall seconds between checks while waiting
 
 
+def _run_now(cleanup: Callable[[], None]) -> None:
+    cleanup()
+
+
 class Context:
-    """What a running behaviour may touch: the robot, its item, progress and release."""
+    """What a running behaviour may touch: the robot, its item, progress and release.
+
+    ``at_end(cleanup)`` has ``cleanup`` called once the enclosing (root) task ends: complete,
+    failed, stopped, deleted, or the tasks service stopping; a pause is no end. Without a
+    task around it (a behaviour run by hand) the cleanup runs at once."""
 
     def __init__(self, robot: Robot, item: Action, cancelled: Callable[[], bool],
-                 changed: Callable[[], None], wait_release: threading.Event) -> None:
+                 changed: Callable[[], None], wait_release: threading.Event,
+                 at_end: Callable[[Callable[[], None]], None] = _run_now) -> None:
         self.robot = robot
         self.item = item
         self.cancelled = cancelled
         self.changed = changed
         self.wait_release = wait_release
+        self.at_end = at_end
 
     def progress(self, value: float) -> None:
         self.item.progress = round(max(0.0, min(1.0, value)), 4)
@@ -122,6 +136,27 @@ def _nav_here(ctx: Context, p: NavAction) -> Outcome:
         ctx.changed()
 
     return ctx.robot.navigate(x, y, theta, p.timeout, feedback, ctx.cancelled)
+
+
+def _none_stop_nav(ctx: Context, p: NoneStopNavAction) -> Outcome:
+    """Toward (x, y), heading from where the robot is to it; complete within ``radius``
+    without stopping. The task's end stops a goal still running then."""
+    pose = ctx.robot.pose()
+    theta = 0.0 if pose is None else math.atan2(p.y - pose[1], p.x - pose[0])
+    ctx.at_end(ctx.robot.stop_passing)
+    first: list[float] = []
+
+    def feedback(fb: Feedback) -> None:
+        ctx.item.current_location = Location(x=fb.x, y=fb.y, theta=fb.theta)
+        ctx.item.current_distance = fb.distance
+        if not first:
+            first.append(max(fb.distance, p.radius + 1e-6))
+        ctx.item.progress = round(max(0.0, min(1.0, (first[0] - fb.distance)
+                                               / (first[0] - p.radius))), 4)
+        ctx.changed()
+
+    return ctx.robot.pass_through(p.x, p.y, theta, p.radius, p.timeout, feedback,
+                                  ctx.cancelled)
 
 
 def _sleep(ctx: Context, p: SleepAction) -> Outcome:
@@ -338,4 +373,10 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "onvif_camera_snapshot_action": _onvif_camera_snapshot,
     "image_action": _image,
     "video_record_action": _video_record,
+    "none_stop_nav_action": _none_stop_nav,
+    "elevator_req_action": elevator_req,
+    "lbt_elevator_req_action": lbt_elevator_req,
+    "lbt_elevator_ack_action": lbt_elevator_ack,
+    "change_setting_action": change_setting,
+    "roslaunch_action": roslaunch,
 }

@@ -6,7 +6,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 from zenros import Node
 from zenros.building import Building
@@ -15,6 +15,9 @@ from zenros.msgs.zenros_msgs import ElevatorCommand, ElevatorCommandRequest, Ele
 from zenros.qos import QOS_LATCHED
 
 from .outcome import Outcome
+
+if TYPE_CHECKING:
+    from .elevator_calls import LbtRequest
 
 __all__ = ["SILENCE", "ElevatorLink"]
 
@@ -30,6 +33,7 @@ class ElevatorLink:
         self._cond = threading.Condition()
         self._states: dict[str, tuple[ElevatorState, float]] = {}
         self._clients: dict[str, Any] = {}
+        self.lbt: LbtRequest | None = None  # an lbt_elevator_req_action awaiting its ack
         for e in building.elevators:
             base = f"/building/elevators/{e.name}"
             self._clients[e.name] = node.create_client(ElevatorCommand, f"{base}/command")
@@ -45,6 +49,11 @@ class ElevatorLink:
         with self._cond:
             got = self._states.get(name)
         return None if got is None else got[0]
+
+    def available(self, name: str, timeout: float = 5.0) -> bool:
+        """Whether a controller serves car ``name``'s commands (waiting up to ``timeout``)."""
+        client = self._clients.get(name)
+        return client is not None and bool(client.wait_for_service(timeout))
 
     def command(self, name: str, command: str, level: int = 0) -> Outcome:
         """Send ``command`` (zenros_msgs/ElevatorCommand) to car ``name`` as this robot."""

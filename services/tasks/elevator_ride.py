@@ -44,10 +44,13 @@ def ride(robot: Robot, lift: ElevatorLink, elevator: str, hop: Hop,
         return Outcome("error", f"at {hop.describe()}: {exc}")
     if here not in e.levels or there not in e.levels:
         return Outcome("error", f"elevator {e.name} does not serve levels {here} and {there}")
-    note(f"calling elevator {e.name} to level {here}")
-    out = lift.command(e.name, "call", here)
-    if out.name != "complete":
-        return out
+    held = lift.state(e.name)
+    if held is None or held.holder != lift.me or held.level != here \
+            or held.state != "WAITING_IN":  # not called here already (elevator_req_action)
+        note(f"calling elevator {e.name} to level {here}")
+        out = lift.command(e.name, "call", here)
+        if out.name != "complete":
+            return out
     out = _ride(robot, lift, e, here, there, leg, note, time_up, cancelled)
     released = lift.command(e.name, "release")
     if out.name == "complete" and released.name != "complete":

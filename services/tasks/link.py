@@ -46,6 +46,7 @@ from zenros.tf.quaternion import quaternion_from_yaw, yaw_from_quaternion
 
 from .elevator_link import ElevatorLink
 from .map_exchange import MapExchange
+from .pass_through import PassThrough
 from .robot import Feedback, Outcome
 
 __all__ = ["RobotLink"]
@@ -96,6 +97,7 @@ class RobotLink:
         node.create_subscription(BatteryState, "battery_state", self._on_battery)
         self.maps = MapExchange(node)
         self.elevators: ElevatorLink | None = None  # the tasks node sets it for a building
+        self.passing = PassThrough(self.nav, self.now, cancel_and_wait)
 
     def _on_battery(self, msg: BatteryState) -> None:
         self.battery = float(msg.percentage)
@@ -206,6 +208,15 @@ class RobotLink:
         goal = NavigateToPoseGoal(pose=_pose(x, y, theta))
         return self._run(self.nav, goal, on_feedback, timeout, cancelled,
                          f"navigate to ({x:.2f}, {y:.2f}, {theta:.2f})")
+
+    def pass_through(self, x: float, y: float, theta: float, radius: float, timeout: float,
+                     feedback: Callable[[Feedback], None],
+                     cancelled: Callable[[], bool]) -> Outcome:
+        return self.passing.run(NavigateToPoseGoal(pose=_pose(x, y, theta)), radius, timeout,
+                                feedback, cancelled)
+
+    def stop_passing(self) -> None:
+        self.passing.stop()
 
     def charge(self, pose: tuple[float, float, float] | None, level: float, timeout: float,
                cancelled: Callable[[], bool]) -> Outcome:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Literal
+from typing import Any, Literal
 
 from zenros.action import ActionClient
 from zenros.errors import ZenrosError
@@ -25,6 +25,8 @@ from zenros.qos import QOS_LATCHED
 from zenros.tf.quaternion import quaternion_from_yaw
 
 from .actuator_link import ActuatorLink
+from .config_link import ConfigLink
+from .launcher import Launcher
 from .link import SERVER_WAIT, RobotLink
 from .media_link import MediaLink
 from .programs import ProgramStore
@@ -46,6 +48,8 @@ class LocalLink(RobotLink):
         self.actuators = ActuatorLink(node, SERVER_WAIT)
         self.ptz = PtzLink(node, SERVER_WAIT)
         self.media = MediaLink(node, SERVER_WAIT)
+        self.config = ConfigLink(node, SERVER_WAIT)
+        self.launcher: Launcher | None = None  # the tasks node's (roslaunch_action)
         self.io_state: IoState | None = None
         self._io_heard = threading.Event()
         self._io_sub: object | None = None  # chassis/io, subscribed at the first read
@@ -83,6 +87,18 @@ class LocalLink(RobotLink):
                    filename: str, progress: Callable[[float], None],
                    cancelled: Callable[[], bool]) -> Outcome:
         return self.media.save(kind, topic, duration, filename, progress, cancelled)
+
+    def change_settings(self, settings: dict[str, Any], check_only: bool = False) -> Outcome:
+        return self.config.change(settings, check_only)
+
+    def launch(self, launch_cmd: str, cancelled: Callable[[], bool]) -> tuple[Outcome, str]:
+        if self.launcher is None:
+            return Outcome("error", "this tasks service runs no launch files"), ""
+        return self.launcher.start(launch_cmd, cancelled)
+
+    def stop_launch(self, key: str) -> None:
+        if self.launcher is not None:
+            self.launcher.stop(key)
 
     def drive(self, distance: float, speed: float, timeout: float,
               progress: Callable[[float], None], cancelled: Callable[[], bool]) -> Outcome:

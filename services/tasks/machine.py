@@ -41,6 +41,10 @@ class RunHooks(Protocol):
 
     def changed(self) -> None: ...
 
+    def at_end(self, cleanup: Callable[[], None]) -> None:
+        """Call ``cleanup`` once the run's task ends (not at a pause)."""
+        ...
+
 
 class ActionState(State):
     """One action of a task: runs its behaviour and reports the outcome."""
@@ -56,7 +60,7 @@ class ActionState(State):
         kind = kind_of(self.item)
         params = substitute(action_params(self.item), self.board)
         ctx = Context(self.hooks.robot, self.item, self.preempt_requested, self.hooks.changed,
-                      self.hooks.wait_release)
+                      self.hooks.wait_release, self.hooks.at_end)
         try:
             outcome = BEHAVIORS[kind](ctx, action_of(kind, params))
         except Exception as exc:  # noqa: BLE001 (a behaviour's bug ends the action only)

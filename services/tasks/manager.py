@@ -8,6 +8,7 @@ from. Errors: `DocumentError` (400), `UnknownTaskError` (404), `TaskStateError` 
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections.abc import Callable
 from typing import Any, Final
@@ -55,6 +56,7 @@ __all__ = ["TaskBusyError", "TaskManager", "UnknownTaskError"]
 
 _FINAL: Final = {"complete": COMPLETE, "fail": FAILED, "error": ERROR}
 STOP_TIMEOUT: Final = 10.0
+log = logging.getLogger(__name__)
 
 
 class UnknownTaskError(KeyError):
@@ -107,6 +109,7 @@ class TaskManager:
         self._tasks: dict[str, Task] = {}
         self._owner: dict[str, str] = {}  # item id -> task id
         self._run: _Run | None = None
+        self._at_end: dict[str, list[Callable[[], None]]] = {}  # task id -> cleanups
         self.recovered: list[str] = []
         for doc in store.load():
             self._index(doc)
@@ -185,6 +188,7 @@ class TaskManager:
                 raise TaskStateError(task_id, "delete", WORKING)
             self._unindex(doc)
             self.store.delete(task_id)
+        self._end(task_id)
         self.on_change(msgspec.structs.replace(
             doc, state=CANCELLED if doc.state not in TERMINAL else doc.state), "deleted")
 
@@ -290,7 +294,10 @@ class TaskManager:
                 self._settle(doc, CANCELLED)
                 doc.state = CANCELLED
                 self._commit(doc, "stopped")
-                return doc
+        if run is None:
+            self._end(task_id)
+            return doc
+        with self._lock:
             run.intent = request
             assert run.execution is not None
             run.execution.request_preempt()
@@ -352,6 +359,8 @@ class TaskManager:
             self._commit(doc, event)
             if relaunch:
                 self._launch(doc)
+        if state in TERMINAL:
+            self._end(doc.id)
         run.done.set()
 
     # ------------------------------------------------------------------ hooks
@@ -409,6 +418,17 @@ class TaskManager:
         for item in walk(doc):
             self._owner.pop(item.id, None)
 
+    def _end(self, task_id: str) -> None:
+        """Task ``task_id`` ended: run what its actions left to undo (`Context.at_end`), last
+        first, outside the lock."""
+        with self._lock:
+            cleanups = self._at_end.pop(task_id, [])
+        for cleanup in reversed(cleanups):
+            try:
+                cleanup()
+            except Exception:  # one cleanup's failure must not skip the others
+                log.exception("task %s: a cleanup at its end failed", task_id)
+
     def _commit(self, doc: Task, event: str) -> None:
         self.store.put(doc)
         self.on_change(doc, event)
@@ -427,6 +447,8 @@ class TaskManager:
                 self.pause(run.doc.id, timeout)
             except (TaskStateError, TimeoutError):
                 pass
+        for task_id in list(self._at_end):  # what tasks started does not outlive the service
+            self._end(task_id)
 
 
 class _Hooks:
@@ -443,6 +465,10 @@ class _Hooks:
 
     def changed(self) -> None:
         self.manager._changed(self.run)
+
+    def at_end(self, cleanup: Callable[[], None]) -> None:
+        with self.manager._lock:
+            self.manager._at_end.setdefault(self.run.doc.id, []).append(cleanup)
 
 
 def _first_error(doc: Task) -> str:

@@ -5,12 +5,14 @@ from __future__ import annotations
 import asyncio
 import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Annotated, Any
 
 import msgspec
 from msgspec import Meta
 from zenros.building import load_building
 from zenros.home import data_dir
+from zenros.launch.files import launch_dir
 from zenros.message import Message
 from zenros.msgs.zenros_msgs.task_docs import Task
 from zenros.msgs.zenros_msgs.tasks import TaskStatus
@@ -21,6 +23,7 @@ from zenros.smach import Container, IntrospectionServer
 from .api import CALLS, call
 from .documents import is_task, kind_of, snapshot
 from .elevator_link import ElevatorLink
+from .launcher import Launcher
 from .local_link import LocalLink
 from .manager import TaskManager
 from .program_api import PROGRAM_CALLS, program_call
@@ -53,6 +56,9 @@ class TasksParameters(msgspec.Struct, kw_only=True):
     building: Annotated[str, Meta(
         description="a building file (docs/building.md): goals on another floor ride its "
                     "elevators ('' = none)")] = ""
+    launch_dir: Annotated[str, Meta(
+        description="the launch files roslaunch_action may start, by name ('' = those "
+                    "zenros ships, deploy/launch)")] = ""
 
 
 class TasksNode(Node):
@@ -74,6 +80,11 @@ class TasksNode(Node):
         if p.building:
             self.link.elevators = ElevatorLink(self, load_building(
                 os.path.expanduser(p.building)))
+        self.link.launcher = self.own(Launcher(
+            Path(p.launch_dir).expanduser() if p.launch_dir else launch_dir(),
+            {**os.environ, "ZENROS_PREFIX": self.context.keys.prefix},
+            directory / "logs" / "launches",
+            lambda fqn: fqn in self.context.graph.node_names()))
         self.manager = self.own(TaskManager(self.store, self.link, self.publish_status,
                                             self.introspect if self.introspection else None,
                                             resume_on_start=resume))

@@ -9,7 +9,7 @@ tests pass a double. Long calls take ``cancelled``, polled while they wait, and 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Literal, NamedTuple, Protocol
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Protocol
 
 from zenros.maps.maproute import Link
 from zenros.msgs.zenros_msgs.blockly import BlocklyProgram
@@ -48,6 +48,32 @@ class Robot(Protocol):
                  feedback: Callable[[Feedback], None],
                  cancelled: Callable[[], bool]) -> Outcome:
         """Drive to (x, y, theta) in ``map``; ``timeout`` 0 means none."""
+        ...
+
+    def pass_through(self, x: float, y: float, theta: float, radius: float, timeout: float,
+                     feedback: Callable[[Feedback], None],
+                     cancelled: Callable[[], bool]) -> Outcome:
+        """Drive toward (x, y, theta) in ``map``; complete once within ``radius`` m, the goal
+        left running (the next goal replaces it; `stop_passing` stops it)."""
+        ...
+
+    def stop_passing(self) -> None:
+        """Cancel the goal a completed `pass_through` left running, if it still runs."""
+        ...
+
+    def change_settings(self, settings: dict[str, Any], check_only: bool = False) -> Outcome:
+        """Set ``/system/config`` keys (the gateway's settings), or only check them; an
+        unknown key or a bad value is an error naming it."""
+        ...
+
+    def launch(self, launch_cmd: str, cancelled: Callable[[], bool]) -> tuple[Outcome, str]:
+        """Start a launch file zenros ships, named by ``launch_cmd`` (``roslaunch <pkg>
+        <file>.launch [name:=value ...]``), until its nodes are up: the outcome, and the key
+        `stop_launch` takes ("" when nothing was started)."""
+        ...
+
+    def stop_launch(self, key: str) -> None:
+        """Stop launch ``key`` and every process it started."""
         ...
 
     def charge(self, pose: tuple[float, float, float] | None, level: float, timeout: float,

@@ -9,6 +9,8 @@ from .blockly import *  # noqa: F403
 from .blockly import __all__ as _blockly_all
 from .chassis import *  # noqa: F403
 from .chassis import __all__ as _chassis_all
+from .config import *  # noqa: F403
+from .config import __all__ as _config_all
 from .elevator import *  # noqa: F403
 from .elevator import __all__ as _elevator_all
 from .lifecycle import *  # noqa: F403
@@ -36,6 +38,6 @@ from .tasks import __all__ as _tasks_all
 from .traffic import *  # noqa: F403
 from .traffic import __all__ as _traffic_all
 
-__all__ = [*_blockly_all, *_chassis_all, *_elevator_all, *_lifecycle_all, *_media_all, *_nav_all,
-           *_people_all, *_ptz_all, *_result_all, *_schedule_all, *_slam_all,
+__all__ = [*_blockly_all, *_chassis_all, *_config_all, *_elevator_all, *_lifecycle_all,
+           *_media_all, *_nav_all, *_people_all, *_ptz_all, *_result_all, *_schedule_all, *_slam_all,
            *_task_actions_all, *_task_docs_all, *_tasks_all, *_traffic_all]

@@ -14,18 +14,46 @@ document (a JSON ``null`` is read as not given).
 from __future__ import annotations
 
 import math
+import re
 from typing import Annotated, Any, Final, Literal
 
 import msgspec
 from msgspec import UNSET, Meta, UnsetType
 
 __all__ = [
-    "ACTION_TYPES", "COMMON_FIELDS", "Action", "ActionBase", "BlocklyAction", "CallbackAction",
+    "ACTION_TYPES",
+    "COMMON_FIELDS",
+    "LAUNCH_CMD",
+    "Action",
+    "ActionBase",
+    "BlocklyAction",
+    "CallbackAction",
+    "ChangeSettingAction",
     "ChargeAction",
-    "DownloadMapAction", "ImageAction", "IoAction", "JackingAction", "JackingRotateAction",
-    "LocalMoveAction", "LocalMoveTargetAction", "Location", "NavAction", "OnvifCameraMoveAction",
-    "OnvifCameraSnapshotAction", "SleepAction", "SlideAction", "SwitchMapAction", "TtsAction",
-    "UploadMapAction", "VideoRecordAction", "WaitReqAction", "check_action",
+    "DownloadMapAction",
+    "ElevatorReqAction",
+    "ImageAction",
+    "IoAction",
+    "JackingAction",
+    "JackingRotateAction",
+    "LbtElevatorAckAction",
+    "LbtElevatorReqAction",
+    "LocalMoveAction",
+    "LocalMoveTargetAction",
+    "Location",
+    "NavAction",
+    "NoneStopNavAction",
+    "OnvifCameraMoveAction",
+    "OnvifCameraSnapshotAction",
+    "RoslaunchAction",
+    "SleepAction",
+    "SlideAction",
+    "SwitchMapAction",
+    "TtsAction",
+    "UploadMapAction",
+    "VideoRecordAction",
+    "WaitReqAction",
+    "check_action",
 ]
 
 Seconds = Annotated[float, Meta(ge=0)]
@@ -242,11 +270,85 @@ class BlocklyAction(ActionBase, kw_only=True, tag="blockly_action"):
     api_key: Annotated[str, Meta(min_length=1, max_length=64)]
 
 
+Floor = Annotated[int, Meta(ge=-1000, le=1000)]
+ElevatorName = Annotated[str, Meta(pattern=r"^[A-Za-z0-9_]{0,64}$")]
+"""A car of the building (docs/building.md); "": the building's first elevator."""
+
+
+class ElevatorReqAction(ActionBase, kw_only=True, tag="elevator_req_action"):
+    """Call car ``elevator_name`` to floor ``level`` as this robot; complete once it stands
+    there with its doors open for the robot (it then holds them, ``WAITING_IN``).
+    ``direction`` (the hall button pressed) is kept: the simulated controller serves calls
+    first come, first served."""
+
+    level: Floor
+    direction: Literal["up", "down", ""] = ""
+    elevator_name: ElevatorName = ""
+    timeout: Seconds = 0.0  # 0: no limit (a silent controller still ends it)
+
+
+class LbtElevatorReqAction(ActionBase, kw_only=True, tag="lbt_elevator_req_action"):
+    """A request to the elevator controller for a ride from ``from_level`` to
+    ``to_level``: ``cmd`` ``enter`` calls the car to ``from_level`` and completes once it
+    stands open there, holding its doors until ``lbt_elevator_ack_action``; ``leave``
+    completes once the car stands open at ``to_level``, holding its doors until the ack."""
+
+    from_level: Floor
+    to_level: Floor
+    cmd: Literal["enter", "leave"]
+    elevator_name: ElevatorName = ""
+    timeout: Seconds = 0.0  # 0: no limit (a silent controller still ends it)
+
+
+class LbtElevatorAckAction(ActionBase, kw_only=True, tag="lbt_elevator_ack_action"):
+    """Tell the controller the robot has entered (the car rides to the request's
+    ``to_level``) or left (the car is released) after ``lbt_elevator_req_action``."""
+
+
+class NoneStopNavAction(ActionBase, kw_only=True, tag="none_stop_nav_action"):
+    """Drive toward (``x``, ``y``) in ``map`` and complete, without stopping, once the robot
+    is within ``radius`` m of it: the next goal replaces this one; the task's end stops it."""
+
+    x: Coordinate
+    y: Coordinate
+    radius: Annotated[float, Meta(gt=0, le=100)] = 0.5
+    timeout: Seconds = 0.0  # 0: no limit
+
+
+Settings = Annotated[dict[str, Any], Meta(min_length=1, max_length=64)]
+
+
+class ChangeSettingAction(ActionBase, kw_only=True, tag="change_setting_action"):
+    """Change ``/system/config`` keys (the gateway's settings) to ``settings``; when the
+    enclosing task ends, ``init_settings`` (if given) are set back."""
+
+    settings: Settings
+    init_settings: Settings | UnsetType = UNSET
+
+
+LAUNCH_CMD: Final = re.compile(
+    r"^\s*(?:(?:roslaunch|zenros\s+launch)\s+)?(?:(?P<pkg>[A-Za-z0-9_.-]+)\s+)?"
+    r"(?P<file>[A-Za-z0-9_-]+)(?:\.launch|\.ya?ml)?"
+    r"(?P<args>(?:\s+[A-Za-z_][A-Za-z0-9_]*:=[A-Za-z0-9_.,:/+@=-]*)*)\s*$")
+"""``launch_cmd``: ``roslaunch <pkg> <file>.launch [name:=value ...]``, ``zenros launch
+<file>.yaml [...]`` or ``<file>[.yaml] [...]``: a launch file by name, never a path."""
+
+
+class RoslaunchAction(ActionBase, kw_only=True, tag="roslaunch_action"):
+    """Start launch file ``<file>.yaml`` that zenros ships (``deploy/launch``), named as
+    ``roslaunch <pkg> <file>.launch [name:=value ...]`` would; complete once its nodes are
+    up. It runs until the enclosing task ends."""
+
+    launch_cmd: Annotated[str, Meta(min_length=1, max_length=512)]
+
+
 Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqAction | TtsAction
           | SwitchMapAction | LocalMoveAction | LocalMoveTargetAction | IoAction
           | UploadMapAction | DownloadMapAction | SlideAction | JackingAction
           | JackingRotateAction | BlocklyAction | OnvifCameraMoveAction | ImageAction
-          | VideoRecordAction | OnvifCameraSnapshotAction)
+          | VideoRecordAction | OnvifCameraSnapshotAction | ElevatorReqAction
+          | LbtElevatorReqAction | LbtElevatorAckAction | NoneStopNavAction
+          | ChangeSettingAction | RoslaunchAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
@@ -277,6 +379,22 @@ def check_action(action: ActionBase) -> None:
     if isinstance(action, VideoRecordAction) and action.video_url:
         raise ValueError("(video_record_action): video_url sources are not recorded: the "
                          "robot records its own cameras (give topic)")
+    if isinstance(action, LbtElevatorReqAction) and action.from_level == action.to_level:
+        raise ValueError(f"(lbt_elevator_req_action): to_level must differ from from_level "
+                         f"(both {action.from_level})")
+    if isinstance(action, RoslaunchAction) and LAUNCH_CMD.match(action.launch_cmd) is None:
+        raise ValueError(f"(roslaunch_action): launch_cmd {action.launch_cmd!r} is not "
+                         "'roslaunch <package> <file>.launch [name:=value ...]' (or "
+                         "'<file>.yaml [name:=value ...]'): a launch file zenros ships, by "
+                         "name, never a path or a shell command")
+    if isinstance(action, ChangeSettingAction):
+        for field, given in (("settings", action.settings),
+                             ("init_settings", action.init_settings)):
+            if isinstance(given, dict):
+                bad = [k for k in given if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", k)]
+                if bad:
+                    raise ValueError(f"(change_setting_action): {field}: {bad[0]!r} is not "
+                                     "a configuration key name")
     if isinstance(action, CallbackAction):
         if not action.url.startswith(("http://", "https://")):
             raise ValueError(f"(callback_action): url must be http:// or https://, got "

@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 from zenros.building import load_building
 from zenros.maps.maproute import Link, PointEnd
+from zenros.msgs.zenros_msgs import ElevatorState
 from zenros.msgs.zenros_msgs.task_actions import NavAction
 from zenros.services.tasks.crossmap import carry_over, navigate_across
 from zenros.services.tasks.robot import Outcome
@@ -140,6 +141,10 @@ class FakeLift:
         self.me = "/"
         self.log: list[Any] = []
         self.refuse = ""
+        self.held: ElevatorState | None = None  # the car's state (None: not heard)
+
+    def state(self, name: str) -> ElevatorState | None:
+        return self.held
 
     def command(self, name: str, command: str, level: int = 0) -> Outcome:
         self.log.append((command, level))
@@ -184,6 +189,17 @@ def test_a_goal_two_floors_up_rides_the_elevator() -> None:
     assert [c for c in lift.log if c[0] != "wait"] == [("call", 1), ("go", 3), ("release", 0)]
     assert any("riding elevator lift1 to level 3" in n for n in notes)
     assert notes[-1].startswith("on map floor3 via elevator connection l13")
+
+
+def test_a_car_already_called_here_is_not_called_again() -> None:
+    """An ``elevator_req_action`` before the goal left the car open here for this robot."""
+    robot, lift = tower_robot(), FakeLift()
+    lift.held = ElevatorState(name="lift1", holder="/", state="WAITING_IN", level=1,
+                              position=1.0, door=1.0)
+    out = navigate_across(robot, NavAction(map="floor3", path="p", index=0), "floor1",
+                          leg_of(robot), print, lift)  # type: ignore[arg-type]
+    assert out == Outcome("complete", "arrived")
+    assert [c for c in lift.log if c[0] != "wait"] == [("go", 3), ("release", 0)]
 
 
 def test_a_refused_or_cancelled_ride_releases_the_car() -> None:
