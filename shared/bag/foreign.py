@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 from mcap.records import Channel, Schema
 
 from ..codec import codec_for
-from ..errors import CodecError, ZenrosError
+from ..errors import ZenrosError
 from ..qos import QoSProfile
 from ..ros2 import cdr_codec_for_name, type_hash
 from ..ros2.registry import zenros_class_of
@@ -255,18 +255,16 @@ def _topics(reader: AnyReader) -> list[ForeignTopic]:
 
 # ------------------------------------------------------------------ public
 
-_BAD_PAYLOAD = (CodecError, ValueError, TypeError, KeyError, IndexError, AttributeError,
-                struct.error)
 _warned: set[tuple[str, str, str]] = set()
 
 
-def _warn_once(files: list[Path], t: ForeignTopic, what: str) -> None:
-    """One warning per bag, topic and kind of trouble, however often the bag is read."""
+def _warn_once(files: list[Path], t: ForeignTopic, kind: str, what: str) -> None:
+    """One warning per bag, topic and ``kind`` of trouble, however often the bag is read."""
     bag = str(files[0].parent if len(files) > 1 or files[0].suffix != ".bag" else files[0])
-    key = (bag, t.topic, what.split(" ", 2)[1])
+    key = (bag, t.topic, kind)
     if key not in _warned:
         _warned.add(key)
-        _log.warning("bag %s: topic %s (%s): %s", bag, t.topic, t.ros_type, what)
+        _log.warning("bag %s: topic %s: %s", bag, t.topic, what)
 
 
 
@@ -304,7 +302,7 @@ def foreign_span(files: list[Path]) -> tuple[int, int, list[tuple[Channel, Schem
     s = foreign_summary(files)
     for t in s.topics:
         if t.skipped:
-            _warn_once(files, t, f"not played: {t.skipped}")
+            _warn_once(files, t, "skipped", f"not played: {t.skipped}")
     return s.start, s.end, [(t.channel, t.schema) for t in s.topics if t.channel is not None]
 
 
@@ -320,7 +318,7 @@ def iter_foreign(files: list[Path], topics: list[str] | None = None,
         by_conn: dict[int, ForeignTopic] = {}
         for t in plan:
             if t.skipped:
-                _warn_once(files, t, f"not played: {t.skipped}")
+                _warn_once(files, t, "skipped", f"not played: {t.skipped}")
                 continue
             for c in t.connections:
                 by_conn[id(c)] = t
@@ -328,21 +326,16 @@ def iter_foreign(files: list[Path], topics: list[str] | None = None,
             return
         conns = [c for t in plan if not t.skipped for c in t.connections]
         sequence: dict[int, int] = {}
-        skipped: dict[str, int] = {}
         try:
             for conn, stamp, raw in reader.messages(connections=conns, start=start):
                 t = by_conn[id(conn)]
                 assert t.convert is not None and t.channel is not None
                 try:
                     data = t.convert(raw)
-                except Exception as exc:  # zenros's, numpy's or rosbags' errors
-                    if not isinstance(exc, _BAD_PAYLOAD) and not type(
-                            exc).__module__.startswith("rosbags"):
-                        raise
-                    skipped[t.topic] = skipped.get(t.topic, 0) + 1
-                    if skipped[t.topic] == 1:
-                        _warn_once(files, t, f"a message at {stamp} does not decode, skipped "
-                                   f"({type(exc).__name__}: {exc}); so are any others")
+                except Exception as exc:  # noqa: BLE001  # zenros, numpy or rosbags: a bad payload
+                    _warn_once(files, t, "undecodable",
+                               f"a message at {stamp} does not decode as {t.ros_type}, skipped "
+                               f"({type(exc).__name__}: {exc}); so is any other that does not")
                     continue
                 seq = sequence.get(t.channel.id, 0)
                 sequence[t.channel.id] = seq + 1
