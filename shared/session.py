@@ -73,13 +73,15 @@ def _parse_cfg(items: list[str]) -> list[tuple[str, str]]:
 
 
 def options_from_args(ns: argparse.Namespace) -> SessionOptions:
-    """Session options from parsed flags, with ZENROS_CONNECT / ZENROS_MODE as fallbacks."""
+    """Session options from parsed flags, with ZENROS_CONNECT / ZENROS_LISTEN / ZENROS_MODE
+    (comma-separated endpoints) as fallbacks."""
     env_connect = [e for e in os.environ.get("ZENROS_CONNECT", "").split(",") if e]
+    env_listen = [e for e in os.environ.get("ZENROS_LISTEN", "").split(",") if e]
     connect = list(ns.connect) or env_connect
     return SessionOptions(
         mode=ns.mode or os.environ.get("ZENROS_MODE") or None,
         connect=connect or None,
-        listen=list(ns.listen),
+        listen=list(ns.listen) or env_listen,
         config_file=ns.config or os.environ.get("ZENROS_CONFIG") or None,
         cfg=_parse_cfg(ns.cfg),
         multicast_scouting=bool(ns.multicast_scouting),

@@ -7,6 +7,7 @@ import asyncio
 import contextlib
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -32,6 +33,13 @@ MASTER_WAIT = 5.0
 MASTER_MODULE = "zenros.services.master"
 
 
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
 def is_master(spec: ProcessSpec) -> bool:
     """Whether a process of the launch is the master (``module: zenros.services.master``)."""
     return MASTER_MODULE in spec.cmd
@@ -51,6 +59,7 @@ class ZenohLaunch:
         self.ctx: Context | None = None
         self._master_in_launch = False
         self._master_waited = False
+        self._mesh: dict[tuple[str, str, str], str] = {}  # each peer's listen endpoint
 
     def hooks(self) -> LaunchHooks:
         return LaunchHooks(startup=self.startup, before_start=self.before_start,
@@ -119,9 +128,32 @@ class ZenohLaunch:
         env = dict(spec.env)
         if spec.ros_args and self._master_in_launch and not is_master(spec):
             env[MASTER_IN_LAUNCH] = "1"  # the node waits briefly for master's services
-        if "ZENROS_CONNECT" not in spec.env and "ZENROS_CONNECT" not in os.environ:
+        if self._meshed(spec):
+            env.update(self._mesh_env(spec))
+        elif "ZENROS_CONNECT" not in spec.env and "ZENROS_CONNECT" not in os.environ:
             env["ZENROS_CONNECT"] = self.endpoint
         return spec if env == spec.env else replace(spec, env=env)
+
+    @staticmethod
+    def _meshed(spec: ProcessSpec) -> bool:
+        """A zenros process in peer mode whose endpoints the launch may choose."""
+        mode = spec.env.get("ZENROS_MODE") or os.environ.get("ZENROS_MODE") or "peer"
+        own = ("ZENROS_CONNECT", "ZENROS_LISTEN")
+        return ((spec.ros_args or bool(spec.components)) and mode == "peer"
+                and not any(k in spec.env for k in own) and "ZENROS_LISTEN" not in os.environ)
+
+    def _mesh_env(self, spec: ProcessSpec) -> dict[str, str]:
+        """The launch's peers link by configured endpoints, not only by gossip: each listens
+        on a loopback port of its own, kept across respawns, and connects to the router and
+        to every peer started before it. Zenoh makes a lost link to a configured endpoint
+        again, never one found by gossip (docs/zenoh-config.md, 'Known limit')."""
+        key = (spec.namespace, spec.name, spec.origin)
+        own = self._mesh.get(key) or f"tcp/127.0.0.1:{_free_port()}"
+        earlier = [ep for k, ep in self._mesh.items() if k != key]
+        self._mesh.setdefault(key, own)
+        routers = [e for e in os.environ.get("ZENROS_CONNECT", "").split(",") if e.strip()]
+        return {"ZENROS_LISTEN": own,
+                "ZENROS_CONNECT": ",".join([*(routers or [self.endpoint]), *earlier])}
 
     async def _wait_for_master(self) -> None:
         """Hold the nodes after master until its parameter services are up (MASTER_WAIT s at
