@@ -136,11 +136,13 @@ class ZenohLaunch:
 
     @staticmethod
     def _meshed(spec: ProcessSpec) -> bool:
-        """A zenros process in peer mode whose endpoints the launch may choose."""
+        """A zenros process in peer mode on the default config (no Zenoh config file: one
+        listens where its file says, for other hosts) whose endpoints the launch may choose."""
         mode = spec.env.get("ZENROS_MODE") or os.environ.get("ZENROS_MODE") or "peer"
-        own = ("ZENROS_CONNECT", "ZENROS_LISTEN")
+        own = ("ZENROS_CONNECT", "ZENROS_LISTEN", "ZENROS_CONFIG")
         return ((spec.ros_args or bool(spec.components)) and mode == "peer"
-                and not any(k in spec.env for k in own) and "ZENROS_LISTEN" not in os.environ)
+                and not any(k in spec.env for k in own)
+                and not any(k in os.environ for k in own[1:]))
 
     def _mesh_env(self, spec: ProcessSpec) -> dict[str, str]:
         """The launch's peers link by configured endpoints, not only by gossip: each listens
