@@ -5,6 +5,7 @@ manager answers)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from test_behaviors import DT, Tools, World, nav
@@ -19,7 +20,7 @@ from zenros.se2 import Pose2
 from zenros.services.nav.actions.schedule_mode import ScheduleMode
 from zenros.services.nav.motion.behavior import Sense
 from zenros.services.nav.motion.navigate import Navigate
-from zenros.services.nav.motion.traffic import Reply, ScheduleGate
+from zenros.services.nav.motion.traffic import Ask, Reply, ScheduleGate
 
 PATH = np.column_stack([np.linspace(0.0, 5.0, 101), np.zeros(101)])
 
@@ -52,6 +53,29 @@ def test_on_it_sends_the_route_stops_until_answered_then_caps_at_the_stop() -> N
     assert gate.limit(5.0, Pose2(), PATH, 0.0) is None
 
 
+def drive(b: Navigate, gate: ScheduleGate, world: World, answer: Callable[[Ask], Reply],
+          seconds: float, watch: Callable[[], None] = lambda: None) -> tuple[int, bool]:
+    """Tick ``b`` on ``world`` for ``seconds`` at most; ``answer`` stands in for the manager
+    (each route asked, answered at once); ``watch`` runs every tick before the robot moves.
+    Returns (routes asked, whether a release was sent)."""
+    asked, released = 0, False
+    for _ in range(int(seconds / DT)):
+        v, w = b.step(Sense(now=world.t, dt=DT, pose=world.pose))
+        ask = gate.take()
+        released = released or (ask is not None and ask.release)
+        if ask is not None and not ask.release:
+            asked += 1
+            gate.on_reply(answer(ask))
+        if b.done.is_set():
+            break
+        watch()
+        th = world.pose.theta + w * DT / 2
+        world.pose = Pose2(world.pose.x + v * DT * math.cos(th),
+                           world.pose.y + v * DT * math.sin(th), world.pose.theta + w * DT)
+        world.t += DT
+    return asked, released
+
+
 def test_navigate_waits_at_the_end_of_its_grant_then_reaches_the_goal() -> None:
     tools = Tools()
     gate = ScheduleGate(speed=0.5, renew_period=0.5)
@@ -60,23 +84,17 @@ def test_navigate_waits_at_the_end_of_its_grant_then_reaches_the_goal() -> None:
         world = World(Pose2(1.0, 1.0, 0.0))
         b = nav(tools, Pose2(4.0, 1.0, 0.0))
         b.gate = gate
-        asked, stood, released = 0, [], False
-        for _ in range(int(60 / DT)):
-            v, w = b.step(Sense(now=world.t, dt=DT, pose=world.pose))
-            ask = gate.take()
-            released = released or (ask is not None and ask.release)
-            if ask is not None and not ask.release:
-                asked += 1
-                granted = world.t > 20.0  # the manager holds the robot at x = 2.5 for 20 s
-                gate.on_reply(Reply(world.t, granted, None if granted else (2.5, 1.0), "r2"))
-            if b.done.is_set():
-                break
+        stood: list[float] = []
+
+        def answer(ask: Ask) -> Reply:
+            granted = world.t > 20.0  # the manager holds the robot at x = 2.5 for 20 s
+            return Reply(world.t, granted, None if granted else (2.5, 1.0), "r2")
+
+        def watch() -> None:
             if 5.0 < world.t < 20.0:
                 stood.append(world.pose.x)
-            th = world.pose.theta + w * DT / 2
-            world.pose = Pose2(world.pose.x + v * DT * math.cos(th),
-                               world.pose.y + v * DT * math.sin(th), world.pose.theta + w * DT)
-            world.t += DT
+
+        asked, released = drive(b, gate, world, answer, 60, watch)
         assert b.succeeded, b.error_msg
         assert stood and 2.3 <= min(stood) and max(stood) <= 2.55, (min(stood), max(stood))
         assert b.recoveries == 0 and asked >= 20
@@ -93,24 +111,22 @@ def test_navigate_waits_aside_where_it_is_told_then_goes_back_to_its_goal() -> N
         world = World(Pose2(1.0, 1.0, 0.0))
         b = nav(tools, Pose2(4.0, 1.0, 0.0))
         b.gate = gate
-        aside, asked_off, stood = (2.0, 2.0), [], []
-        for _ in range(int(80 / DT)):
-            v, w = b.step(Sense(now=world.t, dt=DT, pose=world.pose))
-            ask = gate.take()
-            if ask is not None and not ask.release:
-                waiting = 2.0 < world.t < 25.0  # then the manager sends it aside
-                if waiting:
-                    asked_off.append(ask.route[-1][:2])
-                gate.on_reply(Reply(world.t, not waiting, None if not waiting else (2.5, 1.0),
-                                    "r2", aside=aside if waiting else None))
-            if b.done.is_set():
-                break
+        aside = (2.0, 2.0)
+        asked_off: list[tuple[float, float]] = []
+        stood: list[tuple[float, float]] = []
+
+        def answer(ask: Ask) -> Reply:
+            waiting = 2.0 < world.t < 25.0  # then the manager sends it aside
+            if waiting:
+                asked_off.append(ask.route[-1][:2])
+            return Reply(world.t, not waiting, (2.5, 1.0) if waiting else None, "r2",
+                         aside=aside if waiting else None)
+
+        def watch() -> None:
             if 15.0 < world.t < 25.0:
                 stood.append((world.pose.x, world.pose.y))
-            th = world.pose.theta + w * DT / 2
-            world.pose = Pose2(world.pose.x + v * DT * math.cos(th),
-                               world.pose.y + v * DT * math.sin(th), world.pose.theta + w * DT)
-            world.t += DT
+
+        drive(b, gate, world, answer, 80, watch)
         assert b.succeeded, b.error_msg
         # it waited at the place aside, and asked with its route to the goal all along
         assert stood and all(math.dist(p, aside) < 0.3 for p in stood), stood[-5:]
