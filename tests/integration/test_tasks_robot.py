@@ -143,3 +143,38 @@ def test_stop_mid_navigation_cancels_the_goal(at_start: Robot) -> None:
     assert wait_for(lambda: robot.nav.core.motion.active is None, 10)
     assert wait_for(lambda: robot.speed < 1e-6, 10)
     assert robot.pose[0] < 11.0
+
+
+def test_none_stop_nav_passes_through_and_the_next_goal_takes_over(at_start: Robot) -> None:
+    """``none_stop_nav_action`` completes within its radius while the robot drives on; the
+    next nav_action's goal replaces its goal with no stop between them."""
+    robot = at_start
+    speeds: list[tuple[float, float]] = []  # (x, speed) while passing the point
+    robot.user.create_subscription(
+        Odometry, "sim/ground_truth",
+        lambda m: speeds.append((m.pose.pose.position.x, abs(m.twist.twist.linear.x)))
+        if 2.0 < m.pose.pose.position.x < 6.0 else None)
+    # a wide radius: at 10x a slow box takes sim seconds to hand over to the next goal
+    task = robot.call("create", body={"sub_tasks": [
+        {"type": "none_stop_nav_action", "x": 5.0, "y": 0.0, "radius": 2.5},
+        {"type": "nav_action", "x": 8.0, "y": 0.0, "theta": 0.0}]})
+    robot.call("start", task["id"])
+    assert wait_for(lambda: robot.state(task["id"]) != "WORKING", 60)
+    done = robot.call("get", task["id"])
+    assert done["state"] == "COMPLETE", done
+    passed = done["sub_tasks"][0]
+    assert "passing at" in passed["result"] and passed["current_distance"] <= 2.5, passed
+    assert math.hypot(robot.pose[0] - 8.0, robot.pose[1]) < 0.2
+    assert speeds and min(s for _, s in speeds) > 0.05, speeds  # never stopped near (5, 0)
+
+
+def test_a_last_none_stop_nav_stops_at_the_tasks_end(at_start: Robot) -> None:
+    robot = at_start
+    task = robot.call("create", body={"sub_tasks": [
+        {"type": "none_stop_nav_action", "x": 6.0, "y": 0.0, "radius": 2.0}]})
+    robot.call("start", task["id"])
+    assert wait_for(lambda: robot.state(task["id"]) != "WORKING", 60)
+    assert robot.call("get", task["id"])["state"] == "COMPLETE"
+    assert wait_for(lambda: robot.nav.core.motion.active is None, 10)
+    assert wait_for(lambda: robot.speed < 1e-6, 10)
+    assert 3.5 < robot.pose[0] < 5.0, robot.pose  # stopped soon after 4 m, short of 6 m
