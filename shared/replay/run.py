@@ -20,6 +20,7 @@ from __future__ import annotations
 import logging
 import random
 from collections.abc import Callable
+from contextlib import nullcontext
 from typing import Any, Self
 
 import numpy as np
@@ -66,6 +67,8 @@ class DeterministicRun:
         self.executor = self.ctx.stepper
         self.check = WallClockCheck(logger or logging.getLogger("zenros.replay"), exempt)
         self._checking = check
+        if check:
+            self.check.install()
         self.nodes: list[Node] = []
         random.seed(SEED)
         np.random.seed(SEED)
@@ -75,8 +78,6 @@ class DeterministicRun:
         return self.clock.now().nanoseconds
 
     def _watch(self) -> Any:
-        from contextlib import nullcontext
-
         return self.check.watching() if self._checking else nullcontext()
 
     def add_node(self, factory: Callable[..., Node], **kwargs: Any) -> Node:
@@ -141,6 +142,7 @@ class DeterministicRun:
             node.close()
         self.nodes.clear()
         self.ctx.close()
+        self.check.uninstall()
 
     def __enter__(self) -> Self:
         return self

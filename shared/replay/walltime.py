@@ -16,6 +16,7 @@ from __future__ import annotations
 import logging
 import os
 import sys
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator
@@ -45,8 +46,8 @@ class WallRead(tuple[str, str, int]):
 
 
 class WallClockCheck:
-    """Installed around a run's dispatch (`watching`); ``reads`` lists each calling line
-    once, ``count`` every call."""
+    """Installed for a run's life (`install`, `uninstall`), reporting only while a dispatch
+    runs (`watching`); ``reads`` lists each calling line once, ``count`` every call."""
 
     def __init__(self, logger: logging.Logger = _log,
                  exempt: dict[str, str] | None = None) -> None:
@@ -57,30 +58,38 @@ class WallClockCheck:
         self._seen: set[tuple[str, int]] = set()
         self._logger = logger
         self._depth = 0
+        self._thread = 0  # the dispatching thread
+        self._originals: list[tuple[ModuleType, str, Callable[..., Any]]] = []
+
+    def install(self) -> None:
+        """Wrap the watched functions (once; they report only inside `watching`)."""
+        if self._originals:
+            return
+        self._originals = [(mod, name, getattr(mod, name)) for mod, name in _WATCHED]
+        for mod, name, fn in self._originals:
+            setattr(mod, name, self._wrap(f"{mod.__name__}.{name}", fn))
+
+    def uninstall(self) -> None:
+        """Put the watched functions back."""
+        originals, self._originals = self._originals, []
+        for mod, name, fn in originals:
+            setattr(mod, name, fn)
 
     @contextmanager
     def watching(self) -> Iterator[None]:
-        """Wrap the watched functions for the duration of the block (re-entrant)."""
-        if self._depth:
-            self._depth += 1
-            try:
-                yield
-            finally:
-                self._depth -= 1
-            return
-        originals = [(mod, name, getattr(mod, name)) for mod, name in _WATCHED]
-        for mod, name, fn in originals:
-            setattr(mod, name, self._wrap(f"{mod.__name__}.{name}", fn))
-        self._depth = 1
+        """Report reads for the duration of the block (re-entrant; installs if need be)."""
+        self.install()
+        self._thread = threading.get_ident()
+        self._depth += 1
         try:
             yield
         finally:
-            self._depth = 0
-            for mod, name, fn in originals:
-                setattr(mod, name, fn)
+            self._depth -= 1
 
     def _wrap(self, what: str, fn: Callable[..., Any]) -> Callable[..., Any]:
         def watched(*args: Any, **kwargs: Any) -> Any:
+            if not self._depth or threading.get_ident() != self._thread:
+                return fn(*args, **kwargs)  # not in a dispatch, or another thread
             frame = sys._getframe(1)
             where = frame.f_code.co_filename
             if not any(a in where for a in _ALLOWED) and not any(

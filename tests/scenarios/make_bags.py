@@ -124,9 +124,10 @@ def goal_message(goal: Any) -> Any:
     return goal
 
 
-def simulate(name: str, maps: Path, out: Path) -> Robot:
-    """Run scenario ``name`` closed-loop; write nav's inputs to ``out``."""
-    spec = SCENARIOS[name]
+def simulate(name: str, maps: Path, out: Path, spec: dict[str, Any] | None = None) -> Robot:
+    """Run scenario ``name`` (or ``spec``: seconds, box, goal) closed-loop; write nav's
+    inputs to ``out``."""
+    spec = spec or SCENARIOS[name]
     world = World(load_map(maps / "room" / "room.yaml"))
     if spec["box"]:
         world.set_obstacles([BOX])
