@@ -2,7 +2,9 @@
 
 `Recorder` writes raw samples (JSON or MessagePack, as they travel) with a JSON Schema per
 type; `Player` republishes them on their original schedule; `bag_info` summarizes a bag;
-`recover_bag` rebuilds the files of a recorder that was killed.
+`recover_bag` rebuilds the files of a recorder that was killed. Bags recorded with ROS
+(rosbag2, ROS 1) are read too, converted to zenros's messages (`zenros.bag.foreign`, the
+``rosbags`` extra).
 """
 
 from .info import BagInfo, bag_info, format_info

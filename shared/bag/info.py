@@ -86,7 +86,7 @@ def _size(n: float) -> str:
 
 def _stamp(ns: int) -> str:
     t = dt.datetime.fromtimestamp(ns / 1e9, tz=dt.UTC)
-    return f"{t:%b %d %Y %H:%M:%S.%f}"[:-3] + f" UTC ({ns / 1e9:.9f})"
+    return f"{t:%b %d %Y %H:%M:%S.%f}"[:-3] + f" UTC ({ns // 10**9}.{ns % 10**9:09d})"
 
 
 def format_info(info: BagInfo) -> str:

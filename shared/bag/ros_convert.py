@@ -99,26 +99,40 @@ def _case_map(ros_type: type) -> dict[str, str]:
     return out
 
 
+def _compile(cls: type[Message], parts: list[tuple[str, str, Callable[[Any], Any]]],
+             ros_type: type) -> Builder:
+    """One constructor call with every field's expression inlined, for one ROS class: its
+    attribute names resolved once (case-insensitively where they differ)."""
+    names = _case_map(ros_type)
+    env: dict[str, Any] = {"cls": cls}
+    args = []
+    for i, (name, src, conv) in enumerate(parts):
+        actual = src if src in names.values() else names.get(src.lower())
+        if actual is None or not actual.isidentifier():
+            continue  # the ROS type has no such field: zenros's default
+        if conv is _identity:
+            args.append(f"{name}=o.{actual}")
+        else:
+            env[f"c{i}"] = conv
+            args.append(f"{name}=c{i}(o.{actual})")
+    exec(f"def build(o):\n    return cls({', '.join(args)})\n", env)  # noqa: S102  # names checked
+    built: Builder = env["build"]
+    return built
+
+
 @cache
 def builder_for(cls: type[Message]) -> Builder:
-    """The function that makes a ``cls`` from a rosbags message of the same ROS type."""
-    parts: list[tuple[str, str, Callable[[Any], Any]]] = []
+    """The function that makes a ``cls`` from a rosbags message of the same ROS type (a
+    constructor compiled per ROS class it meets)."""
     info = mi.type_info(cls)
     assert isinstance(info, mi.StructType)
-    for f in info.fields:
-        parts.append((f.name, f.encode_name, _converter(f.type)))
-    missing = object()
+    parts = [(f.name, f.encode_name, _converter(f.type)) for f in info.fields]
+    compiled: dict[type, Builder] = {}
 
     def build(obj: Any) -> Message:
-        kw: dict[str, Any] = {}
-        for name, src, conv in parts:
-            v = getattr(obj, src, missing)
-            if v is missing:
-                alt = _case_map(type(obj)).get(src.lower())
-                if alt is None:
-                    continue  # the ROS type has no such field: zenros's default
-                v = getattr(obj, alt)
-            kw[name] = conv(v)
-        return cls(**kw)
+        fn = compiled.get(type(obj))
+        if fn is None:
+            fn = compiled[type(obj)] = _compile(cls, parts, type(obj))
+        return fn(obj)
 
     return build
