@@ -2,6 +2,7 @@
 recorded with ROS"; the tests of `zenros.bag.foreign`):
 
     python scripts/make_ros_bag.py OUT [--storage sqlite3|mcap|ros1] [-n N] [--unknown]
+    python scripts/make_ros_bag.py OUT --from ZENROS_BAG [--storage sqlite3|mcap]
 
 OUT is a rosbag2 directory (sqlite3, mcap storage) or a ROS 1 ``.bag`` file (ros1). N steps
 (default 10) 100 ms apart from 1,700,000,000 s: /cmd_vel (geometry_msgs/Twist), /odom
@@ -9,7 +10,9 @@ OUT is a rosbag2 directory (sqlite3, mcap storage) or a ROS 1 ``.bag`` file (ros
 /map (nav_msgs/OccupancyGrid, transient-local/latched) and /goal_pose
 (geometry_msgs/PoseStamped) once at the start. ``--unknown`` adds /custom of a type zenros
 does not have (my_robot_msgs/Battery, defined in the bag). Values follow the step number i
-(see `values` below), so a reader can check them. Needs rosbags (``pip install
+(see `values` below), so a reader can check them. ``--from`` re-writes a zenros bag as a
+rosbag2 bag instead (the messages CDR-encoded, as ``ros2 bag record`` would have stored
+them: docs/replay.md replays one into nav). Needs rosbags (``pip install
 'zenros[rosbags]'``).
 """
 
@@ -150,17 +153,68 @@ def _latched_qos() -> Any:
                never, never, QosLiveliness.AUTOMATIC, never, False)
 
 
+def from_zenros_bag(src: Path, out: Path, storage: str = "sqlite3") -> Path:
+    """A zenros bag re-written as ``ros2 bag record`` would have stored the same messages: a
+    rosbag2 directory (``storage`` sqlite3 or mcap), each message CDR-encoded by zenros's
+    codec under its ROS 2 name, at the same log times and in the same order, with each
+    channel's QoS. Only the standard types (rosbags' Kilted store has their definitions);
+    a channel of another type is left out."""
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+    from zenros.bag import bag_files, iter_messages
+    from zenros.codec import decode_any
+    from zenros.qos import QoSProfile, Reliability
+    from zenros.ros2 import cdr_codec, ros_name_of
+
+    store = get_typestore(Stores.ROS2_KILTED)
+    never = QosTime(sec=0, nsec=0)
+    plugin = {"sqlite3": StoragePlugin.SQLITE3, "mcap": StoragePlugin.MCAP}[storage]
+    with Writer2(out, version=9, storage_plugin=plugin) as w:
+        conns: dict[tuple[str, str], Any] = {}
+        for m in iter_messages(bag_files(src)):
+            msg = decode_any(m.data, m.channel.metadata["zenoh_encoding"])
+            name = ros_name_of(type(msg))
+            if name not in store.types:
+                continue
+            key = (m.channel.topic, name)
+            if key not in conns:
+                q = QoSProfile.from_tag(m.channel.metadata.get("qos", "rel+10"))
+                reliable = q.reliability == Reliability.RELIABLE
+                qos = Qos(QosHistory.KEEP_LAST, q.depth,
+                          QosReliability.RELIABLE if reliable else QosReliability.BEST_EFFORT,
+                          QosDurability.TRANSIENT_LOCAL if q.latched else QosDurability.VOLATILE,
+                          never, never, QosLiveliness.AUTOMATIC, never, False)
+                conns[key] = w.add_connection(m.channel.topic, name, typestore=store,
+                                              offered_qos_profiles=[qos])
+            w.write(conns[key], m.log_time, cdr_codec(type(msg)).encode(msg))
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0] if __doc__ else None)
     p.add_argument("out", type=Path)
     p.add_argument("--storage", choices=("sqlite3", "mcap", "ros1"), default="sqlite3")
     p.add_argument("-n", type=int, default=10, help="steps, 100 ms apart")
     p.add_argument("--unknown", action="store_true", help="add a topic of a type zenros lacks")
+    p.add_argument("--from", dest="source", type=Path, metavar="ZENROS_BAG",
+                   help="re-write this zenros bag's messages instead (rosbag2 storage only)")
     args = p.parse_args(argv)
     if args.out.exists():
         print(f"{args.out} exists: give a new path", file=sys.stderr)
         return 2
-    write_bag(args.out, args.storage, args.n, args.unknown)
+    if args.source is not None:
+        if args.storage == "ros1":
+            print("--from writes rosbag2 bags (--storage sqlite3 or mcap)", file=sys.stderr)
+            return 2
+        from_zenros_bag(args.source, args.out, args.storage)
+    else:
+        write_bag(args.out, args.storage, args.n, args.unknown)
     print(args.out)
     return 0
 

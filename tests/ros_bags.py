@@ -31,45 +31,10 @@ def make(directory: Path, storage: str, n: int = 10, unknown: bool = False) -> P
 
 
 def to_rosbag2(src: Path, out: Path, storage: str = "sqlite3") -> Path:
-    """A zenros bag re-written as ``ros2 bag record`` would have stored the same messages: a
-    rosbag2 directory (``storage`` sqlite3 or mcap), each message CDR-encoded by zenros's
-    codec under its ROS 2 name, at the same log times, in the same order (the standard
-    types only: rosbags' Kilted store defines the connections)."""
-    from rosbags.interfaces import (
-        Qos,
-        QosDurability,
-        QosHistory,
-        QosLiveliness,
-        QosReliability,
-        QosTime,
-    )
-    from rosbags.rosbag2 import StoragePlugin, Writer
-    from rosbags.typesys import Stores, get_typestore
-    from zenros.bag import bag_files, iter_messages
-    from zenros.codec import decode_any
-    from zenros.qos import QoSProfile, Reliability
-    from zenros.ros2 import cdr_codec, ros_name_of
-
-    store = get_typestore(Stores.ROS2_KILTED)
-    never = QosTime(sec=0, nsec=0)
-    plugin = {"sqlite3": StoragePlugin.SQLITE3, "mcap": StoragePlugin.MCAP}[storage]
-    with Writer(out, version=9, storage_plugin=plugin) as w:
-        conns: dict[tuple[str, str], object] = {}
-        for m in iter_messages(bag_files(src)):
-            msg = decode_any(m.data, m.channel.metadata["zenoh_encoding"])
-            name = ros_name_of(type(msg))
-            key = (m.channel.topic, name)
-            if key not in conns:
-                q = QoSProfile.from_tag(m.channel.metadata.get("qos", "rel+10"))
-                qos = Qos(QosHistory.KEEP_LAST, q.depth,
-                          QosReliability.RELIABLE if q.reliability == Reliability.RELIABLE
-                          else QosReliability.BEST_EFFORT,
-                          QosDurability.TRANSIENT_LOCAL if q.latched else QosDurability.VOLATILE,
-                          never, never, QosLiveliness.AUTOMATIC, never, False)
-                conns[key] = w.add_connection(m.channel.topic, name, typestore=store,
-                                              offered_qos_profiles=[qos])
-            w.write(conns[key], m.log_time, cdr_codec(type(msg)).encode(msg))  # type: ignore[arg-type]
-    return out
+    """A zenros bag re-written as ``ros2 bag record`` would have stored the same messages
+    (``make_ros_bag.py --from``)."""
+    path: Path = script().from_zenros_bag(src, out, storage)
+    return path
 
 
 def to_zenros_bag(src: Path, out: Path) -> Path:
