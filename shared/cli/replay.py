@@ -38,6 +38,10 @@ def register(sub: Any) -> None:
                         "bond, transition_event, /diagnostics); '' records everything")
     p.add_argument("--tail", type=float, default=0.0, metavar="S",
                    help="run the clock S seconds past the last message (timers only)")
+    p.add_argument("--clock-topic", metavar="TOPIC", nargs="?", const="/clock", default=None,
+                   help="take the simulated time from the bag's clock messages (default "
+                        "/clock) instead of its log times: for a bag recorded live from a "
+                        "simulation")
     p.add_argument("--compression", choices=COMPRESSIONS, default="zstd")
     p.add_argument("--no-check", action="store_true",
                    help="do not report wall-clock reads inside callbacks")
@@ -75,7 +79,8 @@ def run(args: argparse.Namespace) -> int:
     nodes = [n.strip() for n in args.nodes.split(",") if n.strip()]
     res = replay_bag(args.bag, nodes, out, params=parse_node_params(args.param),
                      exclude=DEFAULT_EXCLUDE if args.exclude is None else args.exclude,
-                     tail=args.tail, compression=args.compression, check=not args.no_check)
+                     tail=args.tail, compression=args.compression, check=not args.no_check,
+                     clock_topic=args.clock_topic)
     print(f"replayed {res.sim_seconds:.3f} s of {args.bag} into {', '.join(nodes)} in "
           f"{res.wall_seconds:.3f} s ({res.rtf:.1f}x real time): {res.delivered} inputs "
           f"delivered, {res.recorded} outputs written to {out}")

@@ -59,14 +59,19 @@ class ReplayResult:
 def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
                params: dict[str, dict[str, Any]] | None = None,
                exclude: str | None = DEFAULT_EXCLUDE, tail: float = 0.0,
-               compression: str = "zstd", check: bool = True) -> ReplayResult:
+               compression: str = "zstd", check: bool = True,
+               clock_topic: str | None = None) -> ReplayResult:
     """Replay ``bag`` into the services ``nodes`` and write their outputs to ``output``.
 
     Inputs are the bag's messages on topics the services subscribe to and none of them
     publishes, delivered in log-time order; the clock starts at the first message's log
     time. ``params``: per service, parameter overrides (nav's ``maps_dir`` defaults to a
     fresh temporary folder, so a replay never reads or changes the user's maps). ``tail``:
-    seconds the clock runs on after the last message (timers only).
+    seconds the clock runs on after the last message (timers only). ``clock_topic``
+    (``/clock``): the simulated time is the bag's clock messages (rosgraph_msgs/Clock) instead
+    of its log times, for a bag recorded live from a simulation: messages keep their
+    log-time order and each is delivered at the last clock value before it (those before
+    the first clock message at that first value), and timers fire up to each new value.
 
     Raises:
         BagError: the bag cannot be read. ConfigError: an unknown service, a bad pattern.
@@ -87,6 +92,13 @@ def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
     first = next(messages, None)
     if first is None:
         raise BagError(f"{bag} holds no messages")
+    decoder = InputDecoder()
+    start = first.log_time
+    if clock_topic:
+        tick = next(iter_messages(files, topics=[clock_topic]), None)
+        if tick is None:
+            raise BagError(f"{bag} has no {clock_topic} messages (--clock-topic)")
+        start = _clock_ns(decoder, tick)
     result = ReplayResult(output)
     out = OutputBag(output, compression)
     qos: dict[str, str] = {}
@@ -99,11 +111,10 @@ def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
         result.recorded += 1
 
     exempt = {k: v for s in specs.values() for k, v in s.exempt.items()}
-    decoder = InputDecoder()
     classes = {name: spec.load() for name, spec in specs.items()}  # imports: not the replay's
     wall, cpu = time.perf_counter(), time.process_time()
     with tempfile.TemporaryDirectory(prefix="zenros-replay-") as scratch:
-        run = DeterministicRun(first.log_time, on_output, check=check, exempt=exempt)
+        run = DeterministicRun(start, on_output, check=check, exempt=exempt)
         try:
             for name in specs:
                 overrides = dict((params or {}).get(name, {}))
@@ -113,13 +124,17 @@ def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
                 for ep in node._endpoints:
                     if hasattr(ep, "publish") and hasattr(ep, "qos"):
                         qos.setdefault(ep.topic, ep.qos.tag)
-            last = first.log_time
             for m in _chain(first, messages):
                 result.inputs += 1
-                last = m.log_time
                 topic = m.channel.topic
+                if clock_topic and topic == clock_topic:
+                    t = _clock_ns(decoder, m)
+                    if t > run.now_ns:  # a clock that went back (a restarted sim) waits
+                        run.advance_to(t)
+                    continue
+                at = run.now_ns if clock_topic else m.log_time
                 if topic in result.skipped_topics or not run.subscribed(topic):
-                    run.advance_to(m.log_time)
+                    run.advance_to(at)
                     continue
                 try:
                     msg = decoder.decode(m)
@@ -131,11 +146,11 @@ def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
                     _log.warning("replay: a message on %s at %d does not decode (%s); skipped",
                                  topic, m.log_time, exc)
                     continue
-                if run.deliver(topic, msg, m.log_time, decoder.type_name(m)):
+                if run.deliver(topic, msg, at, decoder.type_name(m)):
                     result.delivered += 1
-            end = last + int(tail * 1e9)
+            end = run.now_ns + int(tail * 1e9)
             run.advance_to(end)
-            result.sim_seconds = (end - first.log_time) / 1e9
+            result.sim_seconds = (end - start) / 1e9
         finally:
             run.close()
             out.close()
@@ -143,6 +158,15 @@ def replay_bag(bag: str | Path, nodes: list[str], output: Path, *,
     result.cpu_seconds = time.process_time() - cpu
     result.wall_reads = [tuple(r) for r in run.check.reads]  # type: ignore[misc]
     return result
+
+
+def _clock_ns(decoder: InputDecoder, m: Any) -> int:
+    try:
+        t: int = decoder.decode(m).clock.nanoseconds
+    except (UndecodableChannel, ValueError, TypeError, AttributeError) as exc:
+        raise BagError(f"{m.channel.topic} at {m.log_time}: not a rosgraph_msgs/Clock "
+                       f"({exc})") from None
+    return t
 
 
 def _chain(first: Any, rest: Any) -> Any:
