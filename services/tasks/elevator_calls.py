@@ -22,8 +22,6 @@ one, so a release is always safe). A claim the robot never uses also lapses afte
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
 
 from zenros.building import Elevator
 from zenros.msgs.zenros_msgs import ElevatorState
@@ -34,26 +32,14 @@ from zenros.msgs.zenros_msgs.task_actions import (
 )
 from zenros.se2 import Pose2
 
-from .elevator_link import ElevatorLink
+from .context import Context
+from .elevator_link import ElevatorLink, LbtRequest
 from .outcome import Outcome
 
-if TYPE_CHECKING:
-    from .behaviors import Context
-
-__all__ = ["LbtRequest", "elevator_req", "lbt_elevator_ack", "lbt_elevator_req"]
+__all__ = ["elevator_req", "lbt_elevator_ack", "lbt_elevator_req"]
 
 OPEN = 0.999  # the car's doors count as open from here
 AT_FLOOR = 0.01
-
-
-@dataclass(frozen=True)
-class LbtRequest:
-    """The last ``lbt_elevator_req_action`` that completed, waiting for its ack."""
-
-    cmd: Literal["enter", "leave"]
-    elevator: str
-    from_level: int
-    to_level: int
 
 
 def _car(ctx: Context, name: str, *levels: int) -> tuple[ElevatorLink, Elevator] | Outcome:

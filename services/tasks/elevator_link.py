@@ -6,7 +6,8 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Final
+from dataclasses import dataclass
+from typing import Any, Final, Literal
 
 from zenros import Node
 from zenros.building import Building
@@ -16,14 +17,21 @@ from zenros.qos import QOS_LATCHED
 
 from .outcome import Outcome
 
-if TYPE_CHECKING:
-    from .elevator_calls import LbtRequest
-
-__all__ = ["SILENCE", "ElevatorLink"]
+__all__ = ["SILENCE", "ElevatorLink", "LbtRequest"]
 
 SILENCE: Final = 10.0  # wall s without a car's state: its controller is gone
 CALL_WAIT: Final = 10.0  # s for a command's answer
 POLL: Final = 0.02
+
+
+@dataclass(frozen=True)
+class LbtRequest:
+    """The last ``lbt_elevator_req_action`` that completed, waiting for its ack."""
+
+    cmd: Literal["enter", "leave"]
+    elevator: str
+    from_level: int
+    to_level: int
 
 
 class ElevatorLink:

@@ -5,14 +5,12 @@ the task's end)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from zenros.msgs.zenros_msgs.task_actions import ChangeSettingAction, RoslaunchAction
 
+from .context import Context
 from .outcome import Outcome
-
-if TYPE_CHECKING:
-    from .behaviors import Context
 
 __all__ = ["change_setting", "roslaunch"]
 
