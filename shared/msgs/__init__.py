@@ -1,6 +1,7 @@
 """The standard message, service and action types; importing registers them all."""
 
 from . import (
+    audio_common_msgs,
     bond,
     builtin_interfaces,
     diagnostic_msgs,
@@ -24,6 +25,7 @@ from . import (
 )
 
 __all__ = [
+    "audio_common_msgs",
     "bond",
     "builtin_interfaces",
     "diagnostic_msgs",

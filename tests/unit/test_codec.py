@@ -47,7 +47,8 @@ BULK = {
     "std_msgs/ByteMultiArray", "std_msgs/UInt8MultiArray", "visualization_msgs/MeshFile",
     "test_msgs/BoundedPlainSequences", "test_msgs/BoundedSequences",
     "test_msgs/UnboundedSequences", "example_interfaces/ByteMultiArray",
-    "example_interfaces/UInt8MultiArray",
+    "example_interfaces/UInt8MultiArray", "audio_common_msgs/AudioData",
+    "audio_common_msgs/AudioDataStamped",
 }
 
 

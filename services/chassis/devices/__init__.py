@@ -21,6 +21,7 @@ from .fleet import FleetDevice
 from .imu import ImuDevice
 from .io import IoDevice
 from .laser import LaserDevice
+from .microphone import MicrophoneDevice
 from .odometry import OdometryDevice
 from .people import PeopleDevice
 from .ptz import PtzDevice
@@ -32,7 +33,7 @@ from .wind import WindDevice
 __all__ = ["DEVICES", "ActuatorDevice", "AsrDevice", "BatteryDevice", "BuildingDevice",
            "CalibrationDevice",
            "CameraDevice", "DockDevice", "FleetDevice", "GroundTruthDevice", "ImuDevice",
-           "IoDevice", "LaserDevice",
+           "IoDevice", "LaserDevice", "MicrophoneDevice",
            "OdometryDevice", "PeopleDevice", "PtzDevice", "StateDevice", "UwbDevice",
            "WindDevice"]
 
@@ -55,4 +56,5 @@ DEVICES: tuple[type[Device[Any]], ...] = (
     ActuatorDevice,
     AsrDevice,
     PtzDevice,
+    MicrophoneDevice,
 )

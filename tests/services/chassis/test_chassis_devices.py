@@ -48,7 +48,8 @@ NAMES = {
     "imu_rate", "imu_gyro_bias", "imu_gyro_noise", "imu_accel_noise", "imu_frame",
     "calibration", "imu_calibration_time", "laser_calibration_drive", "camera_error_yaw",
     "camera_error_f", "people", "people_rate", "uwb_rate", "uwb_range_noise",
-    "uwb_bearing_noise", "building", "building_rate",
+    "uwb_bearing_noise", "building", "building_rate", "microphone_rate", "microphone_chunk",
+    "microphone_noise", "microphone_motor_gain",
 }
 STAMP = Time(sec=1, nanosec=0)
 
@@ -131,7 +132,7 @@ def test_a_parameter_two_structs_declare_is_refused(monkeypatch: pytest.MonkeyPa
 def test_the_devices_open_their_topics_and_services() -> None:
     _, node = build({"camera_rate": 0.0, "actuators": False,  # their own tests, below
                      "asr_board": False, "ptz_camera": False, "imu_rate": 0.0,
-                     "calibration": False})
+                     "calibration": False, "microphone_rate": 0})
     assert set(node.publishers) == {"odom", "sim/ground_truth", "battery_state", "scan",
                                     "chassis/io", "chassis/state", "wind"}
     assert set(node.services) == {"chassis/set_io", "sim/set_people"} and node.listening == {}
@@ -159,7 +160,7 @@ def test_a_device_service_answers_and_publishes() -> None:
 def test_each_device_publishes_at_its_rate() -> None:
     chassis, node = build({"rate": 50.0, "scan_rate": 10.0, "camera_rate": 0.0,
                            "actuators": False, "asr_board": False, "ptz_camera": False,
-                           "imu_rate": 0.0, "calibration": False})
+                           "imu_rate": 0.0, "calibration": False, "microphone_rate": 0})
     schedule = Schedule(chassis.devices, 50.0)
     for step in range(1, 101):  # two sim seconds
         chassis.step(0.02)
