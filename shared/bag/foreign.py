@@ -28,7 +28,7 @@ from ..errors import ZenrosError
 from ..qos import QoSProfile
 from ..ros2 import cdr_codec_for_name, type_hash
 from ..ros2.registry import zenros_class_of
-from .reader import BagError, BagMessage
+from .records import BagError, BagMessage
 from .ros_convert import builder_for, ros1_alias
 from .schema import message_encoding, schema_for
 from .writer import MAGIC
@@ -45,6 +45,11 @@ EXTRA_HINT = "pip install 'zenros[rosbags]'"
 ROS1_MAGIC = b"#ROSBAG V2.0\n"
 SQLITE_MAGIC = b"SQLite format 3\x00"
 ROS2_SUFFIXES = (".db3", ".mcap")
+ROS2_COMPRESSED = (".db3.zstd", ".mcap.zstd")  # rosbag2's file compression
+
+
+def _is_ros2_storage(p: Path) -> bool:
+    return p.suffix in ROS2_SUFFIXES or p.name.endswith(ROS2_COMPRESSED)
 
 
 # ------------------------------------------------------------------ detection
@@ -68,7 +73,7 @@ def _file_kind(path: Path) -> str | None:
     if path.suffix == ".bag":
         return "ros1"
     if path.suffix == ".db3" or (path.parent / "metadata.yaml").is_file() and (
-            path.suffix in ROS2_SUFFIXES):
+            _is_ros2_storage(path)):
         return "rosbag2"
     try:
         with open(path, "rb") as f:
@@ -90,18 +95,19 @@ def is_foreign(files: list[Path]) -> bool:
 
 
 def _split_key(p: Path) -> tuple[str, int, str]:
-    stem, _, idx = p.stem.rpartition("_")
+    stem, _, idx = p.name.split(".", 1)[0].rpartition("_")
     return (stem, int(idx), p.name) if idx.isdigit() else (p.stem, 0, p.name)
 
 
 def foreign_files(directory: Path) -> list[Path] | None:
     """The storage files of a rosbag2 directory (one with ``metadata.yaml``, or only ``.db3``
     files) or a directory of ROS 1 ``.bag`` files, in order; None for any other directory."""
-    ros2 = sorted((p for p in directory.iterdir() if p.suffix in ROS2_SUFFIXES), key=_split_key)
+    ros2 = sorted((p for p in directory.iterdir() if _is_ros2_storage(p)), key=_split_key)
     if (directory / "metadata.yaml").is_file():
         if not ros2:
             raise BagError(f"{directory} has a rosbag2 metadata.yaml but no .db3 or .mcap file")
         return ros2
+    ros2 = [p for p in ros2 if p.suffix in ROS2_SUFFIXES]  # compressed: only with metadata
     if any(p.suffix == ".mcap" for p in ros2):
         return None  # zenros's own split bag (or ROS 2 MCAP files: `is_foreign` tells)
     if ros2:
@@ -277,11 +283,21 @@ class ForeignSummary:
     end: int
     messages: int
     topics: list[ForeignTopic]
+    compression: str = ""  # rosbag2's: "zstd (file)", "zstd (message)"
 
 
 def _storage(files: list[Path]) -> str:
-    suffix = files[0].suffix
-    return {".db3": "sqlite3", ".mcap": "mcap", ".bag": "rosbag1"}.get(suffix, suffix)
+    name = files[0].name
+    for part, storage in ((".db3", "sqlite3"), (".mcap", "mcap"), (".bag", "rosbag1")):
+        if part in name:
+            return storage
+    return files[0].suffix
+
+
+def _compression(reader: AnyReader) -> str:
+    first = reader.readers[0] if reader.is2 and reader.readers else None
+    fmt = getattr(first, "compression_format", None)
+    return f"{fmt} ({getattr(first, 'compression_mode', None) or '?'})" if fmt else ""
 
 
 def _last(reader: AnyReader) -> int:
@@ -294,7 +310,8 @@ def foreign_summary(files: list[Path]) -> ForeignSummary:
     with _open(files) as reader:
         count = reader.message_count
         start = reader.start_time if count else 0
-        return ForeignSummary(_storage(files), start, _last(reader), count, _topics(reader))
+        return ForeignSummary(_storage(files), start, _last(reader), count, _topics(reader),
+                              _compression(reader))
 
 
 def foreign_span(files: list[Path]) -> tuple[int, int, list[tuple[Channel, Schema | None]]]:

@@ -73,7 +73,7 @@ def _ros_bag_info(path: Path, files: list[Path]) -> BagInfo:
     s = foreign_summary(files)
     topics = [TopicInfo(t.topic, t.ros_type, t.encoding, t.count, t.skipped) for t in s.topics]
     return BagInfo(path, files, sum(f.stat().st_size for f in files), s.start, s.end, s.messages,
-                   ["-"], 0, topics, s.storage, True)
+                   [s.compression or "none"], 0, topics, s.storage, True)
 
 
 def _size(n: float) -> str:
@@ -98,7 +98,7 @@ def format_info(info: BagInfo) -> str:
         f"Storage id:        {info.storage}" + (" (recorded with ROS)"
                                                    if info.recorded_with_ros else ""),
         (f"Compression:       {', '.join(info.compression)} ({info.chunks} chunks)"
-         if not info.recorded_with_ros else "Compression:       -"),
+         if not info.recorded_with_ros else f"Compression:       {info.compression[0]}"),
         f"Duration:          {info.duration:.3f}s",
         f"Start:             {_stamp(info.start)}" if info.messages else "Start:             -",
         f"End:               {_stamp(info.end)}" if info.messages else "End:               -",

@@ -7,7 +7,6 @@ import heapq
 import os
 import re
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -16,27 +15,11 @@ from mcap.reader import SeekingReader
 from mcap.records import Channel, Schema
 from mcap.summary import Summary
 
-from ..errors import ZenrosError
+from .records import BagError, BagMessage
 from .writer import MAGIC
 
 __all__ = ["BagError", "BagMessage", "bag_files", "bag_span", "bags_home", "iter_messages",
            "open_summary", "resolve_bag"]
-
-
-class BagError(ZenrosError, ValueError):
-    """A bag that cannot be read: missing, not MCAP, truncated or corrupt."""
-
-
-@dataclass(frozen=True)
-class BagMessage:
-    """One recorded message with its channel."""
-
-    log_time: int
-    publish_time: int
-    sequence: int
-    channel: Channel
-    schema: Schema | None
-    data: bytes
 
 
 def bags_home() -> Path:

@@ -154,6 +154,25 @@ def test_ros1_names_that_differ_in_case_and_the_dropped_seq() -> None:
     assert foreign.ros1_alias("tf/msg/tfMessage") == "tf2_msgs/msg/TFMessage"
 
 
+@pytest.mark.parametrize("mode", ["FILE", "MESSAGE"])
+def test_a_zstd_compressed_rosbag2(tmp_path: Path, mode: str) -> None:
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_KILTED)
+    string = store.types["std_msgs/msg/String"]
+    w = Writer(tmp_path / "z", version=9, storage_plugin=StoragePlugin.SQLITE3)
+    w.set_compression(CompressionMode[mode], CompressionFormat.ZSTD)
+    with w:
+        conn = w.add_connection("/chatter", "std_msgs/msg/String", typestore=store)
+        for i in range(5):
+            w.write(conn, T0 + i, store.serialize_cdr(string(data=f"hi {i}"),
+                                                      "std_msgs/msg/String"))
+    info = bag_info(tmp_path / "z")
+    assert info.compression == [f"zstd ({mode.lower()})"] and info.messages == 5
+    assert [msg.data for _, _, msg in decoded(tmp_path / "z")] == [f"hi {i}" for i in range(5)]
+
+
 # ------------------------------------------------------------------ bad input
 
 
