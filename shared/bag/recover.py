@@ -14,6 +14,7 @@ from mcap.exceptions import EndOfFile
 from mcap.records import Channel, Chunk, McapRecord, Message, Schema
 from mcap.stream_reader import StreamReader, breakup_chunk
 
+from .foreign import is_foreign
 from .reader import BagError, bag_files, open_summary
 from .writer import ChunkBuffer, McapFile
 
@@ -95,7 +96,11 @@ def recover_bag(path: Path, compression: str = "zstd") -> list[Recovered]:
     """Rebuild every file of a bag that has no valid summary, in place; the damaged original
     is kept next to it as ``<file>.damaged``."""
     out: list[Recovered] = []
-    for f in bag_files(path):
+    files = bag_files(path)
+    if is_foreign(files):
+        raise BagError(f"{path} was recorded with ROS: recover rebuilds zenros's MCAP bags "
+                       f"only (for a rosbag2 bag, see 'ros2 bag reindex')")
+    for f in files:
         if _valid(f):
             stats = open_summary(f).statistics
             out.append(Recovered(f, stats.message_count if stats else 0, "", already_valid=True))

@@ -254,3 +254,11 @@ def test_without_rosbags_the_error_names_the_extra(bags: dict[str, Path],
     monkeypatch.setitem(sys.modules, "rosbags.highlevel", None)  # import fails
     with pytest.raises(BagError, match=r"pip install 'zenros\[rosbags\]'"):
         bag_info(bags["sqlite3"])
+
+
+def test_recover_says_a_ros_bag_is_not_its_to_rebuild(bags: dict[str, Path]) -> None:
+    from zenros.bag import recover_bag
+
+    for storage in STORAGES:
+        with pytest.raises(BagError, match="was recorded with ROS: recover rebuilds zenros's"):
+            recover_bag(bags[storage])
