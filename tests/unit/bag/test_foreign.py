@@ -262,3 +262,31 @@ def test_recover_says_a_ros_bag_is_not_its_to_rebuild(bags: dict[str, Path]) -> 
     for storage in STORAGES:
         with pytest.raises(BagError, match="was recorded with ROS: recover rebuilds zenros's"):
             recover_bag(bags[storage])
+
+
+def test_a_ros1_tf_tfmessage_plays_as_tf2_msgs(tmp_path: Path) -> None:
+    """ROS 1's legacy tf/tfMessage (tf before tf2) is read as tf2_msgs/TFMessage."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    store.register(get_types_from_msg("geometry_msgs/TransformStamped[] transforms\n",
+                                      "tf/msg/tfMessage"))
+    ty = store.types
+    vec = ty["geometry_msgs/msg/Vector3"](x=1.5, y=0.0, z=0.0)
+    stamped = ty["geometry_msgs/msg/TransformStamped"](
+        header=ty["std_msgs/msg/Header"](seq=3, stamp=ty["builtin_interfaces/msg/Time"](
+            sec=5, nanosec=6), frame_id="odom"), child_frame_id="base_link",
+        transform=ty["geometry_msgs/msg/Transform"](
+            translation=vec, rotation=ty["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0,
+                                                                          w=1.0)))
+    out = tmp_path / "old_tf.bag"
+    with Writer(out) as w:
+        conn = w.add_connection("/tf", "tf/msg/tfMessage", typestore=store)
+        w.write(conn, T0, store.serialize_ros1(ty["tf/msg/tfMessage"](transforms=[stamped]),
+                                               "tf/msg/tfMessage"))
+    (t, topic, msg), = decoded(out)
+    assert isinstance(msg, TFMessage) and topic == "/tf" and t == T0
+    tr = msg.transforms[0]
+    assert (tr.header.stamp.sec, tr.header.stamp.nanosec, tr.header.frame_id) == (5, 6, "odom")
+    assert tr.transform.translation.x == 1.5 and tr.transform.rotation.w == 1.0
