@@ -290,3 +290,32 @@ def test_a_ros1_tf_tfmessage_plays_as_tf2_msgs(tmp_path: Path) -> None:
     tr = msg.transforms[0]
     assert (tr.header.stamp.sec, tr.header.stamp.nanosec, tr.header.frame_id) == (5, 6, "odom")
     assert tr.transform.translation.x == 1.5 and tr.transform.rotation.w == 1.0
+
+
+@pytest.mark.parametrize("plugin", ["SQLITE3", "MCAP"])
+def test_a_humble_definition_that_differs_from_zenros(tmp_path: Path, plugin: str) -> None:
+    """Humble's sensor_msgs/Range has no ``variance`` (Kilted's and zenros's has): its type
+    hash differs, so rosbags reads it with the bag's own definition and zenros fills the
+    field it lacks with its default."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+    from zenros.msgs.sensor_msgs import Range
+    from zenros.ros2 import type_hash
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    assert store.hash_rihs01("sensor_msgs/msg/Range") != type_hash("sensor_msgs/msg/Range")
+    ty = store.types
+    out = tmp_path / "humble"
+    with Writer(out, version=9, storage_plugin=StoragePlugin[plugin]) as w:
+        conn = w.add_connection("/range", "sensor_msgs/msg/Range", typestore=store)
+        for i in range(3):
+            r = ty["sensor_msgs/msg/Range"](
+                header=ty["std_msgs/msg/Header"](stamp=ty["builtin_interfaces/msg/Time"](
+                    sec=1, nanosec=i), frame_id="sonar"), radiation_type=0, field_of_view=0.5,
+                min_range=0.1, max_range=4.0, range=1.0 + i)
+            w.write(conn, T0 + i, store.serialize_cdr(r, "sensor_msgs/msg/Range"))
+    got = [msg for _, _, msg in decoded(out)]
+    assert all(isinstance(m, Range) for m in got)
+    assert [(m.range, m.header.stamp.nanosec, m.variance) for m in got] == [
+        (1.0, 0, 0.0), (2.0, 1, 0.0), (3.0, 2, 0.0)]
+    assert got[0].field_of_view == pytest.approx(0.5) and got[0].header.frame_id == "sonar"
