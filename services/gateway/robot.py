@@ -17,6 +17,7 @@ from .http.api import Api
 from .http.app import build_api
 from .http.context import Context
 from .ports.asr_link import AsrLink
+from .ports.audio_recordings import AudioRecordings
 from .ports.blockly_link import BlocklyLink
 from .ports.calibration_link import CalibrationLink
 from .ports.config_service import ConfigService
@@ -119,7 +120,9 @@ class Robot:
         self.videos = Videos(node, data_dir / "Videos")
         node.on_close(self.videos.close)  # a recording under way keeps what it has
         self.snapshots = Snapshots(node, data_dir / "Pictures")
-        self.media = MediaService(node, self.snapshots, self.videos)  # media/save, for tasks
+        self.audios = AudioRecordings(node, data_dir / "Audios")
+        self.media = MediaService(node, self.snapshots, self.videos,  # media/save, for tasks
+                                  self.audios)
         self.config = ConfigService(node, self.core.settings)  # system/set_config, for tasks
         self.context = Context(
             core=self.core, tasks=self.tasks, nav_actions=self.nav_actions,

@@ -18,6 +18,7 @@ from typing import Any, Final
 
 from msgspec import UNSET
 from zenros.msgs.zenros_msgs.task_actions import (
+    AudioRecordAction,
     BlocklyAction,
     CallbackAction,
     ChargeAction,
@@ -279,6 +280,12 @@ def _video_record(ctx: Context, p: VideoRecordAction) -> Outcome:
                                 ctx.cancelled)
 
 
+def _audio_record(ctx: Context, p: AudioRecordAction) -> Outcome:
+    return ctx.robot.save_media("audio", "audio/audio", float(p.duration),
+                                p.filename or _stamped(p.timestamp, "wav"), ctx.progress,
+                                ctx.cancelled)
+
+
 def _onvif_camera_snapshot(ctx: Context, p: OnvifCameraSnapshotAction) -> Outcome:
     return ctx.robot.save_media("image", "/ptz_camera/image_raw", 0.0, "", ctx.progress,
                                 ctx.cancelled)
@@ -329,6 +336,7 @@ BEHAVIORS: Final[dict[str, Callable[[Context, Any], Outcome]]] = {
     "onvif_camera_snapshot_action": _onvif_camera_snapshot,
     "image_action": _image,
     "video_record_action": _video_record,
+    "audio_record_action": _audio_record,
     "none_stop_nav_action": _none_stop_nav,
     "elevator_req_action": elevator_req,
     "lbt_elevator_req_action": lbt_elevator_req,

@@ -83,8 +83,8 @@ class LocalLink(RobotLink):
                  cancelled: Callable[[], bool]) -> Outcome:
         return self.ptz.move(x, y, zoom, progress, cancelled)
 
-    def save_media(self, kind: Literal["image", "video"], topic: str, duration: float,
-                   filename: str, progress: Callable[[float], None],
+    def save_media(self, kind: Literal["image", "video", "audio"], topic: str,
+                   duration: float, filename: str, progress: Callable[[float], None],
                    cancelled: Callable[[], bool]) -> Outcome:
         return self.media.save(kind, topic, duration, filename, progress, cancelled)
 

@@ -1,6 +1,7 @@
 """`MediaLink`: snapshots and recordings for the tasks service (``image_action``,
-``video_record_action``, ``onvif_camera_snapshot_action``), made by the gateway, which keeps
-the robot's Pictures and Videos, over its ``media/save`` (zenros_msgs/SaveMedia).
+``video_record_action``, ``audio_record_action``, ``onvif_camera_snapshot_action``), made by
+the gateway, which keeps the robot's Pictures, Videos and Audios, over its ``media/save``
+(zenros_msgs/SaveMedia).
 
 The call is made at once and answered once the file is saved (a video: after its duration);
 cancelling returns at once and leaves a recording to end by itself (the file keeps what was
@@ -35,24 +36,25 @@ class MediaLink:
         self._calls = ThreadPoolExecutor(2, thread_name_prefix="media")  # a call blocks
         node.on_close(lambda: self._calls.shutdown(wait=False, cancel_futures=True))
 
-    def save(self, kind: Literal["image", "video"], topic: str, duration: float,
+    def save(self, kind: Literal["image", "video", "audio"], topic: str, duration: float,
              filename: str, progress: Callable[[float], None],
              cancelled: Callable[[], bool]) -> Outcome:
         """`Robot.save_media`."""
-        what = f"{'snapshot' if kind == 'image' else 'video'} of {topic}"
+        what = {"image": "snapshot", "video": "video", "audio": "recording"}[kind] \
+            + f" of {topic}"
         if self._client is None:
             self._client = self.node.create_client(SaveMedia, "media/save")
         if not self._client.wait_for_service(self.server_wait):
             return Outcome("error", f"{what}: no gateway serves media/save (it keeps the "
-                                    "robot's pictures and videos)")
-        timeout = (duration if kind == "video" else 0.0) + GRACE
+                                    "robot's pictures, videos and audio recordings)")
+        timeout = (duration if kind != "image" else 0.0) + GRACE
         future = self._calls.submit(self._client.call, SaveMediaRequest(
             kind=kind, topic=topic, duration=float(duration), filename=filename), timeout)
         start = time.monotonic()
         while not future.done():
             if cancelled():  # the call ends by itself, its answer unread
                 return Outcome("preempted")
-            if kind == "video":
+            if kind != "image":
                 progress(min(0.99, (time.monotonic() - start) / duration))
             time.sleep(POLL)
         try:

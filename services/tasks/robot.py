@@ -146,12 +146,13 @@ class Robot(Protocol):
         error; cancelled stops the camera where it is."""
         ...
 
-    def save_media(self, kind: Literal["image", "video"], topic: str, duration: float,
-                   filename: str, progress: Callable[[float], None],
+    def save_media(self, kind: Literal["image", "video", "audio"], topic: str,
+                   duration: float, filename: str, progress: Callable[[float], None],
                    cancelled: Callable[[], bool]) -> Outcome:
-        """A snapshot (``kind`` image) or ``duration`` s of video of camera ``topic`` into
-        the robot's Pictures or Videos as ``filename`` (default: a timestamp), done once
-        saved; a refusal (no camera, a taken name) is an error with the reason."""
+        """A snapshot (``kind`` image) or ``duration`` s of video of camera ``topic``, or of
+        the microphone's sound (``audio``), into the robot's Pictures, Videos or Audios as
+        ``filename`` (default: a timestamp), done once saved; a refusal (no camera, no
+        microphone, a taken name) is an error with the reason."""
         ...
 
     def battery_percent(self) -> float | None:

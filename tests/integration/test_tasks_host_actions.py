@@ -98,7 +98,8 @@ def test_a_bad_setting_is_an_error_naming_the_key(
      "launch_cmd"),
     ({"type": "roslaunch_action", "launch_cmd": "sim.yaml; rm -rf /"}, "launch_cmd"),
     ({"type": "roslaunch_action"}, "launch_cmd"),
-    ({"type": "audio_record_action", "duration": 10}, "audio_record_action"),
+    ({"type": "audio_record_action", "duration": 0}, "duration"),
+    ({"type": "audio_record_action", "filename": "x" * 200}, "filename"),
 ])
 def test_bad_parameters_are_a_400_naming_the_field(
         tasks: TasksNode, gw: GatewayNode, http: httpx.Client, action: dict[str, Any],

@@ -10,6 +10,7 @@ import asyncio
 from zenros.msgs.zenros_msgs import SaveMedia, SaveMediaRequest, SaveMediaResponse
 from zenros.node import Node
 
+from .audio_recordings import AudioRecordings
 from .media_folder import MediaError
 from .snapshots import Snapshots
 from .videos import Videos
@@ -22,9 +23,11 @@ RECORD_GRACE = 30.0  # s past a video's duration its encoding may take before th
 class MediaService:
     """Serves ``media/save`` on ``node`` with ``snapshots`` and ``videos``."""
 
-    def __init__(self, node: Node, snapshots: Snapshots, videos: Videos) -> None:
+    def __init__(self, node: Node, snapshots: Snapshots, videos: Videos,
+                 audios: AudioRecordings | None = None) -> None:
         self.snapshots = snapshots
         self.videos = videos
+        self.audios = audios
         node.create_service(SaveMedia, "media/save", self.save)
 
     async def save(self, req: SaveMediaRequest, res: SaveMediaResponse) -> SaveMediaResponse:
@@ -33,6 +36,12 @@ class MediaService:
                 path = await self.snapshots.take(req.topic, req.filename)
                 return SaveMediaResponse(success=True, message=f"saved {path.name}",
                                          file=path.name)
+            if req.kind == "audio":
+                if self.audios is None:
+                    return SaveMediaResponse(message="this gateway keeps no audio recordings")
+                path, seconds = await self.audios.record(req.duration, req.filename)
+                return SaveMediaResponse(success=True, message=f"recorded {path.name} "
+                                         f"({seconds:g} s)", file=path.name)
             rec = self.videos.start(req.topic, req.duration, req.filename)
         except MediaError as exc:
             return SaveMediaResponse(message=str(exc))

@@ -1,6 +1,7 @@
 """zenros_msgs for the gateway's media folders (docs/robot-api.md §3.9): the tasks service's
-``image_action``, ``video_record_action`` and ``onvif_camera_snapshot_action`` ask the
-gateway, which keeps the robot's ``Pictures`` and ``Videos``, through ``media/save``.
+``image_action``, ``video_record_action``, ``audio_record_action`` and
+``onvif_camera_snapshot_action`` ask the gateway, which keeps the robot's ``Pictures``,
+``Videos`` and ``Audios``, through ``media/save``.
 """
 
 from __future__ import annotations
@@ -14,11 +15,12 @@ __all__ = ["SaveMedia", "SaveMediaRequest", "SaveMediaResponse"]
 
 class SaveMediaRequest(Message):
     """``kind`` ``image``: the next frame of camera ``topic`` as a PNG in Pictures; ``video``:
-    ``duration`` seconds of it as an MKV in Videos (answered once recorded). ``filename``:
-    the file's name (default ``<ms timestamp>.png|.mkv``)."""
+    ``duration`` seconds of it as an MKV in Videos (answered once recorded); ``audio``:
+    ``duration`` seconds of the microphone (``audio/audio``; ``topic`` not used) as a WAV in
+    Audios. ``filename``: the file's name (default ``<ms timestamp>.png|.mkv|.wav``)."""
 
     __msgtype__ = "zenros_msgs/SaveMediaRequest"
-    kind: Literal["image", "video"] = "image"
+    kind: Literal["image", "video", "audio"] = "image"
     topic: str = "/camera_node/image_raw"
     duration: float = 10.0
     filename: str = ""

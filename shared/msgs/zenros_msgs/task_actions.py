@@ -26,6 +26,7 @@ __all__ = [
     "LAUNCH_CMD",
     "Action",
     "ActionBase",
+    "AudioRecordAction",
     "BlocklyAction",
     "CallbackAction",
     "ChangeSettingAction",
@@ -251,6 +252,16 @@ class VideoRecordAction(ActionBase, kw_only=True, tag="video_record_action"):
     filename: FileName = ""
 
 
+class AudioRecordAction(ActionBase, kw_only=True, tag="audio_record_action"):
+    """``duration`` seconds of the robot's microphone into its Audios, as ``filename`` or
+    ``<timestamp>.wav`` (ms; default: now), through the gateway (``media/save``); done once
+    recorded."""
+
+    timestamp: Timestamp | UnsetType = UNSET
+    duration: Annotated[int, Meta(ge=1, le=600)] = 10
+    filename: FileName = ""
+
+
 class OnvifCameraSnapshotAction(ActionBase, kw_only=True, tag="onvif_camera_snapshot_action"):
     """A snapshot of the PTZ camera into the robot's Pictures. ``ip``, ``port``,
     ``username``, ``password`` and ``channel`` name the camera (§17); the simulated robot has
@@ -348,7 +359,7 @@ Action = (NavAction | SleepAction | ChargeAction | CallbackAction | WaitReqActio
           | JackingRotateAction | BlocklyAction | OnvifCameraMoveAction | ImageAction
           | VideoRecordAction | OnvifCameraSnapshotAction | ElevatorReqAction
           | LbtElevatorReqAction | LbtElevatorAckAction | NoneStopNavAction
-          | ChangeSettingAction | RoslaunchAction)
+          | ChangeSettingAction | RoslaunchAction | AudioRecordAction)
 """Any action; decode with ``msgspec.convert(obj, Action)`` (dispatch on ``type``)."""
 
 ACTION_TYPES: Final[dict[str, type[ActionBase]]] = {
