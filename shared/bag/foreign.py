@@ -233,7 +233,9 @@ def _topics(reader: AnyReader) -> list[ForeignTopic]:
         key = (conn.topic, conn.msgtype)
         t = out.get(key)
         if t is None:
-            t = out[key] = ForeignTopic(conn.topic, conn.msgtype, encoding, _qos_tag(conn))
+            # as the bag's own tools name it: ROS 1's pkg/Type, ROS 2's pkg/msg/Type
+            shown = conn.msgtype if reader.is2 else conn.msgtype.replace("/msg/", "/", 1)
+            t = out[key] = ForeignTopic(conn.topic, shown, encoding, _qos_tag(conn))
             if encoding not in ("cdr", "ros1"):
                 t.skipped = f"encoding {encoding!r} is not CDR"
             else:
@@ -252,7 +254,7 @@ def _topics(reader: AnyReader) -> list[ForeignTopic]:
                     id=next_id, topic=conn.topic, message_encoding=message_encoding(codec.mime),
                     schema_id=next_id,
                     metadata={"zenoh_encoding": codec.encoding, "qos": t.qos,
-                              "ros_type": conn.msgtype, "ros_encoding": encoding})
+                              "ros_type": shown, "ros_encoding": encoding})
                 next_id += 1
         t.count += conn.msgcount
         t.connections.append(conn)
