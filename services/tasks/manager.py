@@ -294,13 +294,13 @@ class TaskManager:
                 self._settle(doc, CANCELLED)
                 doc.state = CANCELLED
                 self._commit(doc, "stopped")
+            else:
+                run.intent = request
+                assert run.execution is not None
+                run.execution.request_preempt()
         if run is None:
             self._end(task_id)
             return doc
-        with self._lock:
-            run.intent = request
-            assert run.execution is not None
-            run.execution.request_preempt()
         if not run.done.wait(timeout):
             raise TimeoutError(f"task {task_id} did not {request} within {timeout:g} s")
         with self._lock:
