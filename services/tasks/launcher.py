@@ -68,6 +68,7 @@ class Launcher:
         self.node_up = node_up
         self._lock = threading.Lock()
         self._running: dict[str, _Running] = {}
+        self._stopping: list[threading.Thread] = []
 
     def files(self) -> list[str]:
         if not self.folder.is_dir():
@@ -128,18 +129,26 @@ class Launcher:
             time.sleep(POLL)
 
     def stop(self, key: str) -> None:
-        """Stop launch ``key`` and every process it started."""
+        """Stop launch ``key`` and every process it started, on a thread of its own (a
+        launch may take seconds to stop its processes in order; `close` waits for it)."""
         with self._lock:
             run = self._running.pop(key, None)
-        if run is not None:
-            _stop(run.proc)
+            if run is None:
+                return
+            thread = threading.Thread(target=_stop, args=(run.proc,), name=f"stop {key}")
+            self._stopping = [t for t in self._stopping if t.is_alive()] + [thread]
+        thread.start()
 
     def close(self) -> None:
-        """Stop every launch (the tasks service stops)."""
+        """Stop every launch and wait until they have stopped (the tasks service stops)."""
         with self._lock:
             keys = list(self._running)
         for key in keys:
             self.stop(key)
+        with self._lock:
+            stopping = list(self._stopping)
+        for thread in stopping:
+            thread.join()
 
     def running(self) -> dict[str, int]:
         """The launches running, and their pids."""
