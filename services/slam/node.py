@@ -67,7 +67,8 @@ class SlamNode(LifecycleNode):
     def setup(self) -> None:
         p = self.params = self.declare_parameters(SlamParameters, read_only=True)
         self.graph_dir = Path(p.graph_dir) if p.graph_dir else data_dir() / "slam"
-        self.session = self.own(MappingSession(p, self._on_folded, self._on_fold_error))
+        self.session = self.own(MappingSession(p, self._on_folded, self._on_fold_error,
+                                               threaded=not self.context.deterministic))
         self.state = sm.MappingState(state="idle")
         self.saved_name = ""
         self._map_due = 0.0
@@ -219,6 +220,14 @@ class SlamNode(LifecycleNode):
 
     # ------------------------------------------------------------------ lifecycle
 
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """With ``start_mapping``, a new mapping run begins at once (nav is not asked)."""
+        ret = super().on_activate(state)
+        if self.params.start_mapping and self.state.state == "idle":
+            self._begin_run("mapping", "", None, None, None)
+            self.logger.info("mapping started (start_mapping)")
+        return ret
+
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Leaving active stops a mapping run (its map is not saved), as a Nav2 server stops
         its work; nav is told to leave mapping mode in the background."""
@@ -287,6 +296,15 @@ class SlamNode(LifecycleNode):
         if code != ResultCode.OK:
             self._publish_state(state="idle", message=why)
             return sm.StartMappingResponse(code=code, message=why)
+        self._begin_run(req.mode, req.map_name, graph, at, prior,
+                        why if why == "no nav answered" else "")
+        self.logger.info("mapping started (%s%s)", req.mode,
+                         f", extending {req.map_name!r}" if req.map_name else "")
+        return sm.StartMappingResponse(code=ResultCode.OK, message=why)
+
+    def _begin_run(self, mode: str, map_name: str, graph: Any, at: Pose2 | None, prior: Any,
+                   message: str = "") -> None:
+        """Take scans into the session (from ``graph``, ``prior`` or empty)."""
         if self.map_pub is None:
             self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
         self.session.begin(graph, at, prior)
@@ -294,14 +312,11 @@ class SlamNode(LifecycleNode):
             self._inputs = [
                 self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR),
                 self.create_subscription(LaserScan, "scan", self.on_scan, QOS_SENSOR)]
-        self.saved_name = req.map_name
+        self.saved_name = map_name
         self._closures_published = self.session.counts()[2]
         self._nodes_published = -1
         self._map_due = 0.0
-        self._publish_state(state="mapping", message=why if why == "no nav answered" else "")
-        self.logger.info("mapping started (%s%s)", req.mode,
-                         f", extending {req.map_name!r}" if req.map_name else "")
-        return sm.StartMappingResponse(code=ResultCode.OK, message=why)
+        self._publish_state(state="mapping", mode=mode, map_name=map_name, message=message)
 
     async def handle_stop(self, req: sm.StopMappingRequest) -> sm.StopMappingResponse:
         if self.state.state != "mapping":

@@ -48,6 +48,9 @@ class SlamParameters(msgspec.Struct, kw_only=True, frozen=True):
         description="s between map -> odom sends (0: off)")] = 0.05
     transform_timeout: Annotated[NonNegative, Meta(
         description="map -> odom is stamped this far past the scan (s)")] = 0.2
+    start_mapping: Annotated[bool, Meta(description=(
+        "begin a mapping run (a new map) as soon as active, without asking nav to hand over "
+        "its map: for a replay of slam alone (docs/replay.md)"))] = False
     scan_queue_size: Annotated[int, Meta(
         ge=1, description="scans that may wait for the mapper; past it the oldest is "
                           "skipped (and the state says so)")] = 100

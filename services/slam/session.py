@@ -82,13 +82,15 @@ class ScanItem:
 
 class MappingSession:
     """Folds scans into a `Mapper` on a worker thread; every read goes through ``lock``.
+    With ``threaded=False`` (a deterministic replay) scans are folded in the caller.
 
     ``on_folded(outcome, stamp)`` is called on the worker after each scan.
     """
 
     def __init__(self, params: SlamParameters,
                  on_folded: Callable[[ScanOutcome, float], None] | None = None,
-                 on_error: Callable[[BaseException], None] | None = None) -> None:
+                 on_error: Callable[[BaseException], None] | None = None, *,
+                 threaded: bool = True) -> None:
         self.p = params
         self.mapper = Mapper(params)
         self.lock = threading.Lock()
@@ -105,7 +107,8 @@ class MappingSession:
         self._last_node_odom: Pose2 | None = None
         self._on_folded = on_folded
         self.worker: ScanWorker[ScanItem] = ScanWorker(self._fold, params.scan_queue_size,
-                                                           on_error=on_error)
+                                                           on_error=on_error,
+                                                           threaded=threaded)
 
     # ---------------------------------------------------------------- control
 

@@ -20,11 +20,13 @@ class ScanWorker(Generic[T]):
 
     ``capacity`` items may wait; one more drops the oldest waiting (``skipped`` counts them).
     ``lag`` is the wall time the last item waited before its fold began; ``max_lag`` the
-    largest.
+    largest. With ``threaded=False`` there is no thread: `submit` folds at once, in the
+    caller, and nothing is ever skipped (a deterministic replay, docs/replay.md).
     """
 
     def __init__(self, fold: Callable[[T], None], capacity: int = 50,
-                 on_error: Callable[[BaseException], None] | None = None) -> None:
+                 on_error: Callable[[BaseException], None] | None = None, *,
+                 threaded: bool = True) -> None:
         self._fold = fold
         self._queue: deque[tuple[float, T]] = deque()
         self._capacity = capacity
@@ -37,13 +39,17 @@ class ScanWorker(Generic[T]):
         self.lag = 0.0
         self.max_lag = 0.0
         self._thread: threading.Thread | None = None
+        self.threaded = threaded
 
     def start(self) -> None:
-        if self._thread is None:
+        if self.threaded and self._thread is None:
             self._thread = threading.Thread(target=self._run, name="slam-worker", daemon=True)
             self._thread.start()
 
     def submit(self, item: T) -> None:
+        if not self.threaded:
+            self._fold_one(item)
+            return
         with self._cond:
             if len(self._queue) >= self._capacity:
                 self._queue.popleft()
@@ -91,12 +97,17 @@ class ScanWorker(Generic[T]):
             self.lag = time.perf_counter() - queued
             self.max_lag = max(self.max_lag, self.lag)
             try:
-                self._fold(item)
-            except Exception as exc:  # a bad scan must not end the worker
-                if self._on_error is not None:
-                    self._on_error(exc)
+                self._fold_one(item)
             finally:
                 with self._cond:
                     self._busy = False
-                    self.done += 1
                     self._cond.notify_all()
+
+    def _fold_one(self, item: T) -> None:
+        try:
+            self._fold(item)
+        except Exception as exc:  # noqa: BLE001 - a bad scan must not end the worker
+            if self._on_error is not None:
+                self._on_error(exc)
+        finally:
+            self.done += 1

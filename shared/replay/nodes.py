@@ -29,6 +29,7 @@ REPLAYABLE: dict[str, Replayable] = {
         "/nav/planning/": "the planner measures its planning time for the ComputePathToPose "
                           "result (no topic carries it); its budget is off in a replay",
     }),
+    "slam": Replayable("zenros.services.slam.node:SlamNode"),
 }
 
 
