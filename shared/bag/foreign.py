@@ -142,7 +142,8 @@ def _paths(files: list[Path]) -> list[Path]:
             return [parent]
     kinds = {_file_kind(f) for f in files}
     if len(kinds) != 1:
-        raise BagError(f"{files[0].parent}: a mix of ROS 1 and ROS 2 files is not one bag")
+        raise BagError(f"{files[0].parent}: these files are not one kind of bag (ROS 1, "
+                       f"rosbag2, zenros MCAP): {', '.join(f.name for f in files)}")
     if kinds == {"ros1"} and any(f.suffix != ".bag" for f in files):
         raise BagError(f"{files[0]}: a ROS 1 bag must be named *.bag to be read")
     return files
