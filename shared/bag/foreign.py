@@ -7,8 +7,10 @@ one `Recorder` wrote: the player, ``bag info`` and replay need no special case. 
 message whose definition is zenros's own (same RIHS01 type hash) is decoded by zenros's CDR
 codec straight into its class; any other (ROS 1 bags, another distro's definition) is
 deserialised by rosbags with the bag's own definitions and converted field by field
-(`zenros.bag.ros_convert`). Topics of a type zenros lacks, or in an encoding that is not CDR,
-are skipped with one warning per topic; `bag info` says so.
+(`zenros.bag.ros_convert`). Topics of a type zenros lacks are skipped with one warning per
+topic, and `bag info` says so; a message that does not decode is skipped with one warning per
+topic. A bag rosbags cannot open (corrupt, cut, a rosbag2 topic not in CDR) is one
+`BagError` naming the file.
 """
 
 from __future__ import annotations
