@@ -6,11 +6,11 @@ the elevator actions and ``roslaunch_action`` refuse clearly what they cannot do
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from conftest import FakeRobot
 from zenros.msgs.zenros_msgs.task_actions import (
     ElevatorReqAction,
     LbtElevatorAckAction,
@@ -24,15 +24,17 @@ from zenros.services.tasks.store import TaskStore
 from zenros.testing import wait_for
 
 
-class SettingsRobot(FakeRobot):
+class SettingsRobot:
     """Keeps settings as the gateway would; ``elevators`` None: no building."""
 
     elevators = None
 
     def __init__(self) -> None:
-        super().__init__()
         self.settings: dict[str, Any] = {"navigation_speed": 0.5}
         self.launched: list[str] = []
+
+    def now(self) -> float:
+        return time.monotonic()
 
     def change_settings(self, settings: dict[str, Any], check_only: bool = False) -> Outcome:
         bad = [k for k in settings if k not in self.settings]
@@ -53,7 +55,7 @@ def robot() -> SettingsRobot:
 
 @pytest.fixture
 def manager(tmp_path: Any, robot: SettingsRobot) -> Iterator[TaskManager]:
-    m = TaskManager(TaskStore(tmp_path / "tasks.db"), robot)
+    m = TaskManager(TaskStore(tmp_path / "tasks.db"), robot)  # type: ignore[arg-type]
     yield m
     m.close()
     m.store.close()
