@@ -1,7 +1,8 @@
 """Large payloads: 1 MB and 8 MB numpy arrays, zenros bulk message vs raw zenoh bytes.
 
-Two processes on loopback (shared memory as Zenoh configures it by default, the same for
-both), reliable (BLOCK). The zenros message is a bulk (MessagePack) type whose array field
+Two processes on loopback (shared memory on for both: Zenoh's default for raw, and for zenros
+``ZENROS_SHM=1``, which a process that moves large payloads sets; zenros's default is off),
+reliable (BLOCK). The zenros message is a bulk (MessagePack) type whose array field
 travels as raw bytes and arrives as a zero-copy numpy view; ``image`` is the same bytes as a
 ``sensor_msgs/Image`` (mono8, 1024 wide) read at the receiver with `zenros.images.image_to_numpy`.
 Throughput counted at the receiver in MB/s. Prints one JSON line.
@@ -10,6 +11,7 @@ Throughput counted at the receiver in MB/s. Prints one JSON line.
 from __future__ import annotations
 
 import json
+import os
 import statistics
 import sys
 import threading
@@ -22,9 +24,12 @@ from _harness import Child, bench_parser, emit, free_port, raw_config, unique_pr
 from zenros import Message, Node
 from zenros.context import Context
 from zenros.images import image_to_numpy
-from zenros.msgs.sensor_msgs import Image
 from zenros.message import UInt8Array, array_field
+from zenros.msgs.sensor_msgs import Image
+from zenros.session import SHM_ENV
 from zenros.testing import loopback_options
+
+os.environ[SHM_ENV] = "1"  # before any session; the child inherits it
 
 
 class Blob(Message):

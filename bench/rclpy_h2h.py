@@ -23,7 +23,7 @@ a zenros router. DDS discovery is multicast, so the bench re-runs itself in a ne
 it creates (``unshare -n``, loopback with multicast, as bench/ros2.py; needs root and the
 ``ros2`` extra): no packet of either side leaves loopback. Prints one JSON line.
 
-Run: ``python bench/rclpy_h2h.py [--repeats 3] [--window 5] [--idle-window 20]``.
+Run: ``python bench/rclpy_h2h.py [--repeats 3] [--window 5] [--idle-window 20] [--only idle ...]``.
 """
 
 from __future__ import annotations
@@ -48,6 +48,7 @@ HERE = Path(__file__).resolve()
 NETNS = ("ip link set lo up && ip link set lo multicast on && "
          "ip route add 224.0.0.0/4 dev lo && exec \"$@\"")
 IMPLS = ("rclpy", "zenros")
+GROUPS = ("timer", "pingpong", "burst", "cloud", "trigger", "idle")
 CLOUD_BYTES = 1 << 20
 CLOUD_N, CLOUD_HZ = 40, 10.0
 BURST_S = 2.0
@@ -561,9 +562,12 @@ class Run:
             srv.stop()
         return {"trigger_rtt_p50_us": r["p50_us"], "trigger_rtt_p99_us": r["p99_us"]}
 
-    def all(self) -> dict[str, float]:
-        return {**self.timer(), **self.pingpong(), **self.burst(), **self.cloud(),
-                **self.trigger()}
+    def all(self, only: list[str]) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for group in GROUPS[:-1]:  # idle: both sides at once (`idle`)
+            if group in only:
+                out.update(getattr(self, group)())
+        return out
 
 
 def idle(endpoint: str, a: argparse.Namespace, logdir: str) -> dict[str, dict[str, float]]:
@@ -608,8 +612,8 @@ def in_namespace(a: argparse.Namespace) -> None:
             time.sleep(0.1)
         for rep in range(a.repeats):
             order = IMPLS if rep % 2 == 0 else IMPLS[::-1]
-            figures = {impl: Run(impl, endpoint, a, logdir).all() for impl in order}
-            figures_idle = idle(endpoint, a, logdir)
+            figures = {impl: Run(impl, endpoint, a, logdir).all(a.only) for impl in order}
+            figures_idle = idle(endpoint, a, logdir) if "idle" in a.only else {i: {} for i in IMPLS}
             for impl in IMPLS:
                 for k, v in {**figures[impl], **figures_idle[impl]}.items():
                     per[impl].setdefault(k, []).append(v)
@@ -633,7 +637,8 @@ def in_namespace(a: argparse.Namespace) -> None:
 
     emit("rclpy_h2h", metrics, repeats=a.repeats, window_s=a.window, idle_window_s=a.idle_window,
          per_repeat={k: [round(z / r, 3) if r else 0.0 for z, r in
-                         zip(per["zenros"][k], per["rclpy"][k], strict=True)] for k in RATIOS},
+                         zip(per["zenros"][k], per["rclpy"][k], strict=True)]
+                     for k in RATIOS if k in per["zenros"]},
          load_average=[round(x, 2) for x in load],
          rmw=os.environ.get("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp (the wheels' default)"),
          rclpy=getattr(rclpy, "__version__", None) or _rclpy_version(),
@@ -660,6 +665,8 @@ def main() -> None:
     ap.add_argument("--idle-window", type=float, default=20.0, help="idle CPU window (s)")
     ap.add_argument("--pings", type=int, default=500)
     ap.add_argument("--calls", type=int, default=500)
+    ap.add_argument("--only", nargs="+", choices=GROUPS, default=list(GROUPS),
+                    help="measure only these figures")
     a = ap.parse_args()
     if a.role != "parent":
         child(a.role, a.impl, a.endpoint, a.prefix, a)

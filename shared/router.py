@@ -37,8 +37,8 @@ __all__ = [
 ]
 
 DEFAULT_LISTEN = "tcp/127.0.0.1:7447"
-DEFAULT_LEASE_MS = 1000  # a frozen or cut-off router is noticed in ~0.8 s (zenoh: 10000)
-DEFAULT_KEEP_ALIVE = 4  # keep-alives per lease: one every 250 ms
+DEFAULT_LEASE_MS = 1500  # a frozen or cut-off router is noticed in 0.75-1.5 s (zenoh: 10000)
+DEFAULT_KEEP_ALIVE = 2  # keep-alives per lease: one every 750 ms on an idle link
 
 _TCP_BASED = ("tcp", "tls", "ws")
 _RUST_LOCATION = re.compile(r" at /\S+?\.rs:\d+\.?")
@@ -90,9 +90,11 @@ def build_router_config(
 
     Precedence, lowest first: zenoh's defaults; the config file; zenros's defaults for what the
     file leaves unset; ``listen``; ``multicast``; the ``cfg`` entries. zenros's defaults are:
-    listen on `DEFAULT_LISTEN`, multicast scouting off, and ``transport/link/tx`` lease
-    `DEFAULT_LEASE_MS` with keep_alive `DEFAULT_KEEP_ALIVE`. A lease still at zenoh's own
-    default (10000) counts as unset; force it with ``cfg=[("transport/link/tx/lease", "10000")]``.
+    listen on `DEFAULT_LISTEN`, multicast scouting off, shared memory off (as in zenros's
+    sessions: at rest its transport wakes every link ten times a second), and
+    ``transport/link/tx`` lease `DEFAULT_LEASE_MS` with keep_alive `DEFAULT_KEEP_ALIVE`. A value
+    still at zenoh's own default (lease 10000, shared memory on) counts as unset; force it with
+    ``cfg``, e.g. ``[("transport/link/tx/lease", "10000")]``.
 
     Args:
         listen: endpoints to listen on; replaces the file's and the default.
@@ -124,6 +126,9 @@ def build_router_config(
     for key, ours in (("lease", DEFAULT_LEASE_MS), ("keep_alive", DEFAULT_KEEP_ALIVE)):
         if _get(conf, f"transport/link/tx/{key}") == _get(stock, f"transport/link/tx/{key}"):
             _put(conf, f"transport/link/tx/{key}", ours)
+    shm = "transport/shared_memory/enabled"
+    if _get(conf, shm) == _get(stock, shm):
+        _put(conf, shm, False)
     if listen:
         _put(conf, "listen/endpoints", list(listen))
     if multicast:

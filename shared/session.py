@@ -21,8 +21,19 @@ __all__ = [
 ]
 
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
-DEFAULT_LEASE_MS = 1000
+# A frozen process or a cut link leaves the graph within the lease, 0.75-1.5 s (a killed one
+# at once: the kernel closes its TCP links). An idle link carries a keep-alive every 750 ms, not
+# every 250 ms: each costs the processes on both ends their wake-ups, and those were most of an
+# idle process's CPU (docs/zenoh-config.md, "lease: 1500, keep_alive: 2").
+DEFAULT_LEASE_MS = 1500
+DEFAULT_KEEP_ALIVE = 2
 SHM_POOL_BYTES = 20 << 20
+SHM_ENV = "ZENROS_SHM"
+
+
+def shm_from_env() -> bool:
+    """Whether ``$ZENROS_SHM`` turns shared memory on (1, true, yes, on)."""
+    return os.environ.get(SHM_ENV, "").strip().lower() in ("1", "true", "yes", "on")
 
 
 @dataclass
@@ -31,7 +42,10 @@ class SessionOptions:
 
     The default is a peer that connects to the local router and listens on a loopback port of
     its own, so peers mesh directly (a peer without a listen endpoint gets nothing through a
-    router) and survive the router's death; multicast scouting is off.
+    router) and survive the router's death; multicast scouting is off. ``shm``: large payloads
+    to processes of this host that turn it on too go through shared memory (off unless
+    ``$ZENROS_SHM`` says on: at rest, Zenoh's shared-memory transport wakes every link ten
+    times a second).
     """
 
     mode: str | None = None  # None: peer, unless a config file says otherwise
@@ -41,6 +55,7 @@ class SessionOptions:
     cfg: list[tuple[str, str]] = field(default_factory=list)
     multicast_scouting: bool = False
     lease_ms: int = DEFAULT_LEASE_MS
+    shm: bool = field(default_factory=shm_from_env)
     strict_connect: bool = False  # explicit endpoints: fail at startup if none answers
 
 
@@ -59,6 +74,9 @@ def add_session_arguments(parser: argparse.ArgumentParser) -> None:
                    help="enable multicast scouting (off by default)")
     g.add_argument("--no-multicast-scouting", dest="multicast_scouting", action="store_false",
                    help=argparse.SUPPRESS)
+    g.add_argument("--shm", action="store_true", default=None,
+                   help="send payloads of 3 KiB or more to processes of this host that turn it "
+                        f"on too through shared memory (off by default; or ${SHM_ENV}=1)")
     g.add_argument("--prefix", help="key-expression prefix (default $ZENROS_PREFIX or 'zenros')")
 
 
@@ -85,16 +103,19 @@ def options_from_args(ns: argparse.Namespace) -> SessionOptions:
         config_file=ns.config or os.environ.get("ZENROS_CONFIG") or None,
         cfg=_parse_cfg(ns.cfg),
         multicast_scouting=bool(ns.multicast_scouting),
+        shm=bool(ns.shm) or shm_from_env(),
         strict_connect=bool(ns.connect),
     )
+
 
 
 def build_config(opts: SessionOptions) -> zenoh.Config:
     """A `zenoh.Config` from options.
 
     Without a file, zenros's defaults apply (peer, local router, own loopback listen
-    endpoint, 1 s lease, 20 MiB SHM pool). A file is taken as written, except that
-    timestamping is always on and multicast scouting stays off unless the file sets it.
+    endpoint, 1.5 s lease with a keep-alive every 750 ms, shared memory off unless
+    ``opts.shm``, then with a 20 MiB pool). A file is taken as written, except that timestamping is always on,
+    multicast scouting stays off unless the file sets it, and ``opts.shm`` turns shared memory on.
     Explicit flags then override, and ``--cfg`` last of all.
     """
     try:
@@ -118,7 +139,13 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     put("timestamping/enabled", True)  # latched topics (advanced pub/sub) and sender ids need it
     if not from_file:
         put("transport/link/tx/lease", opts.lease_ms)
-        put("transport/link/tx/keep_alive", 4)
+        put("transport/link/tx/keep_alive", DEFAULT_KEEP_ALIVE)
+        # Zenoh's shared-memory transport keeps a task per priority on every link that polls
+        # ten times a second, in both processes: 0.001 core per link at rest (measured with
+        # a bare zenoh session pair, lease 10 s: 0.0011 cores on, 0.0001 off), which a robot's
+        # process pays for each of its links. Payloads then go over loopback TCP: 1 MiB in
+        # 4.7 ms instead of 0.8 ms, 8 MB in 64 ms instead of 3.8 ms (docs/zenoh-config.md).
+        put("transport/shared_memory/enabled", opts.shm)
         # A dropped link to a configured endpoint is made again within 0.5-2 s, not after
         # Zenoh's 1-4 s backoff: an action client waits 3 s for a server that went away.
         put("connect/retry", {"period_init_ms": 500, "period_max_ms": 2000,
@@ -127,7 +154,10 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
         # sends the rest over TCP (specs/zenoh-ops.md, section 4). 20 MiB fits two; larger
         # pools were slower for 1 MiB samples here (64 MiB: 0.65-0.74x raw; 20 MiB: 1.0x).
         # Lazily allocated: only processes that put large samples pay for it.
-        put("transport/shared_memory/transport_optimization/pool_size", SHM_POOL_BYTES)
+        if opts.shm:
+            put("transport/shared_memory/transport_optimization/pool_size", SHM_POOL_BYTES)
+    elif opts.shm:
+        put("transport/shared_memory/enabled", True)
     if opts.strict_connect:
         put("connect/exit_on_failure", True)
         put("connect/timeout_ms", 3000)

@@ -49,7 +49,9 @@ def test_defaults() -> None:
     assert get(conf, "connect/endpoints") == [DEFAULT_ROUTER] == ["tcp/127.0.0.1:7447"]
     assert get(conf, "listen/endpoints") == ["tcp/127.0.0.1:0"]
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1000
+    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/keep_alive") == 2
+    assert get(conf, "transport/shared_memory/enabled") is False
     assert get(conf, "timestamping/enabled") is True
     assert get(conf, "connect/exit_on_failure") in (None, False)
 
@@ -107,6 +109,25 @@ def test_multicast_scouting_flag() -> None:
     key = "scouting/multicast/enabled"
     assert get(build_config(parse("--multicast-scouting")), key) is True
     assert get(build_config(parse("--no-multicast-scouting")), key) is False
+
+
+def test_shared_memory_is_opt_in(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Off by default (its transport wakes every idle link); ``--shm`` or ``$ZENROS_SHM`` turn
+    it on with zenros's pool, and over a config file too."""
+    key, pool = "transport/shared_memory/enabled", \
+        "transport/shared_memory/transport_optimization/pool_size"
+    monkeypatch.delenv("ZENROS_SHM", raising=False)
+    assert get(build_config(parse()), key) is False
+    on = build_config(parse("--shm"))
+    assert get(on, key) is True and get(on, pool) == 20 << 20
+    monkeypatch.setenv("ZENROS_SHM", "1")
+    assert parse().shm and get(build_config(parse()), key) is True
+    monkeypatch.setenv("ZENROS_SHM", "0")
+    assert not parse().shm
+    path = tmp_path / "off.json5"
+    path.write_text('{transport: {shared_memory: {enabled: false}}}')
+    assert get(build_config(parse("-c", str(path))), key) is False  # the file as written
+    assert get(build_config(parse("-c", str(path), "--shm")), key) is True
 
 
 def test_bad_mode_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
