@@ -10,14 +10,16 @@ from pathlib import Path
 
 import pytest
 
+# three replay processes a test, each importing nav: 6 s alone, over a minute on a loaded box
+pytestmark = pytest.mark.timeout(240)
+
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 BAG = SCENARIOS / "goal_around_obstacle.in.mcap"
 
 
 def zenros(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "zenros.cli", *args], capture_output=True,
-                          check=False,
-                          text=True, timeout=120, cwd=cwd)
+                          check=False, text=True, timeout=200, cwd=cwd)
 
 
 @pytest.fixture
