@@ -123,9 +123,14 @@ def lbt_elevator_req(ctx: Context, p: LbtElevatorReqAction) -> Outcome:
     if isinstance(got, Outcome):
         return got
     lift, e = got
-    lift.lbt = None
+    pending, lift.lbt = lift.lbt, None
     if p.cmd == "enter":
         out = _call(ctx, lift, e, p.from_level, p.timeout)
+    elif pending is not None and pending.cmd == "enter" and pending.elevator == e.name:
+        lift.lbt = pending
+        out = Outcome("error", f"elevator {e.name} still waits at level {pending.from_level} "
+                               "for this robot to enter: send lbt_elevator_ack_action once "
+                               "inside")
     else:
         out = _leave(ctx, lift, e, p)
     if out.name == "complete":
@@ -139,9 +144,6 @@ def _leave(ctx: Context, lift: ElevatorLink, e: Elevator, p: LbtElevatorReqActio
         return Outcome("error", f"this robot does not hold elevator {e.name} (holder: "
                                 f"{(s.holder if s else '') or 'none'}): send "
                                 "lbt_elevator_req_action cmd enter and its ack first")
-    if s.state == "WAITING_IN":
-        return Outcome("error", f"elevator {e.name} still waits at level {s.level} for this "
-                                "robot to enter: send lbt_elevator_ack_action once inside")
     out = lift.wait(e.name, _open_for(lift.me, p.to_level, "WAITING_OUT"),
                     f"elevator {e.name} open at level {p.to_level}",
                     _deadline(ctx, p.timeout), ctx.cancelled)

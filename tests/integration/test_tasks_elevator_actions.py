@@ -127,7 +127,7 @@ def test_lbt_enter_ack_leave_ack_rides_the_car(user: User) -> None:
     assert wait_for(lambda: user.car.holder == "" and user.car.level == 3, 10), user.car
 
 
-def test_an_ack_with_no_request_and_a_leave_with_no_claim_are_errors(user: User) -> None:
+def test_an_ack_with_no_request_and_a_leave_before_its_time_are_errors(user: User) -> None:
     done = user.run({"type": "lbt_elevator_ack_action"})
     assert done["state"] == "ERROR"
     assert "nothing to acknowledge" in done["sub_tasks"][0]["result"]
@@ -135,3 +135,9 @@ def test_an_ack_with_no_request_and_a_leave_with_no_claim_are_errors(user: User)
                      "cmd": "leave"})
     assert done["state"] == "ERROR"
     assert "does not hold elevator lift1" in done["sub_tasks"][0]["result"], done
+    done = user.run(
+        {"type": "lbt_elevator_req_action", "from_level": 1, "to_level": 2, "cmd": "enter"},
+        {"type": "lbt_elevator_req_action", "from_level": 1, "to_level": 2, "cmd": "leave"})
+    assert done["state"] == "ERROR"
+    assert "still waits at level 1 for this robot to enter" in done["sub_tasks"][1]["result"]
+    assert wait_for(lambda: user.car.holder == "", 10), user.car  # the task's end
