@@ -165,16 +165,21 @@ def test_none_stop_nav_passes_through_and_the_next_goal_takes_over(at_start: Rob
     passed = done["sub_tasks"][0]
     assert "passing at" in passed["result"] and passed["current_distance"] <= 2.5, passed
     assert math.hypot(robot.pose[0] - 8.0, robot.pose[1]) < 0.2
-    assert speeds and min(s for _, s in speeds) > 0.05, speeds  # never stopped near (5, 0)
+    # it drove through (5, 0) without stopping there (a dip elsewhere is the 10x clock: a
+    # loaded box may leave cmd_vel silent past the chassis's 0.5 sim s timeout)
+    through = [s for x, s in speeds if abs(x - 5.0) < 0.3]
+    assert through and min(through) > 0.05, speeds
 
 
 def test_a_last_none_stop_nav_stops_at_the_tasks_end(at_start: Robot) -> None:
     robot = at_start
     task = robot.call("create", body={"sub_tasks": [
-        {"type": "none_stop_nav_action", "x": 6.0, "y": 0.0, "radius": 2.0}]})
+        {"type": "none_stop_nav_action", "x": 7.0, "y": 0.0, "radius": 3.5}]})
     robot.call("start", task["id"])
     assert wait_for(lambda: robot.state(task["id"]) != "WORKING", 60)
     assert robot.call("get", task["id"])["state"] == "COMPLETE"
     assert wait_for(lambda: robot.nav.core.motion.active is None, 10)
     assert wait_for(lambda: robot.speed < 1e-6, 10)
-    assert 3.5 < robot.pose[0] < 5.0, robot.pose  # stopped soon after 4 m, short of 6 m
+    # stopped after 3.5 m (at 10x a loaded box takes a sim second or two to stop it), well
+    # short of the point at 7 m
+    assert 3.4 < robot.pose[0] < 6.0, robot.pose
