@@ -99,7 +99,11 @@ def run_goals(http: httpx.Client, bases: list[str], timeout: float = 600.0) -> l
     while time.monotonic() < end and not all(s in ("COMPLETE", "ERROR", "CANCELLED")
                                              for s in states):
         for i, (base, task) in enumerate(zip(bases, ids, strict=True)):
-            docs[i] = http.get(f"{base}/task", params={"id": task}).json()
+            r = http.get(f"{base}/task", params={"id": task})
+            if r.status_code != 200:  # the robot's tasks service briefly out of reach: again
+                print(f"{base}/task: {r.status_code} {r.text}", file=sys.stderr)
+                continue
+            docs[i] = r.json()
             states[i] = docs[i]["state"]
         time.sleep(0.2)
     for base, state, doc in zip(bases, states, docs, strict=True):
