@@ -14,6 +14,7 @@ from typing import Any
 import httpx
 import numpy as np
 import pytest
+from task_runs import run_task
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import Twist, Vector3
 from zenros.node import Node
@@ -34,17 +35,7 @@ def chassis(ctx_pair: list[Context]) -> Iterator[ChassisNode]:
 
 
 def run(http: httpx.Client, *actions: dict[str, Any], timeout: float = 60) -> dict[str, Any]:
-    """Create and start a task of ``actions``; the task once it has ended."""
-    r = http.post("/task", json={"name": "audio", "sub_tasks": list(actions)})
-    assert r.status_code == 200, r.text
-    assert http.get("/task/start", params={"id": r.json()["id"]}).status_code == 200
-    got: list[dict[str, Any]] = []
-
-    def ended() -> bool:
-        got.append(http.get("/task", params={"id": r.json()["id"]}).json())
-        return got[-1]["state"] in ("COMPLETE", "ERROR")
-    assert wait_for(ended, timeout, interval=0.2), got[-1:]
-    return got[-1]
+    return run_task(http, *actions, name="audio", timeout=timeout)
 
 
 def loudness(path: Path) -> tuple[int, int, float]:

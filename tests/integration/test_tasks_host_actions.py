@@ -13,6 +13,7 @@ from typing import Any
 
 import httpx
 import pytest
+from task_runs import run_task
 from zenros.context import Context
 from zenros.msgs.zenros_msgs import ResultCode
 from zenros.msgs.zenros_msgs.tasks import TASK_SERVICES, response_data, task_request
@@ -25,17 +26,7 @@ ENDED = ("COMPLETE", "ERROR", "FAILED", "CANCELLED")
 
 
 def run(http: httpx.Client, *actions: dict[str, Any], timeout: float = 30) -> dict[str, Any]:
-    """Create and start a task of ``actions``; the task once it has ended."""
-    r = http.post("/task", json={"name": "host", "sub_tasks": list(actions)})
-    assert r.status_code == 200, r.text
-    assert http.get("/task/start", params={"id": r.json()["id"]}).status_code == 200
-    got: list[dict[str, Any]] = []
-
-    def ended() -> bool:
-        got.append(http.get("/task", params={"id": r.json()["id"]}).json())
-        return got[-1]["state"] in ENDED
-    assert wait_for(ended, timeout, interval=0.1), got[-1:]
-    return got[-1]
+    return run_task(http, *actions, name="host", timeout=timeout)
 
 
 def speed(http: httpx.Client) -> float:
