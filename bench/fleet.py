@@ -133,7 +133,9 @@ def main() -> None:
     try:
         if not launch.wait_line("started a Zenoh router", 60):
             raise RuntimeError(launch.output)
-        ctx = Context(SessionOptions(connect=[endpoint]), prefix=prefix)
+        # a client of the launch's router: it sees every token the router has, not only
+        # those of the peers it found by gossip (docs/zenoh-config.md, "Known limit")
+        ctx = Context(SessionOptions(mode="client", connect=[endpoint]), prefix=prefix)
         g = ctx.graph
         want = {f"/robot{k}/{s}" for k in range(1, args.robots + 1) for s in SERVICES}
         if not g.wait_for(lambda: want <= set(g.node_names()), 600):
@@ -142,9 +144,10 @@ def main() -> None:
         robot_pids = {n.name: n.pid for n in g.nodes() if n.name in want}
         gateway: dict[str, int] = {}
         if args.gateway:
-            if not g.wait_for(lambda: {"/gateway", *(f"/robot{k}/gateway" for k in range(
-                    1, args.robots + 1))} <= set(g.node_names()), 120):
-                raise RuntimeError("the gateway does not serve every robot")
+            views = {"/gateway", *(f"/robot{k}/gateway" for k in range(1, args.robots + 1))}
+            if not g.wait_for(lambda: views <= set(g.node_names()), 120):
+                raise RuntimeError("the gateway does not serve every robot: no "
+                                   f"{sorted(views - set(g.node_names()))}")
             gateway = {"gateway": next(n.pid for n in g.nodes() if n.name == "/gateway")}
         bare = Proc([sys.executable, "-c", BARE, endpoint])
         idle = Proc([sys.executable, "-m", "zenros.examples.add_two_ints_server", "-e", endpoint,
