@@ -451,4 +451,5 @@ def test_robot2_goal_while_robot1_is_cut_off_and_robot1_task_carries_on(
     print("netns demo, robot2 goal while robot1 is cut off:", json.dumps(figures))
     # robot2 was served through the station while robot1's link was down: it set off then
     # (how far it got in those 5 s depends on the box's load: 0.2 m under a CPU hog)
-    assert r2_max_moved > 0.05, (figures, "robot2 during the outage:", r2_seen)
+    assert r2_max_moved > 0.05, (figures, "robot2 during the outage:", r2_seen,
+                                 "robot2's log:", _log_tail(demo, "r2", 60))
