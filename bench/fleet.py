@@ -30,7 +30,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _harness import emit, free_port, unique_prefix
+from _harness import cpu_seconds, emit, free_port, unique_prefix
 from zenros.action import ActionClient
 from zenros.context import Context
 from zenros.msgs.geometry_msgs import PoseStamped
@@ -58,18 +58,6 @@ print("open", flush=True)
 signal.sigwait({signal.SIGINT, signal.SIGTERM})
 s.close()
 """
-
-
-def cpu_seconds(pid: int) -> float:
-    """CPU seconds of one process, all its threads, to the nanosecond (schedstat), so that
-    a session that is nearly idle still measures (clock ticks are 10 ms)."""
-    total = 0
-    for task in Path(f"/proc/{pid}/task").iterdir():
-        try:
-            total += int((task / "schedstat").read_text().split()[0])
-        except (OSError, IndexError, ValueError):  # a thread that ended meanwhile
-            continue
-    return total / 1e9
 
 
 def cpu_rates(pids: dict[str, int], window: float) -> dict[str, float]:

@@ -42,7 +42,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from _harness import emit, free_port, missing_extra, percentile, unique_prefix
+from _harness import cpu_seconds, emit, free_port, missing_extra, percentile, unique_prefix
 
 HERE = Path(__file__).resolve()
 NETNS = ("ip link set lo up && ip link set lo multicast on && "
@@ -464,17 +464,6 @@ class Kid:
                 os.killpg(self.p.pid, signal.SIGKILL)
                 self.p.wait(5)
         self.err.close()
-
-
-def cpu_seconds(pid: int) -> float:
-    """CPU seconds of one process, every thread, to the nanosecond (/proc schedstat)."""
-    total = 0
-    for task in Path(f"/proc/{pid}/task").iterdir():
-        try:
-            total += int((task / "schedstat").read_text().split()[0])
-        except (OSError, IndexError, ValueError):  # a thread that ended meanwhile
-            continue
-    return total / 1e9
 
 
 def cores(pids: list[int], window: float) -> list[float]:
