@@ -53,6 +53,16 @@ def test_on_it_sends_the_route_stops_until_answered_then_caps_at_the_stop() -> N
     assert gate.limit(5.0, Pose2(), PATH, 0.0) is None
 
 
+def gated() -> tuple[Tools, ScheduleGate, World, Navigate]:
+    """A Navigate from (1, 1) to (4, 1) behind an enabled gate (close ``tools.worker``)."""
+    tools = Tools()
+    gate = ScheduleGate(speed=0.5, renew_period=0.5)
+    gate.set_enabled(True)
+    b = nav(tools, Pose2(4.0, 1.0, 0.0))
+    b.gate = gate
+    return tools, gate, World(Pose2(1.0, 1.0, 0.0)), b
+
+
 def drive(b: Navigate, gate: ScheduleGate, world: World, answer: Callable[[Ask], Reply],
           seconds: float, watch: Callable[[], None] = lambda: None) -> tuple[int, bool]:
     """Tick ``b`` on ``world`` for ``seconds`` at most; ``answer`` stands in for the manager
@@ -77,13 +87,8 @@ def drive(b: Navigate, gate: ScheduleGate, world: World, answer: Callable[[Ask],
 
 
 def test_navigate_waits_at_the_end_of_its_grant_then_reaches_the_goal() -> None:
-    tools = Tools()
-    gate = ScheduleGate(speed=0.5, renew_period=0.5)
-    gate.set_enabled(True)
+    tools, gate, world, b = gated()
     try:
-        world = World(Pose2(1.0, 1.0, 0.0))
-        b = nav(tools, Pose2(4.0, 1.0, 0.0))
-        b.gate = gate
         stood: list[float] = []
 
         def answer(ask: Ask) -> Reply:
@@ -104,13 +109,8 @@ def test_navigate_waits_at_the_end_of_its_grant_then_reaches_the_goal() -> None:
 
 
 def test_navigate_waits_aside_where_it_is_told_then_goes_back_to_its_goal() -> None:
-    tools = Tools()
-    gate = ScheduleGate(speed=0.5, renew_period=0.5)
-    gate.set_enabled(True)
+    tools, gate, world, b = gated()
     try:
-        world = World(Pose2(1.0, 1.0, 0.0))
-        b = nav(tools, Pose2(4.0, 1.0, 0.0))
-        b.gate = gate
         aside = (2.0, 2.0)
         asked_off: list[tuple[float, float]] = []
         stood: list[tuple[float, float]] = []
