@@ -113,8 +113,10 @@ def test_drive_and_odom_tf_truth_agree(rig: dict[str, Any]) -> None:
     assert tf.transform.translation.x == pytest.approx(o.position.x, abs=1e-9)
     laser = buffer.lookup_transform("base_link", "laser", stamp).transform.translation
     assert (laser.x, laser.z) == pytest.approx((0.1, 0.2))
-    # sim time runs about 10x the wall clock and stamps follow /clock
-    assert got["state"].msg.speed == SPEED and got["state"].msg.real_time_factor > 1.5
+    # the state names the asked speed and the factor achieved; a loaded box achieves less
+    # (the pacer slows down rather than bursting), never more than asked
+    state = got["state"].msg
+    assert state.speed == SPEED and 0 < state.real_time_factor <= SPEED * 1.2
 
 
 def test_blocked_corridor_shows_in_the_scan(rig: dict[str, Any]) -> None:
