@@ -11,7 +11,10 @@ first query ended unanswered 0.7 ms after the graph listed the server). Being li
 proof of a route; only a query is. Every client (`Client.call`, `Client.call_async`, the
 action client's send_goal and cancel, the CLI) therefore asks again, with growing pauses,
 while the graph lists a server, for ``grace`` seconds at most, and gives up at once when the
-graph lists none.
+graph lists none. A goal's client (send_goal, cancel) also waits ``relink`` seconds for a server
+that was listed and left to be listed again: a link whose lease ran out on a starved box ends
+the queries it carried unanswered and is made again within seconds, and a goal sent again under its
+id is answered as it was the first time (`zenros.action.ActionServer`).
 """
 
 from __future__ import annotations
@@ -21,13 +24,18 @@ import time
 from collections.abc import Awaitable, Callable
 from typing import TypeVar
 
-__all__ = ["REACH_GRACE", "Reach", "ask_while_listed", "ask_while_listed_async"]
+__all__ = ["REACH_GRACE", "RELINK", "Reach", "ask_while_listed", "ask_while_listed_async"]
 
 REACH_GRACE = 1.0
 """Seconds a client asks again, by default, when no reply came but the graph lists a server."""
 
 FIRST_PAUSE = 0.02
 MAX_PAUSE = 0.2
+RELINK = 10.0
+"""Seconds a goal's client waits for its server to be listed again (`Reach`'s ``relink``):
+Zenoh makes a lost link to a configured endpoint again within 2 s on a quiet box; beside ten
+fresh CLIs and two CPU hogs on 2 cores, 3 s was not always enough (issue 37.4)."""
+RELINK_POLL = 0.1
 
 R = TypeVar("R")
 
@@ -40,15 +48,25 @@ class Reach:
         listed: whether the graph lists a server now.
         timeout: the whole request's timeout (seconds).
         grace: seconds (at most 90 % of ``timeout``) to ask again while no reply comes.
+        relink: for a request the server may take twice (one that names itself, as a goal
+            does by its id), seconds to wait for a server listed when the request started,
+            and no longer listed, to be listed again before giving up (0: give up at once).
+            A link between two processes whose lease ran out (a starved box: a receive side
+            that stalled longer than the lease) ends the queries it carried, unanswered, and
+            takes the server's tokens with it; Zenoh makes a configured link again within
+            0.5-2 s.
     """
 
     def __init__(self, listed: Callable[[], bool], timeout: float,
-                 grace: float = REACH_GRACE) -> None:
+                 grace: float = REACH_GRACE, relink: float = 0.0) -> None:
         self._listed = listed
         self._timeout = timeout
         self._limit = min(grace, timeout * 0.9)
-        self._start = time.monotonic()
+        self._start = self._grace_from = time.monotonic()
         self._pause = FIRST_PAUSE
+        self._relink = relink
+        self._was_listed = relink > 0 and listed()
+        self._unlisted_at: float | None = None
 
     def elapsed(self) -> float:
         return time.monotonic() - self._start
@@ -59,10 +77,25 @@ class Reach:
 
     def again(self) -> float | None:
         """A query ended with no reply: the pause before sending it again, or None when the
-        graph lists no server or the grace is spent."""
+        grace is spent or the graph lists no server (with ``relink``: a server listed before
+        has not been listed again within ``relink`` s). A server listed again gets a new
+        grace: its routes come back after its tokens."""
         pause = self._pause
-        if self.elapsed() + pause >= self._limit or not self._listed():
+        now = time.monotonic()
+        if self._listed():
+            if self._unlisted_at is not None:  # listed again: a new grace for its routes
+                self._grace_from, self._unlisted_at = now, None
+            if now - self._grace_from + pause >= self._limit:
+                return None
+            self._was_listed = self._relink > 0
+        elif not self._was_listed:
             return None
+        else:  # listed when asked before: its link may be on its way back
+            if self._unlisted_at is None:
+                self._unlisted_at = now
+            pause = max(pause, RELINK_POLL)
+            if now - self._unlisted_at + pause > self._relink or self.left() <= pause:
+                return None
         self._pause = min(pause * 2, MAX_PAUSE)
         return pause
 

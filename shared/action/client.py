@@ -27,7 +27,7 @@ from ..log import Throttle
 from ..message import ActionType, F, G, R, normalize_type_name
 from ..msgs.builtin_interfaces import Time
 from ..names import Token
-from ..reach import REACH_GRACE, Reach
+from ..reach import REACH_GRACE, RELINK, Reach
 from .cancel import request_cancel
 from .client_goal import ClientGoalHandle, GoalResult
 from .host import ActionHost
@@ -149,7 +149,7 @@ class ActionClient(Generic[G, R, F]):
         gid, data = self._encode_goal(goal)
         wait = self.send_timeout if timeout is None else min(self.send_timeout, timeout)
         h = None if feedback_callback is None else self._register(gid, goal, feedback_callback)
-        reach = Reach(self.server_is_ready, wait, self.reach_grace)
+        reach = Reach(self.server_is_ready, wait, self.reach_grace, RELINK)
         while True:  # again while no server answered but the graph lists one
             replies = self._ctx.session.get(
                 self._send_key, payload=data, encoding=self._enc["send_goal"],
@@ -257,7 +257,7 @@ class ActionClient(Generic[G, R, F]):
         and (asked by the attachment) the result when the goal ends. A goal still running
         when the query times out (``send_timeout``) gets its result by get_result requests.
         A query no server answered is sent again while the graph lists one (`Reach`)."""
-        reach = Reach(self.server_is_ready, self.send_timeout, self.reach_grace)
+        reach = Reach(self.server_is_ready, self.send_timeout, self.reach_grace, RELINK)
         self._send_once(h, data, reach)
 
     def _send_once(self, h: ClientGoalHandle, data: bytes, reach: Reach) -> None:
@@ -529,7 +529,7 @@ class ActionClient(Generic[G, R, F]):
         key = self._keys["cancel_goal"]
         return request_cancel(self._ctx.session, key, self.name, goal_id, stamp, timeout,
                               self._ctx.destination(key), Reach(self.server_is_ready, timeout,
-                                                                self.reach_grace))
+                                                                self.reach_grace, RELINK))
 
     # ------------------------------------------------------------------ lifecycle
 

@@ -249,6 +249,10 @@ class ActionServer(Generic[G, R, F]):
         handle: Handle = ServerGoalHandle(self, key, req.goal, req.goal_id)
         with self.lock:  # registered at once: a get_result right behind it will wait
             fresh = not self._closing and self._table.add_pending(handle)
+            prior = None if fresh or self._closing else self._table.lookup(key)
+            if (prior is not None and prior.status is not GoalStatus.UNKNOWN
+                    and prior.request == req.goal):
+                return self._answer_again(query, prior, seq)
         if not fresh:
             why = ("server is shutting down" if self._closing
                    else f"duplicate goal id {handle.goal_id}")
@@ -298,6 +302,28 @@ class ActionServer(Generic[G, R, F]):
                         self._answer_result(query, handle)
             self._runner.launch(launch)
             return hold
+
+    def _answer_again(self, query: zenoh.Query, h: Handle, seq: int) -> bool | None:
+        """The goal ``h`` sent again, the same goal under the same id: its client lost the
+        first answer (a link that dropped and was made again ends the queries it carried,
+        unanswered) and asked again (`zenros.reach`). It is answered as it was: accepted, then
+        its result on the same query if the client asks for it, now or when it ends. Called
+        with the lock held; True if ``query`` is held."""
+        self._goal_decided(seq, True, "", h.stamp)
+        hold = _wants_result(query)
+        try:
+            if hold and h.has_result:  # one reply: the result, the acceptance attached
+                answer(query, self._result_payload(h), self._enc[self._wire.GetResultResponse],
+                       accepted_attachment(h.stamp))
+                return None
+            self._respond(query, True, "", h, finalize=not hold)
+        except (zenoh.ZError, RuntimeError) as exc:  # this client is gone too
+            self.logger.debug("action %s: acceptance of goal %s not sent again: %s",
+                              self.name, h.goal_id, exc)
+            return None
+        if hold:
+            h.add_waiter(query)
+        return hold
 
     def _ask_goal_callback(self, goal: Any) -> str:
         """'' to accept, else the rejection reason."""

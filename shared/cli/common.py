@@ -12,6 +12,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any, TypeVar
 
 import msgspec
@@ -23,7 +24,7 @@ from ..errors import StartupError, UnknownTypeError, ZenrosError
 from ..message import ActionType, Message, ServiceType, normalize_type_name
 from ..node import Node
 from ..registry import lookup_action, lookup_service, lookup_type
-from ..session import DEFAULT_ROUTER, add_session_arguments, options_from_args
+from ..session import DEFAULT_ROUTER, SessionOptions, add_session_arguments, options_from_args
 
 __all__ = [
     "STDOUT_CLOSED",
@@ -89,8 +90,9 @@ def open_context(args: argparse.Namespace, settle: bool = True, *,
     endpoints = ", ".join(opts.connect or [DEFAULT_ROUTER])
     hint = (f"nothing answered at {endpoints} (no Zenoh router or peer there): start one with "
             "`zenros router` or `zenros launch deploy/launch/sim.yaml`, or pass -e ENDPOINT")
+    waits = not (settle if required is None else required)
     try:
-        ctx = Context(opts, prefix=args.prefix)
+        ctx = _open(opts, args.prefix, waits)
     except StartupError as exc:
         if "Unable to connect" in str(exc):
             raise StartupError(hint) from None
@@ -105,6 +107,29 @@ def open_context(args: argparse.Namespace, settle: bool = True, *,
     if settle:
         ctx.graph.settle()
     return ctx
+
+
+def _open(opts: SessionOptions, prefix: str | None, waits: bool) -> Context:
+    """The verb's context: a client of the first endpoint that answers, unless told otherwise.
+
+    A verb lives for one command, and a client's every query and subscription goes through
+    the link it made to a configured endpoint (Zenoh connects it again if it drops; a router,
+    or a peer, routes for its clients). As a peer it would reach each of the graph's
+    processes over a direct link found by gossip: tens of links to make before its first
+    query, on a loaded box some late, and one whose lease runs out is never made again
+    (docs/zenoh-config.md, "Known limit"; issue 37.4: one of ten fresh CLIs' goals answered
+    by no robot). ``--mode``, ``$ZENROS_MODE``, a config file, a listen endpoint or multicast
+    scouting keep the session as asked. A verb that waits for the network to appear (a
+    client cannot open with nothing to connect to) falls back to a peer, which keeps trying.
+    """
+    if opts.mode or opts.config_file or opts.listen or opts.multicast_scouting:
+        return Context(opts, prefix=prefix)
+    try:
+        return Context(replace(opts, mode="client"), prefix=prefix)
+    except StartupError as exc:
+        if not (waits and "Unable to connect" in str(exc)):
+            raise
+    return Context(opts, prefix=prefix)
 
 
 def _reached_anyone(ctx: Context, wait: float = 0.3) -> bool:

@@ -463,15 +463,53 @@ def test_bad_goals_sent_raw_get_a_clear_rejection(pair: Any, payload: bytes,
 
 
 def test_duplicate_goal_id_is_rejected(pair: Any) -> None:
+    # another goal under a taken id
     _, client = pair(until_canceled, policy="parallel")
     h = client.send_goal_async(goal(1))
     assert h.wait_accepted(10)
-    req = wire_types(Fibonacci).SendGoalRequest(goal_id=uuid_msg(h.goal_id), goal=goal(1))
+    req = wire_types(Fibonacci).SendGoalRequest(goal_id=uuid_msg(h.goal_id), goal=goal(2))
     kind, data = raw_get(client, "send_goal", codec_for(type(req)).encode(req))
     res = codec_for(wire_types(Fibonacci).SendGoalResponse).decode(data)
     assert kind == "ok" and not res.accepted
     assert res.reason == f"duplicate goal id {h.goal_id}"
     client.cancel_all_goals()
+
+
+def test_the_same_goal_sent_again_is_answered_as_the_first_time(pair: Any) -> None:
+    """A client whose first answer was lost (a link that dropped and was made again ends
+    its queries unanswered) sends the goal again under its id: the server answers it as it
+    did, accepted with the same stamp, and the goal runs once."""
+    from zenros.action.transport import RESULT_ON_GOAL, accepted_stamp
+
+    recorder = Recorder()
+    server, client = pair(recorder, policy="parallel")
+    h = client.send_goal_async(goal(1))
+    assert h.wait_accepted(10)
+    wire = wire_types(Fibonacci)
+    req = codec_for(wire.SendGoalRequest).encode(
+        wire.SendGoalRequest(goal_id=uuid_msg(h.goal_id), goal=goal(1)))
+    kind, data = raw_get(client, "send_goal", req)
+    res = codec_for(wire.SendGoalResponse).decode(data)
+    assert kind == "ok" and res.accepted and res.stamp == h.stamp
+    # asked with its result: the acceptance at once, the result on the same query at the end
+    session = client._ctx.session
+    replies = session.get(client._keys["send_goal"], payload=req, attachment=RESULT_ON_GOAL,
+                          consolidation=zenoh.ConsolidationMode.NONE, timeout=10)
+    first = next(iter(replies))
+    assert first.ok is not None
+    assert codec_for(wire.SendGoalResponse).decode(first.ok.payload.to_bytes()).accepted
+    recorder.release(1)
+    last = [r.ok for r in replies]
+    assert len(last) == 1 and last[0] is not None
+    out = codec_for(wire.GetResultResponse).decode(last[0].payload.to_bytes())
+    assert out.status == GoalStatus.SUCCEEDED
+    assert h.result(10).succeeded and recorder.started == [1]  # it ran once
+    # once ended, the same goal again gets its result in one reply, the acceptance attached
+    again = list(session.get(client._keys["send_goal"], payload=req, attachment=RESULT_ON_GOAL,
+                             consolidation=zenoh.ConsolidationMode.NONE, timeout=10))
+    assert len(again) == 1 and again[0].ok is not None
+    assert accepted_stamp(again[0].ok) == h.stamp
+    assert recorder.started == [1] and server.errors == 0
 
 
 # ------------------------------------------------------------------ results and status

@@ -196,9 +196,11 @@ def _lines(output: str, tags: tuple[str, ...]) -> str:
 
 
 @pytest.mark.xfail(strict=False, reason=(
-    "open (issue 37.4): in 2 of 3 full suite runs on a loaded 2-core box one robot of the "
-    "composed ten-robot process answered no goal (zenoh's Timeout reply after 10 s, then "
-    "60 s); it passes alone and in its module every time tried. Not yet understood"))
+    "open (issue 37.4): on a starved box the router runs out the leases of processes that "
+    "kept sending (docs/zenoh-config.md, 2026-12-07), which ended goals' queries unanswered "
+    "(5-15 of 30 fresh CLIs beside two hogs). A goal's client now waits for its server to "
+    "come back and the server answers a goal sent again as the first time: 1 of 100 still "
+    "went unanswered for its 60 s there, cause not known"))
 def test_goals_from_fresh_cli_processes_reach_every_robot(fleet: Fleet) -> None:
     # issue 37.4: `zenros action send_goal /robot9/navigate_to_pose ...` from a new shell
     # found no server while robot9 was up. Here ten fresh CLI processes at once, one goal
