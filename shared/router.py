@@ -37,8 +37,8 @@ __all__ = [
 ]
 
 DEFAULT_LISTEN = "tcp/127.0.0.1:7447"
-DEFAULT_LEASE_MS = 1500  # a frozen or cut-off router is noticed in 0.75-1.5 s (zenoh: 10000)
-DEFAULT_KEEP_ALIVE = 2  # keep-alives per lease: one every 750 ms on an idle link
+DEFAULT_LEASE_MS = 2500  # a frozen or cut-off router is noticed in 1.25-2.5 s (zenoh: 10000)
+DEFAULT_KEEP_ALIVE = 2  # keep-alives per lease: one every 1.25 s on an idle link
 
 _TCP_BASED = ("tcp", "tls", "ws")
 _RUST_LOCATION = re.compile(r" at /\S+?\.rs:\d+\.?")

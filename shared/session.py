@@ -21,11 +21,13 @@ __all__ = [
 ]
 
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
-# A frozen process or a cut link leaves the graph within the lease, 0.75-1.5 s (a killed one
-# at once: the kernel closes its TCP links). An idle link carries a keep-alive every 750 ms, not
-# every 250 ms: each costs the processes on both ends their wake-ups, and those were most of an
-# idle process's CPU (docs/zenoh-config.md, "lease: 1500, keep_alive: 2").
-DEFAULT_LEASE_MS = 1500
+# A frozen process or a cut link leaves the graph within the lease, 1.25-2.5 s (a killed one
+# at once: the kernel closes its TCP links). An idle link carries a keep-alive every 1.25 s: each
+# costs the processes on both ends their wake-ups, most of an idle process's CPU. And the lease
+# bounds how long a receiving process may take over a batch before Zenoh runs the link out
+# (lease - keep-alive period: 1.25 s; with 1500 it was 0.75 s, which a starved router
+# exceeded, docs/zenoh-config.md, "lease: 2500, keep_alive: 2").
+DEFAULT_LEASE_MS = 2500
 DEFAULT_KEEP_ALIVE = 2
 SHM_POOL_BYTES = 20 << 20
 SHM_ENV = "ZENROS_SHM"
@@ -113,7 +115,7 @@ def build_config(opts: SessionOptions) -> zenoh.Config:
     """A `zenoh.Config` from options.
 
     Without a file, zenros's defaults apply (peer, local router, own loopback listen
-    endpoint, 1.5 s lease with a keep-alive every 750 ms, shared memory off unless
+    endpoint, 2.5 s lease with a keep-alive every 1.25 s, shared memory off unless
     ``opts.shm``, then with a 20 MiB pool). A file is taken as written, except that timestamping is always on,
     multicast scouting stays off unless the file sets it, and ``opts.shm`` turns shared memory on.
     Explicit flags then override, and ``--cfg`` last of all.

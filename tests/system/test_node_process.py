@@ -40,10 +40,11 @@ def test_sigterm_ends_a_node_cleanly(router: str, prefix: str, observer: Context
     assert p.wait(10) == 0, p.output
 
 
-@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGSTOP])
-def test_killed_or_frozen_node_leaves_the_graph_within_2s(
-    router: str, prefix: str, observer: Context, procs: list[Proc], signum: int
+@pytest.mark.parametrize(("signum", "within"), [(signal.SIGKILL, 2.0), (signal.SIGSTOP, 3.0)])
+def test_killed_node_leaves_the_graph_within_2s_and_a_frozen_one_within_3s(
+    router: str, prefix: str, observer: Context, procs: list[Proc], signum: int, within: float
 ) -> None:
+    # killed: its TCP links close at once; frozen: its 2.5 s lease runs out (docs/wire.md)
     p = _node("zenros.examples.talker", router, prefix, "--name", "victim")
     procs.append(p)
     g = observer.graph
@@ -52,8 +53,8 @@ def test_killed_or_frozen_node_leaves_the_graph_within_2s(
     p.signal(signum)
     try:
         assert g.wait_for(lambda: "/victim" not in g.node_names()
-                          and "/chatter" not in g.topics(), 2.0)
-        assert time.monotonic() - start < 2.0
+                          and "/chatter" not in g.topics(), within)
+        assert time.monotonic() - start < within
     finally:
         if signum == signal.SIGSTOP:
             p.signal(signal.SIGCONT)

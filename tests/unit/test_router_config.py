@@ -39,7 +39,7 @@ def test_defaults() -> None:
     assert get(conf, "mode") == "router"
     assert get(conf, "listen/endpoints") == [DEFAULT_LISTEN] == ["tcp/127.0.0.1:7447"]
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/lease") == 2500
     assert get(conf, "transport/link/tx/keep_alive") == 2
     assert get(conf, "transport/shared_memory/enabled") is False
 
@@ -118,7 +118,7 @@ def test_zenros_defaults_fill_what_the_file_leaves_unset(tmp_path: Path) -> None
     conf = build_router_config(config_file=write(tmp_path, '{mode: "router"}'))
     assert get(conf, "listen/endpoints") == [DEFAULT_LISTEN]
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/lease") == 2500
 
 
 def test_flags_and_cfg_win_over_the_file(tmp_path: Path) -> None:
@@ -131,7 +131,7 @@ def test_flags_and_cfg_win_over_the_file(tmp_path: Path) -> None:
 
 def test_a_lease_equal_to_zenohs_default_counts_as_unset(tmp_path: Path) -> None:
     path = write(tmp_path, "{transport: {link: {tx: {lease: 10000}}}}")
-    assert get(build_router_config(config_file=path), "transport/link/tx/lease") == 1500
+    assert get(build_router_config(config_file=path), "transport/link/tx/lease") == 2500
     forced = build_router_config(config_file=path, cfg=[("transport/link/tx/lease", "10000")])
     assert get(forced, "transport/link/tx/lease") == 10000
 
@@ -167,7 +167,7 @@ def test_deploy_ships_the_expected_configs() -> None:
 def test_shipped_router_configs_build(name: str) -> None:
     conf = build_router_config(config_file=str(DEPLOY / name))
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/lease") == 2500
     assert listen_endpoints(conf)
 
 
@@ -176,7 +176,7 @@ def test_shipped_session_configs_parse(name: str) -> None:
     conf = zenoh.Config.from_file(str(DEPLOY / name))
     assert get(conf, "mode") in ("peer", "client")
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/lease") == 2500
     assert get(conf, "connect/endpoints")
     if get(conf, "mode") == "peer":  # a peer without a listen endpoint gets nothing via a router
         assert get(conf, "listen/endpoints")

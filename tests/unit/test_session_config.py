@@ -49,7 +49,7 @@ def test_defaults() -> None:
     assert get(conf, "connect/endpoints") == [DEFAULT_ROUTER] == ["tcp/127.0.0.1:7447"]
     assert get(conf, "listen/endpoints") == ["tcp/127.0.0.1:0"]
     assert get(conf, "scouting/multicast/enabled") is False
-    assert get(conf, "transport/link/tx/lease") == 1500
+    assert get(conf, "transport/link/tx/lease") == 2500
     assert get(conf, "transport/link/tx/keep_alive") == 2
     assert get(conf, "transport/shared_memory/enabled") is False
     assert get(conf, "timestamping/enabled") is True
@@ -141,9 +141,9 @@ def test_bad_mode_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_cfg_overrides_come_last() -> None:
-    conf = build_config(parse("--cfg", "transport/link/tx/lease:2500",
+    conf = build_config(parse("--cfg", "transport/link/tx/lease:4500",
                               "--cfg", 'listen/endpoints:["tcp/127.0.0.1:7900"]'))
-    assert get(conf, "transport/link/tx/lease") == 2500
+    assert get(conf, "transport/link/tx/lease") == 4500
     assert get(conf, "listen/endpoints") == ["tcp/127.0.0.1:7900"]
 
 
