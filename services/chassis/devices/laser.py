@@ -93,6 +93,8 @@ class LaserDevice(Device[LaserParameters]):
         self._angles = cfg.angle_min + np.arange(cfg.beams) * cfg.angle_increment
         self._world_generation = self._generation()
         self.reflectors = self._load_reflectors()
+        # the last intensities and what they were worked out from (pose, reflectors, ranges)
+        self._lit: tuple[tuple[Pose2, Reflectors], np.ndarray, np.ndarray] | None = None
 
     def _generation(self) -> int:
         return int(getattr(self.chassis.sim.world, "generation", 0))
@@ -125,8 +127,19 @@ class LaserDevice(Device[LaserParameters]):
             self.reflectors = self._load_reflectors()
         p = self.chassis.sim.truth * self.true_mount
         ranges = self.laser.ranges(p.x, p.y, p.theta)
-        return ranges, self.reflectors.intensities(p.x, p.y, p.theta, self._angles, ranges,
-                                                   self.laser.config.range_max)
+        return ranges, self._intensities(p, ranges)
+
+    def _intensities(self, p: Pose2, ranges: np.ndarray) -> np.ndarray:
+        """The intensities of ``ranges`` cast from ``p``: those of the last scan again when
+        it was cast from there, with those reflectors, and gave the same ranges (a robot at
+        rest without range noise)."""
+        key, lit = (p, self.reflectors), self._lit
+        if lit is not None and lit[0] == key and np.array_equal(lit[1], ranges):
+            return lit[2].copy()
+        out = self.reflectors.intensities(p.x, p.y, p.theta, self._angles, ranges,
+                                          self.laser.config.range_max)
+        self._lit = (key, ranges.copy(), out.copy())
+        return out
 
     def open(self, node: Endpoints) -> None:
         self._node = node

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 from zenros.maps import Reflector, load_landmarks, load_map
 from zenros.params import Parameters
+from zenros.se2 import Pose2
 from zenros.services.chassis.config import DEMO_MAP, declare_chassis
 from zenros.services.chassis.devices import LaserDevice
 from zenros.services.chassis.laser import Laser, LaserConfig
@@ -86,3 +87,26 @@ def test_the_laser_device_takes_the_reflectors_of_the_floor_it_is_on(tmp_path: P
     ranges, intensities = laser.scan()
     assert len(laser.reflectors) == 0 and intensities.max() < STRONG
     assert intensities.shape == ranges.shape
+
+
+def test_a_scan_from_where_the_last_was_keeps_its_intensities(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """At rest the same ranges come from the same place: their intensities are not worked
+    out again (a copy each scan); a move or other reflectors work them out anew."""
+    cfg = declare_chassis(Parameters("/chassis", {"map": str(DEMO_MAP)}))
+    laser = cfg.build(logging.getLogger("test")).device(LaserDevice)
+    assert laser is not None
+    worked: list[int] = []
+    real = Reflectors.intensities
+
+    def counted(self: Reflectors, *args: object) -> np.ndarray:
+        worked.append(1)
+        return real(self, *args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Reflectors, "intensities", counted)
+    first, again = laser.scan()[1], laser.scan()[1]
+    assert len(worked) == 1 and np.array_equal(first, again) and first is not again
+    assert first.max() >= STRONG
+    laser.chassis.sim.teleport(Pose2(0.5, 0.0, 0.0))
+    laser.scan()
+    laser.set_reflectors(Reflectors())
+    assert laser.scan()[1].max() < STRONG and len(worked) == 3
