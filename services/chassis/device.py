@@ -77,11 +77,16 @@ class Chassis:
     pacer: Pacer
     logger: logging.Logger
     devices: list[Device[Any]] = field(default_factory=list)
+    # the steps of the devices that have one (`Device.step` does nothing: not called)
+    _steps: list[Callable[[float], None]] = field(default_factory=list, init=False,
+                                                  repr=False, compare=False)
 
     def fit(self, kind: type[D], params: msgspec.Struct) -> D:
         """Build a ``kind`` device with ``params`` on this chassis and fit it (last)."""
         device = kind(params, self)
         self.devices.append(device)
+        if type(device).step is not Device.step:
+            self._steps.append(device.step)
         return device
 
     def device(self, kind: type[D]) -> D | None:
@@ -94,8 +99,8 @@ class Chassis:
     def step(self, dt: float) -> None:
         """Move the body by ``dt`` sim seconds, then step every device in order."""
         self.sim.step(dt)
-        for d in self.devices:
-            d.step(dt)
+        for step in self._steps:
+            step(dt)
 
 
 class Endpoints(Protocol):
@@ -155,6 +160,7 @@ class Schedule:
     def __init__(self, devices: Sequence[Device[Any]], step_rate: float) -> None:
         self.entries = [(d, max(1, round(step_rate / d.rate)) if d.rate > 0 else 0,
                          type(d).changed is not Device.changed) for d in devices]
+        self._due = [e for e in self.entries if e[1] or e[2]]  # the others never publish
 
     def every(self, device: Device[Any]) -> int:
         """Every how many steps ``device`` publishes on schedule (0: never)."""
@@ -162,6 +168,6 @@ class Schedule:
 
     def publish(self, step: int, stamp: Time) -> None:
         """Publish the devices due on ``step``, in their order."""
-        for device, every, watches in self.entries:
+        for device, every, watches in self._due:
             if (every and step % every == 0) or (watches and device.changed()):
                 device.publish(stamp)

@@ -38,7 +38,8 @@ class Odometry:
             ev, ew = self.rng.normal(0.0, self.noise, 2)
             v, w = v * (1 + ev), w * (1 + ew) + abs(v) * self.noise * 0.1 * ew
         self.linear, self.angular = v, w
-        self.pose = integrate(self.pose, v, w, dt)
+        if v or w:  # standing still leaves the pose as it is (the same object)
+            self.pose = integrate(self.pose, v, w, dt)
         return self.pose
 
     def pose_covariance(self) -> list[float]:

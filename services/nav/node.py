@@ -68,6 +68,7 @@ from zenros.tf.listener import DYNAMIC_LISTENER_QOS, STATIC_LISTENER_QOS
 from .actions.base import Ledger
 from .actions.behavior_server import BehaviorActions
 from .actions.convert import (
+    PoseReader,
     path_to_msg,
     pose2_from_msg,
     pose_with_covariance,
@@ -154,6 +155,7 @@ class NavNode(LifecycleNode):
         self._serve_people(p)  # before the scan's subscription: on_scan publishes people
         self._serve_landmarks()  # before the scan's subscription too: on_scan feeds it
 
+        self._odom_pose, self._truth_pose = PoseReader(), PoseReader()  # 50 Hz each
         self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR)
         self.create_subscription(Odometry, "sim/ground_truth", self.on_ground_truth, QOS_SENSOR)
         self.create_subscription(LaserScan, "scan", self.on_scan, QOS_SENSOR)
@@ -450,7 +452,7 @@ class NavNode(LifecycleNode):
 
     def on_odom(self, msg: Odometry) -> None:
         try:
-            pose = pose2_from_msg(msg.pose.pose)
+            pose = self._odom_pose(msg.pose.pose)
         except ValueError:
             self.logger.warning("odom with a bad pose ignored", exc_info=False)
             return
@@ -459,7 +461,7 @@ class NavNode(LifecycleNode):
 
     def on_ground_truth(self, msg: Odometry) -> None:
         try:
-            pose = pose2_from_msg(msg.pose.pose)
+            pose = self._truth_pose(msg.pose.pose)
         except ValueError:
             return
         self.core.on_ground_truth(msg.header.stamp.nanoseconds, pose)

@@ -45,8 +45,17 @@ class DockDevice(Device[DockParameters]):
                 chassis.map_path.parent / "poses.yaml")
         self.dock = (Dock(pose, params.dock_tolerance, params.dock_yaw_tolerance)
                      if pose is not None else None)
+        # the last pose and dock asked about, and whether the body was docked
+        self._at: tuple[Pose2 | None, Dock | None, bool] = (None, None, False)
 
     @property
     def docked(self) -> bool:
-        """Whether the body is on the dock now."""
-        return self.dock is not None and self.dock.docked(self.chassis.sim.truth)
+        """Whether the body is on the dock now (asked again only when the body moved:
+        several devices ask at every step)."""
+        dock = self.dock
+        if dock is None:
+            return False
+        truth, at = self.chassis.sim.truth, self._at
+        if at[0] is not truth or at[1] is not dock:
+            at = self._at = (truth, dock, dock.docked(truth))
+        return at[2]

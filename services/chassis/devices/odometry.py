@@ -38,8 +38,10 @@ class OdometryDevice(Device[OdometryParameters]):
         super().__init__(params, chassis)
         self.odometry = Odometry(params.odom_noise, chassis.rng)
         self.rate = chassis.step_rate
-        self._pose_cov = messages.covariance(self.odometry.pose_covariance())
-        self._twist_cov = messages.covariance(self.odometry.twist_covariance())
+        frames = chassis.frames
+        self._stream = messages.OdometryStream(
+            frames.odom, frames.base, messages.covariance(self.odometry.pose_covariance()),
+            messages.covariance(self.odometry.twist_covariance()))
 
     @property
     def odom_in_map(self) -> Pose2:
@@ -55,10 +57,7 @@ class OdometryDevice(Device[OdometryParameters]):
         self.odometry.update(sim.linear, sim.angular, dt)
 
     def publish(self, stamp: Time) -> None:
-        odom, frames = self.odometry, self.chassis.frames
-        self._pub.publish(messages.odometry(
-            stamp, frames.odom, frames.base, odom.pose, odom.linear, odom.angular,
-            self._pose_cov, self._twist_cov))
+        odom, stream = self.odometry, self._stream
+        self._pub.publish(stream.odometry(stamp, odom.pose, odom.linear, odom.angular))
         if self._tf is not None:
-            self._tf.send_transform(messages.transform(stamp, frames.odom, frames.base,
-                                                       odom.pose))
+            self._tf.send_transform(stream.transform(stamp, odom.pose))

@@ -20,12 +20,13 @@ class GroundTruthDevice(Device[NoParameters]):
     def __init__(self, params: NoParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.rate = chassis.step_rate
+        self._stream = messages.OdometryStream(chassis.frames.map, chassis.frames.base)
 
     def open(self, node: Endpoints) -> None:
         self._pub = node.create_publisher(OdometryMsg, "sim/ground_truth")
 
     def publish(self, stamp: Time) -> None:
         if self._pub.subscription_count:
-            sim, frames = self.chassis.sim, self.chassis.frames
-            self._pub.publish(messages.odometry(stamp, frames.map, frames.base, sim.truth,
-                                                sim.drive.linear, sim.drive.angular))
+            sim = self.chassis.sim
+            self._pub.publish(self._stream.odometry(stamp, sim.truth, sim.drive.linear,
+                                                    sim.drive.angular))

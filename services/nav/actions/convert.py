@@ -22,6 +22,7 @@ from zenros.se2 import Pose2
 from zenros.tf.convert import yaw_from_msg, yaw_to_msg
 
 __all__ = [
+    "PoseReader",
     "path_from_msg",
     "path_to_msg",
     "pose2_from_msg",
@@ -47,6 +48,25 @@ def pose2_from_msg(pose: Pose) -> Pose2:
     if q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w < 1e-12:
         raise ValueError("pose orientation is a zero quaternion")
     return Pose2(x, y, yaw_from_msg(q))
+
+
+class PoseReader:
+    """`pose2_from_msg` that remembers the pose it read last: a message sharing that pose
+    part (an in-process publisher at rest sends the same one at every stamp; messages are
+    read-only) is not read again. Thread safe (one attribute holds the part and its pose)."""
+
+    __slots__ = ("_last",)
+
+    def __init__(self) -> None:
+        self._last: tuple[Pose | None, Pose2] = (None, Pose2())
+
+    def __call__(self, pose: Pose) -> Pose2:
+        last = self._last
+        if last[0] is pose:
+            return last[1]
+        out = pose2_from_msg(pose)  # raises before anything is remembered
+        self._last = (pose, out)
+        return out
 
 
 def pose2_to_msg(p: Pose2) -> Pose:

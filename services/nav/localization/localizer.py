@@ -48,6 +48,8 @@ class Localizer:
         self.odom_stamp_ns = 0
         self.corrections = 0
         self._pending_truth: tuple[int, Pose2] | None = None
+        # the last truth applied: (true pose, odometry, the map_to_odom they gave)
+        self._applied: tuple[Pose2, Pose2, Pose2] | None = None
         self.external = False
         self.relocalize = False
 
@@ -120,9 +122,14 @@ class Localizer:
 
     def _apply_truth(self, stamp_ns: int, map_base: Pose2) -> None:
         odom = self._odom_at(stamp_ns)
-        if odom is not None:
+        if odom is None:
+            return
+        last = self._applied  # at rest the same poses come again: nothing to work out
+        if (last is None or last[0] is not map_base or last[1] is not odom
+                or last[2] is not self.map_to_odom):
             self.map_to_odom = map_base * odom.inverse()
-            self.localized = True
+            self._applied = (map_base, odom, self.map_to_odom)
+        self.localized = True
 
     def covers(self, stamp_ns: int) -> bool:
         """True once odometry at or after ``stamp_ns`` has arrived."""

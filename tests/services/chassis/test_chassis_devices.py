@@ -78,6 +78,7 @@ class StandInNode:
         self.listening: dict[str, Callable[[Any], object]] = {}
         self.static: list[Any] = []
         self.broadcasters = 0
+        self.tf = StandInPublisher("/tf")  # what its /tf broadcaster sent
 
     def create_publisher(self, msg_type: type[Any], topic: str, qos: Any = 10) -> Any:
         self.publishers[topic] = StandInPublisher(topic)
@@ -92,7 +93,7 @@ class StandInNode:
 
     def transforms(self) -> Any:
         self.broadcasters += 1
-        return StandInPublisher("/tf")
+        return self.tf
 
     def static_transform(self, transform: Any) -> None:
         self.static.append(transform)
@@ -262,3 +263,38 @@ def test_a_device_without_parameters_or_publishing_is_inert() -> None:
     device.step(0.02)
     device.publish(STAMP)
     assert Schedule([device], 50.0).every(device) == 0 and not device.changed()
+
+
+def test_only_the_devices_with_a_step_of_their_own_are_stepped() -> None:
+    chassis, _ = build()
+    stepped = [d for d in chassis.devices if type(d).step is not Device.step]
+    assert 0 < len(stepped) < len(chassis.devices)
+    assert [s.__self__ for s in chassis._steps] == stepped  # type: ignore[attr-defined]
+
+
+def test_at_rest_odometry_and_truth_are_stamped_anew_on_the_parts_already_built() -> None:
+    """A robot standing still publishes odom, odom -> base_link and the ground truth at
+    every step with that step's stamp; their pose and twist parts are those of the last
+    message (built once), and built again once the robot moves."""
+    chassis, node = build({"actuators": False, "asr_board": False, "ptz_camera": False})
+    schedule = Schedule(chassis.devices, 50.0)
+    stamps = [Time(sec=1, nanosec=20_000_000 * i) for i in range(3)]
+    for step, stamp in enumerate(stamps, 1):
+        chassis.step(0.02)
+        schedule.publish(step, stamp)
+    odom, truth, tf = node.publishers["odom"].sent, node.publishers["sim/ground_truth"].sent, \
+        node.tf.sent
+    for sent in (odom, truth):
+        assert [m.header.stamp for m in sent] == stamps
+        assert sent[0].pose is sent[1].pose is sent[2].pose
+        assert sent[0].twist is sent[2].twist
+    assert [m.header.stamp for m in tf] == stamps and tf[0].transform is tf[2].transform
+    assert odom[0].header.frame_id == "odom" and truth[0].header.frame_id == "map"
+    chassis.sim.drive.command(0.5, 0.2, chassis.sim.time)
+    chassis.step(0.02)
+    schedule.publish(4, STAMP)
+    moved, link = node.publishers["odom"].sent[-1], node.tf.sent[-1]
+    assert moved.pose is not odom[2].pose and moved.twist is not odom[2].twist
+    assert moved.pose.pose.position.x > 0 and moved.twist.twist.angular.z > 0
+    assert link.transform is not tf[2].transform
+    assert link.transform.translation.x == moved.pose.pose.position.x

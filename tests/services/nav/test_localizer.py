@@ -54,3 +54,22 @@ def test_se2_algebra() -> None:
     assert a * a.inverse() == pytest.approx(Pose2(0.0, 0.0, 0.0), abs=1e-12)
     assert (a * b).apply(0.0, 0.0) == pytest.approx(a.apply(b.x, b.y))
     assert Pose2(0, 0, math.pi) * Pose2(0, 0, math.pi) == pytest.approx(Pose2(0, 0, 0), abs=1e-9)
+
+
+def test_the_same_truth_again_keeps_map_to_odom_and_still_overrides_a_fix() -> None:
+    """At rest the same true pose and odometry come at every stamp: map->odom is the one
+    they gave (not worked out again), unless something else set it meanwhile (a fix from
+    a scan), which the next truth overrides as ever."""
+    loc = Localizer()
+    odom, truth = Pose2(1.0, 0.0, 0.2), Pose2(3.0, 4.0, 1.0)
+    loc.on_odom(1 * S, odom)
+    loc.on_ground_truth(1 * S, truth)
+    m2o = loc.map_to_odom
+    loc.on_odom(2 * S, odom)
+    loc.on_ground_truth(2 * S, truth)
+    assert loc.map_to_odom is m2o and loc.pose() == pytest.approx(truth)
+    assert loc.set_pose_at(2 * S, Pose2(0.0, 0.0, 0.0))  # a fix; the mode stays
+    assert loc.pose() == pytest.approx(Pose2(0.0, 0.0, 0.0))
+    loc.on_odom(3 * S, odom)
+    loc.on_ground_truth(3 * S, truth)
+    assert loc.pose() == pytest.approx(truth)
