@@ -31,14 +31,16 @@ class Clock(Protocol):
 class _RealClock:
     kind = "system"
 
-    def _ns(self) -> int:
+    def ns(self) -> int:
+        """Now, in nanoseconds: a real clock's, whose waits can be the event loop's own
+        timers (`Timer` waits so, and keeps its deadlines in nanoseconds)."""
         return _time.time_ns()
 
     def now(self) -> Time:
-        return Time.from_nanoseconds(self._ns())
+        return Time.from_nanoseconds(self.ns())
 
     def sleep_until(self, t: Time, timeout: float | None = None) -> bool:
-        delay = (t.nanoseconds - self._ns()) / 1e9
+        delay = (t.nanoseconds - self.ns()) / 1e9
         if timeout is not None and delay > timeout:
             _time.sleep(max(0.0, timeout))
             return False
@@ -47,7 +49,7 @@ class _RealClock:
         return True
 
     async def async_sleep_until(self, t: Time) -> None:
-        delay = (t.nanoseconds - self._ns()) / 1e9
+        delay = (t.nanoseconds - self.ns()) / 1e9
         await asyncio.sleep(max(0.0, delay))
 
 
@@ -62,7 +64,7 @@ class SteadyClock(_RealClock):
 
     kind = "steady"
 
-    def _ns(self) -> int:
+    def ns(self) -> int:
         return _time.monotonic_ns()
 
 

@@ -313,15 +313,17 @@ class Node:
 
     def create_timer(self, period: float, callback: Callable[[], Any], *,
                      callback_group: CallbackGroup | None = None,
-                     clock: Clock | None = None) -> Timer:
+                     clock: Clock | None = None, autostart: bool = True) -> Timer:
         """Call ``callback()`` every ``period`` seconds of this node's clock, or of ``clock``
         (rclpy's ``clock=``): ``SteadyClock()`` ticks in wall time whatever ``use_sim_time``
         says, for what outside clients see (rates of status streams, serial frames). In a
-        deterministic run (`zenros.replay`) every timer follows the run's clock."""
+        deterministic run (`zenros.replay`) every timer follows the run's clock. With
+        ``autostart`` false (rclpy's) the timer waits, canceled, for its ``reset()``."""
         if self.context.sim_clock is not None:
             clock = self.context.sim_clock
         timer = Timer(period, callback, clock or self._clock, self.context.executor,
-                      self.logger, callback_group, gate=self._setup_gate)
+                      self.logger, callback_group, autostart=autostart,
+                      gate=self._setup_gate)
         with self._lock:
             self._timers.append(timer)
         return timer

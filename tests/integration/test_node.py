@@ -94,6 +94,19 @@ def test_validator_can_refuse_a_change(make_node: Any) -> None:
     assert n.get_parameter("speed") == 0.5
 
 
+def test_a_timer_made_without_autostart_waits_for_its_reset(make_node: Any) -> None:
+    """rclpy's ``autostart=False``: the timer is made canceled and ticks once reset (in
+    wall time: a plain callback on the node's real clock, the loop's own timer)."""
+    n = make_node("waiting", 0)
+    early, ticks = n.create_timer(0.01, lambda: None), threading.Semaphore(0)
+    timer = n.create_timer(0.01, ticks.release, autostart=False)
+    assert timer.is_canceled()
+    assert wait_for(lambda: early.calls >= 5, 5)
+    assert timer.calls == 0
+    timer.reset()
+    assert ticks.acquire(timeout=5) and ticks.acquire(timeout=5) and not timer.is_canceled()
+
+
 def test_timers_follow_sim_time_from_clock_topic(make_node: Any) -> None:
     sim = make_node("sim", 0)
     clock_pub = sim.create_publisher(Clock, "/clock")

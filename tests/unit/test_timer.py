@@ -4,6 +4,7 @@ jump, cancel/reset, errors logged. Time moves only when the test moves it; no sl
 from __future__ import annotations
 
 import asyncio
+import itertools
 import logging
 import math
 import threading
@@ -11,7 +12,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from zenros.clock import ManualClock, Time
+from zenros.clock import ManualClock, SteadyClock, Time
 from zenros.executor import Executor, MutuallyExclusiveCallbackGroup
 from zenros.testing import RecordingClock
 from zenros.timer import Timer
@@ -307,3 +308,82 @@ def test_clock_can_move_after_the_timers_executor_stopped(clock: RecordingClock)
     ex.stop()
     clock.set(t_ms(10_100))
     assert clock.now() == t_ms(10_100)
+
+
+# ------------------------------------------------------------------ on a real clock
+
+
+class JumpClock(SteadyClock):
+    """The steady clock, moved ahead by ``offset`` nanoseconds when a test says so."""
+
+    def __init__(self) -> None:
+        self.offset = 0
+
+    def ns(self) -> int:
+        return super().ns() + self.offset
+
+
+class Ticks:
+    """A callback recording the clock's nanoseconds at each call; tests wait on the count."""
+
+    def __init__(self, clock: JumpClock, on_call: Any = None) -> None:
+        self.clock = clock
+        self.at: list[int] = []
+        self.threads: set[str] = set()
+        self.on_call = on_call
+        self._cond = threading.Condition()
+
+    def __call__(self) -> None:
+        with self._cond:
+            self.at.append(self.clock.ns())
+            self.threads.add(threading.current_thread().name)
+            self._cond.notify_all()
+            n = len(self.at)
+        if self.on_call is not None:
+            self.on_call(n)
+
+    def wait(self, n: int) -> list[int]:
+        with self._cond:
+            assert self._cond.wait_for(lambda: len(self.at) >= n, WAIT), self.at
+            return list(self.at)
+
+
+def test_on_a_real_clock_ticks_come_on_their_deadlines_and_skip_after_a_jump(
+    executor: Executor,
+) -> None:
+    """A plain callback on a real clock ticks on the loop's own timer: never before its
+    deadline, one tick a deadline; a clock jumping a second ahead gives one tick, then the
+    schedule goes on from there (the missed ticks are skipped, not bunched)."""
+    clock, period = JumpClock(), 20 * MS
+
+    def jump(n: int) -> None:
+        if n == 3:
+            clock.offset += 1_000 * MS
+
+    ticks = Ticks(clock, jump)
+    start = clock.ns()
+    timer = make(clock, executor, ticks, period=period / 1e9)
+    at = ticks.wait(6)
+    timer.cancel()
+    slots = [(t - start) // period for t in at]
+    assert slots[0] >= 1 and all(b > a for a, b in itertools.pairwise(slots))
+    assert slots[3] - slots[2] >= 50  # the jump: 1 s of 20 ms deadlines passed at once
+    assert ticks.threads == {"timer-executor"} and timer.calls >= 6
+
+
+def test_on_a_real_clock_cancel_and_reset_stop_and_restart_the_ticks(
+    executor: Executor,
+) -> None:
+    """A timer cancelled from its own callback ticks no more (while a witness beside it
+    ticks on); reset starts it again."""
+    clock = JumpClock()
+    stopped: list[Timer] = []
+    ticks = Ticks(clock, lambda n: stopped[0].cancel() if n == 2 else None)
+    stopped.append(make(clock, executor, ticks, period=0.01))
+    witness = Ticks(clock)
+    make(clock, executor, witness, period=0.01)
+    ticks.wait(2)
+    witness.wait(len(witness.at) + 5)
+    assert len(ticks.at) == 2 and stopped[0].is_canceled()
+    stopped[0].reset()
+    assert len(ticks.wait(4)) == 4 and not stopped[0].is_canceled()
