@@ -102,10 +102,12 @@ class SlamNode(LifecycleNode):
         ):
             self.create_service(srv, name, handler)
 
-        if p.transform_publish_period > 0:
-            self.create_timer(p.transform_publish_period, self.on_tf_timer)
-        self.create_timer(0.2, self.on_map_timer)
-        self.create_timer(1.0, self.on_state_timer)
+        # they tick while mapping only (`_begin_run` to `_end_mapping`): an idle node
+        # publishes no map -> odom, as slam_toolbox publishes it only while it runs
+        self._mapping_timers = [
+            self.create_timer(period, callback, autostart=False) for period, callback in (
+                (p.transform_publish_period, self.on_tf_timer), (0.2, self.on_map_timer),
+                (1.0, self.on_state_timer)) if period > 0]
         self._publish_state()
         self.diagnostics = slam_diagnostics(self)  # slam: mapping, on /diagnostics
 
@@ -246,6 +248,8 @@ class SlamNode(LifecycleNode):
         self._publish_state(state="stopping")
         _, m2o, _ = self.session.pose()
         self.session.end()
+        for timer in self._mapping_timers:
+            timer.cancel()
         for sub in self._inputs:
             self.destroy(sub)
         self._inputs = []
@@ -308,6 +312,9 @@ class SlamNode(LifecycleNode):
         if self.map_pub is None:
             self.map_pub = self.create_publisher(OccupancyGrid, "map", QOS_LATCHED)
         self.session.begin(graph, at, prior)
+        for timer in self._mapping_timers:
+            if timer.is_canceled():
+                timer.reset()
         if not self._inputs:
             self._inputs = [
                 self.create_subscription(Odometry, "odom", self.on_odom, QOS_SENSOR),

@@ -118,13 +118,16 @@ def rig(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
 
 
 def test_maps_saves_stops_and_continues(rig: Rig) -> None:
-    # nothing mapped: save refused, the node idle
+    # nothing mapped: save refused, the node idle, its timers (map -> odom, map, state) too
     res = rig.save.call(sm.SaveSlamMapRequest(name="early"), timeout=10)
     assert res.code == ResultCode.CONFLICT, res
+    timers = rig.slam._mapping_timers
+    assert len(timers) == 3 and all(t.is_canceled() for t in timers) and not rig.map_to_odom
     res = rig.start.call(sm.StartMappingRequest(), timeout=10)
     assert res.code == ResultCode.OK, res.message
     assert rig.nav.modes[-1].enable
     assert wait_for(lambda: rig.state.state == "mapping", 10)
+    assert not any(t.is_canceled() for t in timers)
     again = rig.start.call(sm.StartMappingRequest(), timeout=10)
     assert again.code == ResultCode.CONFLICT and "already" in again.message
 
@@ -157,6 +160,7 @@ def test_maps_saves_stops_and_continues(rig: Rig) -> None:
     assert not off.enable and off.map_name == "site2" and off.use_map_to_odom
     assert wait_for(lambda: rig.state.state == "idle", 10)
     assert rig.slam.map_pub is None  # no latched SLAM map left beside nav's
+    assert all(t.is_canceled() for t in timers)
     assert rig.stop.call(sm.StopMappingRequest(), timeout=10).code == ResultCode.CONFLICT
     maps_before = len(rig.maps)
 
