@@ -85,7 +85,7 @@ class Chassis:
         """Build a ``kind`` device with ``params`` on this chassis and fit it (last)."""
         device = kind(params, self)
         self.devices.append(device)
-        if type(device).step is not Device.step:
+        if not device.inert and type(device).step is not Device.step:
             self._steps.append(device.step)
         return device
 
@@ -97,7 +97,8 @@ class Chassis:
         return None
 
     def step(self, dt: float) -> None:
-        """Move the body by ``dt`` sim seconds, then step every device in order."""
+        """Move the body by ``dt`` sim seconds, then step every device in order (but those
+        with nothing to step: no ``step`` of their own, or ``inert``)."""
         self.sim.step(dt)
         for step in self._steps:
             step(dt)
@@ -134,6 +135,9 @@ class Device(Generic[P]):
 
     Parameters: ClassVar[type[msgspec.Struct]] = NoParameters
     rate: float = 0.0
+    # True for a device its parameters leave out (no board, no axes, a rate of 0), set in
+    # ``__init__``: it is never stepped, asked whether it changed nor published
+    inert: bool = False
 
     def __init__(self, params: P, chassis: Chassis) -> None:
         self.params = params
@@ -160,7 +164,8 @@ class Schedule:
     def __init__(self, devices: Sequence[Device[Any]], step_rate: float) -> None:
         self.entries = [(d, max(1, round(step_rate / d.rate)) if d.rate > 0 else 0,
                          type(d).changed is not Device.changed) for d in devices]
-        self._due = [e for e in self.entries if e[1] or e[2]]  # the others never publish
+        # the others never publish
+        self._due = [e for e in self.entries if not e[0].inert and (e[1] or e[2])]
 
     def every(self, device: Device[Any]) -> int:
         """Every how many steps ``device`` publishes on schedule (0: never)."""

@@ -123,8 +123,10 @@ class Drive:
         if self.estop:
             self.linear = self.angular = 0.0
             return 0.0, 0.0
-        lim = self.limits
         v, w = (0.0, 0.0) if self.timed_out(now) else self._cmd
+        if not (v or w or self.linear or self.angular):  # at rest, and asked to stay
+            return 0.0, 0.0
+        lim = self.limits
         self.linear = _approach(self.linear, v, lim.max_linear_accel * dt,
                                 lim.max_linear_decel * dt)
         self.angular = _approach(self.angular, w, lim.max_angular_accel * dt,

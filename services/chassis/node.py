@@ -171,7 +171,8 @@ class ChassisNode(Node):
                 delay = self.pacer.delay()
                 if delay > 0:  # a plain sleep wakes for less CPU than an Event's wait
                     time.sleep(min(delay, _NAP))
-                    continue
+                    if delay > _NAP or self._stop.is_set():
+                        continue
                 with self._sim_lock:
                     self._check_bad_cmds()
                     self.chassis.step(self.dt)

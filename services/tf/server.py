@@ -57,13 +57,19 @@ class TfServer:
         self._clock = clock
         self._monotonic = monotonic
         self.guard = ClockJumpGuard(buffer, clock, logger)
+        # a real clock's nanoseconds, read straight (no Time made for every message)
+        self._clock_ns: Callable[[], int] | None = getattr(clock, "ns", None)
 
     def on_message(self, msg: TFMessage, is_static: bool, authority: str) -> None:
         """Store every link of one message; count the accepted ones."""
-        if not is_static:
-            self.guard.check()
-        now = self._clock.now()
-        now_ns = now.sec * NS + now.nanosec
+        guard = self.guard
+        if not is_static and guard.active:
+            guard.check()
+        if self._clock_ns is not None:
+            now_ns = self._clock_ns()
+        else:
+            now = self._clock.now()
+            now_ns = now.sec * NS + now.nanosec
         arrival = self._monotonic()
         insert = self.buffer.set_transform_static if is_static else self.buffer.set_transform
         record = self.monitor.record

@@ -64,6 +64,7 @@ class ActuatorDevice(Device[ActuatorParameters]):
     def __init__(self, params: ActuatorParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.axes = {a.name: a for a in params.axes()} if params.actuators else {}
+        self.inert = not self.axes
         self.rate = 10.0 if self.axes else 0.0
         self._ended = False
 

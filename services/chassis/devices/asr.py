@@ -44,6 +44,7 @@ class AsrDevice(Device[AsrParameters]):
     def __init__(self, params: AsrParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.board = AsrBoard(servo_speed=params.asr_servo_speed) if params.asr_board else None
+        self.inert = self.board is None
         self.rate = 10.0 if self.board is not None else 0.0
         self._dirty = False
 

@@ -52,6 +52,7 @@ class BuildingDevice(Device[BuildingParameters]):
     def __init__(self, params: BuildingParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         if not params.building:
+            self.inert = True
             return
         building = load_building(Path(params.building).expanduser())
         level = _start_level(building, chassis.map_path)

@@ -154,6 +154,7 @@ class CalibrationDevice(Device[CalibrationParameters]):
                 self.runs["camera"] = _Run("camera", ["f", "yaw"], [self.camera.config.f, 0.0])
         self._dirty: set[str] = set()
         self._lock = threading.Lock()  # the laser's estimate is worked out off the sim lock
+        self.inert = not params.calibration or not self.runs
 
     def open(self, node: Endpoints) -> None:
         if not self.params.calibration or not self.runs:

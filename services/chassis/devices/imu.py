@@ -55,6 +55,7 @@ class ImuDevice(Device[ImuParameters]):
     def __init__(self, params: ImuParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.rate = params.imu_rate
+        self.inert = self.rate <= 0  # no IMU: nothing reads it (its calibration needs one)
         self.bias_estimate = 0.0  # what a calibration measured, taken off every reading
         self.gyro_raw = 0.0  # the last yaw rate as the sensor reads it (bias and noise in)
         self.accel = (0.0, 0.0)

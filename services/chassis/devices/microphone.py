@@ -70,6 +70,7 @@ class MicrophoneDevice(Device[MicrophoneParameters]):
     def __init__(self, params: MicrophoneParameters, chassis: Chassis) -> None:
         super().__init__(params, chassis)
         self.rate = 1.0 / params.microphone_chunk if params.microphone_rate > 0 else 0.0
+        self.inert = self.rate <= 0
         self._heard = 0.0   # sim seconds since the last chunk
         self._motion = 0.0  # their integral of the wheels' mean speed (m)
         self._owed = 0.0    # samples' fractions carried to the next chunk

@@ -148,6 +148,7 @@ class PtzDevice(Device[PtzParameters]):
                                        "or in a wall (parameters ptz_x, ptz_y)", mount.x,
                                        mount.y)
         self.rate = params.ptz_rate if self.view is not None else 0.0
+        self.inert = self.view is None
         self._battery = chassis.device(BatteryDevice)
         self._changed = False
         self._job: tuple[Time, float, float, float, tuple[Obstacle, ...]] | None = None

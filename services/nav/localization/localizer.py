@@ -102,6 +102,8 @@ class Localizer:
         if not self._odom:
             return None
         best = self._odom[-1]
+        if best[0] == stamp_ns:  # the usual case: the truth of the newest odometry's stamp
+            return best[1]
         for sample in reversed(self._odom):
             if abs(sample[0] - stamp_ns) < abs(best[0] - stamp_ns):
                 best = sample

@@ -265,11 +265,23 @@ def test_a_device_without_parameters_or_publishing_is_inert() -> None:
     assert Schedule([device], 50.0).every(device) == 0 and not device.changed()
 
 
-def test_only_the_devices_with_a_step_of_their_own_are_stepped() -> None:
-    chassis, _ = build()
-    stepped = [d for d in chassis.devices if type(d).step is not Device.step]
-    assert 0 < len(stepped) < len(chassis.devices)
+def test_only_the_devices_with_something_to_step_are_stepped_or_asked() -> None:
+    """A device with no step of its own is not stepped; one its parameters leave out
+    (``inert``: no board, no axes, a rate of 0) is neither stepped nor asked whether it
+    changed nor published."""
+    chassis, _ = build({"actuators": False, "asr_board": False, "ptz_camera": False,
+                        "imu_rate": 0.0, "calibration": False, "microphone_rate": 0})
+    inert = {type(d).__name__ for d in chassis.devices if d.inert}
+    assert inert == {"ActuatorDevice", "AsrDevice", "PtzDevice", "ImuDevice",
+                     "CalibrationDevice", "MicrophoneDevice", "BuildingDevice"}
+    stepped = [d for d in chassis.devices if type(d).step is not Device.step and not d.inert]
     assert [s.__self__ for s in chassis._steps] == stepped  # type: ignore[attr-defined]
+    assert {type(d).__name__ for d in stepped} == {"OdometryDevice", "PeopleDevice",
+                                                    "BatteryDevice", "WindDevice"}
+    due = {type(d).__name__ for d, _, _ in Schedule(chassis.devices, 50.0)._due}
+    assert not due & inert and "StateDevice" in due
+    full, _ = build()  # every device fitted and on: none inert but the building's
+    assert [type(d).__name__ for d in full.devices if d.inert] == ["BuildingDevice"]
 
 
 def test_at_rest_odometry_and_truth_are_stamped_anew_on_the_parts_already_built() -> None:
