@@ -105,7 +105,9 @@ class Publisher(Generic[M]):
             )
             self._remote = bool(self._pub.matching_status.matching)
             self._matching = self._pub.declare_matching_listener(self._on_matching)
-        self._put = functools.partial(self._pub.put, attachment=key_tag(self.key))
+        # The typed tag: subscriptions of this type skip the encoding comparison (keytag).
+        self._put = functools.partial(
+            self._pub.put, attachment=zenoh.ZBytes(key_tag(self.key, codec.encoding)))
         self._local = ctx.local_topic(topic)
         eid = ctx.next_eid()
         self.events = _events(ctx, "pub", topic, qos, eid, event_callbacks, logger)
@@ -317,13 +319,13 @@ class Subscription(Generic[M]):
         self.errors = 0
         self.misrouted = 0
         """Samples dropped because they were published on another key (`zenros.keytag`)."""
-        self._tag = key_tag(self.key)
         self._ctx = ctx
         self._logger = logger
         self._throttle = Throttle(5.0)
         self._codec = codec_for(msg_type)
         self._decode = self._codec._decode
         self._encoding = zenoh.Encoding(self._codec.mime).with_schema(self._codec.type_name)
+        self._tag = key_tag(self.key, self._codec.encoding)  # what our publishers attach
         call: Callable[[Any], Any]  # of a message, or of a (message, info) pair
         if _takes_info(callback):
             self._info = True
@@ -358,7 +360,7 @@ class Subscription(Generic[M]):
         queue (``first(thread)`` on its first sample): decode, hand to the callback (called
         right there when it needs no executor). What it reads is bound as locals: the hot
         path of a subscription."""
-        encoding, decode, dispatch = self._encoding, self._decode, self._dispatch
+        admit, decode, dispatch = self._admit, self._decode, self._dispatch
         direct, info, tag, events = self._direct, self._info, self._tag, self.events
         named = False
 
@@ -368,11 +370,8 @@ class Subscription(Generic[M]):
                 named = True
                 first(threading.current_thread())
             try:
-                if misrouted(sample.attachment, tag):
-                    self._misrouted(sample)
-                    return
-                if sample.encoding != encoding:
-                    self._check(sample)
+                att = sample.attachment
+                if (att is None or att.to_bytes() != tag) and not admit(sample):
                     return
                 if events is not None and not self._event_sample(sample):
                     return
@@ -430,14 +429,11 @@ class Subscription(Generic[M]):
         self._dispatch(msg)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
-        # The hot path: one encoding comparison, one decode, one call. Anything unusual
-        # (another type, a bad payload) takes the slow path in _check.
+        # The hot path: one tag comparison, one decode, one call. Anything unusual (another
+        # type, a bad payload) takes the slow path in _admit and _check.
         try:
-            if misrouted(sample.attachment, self._tag):
-                self._misrouted(sample)
-                return
-            if sample.encoding != self._encoding:
-                self._check(sample)
+            att = sample.attachment
+            if (att is None or att.to_bytes() != self._tag) and not self._admit(sample):
                 return
             if self.events is not None and not self._event_sample(sample):
                 return
@@ -453,6 +449,18 @@ class Subscription(Generic[M]):
             if not is_session_failure(exc):
                 raise
             self._ctx.fail(exc)
+
+    def _admit(self, sample: zenoh.Sample) -> bool:
+        """The checks of a sample without this subscription's own typed tag (untagged, an older
+        publisher's tag, another type's): False when it was published on another key (dropped
+        and counted) or names another encoding (`_check` decides)."""
+        if misrouted(sample.attachment, self._tag):
+            self._misrouted(sample)
+            return False
+        if sample.encoding != self._encoding:
+            self._check(sample)
+            return False
+        return True
 
     def _misrouted(self, sample: zenoh.Sample) -> None:
         """A sample published on another key that Zenoh delivered here: dropped, counted, and

@@ -11,7 +11,7 @@ import pytest
 import zenoh
 from zenros.action import ActionClient, ActionServer
 from zenros.action.types import uuid_msg
-from zenros.keytag import TAG_SIZE, key_tag, misrouted
+from zenros.keytag import TAG_SIZE, TYPED_TAG_SIZE, key_tag, misrouted
 from zenros.msgs.example_interfaces import (
     Fibonacci,
     FibonacciFeedback,
@@ -23,6 +23,7 @@ from zenros.testing import Collector, wait_for
 
 TWIST = b'{"linear": {"x": 1.5}}'
 ENC = "application/json;geometry_msgs/Twist"
+VECTOR3 = "application/json;geometry_msgs/Vector3"
 
 
 def test_tags_name_their_key_and_only_a_tag_can_be_misrouted() -> None:
@@ -32,6 +33,38 @@ def test_tags_name_their_key_and_only_a_tag_can_be_misrouted() -> None:
     assert not misrouted(zenoh.ZBytes(a), a)
     assert not misrouted(None, a)
     assert not misrouted(zenoh.ZBytes(b"someone else's attachment"), a)
+
+
+def test_typed_tags_name_their_key_and_encoding_and_either_kind_tells_the_key() -> None:
+    key, other = "zenros/topic/robot1/cmd_vel", "zenros/topic/robot6/cmd_vel"
+    twist = key_tag(key, ENC)
+    assert len(twist) == TYPED_TAG_SIZE and twist == key_tag(key, ENC)
+    assert twist != key_tag(key, VECTOR3) and twist[3:TAG_SIZE] == key_tag(key)[3:]
+    # another type on this very key is not misrouted (the encoding check refuses it)
+    assert not misrouted(zenoh.ZBytes(key_tag(key, VECTOR3)), twist)
+    assert not misrouted(zenoh.ZBytes(key_tag(key)), twist)  # an untyped tag of this key
+    assert misrouted(zenoh.ZBytes(key_tag(other, ENC)), twist)
+    assert misrouted(zenoh.ZBytes(key_tag(other)), twist)
+    assert misrouted(zenoh.ZBytes(twist), key_tag(other))  # an action client's untyped tag
+
+
+def test_only_a_samples_own_typed_tag_skips_the_encoding_check(
+        make_node: Any, ctx_pair: Any) -> None:
+    got: Collector[Twist] = Collector()
+    sub = make_node("robot1_nav", 1).create_subscription(Twist, "/robot1/cmd_vel", got)
+    pub = make_node("teleop", 0).create_publisher(Twist, "/robot1/cmd_vel")
+    assert pub.wait_for_subscribers(1, 5)
+    raw = ctx_pair[0].session
+    # a zenros publisher of another type on this key: a type mismatch, not a misrouted sample
+    raw.put(sub.key, b'{"x": 1.0}', encoding=VECTOR3, attachment=key_tag(sub.key, VECTOR3))
+    assert wait_for(lambda: sub.errors == 1, 5)
+    raw.put(sub.key, TWIST, encoding=ENC, attachment=key_tag(sub.key))  # an older publisher
+    raw.put(sub.key, TWIST, encoding=ENC, attachment=key_tag(sub.key.replace("robot1", "robot6"),
+                                                             ENC))  # misrouted
+    pub.publish(Twist(linear=Vector3(x=2.0)))  # its own typed tag: taken
+    assert got.wait(2, 5)
+    assert [m.linear.x for m in got.items] == [1.5, 2.0]
+    assert sub.errors == 1 and sub.misrouted == 1
 
 
 def test_a_sample_tagged_for_another_key_is_dropped_counted_and_logged(
