@@ -11,6 +11,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from msgspec.structs import astuple
 from zenros.msgs.zenros_msgs import Obstacle as ObstacleMsg
 from zenros.se2 import Pose2
 
@@ -55,8 +56,9 @@ class SharedWorld:
         """Whether to send ``body`` now: when it moved since the last one sent, else every
         `KEEPALIVE` s so that the others keep it (a fleet at rest sends 2 bodies a second
         a robot, not ``world_rate``, and each robot decodes 2 per other robot)."""
-        now = self._clock()
-        if body == self._sent and now - self._sent_at < KEEPALIVE:
+        now, sent = self._clock(), self._sent
+        if (sent is not None and now - self._sent_at < KEEPALIVE
+                and astuple(body) == astuple(sent)):  # not Message.__eq__: 10 a second
             return False
         self._sent, self._sent_at = body, now
         return True

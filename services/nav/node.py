@@ -69,10 +69,9 @@ from .actions.base import Ledger
 from .actions.behavior_server import BehaviorActions
 from .actions.convert import (
     PoseReader,
+    PoseStream,
     path_to_msg,
     pose2_from_msg,
-    pose_with_covariance,
-    transform_stamped,
 )
 from .actions.coverage import handle_compute_coverage_path
 from .actions.goal_topics import GoalTopics
@@ -152,6 +151,7 @@ class NavNode(LifecycleNode):
         self.local_pub = self.create_publisher(OccupancyGrid, "local_costmap/costmap")
         self.status_pub = self.create_publisher(navmsgs.NavStatus, "nav/status", QOS_LATCHED)
         self.tf = TransformBroadcaster(self)
+        self._poses = PoseStream(0.0025, 0.003)  # robot_pose and map -> odom, 10 Hz
         self._serve_people(p)  # before the scan's subscription: on_scan publishes people
         self._serve_landmarks()  # before the scan's subscription too: on_scan feeds it
 
@@ -542,13 +542,14 @@ class NavNode(LifecycleNode):
         pose = loc.pose()
         if pose is None:
             return
-        stamp = self.now()
-        self.pose_pub.publish(pose_with_covariance(pose, stamp, 0.0025, 0.003))
+        stamp, poses = self.now(), self._poses
+        self.pose_pub.publish(poses.pose_with_covariance(pose, stamp))
         if self.core.mapping:
             return  # map -> odom is the SLAM node's
         tol = 100_000_000  # 0.1 s ahead, as amcl's transform_tolerance
         odom_stamp = type(stamp).from_nanoseconds(loc.odom_stamp_ns + tol)
-        self.tf.send_transform(transform_stamped(loc.map_to_odom, odom_stamp, "map", "odom"))
+        self.tf.send_transform(poses.transform_stamped(loc.map_to_odom, odom_stamp, "map",
+                                                       "odom"))
 
     def on_global_costmap_timer(self) -> None:
         msg = self.core.costmaps.global_msg(self.now())

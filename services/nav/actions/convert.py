@@ -11,6 +11,7 @@ from zenros.msgs.geometry_msgs import (
     Pose,
     Pose2D,
     PoseStamped,
+    PoseWithCovariance,
     PoseWithCovarianceStamped,
     Transform,
     TransformStamped,
@@ -23,6 +24,7 @@ from zenros.tf.convert import yaw_from_msg, yaw_to_msg
 
 __all__ = [
     "PoseReader",
+    "PoseStream",
     "path_from_msg",
     "path_to_msg",
     "pose2_from_msg",
@@ -104,6 +106,37 @@ def transform_stamped(p: Pose2, stamp: Time, parent: str, child: str) -> Transfo
         header=Header(stamp=stamp, frame_id=parent), child_frame_id=child,
         transform=Transform(translation=Vector3(x=p.x, y=p.y),
                             rotation=yaw_to_msg(p.theta)))
+
+
+class PoseStream:
+    """``robot_pose`` messages and TF links of poses that mostly stay (a robot at rest),
+    stamped anew each time: while the pose is the last one's, the message shares the last
+    one's pose part (messages are read-only once published) instead of building it again."""
+
+    def __init__(self, cov_xy: float, cov_yaw: float, frame_id: str = "map") -> None:
+        self.frame_id = frame_id
+        self._template = pose_with_covariance(Pose2(), Time(), cov_xy, cov_yaw, frame_id)
+        self._pose: tuple[Pose2, PoseWithCovariance] | None = None
+        self._links: dict[tuple[str, str], tuple[Pose2, Transform]] = {}
+
+    def pose_with_covariance(self, p: Pose2, stamp: Time) -> PoseWithCovarianceStamped:
+        """As `pose_with_covariance` with this stream's covariance and frame."""
+        last = self._pose
+        if last is None or last[0] != p:
+            last = self._pose = (p, PoseWithCovariance(
+                pose=pose2_to_msg(p), covariance=self._template.pose.covariance))
+        return PoseWithCovarianceStamped(header=Header(stamp=stamp, frame_id=self.frame_id),
+                                         pose=last[1])
+
+    def transform_stamped(self, p: Pose2, stamp: Time, parent: str, child: str
+                          ) -> TransformStamped:
+        """As `transform_stamped`."""
+        last = self._links.get((parent, child))
+        if last is None or last[0] != p:
+            last = self._links[(parent, child)] = (p, Transform(
+                translation=Vector3(x=p.x, y=p.y), rotation=yaw_to_msg(p.theta)))
+        return TransformStamped(header=Header(stamp=stamp, frame_id=parent),
+                                child_frame_id=child, transform=last[1])
 
 
 def path_to_msg(xy: np.ndarray, stamp: Time, frame_id: str = "map",
