@@ -14,7 +14,10 @@ while the graph lists a server, for ``grace`` seconds at most, and gives up at o
 graph lists none. A goal's client (send_goal, cancel) also waits ``relink`` seconds for a server
 that was listed and left to be listed again: a link whose lease ran out on a starved box ends
 the queries it carried unanswered and is made again within seconds, and a goal sent again under its
-id is answered as it was the first time (`zenros.action.ActionServer`).
+id is answered as it was the first time (`zenros.action.ActionServer`). And a goal's query that
+got no answer at all within ``ANSWER_WAIT`` seconds is sent again under its id: on a starved box,
+with links dropped and made again, Zenoh can lose a query without ending it, so that it waits
+its whole timeout for nothing (issue 37.4: 3 of 120 fresh CLI goals beside two hogs waited 60 s).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import time
 from collections.abc import Awaitable, Callable
 from typing import TypeVar
 
-__all__ = ["REACH_GRACE", "RELINK", "Reach", "ask_while_listed", "ask_while_listed_async"]
+__all__ = ["ANSWER_WAIT", "REACH_GRACE", "RELINK", "Reach", "ask_while_listed", "ask_while_listed_async"]
 
 REACH_GRACE = 1.0
 """Seconds a client asks again, by default, when no reply came but the graph lists a server."""
@@ -36,6 +39,12 @@ RELINK = 10.0
 Zenoh makes a lost link to a configured endpoint again within 2 s on a quiet box; beside ten
 fresh CLIs and two CPU hogs on 2 cores, 3 s was not always enough (issue 37.4)."""
 RELINK_POLL = 0.1
+ANSWER_WAIT = 5.0
+"""Seconds a goal's query waits for its first answer before the goal is sent again under its
+id (`Reach.attempt`), doubling each time up to `MAX_ANSWER_WAIT`. A server answers the same goal
+sent again as it did the first time, so a slow server costs nothing but the second query."""
+MAX_ANSWER_WAIT = 20.0
+MIN_ATTEMPT = 0.05
 
 R = TypeVar("R")
 
@@ -67,6 +76,7 @@ class Reach:
         self._relink = relink
         self._was_listed = relink > 0 and listed()
         self._unlisted_at: float | None = None
+        self._answer_wait = ANSWER_WAIT
 
     def elapsed(self) -> float:
         return time.monotonic() - self._start
@@ -74,6 +84,20 @@ class Reach:
     def left(self) -> float:
         """The timeout of the next query: what is left of the request's (10 ms at least)."""
         return max(0.01, self._timeout - self.elapsed())
+
+    def attempt(self) -> float:
+        """The timeout of the next query of a request that may be sent again while unanswered
+        (a goal): `ANSWER_WAIT` s (doubling with each attempt, up to `MAX_ANSWER_WAIT`), or what is
+        left of the request's timeout if less. Its query timing out with no answer means
+        "send it again" while time is left (`resend`)."""
+        wait = self._answer_wait
+        self._answer_wait = min(wait * 2, MAX_ANSWER_WAIT)
+        return min(wait, self.left())
+
+    def resend(self) -> bool:
+        """An attempt's query timed out with no answer: whether to send it again (time is
+        left of the request's timeout)."""
+        return self.left() > MIN_ATTEMPT
 
     def again(self) -> float | None:
         """A query ended with no reply: the pause before sending it again, or None when the

@@ -154,10 +154,14 @@ class ActionClient(Generic[G, R, F]):
             replies = self._ctx.session.get(
                 self._send_key, payload=data, encoding=self._enc["send_goal"],
                 target=zenoh.QueryTarget.BEST_MATCHING, consolidation=zenoh.ConsolidationMode.NONE,
-                timeout=reach.left(), attachment=RESULT_ON_GOAL,
+                timeout=reach.attempt(), attachment=RESULT_ON_GOAL,
                 allowed_destination=self._ctx.destination(self._keys["send_goal"]))
             first: zenoh.Reply | None = None  # the acceptance (or the refusal)
+            lost = False  # the query timed out with no answer: it is sent again
             for reply in replies:
+                if first is None and _timed_out(reply) and reach.resend():
+                    lost = True
+                    continue
                 ok = reply.ok
                 if ok is not None and ok.encoding == self._result_enc:
                     # the server held the query (it accepted the goal): the acceptance came first,
@@ -180,6 +184,8 @@ class ActionClient(Generic[G, R, F]):
                     if h is not None:
                         self._on_send_reply(h, reply, wait)
             else:  # the query ended without the result
+                if lost:  # lost on the way (or the server is slow): the goal again, same id
+                    continue
                 pause = None if first is not None else reach.again()
                 if pause is not None:  # no answer at all, but the graph lists a server
                     time.sleep(pause)
@@ -263,10 +269,13 @@ class ActionClient(Generic[G, R, F]):
     def _send_once(self, h: ClientGoalHandle, data: bytes, reach: Reach) -> None:
         if h.done:  # closed meanwhile
             return
-        state = {"answered": False, "result": False}
+        state = {"answered": False, "result": False, "timed_out": False}
 
         def on_reply(reply: zenoh.Reply) -> None:
             ok = reply.ok
+            if not state["answered"] and _timed_out(reply) and reach.resend():
+                state["timed_out"] = True  # lost on the way: on_final sends it again
+                return
             if ok is not None and ok.encoding == self._result_enc:
                 state["result"] = True
                 if not state["answered"]:
@@ -281,6 +290,9 @@ class ActionClient(Generic[G, R, F]):
             # else: the query timed out after the acceptance; on_final asks for the result
 
         def on_final() -> None:
+            if not state["answered"] and state["timed_out"] and not self.closed:
+                self._later(0.0, self._send_once, h, data, reach)
+                return
             if not state["answered"]:
                 pause = None if self.closed else reach.again()
                 if pause is not None:  # not from here: a Zenoh thread must not query
@@ -292,7 +304,7 @@ class ActionClient(Generic[G, R, F]):
                 self._request_result_soon(h)
 
         query_replies(self._ctx.session, self._send_key, data, self._enc["send_goal"],
-                      reach.left(), on_reply, on_final, RESULT_ON_GOAL,
+                      reach.attempt(), on_reply, on_final, RESULT_ON_GOAL,
                       self._ctx.destination(self._keys["send_goal"]))
 
     def forget(self, handle: ClientGoalHandle) -> None:
@@ -551,6 +563,12 @@ class ActionClient(Generic[G, R, F]):
 
     def __repr__(self) -> str:
         return f"<ActionClient {self.name} [{self.action_type.name}]>"
+
+
+def _timed_out(reply: zenoh.Reply | None) -> bool:
+    """Whether ``reply`` is Zenoh's own: the query timed out with no answer from a server."""
+    return (reply is not None and reply.err is not None
+            and parse_error(reply.err.payload.to_bytes())[0] == "Timeout")
 
 
 def _status(value: int) -> GoalStatus:

@@ -24,7 +24,13 @@ from ..errors import StartupError, UnknownTypeError, ZenrosError
 from ..message import ActionType, Message, ServiceType, normalize_type_name
 from ..node import Node
 from ..registry import lookup_action, lookup_service, lookup_type
-from ..session import DEFAULT_ROUTER, SessionOptions, add_session_arguments, options_from_args
+from ..session import (
+    DEFAULT_LEASE_MS,
+    DEFAULT_ROUTER,
+    SessionOptions,
+    add_session_arguments,
+    options_from_args,
+)
 
 __all__ = [
     "STDOUT_CLOSED",
@@ -109,6 +115,14 @@ def open_context(args: argparse.Namespace, settle: bool = True, *,
     return ctx
 
 
+VERB_LEASE_MS = 10_000
+"""The lease a verb's session announces. A router runs out the link of a process it heard
+nothing from within that process's lease, and a starved router (a loaded box: ten fresh CLIs,
+a fleet and two CPU hogs on 2 cores) ran out fresh CLIs' links within 2.5 s; Zenoh does not
+always make a client's link again after that (issue 37.4). A verb lives for one command and a
+killed one closes its link at once, so only a frozen verb stays in the graph longer."""
+
+
 def _open(opts: SessionOptions, prefix: str | None, waits: bool) -> Context:
     """The verb's context: a client of the first endpoint that answers, unless told otherwise.
 
@@ -121,9 +135,13 @@ def _open(opts: SessionOptions, prefix: str | None, waits: bool) -> Context:
     by no robot). ``--mode``, ``$ZENROS_MODE``, a config file, a listen endpoint or multicast
     scouting keep the session as asked. A verb that waits for the network to appear (a
     client cannot open with nothing to connect to) falls back to a peer, which keeps trying.
+    Its session announces a `VERB_LEASE_MS` lease (the router runs its link out after that
+    much silence from it, not after the services' 2.5 s).
     """
     if opts.mode or opts.config_file or opts.listen or opts.multicast_scouting:
         return Context(opts, prefix=prefix)
+    if opts.lease_ms == DEFAULT_LEASE_MS:
+        opts = replace(opts, lease_ms=VERB_LEASE_MS)
     try:
         return Context(replace(opts, mode="client"), prefix=prefix)
     except StartupError as exc:

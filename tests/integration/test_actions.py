@@ -512,6 +512,35 @@ def test_the_same_goal_sent_again_is_answered_as_the_first_time(pair: Any) -> No
     assert recorder.started == [1] and server.errors == 0
 
 
+@pytest.mark.parametrize("how", ["blocking", "async"])
+def test_a_goal_query_lost_on_the_way_is_sent_again(
+        pair: Any, monkeypatch: pytest.MonkeyPatch, how: str) -> None:
+    """Issue 37.4: on a starved box, with links dropped and made again, Zenoh lost a goal's
+    query without ending it, and the client waited its whole timeout (60 s) for nothing. A goal
+    not answered within ANSWER_WAIT is sent again under its id, and the server answers it."""
+    from zenros import reach
+
+    monkeypatch.setattr(reach, "ANSWER_WAIT", 0.3)
+    server, client = pair(fibonacci)
+    swallowed: list[zenoh.Query] = []  # held, never answered: no reply, no end, as when lost
+    answer = server._handlers["send_goal"]
+
+    def lose_the_first(query: zenoh.Query) -> bool | None:
+        if not swallowed:
+            swallowed.append(query)
+            return True  # "held": the server neither answers nor ends it
+        return answer(query)
+
+    monkeypatch.setitem(server._handlers, "send_goal", lose_the_first)
+    client.send_timeout = 10.0
+    if how == "blocking":
+        out = client.send_goal(goal(5), timeout=10)
+    else:
+        out = client.send_goal_async(goal(5)).result(10)
+    assert out.succeeded and out.result.sequence == [0, 1, 1, 2, 3, 5]
+    assert len(swallowed) == 1 and server.errors == 0
+
+
 # ------------------------------------------------------------------ results and status
 
 

@@ -195,12 +195,6 @@ def _lines(output: str, tags: tuple[str, ...]) -> str:
     return "\n".join([ln for ln in output.splitlines() if any(t in ln for t in tags)][-40:])
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "open (issue 37.4): on a starved box the router runs out the leases of processes that "
-    "kept sending (docs/zenoh-config.md, 2026-12-07), which ended goals' queries unanswered "
-    "(5-15 of 30 fresh CLIs beside two hogs). A goal's client now waits for its server to "
-    "come back and the server answers a goal sent again as the first time: 1 of 100 still "
-    "went unanswered for its 60 s there, cause not known"))
 def test_goals_from_fresh_cli_processes_reach_every_robot(fleet: Fleet) -> None:
     # issue 37.4: `zenros action send_goal /robot9/navigate_to_pose ...` from a new shell
     # found no server while robot9 was up. Here ten fresh CLI processes at once, one goal

@@ -75,3 +75,11 @@ def test_a_snapshot_verb_with_nobody_there_says_so(monkeypatch: pytest.MonkeyPat
     monkeypatch.setattr(common, "Context", Opened(nobody=True))
     with pytest.raises(StartupError, match="nothing answered at tcp/127.0.0.1:7447"):
         common.open_context(args(), settle=True)
+
+
+def test_a_verb_announces_a_longer_lease_unless_told(monkeypatch: pytest.MonkeyPatch) -> None:
+    leases: list[int] = []
+    monkeypatch.setattr(common, "Context", lambda opts, prefix=None: leases.append(opts.lease_ms))
+    common._open(common.options_from_args(args()), None, waits=False)
+    common._open(common.options_from_args(args("-m", "peer")), None, waits=False)
+    assert leases == [common.VERB_LEASE_MS, common.DEFAULT_LEASE_MS]

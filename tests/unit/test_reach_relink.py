@@ -79,3 +79,15 @@ def test_relink_never_outlasts_the_request(clock: Any) -> None:
 def test_a_server_never_listed_is_not_waited_for(clock: Any) -> None:
     r = Reach(Listed(False), timeout=60, grace=5, relink=3)
     assert r.again() is None
+
+
+def test_a_goal_attempt_waits_answer_wait_doubling_up_to_the_cap(clock: Any) -> None:
+    r = Reach(Listed(True), timeout=60, grace=5, relink=3)
+    waits = [r.attempt() for _ in range(4)]
+    assert waits == [reach.ANSWER_WAIT, 2 * reach.ANSWER_WAIT, reach.MAX_ANSWER_WAIT,
+                     reach.MAX_ANSWER_WAIT]
+    clock.now += 59
+    assert r.attempt() == pytest.approx(1.0)  # never past the request's timeout
+    assert r.resend()
+    clock.now += 1
+    assert not r.resend()
