@@ -132,11 +132,8 @@ class Timer:
             await self.callback()
         except asyncio.CancelledError:
             raise
-        except NodeClosedError:
-            if not self._canceled:  # in flight when the node closed: shutdown, not a fault
-                self._logger.exception("timer callback raised")
-        except Exception:
-            self._logger.exception("timer callback raised")
+        except Exception as exc:  # noqa: BLE001 a callback never stops its timer
+            self._failed(exc)
         self._executor.mark_work()
 
     def _call(self) -> None:
@@ -149,9 +146,12 @@ class Timer:
                 self._group.run(self.callback)
             else:
                 self.callback()
-        except NodeClosedError:
-            if not self._canceled:  # in flight when the node closed: shutdown, not a fault
-                self._logger.exception("timer callback raised")
-        except Exception:
-            self._logger.exception("timer callback raised")
+        except Exception as exc:  # noqa: BLE001 a callback never stops its timer
+            self._failed(exc)
         self._executor.mark_work()
+
+    def _failed(self, exc: Exception) -> None:
+        """A tick raised ``exc`` (called in its ``except``): logged with its traceback, unless
+        the node closed under a canceled timer while it ran (shutdown, not a fault)."""
+        if not (isinstance(exc, NodeClosedError) and self._canceled):
+            self._logger.exception("timer callback raised")
