@@ -323,7 +323,7 @@ class Subscription(Generic[M]):
         self._logger = logger
         self._throttle = Throttle(5.0)
         self._codec = codec_for(msg_type)
-        self._decode = self._codec._decode
+        self._decode = self._codec._fast_decode  # a refused sample retries `_decode_slow`
         self._encoding = zenoh.Encoding(self._codec.mime).with_schema(self._codec.type_name)
         self._tag = key_tag(self.key, self._codec.encoding)  # what our publishers attach
         call: Callable[[Any], Any]  # of a message, or of a (message, info) pair
@@ -375,11 +375,13 @@ class Subscription(Generic[M]):
                     return
                 if events is not None and not self._event_sample(sample):
                     return
+                data = sample.payload.to_bytes()
                 try:
-                    msg: Any = decode(sample.payload.to_bytes())  # or (msg, info) below
-                except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
-                    self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
-                    return
+                    msg: Any = decode(data)  # or (msg, info) below
+                except Exception:  # noqa: BLE001 msgspec's errors, RecursionError
+                    msg = self._decode_slow(data, sample)
+                    if msg is None:
+                        return
                 if info:
                     msg = (msg, MessageInfo.of(sample))
                 if direct is None:
@@ -407,6 +409,15 @@ class Subscription(Generic[M]):
         self._callback_errors.report(type(exc).__name__, logging.ERROR,
                                      "subscription %s callback raised %s: %s", self.topic,
                                      type(exc).__name__, exc, exc_info=exc)
+
+    def _decode_slow(self, data: bytes, sample: zenoh.Sample) -> Any:
+        """A sample the fast decoder refused: decoded with the codec's retries (``null`` in
+        a float field as NaN), else rejected (None)."""
+        try:
+            return self._codec._decode(data)
+        except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
+            self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
+            return None
 
     def _event_sample(self, sample: zenoh.Sample) -> bool:
         """The sample for the QoS events: False to drop it (past its lifespan)."""
@@ -437,11 +448,13 @@ class Subscription(Generic[M]):
                 return
             if self.events is not None and not self._event_sample(sample):
                 return
+            data = sample.payload.to_bytes()
             try:
-                msg = self._decode(sample.payload.to_bytes())
-            except Exception as exc:  # noqa: BLE001 msgspec's errors, RecursionError
-                self._reject(f"expected {self._codec.type_name}: {exc}", self._sender(sample))
-                return
+                msg = self._decode(data)
+            except Exception:  # noqa: BLE001 msgspec's errors, RecursionError
+                msg = self._decode_slow(data, sample)
+                if msg is None:
+                    return
             self._dispatch((msg, MessageInfo.of(sample)) if self._info else msg)
         except Exception as exc:  # noqa: BLE001 nothing raises into Zenoh's thread
             self._reject(f"{type(exc).__name__}: {exc}", ("an unknown sender", ""))
