@@ -7,7 +7,7 @@ from pathlib import Path
 
 import httpx
 from zenros.context import Context
-from zenros.msgs.sensor_msgs import BatteryState
+from zenros.msgs.sensor_msgs import BatteryState, LaserScan
 from zenros.msgs.std_msgs import String
 from zenros.qos import QOS_LATCHED
 from zenros.services.gateway.node import GatewayNode
@@ -42,6 +42,17 @@ def test_tts_log_topic_self_test(gw: GatewayNode, http: httpx.Client,
     assert http.get("/system/schedule_manager").json() == {}
     test = http.get("/system/self_test").json()
     assert test["battery"] is True and test["lidar"] is False and test["camera"] is False
+
+
+def test_self_test_listens_for_a_scan_when_no_diagnostics_say(
+        gw: GatewayNode, http: httpx.Client, make_node: object) -> None:
+    # the gateway does not follow the scan: asked, it waits up to 1 s for one
+    laser = make_node("laser", 1)  # type: ignore[operator]
+    pub = laser.create_publisher(LaserScan, "scan", 10)
+    assert gw.graph.wait_for(lambda: bool(gw.graph.publishers("/scan")), 5)
+    assert http.get("/system/self_test").json()["lidar"] is False  # in the graph, silent
+    laser.create_timer(0.1, lambda: pub.publish(LaserScan(ranges=[1.0, 2.0])))
+    assert http.get("/system/self_test").json()["lidar"] is True
 
 
 def test_ros_params(ctx_pair: list[Context], gw: GatewayNode, http: httpx.Client,

@@ -1,7 +1,8 @@
 """`RobotTopics`: the robot's topics into `Core`, the gateway's commands and status out.
 
-Subscribes ``odom`` and ``scan`` (polled at each status tick), ``battery_state``, ``chassis/state``, ``robot_pose`` and ``cmd_vel``
-(relative to the node's namespace); publishes ``galileo/status`` at ``rate`` Hz of wall
+Subscribes ``odom`` (polled at each status tick), ``battery_state``, ``chassis/state``,
+``robot_pose`` and ``cmd_vel`` (relative to the node's namespace), not the laser's ``scan``
+(10 Hz a robot the robot would send for nothing: the self test listens for one when asked); publishes ``galileo/status`` at ``rate`` Hz of wall
 time (also under ``use_sim_time``), the dead-man speed command on ``cmd_vel`` and native
 commands on ``galileo/cmds``.
 """
@@ -20,7 +21,7 @@ from zenros.msgs.galileo_msgs import GalileoHeader, GalileoNativeCmds, GalileoSt
 from zenros.msgs.geometry_msgs import PoseWithCovarianceStamped, Twist, Vector3
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.rcl_interfaces import Log
-from zenros.msgs.sensor_msgs import BatteryState, LaserScan
+from zenros.msgs.sensor_msgs import BatteryState
 from zenros.msgs.std_msgs import String
 from zenros.node import Node
 from zenros.qos import QOS_LATCHED, QoSProfile, Reliability
@@ -53,14 +54,12 @@ class RobotTopics:
         self.status_pub = node.create_publisher(GalileoStatus, "galileo/status", 10)
         self.cmd_vel_pub = node.create_publisher(Twist, "cmd_vel", 10)
         self.cmds_pub = node.create_publisher(GalileoNativeCmds, "galileo/cmds", 10)
-        # Odometry (50 Hz a robot) and the laser (10 Hz, read only to say it is alive) wait in
-        # Zenoh until the status tick takes them (`poll`): no thread woken, nothing decoded
-        # but the newest odometry (a fleet gateway at rest spent most of its CPU on them).
-        # A polled subscription is best effort in effect (a ring of the newest samples): it
-        # says so, and asks no more than the laser's best-effort publisher offers.
+        # Odometry (50 Hz a robot) waits in Zenoh until the status tick takes it (`poll`): no
+        # thread woken, nothing decoded but the newest (a fleet gateway at rest spent most of
+        # its CPU on them). A polled subscription is best effort in effect (a ring of the
+        # newest samples): it says so.
         polled = QoSProfile(depth=POLL_DEPTH, reliability=Reliability.BEST_EFFORT)
         self.odom_sub = node.create_polled_subscription(Odometry, "odom", polled)
-        self.scan_sub = node.create_polled_subscription(LaserScan, "scan", polled)
         # the aggregated diagnostics (1 Hz), read when asked (`diagnostics`)
         # the robot's aggregator: /diagnostics_agg in the sim, /<robot>/diagnostics_agg in a
         # fleet or on a station (robot.yaml runs one in each robot's namespace)
@@ -94,10 +93,7 @@ class RobotTopics:
     # ------------------------------------------------------------------ in
 
     def poll(self) -> None:
-        """Take the odometry and scans that arrived since the last status tick."""
-        scans = self.scan_sub.take(decode=False)
-        if scans.count:
-            self.seen["scan"] = scans.arrivals[-1]
+        """Take the odometry that arrived since the last status tick."""
         odom = self.odom_sub.take()
         for at in odom.arrivals:
             self.core.state.note_odom(at)
