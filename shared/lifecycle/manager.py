@@ -57,6 +57,7 @@ _LABEL = {Transition.TRANSITION_CONFIGURE: "configure", Transition.TRANSITION_AC
           Transition.TRANSITION_CLEANUP: "cleanup",
           Transition.TRANSITION_UNCONFIGURED_SHUTDOWN: "shutdown"}
 _IN_ORDER = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
+BOND_CHECK_MIN = 0.2  # s: the shortest period of the bond check
 
 
 class _Managed:
@@ -105,8 +106,13 @@ class LifecycleManager(Node):
         self.create_subscription(Status, "bond", self._on_beat, 100)
         self.create_service(ManageLifecycleNodes, "~/manage_nodes", self._on_manage)
         self.create_service(Trigger, "~/is_active", self._on_is_active)
-        self.create_timer(0.2, self._check_bonds, clock=SteadyClock())
+        # A silent bond is found within a tenth of bond_timeout (0.2 s at least: 0.4 s for
+        # Nav2's 4 s, 1 s for robot.yaml's 10 s, where 5 checks a second were 4 of a robot's
+        # 27 timer ticks at rest); a node that left the graph is checked at once (below).
+        check = max(BOND_CHECK_MIN, self.bond_timeout / 10)
+        self.create_timer(check, self._check_bonds, clock=SteadyClock())
         by_fqn = {m.fqn: m for m in self._nodes}
+        executor = self.context.executor
 
         def on_graph(event: str, token: Token) -> None:
             # a process that died leaves the graph at once (its session is gone): its bond is
@@ -114,6 +120,7 @@ class LifecycleManager(Node):
             m = by_fqn.get(token.node)
             if event == "delete" and token.kind == "node" and m is not None and m.bonded:
                 m.left = True
+                executor.call_soon(self._check_bonds)
 
         self.on_close(self.graph.add_listener(on_graph))
         if self.heartbeat_period > 0:
