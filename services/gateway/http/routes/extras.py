@@ -62,20 +62,28 @@ async def log(call: Call[None, None]) -> Answer:
     return {"log": "\n".join(link.log)}
 
 
+async def _next(hub: TopicHub, name: str, within: float) -> str | None:
+    """The next frame on topic ``name``, None when nothing came within ``within`` s; raises
+    `TopicError` when the topic is not in the graph."""
+    slot = Slot(asyncio.get_running_loop())
+    hub.attach(name, slot)
+    try:
+        return await asyncio.wait_for(slot.get(), within)
+    except TimeoutError:
+        return None
+    finally:
+        hub.detach(name, slot)
+
+
 async def latest(hub: TopicHub, name: str) -> bytes:
     """The next message on topic ``name`` as JSON (404: not in the graph; 504: nothing
     within TOPIC_WAIT s)."""
-    slot = Slot(asyncio.get_running_loop())
     try:
-        hub.attach(name, slot)
+        frame = await _next(hub, name, TOPIC_WAIT)
     except TopicError as exc:
         raise ApiError(404, str(exc)) from exc
-    try:
-        frame = await asyncio.wait_for(slot.get(), TOPIC_WAIT)
-    except TimeoutError:
-        raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s") from None
-    finally:
-        hub.detach(name, slot)
+    if frame is None:
+        raise ApiError(504, f"no message on {name} within {TOPIC_WAIT:g} s")
     return frame.encode()
 
 
@@ -123,19 +131,10 @@ async def self_test(call: Call[None, None]) -> Answer:
 
 async def _answers(hub: TopicHub, topic: str, within: float) -> bool:
     """Whether ``topic`` (relative to the robot) delivers a message within ``within`` s."""
-    slot = Slot(asyncio.get_running_loop())
     try:
-        name = hub.resolve(topic)
-        hub.attach(name, slot)
+        return await _next(hub, hub.resolve(topic), within) is not None
     except TopicError:  # not in the graph
         return False
-    try:
-        await asyncio.wait_for(slot.get(), within)
-        return True
-    except TimeoutError:
-        return False
-    finally:
-        hub.detach(name, slot)
 
 
 async def get_param(call: Call[None, ParamQuery]) -> Answer:
