@@ -64,14 +64,18 @@ class Reach:
             that stalled longer than the lease) ends the queries it carried, unanswered, and
             takes the server's tokens with it; Zenoh makes a configured link again within
             0.5-2 s.
+        start: when the request started (`time.monotonic`; default now): a caller that sent
+            its first query before making a `Reach` (a service call: none made while the
+            first query is answered) counts that query's time.
     """
 
     def __init__(self, listed: Callable[[], bool], timeout: float,
-                 grace: float = REACH_GRACE, relink: float = 0.0) -> None:
+                 grace: float = REACH_GRACE, relink: float = 0.0,
+                 start: float | None = None) -> None:
         self._listed = listed
         self._timeout = timeout
         self._limit = min(grace, timeout * 0.9)
-        self._start = self._grace_from = time.monotonic()
+        self._start = self._grace_from = time.monotonic() if start is None else start
         self._pause = FIRST_PAUSE
         self._relink = relink
         self._was_listed = relink > 0 and listed()

@@ -30,7 +30,7 @@ from .gate import DeliveryGate
 from .log import ErrorLog
 from .message import Message, Q, S, ServiceType, normalize_type_name
 from .qos import QoSProfile
-from .reach import REACH_GRACE, ask_while_listed, ask_while_listed_async
+from .reach import REACH_GRACE, Reach, ask_while_listed, ask_while_listed_async
 from .service_events import ServiceEvents, ServiceIntrospectionState
 
 if TYPE_CHECKING:
@@ -368,19 +368,25 @@ class Client(Generic[Q, S]):
         data = self._encode(request)
         seq = self._sent(request)
         start = time.monotonic()
-
-        def ask(left: float) -> zenoh.Reply | None:
-            for reply in self._ctx.session.get(
-                    self.key, payload=data, encoding=self._req_encoding, timeout=left,
-                    target=zenoh.QueryTarget.BEST_MATCHING,
-                    allowed_destination=self._ctx.destination(self.key)):
-                return reply
-            return None
-
-        reply = ask_while_listed(ask, self.service_is_ready, timeout, grace)
+        reply = self._ask(data, timeout)
+        if reply is None:  # asked again while the graph lists a server (`zenros.reach`)
+            reach = Reach(self.service_is_ready, timeout, grace, start=start)
+            pause = reach.again()
+            if pause is not None:
+                time.sleep(pause)
+                reply = reach.ask(lambda left: self._ask(data, left))
         if reply is None:
             return self._no_reply(timeout, time.monotonic() - start)
         return self._received(seq, self._result(reply, timeout))
+
+    def _ask(self, data: bytes, timeout: float) -> zenoh.Reply | None:
+        """One query: its first reply, None when it ended with none."""
+        for reply in self._ctx.session.get(
+                self.key, payload=data, encoding=self._req_encoding, timeout=timeout,
+                target=zenoh.QueryTarget.BEST_MATCHING,
+                allowed_destination=self._ctx.destination(self.key)):
+            return reply
+        return None
 
     def _no_reply(self, timeout: float, elapsed: float) -> NoReturn:
         if elapsed < timeout * 0.9:
