@@ -99,6 +99,7 @@ class Service:
         self.srv_type = srv_type
         self.name = name
         self.key = ctx.keys.service(name)
+        self._key_expr = zenoh.KeyExpr(self.key)
         self._ctx = ctx
         self._logger = logger
         self._group = group
@@ -160,10 +161,13 @@ class Service:
             self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     def _on_query(self, query: zenoh.Query) -> None:
-        if str(query.key_expr) != self.key:  # a wildcard get must not call every service
+        # The hot path of a service, flat: each function it leaves out is some microseconds
+        # of a call's round trip (the path runs cold, once per request; #43, docs/wire.md).
+        key = query.key_expr
+        if key != self._key_expr:  # a wildcard get must not call every service
             with query:
                 self._errors.report("Wildcard", logging.WARNING, "service %s: refused a "
-                                    "query on %s", self.name, query.key_expr)
+                                    "query on %s", self.name, key)
                 _reply_err(query, "BadRequest", wildcard_refusal(f"service {self.name}",
                                                                  self.key, query))
             return
@@ -174,13 +178,27 @@ class Service:
             req = self._request(query)
             if req is None:
                 return
-            seq = self._event_request(req)
+            events = self.events.state is not ServiceIntrospectionState.OFF
+            seq = self._event_request(req) if events else 0
             try:
-                res = self._group.run(self._call, req) if self._group else self._call(req)
+                if self._group is not None:
+                    res = self._group.run(self._call, req)
+                elif self._two_args:
+                    res = self._handler(req, self.srv_type.Response())
+                else:
+                    res = self._handler(req)
             except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
                 self._fail(query, exc)
                 return
-            self._reply(query, res)
+            if type(res) is self._res.type and not self._res._arrays:
+                try:
+                    data = self._res._encode(res)
+                except Exception:  # noqa: BLE001 _reply says what is wrong with it
+                    self._reply(query, res)
+                else:
+                    query.reply(key, data, encoding=self._res_encoding)
+            else:
+                self._reply(query, res)
             if seq:
                 self.events.response(seq, res)
 
@@ -203,7 +221,11 @@ class Service:
             enc = query.encoding
             if enc is not None and enc != self._req_encoding:
                 self._check_schema(str(enc))
-            msg: Message = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
+            data = payload.to_bytes() if payload is not None else b"{}"
+            try:
+                msg: Message = self._req._fast_decode(data)
+            except Exception:  # noqa: BLE001 decoded again: its retries, or its error
+                msg = self._req.decode(data)
             return msg
         except CodecError as exc:
             reason = str(exc)
