@@ -163,7 +163,8 @@ class Service:
 
     def _on_query(self, query: zenoh.Query) -> None:
         # The hot path of a service, flat: each function it leaves out is some microseconds
-        # of a call's round trip (the path runs cold, once per request; #43, docs/wire.md).
+        # of a call's round trip (the path runs cold, once per request; docs/benchmarks.md,
+        # "What is left").
         key = query.key_expr
         if key != self._key_expr:  # a wildcard get must not call every service
             with query:
