@@ -4,10 +4,12 @@ points, maps, walls, Modbus goals, a serial 'g' idx, WebSocket teleop."""
 from __future__ import annotations
 
 import asyncio
+import copy
 import io
 import json
 import logging
 import math
+import threading
 import time
 from collections.abc import Iterator
 
@@ -22,6 +24,7 @@ from zenros.msgs.geometry_msgs import Pose2D
 from zenros.msgs.nav2_msgs import NavigateToPose
 from zenros.msgs.nav_msgs import Odometry
 from zenros.msgs.zenros_msgs import SetChargePose, SetChargePoseRequest, Teleport, TeleportRequest
+from zenros.services.gateway.http.routes import nav as nav_routes
 from zenros.services.gateway.serial.bridge import SerialBridge
 from zenros.services.gateway.serial.frame import command_frame
 from zenros.services.gateway.testing import NullModem
@@ -173,6 +176,30 @@ def test_maps_paths_and_points(rig: Rig) -> None:
     assert walls.json()["virtual_wall"] == "1 -1\n1 1\n"
     assert rig.http.delete("/navigation/virtual_wall",
                            params={"map_name": current["name"]}).json() == {"status": "ok"}
+
+
+def test_a_map_image_waits_for_the_grid_of_the_loaded_map(
+        rig: Rig, monkeypatch: pytest.MonkeyPatch) -> None:
+    # right after a switch, nav names the new map before its latched grid reaches the
+    # gateway: the image is of the map nav names, not of the grid before it
+    link = rig.gw.nav_services
+    real = link.grid
+    assert real is not None
+    stale = copy.deepcopy(real)
+    stale.info.width, stale.info.height = real.info.width + 1, real.info.height + 1
+    link.grid = stale
+    back = threading.Timer(0.3, lambda: setattr(link, "grid", real))
+    back.start()
+    try:
+        img = Image.open(io.BytesIO(rig.http.get("/navigation/map_png").content))
+        assert img.size == (real.info.width, real.info.height)
+        monkeypatch.setattr(nav_routes, "GRID_WAIT", 0.2)
+        link.grid = stale  # and it never comes: a 503 that says so
+        r = rig.http.get("/navigation/map_png")
+        assert r.status_code == 503 and "has not reached the gateway" in r.json()["description"]
+    finally:
+        back.cancel()
+        link.grid = real
 
 
 async def test_modbus_goal_reaches_the_point(rig: Rig) -> None:

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import asyncio
 from typing import Annotated, Any
 
 import msgspec
@@ -156,19 +157,49 @@ async def get_current_map(call: Call[None, None]) -> Answer:
     return {"name": res.name, "md5sum": res.md5sum}
 
 
+GRID_WAIT = 3.0  # s a request waits for the grid of a map nav has just loaded
+
+
 async def loaded_grid(ctx: Context, name: str) -> Any:
-    """The loaded map's grid; ``name`` must be it (or empty)."""
-    core, link, current_map = ctx.core, ctx.nav_services, ctx.nav_services.current_map
-    current = await current_map()
+    """The loaded map's grid; ``name`` must be it (or empty). Right after a switch, nav names
+    the new map before its grid (latched ``map``) has reached the gateway: the grid whose
+    size, resolution and origin are the loaded map's is waited for, `GRID_WAIT` s at most."""
+    core, link = ctx.core, ctx.nav_services
+    loaded = await link.call(zm.GetCurrentMap, zm.GetCurrentMapRequest())
+    current = loaded.name
     if name and name != current:
         listed = await link.call(zm.ListMaps, zm.ListMapsRequest(name=name))
         if not listed.maps:
             raise ApiError(404, f"unknown map {name!r}")
         raise ApiError(409, f"map {name!r} is stored but not loaded; the gateway renders "
                             f"the loaded map ({current!r}): switch_map first")
+    loop = asyncio.get_running_loop()
+    deadline = loop.time() + GRID_WAIT
+    while not _is_grid_of(link.grid, loaded.info) and loop.time() < deadline:
+        await asyncio.sleep(GRID_POLL)
     if link.grid is None:
         raise core.presence.error("nav", "no map received from the nav service yet")
+    if not _is_grid_of(link.grid, loaded.info):
+        raise core.presence.error("nav", f"the grid of map {current!r} has not reached the "
+                                         f"gateway within {GRID_WAIT:g} s")
     return link.grid
+
+
+GRID_POLL = 0.02  # s between looks at the grid while waiting for it
+
+
+def _is_grid_of(grid: Any, info: zm.MapInfo) -> bool:
+    """Whether ``grid`` (an OccupancyGrid or None) has the stored map's size, resolution and
+    origin (a map nav did not describe, width 0, takes any grid)."""
+    if grid is None:
+        return False
+    if info.width <= 0:
+        return True
+    g, origin = grid.info, grid.info.origin.position
+    return bool(g.width == info.width and g.height == info.height
+                and abs(g.resolution - info.resolution) < 1e-9
+                and abs(origin.x - info.origin[0]) < 1e-6
+                and abs(origin.y - info.origin[1]) < 1e-6)
 
 
 async def map_png(call: Call[None, NamedMap]) -> Answer:
