@@ -388,9 +388,11 @@ class _ServiceOut:
         self.client = bridge.create_client(srv, name)
         s = bridge.session
         ent = bridge.entity(EntityKind.SERVICE, name, ros_type, Qos(depth=10))
-        self.token = s.liveliness().declare_token(ent.token())
+        # the queryable before the token: a client that sees the service listed has had its
+        # route declared first (one session's declarations reach a peer in order)
         self.queryable = s.declare_queryable(data_key(bridge.domain, name, ros_type),
                                              self._on_query, complete=True)
+        self.token = s.liveliness().declare_token(ent.token())
 
     def _on_query(self, query: zenoh.Query) -> None:
         try:
