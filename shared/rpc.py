@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import inspect
 import json
 import logging
@@ -162,9 +161,6 @@ class Service:
             self._ctx.fail(exc)  # the process exits (runtime) so supervision can restart it
 
     def _on_query(self, query: zenoh.Query) -> None:
-        # The hot path of a service, flat: each function it leaves out is some microseconds
-        # of a call's round trip (the path runs cold, once per request; docs/benchmarks.md,
-        # "What is left").
         key = query.key_expr
         if key != self._key_expr:  # a wildcard get must not call every service
             with query:
@@ -180,27 +176,13 @@ class Service:
             req = self._request(query)
             if req is None:
                 return
-            events = self.events.state is not ServiceIntrospectionState.OFF
-            seq = self._event_request(req) if events else 0
+            seq = self._event_request(req)
             try:
-                if self._group is not None:
-                    res = self._group.run(self._call, req)
-                elif self._two_args:
-                    res = self._handler(req, self.srv_type.Response())
-                else:
-                    res = self._handler(req)
+                res = self._group.run(self._call, req) if self._group else self._call(req)
             except Exception as exc:  # noqa: BLE001 (the handler's error goes to the caller)
                 self._fail(query, exc)
                 return
-            if type(res) is self._res.type and not self._res._arrays:
-                try:
-                    data = self._res._encode(res)
-                except Exception:  # noqa: BLE001 _reply says what is wrong with it
-                    self._reply(query, res)
-                else:
-                    query.reply(key, data, encoding=self._res_encoding)
-            else:
-                self._reply(query, res)
+            self._reply(query, res)
             if seq:
                 self.events.response(seq, res)
 
@@ -223,11 +205,7 @@ class Service:
             enc = query.encoding
             if enc is not None and enc != self._req_encoding:
                 self._check_schema(str(enc))
-            data = payload.to_bytes() if payload is not None else b"{}"
-            try:
-                msg: Message = self._req._fast_decode(data)
-            except Exception:  # noqa: BLE001 decoded again: its retries, or its error
-                msg = self._req.decode(data)
+            msg: Message = self._req.decode(payload.to_bytes() if payload is not None else b"{}")
             return msg
         except CodecError as exc:
             reason = str(exc)
@@ -389,31 +367,18 @@ class Client(Generic[Q, S]):
             ServiceUnavailableError: no server answered.
             ZenrosTimeout: a server exists but did not answer within ``timeout`` seconds.
         """
-        # flat for the usual call, as the server's path (`Service._on_query`)
         data = self._encode(request)
-        seq = (0 if self.events.state is ServiceIntrospectionState.OFF
-               else self._sent(request))
+        seq = self._sent(request)
         start = time.monotonic()
-        reply = None
-        for reply in self._ctx.session.get(
-                self.key, payload=data, encoding=self._req_encoding, timeout=timeout,
-                target=zenoh.QueryTarget.BEST_MATCHING,
-                allowed_destination=self._ctx.destination(self.key)):
-            break
+        reply = self._ask(data, timeout)
         if reply is None:  # asked again while the graph lists a server (`zenros.reach`)
             reach = Reach(self.service_is_ready, timeout, grace, start=start)
             pause = reach.again()
             if pause is not None:
                 time.sleep(pause)
                 reply = reach.ask(lambda left: self._ask(data, left))
-            if reply is None:
-                return self._no_reply(timeout, time.monotonic() - start)
-        ok = reply.ok
-        if ok is not None and not seq:
-            # a response msgspec refuses is decoded again by _result: retries, or the error
-            with contextlib.suppress(Exception):
-                res: S = self._res._fast_decode(ok.payload.to_bytes())
-                return res
+        if reply is None:
+            return self._no_reply(timeout, time.monotonic() - start)
         return self._received(seq, self._result(reply, timeout))
 
     def _ask(self, data: bytes, timeout: float) -> zenoh.Reply | None:
